@@ -1,0 +1,68 @@
+#include "cli.h"
+
+#include <charconv>
+#include <cmath>
+#include <iostream>
+#include <system_error>
+
+namespace voroclip::cli {
+
+std::ostream* human_stream(const GlobalOptions& options) {
+  if (options.quiet) return nullptr;
+  return options.stats_json ? &std::cerr : &std::cout;
+}
+
+double parse_finite_double(const std::string& text, const std::string& what) {
+  const auto fail = [&](const std::string& why) {
+    return UsageError("invalid " + what + " '" + text + "': " + why);
+  };
+  // std::from_chars is locale-independent but takes neither a '+' sign nor the "0x"
+  // prefix, so both are handled here.
+  const char* first = text.data();
+  const char* const last = text.data() + text.size();
+  bool negative = false;
+  if (first != last && (*first == '+' || *first == '-')) {
+    negative = *first == '-';
+    ++first;
+  }
+  std::chars_format format = std::chars_format::general;
+  if (last - first > 2 && first[0] == '0' && (first[1] == 'x' || first[1] == 'X')) {
+    format = std::chars_format::hex;
+    first += 2;
+  }
+  if (first == last || *first == '+' || *first == '-') {
+    throw fail("not a number");
+  }
+  double value = 0;
+  const std::from_chars_result r = std::from_chars(first, last, value, format);
+  if (r.ec == std::errc::result_out_of_range) {
+    throw fail("out of the range of double (overflow or underflow)");
+  }
+  if (r.ec != std::errc() || r.ptr == first) throw fail("not a number");
+  if (r.ptr != last) throw fail("unexpected text '" + std::string(r.ptr, last) + "'");
+  if (!std::isfinite(value)) throw fail("NaN and infinities are not allowed");
+  return negative ? -value : value;
+}
+
+std::uint32_t parse_index(const std::string& text, const std::string& what) {
+  std::uint32_t value = 0;
+  const char* const last = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), last, value);
+  if (text.empty() || r.ec != std::errc() || r.ptr != last) {
+    throw UsageError("invalid " + what + " '" + text +
+                     "': expected an integer from 0 to 4294967295");
+  }
+  return value;
+}
+
+const char* sign_name(Sign s) {
+  return s == Sign::positive ? "positive" : (s == Sign::negative ? "negative" : "zero");
+}
+
+std::string format_double(double x) {
+  char buffer[64];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, r.ptr);
+}
+
+}  // namespace voroclip::cli

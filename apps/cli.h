@@ -1,0 +1,62 @@
+// What the subcommands of the voroclip tool share: global options, where human-readable
+// text goes, the usage-error type, and strict parsing of numbers given on the command line.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "voroclip/predicates.h"
+
+namespace voroclip::cli {
+
+/// A mistake in the command line (bad value, wrong count...). main() reports it like a
+/// CLI11 parse error: one line on stderr and exit status 2. Runtime failures use
+/// voroclip::Error and exit status 1.
+class UsageError : public std::runtime_error {
+ public:
+  explicit UsageError(const std::string& what) : std::runtime_error(what) {}
+};
+
+struct GlobalOptions {
+  int threads = 0;  // 0: TBB's default, all cores
+  bool stats_json = false;
+  bool quiet = false;
+};
+
+/// Human-readable text goes to stdout, or to stderr when stdout carries the JSON statistics
+/// (--stats json); with --quiet it is dropped (nullptr).
+std::ostream* human_stream(const GlobalOptions& options);
+
+/// Parses a finite double written in decimal ("-1.25e-3") or C99 hexadecimal ("0x1.8p-3"),
+/// independently of the locale; the whole string must be the number. `what` names the
+/// argument in the error message, e.g. "coordinate 3".
+double parse_finite_double(const std::string& text, const std::string& what);
+
+/// Parses a decimal integer in [0, 2^32 - 1]; the whole string must be the number.
+std::uint32_t parse_index(const std::string& text, const std::string& what);
+
+/// Shortest decimal text that reads back as the same double ("0.1", "1e-300"), independent
+/// of the locale.
+std::string format_double(double x);
+
+/// "positive", "negative" or "zero".
+const char* sign_name(Sign s);
+
+struct DemoArgs {
+  std::string svg_path;  // empty: no picture
+};
+
+struct PredicateArgs {
+  std::string name;
+  std::vector<std::string> coordinates;
+  std::vector<std::string> sos_indices;
+  bool sos = false;
+};
+
+void run_demo(const DemoArgs& args, const GlobalOptions& options);
+void run_predicate(const PredicateArgs& args, const GlobalOptions& options);
+
+}  // namespace voroclip::cli

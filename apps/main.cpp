@@ -1,0 +1,138 @@
+// voroclip: the command-line tool. Parses the command line (CLI11), runs one subcommand and
+// turns every failure into exactly one line "voroclip: error: ..." on stderr, with exit
+// status 2 for a usage error and 1 for anything that went wrong at run time.
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstddef>
+#include <exception>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <tbb/global_control.h>
+
+#include "cli.h"
+#include "voroclip/core.h"
+
+namespace {
+
+constexpr int kRuntimeError = 1;
+constexpr int kUsageError = 2;
+
+int report_error(const std::string& what, int status) {
+  std::string line = what;
+  for (char& c : line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  std::cout.flush();
+  std::cerr << "voroclip: error: " << line << std::endl;
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using voroclip::cli::GlobalOptions;
+  CLI::App app{
+      "voroclip: exact clipped Voronoi diagrams, centroidal Voronoi tessellations and "
+      "meshing in 2D and 3D.",
+      "voroclip"};
+  app.set_version_flag("--version", std::string("voroclip ") + voroclip::version(),
+                       "Print the version and exit");
+  app.require_subcommand(1);
+  app.fallthrough();  // global options may also follow the subcommand
+
+  GlobalOptions global;
+  std::string stats_format;
+  app.add_option("--threads", global.threads,
+                 "Number of threads (default: all cores); results do not depend on it")
+      ->type_name("N")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            int n = 0;
+            const char* last = text.data() + text.size();
+            const std::from_chars_result r = std::from_chars(text.data(), last, n);
+            if (text.empty() || r.ec != std::errc() || r.ptr != last || n < 1) {
+              return "expected a whole number of threads >= 1, got '" + text + "'";
+            }
+            return "";
+          },
+          ""));
+  app.add_option("--stats", stats_format,
+                 "Print machine-readable statistics on stdout as one JSON object (human "
+                 "text then goes to stderr)")
+      ->type_name("json")
+      ->check(CLI::IsMember({"json"}));
+  app.add_flag("-q,--quiet", global.quiet, "Print no human-readable text");
+
+  voroclip::cli::DemoArgs demo_args;
+  CLI::App* demo = app.add_subcommand(
+      "demo",
+      "Exact versus naive predicates on the classroom example of Kettner et al. (CGTA 2008) "
+      "and symbolic perturbation on the cube's corners");
+  CLI::Option* output =
+      demo->add_option("-o,--output", demo_args.svg_path,
+                       "Write an SVG picture of the naive and exact signs to FILE");
+  output->type_name("FILE.svg");
+
+  voroclip::cli::PredicateArgs predicate_args;
+  CLI::App* predicate = app.add_subcommand(
+      "predicate",
+      "Evaluate one exact predicate and print positive, negative or zero. Sign conventions "
+      "are Shewchuk's: orient2d > 0 for counter-clockwise points, incircle/insphere > 0 when "
+      "the last point is inside the circle/sphere of the others (positively oriented)");
+  predicate->add_option("NAME", predicate_args.name, "orient2d, incircle, orient3d or insphere")
+      ->required();
+  predicate
+      ->add_option("COORDS", predicate_args.coordinates,
+                   "Coordinates of the points in order: 6, 8, 12 or 15 numbers, decimal or "
+                   "C99 hexadecimal (0x1.8p-3); write -- before them if one is like -.5 or "
+                   "-inf")
+      ->type_name("X");
+  CLI::Option* sos = predicate->add_option(
+      "--sos", predicate_args.sos_indices,
+      "Use the symbolically perturbed predicate (never zero) with these distinct point "
+      "indices, one per point");
+  sos->type_name("I");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::string what = e.what();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && predicate->parsed()) {
+      what += " (write -- before the coordinates to pass one like -.5 or -inf)";
+    }
+    return report_error(what, kUsageError);
+  }
+  if (output->count() > 0 && demo_args.svg_path.empty()) {
+    return report_error("-o,--output: the file name is empty", kUsageError);
+  }
+  global.stats_json = stats_format == "json";
+  predicate_args.sos = sos->count() > 0;
+
+  try {
+    std::unique_ptr<tbb::global_control> parallelism;
+    if (global.threads > 0) {
+      parallelism = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(global.threads));
+    }
+    if (*demo) {
+      voroclip::cli::run_demo(demo_args, global);
+    } else if (*predicate) {
+      voroclip::cli::run_predicate(predicate_args, global);
+    }
+    std::cout.flush();
+    if (!std::cout) return report_error("cannot write to standard output", kRuntimeError);
+    return 0;
+  } catch (const voroclip::cli::UsageError& e) {
+    return report_error(e.what(), kUsageError);
+  } catch (const voroclip::Error& e) {
+    return report_error(e.what(), kRuntimeError);
+  } catch (const std::exception& e) {
+    return report_error(e.what(), kRuntimeError);
+  } catch (...) {
+    return report_error("unknown internal error", kRuntimeError);
+  }
+}

@@ -1,0 +1,265 @@
+// Nanoseconds per predicate call: the naive floating-point determinant (*_fast) beside the
+// filtered exact predicate and its symbolically perturbed variant, on random input (where
+// the filter decides) and on exactly degenerate input (where the exact stage and, for
+// *_sos, the perturbation decide). Each benchmark iteration evaluates a batch of kBatch
+// calls over pre-generated tuples; the "ns_per_call" counter is the figure to quote.
+//
+// Targets (issue 2): filtered <= 1.3x naive on random input; insphere_sos <= 150 ns on
+// exactly cospherical input.
+
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "voroclip/predicates.h"
+
+namespace {
+
+using voroclip::Sign;
+
+constexpr int kBatch = 1024;
+constexpr std::uint64_t kSeed = 20261121;
+
+// Tuples of K points in dimension D, stored flat, with one index per point.
+template <int K, int D>
+struct Tuples {
+  std::vector<std::array<double, K * D>> coords;
+  std::vector<std::array<std::uint32_t, K>> ids;
+  const double* point(std::size_t t, int k) const { return coords[t].data() + k * D; }
+};
+
+template <int K, int D>
+Tuples<K, D> random_tuples(std::size_t n) {
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Tuples<K, D> t;
+  t.coords.resize(n);
+  t.ids.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto& x : t.coords[i]) x = u(rng);
+    for (int k = 0; k < K; ++k) t.ids[i][static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(K * i + static_cast<std::size_t>(k));
+  }
+  return t;
+}
+
+// Integer points with x^2 + y^2 (+ z^2) = r2.
+template <int D>
+std::vector<std::array<double, D>> integer_sphere(int r, int r2) {
+  std::vector<std::array<double, D>> pts;
+  for (int x = -r; x <= r; ++x) {
+    for (int y = -r; y <= r; ++y) {
+      if constexpr (D == 2) {
+        if (x * x + y * y == r2) pts.push_back({double(x), double(y)});
+      } else {
+        for (int z = -r; z <= r; ++z) {
+          if (x * x + y * y + z * z == r2) pts.push_back({double(x), double(y), double(z)});
+        }
+      }
+    }
+  }
+  return pts;
+}
+
+// K points chosen at random from `pool` (distinct), the first K-1 in positive orientation,
+// the last one on the same circle/sphere: the in-circle/in-sphere determinant is zero.
+template <int K, int D>
+Tuples<K, D> cospherical_tuples(std::size_t n, int r, int r2) {
+  const auto pool = integer_sphere<D>(r, r2);
+  std::mt19937_64 rng(kSeed);
+  std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+  Tuples<K, D> t;
+  while (t.coords.size() < n) {
+    std::array<std::size_t, K> which{};
+    for (auto& w : which) w = pick(rng);
+    bool distinct = true;
+    for (int a = 0; a < K; ++a)
+      for (int b = a + 1; b < K; ++b) distinct = distinct && which[a] != which[b];
+    if (!distinct) continue;
+    std::array<double, K * D> c{};
+    for (int k = 0; k < K; ++k)
+      for (int j = 0; j < D; ++j) c[k * D + j] = pool[which[k]][j];
+    Sign o;
+    if constexpr (D == 2) {
+      o = voroclip::orient2d(&c[0], &c[2], &c[4]);
+    } else {
+      o = voroclip::orient3d(&c[0], &c[3], &c[6], &c[9]);
+    }
+    if (o == Sign::zero) continue;
+    if (o == Sign::negative) {
+      for (int j = 0; j < D; ++j) std::swap(c[j], c[D + j]);
+      std::swap(which[0], which[1]);
+    }
+    t.coords.push_back(c);
+    std::array<std::uint32_t, K> ids{};
+    for (int k = 0; k < K; ++k) ids[k] = static_cast<std::uint32_t>(which[k]);
+    t.ids.push_back(ids);
+  }
+  return t;
+}
+
+template <class Tup, class F>
+void run_batches(benchmark::State& state, const Tup& t, F f) {
+  const std::size_t n = t.coords.size();
+  std::size_t at = 0;
+  int acc = 0;
+  for (auto _ : state) {
+    for (int i = 0; i < kBatch; ++i) {
+      acc += static_cast<int>(f(t, at));
+      at = at + 1 == n ? 0 : at + 1;
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  const double calls = static_cast<double>(state.iterations()) * kBatch;
+  state.counters["ns_per_call"] = benchmark::Counter(
+      calls / 1e9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+constexpr std::size_t kRandomTuples = 1 << 14;  // 16k tuples: stays in L2 for K <= 5
+
+// ----- orient2d
+const auto& r2() { static const auto t = random_tuples<3, 2>(kRandomTuples); return t; }
+void BM_orient2d_naive(benchmark::State& s) {
+  run_batches(s, r2(), [](const auto& t, std::size_t i) {
+    return voroclip::orient2d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2)); });
+}
+void BM_orient2d_exact(benchmark::State& s) {
+  run_batches(s, r2(), [](const auto& t, std::size_t i) {
+    return voroclip::orient2d(t.point(i, 0), t.point(i, 1), t.point(i, 2)); });
+}
+// ----- orient3d
+const auto& r3() { static const auto t = random_tuples<4, 3>(kRandomTuples); return t; }
+void BM_orient3d_naive(benchmark::State& s) {
+  run_batches(s, r3(), [](const auto& t, std::size_t i) {
+    return voroclip::orient3d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+}
+void BM_orient3d_exact(benchmark::State& s) {
+  run_batches(s, r3(), [](const auto& t, std::size_t i) {
+    return voroclip::orient3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+}
+// ----- incircle
+const auto& rc() { static const auto t = random_tuples<4, 2>(kRandomTuples); return t; }
+void BM_incircle_naive(benchmark::State& s) {
+  run_batches(s, rc(), [](const auto& t, std::size_t i) {
+    return voroclip::incircle_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+}
+void BM_incircle_exact(benchmark::State& s) {
+  run_batches(s, rc(), [](const auto& t, std::size_t i) {
+    return voroclip::incircle(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+}
+// ----- insphere
+const auto& rs() { static const auto t = random_tuples<5, 3>(kRandomTuples); return t; }
+void BM_insphere_naive(benchmark::State& s) {
+  run_batches(s, rs(), [](const auto& t, std::size_t i) {
+    return voroclip::insphere_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                                   t.point(i, 4)); });
+}
+void BM_insphere_exact(benchmark::State& s) {
+  run_batches(s, rs(), [](const auto& t, std::size_t i) {
+    return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                              t.point(i, 4)); });
+}
+void BM_insphere_sos(benchmark::State& s) {
+  run_batches(s, rs(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::insphere_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]); });
+}
+
+// ----- exactly degenerate input
+// Integer points on the sphere x^2+y^2+z^2 = 2025 (r = 45) and the circle x^2+y^2 = 5525.
+const auto& cs() { static const auto t = cospherical_tuples<5, 3>(4096, 45, 2025); return t; }
+const auto& cc() { static const auto t = cospherical_tuples<4, 2>(4096, 75, 5525); return t; }
+void BM_insphere_exact_cospherical(benchmark::State& s) {
+  run_batches(s, cs(), [](const auto& t, std::size_t i) {
+    return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                              t.point(i, 4)); });
+}
+void BM_insphere_sos_cospherical(benchmark::State& s) {
+  run_batches(s, cs(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::insphere_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]); });
+}
+void BM_incircle_sos_cocircular(benchmark::State& s) {
+  run_batches(s, cc(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::incircle_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                                  id[0], id[1], id[2], id[3]); });
+}
+
+// Collinear / coplanar integer grid points: orient2d/orient3d exact zero, then *_sos.
+template <int K, int D>
+Tuples<K, D> flat_grid_tuples(std::size_t n) {
+  std::mt19937_64 rng(kSeed);
+  std::uniform_int_distribution<int> g(-50, 50);
+  Tuples<K, D> t;
+  t.coords.resize(n);
+  t.ids.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // points a + s*u (+ t*v) with integer s, t: exactly on a line / plane
+    double a[D], u[D], v[D];
+    for (int j = 0; j < D; ++j) { a[j] = g(rng); u[j] = g(rng) % 7; v[j] = g(rng) % 5; }
+    for (int k = 0; k < K; ++k) {
+      const double sk = g(rng) % 9, tk = g(rng) % 9;
+      for (int j = 0; j < D; ++j) t.coords[i][k * D + j] = a[j] + sk * u[j] + (D == 3 ? tk * v[j] : 0);
+      t.ids[i][k] = static_cast<std::uint32_t>(K * i + k);
+    }
+  }
+  return t;
+}
+const auto& f2() { static const auto t = flat_grid_tuples<3, 2>(4096); return t; }
+const auto& f3() { static const auto t = flat_grid_tuples<4, 3>(4096); return t; }
+void BM_orient2d_sos_collinear(benchmark::State& s) {
+  run_batches(s, f2(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::orient2d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), id[0], id[1], id[2]); });
+}
+void BM_orient3d_sos_coplanar(benchmark::State& s) {
+  run_batches(s, f3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::orient3d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                                  id[0], id[1], id[2], id[3]); });
+}
+
+// Near-degenerate floating-point input: the fifth point is the first one moved along the
+// sphere's tangent plane by one ulp, so the filter fails and expansions decide.
+const auto& ns() {
+  static const auto t = [] {
+    auto r = random_tuples<5, 3>(4096);
+    for (auto& c : r.coords) {
+      // e := a rotated slightly: put it on the sphere through a, b, c, d approximately by
+      // reflecting a through the center direction is costly; instead use a near-duplicate.
+      for (int j = 0; j < 3; ++j) c[12 + j] = std::nextafter(c[j], 2.0);
+    }
+    return r;
+  }();
+  return t;
+}
+void BM_insphere_exact_near_degenerate(benchmark::State& s) {
+  run_batches(s, ns(), [](const auto& t, std::size_t i) {
+    return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                              t.point(i, 4)); });
+}
+
+}  // namespace
+
+BENCHMARK(BM_orient2d_naive);
+BENCHMARK(BM_orient2d_exact);
+BENCHMARK(BM_orient3d_naive);
+BENCHMARK(BM_orient3d_exact);
+BENCHMARK(BM_incircle_naive);
+BENCHMARK(BM_incircle_exact);
+BENCHMARK(BM_insphere_naive);
+BENCHMARK(BM_insphere_exact);
+BENCHMARK(BM_insphere_sos);
+BENCHMARK(BM_orient2d_sos_collinear);
+BENCHMARK(BM_orient3d_sos_coplanar);
+BENCHMARK(BM_incircle_sos_cocircular);
+BENCHMARK(BM_insphere_exact_cospherical);
+BENCHMARK(BM_insphere_sos_cospherical);
+BENCHMARK(BM_insphere_exact_near_degenerate);
+
+BENCHMARK_MAIN();

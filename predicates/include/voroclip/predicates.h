@@ -1,0 +1,245 @@
+// voroclip/predicates.h — exact geometric predicates.
+//
+// Every function here returns the exact sign of a polynomial in its double inputs; no
+// epsilon is involved anywhere. Three tiers (STYLE.md, "Data and API"):
+//
+//   orient2d, incircle, orient3d, insphere        exact: an inlined semi-static floating-
+//                                                 point filter, then exact arithmetic
+//                                                 (Shewchuk expansions) when it cannot decide
+//   *_sos(points..., indices...)                  exact and never zero: symbolic
+//                                                 perturbation by point index (see below)
+//   *_fast                                        plain floating point, NOT exact: for tests
+//                                                 and benchmarks only
+//
+// Sign conventions are those of Shewchuk's predicates.c:
+//   orient2d(a,b,c)      > 0  when a, b, c are counter-clockwise
+//   incircle(a,b,c,d)    > 0  when d is inside the circle through counter-clockwise a, b, c
+//   orient3d(a,b,c,d)    = sign of det[a-d; b-d; c-d]  (> 0 when d is below the plane of
+//                              a, b, c, seen counter-clockwise from above)
+//   insphere(a,b,c,d,e)  > 0  when e is inside the sphere through a, b, c, d, where
+//                              orient3d(a,b,c,d) > 0
+// Equivalently, each is the sign of the determinant whose rows are its arguments in order,
+// each row (p, 1) for the orientations and (p, |p|^2, 1) for the in-circle/in-sphere tests.
+//
+// Input range. The result is exact for every finite double input: the filter handles the
+// common case; the exact stage uses expansion arithmetic after scaling by a power of two
+// when the exponents of the coordinates in one call span a range that expansions can carry
+// without underflow or overflow (see predicates/src/exact.h), and a big-integer evaluation
+// of the same determinant otherwise. A NaN or infinite coordinate throws voroclip::Error;
+// no input produces a wrong sign.
+//
+// Symbolic perturbation (*_sos). Point k of a call, with index i_k, is replaced by
+//     x_{k,j}(eps) = x_{k,j} + eps^(2^pos(k,j))       for each coordinate j
+//     w_k(eps)     = |p_k|^2 + eps^(2^pos(k,w))       for the lifted coordinate
+// (Edelsbrunner & Mücke's "simulation of simplicity", 1990), where pos orders the
+// perturbations by decreasing size: every lift perturbation is larger than every
+// coordinate perturbation; among lifts and among coordinates a smaller point index means a
+// larger perturbation; and within one point the last coordinate comes first (z, y, x).
+// The sign returned is that of the perturbed determinant for every small enough eps > 0:
+// the sign of the first non-zero coefficient of its expansion in eps. The perturbation is
+// a fixed function of the point indices, so all four predicates decide on one and the same
+// perturbed configuration and are mutually consistent (the lifted coordinate is perturbed
+// independently of x, y, z: geometrically a regular triangulation with infinitesimal
+// weights, which refines the Delaunay subdivision). Consequences:
+//   - the sign is never zero, whatever the input (duplicates, collinear, cospherical...)
+//     provided the indices of one call are distinct (equal indices throw voroclip::Error);
+//   - for incircle/insphere, when the exact sign is zero the first deciding terms are the
+//     orientations of the other points (Devillers & Teillaud 2011): for a non-degenerate
+//     triangle/tetrahedron the answer costs one extra orient2d/orient3d at most a few.
+// The indices only need to be distinct and fixed per point; typically they are positions
+// in the caller's point array.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace voroclip {
+
+enum class Sign : int { negative = -1, zero = 0, positive = 1 };
+
+inline Sign operator-(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); }
+inline Sign operator*(Sign a, Sign b) {
+  return static_cast<Sign>(static_cast<int>(a) * static_cast<int>(b));
+}
+
+namespace detail {
+
+// Semi-static filter constants. The filter computes det~ in floating point and M, the
+// largest absolute rounded coordinate difference of the call; when M lies in
+// [lower, upper] and |det~| > bound * M^deg, sign(det~) is the exact sign.
+// Derivation: scripts/filter_bounds.py (forward error analysis with u = 2^-53, as in
+// Meyer & Pion's FPG): orient2d 8u, orient3d 46u, incircle 128u, insphere 1104u, each times
+// (1+u)^(deg+1) for the rounding of bound * M^deg itself, rounded up.
+// The range [lower, upper] keeps M^deg within [2^-960, 2^1000]: no intermediate overflows
+// (all are below 72 M^deg) and the absolute error from underflowing products (at most
+// 2^-1075 each) stays far below the rounding slack of the stored constants.
+inline constexpr double kOrient2dBound = 8.89e-16;
+inline constexpr double kOrient3dBound = 5.11e-15;
+inline constexpr double kIncircleBound = 1.43e-14;
+inline constexpr double kInsphereBound = 1.23e-13;
+inline constexpr double kOrient2dLower = 0x1p-480, kOrient2dUpper = 0x1p+500;
+inline constexpr double kOrient3dLower = 0x1p-320, kOrient3dUpper = 0x1p+333;
+inline constexpr double kIncircleLower = 0x1p-240, kIncircleUpper = 0x1p+250;
+inline constexpr double kInsphereLower = 0x1p-192, kInsphereUpper = 0x1p+200;
+
+// Exact stages (predicates/src/exact.cpp): called when the filter cannot decide.
+Sign orient2d_exact(const double* a, const double* b, const double* c);
+Sign incircle_exact(const double* a, const double* b, const double* c, const double* d);
+Sign orient3d_exact(const double* a, const double* b, const double* c, const double* d);
+Sign insphere_exact(const double* a, const double* b, const double* c, const double* d,
+                    const double* e);
+
+inline double max_abs(double a, double b) { return std::max(std::fabs(a), std::fabs(b)); }
+
+inline Sign sign_of(double x) {
+  return x > 0 ? Sign::positive : (x < 0 ? Sign::negative : Sign::zero);
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------
+// Floating-point evaluation shared by the filters and the *_fast variants: the rounded
+// determinant (Shewchuk's formulas, translated to the last point) and M, the largest
+// absolute rounded coordinate difference. The filter constants above are derived for
+// exactly these operation trees; change one and re-run scripts/filter_bounds.py.
+
+namespace detail {
+
+struct Approx {
+  double det;
+  double max;
+};
+
+inline Approx orient2d_approx(const double* a, const double* b, const double* c) {
+  const double adx = a[0] - c[0], bdx = b[0] - c[0];
+  const double ady = a[1] - c[1], bdy = b[1] - c[1];
+  return {adx * bdy - ady * bdx, std::max(max_abs(adx, bdx), max_abs(ady, bdy))};
+}
+
+inline Approx orient3d_approx(const double* a, const double* b, const double* c,
+                              const double* d) {
+  const double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+  const double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+  const double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
+  const double det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) +
+                     cdz * (adx * bdy - bdx * ady);
+  double m = std::max(max_abs(adx, bdx), max_abs(cdx, ady));
+  m = std::max(m, std::max(max_abs(bdy, cdy), max_abs(adz, bdz)));
+  return {det, std::max(m, std::fabs(cdz))};
+}
+
+inline Approx incircle_approx(const double* a, const double* b, const double* c,
+                              const double* d) {
+  const double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+  const double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) +
+                     clift * (adx * bdy - bdx * ady);
+  const double m = std::max(std::max(max_abs(adx, bdx), max_abs(cdx, ady)), max_abs(bdy, cdy));
+  return {det, m};
+}
+
+inline Approx insphere_approx(const double* a, const double* b, const double* c,
+                              const double* d, const double* e) {
+  const double aex = a[0] - e[0], bex = b[0] - e[0], cex = c[0] - e[0], dex = d[0] - e[0];
+  const double aey = a[1] - e[1], bey = b[1] - e[1], cey = c[1] - e[1], dey = d[1] - e[1];
+  const double aez = a[2] - e[2], bez = b[2] - e[2], cez = c[2] - e[2], dez = d[2] - e[2];
+  const double ab = aex * bey - bex * aey, bc = bex * cey - cex * bey;
+  const double cd = cex * dey - dex * cey, da = dex * aey - aex * dey;
+  const double ac = aex * cey - cex * aey, bd = bex * dey - dex * bey;
+  const double abc = aez * bc - bez * ac + cez * ab;
+  const double bcd = bez * cd - cez * bd + dez * bc;
+  const double cda = cez * da + dez * ac + aez * cd;
+  const double dab = dez * ab + aez * bd + bez * da;
+  const double alift = aex * aex + aey * aey + aez * aez;
+  const double blift = bex * bex + bey * bey + bez * bez;
+  const double clift = cex * cex + cey * cey + cez * cez;
+  const double dlift = dex * dex + dey * dey + dez * dez;
+  const double det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+  double m = std::max(max_abs(aex, bex), max_abs(cex, dex));
+  m = std::max(m, std::max(max_abs(aey, bey), max_abs(cey, dey)));
+  m = std::max(m, std::max(max_abs(aez, bez), max_abs(cez, dez)));
+  return {det, m};
+}
+
+// The decision of the filter: +1/-1 when certain, 0 when the exact stage must decide
+// (including M out of range, NaN and infinities, for which every comparison is false).
+template <int Degree>
+inline int filter_decision(const Approx& r, double bound, double lower, double upper) {
+  if (!(r.max > lower && r.max < upper)) return 0;
+  double scale = r.max;
+  for (int i = 1; i < Degree; ++i) scale *= r.max;
+  const double eps = bound * scale;
+  return r.det > eps ? 1 : (r.det < -eps ? -1 : 0);
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------
+// Exact predicates (filtered).
+
+inline Sign orient2d(const double* a, const double* b, const double* c) {
+  const int s = detail::filter_decision<2>(detail::orient2d_approx(a, b, c),
+                                           detail::kOrient2dBound, detail::kOrient2dLower,
+                                           detail::kOrient2dUpper);
+  return s != 0 ? static_cast<Sign>(s) : detail::orient2d_exact(a, b, c);
+}
+
+inline Sign orient3d(const double* a, const double* b, const double* c, const double* d) {
+  const int s = detail::filter_decision<3>(detail::orient3d_approx(a, b, c, d),
+                                           detail::kOrient3dBound, detail::kOrient3dLower,
+                                           detail::kOrient3dUpper);
+  return s != 0 ? static_cast<Sign>(s) : detail::orient3d_exact(a, b, c, d);
+}
+
+inline Sign incircle(const double* a, const double* b, const double* c, const double* d) {
+  const int s = detail::filter_decision<4>(detail::incircle_approx(a, b, c, d),
+                                           detail::kIncircleBound, detail::kIncircleLower,
+                                           detail::kIncircleUpper);
+  return s != 0 ? static_cast<Sign>(s) : detail::incircle_exact(a, b, c, d);
+}
+
+inline Sign insphere(const double* a, const double* b, const double* c, const double* d,
+                     const double* e) {
+  const int s = detail::filter_decision<5>(detail::insphere_approx(a, b, c, d, e),
+                                           detail::kInsphereBound, detail::kInsphereLower,
+                                           detail::kInsphereUpper);
+  return s != 0 ? static_cast<Sign>(s) : detail::insphere_exact(a, b, c, d, e);
+}
+
+// ---------------------------------------------------------------------------------------
+// Symbolically perturbed predicates: exact, never zero (see the header comment). The
+// index arguments identify the points; they must be distinct within a call.
+
+Sign orient2d_sos(const double* a, const double* b, const double* c, std::uint32_t ia,
+                  std::uint32_t ib, std::uint32_t ic);
+Sign incircle_sos(const double* a, const double* b, const double* c, const double* d,
+                  std::uint32_t ia, std::uint32_t ib, std::uint32_t ic, std::uint32_t id);
+Sign orient3d_sos(const double* a, const double* b, const double* c, const double* d,
+                  std::uint32_t ia, std::uint32_t ib, std::uint32_t ic, std::uint32_t id);
+Sign insphere_sos(const double* a, const double* b, const double* c, const double* d,
+                  const double* e, std::uint32_t ia, std::uint32_t ib, std::uint32_t ic,
+                  std::uint32_t id, std::uint32_t ie);
+
+// ---------------------------------------------------------------------------------------
+// Plain floating-point determinants (the same formulas as the filters, no guarantee).
+// For tests and benchmarks only: they can and do return wrong signs near degeneracy.
+
+inline Sign orient2d_fast(const double* a, const double* b, const double* c) {
+  return detail::sign_of(detail::orient2d_approx(a, b, c).det);
+}
+inline Sign orient3d_fast(const double* a, const double* b, const double* c, const double* d) {
+  return detail::sign_of(detail::orient3d_approx(a, b, c, d).det);
+}
+inline Sign incircle_fast(const double* a, const double* b, const double* c, const double* d) {
+  return detail::sign_of(detail::incircle_approx(a, b, c, d).det);
+}
+inline Sign insphere_fast(const double* a, const double* b, const double* c, const double* d,
+                          const double* e) {
+  return detail::sign_of(detail::insphere_approx(a, b, c, d, e).det);
+}
+
+}  // namespace voroclip

@@ -1,0 +1,41 @@
+// Signed arbitrary-precision integers, just enough to evaluate a predicate's determinant
+// exactly when expansion arithmetic cannot (coordinates of one call whose exponents span
+// more than the double range allows the products to carry; see exact.h). Slow on purpose
+// of simplicity: it runs only for such inputs and for the rare symbolic-perturbation
+// minors that involve the lifted coordinate.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace voroclip::detail {
+
+class BigInt {
+ public:
+  BigInt() = default;
+  // The integer x * 2^-shift, where x is a finite double that is an integer multiple of
+  // 2^shift (checked by the caller: shift <= the exponent of x's lowest set bit).
+  static BigInt from_scaled_double(double x, int shift);
+
+  int sign() const { return mag_.empty() ? 0 : (negative_ ? -1 : 1); }
+
+  friend BigInt operator+(const BigInt& a, const BigInt& b);
+  friend BigInt operator-(const BigInt& a, const BigInt& b);
+  friend BigInt operator*(const BigInt& a, const BigInt& b);
+
+ private:
+  bool negative_ = false;
+  std::vector<std::uint32_t> mag_;  // little-endian base 2^32, no leading zero limbs
+
+  static BigInt add_signed(const BigInt& a, const BigInt& b, bool negate_b);
+  void trim();
+};
+
+// The exponent of the lowest set bit of a finite non-zero double: x is an odd integer
+// times 2^lowest_bit_exponent(x).
+int lowest_bit_exponent(double x);
+
+// floor(log2(|x|)) for a finite non-zero double.
+int highest_bit_exponent(double x);
+
+}  // namespace voroclip::detail

@@ -1,0 +1,224 @@
+// Exact evaluation of the predicates' determinants, after the filter failed.
+//
+// The determinants are written once, as templates over a "calculator" C that provides
+// C::Num with add/sub/mul/sign, and evaluated with one of two calculators:
+//
+//   ExpansionCalc  Shewchuk expansions (expansion.h) in a per-thread arena. Exact when the
+//                  coordinates of the call, after scaling by a power of two, keep every
+//                  product clear of overflow and underflow: see plan_expansion_scaling.
+//   BigIntCalc     arbitrary-precision integers on the call's common binary grid (every
+//                  finite double is an integer multiple of 2^-1074). Exact for every finite
+//                  input, slower; used only when the exponent span is too wide.
+//
+// Both evaluate the translated determinant (rows p_i - p_last, and for the lifted
+// predicates |p_i - p_last|^2), which equals the homogeneous one of predicates.h.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "bigint.h"
+#include "expansion.h"
+#include "voroclip/predicates.h"
+
+namespace voroclip::detail {
+
+// ---------------------------------------------------------------------------------------
+// Input analysis.
+
+// Throws voroclip::Error when a coordinate is NaN or infinite. `name` is the predicate's.
+void require_finite(const char* name, const double* coords, int count);
+
+struct ExponentSpan {
+  bool any_nonzero = false;
+  int highest = 0;  // max over non-zero coordinates of floor(log2 |x|)
+  int lowest = 0;   // min over non-zero coordinates of the exponent of the lowest set bit
+};
+ExponentSpan exponent_span(const double* coords, int count);
+
+// For a polynomial of degree `degree` in coordinate differences, decides whether expansion
+// arithmetic is exact on these coordinates after multiplying them by 2^scale, and picks
+// scale. Argument: after scaling, every coordinate is a multiple of q = 2^(lowest+scale)
+// and below 2^(highest+scale+1) in magnitude. Every product of `degree` differences, and
+// every expansion component built from them, is then a multiple of q^degree; if
+// q^degree >= 2^-1074 nothing is ever rounded by underflow (Shewchuk's algorithms stay
+// exact under gradual underflow). Magnitudes stay below 2^(degree*(highest+scale+2)+8)
+// (the 8 covers the at most 120 terms of a 5x5 determinant and the lifts); keeping that
+// under 2^990 leaves room for Dekker's splitting constant. Prefers scale = 0 (no work);
+// otherwise scales the largest coordinate below 1. Returns false exactly when
+// highest - lowest + 1 > 1074 / degree (orient2d 537 bits, orient3d 358, incircle 268,
+// insphere 214): then the caller uses the big-integer calculator.
+bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale);
+
+// ---------------------------------------------------------------------------------------
+// Expansion calculator.
+
+// A bump allocator of doubles that never moves what it handed out; reset() makes all of it
+// reusable. One per thread (arena()), so the exact stage allocates nothing after warm-up.
+class ExpansionArena {
+ public:
+  double* allocate(std::size_t n);
+  void reset() {
+    block_ = 0;
+    used_ = 0;
+  }
+
+ private:
+  std::vector<std::unique_ptr<double[]>> blocks_;
+  std::vector<std::size_t> sizes_;
+  std::size_t block_ = 0;
+  std::size_t used_ = 0;
+};
+
+ExpansionArena& thread_arena();
+
+class ExpansionCalc {
+ public:
+  struct Num {
+    double* v;
+    int n;
+  };
+
+  explicit ExpansionCalc(ExpansionArena& arena) : arena_(arena) { arena_.reset(); }
+
+  // The exact difference a - b of two doubles, as an expansion of 0, 1 or 2 components.
+  Num diff(double a, double b) {
+    double* h = arena_.allocate(2);
+    double x, y;
+    expansion::two_diff(a, b, x, y);
+    int n = 0;
+    if (y != 0) h[n++] = y;
+    if (x != 0) h[n++] = x;
+    return {h, n};
+  }
+  Num add(Num a, Num b) {
+    double* h = arena_.allocate(static_cast<std::size_t>(a.n + b.n));
+    return shorten({h, expansion::expansion_sum(a.v, a.n, b.v, b.n, h)});
+  }
+  Num sub(Num a, Num b) {
+    double* h = arena_.allocate(static_cast<std::size_t>(a.n + b.n));
+    return shorten({h, expansion::expansion_diff(a.v, a.n, b.v, b.n, h)});
+  }
+  Num mul(Num a, Num b) {
+    if (a.n < b.n) std::swap(a, b);  // scale the longer one by each component of the shorter
+    if (b.n == 1) {
+      double* h = arena_.allocate(2 * static_cast<std::size_t>(a.n));
+      return shorten({h, expansion::scale_expansion(a.v, a.n, b.v[0], h)});
+    }
+    const std::size_t size = 2 * static_cast<std::size_t>(a.n) * static_cast<std::size_t>(b.n);
+    double* h = arena_.allocate(size);
+    double* scratch = arena_.allocate(size + 2 * static_cast<std::size_t>(a.n));
+    return shorten({h, expansion::expansion_product(a.v, a.n, b.v, b.n, h, scratch)});
+  }
+  static int sign(Num a) { return expansion::sign(a.v, a.n); }
+
+ private:
+  // Compression costs one linear pass and keeps later products small: on inputs with few
+  // significant bits (grids, integer data) every intermediate collapses to 1-2 components.
+  static Num shorten(Num a) {
+    if (a.n > 2) a.n = expansion::compress(a.v, a.n);
+    return a;
+  }
+
+  ExpansionArena& arena_;
+};
+
+// ---------------------------------------------------------------------------------------
+// Big-integer calculator: coordinates are read as integers on the grid 2^grid.
+
+class BigIntCalc {
+ public:
+  using Num = BigInt;
+  explicit BigIntCalc(int grid) : grid_(grid) {}
+  Num diff(double a, double b) const {
+    return BigInt::from_scaled_double(a, grid_) - BigInt::from_scaled_double(b, grid_);
+  }
+  static Num add(const Num& a, const Num& b) { return a + b; }
+  static Num sub(const Num& a, const Num& b) { return a - b; }
+  static Num mul(const Num& a, const Num& b) { return a * b; }
+  static int sign(const Num& a) { return a.sign(); }
+
+ private:
+  int grid_;
+};
+
+// ---------------------------------------------------------------------------------------
+// The determinants, over differences d[i][j] = p_i[j] - p_last[j] (Shewchuk's formulas).
+
+template <class C>
+typename C::Num det2(C& c, const typename C::Num& a0, const typename C::Num& a1,
+                     const typename C::Num& b0, const typename C::Num& b1) {
+  return c.sub(c.mul(a0, b1), c.mul(a1, b0));
+}
+
+template <class C>
+int orient2d_sign(C& c, const typename C::Num (&d)[2][2]) {
+  return C::sign(det2(c, d[0][0], d[0][1], d[1][0], d[1][1]));
+}
+
+template <class C>
+int orient3d_sign(C& c, const typename C::Num (&d)[3][3]) {
+  // adz * (bdx cdy - cdx bdy) + bdz * (cdx ady - adx cdy) + cdz * (adx bdy - bdx ady)
+  const auto bc = det2(c, d[1][0], d[1][1], d[2][0], d[2][1]);
+  const auto ca = det2(c, d[2][0], d[2][1], d[0][0], d[0][1]);
+  const auto ab = det2(c, d[0][0], d[0][1], d[1][0], d[1][1]);
+  return C::sign(
+      c.add(c.add(c.mul(d[0][2], bc), c.mul(d[1][2], ca)), c.mul(d[2][2], ab)));
+}
+
+template <class C, int N>
+typename C::Num lift(C& c, const typename C::Num (&row)[N]) {
+  auto s = c.add(c.mul(row[0], row[0]), c.mul(row[1], row[1]));
+  if constexpr (N == 3) s = c.add(s, c.mul(row[2], row[2]));
+  return s;
+}
+
+template <class C>
+int incircle_sign(C& c, const typename C::Num (&d)[3][2]) {
+  const auto bc = det2(c, d[1][0], d[1][1], d[2][0], d[2][1]);
+  const auto ca = det2(c, d[2][0], d[2][1], d[0][0], d[0][1]);
+  const auto ab = det2(c, d[0][0], d[0][1], d[1][0], d[1][1]);
+  return C::sign(c.add(c.add(c.mul(lift(c, d[0]), bc), c.mul(lift(c, d[1]), ca)),
+                       c.mul(lift(c, d[2]), ab)));
+}
+
+template <class C>
+int insphere_sign(C& c, const typename C::Num (&d)[4][3]) {
+  enum { x, y, z };
+  const auto& a = d[0];
+  const auto& b = d[1];
+  const auto& cc = d[2];
+  const auto& e = d[3];  // Shewchuk's "d" (the fifth point is the origin after translation)
+  const auto ab = det2(c, a[x], a[y], b[x], b[y]);
+  const auto bc = det2(c, b[x], b[y], cc[x], cc[y]);
+  const auto cd = det2(c, cc[x], cc[y], e[x], e[y]);
+  const auto da = det2(c, e[x], e[y], a[x], a[y]);
+  const auto ac = det2(c, a[x], a[y], cc[x], cc[y]);
+  const auto bd = det2(c, b[x], b[y], e[x], e[y]);
+  const auto abc = c.add(c.sub(c.mul(a[z], bc), c.mul(b[z], ac)), c.mul(cc[z], ab));
+  const auto bcd = c.add(c.sub(c.mul(b[z], cd), c.mul(cc[z], bd)), c.mul(e[z], bc));
+  const auto cda = c.add(c.add(c.mul(cc[z], da), c.mul(e[z], ac)), c.mul(a[z], cd));
+  const auto dab = c.add(c.add(c.mul(e[z], ab), c.mul(a[z], bd)), c.mul(b[z], da));
+  const auto det = c.add(c.sub(c.mul(lift(c, e), abc), c.mul(lift(c, cc), dab)),
+                         c.sub(c.mul(lift(c, b), cda), c.mul(lift(c, a), bcd)));
+  return C::sign(det);
+}
+
+// Fills d[i][j] = pts[i][j] - pts[R][j] (R = the last point) with the calculator's exact
+// difference, on coordinates multiplied by 2^scale (exact: see plan_expansion_scaling).
+// ldexp, not a product with 2^scale: when every coordinate is subnormal, scale exceeds
+// 1023 and 2^scale itself is not a double.
+template <class C, int R, int D>
+void differences(C& c, const double* const (&pts)[R + 1], int scale,
+                 typename C::Num (&d)[R][D]) {
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < D; ++j) {
+      d[i][j] = scale == 0 ? c.diff(pts[i][j], pts[R][j])
+                           : c.diff(std::ldexp(pts[i][j], scale), std::ldexp(pts[R][j], scale));
+    }
+  }
+}
+
+}  // namespace voroclip::detail

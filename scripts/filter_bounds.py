@@ -1,0 +1,73 @@
+#!/usr/bin/env python3
+"""Derives the semi-static filter constants used in predicates/src/filters.h.
+
+Model (Higham, "Accuracy and Stability of Numerical Algorithms", ch. 2; the same
+forward analysis as Meyer & Pion's FPG and Geogram's PCK): IEEE-754 binary64, round
+to nearest, u = 2^-53.  Every leaf is a rounded coordinate difference d~ = fl(p - q)
+with |d~| <= M (M = max |d~| over the call) and |d~ - d| <= u |d~| <= u M.  For every
+node we track (m, e): |computed| <= m M^deg and |computed - exact| <= e M^deg.
+  sum:     m = (m1 + m2)(1 + u),   e = e1 + e2 + u (m1 + m2)
+  product: m = m1 m2 (1 + u),      e = m1 e2 + (m2 + e2) e1 + u m1 m2
+The filter returns sign(det~) when |det~| > E M^deg, where E bounds e at the root.
+The bound itself is evaluated in floating point as fl(E * M * ... * M) with deg
+multiplications, each rounding down by at most a factor (1 - u), so the constant we
+store is E (1 + u)^(deg + 1) rounded up to 3 significant digits.  Underflow and
+overflow are excluded by the range check on M done in the filter (see filters.h).
+Run: python3 scripts/filter_bounds.py
+"""
+from fractions import Fraction as Fr
+import math
+
+u = Fr(1, 2**53)
+
+def leaf():
+    return (Fr(1), u)
+
+def add(a, b):
+    (m1, e1), (m2, e2) = a, b
+    return ((m1 + m2) * (1 + u), e1 + e2 + u * (m1 + m2))
+
+def mul(a, b):
+    (m1, e1), (m2, e2) = a, b
+    return (m1 * m2 * (1 + u), m1 * e2 + (m2 + e2) * e1 + u * m1 * m2)
+
+sub = add  # same bounds
+
+def orient2d():
+    d = leaf()
+    return sub(mul(d, d), mul(d, d)), 2
+
+def minor2():
+    d = leaf()
+    return sub(mul(d, d), mul(d, d))
+
+def orient3d():
+    d = leaf()
+    m = minor2()
+    t = mul(d, m)
+    return add(add(t, t), t), 3
+
+def incircle():
+    d = leaf()
+    lift = add(mul(d, d), mul(d, d))
+    t = mul(lift, minor2())
+    return add(add(t, t), t), 4
+
+def insphere():
+    d = leaf()
+    m2 = minor2()
+    m3 = add(sub(mul(d, m2), mul(d, m2)), mul(d, m2))
+    lift = add(add(mul(d, d), mul(d, d)), mul(d, d))
+    t = mul(lift, m3)
+    return add(sub(t, t), sub(t, t)), 5
+
+for name, f in [("orient2d", orient2d), ("orient3d", orient3d),
+                ("incircle", incircle), ("insphere", insphere)]:
+    (m, e), deg = f()
+    stored = e * (1 + u) ** (deg + 1)
+    # round up to 3 significant digits
+    x = float(stored)
+    exp10 = math.floor(math.log10(x))
+    mant = math.ceil(x / 10**exp10 * 100) / 100
+    print(f"{name:9s} deg {deg}  E = {float(e):.6e} = {float(e/u):.4f} u"
+          f"   store {mant:.2f}e{exp10}   max |det~| <= {float(m):.3f} M^{deg}")

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The whole test suite, as CI runs it (.ci/run calls this script verbatim):
+#   1. dependencies          bash scripts/setup.sh --deps-only
+#   2. formatting            clang-format --dry-run --Werror on every .h/.cpp
+#   3. Release build         build/test, warnings as errors, benchmarks built; full ctest
+#   4. ASan + UBSan build    build/asan, without the CGAL tests and the benchmarks; ctest
+#                            without the install test
+# Stops at the first failure with a non-zero exit status.
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+stage_name="start"
+stage() {
+  stage_name="$1"
+  echo
+  echo "==== test.sh: $1"
+}
+trap 'echo "==== test.sh: FAILED in stage: $stage_name" >&2' ERR
+
+stage "1/4 dependencies (scripts/setup.sh --deps-only)"
+bash scripts/setup.sh --deps-only
+
+stage "2/4 clang-format check"
+dirs=()
+for d in core predicates delaunay clip cvt mesh apps bench tests; do
+  if [[ -d "$d" ]]; then dirs+=("$d"); fi
+done
+if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  # Tracked files plus new ones not ignored, so a local run also checks unstaged work.
+  mapfile -t listed < <(git ls-files --cached --others --exclude-standard -- "${dirs[@]}")
+else
+  mapfile -t listed < <(find "${dirs[@]}" -type f | sort)
+fi
+files=()
+for f in "${listed[@]}"; do
+  if [[ "$f" =~ \.(h|cpp)$ && -f "$f" ]]; then files+=("$f"); fi
+done
+echo "checking ${#files[@]} files against .clang-format ($(clang-format --version))"
+clang-format --dry-run --Werror "${files[@]}"
+
+stage "3/4 Release build (build/test, -DVOROCLIP_WERROR=ON) and ctest"
+cmake -S . -B build/test -DCMAKE_BUILD_TYPE=Release -DVOROCLIP_WERROR=ON
+cmake --build build/test -j2
+ctest --test-dir build/test --output-on-failure -j2
+
+stage "4/4 ASan+UBSan build (build/asan) and ctest without the install test"
+cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DVOROCLIP_SANITIZE=address,undefined -DVOROCLIP_WITH_CGAL_TESTS=OFF \
+  -DVOROCLIP_BUILD_BENCH=OFF -DVOROCLIP_WERROR=ON
+cmake --build build/asan -j2
+UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir build/asan --output-on-failure -j2 -E install
+
+echo
+echo "==== test.sh: PASSED: format (${#files[@]} files), Release build + ctest," \
+  "ASan/UBSan build + ctest, in ${SECONDS}s"

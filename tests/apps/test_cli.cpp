@@ -1,0 +1,361 @@
+// Runs the built `voroclip` binary (VOROCLIP_CLI_PATH) and checks what it prints, its exit
+// status and the files it writes.
+#include <catch2/catch.hpp>
+
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "voroclip/core.h"
+#include "voroclip/predicates.h"
+
+namespace {
+
+struct Run {
+  int status = -1;  // exit status, or -1 when the process did not exit normally
+  std::string out;
+  std::string err;
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string quoted = "'";
+  for (const char c : s) {
+    if (c == '\'') {
+      quoted += "'\\''";
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + "'";
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
+
+Run run_cli(std::initializer_list<std::string> args) {
+  char err_path[] = "test_cli_stderr_XXXXXX";
+  const int fd = mkstemp(err_path);
+  REQUIRE(fd >= 0);
+  close(fd);
+  std::string command = shell_quote(VOROCLIP_CLI_PATH);
+  for (const std::string& a : args) command += " " + shell_quote(a);
+  command += " 2>" + shell_quote(err_path);
+
+  Run run;
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.err = slurp(err_path);
+  std::remove(err_path);
+  // Shown with the next assertion, which is usually the one about this run.
+  UNSCOPED_INFO("command: " << command << "\nstatus: " << run.status << "\nstdout: " << run.out
+                            << "\nstderr: " << run.err);
+  return run;
+}
+
+// A failure prints exactly one line "voroclip: error: ..." on stderr and nothing on stdout.
+void check_one_error_line(const Run& run) {
+  INFO("stderr: " << run.err);
+  CHECK(run.err.rfind("voroclip: error: ", 0) == 0);
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK(run.err.back() == '\n');
+  CHECK(run.out.empty());
+}
+
+bool contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
+}
+
+nlohmann::json demo_stats(const std::string& threads) {
+  const Run run = run_cli({"--threads", threads, "demo", "--stats", "json"});
+  REQUIRE(run.status == 0);
+  return nlohmann::json::parse(run.out);
+}
+
+}  // namespace
+
+TEST_CASE("--version prints the library version", "[apps]") {
+  const Run run = run_cli({"--version"});
+  CHECK(run.status == 0);
+  CHECK(run.out == std::string("voroclip ") + voroclip::version() + "\n");
+  CHECK(run.err.empty());
+}
+
+TEST_CASE("--help lists the subcommands and global options", "[apps]") {
+  const Run run = run_cli({"--help"});
+  CHECK(run.status == 0);
+  CHECK(contains(run.out, "demo"));
+  CHECK(contains(run.out, "predicate"));
+  CHECK(contains(run.out, "--threads"));
+  CHECK(contains(run.out, "--stats"));
+  CHECK(contains(run.out, "--quiet"));
+}
+
+TEST_CASE("usage errors exit with status 2 and one error line", "[apps]") {
+  SECTION("no subcommand") {
+    const Run run = run_cli({});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("unknown option") {
+    const Run run = run_cli({"--no-such-option", "demo"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("--threads 0") {
+    const Run run = run_cli({"--threads", "0", "demo"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--threads"));
+  }
+  SECTION("--threads not a number") {
+    const Run run = run_cli({"--threads", "two", "demo"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--threads"));
+  }
+  SECTION("demo -o with an empty file name") {
+    const Run run = run_cli({"demo", "-o", ""});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("--stats in an unknown format") {
+    const Run run = run_cli({"demo", "--stats", "xml"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+}
+
+TEST_CASE("demo --stats json reports the classroom example's exact facts", "[apps][exact]") {
+  const Run run = run_cli({"demo", "--stats", "json"});
+  REQUIRE(run.status == 0);
+  const nlohmann::json stats = nlohmann::json::parse(run.out);  // one object, nothing else
+  REQUIRE(stats.is_object());
+  CHECK(stats.at("points") == 65536);
+  // Kettner et al.: naive floating point gets some of these signs wrong.
+  CHECK(stats.at("naive_wrong").get<long>() > 0);
+  CHECK(stats.at("naive_false_zero").get<long>() + stats.at("naive_false_nonzero").get<long>() +
+            stats.at("naive_flipped").get<long>() ==
+        stats.at("naive_wrong").get<long>());
+  CHECK(stats.at("naive_positive").get<long>() + stats.at("naive_zero").get<long>() +
+            stats.at("naive_negative").get<long>() ==
+        65536);
+  // Exact: p is on the line exactly when i == j, above it (positive) when j > i.
+  CHECK(stats.at("exact_zero") == 256);
+  CHECK(stats.at("exact_positive") == 32640);
+  CHECK(stats.at("exact_negative") == 32640);
+  CHECK(stats.at("exact_positive").get<long>() + stats.at("exact_zero").get<long>() +
+            stats.at("exact_negative").get<long>() ==
+        65536);
+  // Four 5-tuples of cospherical cube corners, each decided by insphere_sos.
+  CHECK(stats.at("cospherical_tests") == 4);
+  CHECK(stats.at("sos_positive").get<long>() + stats.at("sos_negative").get<long>() ==
+        stats.at("cospherical_tests").get<long>());
+  CHECK(stats.at("seconds").is_number());
+  CHECK(stats.at("svg").is_null());
+  // With --stats json the human report moves to stderr.
+  CHECK(contains(run.err, "Classroom example"));
+}
+
+TEST_CASE("demo without options prints a report on stdout", "[apps]") {
+  const Run run = run_cli({"demo"});
+  CHECK(run.status == 0);
+  CHECK(contains(run.out, "Classroom example"));
+  CHECK(contains(run.out, "insphere_sos"));
+  CHECK(run.err.empty());
+}
+
+TEST_CASE("--quiet with --stats json prints only the JSON object", "[apps]") {
+  const Run run = run_cli({"-q", "demo", "--stats", "json"});
+  CHECK(run.status == 0);
+  CHECK(run.err.empty());
+  CHECK(nlohmann::json::parse(run.out).at("exact_zero") == 256);
+}
+
+TEST_CASE("demo counts are identical with 1 and 2 threads", "[apps]") {
+  nlohmann::json one = demo_stats("1");
+  nlohmann::json two = demo_stats("2");
+  CHECK(one.at("threads") == 1);
+  for (nlohmann::json* stats : {&one, &two}) {
+    stats->erase("seconds");
+    stats->erase("threads");
+  }
+  CHECK(one == two);
+}
+
+TEST_CASE("demo -o writes a complete SVG picture", "[apps]") {
+  const std::string path = "test_cli_demo.svg";
+  std::remove(path.c_str());
+  const Run run = run_cli({"demo", "-o", path, "--stats", "json"});
+  REQUIRE(run.status == 0);
+  CHECK(nlohmann::json::parse(run.out).at("svg") == path);
+  const std::string svg = slurp(path);
+  CHECK((svg.rfind("<?xml", 0) == 0 || svg.rfind("<svg", 0) == 0));
+  CHECK(contains(svg, "<svg xmlns=\"http://www.w3.org/2000/svg\""));
+  CHECK(svg.size() > 7);
+  CHECK(svg.substr(svg.size() - 7) == "</svg>\n");
+  CHECK_FALSE(exists(path + ".voroclip-tmp"));
+
+  // The picture is a function of the input only, not of the number of threads.
+  const std::string path1 = "test_cli_demo_1thread.svg";
+  REQUIRE(run_cli({"--threads", "1", "demo", "-o", path1}).status == 0);
+  CHECK(slurp(path1) == svg);
+  std::remove(path.c_str());
+  std::remove(path1.c_str());
+}
+
+TEST_CASE("demo -o into a missing directory fails and creates nothing", "[apps]") {
+  const std::string path = "/nonexistent/dir/x.svg";
+  REQUIRE_FALSE(exists("/nonexistent"));
+  const Run run = run_cli({"demo", "-o", path});
+  CHECK(run.status == 1);
+  CHECK(run.err.rfind("voroclip: error: ", 0) == 0);
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK(contains(run.err, path));
+  CHECK_FALSE(exists("/nonexistent"));
+}
+
+TEST_CASE("predicate prints the exact sign", "[apps][exact]") {
+  CHECK(run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0", "1"}).out == "positive\n");
+  CHECK(run_cli({"predicate", "orient2d", "0", "0", "0", "1", "1", "0"}).out == "negative\n");
+  CHECK(run_cli({"predicate", "orient2d", "0", "0", "1", "1", "2", "2"}).out == "zero\n");
+  // Negative numbers are coordinates, not options.
+  CHECK(run_cli({"predicate", "orient2d", "0", "0", "-1", "0", "0", "-1"}).out == "positive\n");
+  CHECK(run_cli({"predicate", "orient2d", "--", "0", "0", "-.5", "0", "0", "1"}).out ==
+        "negative\n");
+  CHECK(run_cli({"predicate", "incircle", "0", "0", "1", "0", "0", "1", "0.5", "0.5"}).out ==
+        "positive\n");
+  CHECK(run_cli({"predicate", "incircle", "0", "0", "1", "0", "0", "1", "1", "1"}).out == "zero\n");
+  CHECK(
+      run_cli({"predicate", "orient3d", "0", "0", "0", "1", "0", "0", "0", "1", "0", "0", "0", "1"})
+          .out == "negative\n");
+}
+
+TEST_CASE("predicate reads hexadecimal floats exactly", "[apps][exact]") {
+  // 0x1.0000000000001p-1 is 0.5 + 2^-53: point (i, j) = (1, 1) and (1, 0) of the demo.
+  const std::string p = "0x1.0000000000001p-1";
+  const Run on_line = run_cli({"predicate", "orient2d", p, p, "12", "12", "24", "24"});
+  CHECK(on_line.status == 0);
+  CHECK(on_line.out == "zero\n");
+  CHECK(run_cli({"predicate", "orient2d", p, "0x1p-1", "12", "12", "24", "24"}).out ==
+        "negative\n");
+  CHECK(run_cli({"predicate", "orient2d", "0.5000000000000001", p, "12", "12", "24", "24"}).out ==
+        "zero\n");
+}
+
+TEST_CASE("predicate rejects bad arguments with a clear message", "[apps]") {
+  SECTION("5 coordinates for orient2d") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "orient2d takes 6 coordinates"));
+    CHECK(contains(run.err, "got 5"));
+  }
+  SECTION("NaN") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "nan", "0", "0", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "coordinate 3 'nan'"));
+  }
+  SECTION("infinity") {
+    const Run run = run_cli({"predicate", "orient2d", "--", "0", "0", "1", "-inf", "0", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "coordinate 4 '-inf'"));
+  }
+  SECTION("a coordinate that looks like an option") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "1", "-inf", "0", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "write -- before"));
+  }
+  SECTION("trailing garbage") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0", "1.5x"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "coordinate 6 '1.5x'"));
+  }
+  SECTION("overflow") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "1e400", "0", "0", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "'1e400'"));
+  }
+  SECTION("unknown predicate") {
+    const Run run = run_cli({"predicate", "orient4d", "0", "0", "1", "0", "0", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "orient4d"));
+  }
+  SECTION("wrong number of --sos indices") {
+    const Run run = run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0", "1", "--sos", "0"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--sos takes 3 indices"));
+  }
+  SECTION("repeated --sos index") {
+    const Run run =
+        run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0", "1", "--sos", "0", "1", "0"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "distinct"));
+  }
+  SECTION("negative --sos index") {
+    const Run run =
+        run_cli({"predicate", "orient2d", "0", "0", "1", "0", "0", "1", "--sos", "0", "1", "-2"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "'-2'"));
+  }
+}
+
+TEST_CASE("predicate insphere: cospherical points are zero, --sos decides", "[apps][degenerate]") {
+  // Five corners of the unit cube: all on the cube's circumsphere.
+  const std::vector<double> c = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+  const Run exact = run_cli({"predicate", "insphere", "0", "0", "0", "1", "0", "0", "0", "1", "0",
+                             "0", "0", "1", "1", "1", "1"});
+  CHECK(exact.status == 0);
+  CHECK(exact.out == "zero\n");
+
+  const voroclip::Sign direct =
+      voroclip::insphere_sos(&c[0], &c[3], &c[6], &c[9], &c[12], 0, 1, 2, 3, 4);
+  REQUIRE(direct != voroclip::Sign::zero);
+  const Run sos =
+      run_cli({"predicate", "insphere", "0", "0", "0", "1",     "0", "0", "0", "1", "0", "0",
+               "0",         "1",        "1", "1", "1", "--sos", "0", "1", "2", "3", "4"});
+  CHECK(sos.status == 0);
+  CHECK(sos.out == (direct == voroclip::Sign::positive ? "positive\n" : "negative\n"));
+
+  const Run json = run_cli({"predicate", "insphere", "0", "0", "0", "1",       "0",   "0", "0",
+                            "1",         "0",        "0", "0", "1", "1",       "1",   "1", "--sos",
+                            "0",         "1",        "2", "3", "4", "--stats", "json"});
+  CHECK(json.status == 0);
+  const nlohmann::json stats = nlohmann::json::parse(json.out);
+  CHECK(stats.at("predicate") == "insphere");
+  CHECK(stats.at("sign") == static_cast<int>(direct));
+  CHECK(stats.at("sos") == true);
+
+  const Run plain_json = run_cli({"predicate", "insphere", "0", "0", "0", "1", "0", "0", "0", "1",
+                                  "0", "0", "0", "1", "1", "1", "1", "--stats", "json"});
+  CHECK(nlohmann::json::parse(plain_json.out) ==
+        nlohmann::json::parse(R"({"predicate": "insphere", "sign": 0, "sos": false})"));
+}
