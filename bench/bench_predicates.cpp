@@ -2,7 +2,7 @@
 // filtered exact predicate and its symbolically perturbed variant, on random input (where
 // the filter decides) and on exactly degenerate input (where the exact stage and, for
 // *_sos, the perturbation decide). Each benchmark iteration evaluates a batch of kBatch
-// calls over pre-generated tuples; the "ns_per_call" counter is the figure to quote.
+// calls over pre-generated tuples; the "per_call" counter is the figure to quote.
 //
 // Targets (issue 2): filtered <= 1.3x naive on random input; insphere_sos <= 150 ns on
 // exactly cospherical input.
@@ -40,7 +40,9 @@ Tuples<K, D> random_tuples(std::size_t n) {
   t.ids.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     for (auto& x : t.coords[i]) x = u(rng);
-    for (int k = 0; k < K; ++k) t.ids[i][static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(K * i + static_cast<std::size_t>(k));
+    for (int k = 0; k < K; ++k)
+      t.ids[i][static_cast<std::size_t>(k)] =
+          static_cast<std::uint32_t>(K * i + static_cast<std::size_t>(k));
   }
   return t;
 }
@@ -113,81 +115,112 @@ void run_batches(benchmark::State& state, const Tup& t, F f) {
     benchmark::DoNotOptimize(acc);
   }
   const double calls = static_cast<double>(state.iterations()) * kBatch;
-  state.counters["ns_per_call"] = benchmark::Counter(
-      calls / 1e9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  // Seconds per call, printed with an SI prefix (e.g. "5.7ns").
+  state.counters["per_call"] =
+      benchmark::Counter(calls, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 constexpr std::size_t kRandomTuples = 1 << 14;  // 16k tuples: stays in L2 for K <= 5
 
 // ----- orient2d
-const auto& r2() { static const auto t = random_tuples<3, 2>(kRandomTuples); return t; }
+const auto& r2() {
+  static const auto t = random_tuples<3, 2>(kRandomTuples);
+  return t;
+}
 void BM_orient2d_naive(benchmark::State& s) {
   run_batches(s, r2(), [](const auto& t, std::size_t i) {
-    return voroclip::orient2d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2)); });
+    return voroclip::orient2d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2));
+  });
 }
 void BM_orient2d_exact(benchmark::State& s) {
   run_batches(s, r2(), [](const auto& t, std::size_t i) {
-    return voroclip::orient2d(t.point(i, 0), t.point(i, 1), t.point(i, 2)); });
+    return voroclip::orient2d(t.point(i, 0), t.point(i, 1), t.point(i, 2));
+  });
 }
 // ----- orient3d
-const auto& r3() { static const auto t = random_tuples<4, 3>(kRandomTuples); return t; }
+const auto& r3() {
+  static const auto t = random_tuples<4, 3>(kRandomTuples);
+  return t;
+}
 void BM_orient3d_naive(benchmark::State& s) {
   run_batches(s, r3(), [](const auto& t, std::size_t i) {
-    return voroclip::orient3d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+    return voroclip::orient3d_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
+  });
 }
 void BM_orient3d_exact(benchmark::State& s) {
   run_batches(s, r3(), [](const auto& t, std::size_t i) {
-    return voroclip::orient3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+    return voroclip::orient3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
+  });
 }
 // ----- incircle
-const auto& rc() { static const auto t = random_tuples<4, 2>(kRandomTuples); return t; }
+const auto& rc() {
+  static const auto t = random_tuples<4, 2>(kRandomTuples);
+  return t;
+}
 void BM_incircle_naive(benchmark::State& s) {
   run_batches(s, rc(), [](const auto& t, std::size_t i) {
-    return voroclip::incircle_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+    return voroclip::incircle_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
+  });
 }
 void BM_incircle_exact(benchmark::State& s) {
   run_batches(s, rc(), [](const auto& t, std::size_t i) {
-    return voroclip::incircle(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3)); });
+    return voroclip::incircle(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
+  });
 }
 // ----- insphere
-const auto& rs() { static const auto t = random_tuples<5, 3>(kRandomTuples); return t; }
+const auto& rs() {
+  static const auto t = random_tuples<5, 3>(kRandomTuples);
+  return t;
+}
 void BM_insphere_naive(benchmark::State& s) {
   run_batches(s, rs(), [](const auto& t, std::size_t i) {
     return voroclip::insphere_fast(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                                   t.point(i, 4)); });
+                                   t.point(i, 4));
+  });
 }
 void BM_insphere_exact(benchmark::State& s) {
   run_batches(s, rs(), [](const auto& t, std::size_t i) {
     return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                              t.point(i, 4)); });
+                              t.point(i, 4));
+  });
 }
 void BM_insphere_sos(benchmark::State& s) {
   run_batches(s, rs(), [](const auto& t, std::size_t i) {
     const auto& id = t.ids[i];
     return voroclip::insphere_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]); });
+                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]);
+  });
 }
 
 // ----- exactly degenerate input
 // Integer points on the sphere x^2+y^2+z^2 = 2025 (r = 45) and the circle x^2+y^2 = 5525.
-const auto& cs() { static const auto t = cospherical_tuples<5, 3>(4096, 45, 2025); return t; }
-const auto& cc() { static const auto t = cospherical_tuples<4, 2>(4096, 75, 5525); return t; }
+const auto& cs() {
+  static const auto t = cospherical_tuples<5, 3>(4096, 45, 2025);
+  return t;
+}
+const auto& cc() {
+  static const auto t = cospherical_tuples<4, 2>(4096, 75, 5525);
+  return t;
+}
 void BM_insphere_exact_cospherical(benchmark::State& s) {
   run_batches(s, cs(), [](const auto& t, std::size_t i) {
     return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                              t.point(i, 4)); });
+                              t.point(i, 4));
+  });
 }
 void BM_insphere_sos_cospherical(benchmark::State& s) {
   run_batches(s, cs(), [](const auto& t, std::size_t i) {
     const auto& id = t.ids[i];
     return voroclip::insphere_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]); });
+                                  t.point(i, 4), id[0], id[1], id[2], id[3], id[4]);
+  });
 }
 void BM_incircle_sos_cocircular(benchmark::State& s) {
   run_batches(s, cc(), [](const auto& t, std::size_t i) {
     const auto& id = t.ids[i];
-    return voroclip::incircle_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                                  id[0], id[1], id[2], id[3]); });
+    return voroclip::incircle_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3), id[0],
+                                  id[1], id[2], id[3]);
+  });
 }
 
 // Collinear / coplanar integer grid points: orient2d/orient3d exact zero, then *_sos.
@@ -201,27 +234,40 @@ Tuples<K, D> flat_grid_tuples(std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
     // points a + s*u (+ t*v) with integer s, t: exactly on a line / plane
     double a[D], u[D], v[D];
-    for (int j = 0; j < D; ++j) { a[j] = g(rng); u[j] = g(rng) % 7; v[j] = g(rng) % 5; }
+    for (int j = 0; j < D; ++j) {
+      a[j] = g(rng);
+      u[j] = g(rng) % 7;
+      v[j] = g(rng) % 5;
+    }
     for (int k = 0; k < K; ++k) {
       const double sk = g(rng) % 9, tk = g(rng) % 9;
-      for (int j = 0; j < D; ++j) t.coords[i][k * D + j] = a[j] + sk * u[j] + (D == 3 ? tk * v[j] : 0);
+      for (int j = 0; j < D; ++j)
+        t.coords[i][k * D + j] = a[j] + sk * u[j] + (D == 3 ? tk * v[j] : 0);
       t.ids[i][k] = static_cast<std::uint32_t>(K * i + k);
     }
   }
   return t;
 }
-const auto& f2() { static const auto t = flat_grid_tuples<3, 2>(4096); return t; }
-const auto& f3() { static const auto t = flat_grid_tuples<4, 3>(4096); return t; }
+const auto& f2() {
+  static const auto t = flat_grid_tuples<3, 2>(4096);
+  return t;
+}
+const auto& f3() {
+  static const auto t = flat_grid_tuples<4, 3>(4096);
+  return t;
+}
 void BM_orient2d_sos_collinear(benchmark::State& s) {
   run_batches(s, f2(), [](const auto& t, std::size_t i) {
     const auto& id = t.ids[i];
-    return voroclip::orient2d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), id[0], id[1], id[2]); });
+    return voroclip::orient2d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), id[0], id[1], id[2]);
+  });
 }
 void BM_orient3d_sos_coplanar(benchmark::State& s) {
   run_batches(s, f3(), [](const auto& t, std::size_t i) {
     const auto& id = t.ids[i];
-    return voroclip::orient3d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                                  id[0], id[1], id[2], id[3]); });
+    return voroclip::orient3d_sos(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3), id[0],
+                                  id[1], id[2], id[3]);
+  });
 }
 
 // Near-degenerate floating-point input: the fifth point is the first one moved along the
@@ -241,7 +287,8 @@ const auto& ns() {
 void BM_insphere_exact_near_degenerate(benchmark::State& s) {
   run_batches(s, ns(), [](const auto& t, std::size_t i) {
     return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
-                              t.point(i, 4)); });
+                              t.point(i, 4));
+  });
 }
 
 }  // namespace

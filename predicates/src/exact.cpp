@@ -99,19 +99,27 @@ Sign exact_sign(const char* name, const double* const (&pts)[R + 1], Formula for
 
 struct Orient2dFormula {
   template <class C, class M>
-  int operator()(C& c, const M& d) const { return orient2d_sign(c, d); }
+  int operator()(C& c, const M& d) const {
+    return orient2d_sign(c, d);
+  }
 };
 struct Orient3dFormula {
   template <class C, class M>
-  int operator()(C& c, const M& d) const { return orient3d_sign(c, d); }
+  int operator()(C& c, const M& d) const {
+    return orient3d_sign(c, d);
+  }
 };
 struct IncircleFormula {
   template <class C, class M>
-  int operator()(C& c, const M& d) const { return incircle_sign(c, d); }
+  int operator()(C& c, const M& d) const {
+    return incircle_sign(c, d);
+  }
 };
 struct InsphereFormula {
   template <class C, class M>
-  int operator()(C& c, const M& d) const { return insphere_sign(c, d); }
+  int operator()(C& c, const M& d) const {
+    return insphere_sign(c, d);
+  }
 };
 
 }  // namespace

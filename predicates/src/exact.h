@@ -164,8 +164,7 @@ int orient3d_sign(C& c, const typename C::Num (&d)[3][3]) {
   const auto bc = det2(c, d[1][0], d[1][1], d[2][0], d[2][1]);
   const auto ca = det2(c, d[2][0], d[2][1], d[0][0], d[0][1]);
   const auto ab = det2(c, d[0][0], d[0][1], d[1][0], d[1][1]);
-  return C::sign(
-      c.add(c.add(c.mul(d[0][2], bc), c.mul(d[1][2], ca)), c.mul(d[2][2], ab)));
+  return C::sign(c.add(c.add(c.mul(d[0][2], bc), c.mul(d[1][2], ca)), c.mul(d[2][2], ab)));
 }
 
 template <class C, int N>
@@ -180,8 +179,8 @@ int incircle_sign(C& c, const typename C::Num (&d)[3][2]) {
   const auto bc = det2(c, d[1][0], d[1][1], d[2][0], d[2][1]);
   const auto ca = det2(c, d[2][0], d[2][1], d[0][0], d[0][1]);
   const auto ab = det2(c, d[0][0], d[0][1], d[1][0], d[1][1]);
-  return C::sign(c.add(c.add(c.mul(lift(c, d[0]), bc), c.mul(lift(c, d[1]), ca)),
-                       c.mul(lift(c, d[2]), ab)));
+  return C::sign(
+      c.add(c.add(c.mul(lift(c, d[0]), bc), c.mul(lift(c, d[1]), ca)), c.mul(lift(c, d[2]), ab)));
 }
 
 template <class C>
@@ -211,8 +210,7 @@ int insphere_sign(C& c, const typename C::Num (&d)[4][3]) {
 // ldexp, not a product with 2^scale: when every coordinate is subnormal, scale exceeds
 // 1023 and 2^scale itself is not a double.
 template <class C, int R, int D>
-void differences(C& c, const double* const (&pts)[R + 1], int scale,
-                 typename C::Num (&d)[R][D]) {
+void differences(C& c, const double* const (&pts)[R + 1], int scale, typename C::Num (&d)[R][D]) {
   for (int i = 0; i < R; ++i) {
     for (int j = 0; j < D; ++j) {
       d[i][j] = scale == 0 ? c.diff(pts[i][j], pts[R][j])

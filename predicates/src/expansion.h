@@ -76,8 +76,7 @@ int scale_expansion(const double* e, int ne, double b, double* h);
 // h = e * f, the full product: the sum over the components of f of scale_expansion(e, f_j).
 // h needs room for 2 * ne * nf components and scratch for 2 * ne * nf + 2 * ne; neither may
 // alias e or f. Returns the length of h.
-int expansion_product(const double* e, int ne, const double* f, int nf, double* h,
-                      double* scratch);
+int expansion_product(const double* e, int ne, const double* f, int nf, double* h, double* scratch);
 
 // Rewrites e in place into an equivalent, usually much shorter expansion (Shewchuk's
 // Compress, Thm 23: non-adjacent components; the largest approximates the value to within

@@ -46,9 +46,8 @@ TEST_CASE("write_file_atomically leaves no partial file when the writer throws",
 TEST_CASE("write_file_atomically keeps the previous file when the writer throws", "[core]") {
   const std::string path = "test_core_atomic_keep.txt";
   voroclip::write_file_atomically(path, [](std::ostream& out) { out << "old"; });
-  CHECK_THROWS(voroclip::write_file_atomically(path, [](std::ostream&) {
-    throw voroclip::Error("no");
-  }));
+  CHECK_THROWS(
+      voroclip::write_file_atomically(path, [](std::ostream&) { throw voroclip::Error("no"); }));
   CHECK(slurp(path) == "old");
   std::remove(path.c_str());
 }

@@ -113,8 +113,8 @@ inline int to_int(Sign s) { return static_cast<int>(s); }
 // The four predicates, handled generically by the tests.
 
 enum class Pred { orient2d, incircle, orient3d, insphere };
-inline constexpr std::array<Pred, 4> kAllPreds = {Pred::orient2d, Pred::incircle,
-                                                  Pred::orient3d, Pred::insphere};
+inline constexpr std::array<Pred, 4> kAllPreds = {Pred::orient2d, Pred::incircle, Pred::orient3d,
+                                                  Pred::insphere};
 
 struct PredInfo {
   const char* name;
@@ -125,10 +125,14 @@ struct PredInfo {
 
 inline constexpr PredInfo info(Pred p) {
   switch (p) {
-    case Pred::orient2d: return {"orient2d", 3, 2, false};
-    case Pred::incircle: return {"incircle", 4, 2, true};
-    case Pred::orient3d: return {"orient3d", 4, 3, false};
-    case Pred::insphere: return {"insphere", 5, 3, true};
+    case Pred::orient2d:
+      return {"orient2d", 3, 2, false};
+    case Pred::incircle:
+      return {"incircle", 4, 2, true};
+    case Pred::orient3d:
+      return {"orient3d", 4, 3, false};
+    case Pred::insphere:
+      return {"insphere", 5, 3, true};
   }
   return {"?", 0, 0, false};
 }
@@ -166,9 +170,12 @@ inline std::string describe(Pred pred, const Input& in, const Indices& idx) {
 inline Sign eval(Pred pred, const Input& in) {
   const auto& p = in.p;
   switch (pred) {
-    case Pred::orient2d: return orient2d(p[0].data(), p[1].data(), p[2].data());
-    case Pred::incircle: return incircle(p[0].data(), p[1].data(), p[2].data(), p[3].data());
-    case Pred::orient3d: return orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data());
+    case Pred::orient2d:
+      return orient2d(p[0].data(), p[1].data(), p[2].data());
+    case Pred::incircle:
+      return incircle(p[0].data(), p[1].data(), p[2].data(), p[3].data());
+    case Pred::orient3d:
+      return orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data());
     case Pred::insphere:
       return insphere(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data());
   }
@@ -178,7 +185,8 @@ inline Sign eval(Pred pred, const Input& in) {
 inline Sign eval_fast(Pred pred, const Input& in) {
   const auto& p = in.p;
   switch (pred) {
-    case Pred::orient2d: return orient2d_fast(p[0].data(), p[1].data(), p[2].data());
+    case Pred::orient2d:
+      return orient2d_fast(p[0].data(), p[1].data(), p[2].data());
     case Pred::incircle:
       return incircle_fast(p[0].data(), p[1].data(), p[2].data(), p[3].data());
     case Pred::orient3d:
@@ -193,7 +201,8 @@ inline Sign eval_fast(Pred pred, const Input& in) {
 inline Sign eval_exact_stage(Pred pred, const Input& in) {
   const auto& p = in.p;
   switch (pred) {
-    case Pred::orient2d: return detail::orient2d_exact(p[0].data(), p[1].data(), p[2].data());
+    case Pred::orient2d:
+      return detail::orient2d_exact(p[0].data(), p[1].data(), p[2].data());
     case Pred::incircle:
       return detail::incircle_exact(p[0].data(), p[1].data(), p[2].data(), p[3].data());
     case Pred::orient3d:
@@ -210,10 +219,9 @@ inline int filter_decision(Pred pred, const Input& in) {
   const auto& p = in.p;
   switch (pred) {
     case Pred::orient2d:
-      return detail::filter_decision<2>(detail::orient2d_approx(p[0].data(), p[1].data(),
-                                                                p[2].data()),
-                                        detail::kOrient2dBound, detail::kOrient2dLower,
-                                        detail::kOrient2dUpper);
+      return detail::filter_decision<2>(
+          detail::orient2d_approx(p[0].data(), p[1].data(), p[2].data()), detail::kOrient2dBound,
+          detail::kOrient2dLower, detail::kOrient2dUpper);
     case Pred::incircle:
       return detail::filter_decision<4>(
           detail::incircle_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data()),
@@ -224,8 +232,7 @@ inline int filter_decision(Pred pred, const Input& in) {
           detail::kOrient3dBound, detail::kOrient3dLower, detail::kOrient3dUpper);
     case Pred::insphere:
       return detail::filter_decision<5>(
-          detail::insphere_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
-                                  p[4].data()),
+          detail::insphere_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()),
           detail::kInsphereBound, detail::kInsphereLower, detail::kInsphereUpper);
   }
   return 0;
@@ -237,14 +244,14 @@ inline Sign eval_sos(Pred pred, const Input& in, const Indices& i) {
     case Pred::orient2d:
       return orient2d_sos(p[0].data(), p[1].data(), p[2].data(), i[0], i[1], i[2]);
     case Pred::incircle:
-      return incircle_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), i[0], i[1],
-                          i[2], i[3]);
+      return incircle_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), i[0], i[1], i[2],
+                          i[3]);
     case Pred::orient3d:
-      return orient3d_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), i[0], i[1],
-                          i[2], i[3]);
+      return orient3d_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), i[0], i[1], i[2],
+                          i[3]);
     case Pred::insphere:
-      return insphere_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data(),
-                          i[0], i[1], i[2], i[3], i[4]);
+      return insphere_sos(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data(), i[0],
+                          i[1], i[2], i[3], i[4]);
   }
   return Sign::zero;
 }
@@ -270,8 +277,7 @@ inline void scaled_integers(const double* x, int count, mpz_class* out) {
     int e = 0;
     const double m = std::ldexp(std::frexp(x[i], &e), 53);  // an integer, |m| < 2^53
     mpz_set_d(out[i].get_mpz_t(), m);
-    mpz_mul_2exp(out[i].get_mpz_t(), out[i].get_mpz_t(),
-                 static_cast<mp_bitcnt_t>(e - 53 - emin));
+    mpz_mul_2exp(out[i].get_mpz_t(), out[i].get_mpz_t(), static_cast<mp_bitcnt_t>(e - 53 - emin));
   }
 }
 
@@ -342,7 +348,10 @@ inline mpq_class permutation_det(const std::vector<mpq_class>& m, int n) {
     mpq_class term = 1;
     for (int i = 0; i < n; ++i)
       term *= m[static_cast<std::size_t>(i * n + perm[static_cast<std::size_t>(i)])];
-    if (inversions % 2) det -= term; else det += term;
+    if (inversions % 2)
+      det -= term;
+    else
+      det += term;
   } while (std::next_permutation(perm.begin(), perm.end()));
   return det;
 }
@@ -522,7 +531,8 @@ inline Input exactly_degenerate_ints(Pred pred, Rng& rng) {
     }
   }
   for (int i = 0; i < pi.k; ++i)
-    for (int j = pi.d; j < 3; ++j) in.p[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = 0;
+    for (int j = pi.d; j < 3; ++j)
+      in.p[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = 0;
   permute_points(in, pi.k, rng);
   return in;
 }
@@ -557,20 +567,28 @@ inline Input scaled_by(Pred pred, Input in, int e) {
 // (e) One coordinate of any magnitude: tiny, subnormal, huge, extreme, zero, ordinary.
 inline double random_mixed_coordinate(Rng& rng) {
   switch (rng() % 9) {
-    case 0: return uniform(rng, -1, 1);
-    case 1: return random_wide(rng, -1074, -1000);  // subnormal or tiny
-    case 2: return random_wide(rng, -1022, -900);
-    case 3: return random_wide(rng, 600, 1023);
-    case 4: return 0.0;
-    case 5: return static_cast<double>(rand_int(rng, -3, 3));
-    case 6: return random_wide(rng, -1074, 1023);
+    case 0:
+      return uniform(rng, -1, 1);
+    case 1:
+      return random_wide(rng, -1074, -1000);  // subnormal or tiny
+    case 2:
+      return random_wide(rng, -1022, -900);
+    case 3:
+      return random_wide(rng, 600, 1023);
+    case 4:
+      return 0.0;
+    case 5:
+      return static_cast<double>(rand_int(rng, -3, 3));
+    case 6:
+      return random_wide(rng, -1074, 1023);
     case 7: {
-      static constexpr double extremes[] = {DBL_MAX, DBL_MIN, 0x1p-1074, 0x1p-1022 - 0x1p-1074,
-                                            1.0, 0x1p+1023};
+      static constexpr double extremes[] = {DBL_MAX, DBL_MIN,  0x1p-1074, 0x1p-1022 - 0x1p-1074,
+                                            1.0,     0x1p+1023};
       const double v = extremes[rng() % 6];
       return coin(rng) ? -v : v;
     }
-    default: return random_wide(rng, -20, 20);
+    default:
+      return random_wide(rng, -20, 20);
   }
 }
 

@@ -34,7 +34,9 @@ mpq_class value(const double* e, int n) {
   for (int i = 0; i < n; ++i) v += exact(e[i]);
   return v;
 }
-mpq_class value(const std::vector<double>& e) { return value(e.data(), static_cast<int>(e.size())); }
+mpq_class value(const std::vector<double>& e) {
+  return value(e.data(), static_cast<int>(e.size()));
+}
 
 std::string hex_list(const double* e, int n) {
   std::ostringstream os;
@@ -144,8 +146,7 @@ bool product_safe(double a, double b) {
   if (std::fabs(a) >= 0x1p996 || std::fabs(b) >= 0x1p996) return false;
   if (a == 0 || b == 0) return true;
   const int ea = std::ilogb(a), eb = std::ilogb(b);
-  return ea <= 995 && eb <= 995 && ea + eb <= 1020 && lsb(a) + lsb(b) >= -1074 &&
-         ea + eb >= -960;
+  return ea <= 995 && eb <= 995 && ea + eb <= 1020 && lsb(a) + lsb(b) >= -1074 && ea + eb >= -960;
 }
 
 // A random double pair for the error-free transformations: independent exponents in
@@ -289,16 +290,16 @@ TEST_CASE("expansion_sum and expansion_diff are exact and keep the invariants",
   for (std::size_t it = 0; it < n && failures < 10; ++it) {
     // Windows anywhere from the subnormals to 2^1000 (sums never overflow there).
     const int width = static_cast<int>(rand_int(rng, 0, 3)) == 0 ? 1200 : 150;
-    const auto e = random_expansion(rng, static_cast<int>(rand_int(rng, 0, 12)), -1000, 1000, width);
-    const auto f = coin(rng) ? random_expansion(rng, static_cast<int>(rand_int(rng, 0, 12)),
-                                                -1000, 1000, width)
+    const auto e =
+        random_expansion(rng, static_cast<int>(rand_int(rng, 0, 12)), -1000, 1000, width);
+    const auto f = coin(rng) ? random_expansion(rng, static_cast<int>(rand_int(rng, 0, 12)), -1000,
+                                                1000, width)
                              : e;  // f == e: the difference cancels to the empty expansion
     const std::string e_bad = invalid(e), f_bad = invalid(f);
     if (!e_bad.empty() || !f_bad.empty()) {
       ++failures;
-      FAIL_CHECK("expansion_sum built an invalid expansion: " << hex_list(e) << " " << e_bad
-                                                              << " / " << hex_list(f) << " "
-                                                              << f_bad);
+      FAIL_CHECK("expansion_sum built an invalid expansion: "
+                 << hex_list(e) << " " << e_bad << " / " << hex_list(f) << " " << f_bad);
       continue;
     }
     const auto ne = static_cast<int>(e.size()), nf = static_cast<int>(f.size());
@@ -320,9 +321,9 @@ TEST_CASE("expansion_sum and expansion_diff are exact and keep the invariants",
       if (!length_ok || !bad.empty() || value(h.data(), nh) != want ||
           ex::sign(h.data(), nh) != sgn(want)) {
         ++failures;
-        FAIL_CHECK(name << "(" << hex_list(e) << ", " << hex_list(f) << ") = "
-                        << (length_ok ? hex_list(h.data(), nh) : std::to_string(nh)) << " "
-                        << bad << "; exact " << want.get_str());
+        FAIL_CHECK(name << "(" << hex_list(e) << ", " << hex_list(f)
+                        << ") = " << (length_ok ? hex_list(h.data(), nh) : std::to_string(nh))
+                        << " " << bad << "; exact " << want.get_str());
       }
     }
     if (ex::sign(e.data(), ne) != sgn(ve)) {
@@ -372,8 +373,7 @@ TEST_CASE("scale_expansion and expansion_product are exact and keep the invarian
           ex::sign(h.data(), nh) != sgn(want)) {
         ++failures;
         FAIL_CHECK("scale_expansion(" << hex_list(e) << ", " << hex(b) << ") = "
-                                      << (length_ok ? hex_list(h.data(), nh) : "?") << " "
-                                      << bad);
+                                      << (length_ok ? hex_list(h.data(), nh) : "?") << " " << bad);
       }
     }
     {
@@ -394,9 +394,9 @@ TEST_CASE("scale_expansion and expansion_product are exact and keep the invarian
       if (!length_ok || !bad.empty() || value(h.data(), nh) != want ||
           ex::sign(h.data(), nh) != sgn(want)) {
         ++failures;
-        FAIL_CHECK("expansion_product(" << hex_list(e) << ", " << hex_list(f) << ") = "
-                                        << (length_ok ? hex_list(h.data(), nh) : "?") << " "
-                                        << bad);
+        FAIL_CHECK("expansion_product(" << hex_list(e) << ", " << hex_list(f)
+                                        << ") = " << (length_ok ? hex_list(h.data(), nh) : "?")
+                                        << " " << bad);
       }
     }
   }
@@ -443,8 +443,8 @@ TEST_CASE("compress keeps the value, never grows, and leaves a non-adjacent expa
     }
     if (!ok) {
       ++failures;
-      FAIL_CHECK("compress(" << hex_list(before) << ") = "
-                             << (length_ok ? hex_list(e.data(), nh) : "?") << " " << bad);
+      FAIL_CHECK("compress(" << hex_list(before)
+                             << ") = " << (length_ok ? hex_list(e.data(), nh) : "?") << " " << bad);
     }
     if (length_ok && nh < static_cast<int>(before.size())) ++shrunk;
   }
@@ -452,8 +452,7 @@ TEST_CASE("compress keeps the value, never grows, and leaves a non-adjacent expa
   CHECK(shrunk > 0);  // the family does contain compressible expansions
 }
 
-TEST_CASE("expansion operations on more and longer inputs",
-          "[predicates][exact][.slow]") {
+TEST_CASE("expansion operations on more and longer inputs", "[predicates][exact][.slow]") {
   const std::uint64_t seed = seed_for(24);
   INFO("seed " << seed);
   Rng rng(seed);

@@ -36,40 +36,52 @@ constexpr std::size_t kExtremeSet = 2000;
 constexpr int kScales[] = {-500, -300, -100, -40, 0, 40, 100, 300, 500};
 constexpr std::size_t kNumScales = sizeof kScales / sizeof kScales[0];
 constexpr std::size_t kScaleNear = 1000, kScaleDegenerate = 500, kScaleRandom = 300;
-constexpr std::size_t kPerPredicate =
-    kUnitBox + kWide + kNear + kDegenerate + kMixed + kDegenerateExtreme + kExtremeSet +
-    kNumScales * (kScaleNear + kScaleDegenerate + kScaleRandom);
+constexpr std::size_t kPerPredicate = kUnitBox + kWide + kNear + kDegenerate + kMixed +
+                                      kDegenerateExtreme + kExtremeSet +
+                                      kNumScales * (kScaleNear + kScaleDegenerate + kScaleRandom);
 static_assert(kPerPredicate >= 100000, "the requirement: >= 10^5 random inputs per predicate");
 
 enum class Family { unit_box, wide, near, degenerate, mixed, degenerate_extreme, extreme_set };
 
 const char* name(Family f) {
   switch (f) {
-    case Family::unit_box: return "uniform in [-1,1]";
-    case Family::wide: return "wide ranges";
-    case Family::near: return "near-degenerate";
-    case Family::degenerate: return "exactly degenerate";
-    case Family::mixed: return "mixed magnitudes";
-    case Family::degenerate_extreme: return "degenerate + one extreme coordinate";
-    case Family::extreme_set: return "coordinates from {0, +-1, +-DBL_MAX, +-DBL_MIN, +-2^-1074}";
+    case Family::unit_box:
+      return "uniform in [-1,1]";
+    case Family::wide:
+      return "wide ranges";
+    case Family::near:
+      return "near-degenerate";
+    case Family::degenerate:
+      return "exactly degenerate";
+    case Family::mixed:
+      return "mixed magnitudes";
+    case Family::degenerate_extreme:
+      return "degenerate + one extreme coordinate";
+    case Family::extreme_set:
+      return "coordinates from {0, +-1, +-DBL_MAX, +-DBL_MIN, +-2^-1074}";
   }
   return "?";
 }
 
 Input make(Family f, Pred pred, Rng& rng) {
   switch (f) {
-    case Family::unit_box: return random_box(pred, rng);
-    case Family::wide: return random_wide_range(pred, rng);
+    case Family::unit_box:
+      return random_box(pred, rng);
+    case Family::wide:
+      return random_wide_range(pred, rng);
     case Family::near: {
       static constexpr int ulps[] = {0, 1, 4, 64};
       return near_degenerate(pred, rng, ulps[rng() % 4]);
     }
-    case Family::degenerate: return exactly_degenerate(pred, rng);
-    case Family::mixed: return mixed_magnitudes(pred, rng);
-    case Family::degenerate_extreme: return degenerate_plus_extreme(pred, rng);
+    case Family::degenerate:
+      return exactly_degenerate(pred, rng);
+    case Family::mixed:
+      return mixed_magnitudes(pred, rng);
+    case Family::degenerate_extreme:
+      return degenerate_plus_extreme(pred, rng);
     case Family::extreme_set: {
-      static constexpr double set[] = {0.0, 1.0, -1.0, DBL_MAX, -DBL_MAX, DBL_MIN, -DBL_MIN,
-                                       0x1p-1074, -0x1p-1074};
+      static constexpr double set[] = {0.0,     1.0,      -1.0,      DBL_MAX,   -DBL_MAX,
+                                       DBL_MIN, -DBL_MIN, 0x1p-1074, -0x1p-1074};
       Input in;
       for (int i = 0; i < info(pred).k; ++i)
         for (int j = 0; j < info(pred).d; ++j)
@@ -101,8 +113,8 @@ int check_one(Pred pred, const Input& in, Tally& t, bool exact_stage_only = fals
   if (got != expected) {
     ++t.wrong;
     if (t.wrong <= 10)
-      FAIL_CHECK(describe(pred, in) << (exact_stage_only ? " [exact stage]" : "")
-                                    << ": expected " << expected << ", got " << got);
+      FAIL_CHECK(describe(pred, in) << (exact_stage_only ? " [exact stage]" : "") << ": expected "
+                                    << expected << ", got " << got);
   }
   return expected;
 }
@@ -169,8 +181,7 @@ TEST_CASE("oracle: integer Bareiss determinant equals the mpq permutation expans
   CHECK(sphere_points().size() >= 50);
 }
 
-TEST_CASE("sign conventions: orientation, inside circle and inside sphere",
-          "[predicates][exact]") {
+TEST_CASE("sign conventions: orientation, inside circle and inside sphere", "[predicates][exact]") {
   const double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
   const double below[3] = {0, 0, -1}, g2[3] = {0.25, 0.25, 0}, far[3] = {5, 5, 5};
   const double g3[3] = {0.25, 0.25, 0.25};
@@ -251,8 +262,7 @@ TEST_CASE("exactly degenerate inputs give zero", "[predicates][exact][degenerate
   }
 }
 
-TEST_CASE("scale sweep: inputs times 2^k for k in [-500, 500]",
-          "[predicates][exact][degenerate]") {
+TEST_CASE("scale sweep: inputs times 2^k for k in [-500, 500]", "[predicates][exact][degenerate]") {
   for (Pred pred : kAllPreds) {
     for (Family f : {Family::near, Family::degenerate, Family::unit_box}) {
       const std::size_t n = scaled(f == Family::near         ? kScaleNear
@@ -280,8 +290,7 @@ TEST_CASE("scale sweep: inputs times 2^k for k in [-500, 500]",
   }
 }
 
-TEST_CASE("mixed magnitudes: exact for every finite double",
-          "[predicates][exact][degenerate]") {
+TEST_CASE("mixed magnitudes: exact for every finite double", "[predicates][exact][degenerate]") {
   run_families({Family::mixed}, scaled(kMixed), 600);
   run_families({Family::degenerate_extreme}, scaled(kDegenerateExtreme), 700);
   run_families({Family::extreme_set}, scaled(kExtremeSet), 800);
@@ -301,7 +310,7 @@ TEST_CASE("finite inputs whose floating-point evaluation overflows or underflows
     const double a[2] = {0, 0}, b[2] = {t, 0}, c[2] = {0, t}, d[2] = {t, t}, e[2] = {2 * t, 0};
     CHECK(orient2d(a, b, c) == Sign::positive);
     CHECK(orient2d(a, b, e) == Sign::zero);
-    CHECK(incircle(a, b, c, d) == Sign::zero);  // the unit square's corners, scaled
+    CHECK(incircle(a, b, c, d) == Sign::zero);    // the unit square's corners, scaled
     const double in[2] = {0x1p-1073, 0x1p-1074};  // (2t, t): outside the circle through a b c
     CHECK(incircle(a, b, c, in) == Sign::negative);
   }
@@ -334,7 +343,7 @@ TEST_CASE("regression: inputs whose coordinates are all subnormal",
   CHECK(orient3d(x, s, y, z) == Sign::positive);
   const double in[3] = {t, t, t}, far[3] = {4 * t, 4 * t, 0};
   CHECK(incircle(s, x, y, far) == Sign::negative);
-  CHECK(incircle(s, x, y, in) == Sign::zero);  // (t, t) is on the circle through s x y
+  CHECK(incircle(s, x, y, in) == Sign::zero);          // (t, t) is on the circle through s x y
   CHECK(insphere(x, s, y, z, far) == Sign::negative);  // outside; orient3d(x,s,y,z) > 0
   CHECK(insphere(x, s, y, z, in) == Sign::zero);       // (t, t, t) is on the sphere
   CHECK(insphere(s, x, y, z, far) == Sign::positive);
@@ -421,7 +430,8 @@ TEST_CASE("permuting the arguments multiplies the sign by the permutation's pari
       }
       Input pm;
       for (int i = 0; i < pi.k; ++i)
-        pm.p[static_cast<std::size_t>(i)] = in.p[static_cast<std::size_t>(perm[static_cast<std::size_t>(i)])];
+        pm.p[static_cast<std::size_t>(i)] =
+            in.p[static_cast<std::size_t>(perm[static_cast<std::size_t>(i)])];
       if (to_int(eval(pred, pm)) != parity * to_int(s)) {
         ++failures;
         if (failures <= 10) FAIL_CHECK(describe(pred, in) << " permuted to " << describe(pred, pm));

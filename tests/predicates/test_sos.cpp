@@ -104,7 +104,8 @@ class SosOracle {
   // above, `sign` the parity so far, `cur` the product of their entries.
   void expand(int row, unsigned used, int sign, const Poly& cur) {
     if (row == n_) {
-      for (const Term& t : cur) acc_.push_back({t.mask, sign > 0 ? mpz_class(t.coef) : mpz_class(-t.coef)});
+      for (const Term& t : cur)
+        acc_.push_back({t.mask, sign > 0 ? mpz_class(t.coef) : mpz_class(-t.coef)});
       return;
     }
     for (int c = 0; c < n_; ++c) {
@@ -143,11 +144,22 @@ Indices random_indices(Rng& rng, int k) {
     for (;;) {
       std::uint32_t v = 0;
       switch (rng() % 5) {
-        case 0: v = static_cast<std::uint32_t>(rand_int(rng, 0, 10)); break;
-        case 1: v = static_cast<std::uint32_t>(rand_int(rng, 0, 1000)); break;
-        case 2: v = std::numeric_limits<std::uint32_t>::max() - static_cast<std::uint32_t>(rand_int(rng, 0, 10)); break;
-        case 3: v = static_cast<std::uint32_t>(rand_int(rng, 4000000000LL, 4000000010LL)); break;
-        default: v = static_cast<std::uint32_t>(rng() >> 32); break;
+        case 0:
+          v = static_cast<std::uint32_t>(rand_int(rng, 0, 10));
+          break;
+        case 1:
+          v = static_cast<std::uint32_t>(rand_int(rng, 0, 1000));
+          break;
+        case 2:
+          v = std::numeric_limits<std::uint32_t>::max() -
+              static_cast<std::uint32_t>(rand_int(rng, 0, 10));
+          break;
+        case 3:
+          v = static_cast<std::uint32_t>(rand_int(rng, 4000000000LL, 4000000010LL));
+          break;
+        default:
+          v = static_cast<std::uint32_t>(rng() >> 32);
+          break;
       }
       bool fresh = true;
       for (int j = 0; j < i; ++j) fresh = fresh && idx[static_cast<std::size_t>(j)] != v;
@@ -183,10 +195,14 @@ Input make(Family f, Pred pred, Rng& rng) {
       static constexpr int exps[] = {-1074, -1073, -1000, -500, 500, 1000, 1021};
       return scaled_by(pred, tiny_lattice(pred, rng), exps[rng() % 7]);
     }
-    case Family::random: return coin(rng) ? random_box(pred, rng) : random_wide_range(pred, rng);
-    case Family::near: return near_degenerate(pred, rng, static_cast<int>(rng() % 3));
-    case Family::degenerate: return exactly_degenerate(pred, rng);
-    case Family::tiny: return tiny_lattice(pred, rng);
+    case Family::random:
+      return coin(rng) ? random_box(pred, rng) : random_wide_range(pred, rng);
+    case Family::near:
+      return near_degenerate(pred, rng, static_cast<int>(rng() % 3));
+    case Family::degenerate:
+      return exactly_degenerate(pred, rng);
+    case Family::tiny:
+      return tiny_lattice(pred, rng);
   }
   return {};
 }
@@ -248,15 +264,15 @@ TEST_CASE("sos oracle: hand-derived cases", "[predicates][sos]") {
   const int expected = to_int(orient2d(in.p[1].data(), in.p[2].data(), in.p[3].data()));
   CHECK(expected == 1);
   CHECK(sos_oracle(Pred::incircle, in, {0, 1, 2, 3, 0}) == expected);
-  CHECK(to_int(incircle_sos(in.p[0].data(), in.p[1].data(), in.p[2].data(), in.p[3].data(),
-                            0, 1, 2, 3)) == expected);
+  CHECK(to_int(incircle_sos(in.p[0].data(), in.p[1].data(), in.p[2].data(), in.p[3].data(), 0, 1, 2,
+                            3)) == expected);
   // Rank 0 at d (row 3): the cofactor of entry (3, 2) is -orient2d(a, b, c): d rises
   // above the plane, outside.
   const int expected_d = -to_int(orient2d(in.p[0].data(), in.p[1].data(), in.p[2].data()));
   CHECK(expected_d == -1);
   CHECK(sos_oracle(Pred::incircle, in, {1, 2, 3, 0, 0}) == expected_d);
-  CHECK(to_int(incircle_sos(in.p[0].data(), in.p[1].data(), in.p[2].data(), in.p[3].data(),
-                            1, 2, 3, 0)) == expected_d);
+  CHECK(to_int(incircle_sos(in.p[0].data(), in.p[1].data(), in.p[2].data(), in.p[3].data(), 1, 2, 3,
+                            0)) == expected_d);
 }
 
 TEST_CASE("sos equals the exact sign when it is non-zero, and is never zero",
@@ -270,11 +286,11 @@ TEST_CASE("sos equals the exact sign when it is non-zero, and is never zero",
     std::size_t failures = 0, decided_by_perturbation = 0;
     for (std::size_t it = 0; it < n; ++it) {
       const auto r = it % 20;
-      const Family f = r < 9     ? Family::random
-                       : r < 14  ? Family::near
-                       : r < 17  ? Family::degenerate
-                       : r < 19  ? Family::tiny
-                                 : Family::extreme;
+      const Family f = r < 9    ? Family::random
+                       : r < 14 ? Family::near
+                       : r < 17 ? Family::degenerate
+                       : r < 19 ? Family::tiny
+                                : Family::extreme;
       const Input in = make(f, pred, rng);
       const Indices idx = random_indices(rng, info(pred).k);
       const Sign exact = eval(pred, in);
@@ -283,7 +299,8 @@ TEST_CASE("sos equals the exact sign when it is non-zero, and is never zero",
       if (s == Sign::zero || (exact != Sign::zero && s != exact)) {
         ++failures;
         if (failures <= 10)
-          FAIL_CHECK(describe(pred, in, idx) << ": exact " << to_int(exact) << ", sos " << to_int(s));
+          FAIL_CHECK(describe(pred, in, idx)
+                     << ": exact " << to_int(exact) << ", sos " << to_int(s));
       }
     }
     CHECK(failures == 0);
@@ -294,10 +311,13 @@ TEST_CASE("sos equals the exact sign when it is non-zero, and is never zero",
 TEST_CASE("sos matches the polynomial oracle", "[predicates][sos][exact][degenerate]") {
   for (Pred pred : kAllPreds) {
     const std::size_t base = pred == Pred::insphere ? 1500 : pred == Pred::orient2d ? 6000 : 3000;
-    for (Family f : {Family::random, Family::near, Family::degenerate, Family::tiny, Family::extreme}) {
+    for (Family f :
+         {Family::random, Family::near, Family::degenerate, Family::tiny, Family::extreme}) {
       const std::size_t n = scaled(f == Family::degenerate || f == Family::tiny ? base : base / 4);
-      const std::uint64_t seed = seed_for(3100 + 10 * static_cast<std::uint64_t>(pred) + static_cast<std::uint64_t>(f));
-      INFO(info(pred).name << "_sos, family " << static_cast<int>(f) << ", " << n << " inputs, seed " << seed);
+      const std::uint64_t seed =
+          seed_for(3100 + 10 * static_cast<std::uint64_t>(pred) + static_cast<std::uint64_t>(f));
+      INFO(info(pred).name << "_sos, family " << static_cast<int>(f) << ", " << n
+                           << " inputs, seed " << seed);
       Rng rng(seed);
       std::size_t failures = 0, perturbed = 0;
       for (std::size_t it = 0; it < n; ++it) {
@@ -342,9 +362,11 @@ TEST_CASE("sos: duplicates and identical points with every index order",
         for (int i = 1; i < k; ++i) in.p[static_cast<std::size_t>(i)] = in.p[0];
       if (pattern >= 1) in.p[1] = in.p[0];
       if (pattern >= 2) in.p[2] = in.p[0];
-      if (pattern == 3) in.p[static_cast<std::size_t>(k - 1)] = in.p[static_cast<std::size_t>(k - 2)];
+      if (pattern == 3)
+        in.p[static_cast<std::size_t>(k - 1)] = in.p[static_cast<std::size_t>(k - 2)];
       std::vector<std::uint32_t> ranks(static_cast<std::size_t>(k));
-      for (int i = 0; i < k; ++i) ranks[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(i);
+      for (int i = 0; i < k; ++i)
+        ranks[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(i);
       do {
         Indices idx{};
         for (int i = 0; i < k; ++i)
@@ -353,7 +375,8 @@ TEST_CASE("sos: duplicates and identical points with every index order",
         const int got = to_int(sos_checked(pred, in, idx, failures));
         if (expected == 0 || got != expected) {
           ++failures;
-          if (failures <= 10) FAIL_CHECK(describe(pred, in, idx) << ": oracle " << expected << ", sos " << got);
+          if (failures <= 10)
+            FAIL_CHECK(describe(pred, in, idx) << ": oracle " << expected << ", sos " << got);
         }
       } while (std::next_permutation(ranks.begin(), ranks.end()));
     }
@@ -442,7 +465,8 @@ TEST_CASE("sos: swapping two arguments with their indices negates the result",
           std::swap(idx2[static_cast<std::size_t>(a)], idx2[static_cast<std::size_t>(b)]);
           if (sos_checked(pred, in2, idx2, failures) != -s) {
             ++failures;
-            if (failures <= 10) FAIL_CHECK(describe(pred, in, idx) << " swapping " << a << ", " << b);
+            if (failures <= 10)
+              FAIL_CHECK(describe(pred, in, idx) << " swapping " << a << ", " << b);
           }
         }
     }
@@ -469,7 +493,8 @@ TEST_CASE("sos depends on the order of the indices only, and is scale invariant"
         int rank = 0;
         for (int j = 0; j < k; ++j)
           if (idx[static_cast<std::size_t>(j)] < idx[static_cast<std::size_t>(i)]) ++rank;
-        relabelled[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(rank) * 900000000u + 3u;
+        relabelled[static_cast<std::size_t>(i)] =
+            static_cast<std::uint32_t>(rank) * 900000000u + 3u;
       }
       if (sos_checked(pred, in, relabelled, failures) != s) {
         ++failures;
@@ -519,11 +544,12 @@ Sign incircle4(const std::vector<Pt>& pts, const Tri& t, std::uint32_t d) {
   return incircle_sos(P(pts, t[0]), P(pts, t[1]), P(pts, t[2]), P(pts, d), t[0], t[1], t[2], d);
 }
 Sign orient3(const std::vector<Pt>& pts, const Tet& t) {
-  return orient3d_sos(P(pts, t[0]), P(pts, t[1]), P(pts, t[2]), P(pts, t[3]), t[0], t[1], t[2], t[3]);
+  return orient3d_sos(P(pts, t[0]), P(pts, t[1]), P(pts, t[2]), P(pts, t[3]), t[0], t[1], t[2],
+                      t[3]);
 }
 Sign insphere5(const std::vector<Pt>& pts, const Tet& t, std::uint32_t e) {
-  return insphere_sos(P(pts, t[0]), P(pts, t[1]), P(pts, t[2]), P(pts, t[3]), P(pts, e), t[0],
-                      t[1], t[2], t[3], e);
+  return insphere_sos(P(pts, t[0]), P(pts, t[1]), P(pts, t[2]), P(pts, t[3]), P(pts, e), t[0], t[1],
+                      t[2], t[3], e);
 }
 
 // Bowyer-Watson with incircle_sos: pts holds n real points followed by the three corners of
@@ -536,14 +562,18 @@ std::vector<Tri> delaunay2(const std::vector<Pt>& pts, const std::vector<std::ui
   if (orient2(pts, n, n + 1, n + 2) != Sign::positive) std::swap(tris[0][1], tris[0][2]);
   for (std::uint32_t p : order) {
     std::vector<Tri> keep, conflict;
-    for (const Tri& t : tris) (incircle4(pts, t, p) == Sign::positive ? conflict : keep).push_back(t);
+    for (const Tri& t : tris)
+      (incircle4(pts, t, p) == Sign::positive ? conflict : keep).push_back(t);
     if (conflict.empty()) continue;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
     for (const Tri& t : conflict)
-      for (int i = 0; i < 3; ++i) edges.emplace_back(t[static_cast<std::size_t>(i)], t[static_cast<std::size_t>((i + 1) % 3)]);
+      for (int i = 0; i < 3; ++i)
+        edges.emplace_back(t[static_cast<std::size_t>(i)],
+                           t[static_cast<std::size_t>((i + 1) % 3)]);
     std::sort(edges.begin(), edges.end());
     for (const auto& [u, v] : edges)
-      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(v, u))) keep.push_back({u, v, p});
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(v, u)))
+        keep.push_back({u, v, p});
     tris.swap(keep);
   }
   return tris;
@@ -590,7 +620,9 @@ std::set<std::uint32_t> expected_vertices(const std::vector<Pt>& pts, std::size_
 }
 
 mpq_class cross2(const std::vector<Pt>& pts, const Tri& t) {
-  const auto q = [&](std::uint32_t i, int j) { return mpq_class(pts[i][static_cast<std::size_t>(j)]); };
+  const auto q = [&](std::uint32_t i, int j) {
+    return mpq_class(pts[i][static_cast<std::size_t>(j)]);
+  };
   return (q(t[1], 0) - q(t[0], 0)) * (q(t[2], 1) - q(t[0], 1)) -
          (q(t[1], 1) - q(t[0], 1)) * (q(t[2], 0) - q(t[0], 0));
 }
@@ -604,14 +636,16 @@ void check_delaunay2(const std::vector<Pt>& pts, const std::vector<Tri>& tris) {
     if (failures <= 10) FAIL_CHECK(what);
   };
   const auto tri_str = [](const Tri& t) {
-    return "(" + std::to_string(t[0]) + "," + std::to_string(t[1]) + "," + std::to_string(t[2]) + ")";
+    return "(" + std::to_string(t[0]) + "," + std::to_string(t[1]) + "," + std::to_string(t[2]) +
+           ")";
   };
   // Orientation, exact area.
   mpq_class area = 0;
   std::set<std::uint32_t> vertices;
   for (const Tri& t : tris) {
     if (orient2(pts, t[0], t[1], t[2]) != Sign::positive) fail("not positive: " + tri_str(t));
-    if (orient2d(P(pts, t[0]), P(pts, t[1]), P(pts, t[2])) == Sign::negative) fail("negative area: " + tri_str(t));
+    if (orient2d(P(pts, t[0]), P(pts, t[1]), P(pts, t[2])) == Sign::negative)
+      fail("negative area: " + tri_str(t));
     area += cross2(pts, t);
     for (std::uint32_t v : t)
       if (v < N) vertices.insert(v);
@@ -621,7 +655,8 @@ void check_delaunay2(const std::vector<Pt>& pts, const std::vector<Tri>& tris) {
   std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
   for (const Tri& t : tris)
     for (int i = 0; i < 3; ++i)
-      if (!edges.emplace(t[static_cast<std::size_t>(i)], t[static_cast<std::size_t>((i + 1) % 3)]).second)
+      if (!edges.emplace(t[static_cast<std::size_t>(i)], t[static_cast<std::size_t>((i + 1) % 3)])
+               .second)
         fail("directed edge twice in " + tri_str(t));
   std::size_t boundary = 0;
   for (const auto& [u, v] : edges)
@@ -638,10 +673,12 @@ void check_delaunay2(const std::vector<Pt>& pts, const std::vector<Tri>& tris) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> apex;
   for (const Tri& t : tris)
     for (int i = 0; i < 3; ++i)
-      apex[{t[static_cast<std::size_t>(i)], t[static_cast<std::size_t>((i + 1) % 3)]}] = t[static_cast<std::size_t>((i + 2) % 3)];
+      apex[{t[static_cast<std::size_t>(i)], t[static_cast<std::size_t>((i + 1) % 3)]}] =
+          t[static_cast<std::size_t>((i + 2) % 3)];
   for (const Tri& t : tris)
     for (int i = 0; i < 3; ++i) {
-      const auto it = apex.find({t[static_cast<std::size_t>((i + 1) % 3)], t[static_cast<std::size_t>(i)]});
+      const auto it =
+          apex.find({t[static_cast<std::size_t>((i + 1) % 3)], t[static_cast<std::size_t>(i)]});
       if (it != apex.end() && incircle4(pts, t, it->second) != Sign::negative)
         fail("not locally Delaunay: " + tri_str(t) + " vs " + std::to_string(it->second));
     }
@@ -697,7 +734,8 @@ std::vector<Tet> delaunay3(const std::vector<Pt>& pts, const std::vector<std::ui
   if (orient3(pts, tets[0]) != Sign::positive) std::swap(tets[0][2], tets[0][3]);
   for (std::uint32_t p : order) {
     std::vector<Tet> keep, conflict;
-    for (const Tet& t : tets) (insphere5(pts, t, p) == Sign::positive ? conflict : keep).push_back(t);
+    for (const Tet& t : tets)
+      (insphere5(pts, t, p) == Sign::positive ? conflict : keep).push_back(t);
     if (conflict.empty()) continue;
     std::map<std::array<std::uint32_t, 3>, int> face_count;
     const auto face = [](const Tet& t, int i) {
@@ -742,8 +780,8 @@ void check_delaunay3(const std::vector<Pt>& pts, const std::vector<Tet>& tets) {
     if (failures <= 10) FAIL_CHECK(what);
   };
   const auto tet_str = [](const Tet& t) {
-    return "(" + std::to_string(t[0]) + "," + std::to_string(t[1]) + "," + std::to_string(t[2]) + "," +
-           std::to_string(t[3]) + ")";
+    return "(" + std::to_string(t[0]) + "," + std::to_string(t[1]) + "," + std::to_string(t[2]) +
+           "," + std::to_string(t[3]) + ")";
   };
   mpq_class volume = 0;
   std::set<std::uint32_t> vertices;
@@ -784,7 +822,8 @@ void check_delaunay3(const std::vector<Pt>& pts, const std::vector<Tet>& tets) {
     if (orient3(pts, t1) != -orient3(pts, t2)) fail("apexes on the same side of a face");
     // Locally Delaunay: the other apex is outside the circumsphere.
     const Tet pos = orient3(pts, t1) == Sign::positive ? t1 : Tet{f[0], f[2], f[1], apexes[0]};
-    if (insphere5(pts, pos, apexes[1]) != Sign::negative) fail("not locally Delaunay: " + tet_str(pos));
+    if (insphere5(pts, pos, apexes[1]) != Sign::negative)
+      fail("not locally Delaunay: " + tet_str(pos));
   }
   CHECK(hull_faces == 4);
   CHECK(vertices == expected_vertices(pts, n));
@@ -811,9 +850,10 @@ void run_delaunay3(std::vector<Pt> pts, Rng& rng) {
 
 }  // namespace
 
-TEST_CASE("a 2D Delaunay triangulation built with the sos predicates is valid on exactly "
-          "degenerate input",
-          "[predicates][sos][degenerate]") {
+TEST_CASE(
+    "a 2D Delaunay triangulation built with the sos predicates is valid on exactly "
+    "degenerate input",
+    "[predicates][sos][degenerate]") {
   const std::uint64_t seed = seed_for(4000);
   INFO("seed " << seed);
   Rng rng(seed);
@@ -826,7 +866,8 @@ TEST_CASE("a 2D Delaunay triangulation built with the sos predicates is valid on
   }
   SECTION("lattice points on the circle x^2 + y^2 = 5^4 13^2, its centre, duplicates") {
     std::vector<Pt> pts;
-    for (const auto& q : lattice_sphere(625 * 169, 2)) pts.push_back({double(q[0]), double(q[1]), 0});
+    for (const auto& q : lattice_sphere(625 * 169, 2))
+      pts.push_back({double(q[0]), double(q[1]), 0});
     REQUIRE(pts.size() == 60);
     pts.push_back({0, 0, 0});
     add_duplicates(pts, 25, rng);
@@ -848,9 +889,10 @@ TEST_CASE("a 2D Delaunay triangulation built with the sos predicates is valid on
   }
 }
 
-TEST_CASE("a 3D Delaunay tetrahedralization built with the sos predicates is valid on "
-          "exactly degenerate input",
-          "[predicates][sos][degenerate]") {
+TEST_CASE(
+    "a 3D Delaunay tetrahedralization built with the sos predicates is valid on "
+    "exactly degenerate input",
+    "[predicates][sos][degenerate]") {
   const std::uint64_t seed = seed_for(4100);
   INFO("seed " << seed);
   Rng rng(seed);
@@ -873,7 +915,8 @@ TEST_CASE("a 3D Delaunay tetrahedralization built with the sos predicates is val
   }
   SECTION("lattice points on the sphere x^2 + y^2 + z^2 = 9, its centre, duplicates") {
     std::vector<Pt> pts;
-    for (const auto& q : lattice_sphere(9, 3)) pts.push_back({double(q[0]), double(q[1]), double(q[2])});
+    for (const auto& q : lattice_sphere(9, 3))
+      pts.push_back({double(q[0]), double(q[1]), double(q[2])});
     REQUIRE(pts.size() == 30);
     pts.push_back({0, 0, 0});
     add_duplicates(pts, 6, rng);

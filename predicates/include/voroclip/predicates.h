@@ -92,9 +92,8 @@ Sign insphere_exact(const double* a, const double* b, const double* c, const dou
 
 inline double max_abs(double a, double b) { return std::max(std::fabs(a), std::fabs(b)); }
 
-inline Sign sign_of(double x) {
-  return x > 0 ? Sign::positive : (x < 0 ? Sign::negative : Sign::zero);
-}
+// Branch-free: the signs of random input are unpredictable, a branch would mispredict.
+inline Sign sign_of(double x) { return static_cast<Sign>(int{x > 0} - int{x < 0}); }
 
 }  // namespace detail
 
@@ -117,20 +116,18 @@ inline Approx orient2d_approx(const double* a, const double* b, const double* c)
   return {adx * bdy - ady * bdx, std::max(max_abs(adx, bdx), max_abs(ady, bdy))};
 }
 
-inline Approx orient3d_approx(const double* a, const double* b, const double* c,
-                              const double* d) {
+inline Approx orient3d_approx(const double* a, const double* b, const double* c, const double* d) {
   const double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
   const double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
   const double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
-  const double det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) +
-                     cdz * (adx * bdy - bdx * ady);
+  const double det =
+      adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
   double m = std::max(max_abs(adx, bdx), max_abs(cdx, ady));
   m = std::max(m, std::max(max_abs(bdy, cdy), max_abs(adz, bdz)));
   return {det, std::max(m, std::fabs(cdz))};
 }
 
-inline Approx incircle_approx(const double* a, const double* b, const double* c,
-                              const double* d) {
+inline Approx incircle_approx(const double* a, const double* b, const double* c, const double* d) {
   const double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
   const double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
   const double alift = adx * adx + ady * ady;
@@ -142,8 +139,8 @@ inline Approx incircle_approx(const double* a, const double* b, const double* c,
   return {det, m};
 }
 
-inline Approx insphere_approx(const double* a, const double* b, const double* c,
-                              const double* d, const double* e) {
+inline Approx insphere_approx(const double* a, const double* b, const double* c, const double* d,
+                              const double* e) {
   const double aex = a[0] - e[0], bex = b[0] - e[0], cex = c[0] - e[0], dex = d[0] - e[0];
   const double aey = a[1] - e[1], bey = b[1] - e[1], cey = c[1] - e[1], dey = d[1] - e[1];
   const double aez = a[2] - e[2], bez = b[2] - e[2], cez = c[2] - e[2], dez = d[2] - e[2];
@@ -167,13 +164,14 @@ inline Approx insphere_approx(const double* a, const double* b, const double* c,
 
 // The decision of the filter: +1/-1 when certain, 0 when the exact stage must decide
 // (including M out of range, NaN and infinities, for which every comparison is false).
+// Branch-free apart from the caller's test for 0, which is almost never taken.
 template <int Degree>
 inline int filter_decision(const Approx& r, double bound, double lower, double upper) {
-  if (!(r.max > lower && r.max < upper)) return 0;
   double scale = r.max;
   for (int i = 1; i < Degree; ++i) scale *= r.max;
   const double eps = bound * scale;
-  return r.det > eps ? 1 : (r.det < -eps ? -1 : 0);
+  const int in_range = int{r.max > lower} & int{r.max < upper};
+  return in_range * (int{r.det > eps} - int{r.det < -eps});
 }
 
 }  // namespace detail
@@ -182,31 +180,30 @@ inline int filter_decision(const Approx& r, double bound, double lower, double u
 // Exact predicates (filtered).
 
 inline Sign orient2d(const double* a, const double* b, const double* c) {
-  const int s = detail::filter_decision<2>(detail::orient2d_approx(a, b, c),
-                                           detail::kOrient2dBound, detail::kOrient2dLower,
-                                           detail::kOrient2dUpper);
+  const int s = detail::filter_decision<2>(detail::orient2d_approx(a, b, c), detail::kOrient2dBound,
+                                           detail::kOrient2dLower, detail::kOrient2dUpper);
   return s != 0 ? static_cast<Sign>(s) : detail::orient2d_exact(a, b, c);
 }
 
 inline Sign orient3d(const double* a, const double* b, const double* c, const double* d) {
-  const int s = detail::filter_decision<3>(detail::orient3d_approx(a, b, c, d),
-                                           detail::kOrient3dBound, detail::kOrient3dLower,
-                                           detail::kOrient3dUpper);
+  const int s =
+      detail::filter_decision<3>(detail::orient3d_approx(a, b, c, d), detail::kOrient3dBound,
+                                 detail::kOrient3dLower, detail::kOrient3dUpper);
   return s != 0 ? static_cast<Sign>(s) : detail::orient3d_exact(a, b, c, d);
 }
 
 inline Sign incircle(const double* a, const double* b, const double* c, const double* d) {
-  const int s = detail::filter_decision<4>(detail::incircle_approx(a, b, c, d),
-                                           detail::kIncircleBound, detail::kIncircleLower,
-                                           detail::kIncircleUpper);
+  const int s =
+      detail::filter_decision<4>(detail::incircle_approx(a, b, c, d), detail::kIncircleBound,
+                                 detail::kIncircleLower, detail::kIncircleUpper);
   return s != 0 ? static_cast<Sign>(s) : detail::incircle_exact(a, b, c, d);
 }
 
 inline Sign insphere(const double* a, const double* b, const double* c, const double* d,
                      const double* e) {
-  const int s = detail::filter_decision<5>(detail::insphere_approx(a, b, c, d, e),
-                                           detail::kInsphereBound, detail::kInsphereLower,
-                                           detail::kInsphereUpper);
+  const int s =
+      detail::filter_decision<5>(detail::insphere_approx(a, b, c, d, e), detail::kInsphereBound,
+                                 detail::kInsphereLower, detail::kInsphereUpper);
   return s != 0 ? static_cast<Sign>(s) : detail::insphere_exact(a, b, c, d, e);
 }
 
