@@ -1,6 +1,7 @@
 // Exact stages of orient2d, orient3d, incircle and insphere (see exact.h).
 #include "exact.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -73,11 +74,55 @@ ExpansionArena& thread_arena() {
 
 namespace {
 
+// Fast exact path: when every coordinate difference is exact in floating point (its
+// two_diff round-off is 0, as for grid and integer data) and, scaled by the power of two
+// that brings the largest below 2^B (B = small_integer_bits(Degree)), every difference is
+// an integer, they are read as 64-bit integers and the determinant is evaluated in
+// 128-bit integer arithmetic. Returns false (nothing decided) otherwise, in particular
+// for NaN or infinite coordinates (their round-off is NaN).
+template <int R, int D, int Degree, class Formula>
+bool small_integer_sign(const double* const (&pts)[R + 1], Formula formula, Sign& result) {
+  double d[R][D];
+  double largest = 0;
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < D; ++j) {
+      double x, y;
+      expansion::two_diff(pts[i][j], pts[R][j], x, y);
+      if (y != 0) return false;
+      d[i][j] = x;
+      largest = std::max(largest, std::fabs(x));
+    }
+  }
+  if (largest == 0) {
+    result = Sign::zero;
+    return true;
+  }
+  const int shift = small_integer_bits(Degree) - 1 - highest_bit_exponent(largest);
+  Int128Calc::Num n[R][D];
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < D; ++j) {
+      // |scaled| < 2^B <= 2^62: the conversion is defined. The second test catches a
+      // non-zero difference that the scaling flushed to zero.
+      const double scaled = times_pow2(d[i][j], shift);
+      const auto integer = static_cast<long long>(scaled);
+      if (static_cast<double>(integer) != scaled || (integer == 0) != (d[i][j] == 0)) {
+        return false;
+      }
+      n[i][j] = integer;
+    }
+  }
+  Int128Calc calc;
+  result = static_cast<Sign>(formula(calc, n));
+  return true;
+}
+
 // Shared driver: checks the input, then evaluates `Formula` over the differences of the
-// R + 1 points of dimension D with expansions, or with big integers when the exponent span
-// is too wide for them.
+// R + 1 points of dimension D: in 128-bit integers when they allow it, else with
+// expansions, else (exponent span too wide for expansions) with big integers.
 template <int R, int D, int Degree, class Formula>
 Sign exact_sign(const char* name, const double* const (&pts)[R + 1], Formula formula) {
+  Sign small;
+  if (small_integer_sign<R, D, Degree>(pts, formula, small)) return small;
   double coords[(R + 1) * D];
   for (int i = 0; i <= R; ++i) {
     for (int j = 0; j < D; ++j) coords[i * D + j] = pts[i][j];

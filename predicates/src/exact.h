@@ -16,6 +16,8 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -27,6 +29,18 @@ namespace voroclip::detail {
 
 // ---------------------------------------------------------------------------------------
 // Input analysis.
+
+// x * 2^e, exact whenever the result is a normal double (or zero). A product with a power of
+// two built from its bits when 2^e is itself normal; std::ldexp (a library call) otherwise.
+inline double times_pow2(double x, int e) {
+  if (e >= -1022 && e <= 1023) {
+    const std::uint64_t bits = static_cast<std::uint64_t>(e + 1023) << 52;
+    double p;
+    std::memcpy(&p, &bits, sizeof p);
+    return x * p;
+  }
+  return std::ldexp(x, e);
+}
 
 // Throws voroclip::Error when a coordinate is NaN or infinite. `name` is the predicate's.
 void require_finite(const char* name, const double* coords, int count);
@@ -126,6 +140,30 @@ class ExpansionCalc {
 };
 
 // ---------------------------------------------------------------------------------------
+// 128-bit integer calculator, for coordinate differences that are small integers on a
+// common binary grid (see small_integer_bits): no rounding, no allocation, no compression.
+
+class Int128Calc {
+ public:
+  using Num = __int128;
+  static Num add(Num a, Num b) { return a + b; }
+  static Num sub(Num a, Num b) { return a - b; }
+  static Num mul(Num a, Num b) { return a * b; }
+  static int sign(Num a) { return int{a > 0} - int{a < 0}; }
+};
+
+// The largest bit length B of the integer differences (|d| < 2^B) for which the
+// determinant and every intermediate of the formulas below fit in a signed 128-bit integer:
+//   orient2d  |det| < 2^(2B+1)                              B <= 62 (int64 conversion)
+//   orient3d  |det| < 6 * 2^(3B)  < 2^(3B+3)                B <= 41
+//   incircle  |det| < 12 * 2^(4B) < 2^(4B+4)                B <= 30
+//   insphere  |det| < 72 * 2^(5B) < 2^(5B+7)                B <= 23
+// (2x2 minors < 2^(2B+1), 3x3 minors < 6 * 2^(3B), lifts < 3 * 2^(2B).)
+constexpr int small_integer_bits(int degree) {
+  return degree == 2 ? 62 : degree == 3 ? 41 : degree == 4 ? 30 : 23;
+}
+
+// ---------------------------------------------------------------------------------------
 // Big-integer calculator: coordinates are read as integers on the grid 2^grid.
 
 class BigIntCalc {
@@ -207,14 +245,14 @@ int insphere_sign(C& c, const typename C::Num (&d)[4][3]) {
 
 // Fills d[i][j] = pts[i][j] - pts[R][j] (R = the last point) with the calculator's exact
 // difference, on coordinates multiplied by 2^scale (exact: see plan_expansion_scaling).
-// ldexp, not a product with 2^scale: when every coordinate is subnormal, scale exceeds
-// 1023 and 2^scale itself is not a double.
+// (times_pow2, not a product with one factor 2^scale: when every coordinate is subnormal,
+// scale exceeds 1023 and 2^scale itself is not a double.)
 template <class C, int R, int D>
 void differences(C& c, const double* const (&pts)[R + 1], int scale, typename C::Num (&d)[R][D]) {
   for (int i = 0; i < R; ++i) {
     for (int j = 0; j < D; ++j) {
       d[i][j] = scale == 0 ? c.diff(pts[i][j], pts[R][j])
-                           : c.diff(std::ldexp(pts[i][j], scale), std::ldexp(pts[R][j], scale));
+                           : c.diff(times_pow2(pts[i][j], scale), times_pow2(pts[R][j], scale));
     }
   }
 }

@@ -119,25 +119,23 @@ std::vector<Term> build_terms(const Shape& s) {
   return terms;
 }
 
-// Sorts the points of a call by index (distinct, checked by the caller); returns the
-// parity of the sorting permutation (+1 / -1).
+// Orders the points of a call by index (distinct, checked by the caller): by_rank[r] is
+// the point of rank r. Returns the parity of the permutation (+1 / -1), which is the
+// parity of its number of inversions. Branch-free rank counting: k <= 5.
 int sort_by_index(int k, const double* const* pts, const std::uint32_t* idx,
-                  const double** sorted) {
-  std::array<std::uint32_t, kMaxPoints> keys{};
-  int parity = 1;
+                  const double** by_rank) {
+  int rank[kMaxPoints] = {};
+  int inversions = 0;
   for (int i = 0; i < k; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    keys[ui] = idx[i];
-    sorted[i] = pts[i];
-    for (int j = i; j > 0; --j) {
-      const auto uj = static_cast<std::size_t>(j);
-      if (keys[uj - 1] < keys[uj]) break;
-      std::swap(keys[uj - 1], keys[uj]);
-      std::swap(sorted[j - 1], sorted[j]);
-      parity = -parity;
+    for (int j = i + 1; j < k; ++j) {
+      const int greater = int{idx[i] > idx[j]};
+      inversions += greater;
+      rank[i] += greater;
+      rank[j] += 1 - greater;
     }
   }
-  return parity;
+  for (int i = 0; i < k; ++i) by_rank[rank[i]] = pts[i];
+  return 1 - 2 * (inversions & 1);
 }
 
 // Determinant of a small square matrix of big integers (Laplace along the first row).
