@@ -219,21 +219,14 @@ inline int filter_decision(Pred pred, const Input& in) {
   const auto& p = in.p;
   switch (pred) {
     case Pred::orient2d:
-      return detail::filter_decision<2>(
-          detail::orient2d_approx(p[0].data(), p[1].data(), p[2].data()), detail::kOrient2dBound,
-          detail::kOrient2dLower, detail::kOrient2dUpper);
+      return detail::orient2d_filter(p[0].data(), p[1].data(), p[2].data());
     case Pred::incircle:
-      return detail::filter_decision<4>(
-          detail::incircle_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data()),
-          detail::kIncircleBound, detail::kIncircleLower, detail::kIncircleUpper);
+      return detail::incircle_filter(p[0].data(), p[1].data(), p[2].data(), p[3].data());
     case Pred::orient3d:
-      return detail::filter_decision<3>(
-          detail::orient3d_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data()),
-          detail::kOrient3dBound, detail::kOrient3dLower, detail::kOrient3dUpper);
+      return detail::orient3d_filter(p[0].data(), p[1].data(), p[2].data(), p[3].data());
     case Pred::insphere:
-      return detail::filter_decision<5>(
-          detail::insphere_approx(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()),
-          detail::kInsphereBound, detail::kInsphereLower, detail::kInsphereUpper);
+      return detail::insphere_filter(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                     p[4].data());
   }
   return 0;
 }

@@ -65,23 +65,34 @@ inline Sign operator*(Sign a, Sign b) {
 
 namespace detail {
 
-// Semi-static filter constants. The filter computes det~ in floating point and M, the
-// largest absolute rounded coordinate difference of the call; when M lies in
-// [lower, upper] and |det~| > bound * M^deg, sign(det~) is the exact sign.
-// Derivation: scripts/filter_bounds.py (forward error analysis with u = 2^-53, as in
-// Meyer & Pion's FPG): orient2d 8u, orient3d 46u, incircle 128u, insphere 1104u, each times
-// (1+u)^(deg+1) for the rounding of bound * M^deg itself, rounded up.
-// The range [lower, upper] keeps M^deg within [2^-960, 2^1000]: no intermediate overflows
-// (all are below 72 M^deg) and the absolute error from underflowing products (at most
-// 2^-1075 each) stays far below the rounding slack of the stored constants.
+// Semi-static filter. Each predicate computes its determinant det~ in floating point
+// (Shewchuk's formulas, translated to the last point) together with a magnitude `scale`,
+// and returns sign(det~) when |det~| > bound * scale and lower < scale < upper.
+//
+// The bound: scripts/filter_bounds.py derives, by forward error analysis with u = 2^-53
+// (as Meyer & Pion's FPG does), |det~ - det| <= E M^deg where M bounds every rounded
+// coordinate difference: orient2d E = 8u, orient3d 46u, incircle 128u, insphere 1104u.
+// The analysis is multilinear in the leaves, so M^deg may be replaced by any product of
+// per-leaf bounds matching the terms' shape:
+//   orient2d  scale = mx my        (every term is an x difference times a y difference;
+//   orient3d  scale = mx my mz      mA = max |A difference| over the points)
+//   incircle  scale = L^2          (L = the largest computed lift |p - p_last|^2; every
+//   insphere  scale = L^2 sqrt(L)   difference satisfies x^2 <= L / (1-u)^3)
+// The stored constants are E times at most (1+u)^12 (the roundings of the lifts, of
+// scale and of bound * scale), rounded up to 3 digits; the rounding-up alone leaves
+// more than 0.3 % of slack.
+// The range (lower, upper) keeps the quantity bounding M^deg within [2^-960, 2^1000]: no
+// intermediate overflows (all are below 72 M^deg), and the absolute error of underflowing
+// products (<= 2^-1075 each, amplified by at most 72 max(1, M)^3) stays far below the
+// constants' slack. NaN and infinities fail the range test or both comparisons, so they
+// always reach the exact stage, which rejects them.
 inline constexpr double kOrient2dBound = 8.89e-16;
 inline constexpr double kOrient3dBound = 5.11e-15;
 inline constexpr double kIncircleBound = 1.43e-14;
 inline constexpr double kInsphereBound = 1.23e-13;
-inline constexpr double kOrient2dLower = 0x1p-480, kOrient2dUpper = 0x1p+500;
-inline constexpr double kOrient3dLower = 0x1p-320, kOrient3dUpper = 0x1p+333;
-inline constexpr double kIncircleLower = 0x1p-240, kIncircleUpper = 0x1p+250;
-inline constexpr double kInsphereLower = 0x1p-192, kInsphereUpper = 0x1p+200;
+inline constexpr double kOrientScaleLower = 0x1p-960, kOrientScaleUpper = 0x1p+1000;
+inline constexpr double kIncircleScaleLower = 0x1p-940, kIncircleScaleUpper = 0x1p+980;
+inline constexpr double kInsphereScaleLower = 0x1p-950, kInsphereScaleUpper = 0x1p+1000;
 
 // Exact stages (predicates/src/exact.cpp): called when the filter cannot decide.
 Sign orient2d_exact(const double* a, const double* b, const double* c);
@@ -107,13 +118,13 @@ namespace detail {
 
 struct Approx {
   double det;
-  double max;
+  double scale;
 };
 
 inline Approx orient2d_approx(const double* a, const double* b, const double* c) {
   const double adx = a[0] - c[0], bdx = b[0] - c[0];
   const double ady = a[1] - c[1], bdy = b[1] - c[1];
-  return {adx * bdy - ady * bdx, std::max(max_abs(adx, bdx), max_abs(ady, bdy))};
+  return {adx * bdy - ady * bdx, max_abs(adx, bdx) * max_abs(ady, bdy)};
 }
 
 inline Approx orient3d_approx(const double* a, const double* b, const double* c, const double* d) {
@@ -122,9 +133,10 @@ inline Approx orient3d_approx(const double* a, const double* b, const double* c,
   const double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
   const double det =
       adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
-  double m = std::max(max_abs(adx, bdx), max_abs(cdx, ady));
-  m = std::max(m, std::max(max_abs(bdy, cdy), max_abs(adz, bdz)));
-  return {det, std::max(m, std::fabs(cdz))};
+  const double mx = std::max(max_abs(adx, bdx), std::fabs(cdx));
+  const double my = std::max(max_abs(ady, bdy), std::fabs(cdy));
+  const double mz = std::max(max_abs(adz, bdz), std::fabs(cdz));
+  return {det, mx * my * mz};
 }
 
 inline Approx incircle_approx(const double* a, const double* b, const double* c, const double* d) {
@@ -135,8 +147,8 @@ inline Approx incircle_approx(const double* a, const double* b, const double* c,
   const double clift = cdx * cdx + cdy * cdy;
   const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) +
                      clift * (adx * bdy - bdx * ady);
-  const double m = std::max(std::max(max_abs(adx, bdx), max_abs(cdx, ady)), max_abs(bdy, cdy));
-  return {det, m};
+  const double lift = std::max(std::max(alift, blift), clift);
+  return {det, lift * lift};
 }
 
 inline Approx insphere_approx(const double* a, const double* b, const double* c, const double* d,
@@ -156,22 +168,47 @@ inline Approx insphere_approx(const double* a, const double* b, const double* c,
   const double clift = cex * cex + cey * cey + cez * cez;
   const double dlift = dex * dex + dey * dey + dez * dez;
   const double det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
-  double m = std::max(max_abs(aex, bex), max_abs(cex, dex));
-  m = std::max(m, std::max(max_abs(aey, bey), max_abs(cey, dey)));
-  m = std::max(m, std::max(max_abs(aez, bez), max_abs(cez, dez)));
-  return {det, m};
+  const double lift = std::max(std::max(alift, blift), std::max(clift, dlift));
+  return {det, lift * lift * std::sqrt(lift)};
 }
 
-// The decision of the filter: +1/-1 when certain, 0 when the exact stage must decide
-// (including M out of range, NaN and infinities, for which every comparison is false).
-// Branch-free apart from the caller's test for 0, which is almost never taken.
-template <int Degree>
+// +1 / -1 when the filter is certain, 0 when the exact stage must decide. The test is a
+// well-predicted branch (the filter almost always decides); the sign is then read from
+// the sign bit (det != 0 there), since the signs of random input are unpredictable.
+inline int decided_sign(double det) { return 1 - 2 * static_cast<int>(std::signbit(det)); }
+
 inline int filter_decision(const Approx& r, double bound, double lower, double upper) {
-  double scale = r.max;
-  for (int i = 1; i < Degree; ++i) scale *= r.max;
-  const double eps = bound * scale;
-  const int in_range = int{r.max > lower} & int{r.max < upper};
-  return in_range * (int{r.det > eps} - int{r.det < -eps});
+  if (r.scale > lower && r.scale < upper && std::fabs(r.det) > bound * r.scale) {
+    return decided_sign(r.det);
+  }
+  return 0;
+}
+
+// The filter of each predicate: its decision, or 0 when the exact stage must decide.
+//
+// orient2d needs no range test: its two products are each at most scale = mx my, so
+// underflow adds at most 2 * 2^-1075 of absolute error, covered by the slack 2^-1000; and
+// when scale is finite a product cannot overflow, while an overflowing difference of two
+// products is far larger than the error, so a resulting infinity has the right sign.
+// Non-finite input makes scale or det infinite or NaN, and the test false.
+inline int orient2d_filter(const double* a, const double* b, const double* c) {
+  constexpr double kUnderflowSlack = 0x1p-1000;
+  const Approx r = orient2d_approx(a, b, c);
+  if (std::fabs(r.det) > kOrient2dBound * r.scale + kUnderflowSlack) return decided_sign(r.det);
+  return 0;
+}
+inline int orient3d_filter(const double* a, const double* b, const double* c, const double* d) {
+  return filter_decision(orient3d_approx(a, b, c, d), kOrient3dBound, kOrientScaleLower,
+                         kOrientScaleUpper);
+}
+inline int incircle_filter(const double* a, const double* b, const double* c, const double* d) {
+  return filter_decision(incircle_approx(a, b, c, d), kIncircleBound, kIncircleScaleLower,
+                         kIncircleScaleUpper);
+}
+inline int insphere_filter(const double* a, const double* b, const double* c, const double* d,
+                           const double* e) {
+  return filter_decision(insphere_approx(a, b, c, d, e), kInsphereBound, kInsphereScaleLower,
+                         kInsphereScaleUpper);
 }
 
 }  // namespace detail
@@ -180,30 +217,23 @@ inline int filter_decision(const Approx& r, double bound, double lower, double u
 // Exact predicates (filtered).
 
 inline Sign orient2d(const double* a, const double* b, const double* c) {
-  const int s = detail::filter_decision<2>(detail::orient2d_approx(a, b, c), detail::kOrient2dBound,
-                                           detail::kOrient2dLower, detail::kOrient2dUpper);
+  const int s = detail::orient2d_filter(a, b, c);
   return s != 0 ? static_cast<Sign>(s) : detail::orient2d_exact(a, b, c);
 }
 
 inline Sign orient3d(const double* a, const double* b, const double* c, const double* d) {
-  const int s =
-      detail::filter_decision<3>(detail::orient3d_approx(a, b, c, d), detail::kOrient3dBound,
-                                 detail::kOrient3dLower, detail::kOrient3dUpper);
+  const int s = detail::orient3d_filter(a, b, c, d);
   return s != 0 ? static_cast<Sign>(s) : detail::orient3d_exact(a, b, c, d);
 }
 
 inline Sign incircle(const double* a, const double* b, const double* c, const double* d) {
-  const int s =
-      detail::filter_decision<4>(detail::incircle_approx(a, b, c, d), detail::kIncircleBound,
-                                 detail::kIncircleLower, detail::kIncircleUpper);
+  const int s = detail::incircle_filter(a, b, c, d);
   return s != 0 ? static_cast<Sign>(s) : detail::incircle_exact(a, b, c, d);
 }
 
 inline Sign insphere(const double* a, const double* b, const double* c, const double* d,
                      const double* e) {
-  const int s =
-      detail::filter_decision<5>(detail::insphere_approx(a, b, c, d, e), detail::kInsphereBound,
-                                 detail::kInsphereLower, detail::kInsphereUpper);
+  const int s = detail::insphere_filter(a, b, c, d, e);
   return s != 0 ? static_cast<Sign>(s) : detail::insphere_exact(a, b, c, d, e);
 }
 
