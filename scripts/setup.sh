@@ -71,8 +71,11 @@ if [[ $deps_only -eq 1 ]]; then
   exit 0
 fi
 
-echo "==> setup: configuring build/release (Release)"
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release
+# The library and the command-line tool; scripts/test.sh builds the tests and benchmarks
+# in build trees of its own.
+echo "==> setup: configuring build/release (Release, library and CLI)"
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVOROCLIP_BUILD_TESTS=OFF \
+  -DVOROCLIP_BUILD_BENCH=OFF
 echo "==> setup: building (cmake --build build/release -j2)"
 cmake --build build/release -j2
 echo "==> setup: done; the tool is build/release/bin/voroclip"

@@ -1,0 +1,1 @@
+int voroclip_probe() { return 0; }
