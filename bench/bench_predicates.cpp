@@ -137,6 +137,18 @@ void BM_orient2d_exact(benchmark::State& s) {
     return voroclip::orient2d(t.point(i, 0), t.point(i, 1), t.point(i, 2));
   });
 }
+// Static filter over the unit box, which holds every random tuple.
+const voroclip::StaticFilter& unit_box(int dim) {
+  static const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  static const voroclip::StaticFilter f2(lo, hi, 2), f3(lo, hi, 3);
+  return dim == 2 ? f2 : f3;
+}
+void BM_orient2d_static(benchmark::State& s) {
+  const voroclip::StaticFilter& f = unit_box(2);
+  run_batches(s, r2(), [&f](const auto& t, std::size_t i) {
+    return voroclip::orient2d(t.point(i, 0), t.point(i, 1), t.point(i, 2), f);
+  });
+}
 // ----- orient3d
 const auto& r3() {
   static const auto t = random_tuples<4, 3>(kRandomTuples);
@@ -150,6 +162,12 @@ void BM_orient3d_naive(benchmark::State& s) {
 void BM_orient3d_exact(benchmark::State& s) {
   run_batches(s, r3(), [](const auto& t, std::size_t i) {
     return voroclip::orient3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
+  });
+}
+void BM_orient3d_static(benchmark::State& s) {
+  const voroclip::StaticFilter& f = unit_box(3);
+  run_batches(s, r3(), [&f](const auto& t, std::size_t i) {
+    return voroclip::orient3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3), f);
   });
 }
 // ----- incircle
@@ -167,6 +185,12 @@ void BM_incircle_exact(benchmark::State& s) {
     return voroclip::incircle(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3));
   });
 }
+void BM_incircle_static(benchmark::State& s) {
+  const voroclip::StaticFilter& f = unit_box(2);
+  run_batches(s, rc(), [&f](const auto& t, std::size_t i) {
+    return voroclip::incircle(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3), f);
+  });
+}
 // ----- insphere
 const auto& rs() {
   static const auto t = random_tuples<5, 3>(kRandomTuples);
@@ -182,6 +206,13 @@ void BM_insphere_exact(benchmark::State& s) {
   run_batches(s, rs(), [](const auto& t, std::size_t i) {
     return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
                               t.point(i, 4));
+  });
+}
+void BM_insphere_static(benchmark::State& s) {
+  const voroclip::StaticFilter& f = unit_box(3);
+  run_batches(s, rs(), [&f](const auto& t, std::size_t i) {
+    return voroclip::insphere(t.point(i, 0), t.point(i, 1), t.point(i, 2), t.point(i, 3),
+                              t.point(i, 4), f);
   });
 }
 void BM_insphere_sos(benchmark::State& s) {
@@ -295,12 +326,16 @@ void BM_insphere_exact_near_degenerate(benchmark::State& s) {
 
 BENCHMARK(BM_orient2d_naive);
 BENCHMARK(BM_orient2d_exact);
+BENCHMARK(BM_orient2d_static);
 BENCHMARK(BM_orient3d_naive);
 BENCHMARK(BM_orient3d_exact);
+BENCHMARK(BM_orient3d_static);
 BENCHMARK(BM_incircle_naive);
 BENCHMARK(BM_incircle_exact);
+BENCHMARK(BM_incircle_static);
 BENCHMARK(BM_insphere_naive);
 BENCHMARK(BM_insphere_exact);
+BENCHMARK(BM_insphere_static);
 BENCHMARK(BM_insphere_sos);
 BENCHMARK(BM_orient2d_sos_collinear);
 BENCHMARK(BM_orient3d_sos_coplanar);
