@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "voroclip/core.h"
@@ -49,6 +50,92 @@ bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale) {
   return fits(scale);
 }
 
+WideInt WideIntCalc::from_double(double x, int grid) {
+  WideInt r{};
+  if (x == 0) return r;
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  std::uint64_t m = bits & ((std::uint64_t{1} << 52) - 1);
+  int e = -1074;
+  if (biased != 0) {
+    m |= std::uint64_t{1} << 52;
+    e = biased - 1075;
+  }
+  const int tz = __builtin_ctzll(m);
+  m >>= tz;
+  e += tz;
+  const int shift = e - grid;  // >= 0, and shift + 53 <= 128 by the caller's choice of grid
+  const unsigned __int128 v = static_cast<unsigned __int128>(m) << shift;
+  r.limb[0] = static_cast<std::uint64_t>(v);
+  r.limb[1] = static_cast<std::uint64_t>(v >> 64);
+  r.size = r.limb[1] != 0 ? 2 : 1;
+  r.negative = x < 0;
+  return r;
+}
+
+WideInt WideIntCalc::add_signed(const WideInt& a, const WideInt& b, bool b_negative) {
+  WideInt r{};
+  if (b.size == 0) return a;
+  if (a.size == 0) {
+    r = b;
+    r.negative = b_negative;
+    return r;
+  }
+  if (a.negative == b_negative) {
+    const int n = std::max(a.size, b.size);
+    unsigned __int128 carry = 0;
+    for (int i = 0; i < n; ++i) {
+      carry += static_cast<unsigned __int128>(i < a.size ? a.limb[i] : 0) +
+               (i < b.size ? b.limb[i] : 0);
+      r.limb[i] = static_cast<std::uint64_t>(carry);
+      carry >>= 64;
+    }
+    r.size = n;
+    if (carry != 0) r.limb[r.size++] = static_cast<std::uint64_t>(carry);  // bounded by caller
+    r.negative = a.negative;
+    return r;
+  }
+  // Opposite signs: subtract the smaller magnitude from the larger.
+  int cmp = a.size != b.size ? (a.size < b.size ? -1 : 1) : 0;
+  for (int i = a.size - 1; cmp == 0 && i >= 0; --i) {
+    if (a.limb[i] != b.limb[i]) cmp = a.limb[i] < b.limb[i] ? -1 : 1;
+  }
+  if (cmp == 0) return r;
+  const WideInt& big = cmp > 0 ? a : b;
+  const WideInt& small = cmp > 0 ? b : a;
+  std::uint64_t borrow = 0;
+  for (int i = 0; i < big.size; ++i) {
+    const std::uint64_t s = i < small.size ? small.limb[i] : 0;
+    const std::uint64_t d = big.limb[i] - s - borrow;
+    borrow = (big.limb[i] < s || (big.limb[i] == s && borrow)) ? 1 : 0;
+    r.limb[i] = d;
+  }
+  r.size = big.size;
+  while (r.size > 0 && r.limb[r.size - 1] == 0) --r.size;
+  r.negative = cmp > 0 ? a.negative : b_negative;
+  return r;
+}
+
+WideInt WideIntCalc::mul(const WideInt& a, const WideInt& b) {
+  WideInt r{};
+  if (a.size == 0 || b.size == 0) return r;
+  r.size = std::min(a.size + b.size, kWideLimbs);
+  for (int i = 0; i < a.size; ++i) {
+    std::uint64_t carry = 0;
+    for (int j = 0; j < b.size && i + j < kWideLimbs; ++j) {
+      const unsigned __int128 t = static_cast<unsigned __int128>(a.limb[i]) * b.limb[j] +
+                                  r.limb[i + j] + carry;
+      r.limb[i + j] = static_cast<std::uint64_t>(t);
+      carry = static_cast<std::uint64_t>(t >> 64);
+    }
+    if (i + b.size < kWideLimbs) r.limb[i + b.size] = carry;
+  }
+  while (r.size > 0 && r.limb[r.size - 1] == 0) --r.size;
+  r.negative = a.negative != b.negative;
+  return r;
+}
+
 double* ExpansionArena::allocate(std::size_t n) {
   while (true) {
     if (block_ < blocks_.size()) {
@@ -74,6 +161,27 @@ ExpansionArena& thread_arena() {
 
 namespace {
 
+// Second integer tier (see WideIntCalc): the exact differences d, the largest of exponent
+// `highest`, read on their common binary grid when they span at most kWideLeafBits bits.
+template <int R, int D, int Degree, class Formula>
+bool wide_integer_sign(const double (&d)[R][D], int highest, Formula formula, Sign& result) {
+  int grid = highest;
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < D; ++j) {
+      if (d[i][j] != 0) grid = std::min(grid, lowest_bit_exponent(d[i][j]));
+    }
+  }
+  const int bits = highest - grid + 1;
+  if (!wide_integer_fits(Degree, bits)) return false;
+  WideIntCalc::Num n[R][D];
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < D; ++j) n[i][j] = WideIntCalc::from_double(d[i][j], grid);
+  }
+  WideIntCalc calc;
+  result = static_cast<Sign>(formula(calc, n));
+  return true;
+}
+
 // Fast exact path: when every coordinate difference is exact in floating point (its
 // two_diff round-off is 0, as for grid and integer data) and, scaled by the power of two
 // that brings the largest below 2^B (B = small_integer_bits(Degree)), every difference is
@@ -97,7 +205,8 @@ bool small_integer_sign(const double* const (&pts)[R + 1], Formula formula, Sign
     result = Sign::zero;
     return true;
   }
-  const int shift = small_integer_bits(Degree) - 1 - highest_bit_exponent(largest);
+  const int highest = highest_bit_exponent(largest);
+  const int shift = small_integer_bits(Degree) - 1 - highest;
   Int128Calc::Num n[R][D];
   for (int i = 0; i < R; ++i) {
     for (int j = 0; j < D; ++j) {
@@ -106,7 +215,7 @@ bool small_integer_sign(const double* const (&pts)[R + 1], Formula formula, Sign
       const double scaled = times_pow2(d[i][j], shift);
       const auto integer = static_cast<long long>(scaled);
       if (static_cast<double>(integer) != scaled || (integer == 0) != (d[i][j] == 0)) {
-        return false;
+        return wide_integer_sign<R, D, Degree>(d, highest, formula, result);
       }
       n[i][j] = integer;
     }

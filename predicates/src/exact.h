@@ -164,6 +164,43 @@ constexpr int small_integer_bits(int degree) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Fixed-width integer calculator: sign and magnitude in kLimbs 64-bit limbs, on the stack.
+// For differences that are exact doubles spanning up to kWideLeafBits bits on their
+// common binary grid (near-degenerate floating-point input, where every filter fails):
+// no allocation, about ten times faster than the expansions on such data. The caller
+// guarantees that no intermediate exceeds kWideMaxBits (see wide_integer_fits).
+
+inline constexpr int kWideLimbs = 8;
+inline constexpr int kWideLeafBits = 120;  // a leaf is at most two limbs
+inline constexpr int kWideMaxBits = 64 * kWideLimbs - 8;
+
+struct WideInt {
+  std::uint64_t limb[kWideLimbs];
+  int size;       // limbs in use; 0 for zero
+  bool negative;  // never set for zero
+};
+
+class WideIntCalc {
+ public:
+  using Num = WideInt;
+  static Num add(const Num& a, const Num& b) { return add_signed(a, b, b.negative); }
+  static Num sub(const Num& a, const Num& b) { return add_signed(a, b, !b.negative && b.size); }
+  static Num mul(const Num& a, const Num& b);
+  static int sign(const Num& a) { return a.size == 0 ? 0 : (a.negative ? -1 : 1); }
+  // The integer x * 2^-grid; x is an integer multiple of 2^grid below 2^(grid+120).
+  static Num from_double(double x, int grid);
+
+ private:
+  static Num add_signed(const Num& a, const Num& b, bool b_negative);
+};
+
+// Whether a polynomial of `degree` in leaves of at most `leaf_bits` bits, with at most 120
+// terms (a 5x5 determinant), stays below 2^kWideMaxBits.
+constexpr bool wide_integer_fits(int degree, int leaf_bits) {
+  return leaf_bits <= kWideLeafBits && degree * (leaf_bits + 1) + 8 <= kWideMaxBits;
+}
+
+// ---------------------------------------------------------------------------------------
 // Big-integer calculator: coordinates are read as integers on the grid 2^grid.
 
 class BigIntCalc {
