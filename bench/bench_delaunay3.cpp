@@ -1,0 +1,78 @@
+// Delaunay3 construction: uniform random points in the unit cube (1e4 ... 1e6), an integer
+// grid (cospherical everywhere) and points on a sphere; points per second, finite tets and
+// the bytes the triangulation's arrays hold per tet (capacities, including the sorted copy
+// of the points made during construction). Fixed seeds.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "delaunay3.h"
+
+namespace {
+
+std::vector<double> uniform_points(std::size_t n) {
+  std::mt19937_64 rng(20261121);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> xyz(3 * n);
+  for (double& x : xyz) x = u(rng);
+  return xyz;
+}
+
+std::vector<double> grid_points(int m) {
+  std::vector<double> xyz;
+  for (int x = 0; x < m; ++x)
+    for (int y = 0; y < m; ++y)
+      for (int z = 0; z < m; ++z) xyz.insert(xyz.end(), {double(x), double(y), double(z)});
+  return xyz;
+}
+
+std::vector<double> sphere_points(std::size_t n) {
+  std::mt19937_64 rng(20261121);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> xyz(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double v[3] = {g(rng), g(rng), g(rng)};
+    const double r = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int j = 0; j < 3; ++j) xyz[3 * i + static_cast<std::size_t>(j)] = v[j] / r;
+  }
+  return xyz;
+}
+
+void run(benchmark::State& state, const std::vector<double>& xyz) {
+  const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
+  voroclip::Delaunay3 dt;
+  for (auto _ : state) {
+    dt.build(xyz.data(), n);
+    benchmark::DoNotOptimize(dt.nb_finite_tets());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * n);
+  state.SetComplexityN(n);
+  state.counters["tets"] = dt.nb_finite_tets();
+  state.counters["bytes_per_tet"] =
+      static_cast<double>(dt.memory_bytes()) / static_cast<double>(dt.nb_finite_tets());
+}
+
+void BM_delaunay3_uniform(benchmark::State& state) {
+  run(state, uniform_points(static_cast<std::size_t>(state.range(0))));
+}
+void BM_delaunay3_grid(benchmark::State& state) {
+  run(state, grid_points(static_cast<int>(state.range(0))));
+}
+void BM_delaunay3_sphere(benchmark::State& state) {
+  run(state, sphere_points(static_cast<std::size_t>(state.range(0))));
+}
+
+}  // namespace
+
+BENCHMARK(BM_delaunay3_uniform)
+    ->RangeMultiplier(10)
+    ->Range(10000, 1000000)
+    ->Unit(benchmark::kMillisecond)
+    ->Complexity();
+BENCHMARK(BM_delaunay3_grid)->Arg(100)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_delaunay3_sphere)->Arg(1000000)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();

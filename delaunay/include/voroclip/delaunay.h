@@ -1,0 +1,262 @@
+// voroclip/delaunay.h — Delaunay triangulations (the module's one public header).
+//
+// Delaunay2: the 2D Delaunay triangulation by Bowyer–Watson insertion (Bowyer 1981,
+// Watson 1981) in BRIO order over a Hilbert curve (Amenta, Choi & Rote 2003), with exact
+// predicates and symbolic perturbation, on flat 32-bit arrays.
+//
+// Storage (28 bytes per triangle slot, about 2 slots per point):
+//   tri_vertices_[3t + k]   vertex k of triangle t: an input point index, or kInfinite
+//   tri_neighbors_[3t + k]  3t' + k': the triangle t' across the edge opposite vertex k,
+//                           and the local index k' of the vertex of t' opposite that edge
+//   tri_mark_[t]            scratch stamp of the cavity search (compared with a counter
+//                           that only grows, so it is never cleared between insertions)
+// The convex hull is closed by infinite triangles, each made of one hull edge and the
+// infinite vertex kInfinite, so every edge has two triangles (a triangulated sphere).
+// Slots freed while inserting go to a free list and are reused first.
+//
+// Local numbering (the one convention; everything else refers to it):
+//
+//            v2                  Vertices counter-clockwise: orient2d(v0, v1, v2) > 0.
+//           /  \                 Edge k is opposite vertex k, with endpoints listed as
+//     e1   /    \   e0           kEdgeVertex[k] = (v_{k+1}, v_{k+2}) (indices mod 3), so
+//         /      \               the triangle's inside is on the left of v_{k+1} -> v_{k+2}
+//       v0 ------ v1             and orient2d(v_{k+1}, v_{k+2}, p) < 0 means p is beyond
+//            e2                  edge k. The neighbour across edge k lists it reversed.
+//
+// An infinite triangle (a, b, kInfinite) (in any rotation) is ordered as if kInfinite were
+// a point far beyond its hull edge: the triangulation's inside is on the RIGHT of a -> b,
+// orient2d(a, b, p) > 0 means p is strictly outside the hull across that edge.
+//
+// Conflict (the Bowyer–Watson cavity of a new point p with input index ip):
+//   finite triangle (a, b, c)       incircle_sos(a, b, c, p, ia, ib, ic, ip) > 0
+//   infinite triangle, hull edge    orient2d(a, b, p) > 0 (strictly outside), or
+//   (a, b) as listed in it          orient2d(a, b, p) == 0 and p strictly between a and b
+// The perturbation makes the result the regular triangulation of the points with
+// infinitesimal weights given by their indices: a refinement of the Delaunay subdivision
+// that is unique, so it does not depend on the insertion order. The rule for infinite
+// triangles is the limit of the lifting (as in CGAL): points exactly on the hull between
+// two hull vertices become hull vertices on a straight hull edge, and no triangle of zero
+// area is ever created. With n' distinct points, b of them on the hull boundary, there are
+// exactly 2n' - b - 2 finite triangles and b infinite ones.
+//
+// Canonical output. After each build the triangles are renumbered in an order that is a
+// function of the input alone, not of the insertion history (the insertion order is itself
+// a fixed function of the input: detail::brio_order). Finite triangles occupy
+// [0, nb_triangles()), sorted by (r0, r1) where r0 is the smallest insertion rank (position
+// in the BRIO order) among the triangle's vertices and r1 the rank of the vertex following
+// that one counter-clockwise, so that triangles numbered close together are close in
+// space; each is rotated to start at its smallest input index. Infinite triangles follow,
+// rotated to (a, b, kInfinite) and sorted by the rank of a. There are no free slots after a
+// build; vertex_triangle(v) is the smallest-numbered finite triangle incident to v.
+//
+// Duplicates. Points with exactly equal coordinates are detected while inserting; only the
+// one with the smallest index becomes a vertex. duplicate_of(i) gives that index. (When a
+// smaller-index twin arrives after its vertex was inserted, the triangulation is rebuilt
+// from the distinct points so that the perturbation sees the vertex's final index.)
+//
+// Points are referenced, not copied: the array passed to the constructor or build() must
+// stay alive and unchanged while the triangulation is used (until the next build()).
+#pragma once
+
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "voroclip/predicates.h"
+
+namespace voroclip {
+
+struct Delaunay2Options {
+  // Run check_topology() and check_delaunay() at the end of every build and throw
+  // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
+  bool check = false;
+};
+
+class Delaunay2 {
+ public:
+  using Options = Delaunay2Options;
+
+  static constexpr std::uint32_t kInfinite = 0xffffffffu;
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  // Inputs above this size would overflow the 32-bit encodings 3t + k.
+  static constexpr std::uint32_t kMaxPoints = 1u << 29;
+  // kEdgeVertex[k]: the local indices of the endpoints of edge k (see the diagram).
+  static constexpr int kEdgeVertex[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+
+  Delaunay2() = default;
+  explicit Delaunay2(const Options& options) : options_(options) {}
+  // Triangulates the n points given as packed x y. Throws voroclip::Error for a
+  // non-finite coordinate (naming the point) or fewer than 3 affinely independent points.
+  Delaunay2(const double* xy, std::uint32_t n, const Options& options = {});
+
+  // (Re)builds on new points, reusing every buffer (CVT rebuilds at each iteration).
+  void build(const double* xy, std::uint32_t n);
+
+  // ---- Points and vertices
+  std::uint32_t nb_points() const { return nb_points_; }
+  // Distinct points = vertices of the triangulation (input indices i with duplicate_of(i) == i).
+  std::uint32_t nb_unique_points() const { return nb_unique_; }
+  std::uint32_t nb_vertices() const { return nb_unique_; }
+  // The smallest input index with the same coordinates as point i (i for a vertex).
+  std::uint32_t duplicate_of(std::uint32_t i) const;
+  const double* point(std::uint32_t v) const;
+
+  // ---- Triangles. Finite ones are [0, nb_triangles()), infinite ones follow.
+  std::uint32_t nb_triangles() const { return nb_finite_; }
+  std::uint32_t nb_triangle_slots() const { return static_cast<std::uint32_t>(tri_mark_.size()); }
+  bool is_infinite(std::uint32_t t) const;
+  std::uint32_t tri_vertex(std::uint32_t t, int k) const;
+  // The triangle across edge k of t, and the local index of that edge in it.
+  std::uint32_t tri_adjacent(std::uint32_t t, int k) const;
+  int tri_adjacent_edge(std::uint32_t t, int k) const;
+  // The raw encoding 3t' + k' (see above).
+  std::uint32_t tri_neighbor_code(std::uint32_t t, int k) const;
+  const std::vector<std::uint32_t>& tri_vertices() const { return tri_vertices_; }
+  const std::vector<std::uint32_t>& tri_neighbors() const { return tri_neighbors_; }
+  // The local index of vertex v in t; asserts that v is one.
+  int local_index(std::uint32_t t, std::uint32_t v) const;
+
+  // ---- Around a vertex (v must be a vertex: duplicate_of(v) == v)
+  // The smallest-numbered finite triangle incident to v (kNone for duplicates).
+  std::uint32_t vertex_triangle(std::uint32_t v) const;
+  // The finite triangles incident to v in counter-clockwise order: for a hull vertex, the
+  // whole fan from the hull edge leaving v to the one entering it; for an inner vertex,
+  // the full cycle starting at vertex_triangle(v). `out` is cleared first.
+  void triangles_around_vertex(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+  // The Delaunay neighbours of v (the sites whose Voronoi cells share an edge with v's),
+  // counter-clockwise, in the same rotation as triangles_around_vertex.
+  void vertex_neighbors(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+  bool is_hull_vertex(std::uint32_t v) const;
+
+  // ---- Hull, counter-clockwise (inside on the left), starting at its smallest vertex.
+  std::vector<std::uint32_t> hull_vertices() const;
+  // Pairs (u, w) flattened: edge i is (out[2i], out[2i + 1]).
+  std::vector<std::uint32_t> hull_edges() const;
+
+  // ---- Geometry (floating point, not exact: for output and clipping)
+  // The circumcenter of finite triangle t by the usual formula relative to its first
+  // vertex: relative error a few ulps times the condition number of the triangle.
+  void circumcenter(std::uint32_t t, double* out) const;
+
+  // ---- Queries (exact orientation tests; the query point need not be an input point)
+  // A finite triangle containing (x, y) in its closure, or an infinite triangle whose hull
+  // edge has (x, y) strictly outside. `hint`: a triangle to start the walk from.
+  std::uint32_t locate(double x, double y, std::uint32_t hint = kNone) const;
+  // The vertex nearest to (x, y): locate, then greedy descent over Delaunay neighbours
+  // (which reaches the nearest site in a Delaunay triangulation). Distances are compared
+  // in floating point: with near-ties the answer may be a vertex whose distance exceeds
+  // the minimum by a rounding error.
+  std::uint32_t nearest_vertex(double x, double y, std::uint32_t hint = kNone) const;
+
+  // ---- Exact checks, called by the tests on every result. Each returns an empty string
+  // when valid, else a description of the first defect found.
+  // Adjacency symmetric and consistent with the vertices, every finite triangle strictly
+  // counter-clockwise (exact orient2d), one umbrella per vertex, incident triangles
+  // valid, canonical layout, Euler count (finite + infinite = 2 nb_vertices - 2).
+  std::string check_topology() const;
+  // For every edge, the vertex opposite across it is not in conflict with the triangle
+  // (the same exact conflict test as the construction, with the perturbation): locally
+  // Delaunay everywhere, hence globally.
+  std::string check_delaunay() const;
+
+ private:
+  static constexpr std::uint32_t kFreeVertex = 0xfffffffeu;
+
+  const double* pt(std::uint32_t v) const { return xy_ + 2 * static_cast<std::size_t>(v); }
+  // During construction the triangles hold local vertex ids: ranks in the insertion order,
+  // whose coordinates are copied to coords_ in that order (so that consecutive insertions
+  // touch nearby memory); input_index_ maps them back. canonicalize() converts to input
+  // indices.
+  const double* local_pt(std::uint32_t v) const {
+    return coords_.data() + 2 * static_cast<std::size_t>(v);
+  }
+  int infinite_slot(std::uint32_t t) const {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    return v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
+  }
+  template <bool kLocal>
+  bool in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const;
+  template <bool kLocal>
+  std::uint32_t walk(const double* p, std::uint32_t t) const;
+  std::uint32_t new_triangle();
+  void clear_triangles();
+  void insert_all();
+  void insert(std::uint32_t q);
+  void canonicalize();
+  std::uint32_t next_ccw(std::uint32_t t, std::uint32_t v) const;
+
+  Options options_;
+  const double* xy_ = nullptr;
+  std::uint32_t nb_points_ = 0;
+  std::uint32_t nb_unique_ = 0;
+  std::uint32_t nb_finite_ = 0;
+  StaticFilter filter_;
+
+  std::vector<std::uint32_t> tri_vertices_;
+  std::vector<std::uint32_t> tri_neighbors_;
+  std::vector<std::uint32_t> tri_mark_;
+  std::vector<std::uint32_t> free_;
+  std::vector<std::uint32_t> vertex_triangle_;
+  std::vector<std::uint32_t> duplicate_of_;
+  std::uint32_t stamp_ = 0;
+  std::uint32_t hint_ = 0;
+  bool relabeled_ = false;
+
+  // Per-insertion and per-build scratch, reused.
+  struct BoundaryEdge {
+    std::uint32_t u, w;     // the edge, counter-clockwise as seen from the new point
+    std::uint32_t outside;  // code 3t' + k' of the triangle beyond it
+  };
+  std::vector<std::uint32_t> stack_;
+  std::vector<std::uint32_t> cavity_;
+  std::vector<BoundaryEdge> boundary_;
+  std::vector<std::uint32_t> starting_at_;  // new triangle per boundary start vertex (+1 slot)
+  std::vector<double> coords_;
+  std::vector<std::uint32_t> input_index_;
+  std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_c_;
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> tmp_vertices_, tmp_neighbors_;
+  std::vector<std::uint8_t> shift_;
+};
+
+inline std::uint32_t Delaunay2::duplicate_of(std::uint32_t i) const {
+  assert(i < nb_points_);
+  return duplicate_of_[i];
+}
+inline const double* Delaunay2::point(std::uint32_t v) const {
+  assert(v < nb_points_);
+  return pt(v);
+}
+inline bool Delaunay2::is_infinite(std::uint32_t t) const {
+  assert(t < nb_triangle_slots());
+  return infinite_slot(t) >= 0;
+}
+inline std::uint32_t Delaunay2::tri_vertex(std::uint32_t t, int k) const {
+  assert(t < nb_triangle_slots() && k >= 0 && k < 3);
+  return tri_vertices_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+}
+inline std::uint32_t Delaunay2::tri_neighbor_code(std::uint32_t t, int k) const {
+  assert(t < nb_triangle_slots() && k >= 0 && k < 3);
+  return tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+}
+inline std::uint32_t Delaunay2::tri_adjacent(std::uint32_t t, int k) const {
+  return tri_neighbor_code(t, k) / 3;
+}
+inline int Delaunay2::tri_adjacent_edge(std::uint32_t t, int k) const {
+  return static_cast<int>(tri_neighbor_code(t, k) % 3);
+}
+inline int Delaunay2::local_index(std::uint32_t t, std::uint32_t v) const {
+  const std::uint32_t* w = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+  const int k = w[0] == v ? 0 : w[1] == v ? 1 : 2;
+  assert(w[k] == v);
+  return k;
+}
+inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
+  assert(v < nb_points_);
+  return vertex_triangle_[v];
+}
+
+// Delaunay3: see below
+}  // namespace voroclip

@@ -1,0 +1,694 @@
+// Delaunay2: Bowyer–Watson insertion (Bowyer 1981; Watson 1981) in BRIO order (Amenta,
+// Choi & Rote 2003), located by a remembering visibility walk (Devillers, Pion & Teillaud
+// 2002) from the last created triangle. Conventions, storage and the conflict test are
+// documented once in voroclip/delaunay.h.
+//
+// One insertion: walk to a triangle in conflict with the new point p (the finite triangle
+// whose closure contains p, or an infinite triangle whose hull edge p sees strictly),
+// grow the cavity by a search over adjacent triangles in conflict, then replace it by the
+// star of p over the cavity boundary. The perturbed triangulation before the insertion is
+// the regular triangulation of the points inserted so far, so the cavity is a topological
+// disk star-shaped from p; its boundary is one cycle of edges, each starting at a
+// distinct vertex, which is how the new triangles find their neighbours (starting_at_).
+// The walk terminates: in a regular triangulation the "in front of" relation seen from
+// any point is acyclic (Edelsbrunner 1990), so no triangle is visited twice; a step limit
+// with a linear scan guards the invariant anyway.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+#include "spatial_sort.h"
+#include "voroclip/core.h"
+#include "voroclip/delaunay.h"
+
+namespace voroclip {
+
+namespace {
+
+constexpr int kNext[3] = {1, 2, 0};
+constexpr int kPrev[3] = {2, 0, 1};
+
+bool same_point(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1]; }
+
+// p strictly between a and b, given that the three are collinear and a != b.
+bool strictly_between(const double* a, const double* b, const double* p) {
+  const int axis = a[0] != b[0] ? 0 : 1;
+  const double lo = std::min(a[axis], b[axis]), hi = std::max(a[axis], b[axis]);
+  return p[axis] > lo && p[axis] < hi;
+}
+
+}  // namespace
+
+Delaunay2::Delaunay2(const double* xy, std::uint32_t n, const Options& options)
+    : options_(options) {
+  build(xy, n);
+}
+
+// ---------------------------------------------------------------------------------------
+// Construction
+
+void Delaunay2::build(const double* xy, std::uint32_t n) {
+  if (n > kMaxPoints) {
+    throw Error("Delaunay2: " + std::to_string(n) + " points exceed the limit of " +
+                std::to_string(kMaxPoints));
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double* p = xy + 2 * static_cast<std::size_t>(i);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1])) {
+      std::ostringstream message;
+      message << "Delaunay2: point " << i << " has a non-finite coordinate (" << p[0] << ", "
+              << p[1] << ")";
+      throw Error(message.str());
+    }
+  }
+  xy_ = xy;
+  nb_points_ = n;
+  nb_unique_ = 0;
+  nb_finite_ = 0;
+  clear_triangles();
+  vertex_triangle_.clear();
+  if (n < 3) {
+    throw Error("Delaunay2: at least 3 affinely independent points are needed, got " +
+                std::to_string(n) + " point" + (n == 1 ? "" : "s"));
+  }
+  filter_ = StaticFilter::bounding(xy, n, 2);
+  duplicate_of_.resize(n);
+  std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
+  input_index_ = detail::brio_order(xy, n, 2);
+  relabeled_ = false;
+  insert_all();
+  // Union-find with the smallest index as root: duplicate_of_[i] <= i, so one ascending
+  // pass compresses every path.
+  for (std::uint32_t i = 0; i < n; ++i) duplicate_of_[i] = duplicate_of_[duplicate_of_[i]];
+  if (relabeled_) {
+    // A vertex was inserted before a smaller-index twin: its perturbation used the wrong
+    // index. Rebuild from the distinct points (only for some duplicated input).
+    input_index_.erase(std::remove_if(input_index_.begin(), input_index_.end(),
+                                      [this](std::uint32_t i) { return duplicate_of_[i] != i; }),
+                       input_index_.end());
+    clear_triangles();
+    relabeled_ = false;
+    insert_all();
+  }
+  for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
+  canonicalize();
+  if (options_.check) {
+    std::string defect = check_topology();
+    if (defect.empty()) defect = check_delaunay();
+    if (!defect.empty()) throw Error("Delaunay2: internal check failed: " + defect);
+  }
+}
+
+void Delaunay2::clear_triangles() {
+  tri_vertices_.clear();
+  tri_neighbors_.clear();
+  tri_mark_.clear();
+  free_.clear();
+}
+
+std::uint32_t Delaunay2::new_triangle() {
+  if (!free_.empty()) {
+    const std::uint32_t t = free_.back();
+    free_.pop_back();
+    return t;
+  }
+  const auto t = static_cast<std::uint32_t>(tri_mark_.size());
+  tri_vertices_.resize(tri_vertices_.size() + 3);
+  tri_neighbors_.resize(tri_neighbors_.size() + 3);
+  tri_mark_.push_back(0);
+  return t;
+}
+
+// Inserts the points input_index_[0], input_index_[1], ... (local ids 0, 1, ...).
+void Delaunay2::insert_all() {
+  const auto m = static_cast<std::uint32_t>(input_index_.size());
+  coords_.resize(2 * static_cast<std::size_t>(m));
+  for (std::uint32_t q = 0; q < m; ++q) {
+    coords_[2 * static_cast<std::size_t>(q)] = pt(input_index_[q])[0];
+    coords_[2 * static_cast<std::size_t>(q) + 1] = pt(input_index_[q])[1];
+  }
+  starting_at_.resize(static_cast<std::size_t>(m) + 1);
+  tri_vertices_.reserve(6 * static_cast<std::size_t>(m) + 12);
+  tri_neighbors_.reserve(6 * static_cast<std::size_t>(m) + 12);
+  tri_mark_.reserve(2 * static_cast<std::size_t>(m) + 4);
+
+  // The first triangle: a = 0, b the first point different from a, c the first point not
+  // collinear with a and b. The points skipped meanwhile are inserted later, in order.
+  const double* a = local_pt(0);
+  std::uint32_t b = 1;
+  while (b < m && same_point(local_pt(b), a)) ++b;
+  if (b == m) {
+    throw Error("Delaunay2: all " + std::to_string(nb_points_) +
+                " points coincide; at least 3 affinely independent points are needed");
+  }
+  std::uint32_t c = b + 1;
+  while (c < m && orient2d(a, local_pt(b), local_pt(c), filter_) == Sign::zero) ++c;
+  if (c == m) {
+    throw Error("Delaunay2: all " + std::to_string(nb_points_) +
+                " points are collinear; at least 3 affinely independent points are needed");
+  }
+  std::uint32_t v[3] = {0, b, c};
+  if (orient2d(a, local_pt(b), local_pt(c), filter_) == Sign::negative) std::swap(v[1], v[2]);
+  // The finite triangle and, across each of its edges k, the infinite triangle
+  // (v_{k+2}, v_{k+1}, inf); adjacency by matching reversed edges.
+  std::uint32_t t[4];
+  for (auto& s : t) s = new_triangle();
+  for (int i = 0; i < 3; ++i) tri_vertices_[3 * t[0] + static_cast<std::uint32_t>(i)] = v[i];
+  for (int k = 0; k < 3; ++k) {
+    std::uint32_t* w = &tri_vertices_[3 * t[k + 1]];
+    w[0] = v[kPrev[k]];
+    w[1] = v[kNext[k]];
+    w[2] = kInfinite;
+  }
+  for (int i = 0; i < 4; ++i) {
+    for (int ki = 0; ki < 3; ++ki) {
+      const std::uint32_t* vi = &tri_vertices_[3 * t[i]];
+      const std::uint32_t p = vi[kNext[ki]], q = vi[kPrev[ki]];
+      for (int j = 0; j < 4; ++j) {
+        const std::uint32_t* vj = &tri_vertices_[3 * t[j]];
+        for (int kj = 0; kj < 3; ++kj) {
+          if (j != i && vj[kNext[kj]] == q && vj[kPrev[kj]] == p) {
+            tri_neighbors_[3 * t[i] + static_cast<std::uint32_t>(ki)] =
+                3 * t[j] + static_cast<std::uint32_t>(kj);
+          }
+        }
+      }
+    }
+  }
+  hint_ = t[0];
+  stamp_ = 0;
+  for (std::uint32_t q = 1; q < m; ++q) {
+    if (q != b && q != c) insert(q);
+  }
+}
+
+// kLocal: t holds local ids (construction), else input indices (checks). ip is the input
+// index of p, for the perturbation.
+template <bool kLocal>
+bool Delaunay2::in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const {
+  const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+  const auto point_of = [this](std::uint32_t w) { return kLocal ? local_pt(w) : pt(w); };
+  const int kinf = infinite_slot(t);
+  if (kinf < 0) {
+    const double* a = point_of(v[0]);
+    const double* b = point_of(v[1]);
+    const double* c = point_of(v[2]);
+    Sign s = incircle(a, b, c, p, filter_);
+    if (s == Sign::zero) {
+      if constexpr (kLocal) {
+        s = incircle_sos(a, b, c, p, input_index_[v[0]], input_index_[v[1]], input_index_[v[2]],
+                         ip);
+      } else {
+        s = incircle_sos(a, b, c, p, v[0], v[1], v[2], ip);
+      }
+    }
+    return s == Sign::positive;
+  }
+  const double* a = point_of(v[kNext[kinf]]);
+  const double* b = point_of(v[kPrev[kinf]]);
+  const Sign o = orient2d(a, b, p, filter_);
+  if (o != Sign::zero) return o == Sign::positive;
+  return strictly_between(a, b, p);
+}
+
+// kLocal: during construction (local ids, p inside the filter's box); otherwise a query
+// on the finished triangulation, with plain predicates since p may lie outside the box.
+template <bool kLocal>
+std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
+  const auto orient = [this, p](std::uint32_t a, std::uint32_t b) {
+    if constexpr (kLocal) {
+      return orient2d(local_pt(a), local_pt(b), p, filter_);
+    } else {
+      return orient2d(pt(a), pt(b), p);
+    }
+  };
+  const std::size_t limit = tri_mark_.size() + 8;
+  std::uint32_t previous = kNone;
+  std::uint32_t state = 0x9e3779b9u;  // xorshift32: a fixed sequence of edge choices
+  for (std::size_t step = 0; step < limit; ++step) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    const int kinf = infinite_slot(t);
+    if (kinf >= 0) {
+      if (orient(v[kNext[kinf]], v[kPrev[kinf]]) == Sign::positive) return t;
+      previous = t;
+      t = tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(kinf)] / 3;
+      continue;
+    }
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    const auto k0 = static_cast<int>(state % 3);
+    bool moved = false;
+    for (int j = 0; j < 3 && !moved; ++j) {
+      const int k = (k0 + j) % 3;
+      const std::uint32_t next =
+          tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)] / 3;
+      if (next == previous) continue;
+      if (orient(v[kNext[k]], v[kPrev[k]]) == Sign::negative) {
+        previous = t;
+        t = next;
+        moved = true;
+      }
+    }
+    if (!moved) return t;
+  }
+  // Unreachable in a valid triangulation (see the file comment): scan every triangle.
+  const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
+  for (std::uint32_t s = 0; s < slots; ++s) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(s)];
+    if (v[0] == kFreeVertex) continue;
+    const int kinf = infinite_slot(s);
+    if (kinf >= 0) {
+      if (orient(v[kNext[kinf]], v[kPrev[kinf]]) == Sign::positive) return s;
+    } else if (orient(v[1], v[2]) != Sign::negative && orient(v[2], v[0]) != Sign::negative &&
+               orient(v[0], v[1]) != Sign::negative) {
+      return s;
+    }
+  }
+  throw Error("Delaunay2: point location failed (corrupted triangulation)");
+}
+
+void Delaunay2::insert(std::uint32_t q) {
+  const double* p = local_pt(q);
+  const std::uint32_t ip = input_index_[q];
+  const std::uint32_t start = walk<true>(p, hint_);
+  if (infinite_slot(start) < 0) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t w =
+          tri_vertices_[3 * static_cast<std::size_t>(start) + static_cast<std::size_t>(k)];
+      if (!same_point(local_pt(w), p)) continue;
+      std::uint32_t root = input_index_[w];
+      while (duplicate_of_[root] != root) root = duplicate_of_[root];
+      if (ip < root) {
+        duplicate_of_[root] = ip;
+        relabeled_ = true;
+      } else {
+        duplicate_of_[ip] = root;
+      }
+      return;
+    }
+  }
+  stamp_ += 2;  // stamp_: in the cavity; stamp_ + 1: tested, not in conflict
+  const std::uint32_t rejected = stamp_ + 1;
+  stack_.clear();
+  cavity_.clear();
+  boundary_.clear();
+  tri_mark_[start] = stamp_;
+  stack_.push_back(start);
+  while (!stack_.empty()) {
+    const std::uint32_t c = stack_.back();
+    stack_.pop_back();
+    cavity_.push_back(c);
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(c)];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t code =
+          tri_neighbors_[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)];
+      const std::uint32_t nt = code / 3;
+      const std::uint32_t mark = tri_mark_[nt];
+      if (mark == stamp_) continue;
+      if (mark != rejected && in_conflict<true>(nt, p, ip)) {
+        tri_mark_[nt] = stamp_;
+        stack_.push_back(nt);
+        continue;
+      }
+      tri_mark_[nt] = rejected;
+      boundary_.push_back({v[kNext[k]], v[kPrev[k]], code});
+    }
+  }
+  for (const std::uint32_t c : cavity_) free_.push_back(c);
+  const auto infinite_slot_index = static_cast<std::size_t>(input_index_.size());
+  const auto slot_of = [infinite_slot_index](std::uint32_t v) {
+    return v == kInfinite ? infinite_slot_index : static_cast<std::size_t>(v);
+  };
+  // The star of p: (p, u, w) for each boundary edge (u, w), its edge 0 glued to the
+  // triangle outside; edge 1 (w, p) is edge 2 of the new triangle starting at w.
+  stack_.clear();
+  for (const BoundaryEdge& e : boundary_) {
+    const std::uint32_t t = new_triangle();
+    std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    v[0] = q;
+    v[1] = e.u;
+    v[2] = e.w;
+    tri_neighbors_[3 * static_cast<std::size_t>(t)] = e.outside;
+    tri_neighbors_[e.outside] = 3 * t;
+    starting_at_[slot_of(e.u)] = t;
+    stack_.push_back(t);
+  }
+  for (const std::uint32_t t : stack_) {
+    const std::uint32_t next =
+        starting_at_[slot_of(tri_vertices_[3 * static_cast<std::size_t>(t) + 2])];
+    tri_neighbors_[3 * static_cast<std::size_t>(t) + 1] = 3 * next + 2;
+    tri_neighbors_[3 * static_cast<std::size_t>(next) + 2] = 3 * t + 1;
+  }
+  hint_ = stack_.back();
+}
+
+// Renumbers the triangles in the canonical order described in the header, drops free
+// slots, converts local ids to input indices and recomputes vertex_triangle_. Linear time
+// but for the sort of each bucket (a counting sort by first rank leaves in bucket r the
+// few triangles whose smallest rank is r).
+void Delaunay2::canonicalize() {
+  const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
+  const std::size_t m = input_index_.size();
+  shift_.assign(slots, 0);
+  keys_.resize(slots);
+  scratch_a_.assign(m + 2, 0);  // bucket starts, finite triangles by smallest rank
+  std::uint32_t nb_finite = 0, nb_infinite = 0;
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    if (v[0] == kFreeVertex) continue;
+    const int kinf = infinite_slot(t);
+    int s;
+    if (kinf >= 0) {
+      s = kNext[kinf];  // new vertex 2 = old vertex kinf
+      keys_[t] = v[s];
+      ++nb_infinite;
+    } else {
+      const int r = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+      keys_[t] = (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
+      ++scratch_a_[static_cast<std::size_t>(v[r]) + 1];
+      const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]], i2 = input_index_[v[2]];
+      s = i0 < i1 ? (i0 < i2 ? 0 : 2) : (i1 < i2 ? 1 : 2);
+      ++nb_finite;
+    }
+    shift_[t] = static_cast<std::uint8_t>(s);
+  }
+  for (std::size_t i = 1; i < scratch_a_.size(); ++i) scratch_a_[i] += scratch_a_[i - 1];
+  // scratch_b_: slots in their new order; infinite ones placed by the rank of a.
+  const std::uint32_t total = nb_finite + nb_infinite;
+  scratch_b_.assign(total, kNone);
+  scratch_c_.assign(m, kNone);  // hull vertex -> its infinite triangle
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
+    if (infinite_slot(t) >= 0) {
+      scratch_c_[keys_[t]] = t;
+    } else {
+      scratch_b_[scratch_a_[keys_[t] >> 32]++] = t;
+    }
+  }
+  // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1.
+  std::uint32_t begin = 0;
+  for (std::size_t r = 0; r < m; ++r) {
+    const std::uint32_t end = scratch_a_[r];
+    if (end - begin > 1) {
+      std::sort(scratch_b_.begin() + begin, scratch_b_.begin() + end,
+                [this](std::uint32_t x, std::uint32_t y) { return keys_[x] < keys_[y]; });
+    }
+    begin = end;
+  }
+  std::uint32_t next = nb_finite;
+  for (std::size_t r = 0; r < m; ++r) {
+    if (scratch_c_[r] != kNone) scratch_b_[next++] = scratch_c_[r];
+  }
+  // New index of each old slot (scratch_c_ reused).
+  scratch_c_.assign(slots, kNone);
+  for (std::uint32_t i = 0; i < total; ++i) scratch_c_[scratch_b_[i]] = i;
+  tmp_vertices_.resize(3 * static_cast<std::size_t>(total));
+  tmp_neighbors_.resize(3 * static_cast<std::size_t>(total));
+  for (std::uint32_t i = 0; i < total; ++i) {
+    const std::uint32_t t = scratch_b_[i];
+    for (int j = 0; j < 3; ++j) {
+      const std::size_t old =
+          3 * static_cast<std::size_t>(t) + static_cast<std::size_t>((j + shift_[t]) % 3);
+      const std::uint32_t code = tri_neighbors_[old];
+      const std::uint32_t nt = code / 3;
+      const std::uint32_t nk = (code % 3 + 3 - shift_[nt]) % 3;
+      const std::uint32_t v = tri_vertices_[old];
+      const std::size_t slot = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(j);
+      tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
+      tmp_neighbors_[slot] = 3 * scratch_c_[nt] + nk;
+    }
+  }
+  tri_vertices_.swap(tmp_vertices_);
+  tri_neighbors_.swap(tmp_neighbors_);
+  tri_mark_.assign(total, 0);
+  free_.clear();
+  stamp_ = 0;
+  hint_ = 0;
+  nb_finite_ = nb_finite;
+  vertex_triangle_.assign(nb_points_, kNone);
+  for (std::uint32_t t = 0; t < nb_finite; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v =
+          tri_vertices_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+      if (vertex_triangle_[v] == kNone) vertex_triangle_[v] = t;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Queries
+
+std::uint32_t Delaunay2::next_ccw(std::uint32_t t, std::uint32_t v) const {
+  return tri_adjacent(t, kNext[local_index(t, v)]);
+}
+
+void Delaunay2::triangles_around_vertex(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  const std::uint32_t t0 = vertex_triangle(v);
+  assert(t0 != kNone);
+  std::uint32_t t = t0;
+  do {
+    if (is_infinite(t)) break;
+    t = next_ccw(t, v);
+  } while (t != t0);
+  if (!is_infinite(t)) {
+    do {
+      out.push_back(t);
+      t = next_ccw(t, v);
+    } while (t != t0);
+    return;
+  }
+  while (is_infinite(t)) t = next_ccw(t, v);
+  while (!is_infinite(t)) {
+    out.push_back(t);
+    t = next_ccw(t, v);
+  }
+}
+
+void Delaunay2::vertex_neighbors(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  triangles_around_vertex(v, out);
+  if (out.empty()) return;
+  const std::uint32_t last = out.back();
+  for (std::uint32_t& t : out) t = tri_vertex(t, kNext[local_index(t, v)]);
+  if (is_hull_vertex(v)) out.push_back(tri_vertex(last, kPrev[local_index(last, v)]));
+}
+
+bool Delaunay2::is_hull_vertex(std::uint32_t v) const {
+  const std::uint32_t t0 = vertex_triangle(v);
+  assert(t0 != kNone);
+  std::uint32_t t = t0;
+  do {
+    if (is_infinite(t)) return true;
+    t = next_ccw(t, v);
+  } while (t != t0);
+  return false;
+}
+
+std::vector<std::uint32_t> Delaunay2::hull_vertices() const {
+  std::vector<std::uint32_t> out;
+  const std::uint32_t h = nb_triangle_slots() - nb_finite_;
+  if (h == 0) return out;
+  out.reserve(h);
+  // Infinite triangles are (a, b, inf) sorted by a; the hull edge leaving a is (a, a')
+  // where (a', a, inf) is the infinite triangle across edge 1 of the previous one.
+  std::uint32_t t = tri_adjacent(nb_finite_, 1);
+  for (std::uint32_t i = 0; i < h; ++i) {
+    out.push_back(tri_vertex(t, 1));
+    t = tri_adjacent(t, 1);
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> Delaunay2::hull_edges() const {
+  const std::vector<std::uint32_t> hull = hull_vertices();
+  std::vector<std::uint32_t> out;
+  out.reserve(2 * hull.size());
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    out.push_back(hull[i]);
+    out.push_back(hull[(i + 1) % hull.size()]);
+  }
+  return out;
+}
+
+void Delaunay2::circumcenter(std::uint32_t t, double* out) const {
+  assert(t < nb_finite_);
+  const double* a = pt(tri_vertex(t, 0));
+  const double* b = pt(tri_vertex(t, 1));
+  const double* c = pt(tri_vertex(t, 2));
+  const double bx = b[0] - a[0], by = b[1] - a[1];
+  const double cx = c[0] - a[0], cy = c[1] - a[1];
+  const double d = 2 * (bx * cy - by * cx);
+  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+  out[0] = a[0] + (cy * b2 - by * c2) / d;
+  out[1] = a[1] + (bx * c2 - cx * b2) / d;
+}
+
+std::uint32_t Delaunay2::locate(double x, double y, std::uint32_t hint) const {
+  if (nb_triangle_slots() == 0) return kNone;
+  const double p[2] = {x, y};
+  if (!std::isfinite(x) || !std::isfinite(y)) {
+    throw Error("Delaunay2::locate: non-finite query point");
+  }
+  return walk<false>(p, hint < nb_triangle_slots() ? hint : 0);
+}
+
+std::uint32_t Delaunay2::nearest_vertex(double x, double y, std::uint32_t hint) const {
+  const std::uint32_t t = locate(x, y, hint);
+  if (t == kNone) return kNone;
+  std::uint32_t v = tri_vertex(t, 0);
+  if (v == kInfinite) v = tri_vertex(t, 1);
+  const auto distance2 = [this, x, y](std::uint32_t w) {
+    const double dx = pt(w)[0] - x, dy = pt(w)[1] - y;
+    return dx * dx + dy * dy;
+  };
+  double best = distance2(v);
+  for (;;) {
+    std::uint32_t next = v;
+    const std::uint32_t t0 = vertex_triangle_[v];
+    std::uint32_t s = t0;
+    do {
+      const std::uint32_t w = tri_vertex(s, kNext[local_index(s, v)]);
+      if (w != kInfinite) {
+        const double d = distance2(w);
+        if (d < best) {
+          best = d;
+          next = w;
+        }
+      }
+      s = next_ccw(s, v);
+    } while (s != t0);
+    if (next == v) return v;
+    v = next;
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Checks
+
+std::string Delaunay2::check_topology() const {
+  std::ostringstream err;
+  const std::uint32_t slots = nb_triangle_slots();
+  if (tri_vertices_.size() != 3 * static_cast<std::size_t>(slots) ||
+      tri_neighbors_.size() != 3 * static_cast<std::size_t>(slots)) {
+    return "array sizes disagree";
+  }
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    int nb_inf = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (v[k] == kInfinite) {
+        ++nb_inf;
+      } else if (v[k] >= nb_points_ || duplicate_of_[v[k]] != v[k]) {
+        err << "triangle " << t << " has vertex " << v[k] << " which is not a vertex";
+        return err.str();
+      }
+    }
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) {
+      err << "triangle " << t << " repeats a vertex";
+      return err.str();
+    }
+    if ((t < nb_finite_) != (nb_inf == 0) || nb_inf > 1) {
+      err << "triangle " << t << " has " << nb_inf
+          << " infinite vertices (finite triangles are [0, " << nb_finite_ << "))";
+      return err.str();
+    }
+    if (nb_inf == 0 && orient2d(pt(v[0]), pt(v[1]), pt(v[2])) != Sign::positive) {
+      err << "finite triangle " << t << " (" << v[0] << ", " << v[1] << ", " << v[2]
+          << ") is not strictly counter-clockwise";
+      return err.str();
+    }
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t code =
+          tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+      const std::uint32_t nt = code / 3;
+      const auto nk = static_cast<int>(code % 3);
+      if (nt >= slots || tri_neighbors_[code] != 3 * t + static_cast<std::uint32_t>(k)) {
+        err << "adjacency of triangle " << t << " edge " << k << " is not symmetric";
+        return err.str();
+      }
+      const std::uint32_t* w = &tri_vertices_[3 * static_cast<std::size_t>(nt)];
+      if (w[kNext[nk]] != v[kPrev[k]] || w[kPrev[nk]] != v[kNext[k]]) {
+        err << "triangles " << t << " and " << nt << " do not share edge " << k << " reversed";
+        return err.str();
+      }
+    }
+  }
+  // One umbrella per vertex: the turns around every vertex (from its incident triangle)
+  // and around the infinite vertex add up to one per triangle corner.
+  std::size_t corners = 0;
+  std::uint32_t nb_vertices = 0;
+  for (std::uint32_t v = 0; v < nb_points_; ++v) {
+    const std::uint32_t t0 = vertex_triangle_[v];
+    if (duplicate_of_[v] != v) {
+      if (t0 != kNone) {
+        err << "duplicate point " << v << " has an incident triangle";
+        return err.str();
+      }
+      continue;
+    }
+    ++nb_vertices;
+    if (t0 >= nb_finite_) {
+      err << "vertex " << v << " has no valid incident finite triangle";
+      return err.str();
+    }
+    const std::uint32_t* w = &tri_vertices_[3 * static_cast<std::size_t>(t0)];
+    if (w[0] != v && w[1] != v && w[2] != v) {
+      err << "vertex_triangle(" << v << ") = " << t0 << " does not contain it";
+      return err.str();
+    }
+    std::uint32_t t = t0;
+    std::size_t turns = 0;
+    do {
+      t = next_ccw(t, v);
+      if (++turns > slots) {
+        err << "the triangles around vertex " << v << " do not close";
+        return err.str();
+      }
+    } while (t != t0);
+    corners += turns;
+  }
+  if (nb_vertices != nb_unique_) return "nb_unique_points() disagrees with duplicate_of()";
+  if (slots > nb_finite_) {
+    std::uint32_t t = nb_finite_;
+    do {
+      t = next_ccw(t, kInfinite);
+      ++corners;
+      if (corners > 3 * static_cast<std::size_t>(slots)) return "the hull does not close";
+    } while (t != nb_finite_);
+  }
+  if (corners != 3 * static_cast<std::size_t>(slots)) {
+    err << "the vertex umbrellas cover " << corners << " corners, expected " << 3 * slots;
+    return err.str();
+  }
+  if (slots != 2 * static_cast<std::size_t>(nb_vertices) - 2) {
+    err << "Euler: " << slots << " triangles (finite + infinite) for " << nb_vertices
+        << " vertices, expected " << 2 * static_cast<std::size_t>(nb_vertices) - 2;
+    return err.str();
+  }
+  return {};
+}
+
+std::string Delaunay2::check_delaunay() const {
+  const std::uint32_t slots = nb_triangle_slots();
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t code =
+          tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+      const std::uint32_t q = tri_vertices_[code];
+      if (q == kInfinite) continue;
+      if (in_conflict<false>(t, pt(q), q)) {
+        std::ostringstream err;
+        err << "vertex " << q << " is in conflict with its neighbouring triangle " << t << " ("
+            << tri_vertex(t, 0) << ", " << tri_vertex(t, 1) << ", " << tri_vertex(t, 2) << ")";
+        return err.str();
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace voroclip

@@ -1,0 +1,300 @@
+// Spatial sort: BRIO rounds, each along a Hilbert curve (see spatial_sort.h).
+#include "spatial_sort.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace voroclip::detail {
+
+namespace {
+
+// A point copied next to its index: the recursion moves these contiguously instead of
+// chasing indices into the coordinate array.
+template <int D>
+struct Item {
+  double c[D];
+  std::uint32_t index;
+};
+
+// Splits [first, last) at its middle so that the lower half precedes along `axis`, in
+// increasing coordinate order when `up`, decreasing otherwise; returns the middle.
+template <int D>
+Item<D>* split(Item<D>* first, Item<D>* last, int axis, bool up) {
+  if (last - first < 2) return first;
+  Item<D>* middle = first + (last - first) / 2;
+  if (up) {
+    std::nth_element(first, middle, last,
+                     [axis](const Item<D>& a, const Item<D>& b) { return a.c[axis] < b.c[axis]; });
+  } else {
+    std::nth_element(first, middle, last,
+                     [axis](const Item<D>& a, const Item<D>& b) { return a.c[axis] > b.c[axis]; });
+  }
+  return middle;
+}
+
+// Sub-ranges at least this long are sorted as parallel tasks: they are disjoint, so the
+// result does not depend on the number of threads.
+constexpr std::ptrdiff_t kParallelGrain = 8192;
+
+// The Hilbert recursion. `x` is the axis split first; bit a of `up` says whether the
+// curve runs in increasing direction along axis a in this cell. The child cells are
+// visited in Hilbert order with the axis and the direction flips of the curve's
+// standard construction (the reflected/rotated sub-curves).
+void hilbert_2(Item<2>* first, Item<2>* last, int x, unsigned up) {
+  if (last - first <= 1) return;
+  const int y = 1 - x;
+  const auto is_up = [up](int a) { return ((up >> a) & 1u) != 0; };
+  Item<2>* m0 = first;
+  Item<2>* m4 = last;
+  Item<2>* m2 = split(m0, m4, x, is_up(x));
+  Item<2>* m1 = split(m0, m2, y, is_up(y));
+  Item<2>* m3 = split(m2, m4, y, !is_up(y));
+  const unsigned flip_xy = up ^ 3u;
+  if (last - first >= kParallelGrain) {
+    tbb::parallel_invoke([=] { hilbert_2(m0, m1, y, up); }, [=] { hilbert_2(m1, m2, x, up); },
+                         [=] { hilbert_2(m2, m3, x, up); }, [=] { hilbert_2(m3, m4, y, flip_xy); });
+    return;
+  }
+  hilbert_2(m0, m1, y, up);
+  hilbert_2(m1, m2, x, up);
+  hilbert_2(m2, m3, x, up);
+  hilbert_2(m3, m4, y, flip_xy);
+}
+
+void hilbert_3(Item<3>* first, Item<3>* last, int x, unsigned up) {
+  if (last - first <= 1) return;
+  const int y = (x + 1) % 3, z = (x + 2) % 3;
+  const auto is_up = [up](int a) { return ((up >> a) & 1u) != 0; };
+  const auto flip = [up](int a, int b) { return up ^ (1u << a) ^ (1u << b); };
+  Item<3>* m0 = first;
+  Item<3>* m8 = last;
+  Item<3>* m4 = split(m0, m8, x, is_up(x));
+  Item<3>* m2 = split(m0, m4, y, is_up(y));
+  Item<3>* m1 = split(m0, m2, z, is_up(z));
+  Item<3>* m3 = split(m2, m4, z, !is_up(z));
+  Item<3>* m6 = split(m4, m8, y, !is_up(y));
+  Item<3>* m5 = split(m4, m6, z, is_up(z));
+  Item<3>* m7 = split(m6, m8, z, !is_up(z));
+  if (last - first >= kParallelGrain) {
+    tbb::parallel_invoke(
+        [=] { hilbert_3(m0, m1, z, up); }, [=] { hilbert_3(m1, m2, y, up); },
+        [=] { hilbert_3(m2, m3, y, up); }, [=] { hilbert_3(m3, m4, x, flip(y, z)); },
+        [=] { hilbert_3(m4, m5, x, flip(y, z)); }, [=] { hilbert_3(m5, m6, y, flip(x, y)); },
+        [=] { hilbert_3(m6, m7, y, flip(x, y)); }, [=] { hilbert_3(m7, m8, z, flip(z, x)); });
+    return;
+  }
+  hilbert_3(m0, m1, z, up);
+  hilbert_3(m1, m2, y, up);
+  hilbert_3(m2, m3, y, up);
+  hilbert_3(m3, m4, x, flip(y, z));
+  hilbert_3(m4, m5, x, flip(y, z));
+  hilbert_3(m5, m6, y, flip(x, y));
+  hilbert_3(m6, m7, y, flip(x, y));
+  hilbert_3(m7, m8, z, flip(z, x));
+}
+
+// Skilling's transform ("Programming the Hilbert curve", AIP Conf. Proc. 707, 2004): the
+// cell coordinates x[0..D) of b bits each become the "transposed" Hilbert index, whose
+// bits, interleaved from the most significant down (x[0] first), are the index along the
+// curve through the 2^(bD) cells.
+template <int D>
+std::uint64_t hilbert_key(std::uint32_t x[D], int b) {
+  const std::uint32_t top = 1u << (b - 1);
+  for (std::uint32_t q = top; q > 1; q >>= 1) {  // inverse undo excess work
+    const std::uint32_t p = q - 1;
+    for (int i = 0; i < D; ++i) {
+      if ((x[i] & q) != 0) {
+        x[0] ^= p;  // invert
+      } else {
+        const std::uint32_t t = (x[0] ^ x[i]) & p;  // exchange
+        x[0] ^= t;
+        x[i] ^= t;
+      }
+    }
+  }
+  for (int i = 1; i < D; ++i) x[i] ^= x[i - 1];  // Gray encode
+  std::uint32_t t = 0;
+  for (std::uint32_t q = top; q > 1; q >>= 1) {
+    if ((x[D - 1] & q) != 0) t ^= q - 1;
+  }
+  for (int i = 0; i < D; ++i) x[i] ^= t;
+  std::uint64_t key = 0;
+  for (int bit = b - 1; bit >= 0; --bit) {
+    for (int i = 0; i < D; ++i) key = (key << 1) | ((x[i] >> bit) & 1u);
+  }
+  return key;
+}
+
+struct Keyed {
+  std::uint64_t key;
+  std::uint32_t index;
+};
+
+// Stable LSD radix sort by key, 8 bits per pass; passes whose digit is constant are skipped.
+void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
+  const std::size_t n = a.size();
+  std::vector<std::size_t> count(8 * 256, 0);
+  for (const Keyed& k : a) {
+    for (int d = 0; d < 8; ++d)
+      ++count[static_cast<std::size_t>(256 * d) + ((k.key >> (8 * d)) & 255u)];
+  }
+  tmp.resize(n);
+  for (int d = 0; d < 8; ++d) {
+    std::size_t* c = &count[static_cast<std::size_t>(256 * d)];
+    if (*std::max_element(c, c + 256) == n) continue;
+    std::size_t sum = 0;
+    for (int i = 0; i < 256; ++i) {
+      const std::size_t x = c[i];
+      c[i] = sum;
+      sum += x;
+    }
+    for (const Keyed& k : a) tmp[c[(k.key >> (8 * d)) & 255u]++] = k;
+    a.swap(tmp);
+  }
+}
+
+// Equal keys (points in one grid cell) in runs at least this long are ordered by the
+// median-split recursion, which adapts to any clustering.
+constexpr std::size_t kRefineRun = 16;
+
+// One round: Hilbert keys on a 2^b grid over the bounding box of the range (b = 24 in 2D,
+// 21 in 3D), radix-sorted; ties in runs of kRefineRun or more are refined by the median
+// recursion (all points equal, a cluster far smaller than the box, or a box whose extent
+// overflows: then every key is 0 and the median recursion sorts everything).
+template <int D>
+void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_t* last) {
+  constexpr int kBits = D == 2 ? 24 : 21;
+  constexpr double kCells = static_cast<double>(1u << kBits);
+  const std::size_t count = static_cast<std::size_t>(last - first);
+  if (count < 2) return;
+  const auto at = [coords](std::uint32_t i) { return coords + static_cast<std::size_t>(D) * i; };
+  double lo[D], scale[D];
+  for (int a = 0; a < D; ++a) {
+    double mn = at(*first)[a], mx = mn;
+    for (std::size_t i = 1; i < count; ++i) {
+      mn = std::min(mn, at(first[i])[a]);
+      mx = std::max(mx, at(first[i])[a]);
+    }
+    lo[a] = mn;
+    const double extent = mx - mn;
+    scale[a] = extent > 0 && std::isfinite(extent) ? kCells / extent : 0.0;
+    if (!std::isfinite(scale[a])) scale[a] = 0.0;
+  }
+  std::vector<Keyed> keyed(count), tmp;
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint32_t x[D];
+    for (int a = 0; a < D; ++a) {
+      const double t = (at(first[i])[a] - lo[a]) * scale[a];
+      x[a] = t >= 0 ? (t < kCells ? static_cast<std::uint32_t>(t) : (1u << kBits) - 1) : 0;
+    }
+    keyed[i] = {hilbert_key<D>(x, kBits), first[i]};
+  }
+  radix_sort(keyed, tmp);
+  for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
+  std::vector<Item<D>> items;
+  for (std::size_t i = 0; i < count;) {
+    std::size_t j = i + 1;
+    while (j < count && keyed[j].key == keyed[i].key) ++j;
+    if (j - i >= kRefineRun) {
+      items.resize(j - i);
+      for (std::size_t k = i; k < j; ++k) {
+        for (int a = 0; a < D; ++a) items[k - i].c[a] = at(first[k])[a];
+        items[k - i].index = first[k];
+      }
+      if constexpr (D == 2) {
+        hilbert_2(items.data(), items.data() + items.size(), 0, 3u);
+      } else {
+        hilbert_3(items.data(), items.data() + items.size(), 0, 7u);
+      }
+      for (std::size_t k = i; k < j; ++k) first[k] = items[k - i].index;
+    }
+    i = j;
+  }
+}
+
+// splitmix64 (Steele, Lea & Flood 2014): a fixed, well-mixed hash of the index.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+int trailing_ones(std::uint64_t x) {
+  int k = 0;
+  while ((x & 1u) != 0 && k < 64) {
+    x >>= 1;
+    ++k;
+  }
+  return k;
+}
+
+double squared_distance(const double* coords, int dim, std::uint32_t a, std::uint32_t b) {
+  const double* p = coords + static_cast<std::size_t>(dim) * a;
+  const double* q = coords + static_cast<std::size_t>(dim) * b;
+  double s = 0;
+  for (int k = 0; k < dim; ++k) s += (p[k] - q[k]) * (p[k] - q[k]);
+  return s;
+}
+
+}  // namespace
+
+void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last) {
+  if (dim == 2) {
+    hilbert_sort_range<2>(coords, first, last);
+  } else {
+    hilbert_sort_range<3>(coords, first, last);
+  }
+}
+
+std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim) {
+  std::vector<std::uint32_t> order(n);
+  if (n == 0) return order;
+  // Level 0 is the last round (about n/2 points), level L the one before (n/2^(L+1)), up to
+  // max_level which takes everything deeper (about n/2^max_level >= kBrioMinRound points).
+  int max_level = 0;
+  while ((static_cast<std::uint64_t>(n) >> (max_level + 1)) >= kBrioMinRound) ++max_level;
+  std::vector<std::uint8_t> level(n);
+  std::vector<std::uint32_t> start(static_cast<std::size_t>(max_level) + 2, 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const int l = std::min(trailing_ones(mix(i)), max_level);
+    level[i] = static_cast<std::uint8_t>(l);
+    ++start[static_cast<std::size_t>(max_level - l) + 1];
+  }
+  // Counting sort by round (round r = max_level - level), stable in the index.
+  for (std::size_t r = 1; r < start.size(); ++r) start[r] += start[r - 1];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t i = 0; i < n; ++i)
+      order[fill[static_cast<std::size_t>(max_level - level[i])]++] = i;
+  }
+  // The rounds are disjoint: sort them concurrently, then chain them in order.
+  const std::size_t nb_rounds = start.size() - 1;
+  tbb::parallel_for(std::size_t{0}, nb_rounds, [&](std::size_t r) {
+    std::uint32_t* first = order.data() + start[r];
+    std::uint32_t* last = order.data() + start[r + 1];
+    if (dim == 2) {
+      hilbert_sort_range<2>(coords, first, last);
+    } else {
+      hilbert_sort_range<3>(coords, first, last);
+    }
+  });
+  // Start each round at the end nearer to where the previous one ended.
+  for (std::size_t r = 1; r < nb_rounds; ++r) {
+    std::uint32_t* first = order.data() + start[r];
+    std::uint32_t* last = order.data() + start[r + 1];
+    if (first == last || start[r] == 0) continue;
+    const std::uint32_t previous = order[start[r] - 1];
+    if (squared_distance(coords, dim, previous, *(last - 1)) <
+        squared_distance(coords, dim, previous, *first)) {
+      std::reverse(first, last);
+    }
+  }
+  return order;
+}
+
+}  // namespace voroclip::detail

@@ -1,0 +1,275 @@
+// Delaunay3: exact checks on every result (check_topology, check_delaunay), a brute-force
+// oracle on small sets, degenerate families, duplicates, a scale sweep and real models.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "delaunay3.h"
+#include "voroclip/core.h"
+#include "voroclip/predicates.h"
+
+using voroclip::Delaunay3;
+using voroclip::Sign;
+
+namespace {
+
+using Tet = std::array<std::uint32_t, 4>;
+
+void require_valid(const Delaunay3& dt) {
+  const std::string topology = dt.check_topology();
+  INFO(topology);
+  REQUIRE(topology.empty());
+  const std::string delaunay = dt.check_delaunay();
+  INFO(delaunay);
+  REQUIRE(delaunay.empty());
+}
+
+// Finite tets as sorted vertex quadruples, sorted: a canonical form for comparisons.
+std::vector<Tet> finite_tets(const Delaunay3& dt) {
+  std::vector<Tet> out;
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    Tet v = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2), dt.tet_vertex(t, 3)};
+    std::sort(v.begin(), v.end());
+    out.push_back(v);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<double> random_points(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> xyz(3 * n);
+  for (double& x : xyz) x = u(rng);
+  return xyz;
+}
+
+// 6 x volume of finite tet t with orient3d's sign convention (det[p0-p3; p1-p3; p2-p3]),
+// exact for small integer coordinates.
+double six_volume(const Delaunay3& dt, const std::vector<double>& xyz, std::uint32_t t) {
+  const double* p[4];
+  for (int k = 0; k < 4; ++k) p[k] = &xyz[3 * static_cast<std::size_t>(dt.tet_vertex(t, k))];
+  double m[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m[i][j] = p[i][j] - p[3][j];
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+// Brute force: all 4-subsets that form a tet whose circumsphere (perturbed) contains no
+// other point. With symbolic perturbation the Delaunay triangulation is unique.
+std::vector<Tet> brute_force(const std::vector<double>& xyz) {
+  const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
+  const auto p = [&](std::uint32_t i) { return &xyz[3 * static_cast<std::size_t>(i)]; };
+  std::vector<Tet> out;
+  for (std::uint32_t a = 0; a < n; ++a)
+    for (std::uint32_t b = a + 1; b < n; ++b)
+      for (std::uint32_t c = b + 1; c < n; ++c)
+        for (std::uint32_t d = c + 1; d < n; ++d) {
+          Tet t = {a, b, c, d};
+          const Sign o = voroclip::orient3d(p(a), p(b), p(c), p(d));
+          if (o == Sign::zero) continue;
+          if (o == Sign::negative) std::swap(t[0], t[1]);
+          bool empty = true;
+          for (std::uint32_t e = 0; e < n && empty; ++e) {
+            if (e == a || e == b || e == c || e == d) continue;
+            empty = voroclip::insphere_sos(p(t[0]), p(t[1]), p(t[2]), p(t[3]), p(e), t[0], t[1],
+                                           t[2], t[3], e) == Sign::negative;
+          }
+          if (empty) out.push_back({a, b, c, d});
+        }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<double> read_medit_vertices(const std::string& path) {
+  std::ifstream in(path);
+  std::string word;
+  std::vector<double> xyz;
+  while (in >> word) {
+    if (word == "Vertices") {
+      std::size_t n = 0;
+      in >> n;
+      xyz.resize(3 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        int ref = 0;
+        in >> xyz[3 * i] >> xyz[3 * i + 1] >> xyz[3 * i + 2] >> ref;
+      }
+      break;
+    }
+  }
+  return xyz;
+}
+
+}  // namespace
+
+TEST_CASE("Delaunay3 on uniform random points", "[delaunay]") {
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    INFO("seed " << seed);
+    const auto xyz = random_points(5000, seed);
+    const Delaunay3 dt(xyz.data(), 5000);
+    require_valid(dt);
+    CHECK(dt.nb_unique_points() == 5000);
+    // Uniform random points in a cube: about 6.5 tets per point.
+    CHECK(dt.nb_finite_tets() > 6 * 5000);
+    CHECK(dt.nb_finite_tets() < 7 * 5000);
+  }
+}
+
+TEST_CASE("Delaunay3 equals the brute-force Delaunay tets on small sets", "[delaunay][exact]") {
+  for (std::uint64_t seed = 10; seed < 16; ++seed) {
+    INFO("seed " << seed);
+    const auto xyz = random_points(18, seed);
+    const Delaunay3 dt(xyz.data(), 18);
+    require_valid(dt);
+    CHECK(finite_tets(dt) == brute_force(xyz));
+  }
+  SECTION("degenerate: cube corners and a 3x3x3 grid") {
+    std::vector<double> grid;
+    for (int x = 0; x < 3; ++x)
+      for (int y = 0; y < 3; ++y)
+        for (int z = 0; z < 3; ++z) grid.insert(grid.end(), {double(x), double(y), double(z)});
+    const Delaunay3 dt(grid.data(), 27);
+    require_valid(dt);
+    CHECK(finite_tets(dt) == brute_force(grid));
+  }
+}
+
+TEST_CASE("Delaunay3 on grids: no flat tet, volumes add up to the box", "[delaunay][degenerate]") {
+  for (const int m : {2, 4, 7}) {
+    INFO("grid " << m << "^3");
+    std::vector<double> xyz;
+    for (int x = 0; x < m; ++x)
+      for (int y = 0; y < m; ++y)
+        for (int z = 0; z < m; ++z) xyz.insert(xyz.end(), {double(x), double(y), double(z)});
+    const Delaunay3 dt(xyz.data(), static_cast<std::uint32_t>(m * m * m));
+    require_valid(dt);
+    double six_v = 0;
+    for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+      if (dt.is_free(t) || dt.is_infinite(t)) continue;
+      const double v = six_volume(dt, xyz, t);
+      CHECK(v > 0);
+      six_v += v;
+    }
+    const double side = m - 1;
+    CHECK(six_v == 6 * side * side * side);
+    CHECK(dt.hull_vertices().size() ==
+          static_cast<std::size_t>(m * m * m - (m - 2) * (m - 2) * (m - 2)));
+  }
+}
+
+TEST_CASE("Delaunay3 on cospherical integer points", "[delaunay][degenerate]") {
+  // All integer points with x^2 + y^2 + z^2 = 3^2 * 5^2 = 225, and the centre.
+  std::vector<double> xyz;
+  for (int x = -15; x <= 15; ++x)
+    for (int y = -15; y <= 15; ++y)
+      for (int z = -15; z <= 15; ++z)
+        if (x * x + y * y + z * z == 225) xyz.insert(xyz.end(), {double(x), double(y), double(z)});
+  const auto n_sphere = static_cast<std::uint32_t>(xyz.size() / 3);
+  REQUIRE(n_sphere > 50);
+  {
+    const Delaunay3 dt(xyz.data(), n_sphere);
+    require_valid(dt);
+    CHECK(dt.hull_vertices().size() == n_sphere);
+  }
+  xyz.insert(xyz.end(), {0.0, 0.0, 0.0});
+  const Delaunay3 dt(xyz.data(), n_sphere + 1);
+  require_valid(dt);
+  std::vector<std::uint32_t> star;
+  dt.vertex_neighbors(n_sphere, star);
+  CHECK(star.size() == n_sphere);  // the centre sees every point of the sphere
+}
+
+TEST_CASE("Delaunay3 reports duplicates and keeps the smallest index", "[delaunay][degenerate]") {
+  auto xyz = random_points(300, 7);
+  std::mt19937_64 rng(99);
+  // Copy points over others: index j takes the coordinates of index i.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> copies;
+  for (int k = 0; k < 100; ++k) {
+    const auto i = static_cast<std::uint32_t>(rng() % 300);
+    const auto j = static_cast<std::uint32_t>(rng() % 300);
+    if (i == j) continue;
+    std::copy_n(&xyz[3 * i], 3, &xyz[3 * j]);
+  }
+  const Delaunay3 dt(xyz.data(), 300);
+  require_valid(dt);
+  std::uint32_t unique = 0;
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    std::uint32_t smallest = i;
+    for (std::uint32_t j = 0; j < i; ++j) {
+      if (std::equal(&xyz[3 * j], &xyz[3 * j + 3], &xyz[3 * i])) {
+        smallest = j;
+        break;
+      }
+    }
+    CHECK(dt.duplicate_of(i) == smallest);
+    unique += smallest == i ? 1 : 0;
+  }
+  CHECK(dt.nb_unique_points() == unique);
+}
+
+TEST_CASE("Delaunay3 rejects degenerate and invalid input", "[delaunay]") {
+  const std::vector<double> coplanar = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 3, 0};
+  CHECK_THROWS_AS(Delaunay3(coplanar.data(), 5), voroclip::Error);
+  const std::vector<double> collinear = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  CHECK_THROWS_AS(Delaunay3(collinear.data(), 4), voroclip::Error);
+  const std::vector<double> same = {1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3};
+  CHECK_THROWS_AS(Delaunay3(same.data(), 5), voroclip::Error);
+  const std::vector<double> three = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  CHECK_THROWS_AS(Delaunay3(three.data(), 3), voroclip::Error);
+  std::vector<double> nan = random_points(10, 1);
+  nan[7] = std::nan("");
+  try {
+    Delaunay3 dt(nan.data(), 10);
+    FAIL("expected an error");
+  } catch (const voroclip::Error& e) {
+    CHECK(std::string(e.what()).find("point 2") != std::string::npos);
+  }
+}
+
+TEST_CASE("Delaunay3 is invariant under scaling by powers of two", "[delaunay][exact]") {
+  const auto base = random_points(2000, 5);
+  const Delaunay3 ref(base.data(), 2000);
+  require_valid(ref);
+  const auto expected = finite_tets(ref);
+  for (const int e : {-40, -20, 20, 40}) {
+    INFO("scale 2^" << e);
+    std::vector<double> xyz(base);
+    for (double& x : xyz) x = std::ldexp(x, e);
+    const Delaunay3 dt(xyz.data(), 2000);
+    require_valid(dt);
+    CHECK(finite_tets(dt) == expected);
+  }
+}
+
+TEST_CASE("Delaunay3 rebuild reuses the object", "[delaunay]") {
+  Delaunay3 dt;
+  for (std::uint64_t seed = 20; seed < 23; ++seed) {
+    const auto xyz = random_points(1000, seed);
+    dt.build(xyz.data(), 1000);
+    require_valid(dt);
+    const Delaunay3 fresh(xyz.data(), 1000);
+    CHECK(finite_tets(dt) == finite_tets(fresh));
+  }
+}
+
+TEST_CASE("Delaunay3 on the vertices of the real tet meshes", "[delaunay][data]") {
+  for (const char* name : {"sphere.mesh", "bunny.mesh", "fandisk.mesh", "elk.mesh"}) {
+    INFO(name);
+    const auto xyz =
+        read_medit_vertices(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/" + name);
+    REQUIRE(xyz.size() >= 3 * 763);
+    const Delaunay3 dt(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3));
+    require_valid(dt);
+  }
+}

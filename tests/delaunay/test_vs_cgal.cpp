@@ -1,0 +1,82 @@
+// Cross-check of Delaunay2 against CGAL's Delaunay_triangulation_2 (tests only: CGAL is
+// never linked by anything the project ships). On generic input the Delaunay triangulation
+// is unique, so the two must agree triangle for triangle; on degenerate input they may
+// choose different diagonals but have the same number of triangles.
+#include <catch2/catch.hpp>
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "voroclip/delaunay.h"
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
+using CgalDelaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+using Triangle = std::array<std::uint32_t, 3>;
+
+std::set<Triangle> cgal_triangles(const std::vector<double>& xy) {
+  std::vector<std::pair<Kernel::Point_2, std::uint32_t>> points;
+  for (std::uint32_t i = 0; 2 * i < xy.size(); ++i) {
+    points.emplace_back(Kernel::Point_2(xy[2 * i], xy[2 * i + 1]), i);
+  }
+  CgalDelaunay dt(points.begin(), points.end());
+  std::set<Triangle> out;
+  for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+    Triangle t = {f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.insert(t);
+  }
+  return out;
+}
+
+std::set<Triangle> our_triangles(const voroclip::Delaunay2& d) {
+  std::set<Triangle> out;
+  for (std::uint32_t t = 0; t < d.nb_triangles(); ++t) {
+    out.insert({d.tri_vertex(t, 0), d.tri_vertex(t, 1), d.tri_vertex(t, 2)});
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Delaunay2 equals CGAL on random points", "[delaunay][cgal]") {
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    CAPTURE(seed);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> xy(2 * 10000);
+    for (double& x : xy) x = u(rng);
+    const voroclip::Delaunay2 d(xy.data(), 10000);
+    REQUIRE(d.check_topology().empty());
+    REQUIRE(d.check_delaunay().empty());
+    REQUIRE(our_triangles(d) == cgal_triangles(xy));
+  }
+}
+
+TEST_CASE("Delaunay2 and CGAL count the same triangles on degenerate sets",
+          "[delaunay][cgal][degenerate]") {
+  std::vector<double> xy;
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j)
+      xy.insert(xy.end(), {static_cast<double>(i), static_cast<double>(j)});
+  }
+  for (int i = 0; i < 200; ++i)
+    xy.insert(xy.end(), {static_cast<double>(i % 30), static_cast<double>((7 * i) % 30)});
+  const voroclip::Delaunay2 d(xy.data(), static_cast<std::uint32_t>(xy.size() / 2));
+  REQUIRE(d.check_topology().empty());
+  REQUIRE(d.check_delaunay().empty());
+  REQUIRE(d.nb_vertices() == 900);
+  REQUIRE(d.nb_triangles() == cgal_triangles(xy).size());
+}
