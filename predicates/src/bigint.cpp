@@ -5,14 +5,9 @@
 
 namespace voroclip::detail {
 
-namespace {
+namespace {}  // namespace
 
-struct Decoded {
-  std::uint64_t mantissa;  // odd
-  int exponent;            // value = +/- mantissa * 2^exponent
-};
-
-Decoded decode(double x) {
+DecodedDouble decode_double(double x) {
   std::uint64_t bits;
   std::memcpy(&bits, &x, sizeof bits);
   const int biased = static_cast<int>((bits >> 52) & 0x7ff);
@@ -26,6 +21,8 @@ Decoded decode(double x) {
   return {m >> tz, e + tz};
 }
 
+namespace {
+
 int compare_magnitude(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
   if (a.size() != b.size()) return a.size() < b.size() ? -1 : 1;
   for (std::size_t i = a.size(); i-- > 0;) {
@@ -36,17 +33,17 @@ int compare_magnitude(const std::vector<std::uint32_t>& a, const std::vector<std
 
 }  // namespace
 
-int lowest_bit_exponent(double x) { return decode(x).exponent; }
+int lowest_bit_exponent(double x) { return decode_double(x).exponent; }
 
 int highest_bit_exponent(double x) {
-  const Decoded d = decode(x);
+  const DecodedDouble d = decode_double(x);
   return d.exponent + 63 - __builtin_clzll(d.mantissa);
 }
 
 BigInt BigInt::from_scaled_double(double x, int shift) {
   BigInt r;
   if (x == 0) return r;
-  const Decoded d = decode(x);
+  const DecodedDouble d = decode_double(x);
   const int s = d.exponent - shift;  // >= 0 by contract
   const std::size_t limb = static_cast<std::size_t>(s / 32);
   const int bit = s % 32;

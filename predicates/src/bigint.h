@@ -31,6 +31,13 @@ class BigInt {
   void trim();
 };
 
+// A finite non-zero double as +/- mantissa * 2^exponent with an odd mantissa (< 2^53).
+struct DecodedDouble {
+  std::uint64_t mantissa;
+  int exponent;
+};
+DecodedDouble decode_double(double x);
+
 // The exponent of the lowest set bit of a finite non-zero double: x is an odd integer
 // times 2^lowest_bit_exponent(x).
 int lowest_bit_exponent(double x);

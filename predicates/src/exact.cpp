@@ -53,20 +53,9 @@ bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale) {
 WideInt WideIntCalc::from_double(double x, int grid) {
   WideInt r{};
   if (x == 0) return r;
-  std::uint64_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
-  std::uint64_t m = bits & ((std::uint64_t{1} << 52) - 1);
-  int e = -1074;
-  if (biased != 0) {
-    m |= std::uint64_t{1} << 52;
-    e = biased - 1075;
-  }
-  const int tz = __builtin_ctzll(m);
-  m >>= tz;
-  e += tz;
-  const int shift = e - grid;  // >= 0, and shift + 53 <= 128 by the caller's choice of grid
-  const unsigned __int128 v = static_cast<unsigned __int128>(m) << shift;
+  const DecodedDouble d = decode_double(x);
+  const int shift = d.exponent - grid;  // >= 0; shift + 53 <= 128 by the caller's grid
+  const unsigned __int128 v = static_cast<unsigned __int128>(d.mantissa) << shift;
   r.limb[0] = static_cast<std::uint64_t>(v);
   r.limb[1] = static_cast<std::uint64_t>(v >> 64);
   r.size = r.limb[1] != 0 ? 2 : 1;
@@ -86,8 +75,8 @@ WideInt WideIntCalc::add_signed(const WideInt& a, const WideInt& b, bool b_negat
     const int n = std::max(a.size, b.size);
     unsigned __int128 carry = 0;
     for (int i = 0; i < n; ++i) {
-      carry += static_cast<unsigned __int128>(i < a.size ? a.limb[i] : 0) +
-               (i < b.size ? b.limb[i] : 0);
+      carry +=
+          static_cast<unsigned __int128>(i < a.size ? a.limb[i] : 0) + (i < b.size ? b.limb[i] : 0);
       r.limb[i] = static_cast<std::uint64_t>(carry);
       carry >>= 64;
     }
@@ -124,8 +113,8 @@ WideInt WideIntCalc::mul(const WideInt& a, const WideInt& b) {
   for (int i = 0; i < a.size; ++i) {
     std::uint64_t carry = 0;
     for (int j = 0; j < b.size && i + j < kWideLimbs; ++j) {
-      const unsigned __int128 t = static_cast<unsigned __int128>(a.limb[i]) * b.limb[j] +
-                                  r.limb[i + j] + carry;
+      const unsigned __int128 t =
+          static_cast<unsigned __int128>(a.limb[i]) * b.limb[j] + r.limb[i + j] + carry;
       r.limb[i + j] = static_cast<std::uint64_t>(t);
       carry = static_cast<std::uint64_t>(t >> 64);
     }
