@@ -5,8 +5,6 @@
 
 namespace voroclip::detail {
 
-namespace {}  // namespace
-
 DecodedDouble decode_double(double x) {
   std::uint64_t bits;
   std::memcpy(&bits, &x, sizeof bits);
