@@ -56,7 +56,18 @@ struct PredicateArgs {
   bool sos = false;
 };
 
+struct DelaunayArgs {
+  int dimension = 3;
+  std::string input;  // point file; empty with --random
+  std::uint32_t random = 0;
+  bool random_set = false;
+  std::uint64_t seed = 1;
+  bool check = false;
+  std::string output;  // .vtk; empty: no file
+};
+
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
+void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);
 void run_predicate(const PredicateArgs& args, const GlobalOptions& options);
 
 }  // namespace voroclip::cli

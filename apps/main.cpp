@@ -96,6 +96,33 @@ int main(int argc, char** argv) {
       "indices, one per point");
   sos->type_name("I");
 
+  // delaunay2d / delaunay3d share their options.
+  voroclip::cli::DelaunayArgs delaunay_args[2];
+  CLI::App* delaunay_cmd[2] = {nullptr, nullptr};
+  for (int d = 0; d < 2; ++d) {
+    voroclip::cli::DelaunayArgs& a = delaunay_args[d];
+    a.dimension = d + 2;
+    const std::string dim = std::to_string(a.dimension);
+    CLI::App* cmd = app.add_subcommand(
+        "delaunay" + dim + "d",
+        "Delaunay triangulation of " + dim +
+            "D points (exact predicates, symbolic perturbation; duplicates are reported)");
+    cmd->add_option("INPUT", a.input,
+                    "Point file: a JSON array of points ([[x,y" + std::string(d ? ",z" : "") +
+                        "],...]) or text with one point per line ('#' comments)")
+        ->type_name("FILE");
+    cmd->add_option("--random", a.random,
+                    "Use N uniform random points in the unit " +
+                        std::string(d ? "cube" : "square") + " instead")
+        ->type_name("N");
+    cmd->add_option("--seed", a.seed, "Seed of --random (default 1)")->type_name("S");
+    cmd->add_flag("--check", a.check,
+                  "Verify the result exactly (adjacency, orientation, local Delaunay)");
+    cmd->add_option("-o,--output", a.output, "Write the triangulation as legacy VTK")
+        ->type_name("FILE.vtk");
+    delaunay_cmd[d] = cmd;
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -122,6 +149,12 @@ int main(int argc, char** argv) {
       voroclip::cli::run_demo(demo_args, global);
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
+    }
+    for (int d = 0; d < 2; ++d) {
+      if (*delaunay_cmd[d]) {
+        delaunay_args[d].random_set = delaunay_cmd[d]->get_option("--random")->count() > 0;
+        voroclip::cli::run_delaunay(delaunay_args[d], global);
+      }
     }
     std::cout.flush();
     if (!std::cout) return report_error("cannot write to standard output", kRuntimeError);

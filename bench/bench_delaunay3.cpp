@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "delaunay3.h"
+#include "voroclip/delaunay.h"
 
 namespace {
 

@@ -12,6 +12,8 @@ endmacro()
 
 voroclip_require_package(Eigen3 libeigen3-dev 3.3 NO_MODULE)
 voroclip_require_package(TBB libtbb-dev CONFIG)
+# JSON point files (core); header-only, needed only to build.
+voroclip_require_package(nlohmann_json nlohmann-json3-dev 3.2 CONFIG)
 
 if(VOROCLIP_BUILD_APPS)
   voroclip_require_package(CLI11 libcli11-dev CONFIG)

@@ -14,11 +14,16 @@
 // any point is acyclic (Edelsbrunner 1990), so no triangle is visited twice; a step limit
 // with a linear scan guards the invariant anyway.
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <cstddef>
 #include <numeric>
 #include <sstream>
 #include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "spatial_sort.h"
 #include "voroclip/core.h"
@@ -29,6 +34,8 @@ namespace voroclip {
 namespace {
 
 constexpr int kNext[3] = {1, 2, 0};
+// Sort keys of infinite triangles in canonicalize(): above every finite key (rank < 2^29).
+constexpr std::uint64_t kInfiniteKey = std::uint64_t{1} << 63;
 constexpr int kPrev[3] = {2, 0, 1};
 
 bool same_point(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1]; }
@@ -77,7 +84,9 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
   filter_ = StaticFilter::bounding(xy, n, 2);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
+  auto T0 = std::chrono::steady_clock::now();
   input_index_ = detail::brio_order(xy, n, 2);
+  auto T1 = std::chrono::steady_clock::now();
   relabeled_ = false;
   insert_all();
   // Union-find with the smallest index as root: duplicate_of_[i] <= i, so one ascending
@@ -94,7 +103,10 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
     insert_all();
   }
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
+  auto T2 = std::chrono::steady_clock::now();
   canonicalize();
+  auto T3 = std::chrono::steady_clock::now();
+  if (n > 500000) fprintf(stderr, "sort %.3f insert %.3f canon %.3f\n", std::chrono::duration<double>(T1-T0).count(), std::chrono::duration<double>(T2-T1).count(), std::chrono::duration<double>(T3-T2).count());
   if (options_.check) {
     std::string defect = check_topology();
     if (defect.empty()) defect = check_delaunay();
@@ -348,80 +360,114 @@ void Delaunay2::insert(std::uint32_t q) {
 
 // Renumbers the triangles in the canonical order described in the header, drops free
 // slots, converts local ids to input indices and recomputes vertex_triangle_. Linear time
-// but for the sort of each bucket (a counting sort by first rank leaves in bucket r the
-// few triangles whose smallest rank is r).
+// but for the sort of each bucket (a counting sort by largest rank leaves in bucket r the
+// few triangles whose last inserted vertex is r). The key is the largest rank because a
+// triangle is created by the insertion of that vertex: the new order follows the
+// insertion order, along the Hilbert curve, which keeps the renumbering cache-friendly.
 void Delaunay2::canonicalize() {
   const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
   const std::size_t m = input_index_.size();
-  shift_.assign(slots, 0);
+  const tbb::blocked_range<std::uint32_t> all_slots(0, slots, 16384);
   keys_.resize(slots);
-  scratch_a_.assign(m + 2, 0);  // bucket starts, finite triangles by smallest rank
+  // packed[t] = (new index << 2) | rotation; the rotation is computed first. The parallel
+  // loops write per-slot results only, so the outcome does not depend on the threads.
+  std::vector<std::uint32_t>& packed = scratch_c_;
+  packed.resize(slots);
+  tbb::parallel_for(all_slots, [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
+    for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+      const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+      if (v[0] == kFreeVertex) continue;
+      const int kinf = infinite_slot(t);
+      int s;
+      if (kinf >= 0) {
+        s = kNext[kinf];  // new vertex 2 = old vertex kinf
+        keys_[t] = kInfiniteKey | v[s];
+      } else {
+        const int r = v[0] > v[1] ? (v[0] > v[2] ? 0 : 2) : (v[1] > v[2] ? 1 : 2);
+        keys_[t] = (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
+        const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]],
+                            i2 = input_index_[v[2]];
+        s = i0 < i1 ? (i0 < i2 ? 0 : 2) : (i1 < i2 ? 1 : 2);
+      }
+      packed[t] = static_cast<std::uint32_t>(s);
+    }
+  });
+  auto C0 = std::chrono::steady_clock::now();
+  // Counting sort: finite triangles by largest rank, infinite ones by the rank of a.
+  scratch_a_.assign(m + 2, 0);     // bucket starts, finite triangles by largest rank
+  tmp_vertices_.assign(m, kNone);  // (scratch) rank of a hull vertex -> its infinite triangle
   std::uint32_t nb_finite = 0, nb_infinite = 0;
   for (std::uint32_t t = 0; t < slots; ++t) {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
-    if (v[0] == kFreeVertex) continue;
-    const int kinf = infinite_slot(t);
-    int s;
-    if (kinf >= 0) {
-      s = kNext[kinf];  // new vertex 2 = old vertex kinf
-      keys_[t] = v[s];
+    if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
+    if (keys_[t] >= kInfiniteKey) {
+      tmp_vertices_[keys_[t] & 0xffffffffu] = t;
       ++nb_infinite;
     } else {
-      const int r = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
-      keys_[t] = (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
-      ++scratch_a_[static_cast<std::size_t>(v[r]) + 1];
-      const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]], i2 = input_index_[v[2]];
-      s = i0 < i1 ? (i0 < i2 ? 0 : 2) : (i1 < i2 ? 1 : 2);
+      ++scratch_a_[(keys_[t] >> 32) + 1];
       ++nb_finite;
     }
-    shift_[t] = static_cast<std::uint8_t>(s);
   }
+  auto C1 = std::chrono::steady_clock::now();
   for (std::size_t i = 1; i < scratch_a_.size(); ++i) scratch_a_[i] += scratch_a_[i - 1];
-  // scratch_b_: slots in their new order; infinite ones placed by the rank of a.
   const std::uint32_t total = nb_finite + nb_infinite;
-  scratch_b_.assign(total, kNone);
-  scratch_c_.assign(m, kNone);  // hull vertex -> its infinite triangle
+  scratch_b_.resize(total);  // slots in their new order
   for (std::uint32_t t = 0; t < slots; ++t) {
     if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    if (infinite_slot(t) >= 0) {
-      scratch_c_[keys_[t]] = t;
-    } else {
-      scratch_b_[scratch_a_[keys_[t] >> 32]++] = t;
-    }
+    if (keys_[t] < kInfiniteKey) scratch_b_[scratch_a_[keys_[t] >> 32]++] = t;
   }
-  // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1.
+  auto C2 = std::chrono::steady_clock::now();
+  // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1. A bucket holds
+  // about two triangles: insertion sort.
   std::uint32_t begin = 0;
   for (std::size_t r = 0; r < m; ++r) {
     const std::uint32_t end = scratch_a_[r];
-    if (end - begin > 1) {
-      std::sort(scratch_b_.begin() + begin, scratch_b_.begin() + end,
-                [this](std::uint32_t x, std::uint32_t y) { return keys_[x] < keys_[y]; });
+    for (std::uint32_t i = begin + 1; i < end; ++i) {
+      const std::uint32_t x = scratch_b_[i];
+      const std::uint64_t key = keys_[x];
+      std::uint32_t j = i;
+      for (; j > begin && keys_[scratch_b_[j - 1]] > key; --j) scratch_b_[j] = scratch_b_[j - 1];
+      scratch_b_[j] = x;
     }
     begin = end;
   }
+  auto C3 = std::chrono::steady_clock::now();
   std::uint32_t next = nb_finite;
   for (std::size_t r = 0; r < m; ++r) {
-    if (scratch_c_[r] != kNone) scratch_b_[next++] = scratch_c_[r];
+    if (tmp_vertices_[r] != kNone) scratch_b_[next++] = tmp_vertices_[r];
   }
-  // New index of each old slot (scratch_c_ reused).
-  scratch_c_.assign(slots, kNone);
-  for (std::uint32_t i = 0; i < total; ++i) scratch_c_[scratch_b_[i]] = i;
+  for (std::uint32_t i = 0; i < total; ++i) packed[scratch_b_[i]] |= i << 2;
+  auto C4 = std::chrono::steady_clock::now();
+  // Old slots in order (sequential reads), written to their new places.
   tmp_vertices_.resize(3 * static_cast<std::size_t>(total));
   tmp_neighbors_.resize(3 * static_cast<std::size_t>(total));
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const std::uint32_t t = scratch_b_[i];
-    for (int j = 0; j < 3; ++j) {
-      const std::size_t old =
-          3 * static_cast<std::size_t>(t) + static_cast<std::size_t>((j + shift_[t]) % 3);
-      const std::uint32_t code = tri_neighbors_[old];
-      const std::uint32_t nt = code / 3;
-      const std::uint32_t nk = (code % 3 + 3 - shift_[nt]) % 3;
-      const std::uint32_t v = tri_vertices_[old];
-      const std::size_t slot = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(j);
-      tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
-      tmp_neighbors_[slot] = 3 * scratch_c_[nt] + nk;
+  tbb::parallel_for(all_slots, [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
+    for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+      if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
+      const std::uint32_t i = packed[t] >> 2;
+      const std::uint32_t s = packed[t] & 3u;
+      for (std::uint32_t j = 0; j < 3; ++j) {
+        const std::size_t old = 3 * static_cast<std::size_t>(t) + (j + s) % 3;
+        const std::uint32_t code = tri_neighbors_[old];
+        const std::uint32_t other = packed[code / 3];
+        const std::uint32_t v = tri_vertices_[old];
+        const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
+        tmp_neighbors_[slot] = 3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
+        tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
+      }
     }
+  });
+  auto C5 = std::chrono::steady_clock::now();
+  // Per rank, the smallest new finite triangle incident to it.
+  scratch_a_.assign(m, kNone);
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    if (v[0] == kFreeVertex || keys_[t] >= kInfiniteKey) continue;
+    const std::uint32_t i = packed[t] >> 2;
+    for (int k = 0; k < 3; ++k) scratch_a_[v[k]] = std::min(scratch_a_[v[k]], i);
   }
+  vertex_triangle_.assign(nb_points_, kNone);
+  for (std::size_t r = 0; r < m; ++r) vertex_triangle_[input_index_[r]] = scratch_a_[r];
+  auto C6 = std::chrono::steady_clock::now();
   tri_vertices_.swap(tmp_vertices_);
   tri_neighbors_.swap(tmp_neighbors_);
   tri_mark_.assign(total, 0);
@@ -429,14 +475,7 @@ void Delaunay2::canonicalize() {
   stamp_ = 0;
   hint_ = 0;
   nb_finite_ = nb_finite;
-  vertex_triangle_.assign(nb_points_, kNone);
-  for (std::uint32_t t = 0; t < nb_finite; ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v =
-          tri_vertices_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
-      if (vertex_triangle_[v] == kNone) vertex_triangle_[v] = t;
-    }
-  }
+  if (slots > 1000000) fprintf(stderr, "canon: %.3f %.3f %.3f %.3f %.3f %.3f\n", std::chrono::duration<double>(C1-C0).count(), std::chrono::duration<double>(C2-C1).count(), std::chrono::duration<double>(C3-C2).count(), std::chrono::duration<double>(C4-C3).count(), std::chrono::duration<double>(C5-C4).count(), std::chrono::duration<double>(C6-C5).count());
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 // Delaunay3: Bowyer–Watson insertion; see delaunay3.h for the storage, the local numbering
 // and the conflict rules.
-#include "delaunay3.h"
+#include "voroclip/delaunay.h"
 
 #include <algorithm>
 #include <cmath>

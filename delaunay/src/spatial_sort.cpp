@@ -1,6 +1,7 @@
 // Spatial sort: BRIO rounds, each along a Hilbert curve (see spatial_sort.h).
 #include "spatial_sort.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
@@ -103,23 +104,21 @@ void hilbert_3(Item<3>* first, Item<3>* last, int x, unsigned up) {
 // curve through the 2^(bD) cells.
 template <int D>
 std::uint64_t hilbert_key(std::uint32_t x[D], int b) {
-  const std::uint32_t top = 1u << (b - 1);
-  for (std::uint32_t q = top; q > 1; q >>= 1) {  // inverse undo excess work
-    const std::uint32_t p = q - 1;
+  // Branch-free: the branches of the textbook loop depend on the coordinate bits and
+  // would mispredict about half the time. m is all ones where bit q of x[i] is set.
+  for (int level = b - 1; level > 0; --level) {
+    const std::uint32_t p = (1u << level) - 1;
     for (int i = 0; i < D; ++i) {
-      if ((x[i] & q) != 0) {
-        x[0] ^= p;  // invert
-      } else {
-        const std::uint32_t t = (x[0] ^ x[i]) & p;  // exchange
-        x[0] ^= t;
-        x[i] ^= t;
-      }
+      const std::uint32_t m = 0u - ((x[i] >> level) & 1u);
+      const std::uint32_t t = (x[0] ^ x[i]) & p & ~m;  // exchange when the bit is clear
+      x[0] ^= (p & m) | t;                             // invert when it is set
+      x[i] ^= t;
     }
   }
   for (int i = 1; i < D; ++i) x[i] ^= x[i - 1];  // Gray encode
   std::uint32_t t = 0;
-  for (std::uint32_t q = top; q > 1; q >>= 1) {
-    if ((x[D - 1] & q) != 0) t ^= q - 1;
+  for (int level = b - 1; level > 0; --level) {
+    t ^= ((1u << level) - 1) & (0u - ((x[D - 1] >> level) & 1u));
   }
   for (int i = 0; i < D; ++i) x[i] ^= t;
   std::uint64_t key = 0;
@@ -161,56 +160,64 @@ void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
 // median-split recursion, which adapts to any clustering.
 constexpr std::size_t kRefineRun = 16;
 
-// One round: Hilbert keys on a 2^b grid over the bounding box of the range (b = 24 in 2D,
-// 21 in 3D), radix-sorted; ties in runs of kRefineRun or more are refined by the median
+// One round: Hilbert keys on a 2^16 grid per axis over the bounding box of the range,
+// radix-sorted; ties in runs of kRefineRun or more are refined by the median
 // recursion (all points equal, a cluster far smaller than the box, or a box whose extent
 // overflows: then every key is 0 and the median recursion sorts everything).
 template <int D>
 void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_t* last) {
-  constexpr int kBits = D == 2 ? 24 : 21;
+  constexpr int kBits = 16;
   constexpr double kCells = static_cast<double>(1u << kBits);
   const std::size_t count = static_cast<std::size_t>(last - first);
   if (count < 2) return;
-  const auto at = [coords](std::uint32_t i) { return coords + static_cast<std::size_t>(D) * i; };
-  double lo[D], scale[D];
-  for (int a = 0; a < D; ++a) {
-    double mn = at(*first)[a], mx = mn;
-    for (std::size_t i = 1; i < count; ++i) {
-      mn = std::min(mn, at(first[i])[a]);
-      mx = std::max(mx, at(first[i])[a]);
+  // Gather the coordinates once (the indices of a round are scattered) with the box.
+  std::vector<Item<D>> items(count);
+  double lo[D], hi[D], scale[D];
+  for (int a = 0; a < D; ++a)
+    lo[a] = hi[a] = coords[static_cast<std::size_t>(D) * *first + static_cast<std::size_t>(a)];
+  for (std::size_t i = 0; i < count; ++i) {
+    const double* p = coords + static_cast<std::size_t>(D) * first[i];
+    for (int a = 0; a < D; ++a) {
+      items[i].c[a] = p[a];
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
     }
-    lo[a] = mn;
-    const double extent = mx - mn;
+    items[i].index = first[i];
+  }
+  for (int a = 0; a < D; ++a) {
+    const double extent = hi[a] - lo[a];
     scale[a] = extent > 0 && std::isfinite(extent) ? kCells / extent : 0.0;
     if (!std::isfinite(scale[a])) scale[a] = 0.0;
   }
   std::vector<Keyed> keyed(count), tmp;
-  for (std::size_t i = 0; i < count; ++i) {
-    std::uint32_t x[D];
-    for (int a = 0; a < D; ++a) {
-      const double t = (at(first[i])[a] - lo[a]) * scale[a];
-      x[a] = t >= 0 ? (t < kCells ? static_cast<std::uint32_t>(t) : (1u << kBits) - 1) : 0;
-    }
-    keyed[i] = {hilbert_key<D>(x, kBits), first[i]};
-  }
+  // Each key is a function of its point alone: parallel and deterministic.
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, count, 16384),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          std::uint32_t x[D];
+          for (int a = 0; a < D; ++a) {
+            const double t = (items[i].c[a] - lo[a]) * scale[a];
+            x[a] = t >= 0 ? (t < kCells ? static_cast<std::uint32_t>(t) : (1u << kBits) - 1) : 0;
+          }
+          keyed[i] = {hilbert_key<D>(x, kBits), static_cast<std::uint32_t>(i)};
+        }
+      });
   radix_sort(keyed, tmp);
-  for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
-  std::vector<Item<D>> items;
+  for (std::size_t i = 0; i < count; ++i) first[i] = items[keyed[i].index].index;
+  std::vector<Item<D>> run;
   for (std::size_t i = 0; i < count;) {
     std::size_t j = i + 1;
     while (j < count && keyed[j].key == keyed[i].key) ++j;
     if (j - i >= kRefineRun) {
-      items.resize(j - i);
-      for (std::size_t k = i; k < j; ++k) {
-        for (int a = 0; a < D; ++a) items[k - i].c[a] = at(first[k])[a];
-        items[k - i].index = first[k];
-      }
+      run.resize(j - i);
+      for (std::size_t k = i; k < j; ++k) run[k - i] = items[keyed[k].index];
       if constexpr (D == 2) {
-        hilbert_2(items.data(), items.data() + items.size(), 0, 3u);
+        hilbert_2(run.data(), run.data() + run.size(), 0, 3u);
       } else {
-        hilbert_3(items.data(), items.data() + items.size(), 0, 7u);
+        hilbert_3(run.data(), run.data() + run.size(), 0, 7u);
       }
-      for (std::size_t k = i; k < j; ++k) first[k] = items[k - i].index;
+      for (std::size_t k = i; k < j; ++k) first[k] = run[k - i].index;
     }
     i = j;
   }

@@ -359,3 +359,65 @@ TEST_CASE("predicate insphere: cospherical points are zero, --sos decides", "[ap
   CHECK(nlohmann::json::parse(plain_json.out) ==
         nlohmann::json::parse(R"({"predicate": "insphere", "sign": 0, "sos": false})"));
 }
+
+TEST_CASE("delaunay3d on random points: exact check, stats, VTK output", "[apps][delaunay]") {
+  const std::string out = "test_cli_d3.vtk";
+  std::remove(out.c_str());
+  const Run run = run_cli(
+      {"--stats", "json", "delaunay3d", "--random", "3000", "--seed", "7", "--check", "-o", out});
+  REQUIRE(run.status == 0);
+  const auto stats = nlohmann::json::parse(run.out);
+  CHECK(stats["points"] == 3000);
+  CHECK(stats["unique_points"] == 3000);
+  CHECK(stats["check"] == "passed");
+  CHECK(stats["tetrahedra"].get<int>() > 6 * 3000);
+  CHECK(stats["peak_rss_bytes"].get<double>() > 0);
+  const std::string vtk = slurp(out);
+  CHECK(vtk.rfind("# vtk DataFile Version 3.0\n", 0) == 0);
+  CHECK(contains(vtk, "CELLS " + std::to_string(stats["tetrahedra"].get<int>()) + " "));
+  std::remove(out.c_str());
+}
+
+TEST_CASE("delaunay2d on a grid file: the exact triangle count", "[apps][delaunay]") {
+  // 10 x 10 integer grid: n' = 100 points, b = 36 on the hull boundary, so exactly
+  // 2 n' - b - 2 = 162 triangles and no zero-area one.
+  const std::string in = "test_cli_grid.txt";
+  {
+    std::ofstream f(in);
+    f << "# a 10 x 10 grid\n";
+    for (int x = 0; x < 10; ++x)
+      for (int y = 0; y < 10; ++y) f << x << ' ' << y << '\n';
+  }
+  const Run run = run_cli({"--stats", "json", "delaunay2d", in, "--check"});
+  REQUIRE(run.status == 0);
+  const auto stats = nlohmann::json::parse(run.out);
+  CHECK(stats["triangles"] == 162);
+  CHECK(stats["hull_vertices"] == 36);
+  std::remove(in.c_str());
+}
+
+TEST_CASE("delaunay3d reports bad input with file and line, and writes nothing",
+          "[apps][delaunay]") {
+  const std::string in = "test_cli_bad_points.txt";
+  const std::string out = "test_cli_bad.vtk";
+  std::remove(out.c_str());
+  std::ofstream(in) << "0 0 0\n1 0 0\n0 1 0\n0 0 1 5\n";
+  Run run = run_cli({"delaunay3d", in, "-o", out});
+  CHECK(run.status == 1);
+  check_one_error_line(run);
+  CHECK(contains(run.err, in + ":4: more than 3 coordinates"));
+  CHECK_FALSE(exists(out));
+  std::ofstream(in) << "0 0 0\n1 0 0\n2 0 0\n3 0 0\n";  // collinear: no tetrahedron
+  run = run_cli({"delaunay3d", in, "-o", out});
+  CHECK(run.status == 1);
+  check_one_error_line(run);
+  CHECK(contains(run.err, "affinely independent"));
+  CHECK_FALSE(exists(out));
+  run = run_cli({"delaunay3d"});
+  CHECK(run.status == 2);
+  check_one_error_line(run);
+  run = run_cli({"delaunay3d", "--random", "10", "-o", "x.obj"});
+  CHECK(run.status == 2);
+  check_one_error_line(run);
+  std::remove(in.c_str());
+}

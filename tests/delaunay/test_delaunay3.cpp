@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "delaunay3.h"
+#include "voroclip/delaunay.h"
 #include "voroclip/core.h"
 #include "voroclip/predicates.h"
 

@@ -7,6 +7,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace voroclip {
 
@@ -28,5 +29,21 @@ class Error : public std::runtime_error {
 /// thrown by `write` is rethrown unchanged).
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
+
+/// Reads points of `dimension` (2 or 3) coordinates, returned packed (x y [z] per point),
+/// from either format, recognised by the first non-blank character:
+///   - JSON: an array of points, each an array of `dimension` numbers: [[0, 1.5], [2, 3]]
+///   - text: one point per line, `dimension` numbers separated by blanks; empty lines and
+///     everything after '#' are ignored.
+/// Throws Error naming the file and the line (text) or the point (JSON) and what is wrong:
+/// a missing file, a value that is not a finite number, a wrong number of coordinates.
+std::vector<double> read_points(const std::string& path, int dimension);
+
+/// Writes a legacy ASCII VTK unstructured grid (readable by ParaView): the points (z = 0
+/// in 2D) and the cells, `vertices_per_cell` point indices each (3: triangles, 4:
+/// tetrahedra), with the cell index as cell data "cell_id".
+void write_vtk(std::ostream& out, const std::string& title, const double* coords,
+               std::uint32_t nb_points, int dimension, const std::vector<std::uint32_t>& cells,
+               int vertices_per_cell);
 
 }  // namespace voroclip

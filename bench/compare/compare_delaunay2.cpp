@@ -1,0 +1,65 @@
+// Delaunay2 against CGAL's Delaunay_triangulation_2 (Epick kernel, spatially sorted
+// range insertion) on the same uniform random points, in one process. Prints the best of
+// a few runs of each and the ratio ours / CGAL (issue 3 target: <= 0.8 for 1M points).
+//   compare_delaunay2 [n = 1000000] [runs = 3]
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+#include "voroclip/delaunay.h"
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using CgalDelaunay = CGAL::Delaunay_triangulation_2<Kernel>;
+
+template <class F>
+double best_seconds(int runs, F&& f) {
+  double best = 1e300;
+  for (int r = 0; r < runs; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    best = std::min(best, elapsed.count());
+  }
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::uint32_t n = argc > 1 ? static_cast<std::uint32_t>(std::atol(argv[1])) : 1000000u;
+  const int runs = argc > 2 ? std::atoi(argv[2]) : 3;
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> xy(2 * static_cast<std::size_t>(n));
+  for (double& x : xy) x = u(rng);
+  std::vector<Kernel::Point_2> points;
+  points.reserve(n);
+  for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(xy[2 * i], xy[2 * i + 1]);
+
+  std::size_t ours_triangles = 0, cgal_triangles = 0;
+  const double ours = best_seconds(runs, [&] {
+    const voroclip::Delaunay2 d(xy.data(), n);
+    ours_triangles = d.nb_triangles();
+  });
+  voroclip::Delaunay2 reused;
+  const double ours_rebuild = best_seconds(runs, [&] { reused.build(xy.data(), n); });
+  const double cgal = best_seconds(runs, [&] {
+    const CgalDelaunay dt(points.begin(), points.end());
+    cgal_triangles = dt.number_of_faces();
+  });
+  std::printf("points                 %u\n", n);
+  std::printf("voroclip Delaunay2     %.3f s  (%zu triangles)\n", ours, ours_triangles);
+  std::printf("voroclip rebuild       %.3f s  (buffers reused)\n", ours_rebuild);
+  std::printf("CGAL Delaunay_2        %.3f s  (%zu triangles)\n", cgal, cgal_triangles);
+  std::printf("ratio ours / CGAL      %.2f  (rebuild %.2f)\n", ours / cgal, ours_rebuild / cgal);
+  return ours_triangles == cgal_triangles ? 0 : 1;
+}
