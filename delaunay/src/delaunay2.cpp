@@ -14,8 +14,6 @@
 // any point is acyclic (Edelsbrunner 1990), so no triangle is visited twice; a step limit
 // with a linear scan guards the invariant anyway.
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <cstddef>
 #include <numeric>
@@ -84,9 +82,7 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
   filter_ = StaticFilter::bounding(xy, n, 2);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
-  auto T0 = std::chrono::steady_clock::now();
   input_index_ = detail::brio_order(xy, n, 2);
-  auto T1 = std::chrono::steady_clock::now();
   relabeled_ = false;
   insert_all();
   // Union-find with the smallest index as root: duplicate_of_[i] <= i, so one ascending
@@ -103,10 +99,17 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
     insert_all();
   }
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
-  auto T2 = std::chrono::steady_clock::now();
   canonicalize();
-  auto T3 = std::chrono::steady_clock::now();
-  if (n > 500000) fprintf(stderr, "sort %.3f insert %.3f canon %.3f\n", std::chrono::duration<double>(T1-T0).count(), std::chrono::duration<double>(T2-T1).count(), std::chrono::duration<double>(T3-T2).count());
+  if (!options_.keep_buffers) {
+    for (auto* buffer : {&scratch_a_, &scratch_b_, &scratch_c_, &tmp_vertices_, &tmp_neighbors_,
+                         &starting_at_, &stack_, &cavity_, &free_}) {
+      std::vector<std::uint32_t>().swap(*buffer);
+    }
+    std::vector<std::uint64_t>().swap(keys_);
+    std::vector<std::uint64_t>().swap(placed_);
+    std::vector<double>().swap(coords_);
+    std::vector<BoundaryEdge>().swap(boundary_);
+  }
   if (options_.check) {
     std::string defect = check_topology();
     if (defect.empty()) defect = check_delaunay();
@@ -392,7 +395,6 @@ void Delaunay2::canonicalize() {
       packed[t] = static_cast<std::uint32_t>(s);
     }
   });
-  auto C0 = std::chrono::steady_clock::now();
   // Counting sort: finite triangles by largest rank, infinite ones by the rank of a.
   scratch_a_.assign(m + 2, 0);     // bucket starts, finite triangles by largest rank
   tmp_vertices_.assign(m, kNone);  // (scratch) rank of a hull vertex -> its infinite triangle
@@ -407,56 +409,57 @@ void Delaunay2::canonicalize() {
       ++nb_finite;
     }
   }
-  auto C1 = std::chrono::steady_clock::now();
   for (std::size_t i = 1; i < scratch_a_.size(); ++i) scratch_a_[i] += scratch_a_[i - 1];
   const std::uint32_t total = nb_finite + nb_infinite;
-  scratch_b_.resize(total);  // slots in their new order
+  // placed_: (rank of the next vertex << 32) | slot, by bucket; then sorted in each bucket.
+  placed_.resize(nb_finite);
   for (std::uint32_t t = 0; t < slots; ++t) {
     if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    if (keys_[t] < kInfiniteKey) scratch_b_[scratch_a_[keys_[t] >> 32]++] = t;
+    const std::uint64_t key = keys_[t];
+    if (key < kInfiniteKey) placed_[scratch_a_[key >> 32]++] = (key << 32) | t;
   }
-  auto C2 = std::chrono::steady_clock::now();
   // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1. A bucket holds
   // about two triangles: insertion sort.
   std::uint32_t begin = 0;
   for (std::size_t r = 0; r < m; ++r) {
     const std::uint32_t end = scratch_a_[r];
     for (std::uint32_t i = begin + 1; i < end; ++i) {
-      const std::uint32_t x = scratch_b_[i];
-      const std::uint64_t key = keys_[x];
+      const std::uint64_t x = placed_[i];
       std::uint32_t j = i;
-      for (; j > begin && keys_[scratch_b_[j - 1]] > key; --j) scratch_b_[j] = scratch_b_[j - 1];
-      scratch_b_[j] = x;
+      for (; j > begin && placed_[j - 1] > x; --j) placed_[j] = placed_[j - 1];
+      placed_[j] = x;
     }
     begin = end;
   }
-  auto C3 = std::chrono::steady_clock::now();
+  scratch_b_.resize(total);  // slots in their new order
+  for (std::uint32_t i = 0; i < nb_finite; ++i) {
+    scratch_b_[i] = static_cast<std::uint32_t>(placed_[i] & 0xffffffffu);
+  }
   std::uint32_t next = nb_finite;
   for (std::size_t r = 0; r < m; ++r) {
     if (tmp_vertices_[r] != kNone) scratch_b_[next++] = tmp_vertices_[r];
   }
   for (std::uint32_t i = 0; i < total; ++i) packed[scratch_b_[i]] |= i << 2;
-  auto C4 = std::chrono::steady_clock::now();
   // Old slots in order (sequential reads), written to their new places.
   tmp_vertices_.resize(3 * static_cast<std::size_t>(total));
   tmp_neighbors_.resize(3 * static_cast<std::size_t>(total));
-  tbb::parallel_for(all_slots, [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
-    for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-      if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-      const std::uint32_t i = packed[t] >> 2;
-      const std::uint32_t s = packed[t] & 3u;
-      for (std::uint32_t j = 0; j < 3; ++j) {
-        const std::size_t old = 3 * static_cast<std::size_t>(t) + (j + s) % 3;
-        const std::uint32_t code = tri_neighbors_[old];
-        const std::uint32_t other = packed[code / 3];
-        const std::uint32_t v = tri_vertices_[old];
-        const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
-        tmp_neighbors_[slot] = 3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
-        tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
-      }
-    }
-  });
-  auto C5 = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, total, 16384),
+                    [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        const std::uint32_t t = scratch_b_[i];
+                        const std::uint32_t s = packed[t] & 3u;
+                        for (std::uint32_t j = 0; j < 3; ++j) {
+                          const std::size_t old = 3 * static_cast<std::size_t>(t) + (j + s) % 3;
+                          const std::uint32_t code = tri_neighbors_[old];
+                          const std::uint32_t other = packed[code / 3];
+                          const std::uint32_t v = tri_vertices_[old];
+                          const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
+                          tmp_neighbors_[slot] =
+                              3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
+                          tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
+                        }
+                      }
+                    });
   // Per rank, the smallest new finite triangle incident to it.
   scratch_a_.assign(m, kNone);
   for (std::uint32_t t = 0; t < slots; ++t) {
@@ -467,7 +470,6 @@ void Delaunay2::canonicalize() {
   }
   vertex_triangle_.assign(nb_points_, kNone);
   for (std::size_t r = 0; r < m; ++r) vertex_triangle_[input_index_[r]] = scratch_a_[r];
-  auto C6 = std::chrono::steady_clock::now();
   tri_vertices_.swap(tmp_vertices_);
   tri_neighbors_.swap(tmp_neighbors_);
   tri_mark_.assign(total, 0);
@@ -475,7 +477,6 @@ void Delaunay2::canonicalize() {
   stamp_ = 0;
   hint_ = 0;
   nb_finite_ = nb_finite;
-  if (slots > 1000000) fprintf(stderr, "canon: %.3f %.3f %.3f %.3f %.3f %.3f\n", std::chrono::duration<double>(C1-C0).count(), std::chrono::duration<double>(C2-C1).count(), std::chrono::duration<double>(C3-C2).count(), std::chrono::duration<double>(C4-C3).count(), std::chrono::duration<double>(C5-C4).count(), std::chrono::duration<double>(C6-C5).count());
 }
 
 // ---------------------------------------------------------------------------------------

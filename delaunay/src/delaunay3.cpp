@@ -46,18 +46,18 @@ std::uint32_t Delaunay3::new_tet() {
   if (!free_tets_.empty()) {
     const std::uint32_t t = free_tets_.back();
     free_tets_.pop_back();
-    tet_stamp_[t] = 0;
+    std::fill_n(&tet_neighbors_[4 * static_cast<std::size_t>(t)], 4, 0u);
     return t;
   }
-  const auto t = static_cast<std::uint32_t>(tet_stamp_.size());
-  tet_stamp_.push_back(0);
+  const auto t = nb_tet_slots();
+  if (t >= kMaxTets) throw Error("Delaunay3: more than 2^28 tetrahedra; input too large");
   tet_vertices_.resize(tet_vertices_.size() + 4);
   tet_neighbors_.resize(tet_neighbors_.size() + 4);
   return t;
 }
 
 void Delaunay3::free_tet(std::uint32_t t) {
-  tet_stamp_[t] = kFreeStamp;
+  tet_vertices_[4 * static_cast<std::size_t>(t)] = kFreeVertex;
   free_tets_.push_back(t);
 }
 
@@ -130,14 +130,14 @@ void Delaunay3::insert(std::uint32_t q, std::uint32_t& hint) {
     return;
   }
   // Cavity: tets in conflict, found by a search from the located one (which is in
-  // conflict: q lies in it, or strictly beyond its hull facet). stamp_ marks cavity tets,
-  // stamp_ + 1 tets tested and found outside.
-  stamp_ += 2;
-  const std::uint32_t in_cavity = stamp_, outside = stamp_ + 1;
+  // conflict: q lies in it, or strictly beyond its hull facet). Mark 0 flags cavity tets,
+  // mark 1 tets tested and found outside; cavity tets are recycled below (which clears
+  // their marks) and the outside marks are cleared at the end.
+  constexpr int kInCavity = 0, kOutside = 1;
   cavity_.clear();
   boundary_.clear();
   stack_.clear();
-  tet_stamp_[start] = in_cavity;
+  mark(start, kInCavity);
   cavity_.push_back(start);
   stack_.push_back(start);
   while (!stack_.empty()) {
@@ -145,15 +145,15 @@ void Delaunay3::insert(std::uint32_t q, std::uint32_t& hint) {
     stack_.pop_back();
     for (int f = 0; f < 4; ++f) {
       const std::uint32_t n = tet_adjacent(t, f);
-      if (tet_stamp_[n] == in_cavity) continue;
-      if (tet_stamp_[n] != outside) {
+      if (marked(n, kInCavity)) continue;
+      if (!marked(n, kOutside)) {
         if (in_conflict(n, q)) {
-          tet_stamp_[n] = in_cavity;
+          mark(n, kInCavity);
           cavity_.push_back(n);
           stack_.push_back(n);
           continue;
         }
-        tet_stamp_[n] = outside;
+        mark(n, kOutside);
       }
       BoundaryFacet b{n, tet_adjacent_facet(t, f), f, {}};
       for (int k = 0; k < 4; ++k) b.vertex[k] = k == f ? q : tet_vertex(t, k);
@@ -211,6 +211,7 @@ void Delaunay3::insert(std::uint32_t q, std::uint32_t& hint) {
     }
     last = nt;
   }
+  for (const BoundaryFacet& b : boundary_) unmark(b.tet, kOutside);
   hint = last;
 }
 
@@ -331,15 +332,13 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
     sos_ids_ = input_id_.data();
     duplicate_internal_.resize(m);
     for (std::uint32_t v = 0; v < m; ++v) duplicate_internal_[v] = v;
-    const std::size_t expected = 7 * static_cast<std::size_t>(m) + 16;
+    // Uniform random points give about 6.75 tets per point.
+    const std::size_t expected = 27 * static_cast<std::size_t>(m) / 4 + 64;
     tet_vertices_.clear();
     tet_neighbors_.clear();
-    tet_stamp_.clear();
     free_tets_.clear();
     tet_vertices_.reserve(4 * expected);
     tet_neighbors_.reserve(4 * expected);
-    tet_stamp_.reserve(expected);
-    stamp_ = 2;
 
     std::vector<std::uint32_t> order(m);
     for (std::uint32_t v = 0; v < m; ++v) order[v] = v;
@@ -357,9 +356,9 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
     }
   }
 
-  // Back to input indices.
+  // Back to input indices (free slots keep their marker).
   for (std::uint32_t& v : tet_vertices_) {
-    if (v != kInfinite) v = input_id_[v];
+    if (v != kInfinite && v != kFreeVertex) v = input_id_[v];
   }
   pts_ = xyz_;
   sos_ids_ = nullptr;
@@ -461,10 +460,10 @@ void Delaunay3::circumcenter(std::uint32_t t, double* out) const {
 
 std::size_t Delaunay3::memory_bytes() const {
   const auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return bytes(tet_vertices_) + bytes(tet_neighbors_) + bytes(tet_stamp_) + bytes(free_tets_) +
-         bytes(vertex_tet_) + bytes(duplicate_of_) + bytes(duplicate_internal_) +
-         bytes(sorted_xyz_) + bytes(input_id_) + bytes(cavity_) + bytes(stack_) + bytes(boundary_) +
-         bytes(edge_keys_) + bytes(edge_values_);
+  return bytes(tet_vertices_) + bytes(tet_neighbors_) + bytes(free_tets_) + bytes(vertex_tet_) +
+         bytes(duplicate_of_) + bytes(duplicate_internal_) + bytes(sorted_xyz_) + bytes(input_id_) +
+         bytes(cavity_) + bytes(stack_) + bytes(boundary_) + bytes(edge_keys_) +
+         bytes(edge_values_);
 }
 
 std::string Delaunay3::check_topology() const {

@@ -455,4 +455,77 @@ TEST_CASE("Delaunay2 rebuilds reuse the object", "[delaunay]") {
   options.check = true;
   const std::vector<double> xy = random_points(1000, 8);
   REQUIRE_NOTHROW(Delaunay2(xy.data(), 1000, options));
+  // Without kept buffers: the same result, rebuilt twice.
+  options.keep_buffers = false;
+  Delaunay2 lean(options);
+  const Delaunay2 reference(xy.data(), 1000);
+  for (int i = 0; i < 2; ++i) {
+    lean.build(xy.data(), 1000);
+    REQUIRE(lean.tri_vertices() == reference.tri_vertices());
+    REQUIRE(lean.tri_neighbors() == reference.tri_neighbors());
+  }
+}
+
+TEST_CASE("Delaunay2 on a million points", "[delaunay][.slow]") {
+  const std::vector<double> xy = random_points(1000000, 2026);
+  const Delaunay2 d(xy.data(), 1000000);
+  require_valid(d);
+  std::vector<double> grid;
+  for (int i = 0; i < 1000; ++i) {
+    for (int j = 0; j < 1000; ++j)
+      grid.insert(grid.end(), {static_cast<double>(i), static_cast<double>(j)});
+  }
+  const Delaunay2 g(grid.data(), 1000000);
+  require_valid(g);
+  REQUIRE(g.nb_triangles() == 2 * 1000000 - 3996 - 2);
+}
+
+TEST_CASE("Delaunay2 on heavily degenerate integer sets", "[delaunay][degenerate]") {
+  // Few distinct values: duplicates, collinear runs on the hull and cocircular quadruples
+  // everywhere.
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::uint64_t range = 4 + seed * 3;
+    std::vector<double> xy;
+    for (int i = 0; i < 6000; ++i) xy.push_back(static_cast<double>(rng() % range));
+    CAPTURE(seed, range);
+    const Delaunay2 d(xy.data(), 3000);
+    require_valid(d);
+    std::set<std::pair<double, double>> distinct;
+    for (std::size_t i = 0; i < 3000; ++i) distinct.insert({xy[2 * i], xy[2 * i + 1]});
+    REQUIRE(d.nb_unique_points() == distinct.size());
+  }
+}
+
+TEST_CASE("Delaunay2 on near-degenerate floating-point sets", "[delaunay][degenerate]") {
+  SECTION("points on a circle, rounded") {
+    std::vector<double> xy;
+    for (int i = 0; i < 20000; ++i) {
+      const double a = 2 * M_PI * i / 20000.0;
+      xy.push_back(std::cos(a));
+      xy.push_back(std::sin(a));
+    }
+    const Delaunay2 d(xy.data(), 20000);
+    require_valid(d);
+  }
+  SECTION("a segment of points and one apex") {
+    std::vector<double> xy;
+    for (int i = 0; i < 1000; ++i) xy.insert(xy.end(), {0.1 * i, 0.3 * i});
+    xy.insert(xy.end(), {5.0, -7.0});
+    const Delaunay2 d(xy.data(), 1001);
+    require_valid(d);
+    // The apex sees every collinear point: a fan of 999 triangles when the points are
+    // exactly collinear after rounding; otherwise still valid with the exact count.
+    REQUIRE(d.nb_triangles() ==
+            2 * d.nb_vertices() - static_cast<std::uint32_t>(d.hull_vertices().size()) - 2);
+  }
+  SECTION("exactly collinear points and one apex") {
+    std::vector<double> xy;
+    for (int i = 0; i < 1000; ++i) xy.insert(xy.end(), {static_cast<double>(i), 2.0 * i});
+    xy.insert(xy.end(), {3.0, -7.0});
+    const Delaunay2 d(xy.data(), 1001);
+    require_valid(d);
+    REQUIRE(d.hull_vertices().size() == 1001);
+    REQUIRE(d.nb_triangles() == 999);
+  }
 }
