@@ -6,14 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "voroclip/delaunay.h"
 #include "voroclip/core.h"
+#include "voroclip/delaunay.h"
 #include "voroclip/predicates.h"
 
 using voroclip::Delaunay3;
@@ -90,6 +91,29 @@ std::vector<Tet> brute_force(const std::vector<double>& xyz) {
         }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// Vertices of an OBJ ("v x y z" lines) or OFF (header, counts, then coordinates) surface.
+std::vector<double> read_surface_vertices(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<double> xyz;
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".off") == 0) {
+    std::string magic;
+    std::size_t nv = 0, nf = 0, ne = 0;
+    in >> magic >> nv >> nf >> ne;
+    xyz.resize(3 * nv);
+    for (double& x : xyz) in >> x;
+    return xyz;
+  }
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream fields(line.substr(2));
+    double x = 0, y = 0, z = 0;
+    fields >> x >> y >> z;
+    xyz.insert(xyz.end(), {x, y, z});
+  }
+  return xyz;
 }
 
 std::vector<double> read_medit_vertices(const std::string& path) {
@@ -263,12 +287,23 @@ TEST_CASE("Delaunay3 rebuild reuses the object", "[delaunay]") {
   }
 }
 
-TEST_CASE("Delaunay3 on the vertices of the real tet meshes", "[delaunay][data]") {
-  for (const char* name : {"sphere.mesh", "bunny.mesh", "fandisk.mesh", "elk.mesh"}) {
-    INFO(name);
-    const auto xyz =
-        read_medit_vertices(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/" + name);
-    REQUIRE(xyz.size() >= 3 * 763);
+TEST_CASE("Delaunay3 on the vertices of every real model", "[delaunay][data]") {
+  // Every tet mesh and every surface of ../shared/data (the real-data check).
+  const std::string data = VOROCLIP_SHARED_DATA_DIR;
+  std::vector<std::string> files;
+  for (const char* dir : {"/tetmeshes", "/surfaces"}) {
+    for (const auto& entry : std::filesystem::directory_iterator(data + dir)) {
+      const std::string ext = entry.path().extension().string();
+      if (ext == ".mesh" || ext == ".obj" || ext == ".off") files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  REQUIRE(files.size() >= 16);
+  for (const std::string& path : files) {
+    INFO(path);
+    const auto xyz = path.compare(path.size() - 5, 5, ".mesh") == 0 ? read_medit_vertices(path)
+                                                                    : read_surface_vertices(path);
+    REQUIRE(xyz.size() >= 3 * 642);
     const Delaunay3 dt(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3));
     require_valid(dt);
   }
