@@ -13,24 +13,14 @@
 #include <random>
 #include <vector>
 
+#include "best_time.h"
 #include "voroclip/delaunay.h"
 
 namespace {
 
+using voroclip::bench::best_seconds;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using CgalDelaunay = CGAL::Delaunay_triangulation_2<Kernel>;
-
-template <class F>
-double best_seconds(int runs, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < runs; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    f();
-    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
-    best = std::min(best, elapsed.count());
-  }
-  return best;
-}
 
 }  // namespace
 

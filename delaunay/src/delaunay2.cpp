@@ -105,7 +105,6 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
                          &starting_at_, &stack_, &cavity_, &free_}) {
       std::vector<std::uint32_t>().swap(*buffer);
     }
-    std::vector<std::uint64_t>().swap(keys_);
     std::vector<std::uint64_t>().swap(placed_);
     std::vector<double>().swap(coords_);
     std::vector<BoundaryEdge>().swap(boundary_);
@@ -362,18 +361,29 @@ void Delaunay2::insert(std::uint32_t q) {
 }
 
 // Renumbers the triangles in the canonical order described in the header, drops free
-// slots, converts local ids to input indices and recomputes vertex_triangle_. Linear time
-// but for the sort of each bucket (a counting sort by largest rank leaves in bucket r the
-// few triangles whose last inserted vertex is r). The key is the largest rank because a
-// triangle is created by the insertion of that vertex: the new order follows the
+// slots, converts local ids to input indices and recomputes vertex_triangle_.
+// Linear time but for the sort of each bucket (a counting sort by largest rank leaves in
+// bucket r the few triangles whose last inserted vertex is r). The key is the largest rank
+// because a triangle is created by the insertion of that vertex: the new order follows the
 // insertion order, along the Hilbert curve, which keeps the renumbering cache-friendly.
+// The parallel loops write per-slot results only, so the outcome does not depend on the
+// number of threads.
 void Delaunay2::canonicalize() {
   const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
   const std::size_t m = input_index_.size();
   const tbb::blocked_range<std::uint32_t> all_slots(0, slots, 16384);
-  keys_.resize(slots);
-  // packed[t] = (new index << 2) | rotation; the rotation is computed first. The parallel
-  // loops write per-slot results only, so the outcome does not depend on the threads.
+  // The sort key of a live slot: (largest rank, next rank counter-clockwise) for a finite
+  // triangle, kInfiniteKey | rank of a for an infinite one (a, b, inf).
+  const auto key_of = [this](std::uint32_t t) -> std::uint64_t {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    const int kinf = infinite_slot(t);
+    if (kinf >= 0) return kInfiniteKey | v[kNext[kinf]];
+    const int r = v[0] > v[1] ? (v[0] > v[2] ? 0 : 2) : (v[1] > v[2] ? 1 : 2);
+    return (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
+  };
+  // packed[t] = (new index << 2) | rotation, the rotation first: new vertex j is old
+  // vertex (j + rotation) mod 3, so that a finite triangle starts at its smallest input
+  // index and an infinite one ends with kInfinite.
   std::vector<std::uint32_t>& packed = scratch_c_;
   packed.resize(slots);
   tbb::parallel_for(all_slots, [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
@@ -383,11 +393,8 @@ void Delaunay2::canonicalize() {
       const int kinf = infinite_slot(t);
       int s;
       if (kinf >= 0) {
-        s = kNext[kinf];  // new vertex 2 = old vertex kinf
-        keys_[t] = kInfiniteKey | v[s];
+        s = kNext[kinf];
       } else {
-        const int r = v[0] > v[1] ? (v[0] > v[2] ? 0 : 2) : (v[1] > v[2] ? 1 : 2);
-        keys_[t] = (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
         const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]],
                             i2 = input_index_[v[2]];
         s = i0 < i1 ? (i0 < i2 ? 0 : 2) : (i1 < i2 ? 1 : 2);
@@ -395,27 +402,28 @@ void Delaunay2::canonicalize() {
       packed[t] = static_cast<std::uint32_t>(s);
     }
   });
-  // Counting sort: finite triangles by largest rank, infinite ones by the rank of a.
-  scratch_a_.assign(m + 2, 0);     // bucket starts, finite triangles by largest rank
-  tmp_vertices_.assign(m, kNone);  // (scratch) rank of a hull vertex -> its infinite triangle
+  // Counting sort: finite triangles by largest rank, infinite ones by the rank of a
+  // (starting_at_, a construction scratch of m + 1 entries, maps it to the slot).
+  scratch_a_.assign(m + 2, 0);
+  starting_at_.assign(m + 1, kNone);
   std::uint32_t nb_finite = 0, nb_infinite = 0;
   for (std::uint32_t t = 0; t < slots; ++t) {
     if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    if (keys_[t] >= kInfiniteKey) {
-      tmp_vertices_[keys_[t] & 0xffffffffu] = t;
+    const std::uint64_t key = key_of(t);
+    if (key >= kInfiniteKey) {
+      starting_at_[key & 0xffffffffu] = t;
       ++nb_infinite;
     } else {
-      ++scratch_a_[(keys_[t] >> 32) + 1];
+      ++scratch_a_[(key >> 32) + 1];
       ++nb_finite;
     }
   }
   for (std::size_t i = 1; i < scratch_a_.size(); ++i) scratch_a_[i] += scratch_a_[i - 1];
-  const std::uint32_t total = nb_finite + nb_infinite;
   // placed_: (rank of the next vertex << 32) | slot, by bucket; then sorted in each bucket.
   placed_.resize(nb_finite);
   for (std::uint32_t t = 0; t < slots; ++t) {
     if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    const std::uint64_t key = keys_[t];
+    const std::uint64_t key = key_of(t);
     if (key < kInfiniteKey) placed_[scratch_a_[key >> 32]++] = (key << 32) | t;
   }
   // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1. A bucket holds
@@ -431,16 +439,30 @@ void Delaunay2::canonicalize() {
     }
     begin = end;
   }
-  scratch_b_.resize(total);  // slots in their new order
+  // New indices: finite, then infinite; scratch_b_ lists the slots in their new order.
+  scratch_b_.resize(nb_finite + nb_infinite);
   for (std::uint32_t i = 0; i < nb_finite; ++i) {
-    scratch_b_[i] = static_cast<std::uint32_t>(placed_[i] & 0xffffffffu);
+    const auto t = static_cast<std::uint32_t>(placed_[i] & 0xffffffffu);
+    packed[t] |= i << 2;
+    scratch_b_[i] = t;
   }
   std::uint32_t next = nb_finite;
   for (std::size_t r = 0; r < m; ++r) {
-    if (tmp_vertices_[r] != kNone) scratch_b_[next++] = tmp_vertices_[r];
+    if (starting_at_[r] == kNone) continue;
+    packed[starting_at_[r]] |= next << 2;
+    scratch_b_[next++] = starting_at_[r];
   }
-  for (std::uint32_t i = 0; i < total; ++i) packed[scratch_b_[i]] |= i << 2;
-  // Old slots in order (sequential reads), written to their new places.
+  const std::uint32_t total = next;
+  // Per rank, the smallest new finite triangle incident to it.
+  scratch_a_.assign(m, kNone);
+  for (std::uint32_t i = 0; i < nb_finite; ++i) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(scratch_b_[i])];
+    for (int k = 0; k < 3; ++k) scratch_a_[v[k]] = std::min(scratch_a_[v[k]], i);
+  }
+  vertex_triangle_.assign(nb_points_, kNone);
+  for (std::size_t r = 0; r < m; ++r) vertex_triangle_[input_index_[r]] = scratch_a_[r];
+  // The new arrays, in new order (sequential writes): each slot rotated, with input
+  // indices and new neighbour codes.
   tmp_vertices_.resize(3 * static_cast<std::size_t>(total));
   tmp_neighbors_.resize(3 * static_cast<std::size_t>(total));
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, total, 16384),
@@ -452,24 +474,14 @@ void Delaunay2::canonicalize() {
                           const std::size_t old = 3 * static_cast<std::size_t>(t) + (j + s) % 3;
                           const std::uint32_t code = tri_neighbors_[old];
                           const std::uint32_t other = packed[code / 3];
-                          const std::uint32_t v = tri_vertices_[old];
+                          const std::uint32_t w = tri_vertices_[old];
                           const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
                           tmp_neighbors_[slot] =
                               3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
-                          tmp_vertices_[slot] = v == kInfinite ? kInfinite : input_index_[v];
+                          tmp_vertices_[slot] = w == kInfinite ? kInfinite : input_index_[w];
                         }
                       }
                     });
-  // Per rank, the smallest new finite triangle incident to it.
-  scratch_a_.assign(m, kNone);
-  for (std::uint32_t t = 0; t < slots; ++t) {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
-    if (v[0] == kFreeVertex || keys_[t] >= kInfiniteKey) continue;
-    const std::uint32_t i = packed[t] >> 2;
-    for (int k = 0; k < 3; ++k) scratch_a_[v[k]] = std::min(scratch_a_[v[k]], i);
-  }
-  vertex_triangle_.assign(nb_points_, kNone);
-  for (std::size_t r = 0; r < m; ++r) vertex_triangle_[input_index_[r]] = scratch_a_[r];
   tri_vertices_.swap(tmp_vertices_);
   tri_neighbors_.swap(tmp_neighbors_);
   tri_mark_.assign(total, 0);

@@ -13,13 +13,17 @@
 // before (a reversed Hilbert curve is still one), so the walk from the last inserted point
 // stays short across round boundaries.
 //
-// hilbert_sort: the recursive median-split Hilbert sort (as CGAL's hilbert_sort with the
-// median policy, Brönnimann, Devillers et al.): the range is split at the median of the
-// current axis (std::nth_element), each half at the median of the next axis, and so on,
-// giving 4 (2D) or 8 (3D) cells visited in Hilbert order, each sorted recursively with
-// the curve rotated and reflected accordingly. Splitting by count (not by the box middle)
-// makes the recursion depth log2(n) whatever the distribution (clusters, duplicates), so
-// the cost is O(n log n). Ties are fine: the order is a fixed function of the input.
+// hilbert_sort: each point gets its index along the Hilbert curve through a 2^16 x 2^16
+// (x 2^16) grid over the bounding box of the range, computed with Skilling's transform
+// ("Programming the Hilbert curve", 2004), and the range is radix-sorted by it: O(n).
+// Points sharing a grid cell in runs of 16 or more (clusters far smaller than the box, all
+// points equal, or extents that overflow) are then ordered by the recursive median-split
+// Hilbert sort (as CGAL's hilbert_sort with the median policy: split at the median of one
+// axis, each half at the median of the next, ..., visiting the 4 or 8 cells in Hilbert
+// order with the sub-curves rotated and reflected), which adapts to any distribution;
+// splitting by count keeps its depth at log2(n), so the whole sort is O(n log n) at worst.
+// On a 2^k grid spanning its box both orders are exactly the Hilbert curve. The order is
+// a fixed function of the coordinates and of the order of [first, last).
 #pragma once
 
 #include <cstdint>

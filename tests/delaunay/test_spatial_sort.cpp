@@ -171,3 +171,30 @@ TEST_CASE("the spatial sort handles degenerate input", "[delaunay][degenerate]")
     REQUIRE(none[0] == 0);
   }
 }
+
+TEST_CASE("hilbert_sort adapts to a cluster far smaller than the box", "[delaunay][degenerate]") {
+  // 20000 points in a 1e-9 square and two far corners: the whole cluster falls in one
+  // grid cell of the quantized curve, and the median-split refinement must order it.
+  const std::uint32_t n = 20002;
+  std::vector<double> c = random_points(n, 2, 21);
+  for (std::size_t i = 0; i < 2 * static_cast<std::size_t>(n); ++i) c[i] *= 1e-9;
+  c[0] = c[1] = -1.0;
+  c[2] = c[3] = 1.0;
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(4));
+  std::vector<std::uint32_t> cluster_random;
+  for (const std::uint32_t i : order) {
+    if (i >= 2) cluster_random.push_back(i);
+  }
+  const double random_step = mean_step(c, 2, cluster_random);
+  hilbert_sort(c.data(), 2, order.data(), order.data() + n);
+  REQUIRE(is_permutation_of_range(order, n));
+  std::vector<std::uint32_t> cluster_sorted;
+  for (const std::uint32_t i : order) {
+    if (i >= 2) cluster_sorted.push_back(i);
+  }
+  const double curve_step = mean_step(c, 2, cluster_sorted);
+  CAPTURE(random_step, curve_step);
+  REQUIRE(curve_step < 0.03 * random_step);
+}

@@ -63,7 +63,8 @@
 // TBB parallel loops over disjoint ranges. The result is identical for any thread count.
 //
 // Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2): 1M uniform points in
-// about 0.45-0.5 s on the project's 2-core VM, 0.8-0.9x CGAL's Delaunay_triangulation_2.
+// about 0.50-0.55 s for a first build, 0.44-0.48 s for a rebuild, on the project's 2-core
+// VM under load: 0.9-1.05x CGAL's Delaunay_triangulation_2 measured in the same run.
 #pragma once
 
 #include <cassert>
@@ -81,7 +82,7 @@ struct Delaunay2Options {
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
   // Keep the construction buffers (point copy, sort keys, renumbering arrays) between
-  // builds, so that a rebuild allocates nothing: about 190 bytes per point in all. With
+  // builds, so that a rebuild allocates nothing: about 170 bytes per point in all. With
   // false they are freed at the end of each build, leaving about 70 bytes per point (the
   // triangle arrays, 28 bytes per triangle, and the per-point maps).
   bool keep_buffers = true;
@@ -229,8 +230,8 @@ class Delaunay2 {
   std::vector<double> coords_;
   std::vector<std::uint32_t> input_index_;
   std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_c_;
-  std::vector<std::uint64_t> keys_, placed_;
   std::vector<std::uint32_t> tmp_vertices_, tmp_neighbors_;
+  std::vector<std::uint64_t> placed_;
   std::vector<std::uint8_t> shift_;
 };
 
