@@ -33,7 +33,8 @@ std::vector<double> read_json_points(std::istream& in, const std::string& path, 
     }
     for (const auto& x : p) {
       if (!x.is_number()) {
-        throw Error(path + ": point " + std::to_string(i) + " has a coordinate that is not a number");
+        throw Error(path + ": point " + std::to_string(i) +
+                    " has a coordinate that is not a number");
       }
       const double v = x.get<double>();
       if (!std::isfinite(v)) {
@@ -73,8 +74,8 @@ std::vector<double> read_text_points(std::istream& in, const std::string& path, 
       ++count;
     }
     if (count != 0 && count != dimension) {
-      throw Error(path + ":" + std::to_string(number) + ": expected " +
-                  std::to_string(dimension) + " coordinates, found " + std::to_string(count));
+      throw Error(path + ":" + std::to_string(number) + ": expected " + std::to_string(dimension) +
+                  " coordinates, found " + std::to_string(count));
     }
   }
   if (in.bad()) throw Error(path + ": read error");
