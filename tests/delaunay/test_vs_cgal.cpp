@@ -5,8 +5,10 @@
 #include <catch2/catch.hpp>
 
 #include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <algorithm>
 #include <array>
@@ -79,4 +81,57 @@ TEST_CASE("Delaunay2 and CGAL count the same triangles on degenerate sets",
   REQUIRE(d.check_delaunay().empty());
   REQUIRE(d.nb_vertices() == 900);
   REQUIRE(d.nb_triangles() == cgal_triangles(xy).size());
+}
+
+namespace {
+
+using VertexBase3 = CGAL::Triangulation_vertex_base_with_info_3<std::uint32_t, Kernel>;
+using Tds3 = CGAL::Triangulation_data_structure_3<VertexBase3,
+                                                  CGAL::Delaunay_triangulation_cell_base_3<Kernel>>;
+using CgalDelaunay3 = CGAL::Delaunay_triangulation_3<Kernel, Tds3>;
+using Tet = std::array<std::uint32_t, 4>;
+
+std::vector<Tet> sorted_tets(const voroclip::Delaunay3& dt) {
+  std::vector<Tet> out;
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    Tet v = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2), dt.tet_vertex(t, 3)};
+    std::sort(v.begin(), v.end());
+    out.push_back(v);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Tet> cgal_tets(const std::vector<double>& xyz) {
+  std::vector<std::pair<Kernel::Point_3, std::uint32_t>> input;
+  for (std::uint32_t i = 0; i < xyz.size() / 3; ++i) {
+    input.emplace_back(Kernel::Point_3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]), i);
+  }
+  const CgalDelaunay3 dt(input.begin(), input.end());
+  std::vector<Tet> out;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    Tet v = {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
+             c->vertex(3)->info()};
+    std::sort(v.begin(), v.end());
+    out.push_back(v);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Delaunay3 equals CGAL on random points", "[delaunay][cgal]") {
+  for (const std::uint64_t seed : {101u, 202u, 303u}) {
+    INFO("seed " << seed);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> xyz(3 * 10000);
+    for (double& x : xyz) x = u(rng);
+    const voroclip::Delaunay3 dt(xyz.data(), 10000);
+    REQUIRE(dt.check_topology().empty());
+    REQUIRE(dt.check_delaunay().empty());
+    CHECK(sorted_tets(dt) == cgal_tets(xyz));
+  }
 }
