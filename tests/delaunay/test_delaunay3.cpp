@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tet_set.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 #include "voroclip/predicates.h"
@@ -22,7 +23,8 @@ using voroclip::Sign;
 
 namespace {
 
-using Tet = std::array<std::uint32_t, 4>;
+using voroclip::test::finite_tets;
+using voroclip::test::Tet;
 
 void require_valid(const Delaunay3& dt) {
   const std::string topology = dt.check_topology();
@@ -31,19 +33,6 @@ void require_valid(const Delaunay3& dt) {
   const std::string delaunay = dt.check_delaunay();
   INFO(delaunay);
   REQUIRE(delaunay.empty());
-}
-
-// Finite tets as sorted vertex quadruples, sorted: a canonical form for comparisons.
-std::vector<Tet> finite_tets(const Delaunay3& dt) {
-  std::vector<Tet> out;
-  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
-    if (dt.is_free(t) || dt.is_infinite(t)) continue;
-    Tet v = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2), dt.tet_vertex(t, 3)};
-    std::sort(v.begin(), v.end());
-    out.push_back(v);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 std::vector<double> random_points(std::size_t n, std::uint64_t seed) {

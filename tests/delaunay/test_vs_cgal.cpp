@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "tet_set.h"
 #include "voroclip/delaunay.h"
 
 namespace {
@@ -89,19 +90,7 @@ using VertexBase3 = CGAL::Triangulation_vertex_base_with_info_3<std::uint32_t, K
 using Tds3 = CGAL::Triangulation_data_structure_3<VertexBase3,
                                                   CGAL::Delaunay_triangulation_cell_base_3<Kernel>>;
 using CgalDelaunay3 = CGAL::Delaunay_triangulation_3<Kernel, Tds3>;
-using Tet = std::array<std::uint32_t, 4>;
-
-std::vector<Tet> sorted_tets(const voroclip::Delaunay3& dt) {
-  std::vector<Tet> out;
-  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
-    if (dt.is_free(t) || dt.is_infinite(t)) continue;
-    Tet v = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2), dt.tet_vertex(t, 3)};
-    std::sort(v.begin(), v.end());
-    out.push_back(v);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using voroclip::test::Tet;
 
 std::vector<Tet> cgal_tets(const std::vector<double>& xyz) {
   std::vector<std::pair<Kernel::Point_3, std::uint32_t>> input;
@@ -132,6 +121,6 @@ TEST_CASE("Delaunay3 equals CGAL on random points", "[delaunay][cgal]") {
     const voroclip::Delaunay3 dt(xyz.data(), 10000);
     REQUIRE(dt.check_topology().empty());
     REQUIRE(dt.check_delaunay().empty());
-    CHECK(sorted_tets(dt) == cgal_tets(xyz));
+    CHECK(voroclip::test::finite_tets(dt) == cgal_tets(xyz));
   }
 }
