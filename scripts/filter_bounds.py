@@ -61,13 +61,25 @@ def insphere():
     t = mul(lift, m3)
     return add(sub(t, t), sub(t, t)), 5
 
+def compare_distance3d():
+    d = leaf()
+    sq = add(add(mul(d, d), mul(d, d)), mul(d, d))
+    return sub(sq, sq), 2
+
+def compare_distance2d():
+    d = leaf()
+    sq = add(mul(d, d), mul(d, d))
+    return sub(sq, sq), 2
+
 for name, f in [("orient2d", orient2d), ("orient3d", orient3d),
-                ("incircle", incircle), ("insphere", insphere)]:
+                ("incircle", incircle), ("insphere", insphere),
+                ("compare_distance2d", compare_distance2d),
+                ("compare_distance3d", compare_distance3d)]:
     (m, e), deg = f()
     stored = e * (1 + u) ** (deg + 1)
     # round up to 3 significant digits
     x = float(stored)
     exp10 = math.floor(math.log10(x))
     mant = math.ceil(x / 10**exp10 * 100) / 100
-    print(f"{name:9s} deg {deg}  E = {float(e):.6e} = {float(e/u):.4f} u"
+    print(f"{name:18s} deg {deg}  E = {float(e):.6e} = {float(e/u):.4f} u"
           f"   store {mant:.2f}e{exp10}   max |det~| <= {float(m):.3f} M^{deg}")

@@ -258,6 +258,12 @@ struct IncircleFormula {
     return incircle_sign(c, d);
   }
 };
+struct CompareDistanceFormula {
+  template <class C, class M>
+  int operator()(C& c, const M& d) const {
+    return compare_distance_sign(c, d);
+  }
+};
 struct InsphereFormula {
   template <class C, class M>
   int operator()(C& c, const M& d) const {
@@ -282,6 +288,15 @@ Sign incircle_exact(const double* a, const double* b, const double* c, const dou
 Sign insphere_exact(const double* a, const double* b, const double* c, const double* d,
                     const double* e) {
   return exact_sign<4, 3, 5>("insphere", {a, b, c, d, e}, InsphereFormula{});
+}
+
+// Differences to p (the last point): |q - p|^2 - |r - p|^2.
+Sign compare_distance2d_exact(const double* p, const double* q, const double* r) {
+  return exact_sign<2, 2, 2>("compare_distance2d", {q, r, p}, CompareDistanceFormula{});
+}
+
+Sign compare_distance3d_exact(const double* p, const double* q, const double* r) {
+  return exact_sign<2, 3, 2>("compare_distance3d", {q, r, p}, CompareDistanceFormula{});
 }
 
 }  // namespace voroclip::detail

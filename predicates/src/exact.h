@@ -154,13 +154,14 @@ class Int128Calc {
 
 // The largest bit length B of the integer differences (|d| < 2^B) for which the
 // determinant and every intermediate of the formulas below fit in a signed 128-bit integer:
-//   orient2d  |det| < 2^(2B+1)                              B <= 62 (int64 conversion)
-//   orient3d  |det| < 6 * 2^(3B)  < 2^(3B+3)                B <= 41
-//   incircle  |det| < 12 * 2^(4B) < 2^(4B+4)                B <= 30
-//   insphere  |det| < 72 * 2^(5B) < 2^(5B+7)                B <= 23
+//   orient2d            |det| < 2^(2B+1)                    B <= 61
+//   compare_distance3d  |det| < 2 * 3 * 2^(2B) < 2^(2B+3)  B <= 61 (degree 2 shares it)
+//   orient3d            |det| < 6 * 2^(3B)  < 2^(3B+3)      B <= 41
+//   incircle            |det| < 12 * 2^(4B) < 2^(4B+4)      B <= 30
+//   insphere            |det| < 72 * 2^(5B) < 2^(5B+7)      B <= 23
 // (2x2 minors < 2^(2B+1), 3x3 minors < 6 * 2^(3B), lifts < 3 * 2^(2B).)
 constexpr int small_integer_bits(int degree) {
-  return degree == 2 ? 62 : degree == 3 ? 41 : degree == 4 ? 30 : 23;
+  return degree == 2 ? 61 : degree == 3 ? 41 : degree == 4 ? 30 : 23;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -244,6 +245,7 @@ int orient3d_sign(C& c, const typename C::Num (&d)[3][3]) {
 
 template <class C, int N>
 typename C::Num lift(C& c, const typename C::Num (&row)[N]) {
+  static_assert(N == 2 || N == 3, "lifts of 2D or 3D differences");
   auto s = c.add(c.mul(row[0], row[0]), c.mul(row[1], row[1]));
   if constexpr (N == 3) s = c.add(s, c.mul(row[2], row[2]));
   return s;
@@ -278,6 +280,11 @@ int insphere_sign(C& c, const typename C::Num (&d)[4][3]) {
   const auto det = c.add(c.sub(c.mul(lift(c, e), abc), c.mul(lift(c, cc), dab)),
                          c.sub(c.mul(lift(c, b), cda), c.mul(lift(c, a), bcd)));
   return C::sign(det);
+}
+
+template <class C, int D>
+int compare_distance_sign(C& c, const typename C::Num (&d)[2][D]) {
+  return C::sign(c.sub(lift(c, d[0]), lift(c, d[1])));
 }
 
 // Fills d[i][j] = pts[i][j] - pts[R][j] (R = the last point) with the calculator's exact

@@ -97,6 +97,10 @@ inline constexpr double kOrient2dBound = 8.89e-16;
 inline constexpr double kOrient3dBound = 5.11e-15;
 inline constexpr double kIncircleBound = 1.43e-14;
 inline constexpr double kInsphereBound = 1.23e-13;
+// compare_distance: E = 20u (2D), 34u (3D) on M^2, with scale = the larger of the two
+// computed squared distances (x^2 <= L / (1-u)^3 as for the lifts).
+inline constexpr double kCompareDistance2dBound = 2.23e-15;
+inline constexpr double kCompareDistance3dBound = 3.78e-15;
 inline constexpr double kOrientScaleLower = 0x1p-960, kOrientScaleUpper = 0x1p+1000;
 inline constexpr double kIncircleScaleLower = 0x1p-940, kIncircleScaleUpper = 0x1p+980;
 inline constexpr double kInsphereScaleLower = 0x1p-950, kInsphereScaleUpper = 0x1p+1000;
@@ -107,6 +111,8 @@ Sign incircle_exact(const double* a, const double* b, const double* c, const dou
 Sign orient3d_exact(const double* a, const double* b, const double* c, const double* d);
 Sign insphere_exact(const double* a, const double* b, const double* c, const double* d,
                     const double* e);
+Sign compare_distance2d_exact(const double* p, const double* q, const double* r);
+Sign compare_distance3d_exact(const double* p, const double* q, const double* r);
 
 inline double max_abs(double a, double b) { return std::max(std::fabs(a), std::fabs(b)); }
 
@@ -209,6 +215,17 @@ inline Approx insphere_approx(const double* a, const double* b, const double* c,
   return {det, lift * lift * std::sqrt(lift)};
 }
 
+template <int D>
+inline Approx compare_distance_approx(const double* p, const double* q, const double* r) {
+  double lq = 0, lr = 0;
+  for (int j = 0; j < D; ++j) {
+    const double dq = q[j] - p[j], dr = r[j] - p[j];
+    lq += dq * dq;
+    lr += dr * dr;
+  }
+  return {lq - lr, std::max(lq, lr)};
+}
+
 // +1 / -1 when the filter is certain, 0 when the exact stage must decide. The test is a
 // well-predicted branch (the filter almost always decides); the sign is then read from
 // the sign bit (det != 0 there), since the signs of random input are unpredictable.
@@ -229,6 +246,15 @@ inline int filter_decision(const Approx& r, double bound, double lower, double u
     return decided_sign(r.det);
   }
   return 0;
+}
+
+inline int compare_distance2d_filter(const double* p, const double* q, const double* r) {
+  return filter_decision(compare_distance_approx<2>(p, q, r), kCompareDistance2dBound,
+                         kOrientScaleLower, kOrientScaleUpper);
+}
+inline int compare_distance3d_filter(const double* p, const double* q, const double* r) {
+  return filter_decision(compare_distance_approx<3>(p, q, r), kCompareDistance3dBound,
+                         kOrientScaleLower, kOrientScaleUpper);
 }
 
 // The filter of each predicate: its decision, or 0 when the exact stage must decide.
@@ -282,6 +308,17 @@ inline Sign insphere(const double* a, const double* b, const double* c, const do
                      const double* e) {
   const int s = detail::insphere_filter(a, b, c, d, e);
   return s != 0 ? static_cast<Sign>(s) : detail::insphere_exact(a, b, c, d, e);
+}
+
+// sign(|p - q|^2 - |p - r|^2): negative when q is strictly closer to p than r, positive
+// when r is, zero when p is equidistant (on the bisector of q and r). Exact, filtered.
+inline Sign compare_distance2d(const double* p, const double* q, const double* r) {
+  const int s = detail::compare_distance2d_filter(p, q, r);
+  return s != 0 ? static_cast<Sign>(s) : detail::compare_distance2d_exact(p, q, r);
+}
+inline Sign compare_distance3d(const double* p, const double* q, const double* r) {
+  const int s = detail::compare_distance3d_filter(p, q, r);
+  return s != 0 ? static_cast<Sign>(s) : detail::compare_distance3d_exact(p, q, r);
 }
 
 // ---------------------------------------------------------------------------------------
