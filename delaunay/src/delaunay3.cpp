@@ -84,10 +84,8 @@ bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
                       sos_id(d), sos_id(q)) == Sign::positive;
 }
 
-std::uint32_t Delaunay3::locate(std::uint32_t q, std::uint32_t hint,
-                                std::uint32_t& duplicate) const {
-  duplicate = kInfinite;
-  const double* pq = point(q);
+template <bool kStaticFilter>
+std::uint32_t Delaunay3::walk(const double* p, std::uint32_t hint) const {
   std::uint32_t t = hint;
   if (const int s = infinite_slot(t); s >= 0) t = tet_adjacent(t, s);
   std::uint32_t previous = kNoTet;
@@ -102,8 +100,12 @@ std::uint32_t Delaunay3::locate(std::uint32_t q, std::uint32_t hint,
       const int f = static_cast<int>((step + static_cast<std::size_t>(i)) & 3u);
       const std::uint32_t n = tet_adjacent(t, f);
       if (n == previous) continue;
-      const Sign o = orient3d(point(v[kFacetVertex[f][0]]), point(v[kFacetVertex[f][1]]),
-                              point(v[kFacetVertex[f][2]]), pq, filter_);
+      const double* a = point(v[kFacetVertex[f][0]]);
+      const double* b = point(v[kFacetVertex[f][1]]);
+      const double* c = point(v[kFacetVertex[f][2]]);
+      // The static filter holds only for points inside the input's box: queries use the
+      // plain predicate.
+      const Sign o = kStaticFilter ? orient3d(a, b, c, p, filter_) : orient3d(a, b, c, p);
       if (o == Sign::positive) {
         previous = t;
         t = n;
@@ -111,15 +113,76 @@ std::uint32_t Delaunay3::locate(std::uint32_t q, std::uint32_t hint,
         break;
       }
     }
-    if (!moved) {
-      for (int k = 0; k < 4; ++k) {
-        if (same_point(point(v[k]), pq)) duplicate = v[k];
-      }
-      return t;
-    }
-    if (infinite_slot(t) >= 0) return t;
+    if (!moved || infinite_slot(t) >= 0) return t;
   }
   throw Error("Delaunay3: internal error, the point location walk did not terminate");
+}
+
+std::uint32_t Delaunay3::locate(std::uint32_t q, std::uint32_t hint,
+                                std::uint32_t& duplicate) const {
+  duplicate = kInfinite;
+  const double* pq = point(q);
+  const std::uint32_t t = walk<true>(pq, hint);
+  if (infinite_slot(t) < 0) {
+    for (int k = 0; k < 4; ++k) {
+      if (same_point(point(tet_vertex(t, k)), pq)) duplicate = tet_vertex(t, k);
+    }
+  }
+  return t;
+}
+
+std::uint32_t Delaunay3::locate(const double* p, std::uint32_t hint) const {
+  require_finite_query(p);
+  if (hint == kNoTet || hint >= nb_tet_slots() || is_free(hint)) hint = any_tet();
+  return walk<false>(p, hint);
+}
+
+std::uint32_t Delaunay3::nearest_vertex(const double* p, std::uint32_t hint) const {
+  const std::uint32_t t = locate(p, hint);
+  std::uint32_t v = kInfinite;
+  for (int k = 0; k < 4 && v == kInfinite; ++k) v = tet_vertex(t, k);
+  // Greedy descent on the Delaunay graph: a vertex with no strictly closer neighbour is a
+  // nearest vertex (every Voronoi cell is convex and holds its site).
+  std::vector<std::uint32_t> neighbors;
+  for (bool improved = true; improved;) {
+    improved = false;
+    vertex_neighbors(v, neighbors);
+    for (const std::uint32_t w : neighbors) {
+      if (compare_distance3d(p, point(w), point(v)) == Sign::negative) {
+        v = w;
+        improved = true;
+        break;
+      }
+    }
+  }
+  // Ties: the nearest vertices lie on an empty sphere around p and are connected by
+  // Delaunay edges; return the smallest index among them.
+  std::vector<std::uint32_t> tied = {v};
+  std::uint32_t best = v;
+  for (std::size_t i = 0; i < tied.size(); ++i) {
+    vertex_neighbors(tied[i], neighbors);
+    for (const std::uint32_t w : neighbors) {
+      if (compare_distance3d(p, point(w), point(v)) == Sign::zero &&
+          std::find(tied.begin(), tied.end(), w) == tied.end()) {
+        tied.push_back(w);
+        best = std::min(best, w);
+      }
+    }
+  }
+  return best;
+}
+
+std::uint32_t Delaunay3::any_tet() const {
+  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
+    if (!is_free(t)) return t;
+  }
+  throw Error("Delaunay3: the triangulation is empty (build() has not succeeded)");
+}
+
+void Delaunay3::require_finite_query(const double* p) const {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+    throw Error("Delaunay3: the query point has a non-finite coordinate");
+  }
 }
 
 void Delaunay3::insert(std::uint32_t q, std::uint32_t& hint) {

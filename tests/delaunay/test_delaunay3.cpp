@@ -297,3 +297,73 @@ TEST_CASE("Delaunay3 on the vertices of every real model", "[delaunay][data]") {
     require_valid(dt);
   }
 }
+
+namespace {
+
+// The nearest input vertex by brute force with exact comparisons; the smallest index on ties.
+std::uint32_t brute_nearest(const std::vector<double>& xyz, const Delaunay3& dt, const double* p) {
+  std::uint32_t best = Delaunay3::kInfinite;
+  for (std::uint32_t i = 0; i < xyz.size() / 3; ++i) {
+    if (dt.duplicate_of(i) != i) continue;
+    if (best == Delaunay3::kInfinite ||
+        voroclip::compare_distance3d(p, &xyz[3 * i], &xyz[3 * best]) == Sign::negative) {
+      best = i;
+    }
+  }
+  return best;
+}
+
+// locate's contract: a finite tet whose closed interior holds p, or an infinite tet whose
+// hull facet p is strictly beyond.
+bool located_correctly(const Delaunay3& dt, const std::vector<double>& xyz, std::uint32_t t,
+                       const double* p) {
+  const auto at = [&](std::uint32_t v) { return &xyz[3 * static_cast<std::size_t>(v)]; };
+  if (dt.is_infinite(t)) {
+    int s = 0;
+    while (dt.tet_vertex(t, s) != Delaunay3::kInfinite) ++s;
+    const int* f = Delaunay3::kFacetVertex[s];
+    return voroclip::orient3d(at(dt.tet_vertex(t, f[0])), at(dt.tet_vertex(t, f[1])),
+                              at(dt.tet_vertex(t, f[2])), p) == Sign::negative;
+  }
+  for (int g = 0; g < 4; ++g) {
+    const int* f = Delaunay3::kFacetVertex[g];
+    if (voroclip::orient3d(at(dt.tet_vertex(t, f[0])), at(dt.tet_vertex(t, f[1])),
+                           at(dt.tet_vertex(t, f[2])), p) == Sign::positive) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("Delaunay3 locate and nearest_vertex agree with brute force", "[delaunay][exact]") {
+  const auto xyz = random_points(2000, 31);
+  const Delaunay3 dt(xyz.data(), 2000);
+  std::mt19937_64 rng(32);
+  std::uniform_real_distribution<double> u(-0.5, 1.5);  // inside and outside the hull
+  for (int i = 0; i < 2000; ++i) {
+    const double p[3] = {u(rng), u(rng), u(rng)};
+    const std::uint32_t t = dt.locate(p);
+    CHECK(located_correctly(dt, xyz, t, p));
+    CHECK(dt.nearest_vertex(p, t) == brute_nearest(xyz, dt, p));
+  }
+  for (std::uint32_t v = 0; v < 2000; v += 37) CHECK(dt.nearest_vertex(&xyz[3 * v]) == v);
+  const double nan[3] = {0, std::nan(""), 0};
+  CHECK_THROWS_AS(dt.locate(nan), voroclip::Error);
+}
+
+TEST_CASE("Delaunay3 nearest_vertex breaks ties by the smallest index", "[delaunay][degenerate]") {
+  std::vector<double> xyz;
+  for (int x = 0; x < 5; ++x)
+    for (int y = 0; y < 5; ++y)
+      for (int z = 0; z < 5; ++z) xyz.insert(xyz.end(), {double(x), double(y), double(z)});
+  const Delaunay3 dt(xyz.data(), 125);
+  // Cell centres are equidistant from 8 grid points, edge midpoints from 2, and so on.
+  for (double x = 0.5; x < 4; x += 1.0)
+    for (double y = 0; y < 4.5; y += 0.5)
+      for (double z = 0; z < 4.5; z += 0.5) {
+        const double p[3] = {x, y, z};
+        CHECK(dt.nearest_vertex(p) == brute_nearest(xyz, dt, p));
+      }
+}

@@ -359,6 +359,14 @@ class Delaunay3 {
   void vertex_neighbors(std::uint32_t v, std::vector<std::uint32_t>& out) const;
   // Hull vertices (finite vertices of infinite tets), sorted.
   std::vector<std::uint32_t> hull_vertices() const;
+  // A tet containing p: a finite tet whose closed interior holds p, or, for p outside the
+  // convex hull, an infinite tet whose hull facet p lies strictly beyond. Exact (plain
+  // orient3d); walks from `hint` when it is a valid tet. Throws for a non-finite p.
+  std::uint32_t locate(const double* p, std::uint32_t hint = kNoTet) const;
+  // The vertex nearest to p, decided exactly (compare_distance3d); among equidistant
+  // nearest vertices the smallest index. Greedy descent on the Delaunay graph from a
+  // vertex of locate(p, hint).
+  std::uint32_t nearest_vertex(const double* p, std::uint32_t hint = kNoTet) const;
   // Circumcenter of finite tet t, in floating point (not exact; for output and clipping).
   void circumcenter(std::uint32_t t, double* out) const;
 
@@ -395,6 +403,10 @@ class Delaunay3 {
   }
   int infinite_slot(std::uint32_t t) const;
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
+  template <bool kStaticFilter>
+  std::uint32_t walk(const double* p, std::uint32_t hint) const;
+  std::uint32_t any_tet() const;
+  void require_finite_query(const double* p) const;
   std::uint32_t locate(std::uint32_t q, std::uint32_t hint, std::uint32_t& duplicate) const;
   void insert(std::uint32_t q, std::uint32_t& hint);
   std::uint32_t initial_tetrahedron(const std::vector<std::uint32_t>& order);
