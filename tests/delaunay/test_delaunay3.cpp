@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "tet_set.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
@@ -366,4 +368,25 @@ TEST_CASE("Delaunay3 nearest_vertex breaks ties by the smallest index", "[delaun
         const double p[3] = {x, y, z};
         CHECK(dt.nearest_vertex(p) == brute_nearest(xyz, dt, p));
       }
+}
+
+TEST_CASE("Delaunay3 is identical with 1 and 2 threads", "[delaunay]") {
+  // The spatial sort runs in parallel; the triangulation must not depend on it.
+  const auto xyz = random_points(200000, 41);
+  const auto build_with = [&](std::size_t threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const Delaunay3 dt(xyz.data(), 200000);
+    std::vector<std::uint32_t> arrays;
+    for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+      for (int k = 0; k < 4; ++k) {
+        arrays.push_back(dt.tet_vertex(t, k));
+        arrays.push_back(dt.tet_adjacent(t, k));
+      }
+    }
+    return arrays;
+  };
+  const auto one = build_with(1);
+  const auto two = build_with(2);
+  CHECK(one.size() > 4 * 6 * 200000);
+  CHECK(one == two);
 }
