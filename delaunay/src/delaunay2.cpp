@@ -591,31 +591,38 @@ std::uint32_t Delaunay2::locate(double x, double y, std::uint32_t hint) const {
 std::uint32_t Delaunay2::nearest_vertex(double x, double y, std::uint32_t hint) const {
   const std::uint32_t t = locate(x, y, hint);
   if (t == kNone) return kNone;
+  const double p[2] = {x, y};
   std::uint32_t v = tri_vertex(t, 0);
   if (v == kInfinite) v = tri_vertex(t, 1);
-  const auto distance2 = [this, x, y](std::uint32_t w) {
-    const double dx = pt(w)[0] - x, dy = pt(w)[1] - y;
-    return dx * dx + dy * dy;
-  };
-  double best = distance2(v);
-  for (;;) {
-    std::uint32_t next = v;
-    const std::uint32_t t0 = vertex_triangle_[v];
-    std::uint32_t s = t0;
-    do {
-      const std::uint32_t w = tri_vertex(s, kNext[local_index(s, v)]);
-      if (w != kInfinite) {
-        const double d = distance2(w);
-        if (d < best) {
-          best = d;
-          next = w;
-        }
+  // Greedy descent on the Delaunay graph with exact distance comparisons: a vertex with no
+  // strictly closer neighbour is a nearest vertex.
+  std::vector<std::uint32_t> neighbors;
+  for (bool improved = true; improved;) {
+    improved = false;
+    vertex_neighbors(v, neighbors);
+    for (const std::uint32_t w : neighbors) {
+      if (compare_distance2d(p, pt(w), pt(v)) == Sign::negative) {
+        v = w;
+        improved = true;
+        break;
       }
-      s = next_ccw(s, v);
-    } while (s != t0);
-    if (next == v) return v;
-    v = next;
+    }
   }
+  // Ties: the nearest vertices lie on an empty circle around p and are connected by
+  // Delaunay edges; return the smallest index among them.
+  std::vector<std::uint32_t> tied = {v};
+  std::uint32_t best = v;
+  for (std::size_t i = 0; i < tied.size(); ++i) {
+    vertex_neighbors(tied[i], neighbors);
+    for (const std::uint32_t w : neighbors) {
+      if (compare_distance2d(p, pt(w), pt(v)) == Sign::zero &&
+          std::find(tied.begin(), tied.end(), w) == tied.end()) {
+        tied.push_back(w);
+        best = std::min(best, w);
+      }
+    }
+  }
+  return best;
 }
 
 // ---------------------------------------------------------------------------------------

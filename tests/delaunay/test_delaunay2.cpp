@@ -431,12 +431,12 @@ TEST_CASE("Delaunay2 queries", "[delaunay]") {
                                      d.point(d.tri_vertex(t, (k + 2) % 3)), q) != Sign::negative);
         }
       }
-      const std::uint32_t v = d.nearest_vertex(q[0], q[1], hint);
-      double best = std::numeric_limits<double>::infinity();
-      for (std::uint32_t j = 0; j < n; ++j) {
-        best = std::min(best, std::hypot(p(j)[0] - q[0], p(j)[1] - q[1]));
+      // Exact brute force: the nearest point, the smallest index among equidistant ones.
+      std::uint32_t best = 0;
+      for (std::uint32_t j = 1; j < n; ++j) {
+        if (voroclip::compare_distance2d(q, p(j), p(best)) == Sign::negative) best = j;
       }
-      REQUIRE(std::hypot(p(v)[0] - q[0], p(v)[1] - q[1]) == best);
+      REQUIRE(d.nearest_vertex(q[0], q[1], hint) == best);
     }
   }
 }
@@ -528,4 +528,21 @@ TEST_CASE("Delaunay2 on near-degenerate floating-point sets", "[delaunay][degene
     REQUIRE(d.hull_vertices().size() == 1001);
     REQUIRE(d.nb_triangles() == 999);
   }
+}
+
+TEST_CASE("Delaunay2 nearest_vertex breaks ties by the smallest index", "[delaunay][degenerate]") {
+  std::vector<double> xy;
+  for (int x = 0; x < 8; ++x)
+    for (int y = 0; y < 8; ++y) xy.insert(xy.end(), {double(x), double(y)});
+  const Delaunay2 d(xy.data(), 64);
+  // Cell centres are equidistant from 4 grid points, edge midpoints from 2.
+  for (double x = 0; x < 7.5; x += 0.5)
+    for (double y = 0; y < 7.5; y += 0.5) {
+      const double q[2] = {x, y};
+      std::uint32_t best = 0;
+      for (std::uint32_t j = 1; j < 64; ++j) {
+        if (voroclip::compare_distance2d(q, &xy[2 * j], &xy[2 * best]) == Sign::negative) best = j;
+      }
+      CHECK(d.nearest_vertex(x, y) == best);
+    }
 }

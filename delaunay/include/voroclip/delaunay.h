@@ -158,10 +158,9 @@ class Delaunay2 {
   // A finite triangle containing (x, y) in its closure, or an infinite triangle whose hull
   // edge has (x, y) strictly outside. `hint`: a triangle to start the walk from.
   std::uint32_t locate(double x, double y, std::uint32_t hint = kNone) const;
-  // The vertex nearest to (x, y): locate, then greedy descent over Delaunay neighbours
-  // (which reaches the nearest site in a Delaunay triangulation). Distances are compared
-  // in floating point: with near-ties the answer may be a vertex whose distance exceeds
-  // the minimum by a rounding error.
+  // The vertex nearest to (x, y), decided exactly (compare_distance2d); among equidistant
+  // nearest vertices the smallest index. Locate, then greedy descent over Delaunay
+  // neighbours (which reaches the nearest site in a Delaunay triangulation).
   std::uint32_t nearest_vertex(double x, double y, std::uint32_t hint = kNone) const;
 
   // ---- Exact checks, called by the tests on every result. Each returns an empty string
