@@ -23,6 +23,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "nearest.h"
 #include "spatial_sort.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
@@ -594,35 +595,9 @@ std::uint32_t Delaunay2::nearest_vertex(double x, double y, std::uint32_t hint) 
   const double p[2] = {x, y};
   std::uint32_t v = tri_vertex(t, 0);
   if (v == kInfinite) v = tri_vertex(t, 1);
-  // Greedy descent on the Delaunay graph with exact distance comparisons: a vertex with no
-  // strictly closer neighbour is a nearest vertex.
-  std::vector<std::uint32_t> neighbors;
-  for (bool improved = true; improved;) {
-    improved = false;
-    vertex_neighbors(v, neighbors);
-    for (const std::uint32_t w : neighbors) {
-      if (compare_distance2d(p, pt(w), pt(v)) == Sign::negative) {
-        v = w;
-        improved = true;
-        break;
-      }
-    }
-  }
-  // Ties: the nearest vertices lie on an empty circle around p and are connected by
-  // Delaunay edges; return the smallest index among them.
-  std::vector<std::uint32_t> tied = {v};
-  std::uint32_t best = v;
-  for (std::size_t i = 0; i < tied.size(); ++i) {
-    vertex_neighbors(tied[i], neighbors);
-    for (const std::uint32_t w : neighbors) {
-      if (compare_distance2d(p, pt(w), pt(v)) == Sign::zero &&
-          std::find(tied.begin(), tied.end(), w) == tied.end()) {
-        tied.push_back(w);
-        best = std::min(best, w);
-      }
-    }
-  }
-  return best;
+  return detail::nearest_on_delaunay_graph(
+      v, [this](std::uint32_t w, std::vector<std::uint32_t>& out) { vertex_neighbors(w, out); },
+      [this, &p](std::uint32_t w, std::uint32_t u) { return compare_distance2d(p, pt(w), pt(u)); });
 }
 
 // ---------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "nearest.h"
 #include "spatial_sort.h"
 #include "voroclip/core.h"
 
@@ -141,35 +142,11 @@ std::uint32_t Delaunay3::nearest_vertex(const double* p, std::uint32_t hint) con
   const std::uint32_t t = locate(p, hint);
   std::uint32_t v = kInfinite;
   for (int k = 0; k < 4 && v == kInfinite; ++k) v = tet_vertex(t, k);
-  // Greedy descent on the Delaunay graph: a vertex with no strictly closer neighbour is a
-  // nearest vertex (every Voronoi cell is convex and holds its site).
-  std::vector<std::uint32_t> neighbors;
-  for (bool improved = true; improved;) {
-    improved = false;
-    vertex_neighbors(v, neighbors);
-    for (const std::uint32_t w : neighbors) {
-      if (compare_distance3d(p, point(w), point(v)) == Sign::negative) {
-        v = w;
-        improved = true;
-        break;
-      }
-    }
-  }
-  // Ties: the nearest vertices lie on an empty sphere around p and are connected by
-  // Delaunay edges; return the smallest index among them.
-  std::vector<std::uint32_t> tied = {v};
-  std::uint32_t best = v;
-  for (std::size_t i = 0; i < tied.size(); ++i) {
-    vertex_neighbors(tied[i], neighbors);
-    for (const std::uint32_t w : neighbors) {
-      if (compare_distance3d(p, point(w), point(v)) == Sign::zero &&
-          std::find(tied.begin(), tied.end(), w) == tied.end()) {
-        tied.push_back(w);
-        best = std::min(best, w);
-      }
-    }
-  }
-  return best;
+  return detail::nearest_on_delaunay_graph(
+      v, [this](std::uint32_t w, std::vector<std::uint32_t>& out) { vertex_neighbors(w, out); },
+      [this, p](std::uint32_t w, std::uint32_t u) {
+        return compare_distance3d(p, point(w), point(u));
+      });
 }
 
 std::uint32_t Delaunay3::any_tet() const {
