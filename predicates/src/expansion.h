@@ -88,11 +88,4 @@ inline int sign(const double* e, int ne) {
   return ne == 0 ? 0 : (e[ne - 1] > 0 ? 1 : (e[ne - 1] < 0 ? -1 : 0));
 }
 
-// The floating-point sum of the components, from smallest to largest.
-inline double estimate(const double* e, int ne) {
-  double s = 0;
-  for (int i = 0; i < ne; ++i) s += e[i];
-  return s;
-}
-
 }  // namespace voroclip::expansion

@@ -390,3 +390,32 @@ TEST_CASE("Delaunay3 is identical with 1 and 2 threads", "[delaunay]") {
   CHECK(one.size() > 4 * 6 * 200000);
   CHECK(one == two);
 }
+
+TEST_CASE("Delaunay3 vertex stars and circumcenters", "[delaunay]") {
+  const auto xyz = random_points(3000, 51);
+  const Delaunay3 dt(xyz.data(), 3000);
+  // Brute force: the finite tets containing each vertex.
+  std::vector<std::vector<std::uint32_t>> expected(3000);
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    for (int k = 0; k < 4; ++k) expected[dt.tet_vertex(t, k)].push_back(t);
+  }
+  std::vector<std::uint32_t> star;
+  for (std::uint32_t v = 0; v < 3000; v += 7) {
+    dt.vertex_tets(v, star);
+    CHECK(star == expected[v]);
+  }
+  // The circumcenter is equidistant from the four vertices (floating point: to 1e-9).
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); t += 11) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    double c[3];
+    dt.circumcenter(t, c);
+    double r[4];
+    for (int k = 0; k < 4; ++k) {
+      const double* p = &xyz[3 * static_cast<std::size_t>(dt.tet_vertex(t, k))];
+      r[k] = std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                       (p[2] - c[2]) * (p[2] - c[2]));
+    }
+    for (int k = 1; k < 4; ++k) CHECK(std::fabs(r[k] - r[0]) <= 1e-9 * (1 + r[0]));
+  }
+}

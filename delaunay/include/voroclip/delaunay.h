@@ -401,6 +401,8 @@ class Delaunay3 {
     b = (b & ~kCodeMask) | (4 * t + static_cast<std::uint32_t>(f));
   }
   int infinite_slot(std::uint32_t t) const;
+  // All tets incident to v, infinite ones included, in search order.
+  void vertex_star(std::uint32_t v, std::vector<std::uint32_t>& star) const;
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
   template <bool kStaticFilter>
   std::uint32_t walk(const double* p, std::uint32_t hint) const;
