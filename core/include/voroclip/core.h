@@ -46,4 +46,51 @@ void write_vtk(std::ostream& out, const std::string& title, const double* coords
                std::uint32_t nb_points, int dimension, const std::vector<std::uint32_t>& cells,
                int vertices_per_cell);
 
+// ---------------------------------------------------------------------------------------
+// 2D polygonal domains as read, before validation. The validated domain, with its rings
+// oriented and checked exactly, is voroclip::Domain2 (clip.h): validation needs the exact
+// predicates, which sit above core.
+
+/// Rings of a polygonal domain as given by a file or a generator. Ring r has the vertices
+/// [ring_begin[r], ring_begin[r + 1]) of `xy` (packed x y), in the file's order and
+/// orientation, a repeated closing point and repeated consecutive points included.
+struct PolygonRings {
+  /// Where the rings came from (a file name, or the generator), for error messages.
+  std::string source;
+  std::vector<double> xy;
+  /// nb_rings + 1 offsets into the points (so ring_begin.front() == 0).
+  std::vector<std::uint32_t> ring_begin;
+  /// Per ring: the polygon it belongs to when the format says so (JSON: a polygon is an
+  /// array of rings, its ring 0 the outer boundary, the others its holes), or -1 for every
+  /// ring when roles follow from nesting (.poly: a ring inside an odd number of other rings
+  /// bounds a hole).
+  std::vector<std::int32_t> ring_polygon;
+  /// Per ring: the line of the file where it starts (1-based; 0 when not from a text file).
+  std::vector<std::uint32_t> ring_line;
+  /// .poly hole markers (packed x y): each must lie in a hole of the domain.
+  std::vector<double> hole_points;
+
+  std::uint32_t nb_rings() const {
+    return ring_begin.empty() ? 0u : static_cast<std::uint32_t>(ring_begin.size() - 1);
+  }
+};
+
+/// Reads a polygonal domain, by extension:
+///   .json  an array of rings (one polygon: ring 0 outer, the others holes) or an array of
+///          polygons, each an array of rings; a ring is an array of [x, y]. Orientation is
+///          free; the closing point may be repeated. (The format of shared/data/polygons.)
+///   .poly  Triangle's format: nodes, segments (chained into closed rings; every node used
+///          must have exactly two segments), holes. Attributes and markers are read and
+///          ignored; '#' starts a comment.
+/// Throws Error naming the file, the line (or JSON ring/point) and what is wrong.
+PolygonRings read_polygon(const std::string& path);
+
+/// An annulus centred at the origin: outer radius r_outer, inner r_inner, each circle a
+/// regular polygon with `segments` vertices.
+PolygonRings annulus_rings(double r_inner, double r_outer, std::uint32_t segments);
+
+/// The unit square [0, 1]^2 with a k x k grid of square holes of side `hole_fraction` / k
+/// each centred in its grid cell (0 < hole_fraction < 1).
+PolygonRings square_with_holes(std::uint32_t k, double hole_fraction);
+
 }  // namespace voroclip

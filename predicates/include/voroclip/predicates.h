@@ -398,6 +398,47 @@ Sign insphere_sos(const double* a, const double* b, const double* c, const doubl
                   std::uint32_t id, std::uint32_t ie);
 
 // ---------------------------------------------------------------------------------------
+// Voronoi clipping predicates in 2D (clip/, DESIGN.md "Clipping predicates on symbolic
+// vertices"). Sites p_i carry the lift perturbation of the *_sos predicates above, so the
+// Voronoi diagram they decide on is the power diagram dual to the triangulation that
+// incircle_sos builds: site i has the power distance
+//     pi_i(x) = |x - p_i|^2 + eps_i,     eps_i > 0 infinitesimal, eps_i >> eps_j when i < j,
+// and the signed bisector function is f_ij(x) = pi_i(x) - pi_j(x): x is on site i's side of
+// bisector(i, j) when f_ij(x) < 0. Between exactly equidistant sites the perturbation gives
+// x to the site with the LARGER index (its eps is smaller). Domain points (polygon
+// vertices) are not perturbed. Each function returns the sign of f_ij at a symbolic
+// vertex, exactly, and never ZERO when its preconditions hold:
+//
+//   bisector_side_vertex2d     x = a, a polygon vertex:  sign f_ij(a).
+//   bisector_side_edge2d       x = q, where segment [a, b] crosses bisector(i, k):
+//                              f_ik(a) and f_ik(b) must have opposite (perturbed) signs.
+//                              sign f_ij(q) = sign(f_ik(a) f_ij(b) - f_ij(a) f_ik(b))
+//                                             * sign(f_ik(a) - f_ik(b)).
+//                              i, j, k distinct.
+//   bisector_side_voronoi2d    x = the Voronoi vertex of sites (i, k, l) (a triangle of
+//                              their Delaunay triangulation, so not collinear; any
+//                              order): sign f_ij(x), i, j, k, l distinct. Equivalent to
+//                              -incircle_sos(i, k, l, j) * orient2d(i, k, l).
+//
+// Ordering of crossings along one bisector (for walking a cell's boundary):
+//   compare_on_bisector2d      q1 = [a1, b1] ∩ bisector(i, k), q2 = [a2, b2] ∩ bisector(i,
+//                              k), each segment crossing it as above. Returns the sign of
+//                              d . (q2 - q1) with d = rot90(p_k - p_i) = (p_i.y - p_k.y,
+//                              p_k.x - p_i.x): the direction of travel along the boundary
+//                              of cell i counter-clockwise (cell i on the left). POSITIVE
+//                              when q2 comes after q1. ZERO only when the two crossings
+//                              coincide for every eps (the segments meet on the bisector:
+//                              never for two distinct edges of a valid domain).
+Sign bisector_side_vertex2d(const double* pi, const double* pj, const double* a, std::uint32_t i,
+                            std::uint32_t j);
+Sign bisector_side_edge2d(const double* pi, const double* pk, const double* pj, const double* a,
+                          const double* b, std::uint32_t i, std::uint32_t k, std::uint32_t j);
+Sign bisector_side_voronoi2d(const double* pi, const double* pk, const double* pl, const double* pj,
+                             std::uint32_t i, std::uint32_t k, std::uint32_t l, std::uint32_t j);
+Sign compare_on_bisector2d(const double* pi, const double* pk, const double* a1, const double* b1,
+                           const double* a2, const double* b2, std::uint32_t i, std::uint32_t k);
+
+// ---------------------------------------------------------------------------------------
 // Plain floating-point determinants (the same formulas as the filters, no guarantee).
 // For tests and benchmarks only: they can and do return wrong signs near degeneracy.
 

@@ -1,0 +1,208 @@
+// voroclip/clip.h — clipped Voronoi diagrams (the module's one public header).
+//
+// Domain2: a validated polygonal domain with holes (several components allowed).
+// ClippedVoronoi2: the Voronoi diagram of sites clipped to a Domain2 (Yan, Wang, Lévy & Liu,
+// CAD 2011, sec. 3), with every combinatorial decision exact (see clip2d.cpp).
+#pragma once
+
+#include <cassert>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "voroclip/core.h"
+#include "voroclip/delaunay.h"
+#include "voroclip/predicates.h"
+
+namespace voroclip {
+
+// ---------------------------------------------------------------------------------------
+// Domain2: a bounded open set of the plane whose boundary is a set of disjoint simple
+// polygonal rings.
+//
+// Built from PolygonRings (core.h) and validated exactly (orient2d): the constructor
+// throws Error, naming the source, the ring(s), the vertex indices (as in the input) and
+// the defect, for
+//   - a ring with fewer than 3 distinct points, or of zero area (all points collinear);
+//   - a ring that crosses or touches itself (including a vertex on a non-adjacent edge and
+//     overlapping collinear edges), or two rings that cross or touch;
+//   - (JSON) a hole that is not inside its polygon's outer ring, a hole inside another
+//     hole, an outer ring inside another polygon's ring in a way that breaks the nesting;
+//   - (.poly) a hole marker that does not lie in a hole;
+//   - a non-finite coordinate.
+// Handled, not rejected: a repeated closing point and repeated consecutive points are
+// dropped (nb_dropped_points() counts them).
+//
+// Storage after validation: vertices packed ring after ring; ring r owns the vertices
+// [ring_begin(r), ring_end(r)); outer boundaries run counter-clockwise and holes clockwise,
+// so the domain is always on the LEFT of an edge. Edge v is the segment from vertex v to
+// next(v).
+class Domain2 {
+ public:
+  Domain2() = default;
+  explicit Domain2(const PolygonRings& rings);
+
+  const std::string& source() const { return source_; }
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(ring_of_.size()); }
+  std::uint32_t nb_edges() const { return nb_vertices(); }
+  std::uint32_t nb_rings() const { return static_cast<std::uint32_t>(ring_hole_.size()); }
+  std::uint32_t ring_begin(std::uint32_t r) const {
+    assert(r < nb_rings());
+    return ring_begin_[r];
+  }
+  std::uint32_t ring_end(std::uint32_t r) const {
+    assert(r < nb_rings());
+    return ring_begin_[r + 1];
+  }
+  // True when ring r bounds a hole (it is clockwise); false for an outer boundary.
+  bool is_hole(std::uint32_t r) const {
+    assert(r < nb_rings());
+    return ring_hole_[r] != 0;
+  }
+  std::uint32_t ring_of(std::uint32_t v) const {
+    assert(v < nb_vertices());
+    return ring_of_[v];
+  }
+  const double* vertex(std::uint32_t v) const {
+    assert(v < nb_vertices());
+    return xy_.data() + 2 * static_cast<std::size_t>(v);
+  }
+  const std::vector<double>& coords() const { return xy_; }
+  std::uint32_t next(std::uint32_t v) const {
+    const std::uint32_t r = ring_of(v);
+    return v + 1 == ring_begin_[r + 1] ? ring_begin_[r] : v + 1;
+  }
+  std::uint32_t prev(std::uint32_t v) const {
+    const std::uint32_t r = ring_of(v);
+    return v == ring_begin_[r] ? ring_begin_[r + 1] - 1 : v - 1;
+  }
+  // Where vertex v and ring r came from in the PolygonRings (for messages).
+  std::uint32_t source_vertex(std::uint32_t v) const { return source_vertex_[v]; }
+  std::uint32_t source_ring(std::uint32_t r) const { return source_ring_[r]; }
+  // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
+  bool is_corner(std::uint32_t v) const;
+
+  // Area (outer rings minus holes), summed in floating point.
+  double area() const { return area_; }
+  // Bounding box: lo = (x, y), hi = (x, y).
+  const double* bbox_lo() const { return bbox_; }
+  const double* bbox_hi() const { return bbox_ + 2; }
+  std::uint32_t nb_dropped_points() const { return nb_dropped_; }
+
+  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside.
+  Sign locate(const double* p) const;
+
+ private:
+  std::string source_;
+  std::vector<double> xy_;
+  std::vector<std::uint32_t> ring_begin_;  // nb_rings + 1
+  std::vector<std::uint8_t> ring_hole_;
+  std::vector<std::uint32_t> ring_of_;
+  std::vector<std::uint32_t> source_vertex_;
+  std::vector<std::uint32_t> source_ring_;
+  double area_ = 0;
+  double bbox_[4] = {0, 0, 0, 0};
+  std::uint32_t nb_dropped_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------
+// Density for the cell integrals.
+//   constant   rho = value everywhere (closed forms);
+//   callback   rho(x, y) given by the user, integrated with a degree-4 rule (6 points) on
+//              the triangles of each cell's fan from its site; must be defined on the
+//              convex hull of each cell piece;
+//   grid       piecewise linear on a regular grid of nx x ny nodes over [lo, hi] (each
+//              grid square split along its diagonal from (i, j) to (i+1, j+1)), evaluated
+//              at the fan's vertices and integrated exactly as a linear function on each
+//              fan triangle: exact when rho is linear; values outside the grid clamp.
+struct Density2 {
+  enum class Kind { kConstant, kCallback, kGrid };
+  Kind kind = Kind::kConstant;
+  double value = 1.0;
+  std::function<double(double, double)> callback;
+  std::uint32_t nx = 0, ny = 0;
+  double lo[2] = {0, 0}, hi[2] = {1, 1};
+  std::vector<double> grid;  // nx * ny values, row-major in y: grid[j * nx + i]
+
+  static Density2 constant(double rho);
+  static Density2 function(std::function<double(double, double)> rho);
+  static Density2 linear_grid(std::uint32_t nx, std::uint32_t ny, const double lo[2],
+                              const double hi[2], std::vector<double> values);
+  // rho at (x, y) (grid: the piecewise-linear interpolant; constant: value).
+  double operator()(double x, double y) const;
+};
+
+struct Clip2Options {
+  Density2 density;
+  // Keep each cell's rings (symbolic vertices and coordinates) for export and tests.
+  bool keep_geometry = false;
+};
+
+// A vertex met while clipping, kept as what defines it (DESIGN.md, "Exactness").
+struct ClipVertex2 {
+  enum class Kind : std::uint8_t {
+    kDomainVertex,  // a = the domain vertex
+    kEdgeBisector,  // domain edge a (vertex a to its next) ∩ bisector(b, c), b < c sites
+    kVoronoi,       // the Voronoi vertex of sites a < b < c (a Delaunay triangle)
+  };
+  Kind kind;
+  std::uint32_t a, b, c;
+  bool operator==(const ClipVertex2& o) const {
+    return kind == o.kind && a == o.a && b == o.b && c == o.c;
+  }
+};
+
+// The Voronoi diagram of the vertices of a Delaunay2 clipped to a Domain2.
+//
+// Cells are indexed by input point (the Delaunay2's points); a duplicate point, and a site
+// whose cell misses the domain, has an empty cell (area 0). A cell's region is a set of
+// rings, counter-clockwise around its pieces and clockwise around its holes, so it may
+// have several pieces and holes. Per cell: area, mass = ∫rho, centroid = ∫rho x / mass,
+// energy = ∫rho |x - x_i|^2 (the CVT energy term, eq. 1), and whether it meets the domain
+// boundary. The gradient of the CVT energy is 2 mass (x_i - centroid) (eq. 2).
+//
+// Threads: TBB loops over cells into per-cell slots, reduced in index order: the result
+// is identical for any thread count.
+class ClippedVoronoi2 {
+ public:
+  ClippedVoronoi2() = default;
+  // `dt` must be a triangulation of the sites (its point array stays alive while this
+  // object is used for geometry queries).
+  void compute(const Domain2& domain, const Delaunay2& dt, const Clip2Options& options = {});
+
+  std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(area_.size()); }
+  double area(std::uint32_t i) const { return area_[i]; }
+  double mass(std::uint32_t i) const { return mass_[i]; }
+  // The mass centroid; the site itself for an empty cell.
+  const double* centroid(std::uint32_t i) const { return centroid_.data() + 2 * std::size_t{i}; }
+  double energy(std::uint32_t i) const { return energy_[i]; }
+  bool is_boundary(std::uint32_t i) const { return boundary_[i] != 0; }
+  std::uint32_t nb_boundary_sites() const { return nb_boundary_; }
+
+  // Sums over cells, in index order.
+  double total_area() const { return total_area_; }
+  double total_mass() const { return total_mass_; }
+  double total_energy() const { return total_energy_; }
+
+  // ---- Geometry (only with keep_geometry). Cell i has the rings
+  // [cell_ring_begin(i), cell_ring_begin(i + 1)); ring r has the vertices
+  // [ring_vertex_begin(r), ring_vertex_begin(r + 1)) of vertices() / vertex_coords().
+  bool has_geometry() const { return !cell_ring_begin_.empty(); }
+  std::uint32_t cell_ring_begin(std::uint32_t i) const { return cell_ring_begin_[i]; }
+  std::uint32_t ring_vertex_begin(std::uint32_t r) const { return ring_vertex_begin_[r]; }
+  const std::vector<ClipVertex2>& vertices() const { return vertices_; }
+  const std::vector<double>& vertex_coords() const { return vertex_xy_; }
+
+ private:
+  friend struct Clip2Impl;
+  std::vector<double> area_, mass_, centroid_, energy_;
+  std::vector<std::uint8_t> boundary_;
+  std::uint32_t nb_boundary_ = 0;
+  double total_area_ = 0, total_mass_ = 0, total_energy_ = 0;
+  std::vector<std::uint32_t> cell_ring_begin_, ring_vertex_begin_;
+  std::vector<ClipVertex2> vertices_;
+  std::vector<double> vertex_xy_;
+};
+
+}  // namespace voroclip
