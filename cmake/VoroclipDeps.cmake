@@ -15,6 +15,13 @@ voroclip_require_package(TBB libtbb-dev CONFIG)
 # JSON point files (core); header-only, needed only to build.
 voroclip_require_package(nlohmann_json nlohmann-json3-dev 3.2 CONFIG)
 
+# L-BFGS(-B) of the CVT optimiser (cvt); header-only (MIT), needed only to build.
+find_path(LBFGSPP_INCLUDE_DIR LBFGSB.h)
+if(NOT LBFGSPP_INCLUDE_DIR)
+  message(FATAL_ERROR "voroclip: missing dependency LBFGSpp. Install the Debian package "
+                      "'liblbfgspp-dev' (or run scripts/setup.sh which installs everything).")
+endif()
+
 if(VOROCLIP_BUILD_APPS)
   voroclip_require_package(CLI11 libcli11-dev CONFIG)
   voroclip_require_package(nlohmann_json nlohmann-json3-dev 3.2 CONFIG)

@@ -1,0 +1,645 @@
+// The 2D clipped Voronoi diagram: Yan, Wang, Lévy & Liu, "Efficient computation of
+// clipped Voronoi diagram for mesh generation", CAD 2011, section 3.
+//
+// 1. Boundary cells (sec. 3.2). Each domain ring is walked edge by edge through the
+//    Voronoi cells it crosses: starting in the cell of its first vertex (nearest site,
+//    then a descent over Voronoi neighbours with the perturbed side test), the exit of an
+//    edge from the current cell c is the first bisector(c, k) it crosses, among the
+//    neighbours k whose side holds the edge's end. This is the paper's propagation of
+//    cell–edge pairs, visiting each pair once, in ring order. It cuts the boundary into
+//    chains: maximal pieces of the boundary inside one cell, each running from an entry
+//    crossing to an exit crossing (edge ∩ bisector vertices), or a whole ring inside one
+//    cell.
+// 2. Boundary cells are assembled from their chains: going around the convex cell
+//    counter-clockwise, each exit crossing is followed by the part of the cell's boundary
+//    up to the next crossing (an entry), then by that entry's chain, until the ring
+//    closes (the domain is on the left of its boundary and the cell on the left of its
+//    own, so the clipped region is on the left of every ring). A cell without crossings
+//    adds its whole boundary as a ring when that boundary lies inside the domain, decided
+//    by the parity of the domain rings around the site that stay outside the cell. The
+//    paper clips with Sutherland–Hodgman instead; this assembly gives every piece and
+//    hole of a non-convex clipped cell, with the vertices kept symbolic.
+// 3. Cells that no ring crosses lie wholly inside or wholly outside the domain. A
+//    boundary cell tells each such neighbour which (its shared Voronoi edge is inside the
+//    domain exactly when the assembly walked it); a flood fill over Voronoi neighbours
+//    gives the rest. Inner cells are the Voronoi polygons of the triangulation, unclipped.
+//
+// Exactness. Every decision is one of the predicates of predicates.h on symbolic
+// vertices (domain vertex, domain edge ∩ bisector, Voronoi vertex) with the symbolic
+// perturbation of the triangulation, so it never meets a tie: sites on the boundary,
+// bisectors through domain vertices and cocircular sites need no special case.
+// Coordinates are computed only for integration and output, each symbolic vertex by one
+// deterministic formula (edge ∩ bisector(b, c) with b < c), so neighbouring cells share
+// bit-identical vertices.
+//
+// Threads: the ring walks run in sequence (they are cheap); the assembly of boundary
+// cells and the integration of inner cells are TBB loops writing per-cell slots.
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+
+namespace voroclip {
+
+// Internals of this file (a named namespace: Clip2Impl, a friend of ClippedVoronoi2, uses
+// them).
+namespace clip2 {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+using Kind = ClipVertex2::Kind;
+
+ClipVertex2 domain_vertex(std::uint32_t v) { return {Kind::kDomainVertex, v, 0, 0}; }
+ClipVertex2 edge_bisector(std::uint32_t e, std::uint32_t i, std::uint32_t k) {
+  return {Kind::kEdgeBisector, e, std::min(i, k), std::max(i, k)};
+}
+ClipVertex2 voronoi_vertex(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  std::array<std::uint32_t, 3> s{a, b, c};
+  std::sort(s.begin(), s.end());
+  return {Kind::kVoronoi, s[0], s[1], s[2]};
+}
+
+// A maximal piece of the domain boundary inside one cell. Its vertices are
+// chain_vertices[begin, end). An open chain starts at the crossing of edge entry_edge with
+// bisector(cell, entry_site) and ends at the crossing of edge exit_edge with
+// bisector(cell, exit_site); a closed chain is a whole ring (entry_site == kNone).
+struct Chain {
+  std::uint32_t cell;
+  std::uint32_t begin, end;
+  std::uint32_t entry_edge, entry_site;
+  std::uint32_t exit_edge, exit_site;
+  std::uint32_t ring;  // the domain ring it belongs to
+};
+
+// Per boundary cell, what the assembly produces.
+struct CellOut {
+  std::vector<ClipVertex2> vertices;     // rings, concatenated
+  std::vector<std::uint32_t> tris;       // per vertex: its triangle if a Voronoi vertex
+  std::vector<std::uint32_t> ring_ends;  // end offset of each ring in `vertices`
+  std::vector<std::uint32_t> walked;     // neighbours whose whole Voronoi edge was walked
+};
+
+// Integrals over a cell of rho, rho x, rho |x - s|^2, and the area, accumulated ring by
+// ring over the fan of triangles (s, v_j, v_j+1) from the site s (signed areas: valid
+// for any set of closed rings).
+struct Moments {
+  double area = 0, mass = 0, mx = 0, my = 0, energy = 0;  // mx, my relative to s
+};
+
+// Dunavant's degree-4 rule (6 points) on a triangle, barycentric coordinates and weights
+// summing to 1.
+constexpr double kQa = 0.445948490915965, kQb = 0.091576213509771;
+constexpr double kQwa = 0.223381589678011, kQwb = 0.109951743655322;
+constexpr double kQuad[6][4] = {{kQa, kQa, 1 - 2 * kQa, kQwa}, {kQa, 1 - 2 * kQa, kQa, kQwa},
+                                {1 - 2 * kQa, kQa, kQa, kQwa}, {kQb, kQb, 1 - 2 * kQb, kQwb},
+                                {kQb, 1 - 2 * kQb, kQb, kQwb}, {1 - 2 * kQb, kQb, kQb, kQwb}};
+
+void add_triangle(const Density2& rho, const double* s, double ux, double uy, double wx, double wy,
+                  Moments& m) {
+  const double a = 0.5 * (ux * wy - uy * wx);
+  m.area += a;
+  switch (rho.kind) {
+    case Density2::Kind::kConstant: {
+      const double r = rho.value;
+      m.mass += r * a;
+      m.mx += r * a * (ux + wx) / 3;
+      m.my += r * a * (uy + wy) / 3;
+      m.energy += r * a * (ux * ux + uy * uy + wx * wx + wy * wy + ux * wx + uy * wy) / 6;
+      return;
+    }
+    case Density2::Kind::kGrid: {
+      // rho linear on the triangle, from its values at the three vertices: exact moments.
+      const double r0 = rho(s[0], s[1]), r1 = rho(s[0] + ux, s[1] + uy);
+      const double r2 = rho(s[0] + wx, s[1] + wy);
+      m.mass += a * (r0 + r1 + r2) / 3;
+      m.mx += a * ((r0 + 2 * r1 + r2) * ux + (r0 + r1 + 2 * r2) * wx) / 12;
+      m.my += a * ((r0 + 2 * r1 + r2) * uy + (r0 + r1 + 2 * r2) * wy) / 12;
+      double e = 0;  // degree 3: the degree-4 rule is exact
+      for (const auto& q : kQuad) {
+        const double x = q[1] * ux + q[2] * wx, y = q[1] * uy + q[2] * wy;
+        e += q[3] * (q[0] * r0 + q[1] * r1 + q[2] * r2) * (x * x + y * y);
+      }
+      m.energy += a * e;
+      return;
+    }
+    case Density2::Kind::kCallback: {
+      double mass = 0, mx = 0, my = 0, e = 0;
+      for (const auto& q : kQuad) {
+        const double x = q[1] * ux + q[2] * wx, y = q[1] * uy + q[2] * wy;
+        const double r = q[3] * rho.callback(s[0] + x, s[1] + y);
+        mass += r;
+        mx += r * x;
+        my += r * y;
+        e += r * (x * x + y * y);
+      }
+      m.mass += a * mass;
+      m.mx += a * mx;
+      m.my += a * my;
+      m.energy += a * e;
+      return;
+    }
+  }
+}
+
+// Exact parity test: does ring r of the domain wind around p (p not on the ring)?
+bool ring_encloses(const Domain2& domain, std::uint32_t r, const double* p) {
+  bool inside = false;
+  for (std::uint32_t v = domain.ring_begin(r); v < domain.ring_end(r); ++v) {
+    const double* a = domain.vertex(v);
+    const double* b = domain.vertex(domain.next(v));
+    const bool a_above = a[1] > p[1], b_above = b[1] > p[1];
+    if (a_above == b_above) continue;
+    // The edge crosses the horizontal line through p (half-open in y): is p left of it?
+    const Sign o = a_above ? orient2d(b, a, p) : orient2d(a, b, p);
+    if (o == Sign::positive) inside = !inside;
+  }
+  return inside;
+}
+
+}  // namespace clip2
+
+using namespace clip2;
+
+struct Clip2Impl {
+  const Domain2& domain;
+  const Delaunay2& dt;
+  const Clip2Options& options;
+  ClippedVoronoi2& out;
+  Clip2Impl(const Domain2& d, const Delaunay2& t, const Clip2Options& o, ClippedVoronoi2& r)
+      : domain(d), dt(t), options(o), out(r) {}
+
+  std::uint32_t n = 0;
+  std::vector<double> circ;  // circumcenter of each finite triangle
+  std::vector<Chain> chains;
+  std::vector<ClipVertex2> chain_vertices;
+  std::vector<std::uint32_t> cell_chain_begin;  // chains sorted by cell: CSR offsets
+  std::vector<std::uint32_t> chain_order;
+  std::vector<std::uint32_t> boundary_cells;
+  std::vector<CellOut> cell_out;    // per boundary cell, in boundary_cells order
+  std::vector<std::int8_t> status;  // per site: 1 inside, 0 outside, -1 unknown
+
+  const double* site(std::uint32_t i) const { return dt.point(i); }
+
+  // ---- Symbolic vertex coordinates (one formula per vertex, shared by every cell)
+  void coords(const ClipVertex2& v, double* xy) const {
+    switch (v.kind) {
+      case Kind::kDomainVertex:
+        xy[0] = domain.vertex(v.a)[0];
+        xy[1] = domain.vertex(v.a)[1];
+        return;
+      case Kind::kEdgeBisector: {
+        const double* a = domain.vertex(v.a);
+        const double* b = domain.vertex(domain.next(v.a));
+        const double* pi = site(v.b);
+        const double* pk = site(v.c);
+        // F(x) = |x - pi|^2 - |x - pk|^2 = 2 x.(pk - pi) + |pi|^2 - |pk|^2, zero at q.
+        const double dx = pk[0] - pi[0], dy = pk[1] - pi[1];
+        const double mx = 0.5 * (pi[0] + pk[0]), my = 0.5 * (pi[1] + pk[1]);
+        const double fa = (a[0] - mx) * dx + (a[1] - my) * dy;
+        const double fb = (b[0] - mx) * dx + (b[1] - my) * dy;
+        double t = fa / (fa - fb);
+        if (!(t >= 0)) t = 0;  // rounding (or a symbolic tie) at an end
+        if (t > 1) t = 1;
+        xy[0] = a[0] + t * (b[0] - a[0]);
+        xy[1] = a[1] + t * (b[1] - a[1]);
+        return;
+      }
+      case Kind::kVoronoi:
+        break;
+    }
+    throw Error("clip2d: internal error: a Voronoi vertex without its triangle");
+  }
+
+  // ---- Step 1: walk the rings.
+  std::uint32_t cell_of_vertex(const double* a, std::uint32_t hint,
+                               std::vector<std::uint32_t>& scratch) const {
+    std::uint32_t c = dt.nearest_vertex(a[0], a[1], hint);
+    // Descent to the perturbed cell: exact ties between sites go to the larger index.
+    for (bool moved = true; moved;) {
+      moved = false;
+      dt.vertex_neighbors(c, scratch);
+      for (const std::uint32_t k : scratch) {
+        if (bisector_side_vertex2d(site(c), site(k), a, c, k) == Sign::positive) {
+          c = k;
+          moved = true;
+          break;
+        }
+      }
+    }
+    return c;
+  }
+
+  void walk_rings() {
+    std::vector<std::uint32_t> nbrs, candidates;
+    std::uint32_t hint = Delaunay2::kNone;
+    for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+      const std::uint32_t v0 = domain.ring_begin(r);
+      const std::uint32_t c0 = cell_of_vertex(domain.vertex(v0), hint, nbrs);
+      hint = dt.vertex_triangle(c0);
+      const std::size_t first_chain = chains.size();
+      std::uint32_t c = c0;
+      Chain cur{c, static_cast<std::uint32_t>(chain_vertices.size()), 0, kNone, kNone, kNone, kNone,
+                r};
+      chain_vertices.push_back(domain_vertex(v0));
+      std::uint32_t v = v0;
+      do {
+        const std::uint32_t w = domain.next(v);
+        const double* a = domain.vertex(v);
+        const double* b = domain.vertex(w);
+        for (;;) {
+          dt.vertex_neighbors(c, nbrs);
+          candidates.clear();
+          for (const std::uint32_t k : nbrs) {
+            if (bisector_side_vertex2d(site(c), site(k), b, c, k) == Sign::positive) {
+              candidates.push_back(k);
+            }
+          }
+          if (candidates.empty()) break;
+          std::uint32_t best = candidates[0];
+          for (std::size_t j = 1; j < candidates.size(); ++j) {
+            const std::uint32_t k = candidates[j];
+            if (bisector_side_edge2d(site(c), site(k), site(best), a, b, c, k, best) ==
+                Sign::negative) {
+              best = k;
+            }
+          }
+          // Leave c through bisector(c, best) on edge v.
+          chain_vertices.push_back(edge_bisector(v, c, best));
+          cur.end = static_cast<std::uint32_t>(chain_vertices.size());
+          cur.exit_edge = v;
+          cur.exit_site = best;
+          chains.push_back(cur);
+          cur = Chain{
+              best, static_cast<std::uint32_t>(chain_vertices.size()), 0, v, c, kNone, kNone, r};
+          chain_vertices.push_back(edge_bisector(v, c, best));
+          c = best;
+        }
+        if (w != v0) chain_vertices.push_back(domain_vertex(w));
+        v = w;
+      } while (v != v0);
+      if (c != c0) {
+        throw Error("clip2d: internal error: the walk around ring " + std::to_string(r) +
+                    " did not return to its first cell");
+      }
+      cur.end = static_cast<std::uint32_t>(chain_vertices.size());
+      if (chains.size() == first_chain) {
+        chains.push_back(cur);  // the whole ring lies in one cell: a closed chain
+        continue;
+      }
+      // The last chain continues into the first one (they are in cell c0, split at v0):
+      // append the first chain's vertices to it and let it replace the first.
+      Chain& first = chains[first_chain];
+      std::vector<ClipVertex2> tail(chain_vertices.begin() + first.begin,
+                                    chain_vertices.begin() + first.end);
+      const std::uint32_t begin = cur.begin;
+      chain_vertices.insert(chain_vertices.end(), tail.begin(), tail.end());
+      first.begin = begin;
+      first.end = static_cast<std::uint32_t>(chain_vertices.size());
+      first.entry_edge = cur.entry_edge;
+      first.entry_site = cur.entry_site;
+    }
+    // Chains grouped by cell (counting sort, stable: ring order within a cell).
+    cell_chain_begin.assign(n + 1, 0);
+    for (const Chain& ch : chains) ++cell_chain_begin[ch.cell + 1];
+    for (std::uint32_t i = 0; i < n; ++i) cell_chain_begin[i + 1] += cell_chain_begin[i];
+    chain_order.resize(chains.size());
+    std::vector<std::uint32_t> fill(cell_chain_begin.begin(), cell_chain_begin.end() - 1);
+    for (std::uint32_t k = 0; k < chains.size(); ++k) chain_order[fill[chains[k].cell]++] = k;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (cell_chain_begin[i + 1] > cell_chain_begin[i]) boundary_cells.push_back(i);
+    }
+  }
+
+  // ---- Step 2: assemble a boundary cell.
+  struct Crossing {
+    std::uint32_t chain;
+    bool entry;
+    std::uint32_t slot;  // position of the neighbour (Voronoi edge) around the cell
+    std::uint32_t edge;  // domain edge crossing it
+  };
+
+  void assemble(std::uint32_t c, std::vector<std::uint32_t>& tris, std::vector<std::uint32_t>& nbrs,
+                std::vector<Crossing>& xs, CellOut& res) const {
+    dt.triangles_around_vertex(c, tris);
+    const std::uint32_t nt = static_cast<std::uint32_t>(tris.size());
+    nbrs.clear();
+    for (const std::uint32_t t : tris) {
+      nbrs.push_back(dt.tri_vertex(t, (dt.local_index(t, c) + 1) % 3));
+    }
+    const bool hull = dt.is_hull_vertex(c);
+    if (hull) {
+      const std::uint32_t t = tris.back();
+      nbrs.push_back(dt.tri_vertex(t, (dt.local_index(t, c) + 2) % 3));
+    }
+    const std::uint32_t m = static_cast<std::uint32_t>(nbrs.size());
+    // Voronoi edge of neighbour slot j runs from the circumcenter of tris[j - 1] to that
+    // of tris[j] (counter-clockwise around c); for a hull cell slot 0 comes from infinity
+    // and slot m - 1 goes to infinity.
+    const auto slot_of = [&](std::uint32_t k) {
+      for (std::uint32_t j = 0; j < m; ++j) {
+        if (nbrs[j] == k) return j;
+      }
+      throw Error("clip2d: internal error: crossing with a site that is not a neighbour");
+    };
+    const auto push_voronoi = [&](std::uint32_t j) {
+      const std::uint32_t t = tris[j % nt];
+      res.vertices.push_back(
+          voronoi_vertex(dt.tri_vertex(t, 0), dt.tri_vertex(t, 1), dt.tri_vertex(t, 2)));
+      res.tris.push_back(t);
+    };
+    const auto push_chain = [&](const Chain& ch) {
+      for (std::uint32_t k = ch.begin; k < ch.end; ++k) {
+        res.vertices.push_back(chain_vertices[k]);
+        res.tris.push_back(kNone);
+      }
+    };
+    const auto push_ring_end = [&] {
+      res.ring_ends.push_back(static_cast<std::uint32_t>(res.vertices.size()));
+    };
+
+    xs.clear();
+    bool open = false;
+    std::vector<std::uint8_t> ring_in_cell;  // rings with a chain in this cell
+    for (std::uint32_t q = cell_chain_begin[c]; q < cell_chain_begin[c + 1]; ++q) {
+      const Chain& ch = chains[chain_order[q]];
+      if (ch.entry_site == kNone) {
+        push_chain(ch);
+        push_ring_end();
+        if (ring_in_cell.empty()) ring_in_cell.assign(domain.nb_rings(), 0);
+        ring_in_cell[ch.ring] = 1;
+        continue;
+      }
+      open = true;
+      xs.push_back({chain_order[q], true, slot_of(ch.entry_site), ch.entry_edge});
+      xs.push_back({chain_order[q], false, slot_of(ch.exit_site), ch.exit_edge});
+    }
+
+    if (!open) {
+      // No crossing: the cell's boundary is wholly inside or outside the domain. Inside
+      // exactly when an odd number of the rings that miss the cell wind around the site.
+      if (hull) return;
+      bool inside = false;
+      for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+        if (!ring_in_cell.empty() && ring_in_cell[r]) continue;
+        if (ring_encloses(domain, r, site(c))) inside = !inside;
+      }
+      if (!inside) return;
+      for (std::uint32_t j = 0; j < m; ++j) push_voronoi(j);
+      push_ring_end();
+      res.walked = nbrs;
+      return;
+    }
+
+    // Crossings in counter-clockwise order around the cell.
+    const double* pc = site(c);
+    std::sort(xs.begin(), xs.end(), [&](const Crossing& x, const Crossing& y) {
+      if (x.slot != y.slot) return x.slot < y.slot;
+      if (x.edge == y.edge && x.chain == y.chain) return false;
+      const std::uint32_t k = nbrs[x.slot];
+      const double* a1 = domain.vertex(x.edge);
+      const double* b1 = domain.vertex(domain.next(x.edge));
+      const double* a2 = domain.vertex(y.edge);
+      const double* b2 = domain.vertex(domain.next(y.edge));
+      const Sign s = compare_on_bisector2d(pc, site(k), a1, b1, a2, b2, c, k);
+      if (s == Sign::zero) {
+        throw Error("clip2d: internal error: two boundary edges cross bisector(" +
+                    std::to_string(c) + ", " + std::to_string(k) + ") at the same point");
+      }
+      return s == Sign::positive;
+    });
+    const std::uint32_t nx = static_cast<std::uint32_t>(xs.size());
+    // Position of each chain's exit in the sorted crossings.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> exit_of;
+    for (std::uint32_t q = 0; q < nx; ++q) {
+      if (!xs[q].entry) exit_of.emplace_back(xs[q].chain, q);
+    }
+    std::sort(exit_of.begin(), exit_of.end());
+    std::vector<std::uint8_t> used(nx, 0);
+    std::vector<std::uint8_t> walked(m, 0);
+    for (std::uint32_t s0 = 0; s0 < nx; ++s0) {
+      if (xs[s0].entry || used[s0]) continue;
+      // Start a ring at the chain ending at exit s0.
+      std::uint32_t s = s0;
+      for (std::uint32_t guard = 0;; ++guard) {
+        if (guard > nx) throw Error("clip2d: internal error: a cell ring does not close");
+        used[s] = 1;
+        const std::uint32_t next = (s + 1) % nx;
+        const Crossing& ex = xs[s];
+        const Crossing& en = xs[next];
+        if (!en.entry) {
+          throw Error("clip2d: internal error: two exits in a row around cell " +
+                      std::to_string(c));
+        }
+        // Voronoi vertices between the exit and the next entry.
+        std::uint32_t steps = (en.slot + m - ex.slot) % m;
+        if (next <= s && en.slot == ex.slot) steps = m;  // all the way around
+        if (hull && ex.slot + steps > m - 1) {
+          throw Error("clip2d: internal error: cell " + std::to_string(c) +
+                      " would be closed through infinity");
+        }
+        for (std::uint32_t j = 0; j < steps; ++j) {
+          push_voronoi(ex.slot + j);
+          if (j > 0) walked[(ex.slot + j) % m] = 1;
+        }
+        // The entry's chain, from its entry crossing to its exit crossing.
+        push_chain(chains[en.chain]);
+        used[next] = 1;
+        // Continue at that chain's exit.
+        const auto it = std::lower_bound(exit_of.begin(), exit_of.end(),
+                                         std::make_pair(en.chain, std::uint32_t{0}));
+        const std::uint32_t e = it->second;
+        if (e == s0) break;
+        s = e;
+      }
+      push_ring_end();
+    }
+    for (std::uint32_t j = 0; j < m; ++j) {
+      if (walked[j]) res.walked.push_back(nbrs[j]);
+    }
+  }
+
+  void run() {
+    n = dt.nb_points();
+    const std::uint32_t nt = dt.nb_triangles();
+    circ.resize(2 * std::size_t{nt});
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 4096), [&](const auto& range) {
+      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+        dt.circumcenter(t, circ.data() + 2 * std::size_t{t});
+      }
+    });
+    walk_rings();
+
+    // Assemble boundary cells.
+    cell_out.assign(boundary_cells.size(), CellOut{});
+    struct Scratch {
+      std::vector<std::uint32_t> tris, nbrs;
+      std::vector<Crossing> xs;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 16),
+                      [&](const auto& range) {
+                        Scratch& s = scratch.local();
+                        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                          assemble(boundary_cells[q], s.tris, s.nbrs, s.xs, cell_out[q]);
+                        }
+                      });
+
+    // Inside/outside of the other cells: seeded by boundary cells, then a flood fill.
+    status.assign(n, -1);
+    std::vector<std::uint8_t> is_b(n, 0);
+    for (const std::uint32_t c : boundary_cells) is_b[c] = 1;
+    std::vector<std::uint32_t> queue, nbrs;
+    for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
+      const std::uint32_t c = boundary_cells[q];
+      dt.vertex_neighbors(c, nbrs);
+      for (const std::uint32_t k : nbrs) {
+        if (is_b[k] || status[k] != -1) continue;
+        const auto& w = cell_out[q].walked;
+        status[k] = std::find(w.begin(), w.end(), k) != w.end() ? 1 : 0;
+        queue.push_back(k);
+      }
+    }
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const std::uint32_t c = queue[h];
+      dt.vertex_neighbors(c, nbrs);
+      for (const std::uint32_t k : nbrs) {
+        if (is_b[k] || status[k] != -1) continue;
+        status[k] = status[c];
+        queue.push_back(k);
+      }
+    }
+
+    integrate();
+  }
+
+  void integrate() {
+    out.area_.assign(n, 0);
+    out.mass_.assign(n, 0);
+    out.energy_.assign(n, 0);
+    out.centroid_.resize(2 * std::size_t{n});
+    out.boundary_.assign(n, 0);
+    out.nb_boundary_ = static_cast<std::uint32_t>(boundary_cells.size());
+    for (const std::uint32_t c : boundary_cells) out.boundary_[c] = 1;
+    std::vector<std::uint32_t> slot(n, kNone);
+    for (std::uint32_t q = 0; q < boundary_cells.size(); ++q) slot[boundary_cells[q]] = q;
+
+    const Density2& rho = options.density;
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> tri_scratch;
+    tbb::enumerable_thread_specific<std::vector<double>> xy_scratch;
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
+      std::vector<std::uint32_t>& tris = tri_scratch.local();
+      std::vector<double>& xy = xy_scratch.local();
+      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+        const double* s = site(i);
+        Moments m;
+        const auto add_ring = [&](const double* ring, std::size_t count) {
+          for (std::size_t j = 0; j < count; ++j) {
+            const double* u = ring + 2 * j;
+            const double* w = ring + 2 * ((j + 1) % count);
+            add_triangle(rho, s, u[0] - s[0], u[1] - s[1], w[0] - s[0], w[1] - s[1], m);
+          }
+        };
+        if (dt.duplicate_of(i) != i) {
+          // An exact duplicate: its cell is empty.
+        } else if (slot[i] != kNone) {
+          const CellOut& co = cell_out[slot[i]];
+          std::uint32_t begin = 0;
+          for (const std::uint32_t end : co.ring_ends) {
+            xy.resize(2 * std::size_t{end - begin});
+            for (std::uint32_t k = begin; k < end; ++k) {
+              vertex_xy(co, k, xy.data() + 2 * std::size_t{k - begin});
+            }
+            add_ring(xy.data(), end - begin);
+            begin = end;
+          }
+        } else if (status[i] == 1) {
+          dt.triangles_around_vertex(i, tris);
+          xy.resize(2 * tris.size());
+          for (std::size_t k = 0; k < tris.size(); ++k) {
+            xy[2 * k] = circ[2 * std::size_t{tris[k]}];
+            xy[2 * k + 1] = circ[2 * std::size_t{tris[k]} + 1];
+          }
+          add_ring(xy.data(), tris.size());
+        }
+        out.area_[i] = m.area;
+        out.mass_[i] = m.mass;
+        out.energy_[i] = m.energy;
+        if (m.mass > 0) {
+          out.centroid_[2 * std::size_t{i}] = s[0] + m.mx / m.mass;
+          out.centroid_[2 * std::size_t{i} + 1] = s[1] + m.my / m.mass;
+        } else {
+          out.centroid_[2 * std::size_t{i}] = s[0];
+          out.centroid_[2 * std::size_t{i} + 1] = s[1];
+        }
+      }
+    });
+    out.total_area_ = out.total_mass_ = out.total_energy_ = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      out.total_area_ += out.area_[i];
+      out.total_mass_ += out.mass_[i];
+      out.total_energy_ += out.energy_[i];
+    }
+
+    out.cell_ring_begin_.clear();
+    out.ring_vertex_begin_.clear();
+    out.vertices_.clear();
+    out.vertex_xy_.clear();
+    if (!options.keep_geometry) return;
+    std::vector<std::uint32_t> tris;
+    out.cell_ring_begin_.push_back(0);
+    out.ring_vertex_begin_.push_back(0);
+    const auto push_vertex = [&](const CellOut& co, std::uint32_t k) {
+      double xy[2];
+      vertex_xy(co, k, xy);
+      out.vertices_.push_back(co.vertices[k]);
+      out.vertex_xy_.push_back(xy[0]);
+      out.vertex_xy_.push_back(xy[1]);
+    };
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (dt.duplicate_of(i) == i && slot[i] != kNone) {
+        const CellOut& co = cell_out[slot[i]];
+        std::uint32_t begin = 0;
+        for (const std::uint32_t end : co.ring_ends) {
+          for (std::uint32_t k = begin; k < end; ++k) push_vertex(co, k);
+          out.ring_vertex_begin_.push_back(static_cast<std::uint32_t>(out.vertices_.size()));
+          begin = end;
+        }
+      } else if (dt.duplicate_of(i) == i && status[i] == 1) {
+        dt.triangles_around_vertex(i, tris);
+        for (const std::uint32_t t : tris) {
+          out.vertices_.push_back(
+              voronoi_vertex(dt.tri_vertex(t, 0), dt.tri_vertex(t, 1), dt.tri_vertex(t, 2)));
+          out.vertex_xy_.push_back(circ[2 * std::size_t{t}]);
+          out.vertex_xy_.push_back(circ[2 * std::size_t{t} + 1]);
+        }
+        out.ring_vertex_begin_.push_back(static_cast<std::uint32_t>(out.vertices_.size()));
+      }
+      out.cell_ring_begin_.push_back(static_cast<std::uint32_t>(out.ring_vertex_begin_.size() - 1));
+    }
+  }
+
+  void vertex_xy(const CellOut& co, std::uint32_t k, double* xy) const {
+    if (co.tris[k] == kNone) {
+      coords(co.vertices[k], xy);
+      return;
+    }
+    xy[0] = circ[2 * std::size_t{co.tris[k]}];
+    xy[1] = circ[2 * std::size_t{co.tris[k]} + 1];
+  }
+};
+
+void ClippedVoronoi2::compute(const Domain2& domain, const Delaunay2& dt,
+                              const Clip2Options& options) {
+  if (domain.nb_rings() == 0) throw Error("clip2d: the domain is empty");
+  if (dt.nb_points() == 0) throw Error("clip2d: no sites");
+  Clip2Impl impl(domain, dt, options, *this);
+  impl.run();
+}
+
+}  // namespace voroclip

@@ -1,0 +1,109 @@
+// voroclip/cvt.h — centroidal Voronoi tessellations (the module's one public header).
+//
+// The CVT energy of sites x_i in a domain (Yan et al. 2011, eq. 1) is
+//     F(X) = sum_i ∫_{cell_i ∩ domain} rho(x) |x - x_i|^2 dx,
+// with gradient dF/dx_i = 2 m_i (x_i - c_i) (eq. 2), m_i the mass and c_i the centroid of
+// the clipped cell. Both come from one clipped Voronoi diagram (clip.h). Minimisers:
+//   Lloyd   x_i <- c_i, each step one diagram;
+//   L-BFGS  quasi-Newton on F (Liu et al. 2009), LBFGSpp's L-BFGS-B, so that sites sliding
+//           on the boundary keep their arclength within bounds.
+// Constraints (mesh generation, sec. 5.1): a site may be free, fixed, or slide along a
+// boundary path of the domain (a chain of domain edges between two corners, or a whole
+// ring). Sliding sites are parametrised by arclength s on their path; their gradient is
+// the tangential component of dF/dx_i (eq. 3) and Lloyd moves them to the projection of
+// their centroid on the path.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "voroclip/clip.h"
+
+namespace voroclip {
+
+// A path along the boundary of a Domain2: the domain vertices first, next(first), ...,
+// last, walked in the ring's direction (first == last with closed == true: the whole
+// ring, starting and ending at `first`).
+struct BoundaryPath2 {
+  std::uint32_t first = 0, last = 0;
+  bool closed = false;
+};
+
+// Splits every ring of the domain at its corners: vertices where the boundary turns by
+// more than `corner_angle_deg` (the angle between the directions of the edges before and
+// after). A ring without such a corner becomes one closed path. `corners` receives the
+// corner vertices, in ring order.
+std::vector<BoundaryPath2> boundary_paths(const Domain2& domain, double corner_angle_deg,
+                                          std::vector<std::uint32_t>* corners = nullptr);
+
+// Arclength parametrisation of a path: position at s in [0, length()], and the closest
+// point of the path to a point (its arclength).
+class PathParam2 {
+ public:
+  PathParam2(const Domain2& domain, const BoundaryPath2& path);
+  double length() const { return cumulative_.back(); }
+  // Position and unit tangent (direction of travel) at arclength s (clamped; wraps for
+  // closed paths).
+  void eval(double s, double* xy, double* tangent = nullptr) const;
+  double closest(const double* p) const;
+  bool closed() const { return closed_; }
+
+ private:
+  std::vector<double> xy_;          // path vertices (closed: the first repeated at the end)
+  std::vector<double> cumulative_;  // arclength at each path vertex
+  bool closed_ = false;
+};
+
+struct SiteConstraint2 {
+  enum class Kind : std::uint8_t { kFree, kFixed, kSlide };
+  Kind kind = Kind::kFree;
+  std::uint32_t path = 0;  // kSlide: index into Cvt2Options::paths
+};
+
+struct CvtProgress {
+  std::uint32_t iteration = 0;
+  double energy = 0;
+  double gradient_norm = 0;  // of the free and tangential components
+  double seconds = 0;        // since the start of the optimisation
+};
+
+enum class CvtMethod { kLloyd, kLbfgs };
+
+struct Cvt2Options {
+  CvtMethod method = CvtMethod::kLbfgs;
+  std::uint32_t max_iterations = 100;
+  // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
+  double gradient_tolerance = 1e-4;
+  Density2 density;
+  std::uint32_t lbfgs_memory = 7;
+  // Called after every iteration (and once at the start, iteration 0); return false to
+  // stop (the result then has cancelled == true and the sites of that iteration).
+  std::function<bool(const CvtProgress&)> progress;
+  // Empty: every site free. Otherwise one entry per site.
+  std::vector<SiteConstraint2> constraints;
+  std::vector<BoundaryPath2> paths;
+};
+
+struct Cvt2Result {
+  std::uint32_t iterations = 0;
+  std::uint32_t evaluations = 0;  // clipped diagrams computed
+  double energy = 0;
+  double gradient_norm = 0, initial_gradient_norm = 0;
+  double seconds = 0;
+  bool converged = false;
+  bool cancelled = false;
+};
+
+// The CVT energy and its gradient (2 per site; constrained sites: projected as above) at
+// the given sites. One Delaunay triangulation and one clipped diagram.
+double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, const Density2& density,
+                   std::vector<double>* gradient = nullptr);
+
+// Minimises the CVT energy from the given sites (updated in place). Sliding sites must
+// lie on their path on entry (snap them with PathParam2::closest/eval). Deterministic:
+// identical results for any thread count.
+Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
+                         const Cvt2Options& options);
+
+}  // namespace voroclip

@@ -1,0 +1,399 @@
+// CVT in 2D: energy and gradient from the clipped Voronoi diagram (Yan et al. 2011,
+// sec. 2, eq. 1-3), minimised by Lloyd's iteration or by L-BFGS (Liu, Wang, Lévy et al.,
+// "On centroidal Voronoi tessellation — energy smoothness and fast computation", ACM TOG
+// 2009) through LBFGSpp's L-BFGS-B, whose box constraints keep sliding sites within their
+// boundary paths.
+#include <LBFGSB.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "voroclip/cvt.h"
+
+namespace voroclip {
+
+// ---------------------------------------------------------------------------------------
+// Boundary paths.
+
+std::vector<BoundaryPath2> boundary_paths(const Domain2& domain, double corner_angle_deg,
+                                          std::vector<std::uint32_t>* corners) {
+  const double cos_limit = std::cos(corner_angle_deg * M_PI / 180);
+  std::vector<BoundaryPath2> paths;
+  if (corners) corners->clear();
+  std::vector<std::uint32_t> ring_corners;
+  for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+    ring_corners.clear();
+    for (std::uint32_t v = domain.ring_begin(r); v < domain.ring_end(r); ++v) {
+      const double* a = domain.vertex(domain.prev(v));
+      const double* b = domain.vertex(v);
+      const double* c = domain.vertex(domain.next(v));
+      const double ux = b[0] - a[0], uy = b[1] - a[1], wx = c[0] - b[0], wy = c[1] - b[1];
+      const double cosine = (ux * wx + uy * wy) / (std::hypot(ux, uy) * std::hypot(wx, wy));
+      if (cosine < cos_limit) ring_corners.push_back(v);
+    }
+    if (corners) corners->insert(corners->end(), ring_corners.begin(), ring_corners.end());
+    if (ring_corners.empty()) {
+      paths.push_back({domain.ring_begin(r), domain.ring_begin(r), true});
+      continue;
+    }
+    for (std::size_t k = 0; k < ring_corners.size(); ++k) {
+      paths.push_back(
+          {ring_corners[k], ring_corners[(k + 1) % ring_corners.size()], ring_corners.size() == 1});
+    }
+  }
+  return paths;
+}
+
+PathParam2::PathParam2(const Domain2& domain, const BoundaryPath2& path) : closed_(path.closed) {
+  std::uint32_t v = path.first;
+  do {
+    xy_.push_back(domain.vertex(v)[0]);
+    xy_.push_back(domain.vertex(v)[1]);
+    v = domain.next(v);
+  } while (v != path.last);
+  xy_.push_back(domain.vertex(v)[0]);
+  xy_.push_back(domain.vertex(v)[1]);
+  cumulative_.push_back(0);
+  for (std::size_t k = 1; k < xy_.size() / 2; ++k) {
+    cumulative_.push_back(cumulative_.back() +
+                          std::hypot(xy_[2 * k] - xy_[2 * k - 2], xy_[2 * k + 1] - xy_[2 * k - 1]));
+  }
+}
+
+void PathParam2::eval(double s, double* xy, double* tangent) const {
+  const double len = length();
+  if (closed_) {
+    s = std::fmod(s, len);
+    if (s < 0) s += len;
+  } else {
+    s = std::clamp(s, 0.0, len);
+  }
+  std::size_t k = static_cast<std::size_t>(
+      std::upper_bound(cumulative_.begin(), cumulative_.end(), s) - cumulative_.begin());
+  k = std::clamp<std::size_t>(k, 1, cumulative_.size() - 1);
+  const double* a = &xy_[2 * (k - 1)];
+  const double* b = &xy_[2 * k];
+  const double seg = cumulative_[k] - cumulative_[k - 1];
+  const double t = seg > 0 ? (s - cumulative_[k - 1]) / seg : 0;
+  xy[0] = a[0] + t * (b[0] - a[0]);
+  xy[1] = a[1] + t * (b[1] - a[1]);
+  if (tangent) {
+    tangent[0] = seg > 0 ? (b[0] - a[0]) / seg : 0;
+    tangent[1] = seg > 0 ? (b[1] - a[1]) / seg : 0;
+  }
+}
+
+double PathParam2::closest(const double* p) const {
+  double best = std::numeric_limits<double>::infinity(), best_s = 0;
+  for (std::size_t k = 1; k < cumulative_.size(); ++k) {
+    const double* a = &xy_[2 * (k - 1)];
+    const double* b = &xy_[2 * k];
+    const double dx = b[0] - a[0], dy = b[1] - a[1];
+    const double l2 = dx * dx + dy * dy;
+    double t = l2 > 0 ? ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2 : 0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double qx = a[0] + t * dx - p[0], qy = a[1] + t * dy - p[1];
+    const double d2 = qx * qx + qy * qy;
+    if (d2 < best) {
+      best = d2;
+      best_s = cumulative_[k - 1] + t * (cumulative_[k] - cumulative_[k - 1]);
+    }
+  }
+  return best_s;
+}
+
+// ---------------------------------------------------------------------------------------
+// The optimisation problem: variables z (free sites: x, y; sliding sites: s; fixed: none).
+
+namespace {
+
+struct Cancelled {};
+
+class Problem {
+ public:
+  Problem(const Domain2& domain, std::vector<double>& sites, const Cvt2Options& options)
+      : domain_(domain), sites_(sites), options_(options), n_(sites.size() / 2) {
+    if (sites.size() % 2 != 0) throw Error("cvt2d: the site array has an odd length");
+    if (!options.constraints.empty() && options.constraints.size() != n_) {
+      throw Error("cvt2d: " + std::to_string(options.constraints.size()) + " constraints for " +
+                  std::to_string(n_) + " sites");
+    }
+    for (const BoundaryPath2& p : options.paths) params_.emplace_back(domain, p);
+    offset_.resize(n_ + 1, 0);
+    for (std::size_t i = 0; i < n_; ++i) offset_[i + 1] = offset_[i] + nb_vars(i);
+    clip_options_.density = options.density;
+  }
+
+  std::size_t nb_variables() const { return offset_[n_]; }
+
+  SiteConstraint2::Kind kind(std::size_t i) const {
+    return options_.constraints.empty() ? SiteConstraint2::Kind::kFree
+                                        : options_.constraints[i].kind;
+  }
+  const PathParam2& path(std::size_t i) const { return params_[options_.constraints[i].path]; }
+
+  // Current sites -> variables (sliding sites: the arclength of their closest point).
+  Eigen::VectorXd variables() const {
+    Eigen::VectorXd z(static_cast<Eigen::Index>(nb_variables()));
+    for (std::size_t i = 0; i < n_; ++i) {
+      const auto o = static_cast<Eigen::Index>(offset_[i]);
+      switch (kind(i)) {
+        case SiteConstraint2::Kind::kFree:
+          z[o] = sites_[2 * i];
+          z[o + 1] = sites_[2 * i + 1];
+          break;
+        case SiteConstraint2::Kind::kSlide:
+          z[o] = path(i).closest(&sites_[2 * i]);
+          break;
+        case SiteConstraint2::Kind::kFixed:
+          break;
+      }
+    }
+    return z;
+  }
+
+  void bounds(Eigen::VectorXd& lo, Eigen::VectorXd& hi) const {
+    const double inf = std::numeric_limits<double>::infinity();
+    lo = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(nb_variables()), -inf);
+    hi = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(nb_variables()), inf);
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (kind(i) == SiteConstraint2::Kind::kSlide && !path(i).closed()) {
+        lo[static_cast<Eigen::Index>(offset_[i])] = 0;
+        hi[static_cast<Eigen::Index>(offset_[i])] = path(i).length();
+      }
+    }
+  }
+
+  // Variables -> sites.
+  void place(const Eigen::VectorXd& z) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      const auto o = static_cast<Eigen::Index>(offset_[i]);
+      switch (kind(i)) {
+        case SiteConstraint2::Kind::kFree:
+          sites_[2 * i] = z[o];
+          sites_[2 * i + 1] = z[o + 1];
+          break;
+        case SiteConstraint2::Kind::kSlide:
+          path(i).eval(z[o], &sites_[2 * i]);
+          break;
+        case SiteConstraint2::Kind::kFixed:
+          break;
+      }
+    }
+  }
+
+  // Energy at the current sites; gradient with respect to the variables at z.
+  double evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* grad) {
+    clip_current();
+    if (grad) {
+      grad->resize(static_cast<Eigen::Index>(nb_variables()));
+      for (std::size_t i = 0; i < n_; ++i) {
+        const auto o = static_cast<Eigen::Index>(offset_[i]);
+        const auto u = static_cast<std::uint32_t>(i);
+        const double gx = 2 * cv_.mass(u) * (sites_[2 * i] - cv_.centroid(u)[0]);
+        const double gy = 2 * cv_.mass(u) * (sites_[2 * i + 1] - cv_.centroid(u)[1]);
+        switch (kind(i)) {
+          case SiteConstraint2::Kind::kFree:
+            (*grad)[o] = gx;
+            (*grad)[o + 1] = gy;
+            break;
+          case SiteConstraint2::Kind::kSlide: {
+            double xy[2], t[2];
+            path(i).eval(z[o], xy, t);
+            (*grad)[o] = gx * t[0] + gy * t[1];
+            break;
+          }
+          case SiteConstraint2::Kind::kFixed:
+            break;
+        }
+      }
+    }
+    ++evaluations_;
+    return cv_.total_energy();
+  }
+
+  // Norm of the gradient, without the components that push a bounded variable out.
+  double projected_norm(const Eigen::VectorXd& z, const Eigen::VectorXd& g,
+                        const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) const {
+    double s = 0;
+    for (Eigen::Index k = 0; k < g.size(); ++k) {
+      if ((z[k] <= lo[k] && g[k] > 0) || (z[k] >= hi[k] && g[k] < 0)) continue;
+      s += g[k] * g[k];
+    }
+    return std::sqrt(s);
+  }
+
+  // Lloyd: every site to its centroid (sliding sites: to the closest point of their path).
+  void lloyd_step() {
+    for (std::size_t i = 0; i < n_; ++i) {
+      const auto u = static_cast<std::uint32_t>(i);
+      if (cv_.mass(u) <= 0) continue;
+      switch (kind(i)) {
+        case SiteConstraint2::Kind::kFree:
+          sites_[2 * i] = cv_.centroid(u)[0];
+          sites_[2 * i + 1] = cv_.centroid(u)[1];
+          break;
+        case SiteConstraint2::Kind::kSlide:
+          path(i).eval(path(i).closest(cv_.centroid(u)), &sites_[2 * i]);
+          break;
+        case SiteConstraint2::Kind::kFixed:
+          break;
+      }
+    }
+  }
+
+  std::uint32_t evaluations() const { return evaluations_; }
+
+ private:
+  std::size_t nb_vars(std::size_t i) const {
+    switch (kind(i)) {
+      case SiteConstraint2::Kind::kFree:
+        return 2;
+      case SiteConstraint2::Kind::kSlide:
+        if (options_.constraints[i].path >= params_.size()) {
+          throw Error("cvt2d: site " + std::to_string(i) + " slides on path " +
+                      std::to_string(options_.constraints[i].path) + ", but there are only " +
+                      std::to_string(params_.size()));
+        }
+        return 1;
+      case SiteConstraint2::Kind::kFixed:
+        return 0;
+    }
+    return 0;
+  }
+
+  void clip_current() {
+    dt_.build(sites_.data(), static_cast<std::uint32_t>(n_));
+    cv_.compute(domain_, dt_, clip_options_);
+  }
+
+  const Domain2& domain_;
+  std::vector<double>& sites_;
+  const Cvt2Options& options_;
+  std::size_t n_;
+  std::vector<PathParam2> params_;
+  std::vector<std::size_t> offset_;
+  Clip2Options clip_options_;
+  Delaunay2 dt_;
+  ClippedVoronoi2 cv_;
+  std::uint32_t evaluations_ = 0;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, const Density2& density,
+                   std::vector<double>* gradient) {
+  if (sites.size() % 2 != 0) throw Error("cvt2d: the site array has an odd length");
+  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
+  const Delaunay2 dt(sites.data(), n);
+  ClippedVoronoi2 cv;
+  Clip2Options o;
+  o.density = density;
+  cv.compute(domain, dt, o);
+  if (gradient) {
+    gradient->resize(sites.size());
+    for (std::uint32_t i = 0; i < n; ++i) {
+      (*gradient)[2 * i] = 2 * cv.mass(i) * (sites[2 * i] - cv.centroid(i)[0]);
+      (*gradient)[2 * i + 1] = 2 * cv.mass(i) * (sites[2 * i + 1] - cv.centroid(i)[1]);
+    }
+  }
+  return cv.total_energy();
+}
+
+Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
+                         const Cvt2Options& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Problem problem(domain, sites, options);
+  Cvt2Result result;
+  Eigen::VectorXd lo, hi;
+  problem.bounds(lo, hi);
+  Eigen::VectorXd z = problem.variables();
+  problem.place(z);
+  Eigen::VectorXd g;
+  double f = problem.evaluate(z, &g);
+  result.initial_gradient_norm = problem.projected_norm(z, g, lo, hi);
+  result.energy = f;
+  result.gradient_norm = result.initial_gradient_norm;
+  const double target = options.gradient_tolerance * result.initial_gradient_norm;
+  const auto report = [&](std::uint32_t iteration, double energy, double gnorm) {
+    result.iterations = iteration;
+    result.energy = energy;
+    result.gradient_norm = gnorm;
+    if (options.progress && !options.progress({iteration, energy, gnorm, seconds_since(t0)})) {
+      throw Cancelled{};
+    }
+  };
+
+  try {
+    report(0, f, result.gradient_norm);
+    if (result.gradient_norm <= target || z.size() == 0) {
+      result.converged = true;
+    } else if (options.method == CvtMethod::kLloyd) {
+      for (std::uint32_t it = 1; it <= options.max_iterations; ++it) {
+        problem.lloyd_step();
+        z = problem.variables();
+        f = problem.evaluate(z, &g);
+        report(it, f, problem.projected_norm(z, g, lo, hi));
+        if (result.gradient_norm <= target) {
+          result.converged = true;
+          break;
+        }
+      }
+    } else {
+      // L-BFGS-B. An iteration is reported each time an evaluation improves on the best
+      // energy so far (the accepted points of the line searches).
+      LBFGSpp::LBFGSBParam<double> param;
+      param.m = static_cast<int>(std::max<std::uint32_t>(options.lbfgs_memory, 1));
+      param.max_iterations = static_cast<int>(options.max_iterations);
+      param.epsilon = target;
+      param.epsilon_rel = 0;
+      param.past = 0;
+      param.max_linesearch = 30;
+      LBFGSpp::LBFGSBSolver<double> solver(param);
+      Eigen::VectorXd best_z = z;
+      double best_f = f;
+      std::uint32_t accepted = 0;
+      auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+        problem.place(x);
+        const double fx = problem.evaluate(x, &grad);
+        if (fx < best_f) {
+          best_f = fx;
+          best_z = x;
+          report(++accepted, fx, problem.projected_norm(x, grad, lo, hi));
+        }
+        return fx;
+      };
+      double fx = f;
+      try {
+        solver.minimize(fun, z, fx, lo, hi);
+      } catch (const Error&) {
+        throw;
+      } catch (const std::runtime_error&) {
+        // The line search could not make progress (at the precision of the energy): the
+        // best point so far is the answer.
+      } catch (const std::logic_error&) {
+      }
+      z = best_z;
+      problem.place(z);
+      f = problem.evaluate(z, &g);
+      result.energy = f;
+      result.gradient_norm = problem.projected_norm(z, g, lo, hi);
+      result.converged = result.converged || result.gradient_norm <= target;
+    }
+  } catch (const Cancelled&) {
+    result.cancelled = true;
+  }
+  result.evaluations = problem.evaluations();
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+}  // namespace voroclip

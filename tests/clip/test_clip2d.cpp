@@ -1,0 +1,299 @@
+// Tests of ClippedVoronoi2 (voroclip/clip.h). Every diagram goes through check_diagram:
+// cell areas sum to the domain's area (relative 1e-12), each cell's rings are closed and
+// consistent with its area, and random points of the domain lie in the cell of their
+// nearest site (decided exactly) and in no other cell's rings.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/delaunay.h"
+#include "voroclip/predicates.h"
+
+using voroclip::ClippedVoronoi2;
+using voroclip::ClipVertex2;
+using voroclip::Delaunay2;
+using voroclip::Domain2;
+using voroclip::PolygonRings;
+using voroclip::Sign;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+double test_scale() {
+  const char* s = std::getenv("VOROCLIP_TEST_SCALE");
+  return s ? std::max(0.05, std::atof(s)) : 1.0;
+}
+
+PolygonRings rings_of(const std::vector<std::vector<double>>& rings) {
+  PolygonRings p;
+  p.source = "test";
+  p.ring_begin.push_back(0);
+  for (const auto& r : rings) {
+    p.xy.insert(p.xy.end(), r.begin(), r.end());
+    p.ring_begin.push_back(static_cast<std::uint32_t>(p.xy.size() / 2));
+    p.ring_polygon.push_back(0);
+    p.ring_line.push_back(0);
+  }
+  return p;
+}
+
+std::vector<double> square(double x0, double y0, double x1, double y1) {
+  return {x0, y0, x1, y0, x1, y1, x0, y1};
+}
+
+// Uniform random points strictly inside the domain (rejection from the bounding box).
+std::vector<double> sample_inside(const Domain2& d, std::uint32_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> ux(d.bbox_lo()[0], d.bbox_hi()[0]);
+  std::uniform_real_distribution<double> uy(d.bbox_lo()[1], d.bbox_hi()[1]);
+  std::vector<double> xy;
+  while (xy.size() < 2 * std::size_t{n}) {
+    const double p[2] = {ux(rng), uy(rng)};
+    if (d.locate(p) == Sign::positive) xy.insert(xy.end(), p, p + 2);
+  }
+  return xy;
+}
+
+// Winding number of the rings [rb, re) of the diagram around p (floating point: the test
+// points are random, far from the rings compared to rounding).
+int winding(const ClippedVoronoi2& cv, std::uint32_t rb, std::uint32_t re, const double* p) {
+  const std::vector<double>& xy = cv.vertex_coords();
+  int w = 0;
+  for (std::uint32_t r = rb; r < re; ++r) {
+    const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+    for (std::uint32_t k = b; k < e; ++k) {
+      const double* u = &xy[2 * std::size_t{k}];
+      const double* v = &xy[2 * std::size_t{k + 1 == e ? b : k + 1}];
+      const double cross = (v[0] - u[0]) * (p[1] - u[1]) - (p[0] - u[0]) * (v[1] - u[1]);
+      if (u[1] <= p[1]) {
+        if (v[1] > p[1] && cross > 0) ++w;
+      } else if (v[1] <= p[1] && cross < 0) {
+        --w;
+      }
+    }
+  }
+  return w;
+}
+
+double ring_area(const ClippedVoronoi2& cv, std::uint32_t r) {
+  const std::vector<double>& xy = cv.vertex_coords();
+  const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+  double a = 0;
+  for (std::uint32_t k = b; k < e; ++k) {
+    const double* u = &xy[2 * std::size_t{k}];
+    const double* v = &xy[2 * std::size_t{k + 1 == e ? b : k + 1}];
+    a += (u[0] - xy[2 * b]) * (v[1] - xy[2 * b + 1]) - (v[0] - xy[2 * b]) * (u[1] - xy[2 * b + 1]);
+  }
+  return a / 2;
+}
+
+struct Checked {
+  std::uint32_t boundary = 0;
+  std::uint32_t probes = 0;
+};
+
+Checked check_diagram(const Domain2& d, const Delaunay2& dt, const ClippedVoronoi2& cv,
+                      std::uint32_t nb_probes, std::uint64_t seed) {
+  INFO("domain " << d.source() << ", " << dt.nb_points() << " sites, seed " << seed);
+  REQUIRE(cv.nb_sites() == dt.nb_points());
+  REQUIRE(cv.has_geometry());
+  // Areas: the cells partition the domain.
+  REQUIRE(std::fabs(cv.total_area() - d.area()) <= 1e-12 * std::fabs(d.area()));
+  double sum = 0;
+  std::uint32_t boundary = 0;
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    REQUIRE(cv.area(i) >= -1e-14 * d.area());
+    sum += cv.area(i);
+    // The rings of the cell enclose its area.
+    double rings = 0;
+    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+      REQUIRE(cv.ring_vertex_begin(r + 1) - cv.ring_vertex_begin(r) >= 3);
+      rings += ring_area(cv, r);
+    }
+    REQUIRE(std::fabs(rings - cv.area(i)) <= 1e-9 * d.area());
+    if (cv.is_boundary(i)) ++boundary;
+    if (dt.duplicate_of(i) != i) REQUIRE(cv.area(i) == 0);
+  }
+  REQUIRE(boundary == cv.nb_boundary_sites());
+  REQUIRE(std::fabs(sum - d.area()) <= 1e-12 * std::fabs(d.area()));
+  // Random points of the domain: in the rings of the cell of their nearest site only.
+  const std::vector<double> probes = sample_inside(d, nb_probes, seed ^ 0x9e3779b97f4a7c15ull);
+  for (std::uint32_t q = 0; q < nb_probes; ++q) {
+    const double* p = &probes[2 * std::size_t{q}];
+    const std::uint32_t s = dt.nearest_vertex(p[0], p[1]);
+    INFO("probe " << q << " (" << p[0] << ", " << p[1] << "), nearest site " << s);
+    REQUIRE(winding(cv, cv.cell_ring_begin(s), cv.cell_ring_begin(s + 1), p) == 1);
+  }
+  return {boundary, nb_probes};
+}
+
+ClippedVoronoi2 clip(const Domain2& d, const Delaunay2& dt) {
+  ClippedVoronoi2 cv;
+  voroclip::Clip2Options o;
+  o.keep_geometry = true;
+  cv.compute(d, dt, o);
+  return cv;
+}
+
+}  // namespace
+
+TEST_CASE("clip2d: random sites in a square", "[clip]") {
+  const Domain2 d(rings_of({square(0, 0, 1, 1)}));
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    for (std::uint32_t n : {3u, 10u, 100u, 2000u}) {
+      const std::vector<double> sites = sample_inside(d, n, seed);
+      const Delaunay2 dt(sites.data(), n);
+      const ClippedVoronoi2 cv = clip(d, dt);
+      check_diagram(d, dt, cv, 2000, seed);
+    }
+  }
+}
+
+TEST_CASE("clip2d: cells with several pieces and holes", "[clip][degenerate]") {
+  // A comb: thin teeth make a few cells split into many pieces.
+  std::vector<double> comb = {0, 0, 10, 0, 10, 1};
+  for (int t = 9; t >= 0; --t) {
+    comb.insert(comb.end(), {t + 0.8, 1.0, t + 0.8, 5.0, t + 0.2, 5.0, t + 0.2, 1.0});
+  }
+  comb.insert(comb.end(), {0.0, 1.0});
+  const Domain2 d(rings_of({comb}));
+  const std::vector<double> sites = {5, 0.5, 2, 0.2, 8, 0.7, 5, 7};
+  const Delaunay2 dt(sites.data(), 4);
+  const ClippedVoronoi2 cv = clip(d, dt);
+  check_diagram(d, dt, cv, 20000, 7);
+  // The site above the comb owns the tips of several teeth: several pieces.
+  REQUIRE(cv.cell_ring_begin(4) - cv.cell_ring_begin(3) > 1);
+
+  // One site and a square with two holes: the cell is the whole domain, three rings.
+  const Domain2 holes(
+      rings_of({square(0, 0, 4, 4), square(1, 1, 1.5, 1.5), square(2.5, 2.5, 3, 3)}));
+  const std::vector<double> three = {0.5, 0.5, 100, 100, -100, 100};
+  const Delaunay2 dt3(three.data(), 3);
+  const ClippedVoronoi2 cv3 = clip(holes, dt3);
+  check_diagram(holes, dt3, cv3, 5000, 8);
+  REQUIRE(cv3.cell_ring_begin(1) - cv3.cell_ring_begin(0) == 3);
+  REQUIRE(cv3.area(1) == 0);
+  REQUIRE(cv3.area(2) == 0);
+}
+
+TEST_CASE("clip2d: sites on the boundary, bisectors through domain vertices, cocircular",
+          "[clip][degenerate]") {
+  // Sites on an integer grid (cocircular quadruples everywhere) over a square domain
+  // whose edges and corners are grid points: sites on vertices and edges, bisectors
+  // through corners and along edges.
+  const Domain2 d(rings_of({square(0, 0, 6, 6), square(2, 2, 4, 4)}));
+  std::vector<double> grid;
+  for (int i = -1; i <= 7; ++i) {
+    for (int j = -1; j <= 7; ++j) grid.insert(grid.end(), {double(i), double(j)});
+  }
+  const auto n = static_cast<std::uint32_t>(grid.size() / 2);
+  const Delaunay2 dt(grid.data(), n);
+  check_diagram(d, dt, clip(d, dt), 20000, 11);
+  // Half-integer grid: bisectors run exactly along the domain's edges.
+  std::vector<double> half;
+  for (int i = -2; i <= 7; ++i) {
+    for (int j = -2; j <= 7; ++j) half.insert(half.end(), {i + 0.5, j + 0.5});
+  }
+  const Delaunay2 dth(half.data(), static_cast<std::uint32_t>(half.size() / 2));
+  check_diagram(d, dth, clip(d, dth), 20000, 12);
+  // The domain's own vertices as the only sites, plus duplicates.
+  std::vector<double> corners = d.coords();
+  corners.insert(corners.end(), d.coords().begin(), d.coords().begin() + 4);
+  const Delaunay2 dtc(corners.data(), static_cast<std::uint32_t>(corners.size() / 2));
+  const ClippedVoronoi2 cvc = clip(d, dtc);
+  check_diagram(d, dtc, cvc, 20000, 13);
+  REQUIRE(cvc.nb_boundary_sites() == 8);
+}
+
+TEST_CASE("clip2d: sites outside the domain", "[clip][degenerate]") {
+  const Domain2 d(rings_of({square(0, 0, 1, 1), square(0.4, 0.4, 0.6, 0.6)}));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 2);
+  std::vector<double> sites(2 * 300);
+  for (double& x : sites) x = u(rng);
+  const Delaunay2 dt(sites.data(), 300);
+  const ClippedVoronoi2 cv = clip(d, dt);
+  check_diagram(d, dt, cv, 20000, 5);
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    const Sign s = d.locate(&sites[2 * i]);
+    if (s == Sign::negative && !cv.is_boundary(i)) REQUIRE(cv.area(i) == 0);
+    if (s == Sign::positive && !cv.is_boundary(i)) REQUIRE(cv.area(i) > 0);
+  }
+}
+
+TEST_CASE("clip2d: every valid polygon of shared/data", "[clip][data]") {
+  const char* files[] = {"building", "dude",    "earcut",  "eberly-6", "hilbert",
+                         "issue29",  "issue34", "issue35", "issue52"};
+  for (const char* f : files) {
+    const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/" + f + ".json"));
+    for (std::uint32_t n : {5u, 200u, static_cast<std::uint32_t>(3000 * test_scale())}) {
+      const std::vector<double> sites = sample_inside(d, n, n);
+      const Delaunay2 dt(sites.data(), n);
+      check_diagram(d, dt, clip(d, dt), 3000, n);
+    }
+  }
+}
+
+TEST_CASE("clip2d: identical results with 1 and 2 threads", "[clip]") {
+  const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue35.json"));
+  const std::vector<double> sites = sample_inside(d, 20000, 3);
+  const Delaunay2 dt(sites.data(), 20000);
+  ClippedVoronoi2 one, two;
+  voroclip::Clip2Options o;
+  o.keep_geometry = true;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one.compute(d, dt, o);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two.compute(d, dt, o);
+  }
+  for (std::uint32_t i = 0; i < one.nb_sites(); ++i) {
+    REQUIRE(one.area(i) == two.area(i));
+    REQUIRE(one.energy(i) == two.energy(i));
+    REQUIRE(one.centroid(i)[0] == two.centroid(i)[0]);
+    REQUIRE(one.centroid(i)[1] == two.centroid(i)[1]);
+  }
+  REQUIRE(one.vertex_coords() == two.vertex_coords());
+  REQUIRE(one.vertices() == two.vertices());
+}
+
+TEST_CASE("clip2d: densities", "[clip]") {
+  // rho = 1 + 2x + 3y on the unit square with a hole: linear, so the grid density is
+  // exact, and the degree-4 rule of the callback too (the integrands are of degree <= 3).
+  const Domain2 d(rings_of({square(0, 0, 1, 1), square(0.25, 0.5, 0.5, 0.75)}));
+  const auto rho = [](double x, double y) { return 1 + 2 * x + 3 * y; };
+  const double lo[2] = {-1, -1}, hi[2] = {2, 2};
+  std::vector<double> values;
+  for (int j = 0; j < 7; ++j) {
+    for (int i = 0; i < 7; ++i) values.push_back(rho(-1 + 0.5 * i, -1 + 0.5 * j));
+  }
+  const std::vector<double> sites = sample_inside(d, 500, 9);
+  const Delaunay2 dt(sites.data(), 500);
+  voroclip::Clip2Options og, oc;
+  og.density = voroclip::Density2::linear_grid(7, 7, lo, hi, values);
+  oc.density = voroclip::Density2::function(rho);
+  ClippedVoronoi2 g, c;
+  g.compute(d, dt, og);
+  c.compute(d, dt, oc);
+  // ∫rho over the domain: square 1 + 1 + 1.5 = 3.5, minus the hole 0.0625 * rho(centre).
+  const double mass = 3.5 - 0.0625 * rho(0.375, 0.625);
+  REQUIRE(std::fabs(g.total_mass() - mass) <= 1e-12 * mass);
+  REQUIRE(std::fabs(c.total_mass() - mass) <= 1e-12 * mass);
+  for (std::uint32_t i = 0; i < 500; ++i) {
+    REQUIRE(std::fabs(g.mass(i) - c.mass(i)) <= 1e-12 * mass);
+    REQUIRE(std::fabs(g.energy(i) - c.energy(i)) <= 1e-12 * c.total_energy());
+    REQUIRE(std::fabs(g.centroid(i)[0] - c.centroid(i)[0]) <= 1e-10);
+    REQUIRE(std::fabs(g.centroid(i)[1] - c.centroid(i)[1]) <= 1e-10);
+  }
+}
