@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "voroclip/clip.h"
 #include "voroclip/predicates.h"
 
 namespace voroclip::cli {
@@ -65,6 +66,31 @@ struct DelaunayArgs {
   bool check = false;
   std::string output;  // .vtk; empty: no file
 };
+
+struct ClipArgs {
+  std::string domain;  // polygon file or generator spec
+  std::string sites;   // site file; empty with --random
+  std::uint32_t random = 0;
+  bool random_set = false;
+  std::uint64_t seed = 1;
+  std::string output;  // .svg, .vtu, .json (cvt2d also .txt); empty: no file
+  // cvt2d
+  std::string method = "lbfgs";
+  std::uint32_t iterations = 100;
+  double tolerance = 1e-4;
+};
+
+void run_clip2d(const ClipArgs& args, const GlobalOptions& options);
+void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
+
+/// The domain of a 2D command: a polygon file (.json, .poly) or a built-in generator,
+/// "annulus:R_IN,R_OUT,SEGMENTS" or "square-holes:K,FRACTION".
+Domain2 load_domain(const std::string& spec);
+/// n uniform random points strictly inside the domain (rejection sampling, exact test).
+std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed);
+/// SVG picture of a clipped diagram (computed with keep_geometry).
+void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<double>& sites,
+                    const ClippedVoronoi2& cv);
 
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
 void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);

@@ -123,6 +123,43 @@ int main(int argc, char** argv) {
     delaunay_cmd[d] = cmd;
   }
 
+  // clip2d / cvt2d share their options.
+  voroclip::cli::ClipArgs clip_args[2];
+  CLI::App* clip_cmd[2] = {nullptr, nullptr};
+  for (int c = 0; c < 2; ++c) {
+    voroclip::cli::ClipArgs& a = clip_args[c];
+    CLI::App* cmd = app.add_subcommand(
+        c == 0 ? "clip2d" : "cvt2d",
+        c == 0 ? "Voronoi diagram of sites clipped to a polygonal domain with holes (exact)"
+               : "Centroidal Voronoi tessellation of a polygonal domain (L-BFGS or Lloyd), "
+                 "from given or random sites");
+    cmd->add_option("DOMAIN", a.domain,
+                    "Polygon file (.json rings as in shared/data/polygons, or Triangle .poly), "
+                    "or a generator: annulus:R_IN,R_OUT,SEGMENTS or square-holes:K,FRACTION")
+        ->required()
+        ->type_name("DOMAIN");
+    cmd->add_option("--sites", a.sites,
+                    "Site file: one 'x y' per line ('#' comments) or a JSON array [[x,y],...]")
+        ->type_name("FILE");
+    cmd->add_option("--random", a.random, "Use N uniform random sites inside the domain")
+        ->type_name("N");
+    cmd->add_option("--seed", a.seed, "Seed of --random (default 1)")->type_name("S");
+    cmd->add_option("-o,--output", a.output,
+                    std::string("Write the cells: .svg picture, .vtu polygons with site_id, "
+                                ".json per-cell site/area/centroid/polygons") +
+                        (c == 1 ? ", or .txt the final sites" : ""))
+        ->type_name("FILE");
+    if (c == 1) {
+      cmd->add_option("--method", a.method, "lbfgs (default) or lloyd")->type_name("NAME");
+      cmd->add_option("--iterations", a.iterations, "Iteration budget (default 100)")
+          ->type_name("N");
+      cmd->add_option("--tolerance", a.tolerance,
+                      "Stop when |gradient| <= tolerance * initial |gradient| (default 1e-4)")
+          ->type_name("T");
+    }
+    clip_cmd[c] = cmd;
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -149,6 +186,16 @@ int main(int argc, char** argv) {
       voroclip::cli::run_demo(demo_args, global);
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
+    }
+    for (int c = 0; c < 2; ++c) {
+      if (*clip_cmd[c]) {
+        clip_args[c].random_set = clip_cmd[c]->get_option("--random")->count() > 0;
+        if (c == 0) {
+          voroclip::cli::run_clip2d(clip_args[c], global);
+        } else {
+          voroclip::cli::run_cvt2d(clip_args[c], global);
+        }
+      }
     }
     for (int d = 0; d < 2; ++d) {
       if (*delaunay_cmd[d]) {

@@ -1,0 +1,415 @@
+// voroclip clip2d / cvt2d: the clipped Voronoi diagram of sites in a polygonal domain, and
+// its centroidal Voronoi tessellation; pictures (SVG), VTK polygons and JSON out.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/cvt.h"
+#include "voroclip/delaunay.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<double> parse_numbers(const std::string& list, std::size_t count,
+                                  const std::string& what) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    v.push_back(parse_finite_double(list.substr(start, comma - start), what));
+    start = comma + 1;
+  }
+  if (v.size() != count) {
+    throw UsageError(what + ": expected " + std::to_string(count) +
+                     " comma-separated numbers, got '" + list + "'");
+  }
+  return v;
+}
+
+// A ring of the domain picture or of a cell, as an SVG path (y up).
+void svg_ring(std::ostream& out, const double* xy, std::size_t count, double x0, double y1,
+              double scale) {
+  for (std::size_t k = 0; k < count; ++k) {
+    out << (k == 0 ? 'M' : 'L') << (xy[2 * k] - x0) * scale << ' ' << (y1 - xy[2 * k + 1]) * scale;
+  }
+  out << 'Z';
+}
+
+// Colour of cell i: a hue from a hash of the index, light; boundary cells warm, inner cool.
+std::string cell_colour(std::uint32_t i, bool boundary) {
+  std::uint32_t h = i * 2654435761u;
+  h ^= h >> 15;
+  const int hue = boundary ? static_cast<int>(h % 60) + 10 : static_cast<int>(h % 90) + 170;
+  const int light = 72 + static_cast<int>((h >> 8) % 14);
+  std::ostringstream s;
+  s << "hsl(" << hue << ",60%," << light << "%)";
+  return s.str();
+}
+
+}  // namespace
+
+Domain2 load_domain(const std::string& spec) {
+  if (spec.rfind("annulus:", 0) == 0) {
+    const std::vector<double> v = parse_numbers(spec.substr(8), 3, "annulus:R_IN,R_OUT,SEGMENTS");
+    if (!(v[0] > 0 && v[1] > v[0]) || v[2] < 3 || v[2] > 1e7 || v[2] != std::floor(v[2])) {
+      throw UsageError("annulus:R_IN,R_OUT,SEGMENTS needs 0 < R_IN < R_OUT and 3 <= SEGMENTS");
+    }
+    return Domain2(annulus_rings(v[0], v[1], static_cast<std::uint32_t>(v[2])));
+  }
+  if (spec.rfind("square-holes:", 0) == 0) {
+    const std::vector<double> v = parse_numbers(spec.substr(13), 2, "square-holes:K,FRACTION");
+    if (v[0] < 1 || v[0] > 1000 || v[0] != std::floor(v[0]) || !(v[1] > 0 && v[1] < 1)) {
+      throw UsageError("square-holes:K,FRACTION needs 1 <= K <= 1000 and 0 < FRACTION < 1");
+    }
+    return Domain2(square_with_holes(static_cast<std::uint32_t>(v[0]), v[1]));
+  }
+  return Domain2(read_polygon(spec));
+}
+
+std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  std::vector<double> xy;
+  xy.reserve(2 * std::size_t{n});
+  std::uint64_t tries = 0;
+  while (xy.size() < 2 * std::size_t{n}) {
+    const double u = static_cast<double>(rng() >> 11) * 0x1p-53;
+    const double v = static_cast<double>(rng() >> 11) * 0x1p-53;
+    const double p[2] = {lo[0] + u * (hi[0] - lo[0]), lo[1] + v * (hi[1] - lo[1])};
+    if (domain.locate(p) == Sign::positive) xy.insert(xy.end(), p, p + 2);
+    if (++tries > 1000 * std::uint64_t{n} + 1000000) {
+      throw Error("cannot sample points inside the domain (is its area zero?)");
+    }
+  }
+  return xy;
+}
+
+void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<double>& sites,
+                    const ClippedVoronoi2& cv) {
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+  const double scale = 1000 / extent;
+  const double margin = 10;
+  const double w = (hi[0] - lo[0]) * scale, h = (hi[1] - lo[1]) * scale;
+  out << std::setprecision(7);
+  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w + 2 * margin << "\" height=\""
+      << h + 2 * margin << "\" viewBox=\"" << -margin << ' ' << -margin << ' ' << w + 2 * margin
+      << ' ' << h + 2 * margin << "\">\n<rect x=\"" << -margin << "\" y=\"" << -margin
+      << "\" width=\"" << w + 2 * margin << "\" height=\"" << h + 2 * margin
+      << "\" fill=\"white\"/>\n";
+  const std::vector<double>& xy = cv.vertex_coords();
+  const double stroke = std::max(0.05, std::min(0.8, 40 / std::sqrt(double(cv.nb_sites()) + 1)));
+  out << "<g stroke=\"#555\" stroke-width=\"" << stroke << "\" stroke-linejoin=\"round\">\n";
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    const std::uint32_t rb = cv.cell_ring_begin(i), re = cv.cell_ring_begin(i + 1);
+    if (rb == re) continue;
+    out << "<path fill=\"" << cell_colour(i, cv.is_boundary(i)) << "\" d=\"";
+    for (std::uint32_t r = rb; r < re; ++r) {
+      const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+      svg_ring(out, &xy[2 * std::size_t{b}], e - b, lo[0], hi[1], scale);
+    }
+    out << "\"/>\n";
+  }
+  out << "</g>\n<path fill=\"none\" stroke=\"black\" stroke-width=\"" << 2 * stroke << "\" d=\"";
+  for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+    svg_ring(out, domain.vertex(domain.ring_begin(r)), domain.ring_end(r) - domain.ring_begin(r),
+             lo[0], hi[1], scale);
+  }
+  out << "\"/>\n<g fill=\"black\">\n";
+  const double radius = std::max(0.3, std::min(3.0, 60 / std::sqrt(double(cv.nb_sites()) + 1)));
+  for (std::size_t i = 0; i < sites.size() / 2; ++i) {
+    out << "<circle cx=\"" << (sites[2 * i] - lo[0]) * scale << "\" cy=\""
+        << (hi[1] - sites[2 * i + 1]) * scale << "\" r=\"" << radius << "\"/>\n";
+  }
+  out << "</g>\n</svg>\n";
+}
+
+namespace {
+
+// Rings of cell i grouped into polygons: each counter-clockwise ring with the clockwise
+// rings it contains (grouping for output only; the rings themselves are exact).
+std::vector<std::vector<std::uint32_t>> group_rings(const ClippedVoronoi2& cv, std::uint32_t i) {
+  const std::vector<double>& xy = cv.vertex_coords();
+  const auto signed_area = [&](std::uint32_t r) {
+    const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+    double a = 0;
+    for (std::uint32_t k = b; k < e; ++k) {
+      const std::uint32_t l = k + 1 == e ? b : k + 1;
+      a += (xy[2 * k] - xy[2 * b]) * (xy[2 * l + 1] - xy[2 * b + 1]) -
+           (xy[2 * l] - xy[2 * b]) * (xy[2 * k + 1] - xy[2 * b + 1]);
+    }
+    return a;
+  };
+  const auto inside = [&](std::uint32_t r, const double* p) {
+    const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+    bool in = false;
+    for (std::uint32_t k = b; k < e; ++k) {
+      const std::uint32_t l = k + 1 == e ? b : k + 1;
+      const double* u = &xy[2 * std::size_t{k}];
+      const double* v = &xy[2 * std::size_t{l}];
+      if ((u[1] > p[1]) != (v[1] > p[1]) &&
+          p[0] < u[0] + (p[1] - u[1]) * (v[0] - u[0]) / (v[1] - u[1])) {
+        in = !in;
+      }
+    }
+    return in;
+  };
+  std::vector<std::vector<std::uint32_t>> polygons;
+  std::vector<std::uint32_t> holes;
+  for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+    if (signed_area(r) > 0) {
+      polygons.push_back({r});
+    } else {
+      holes.push_back(r);
+    }
+  }
+  for (const std::uint32_t h : holes) {
+    std::size_t best = 0;
+    for (std::size_t p = 0; p < polygons.size(); ++p) {
+      if (inside(polygons[p][0], &xy[2 * std::size_t{cv.ring_vertex_begin(h)}])) best = p;
+    }
+    if (polygons.empty()) {
+      polygons.push_back({h});
+    } else {
+      polygons[best].push_back(h);
+    }
+  }
+  return polygons;
+}
+
+void write_clip_json(std::ostream& out, const std::vector<double>& sites,
+                     const ClippedVoronoi2& cv) {
+  const std::vector<double>& xy = cv.vertex_coords();
+  nlohmann::json cells = nlohmann::json::array();
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    nlohmann::json polygons = nlohmann::json::array();
+    for (const auto& group : group_rings(cv, i)) {
+      nlohmann::json rings = nlohmann::json::array();
+      for (const std::uint32_t r : group) {
+        nlohmann::json ring = nlohmann::json::array();
+        for (std::uint32_t k = cv.ring_vertex_begin(r); k < cv.ring_vertex_begin(r + 1); ++k) {
+          ring.push_back({xy[2 * std::size_t{k}], xy[2 * std::size_t{k} + 1]});
+        }
+        rings.push_back(std::move(ring));
+      }
+      polygons.push_back(std::move(rings));
+    }
+    cells.push_back({{"index", i},
+                     {"site", {sites[2 * std::size_t{i}], sites[2 * std::size_t{i} + 1]}},
+                     {"area", cv.area(i)},
+                     {"mass", cv.mass(i)},
+                     {"centroid", {cv.centroid(i)[0], cv.centroid(i)[1]}},
+                     {"energy", cv.energy(i)},
+                     {"boundary", cv.is_boundary(i)},
+                     {"polygons", std::move(polygons)}});
+  }
+  out << nlohmann::json{{"cells", std::move(cells)}}.dump(1) << '\n';
+}
+
+// VTK XML polydata-style unstructured grid: one VTK_POLYGON per ring, with the cell's
+// site index ("site_id") and the ring's orientation ("hole": 1 for a clockwise ring).
+void write_clip_vtu(std::ostream& out, const ClippedVoronoi2& cv) {
+  const std::vector<double>& xy = cv.vertex_coords();
+  const std::uint32_t nv = static_cast<std::uint32_t>(cv.vertices().size());
+  std::uint32_t nr = 0;
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    nr += cv.cell_ring_begin(i + 1) - cv.cell_ring_begin(i);
+  }
+  out << std::setprecision(17);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+      << nv << "\" NumberOfCells=\"" << nr << "\">\n<Points>\n<DataArray type=\"Float64\" "
+      << "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (std::uint32_t k = 0; k < nv; ++k) out << xy[2 * k] << ' ' << xy[2 * k + 1] << " 0\n";
+  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+         "format=\"ascii\">\n";
+  for (std::uint32_t k = 0; k < nv; ++k) out << k << '\n';
+  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+      out << cv.ring_vertex_begin(r + 1) << '\n';
+    }
+  }
+  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::uint32_t r = 0; r < nr; ++r) out << "7\n";
+  out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
+         "Name=\"site_id\" format=\"ascii\">\n";
+  std::vector<std::uint8_t> hole;
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+      out << i << '\n';
+      const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+      double a = 0;
+      for (std::uint32_t k = b; k < e; ++k) {
+        const std::uint32_t l = k + 1 == e ? b : k + 1;
+        a += (xy[2 * k] - xy[2 * b]) * (xy[2 * l + 1] - xy[2 * b + 1]) -
+             (xy[2 * l] - xy[2 * b]) * (xy[2 * k + 1] - xy[2 * b + 1]);
+      }
+      hole.push_back(a < 0 ? 1 : 0);
+    }
+  }
+  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"hole\" format=\"ascii\">\n";
+  for (const std::uint8_t h : hole) out << int{h} << '\n';
+  out << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+void write_sites(std::ostream& out, const std::vector<double>& sites) {
+  out << std::setprecision(17);
+  for (std::size_t i = 0; i < sites.size() / 2; ++i) {
+    out << sites[2 * i] << ' ' << sites[2 * i + 1] << '\n';
+  }
+}
+
+void check_output_name(const std::string& path, bool sites_ok) {
+  if (path.empty()) return;
+  if (ends_with(path, ".svg") || ends_with(path, ".vtu") || ends_with(path, ".json")) return;
+  if (sites_ok && ends_with(path, ".txt")) return;
+  throw UsageError("-o: the output must end in .svg, .vtu or .json" +
+                   std::string(sites_ok ? " (or .txt for the sites)" : "") + ", got '" + path +
+                   "'");
+}
+
+void write_output(const std::string& path, const Domain2& domain, const std::vector<double>& sites,
+                  const ClippedVoronoi2& cv) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    if (ends_with(path, ".svg")) {
+      write_clip_svg(out, domain, sites, cv);
+    } else if (ends_with(path, ".vtu")) {
+      write_clip_vtu(out, cv);
+    } else if (ends_with(path, ".json")) {
+      write_clip_json(out, sites, cv);
+    } else {
+      write_sites(out, sites);
+    }
+  });
+}
+
+std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain) {
+  if (args.sites.empty() == !args.random_set) {
+    throw UsageError("give exactly one of --sites FILE and --random N");
+  }
+  if (args.random_set && args.random < 3) throw UsageError("--random: needs at least 3 sites");
+  return args.random_set ? random_sites_in(domain, args.random, args.seed)
+                         : read_points(args.sites, 2);
+}
+
+}  // namespace
+
+void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
+  check_output_name(args.output, false);
+  const Domain2 domain = load_domain(args.domain);
+  const std::vector<double> sites = load_sites(args, domain);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Delaunay2 dt(sites.data(), n);
+  const double t_delaunay = seconds_since(t0);
+  ClippedVoronoi2 cv;
+  Clip2Options o;
+  o.keep_geometry = !args.output.empty();
+  const auto t1 = std::chrono::steady_clock::now();
+  cv.compute(domain, dt, o);
+  const double t_clip = seconds_since(t1);
+  if (!args.output.empty()) write_output(args.output, domain, sites, cv);
+  if (options.stats_json) {
+    std::cout << nlohmann::json{{"sites", n},
+                                {"unique_sites", dt.nb_unique_points()},
+                                {"boundary_sites", cv.nb_boundary_sites()},
+                                {"domain_area", domain.area()},
+                                {"cells_area_sum", cv.total_area()},
+                                {"energy", cv.total_energy()},
+                                {"seconds", t_delaunay + t_clip},
+                                {"delaunay_seconds", t_delaunay},
+                                {"clip_seconds", t_clip}}
+                     .dump()
+              << '\n';
+  }
+  if (std::ostream* out = human_stream(options)) {
+    *out << "Clipped Voronoi diagram: " << n << " sites (" << cv.nb_boundary_sites()
+         << " boundary cells) in " << domain.source() << ", " << domain.nb_rings()
+         << " rings; cells' area " << format_double(cv.total_area()) << " (domain "
+         << format_double(domain.area()) << "); Delaunay " << format_double(t_delaunay)
+         << " s, clipping " << format_double(t_clip) << " s\n";
+    if (!args.output.empty()) *out << "Written to " << args.output << '\n';
+  }
+}
+
+void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
+  check_output_name(args.output, true);
+  if (args.method != "lbfgs" && args.method != "lloyd") {
+    throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
+  }
+  if (!(args.tolerance >= 0) || !std::isfinite(args.tolerance)) {
+    throw UsageError("--tolerance: expected a finite number >= 0");
+  }
+  const Domain2 domain = load_domain(args.domain);
+  std::vector<double> sites = load_sites(args, domain);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
+  Cvt2Options o;
+  o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
+  o.max_iterations = args.iterations;
+  o.gradient_tolerance = args.tolerance;
+  std::ostream* human = human_stream(options);
+  o.progress = [&](const CvtProgress& p) {
+    if (human) {
+      *human << "iteration " << std::setw(4) << p.iteration << "  energy " << std::setprecision(12)
+             << p.energy << "  |g| " << std::setprecision(4) << p.gradient_norm << "  "
+             << std::setprecision(3) << p.seconds << " s\n";
+    }
+    return true;
+  };
+  const Cvt2Result r = optimize_cvt2(domain, sites, o);
+  if (!args.output.empty()) {
+    const Delaunay2 dt(sites.data(), n);
+    ClippedVoronoi2 cv;
+    Clip2Options co;
+    co.keep_geometry = true;
+    cv.compute(domain, dt, co);
+    write_output(args.output, domain, sites, cv);
+  }
+  if (options.stats_json) {
+    std::cout << nlohmann::json{{"sites", n},
+                                {"method", args.method},
+                                {"iterations", r.iterations},
+                                {"evaluations", r.evaluations},
+                                {"energy", r.energy},
+                                {"gradient_norm", r.gradient_norm},
+                                {"initial_gradient_norm", r.initial_gradient_norm},
+                                {"converged", r.converged},
+                                {"seconds", r.seconds}}
+                     .dump()
+              << '\n';
+  }
+  if (human) {
+    *human << "CVT (" << args.method << "): " << r.iterations << " iterations, " << r.evaluations
+           << " diagrams, energy " << std::setprecision(12) << r.energy << ", |g|/|g0| "
+           << std::setprecision(3)
+           << (r.initial_gradient_norm > 0 ? r.gradient_norm / r.initial_gradient_norm : 0)
+           << (r.converged ? " (converged)" : "") << ", " << r.seconds << " s\n";
+    if (!args.output.empty()) *human << "Written to " << args.output << '\n';
+  }
+}
+
+}  // namespace voroclip::cli

@@ -1,0 +1,199 @@
+// Tests of the 2D CVT (voroclip/cvt.h): the gradient against finite differences of the
+// energy, known minimisers, monotone Lloyd, constraints, cancellation, determinism.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/cvt.h"
+
+using voroclip::Cvt2Options;
+using voroclip::CvtMethod;
+using voroclip::Domain2;
+using voroclip::PolygonRings;
+
+namespace {
+
+PolygonRings rings_of(const std::vector<std::vector<double>>& rings) {
+  PolygonRings p;
+  p.source = "test";
+  p.ring_begin.push_back(0);
+  for (const auto& r : rings) {
+    p.xy.insert(p.xy.end(), r.begin(), r.end());
+    p.ring_begin.push_back(static_cast<std::uint32_t>(p.xy.size() / 2));
+    p.ring_polygon.push_back(0);
+    p.ring_line.push_back(0);
+  }
+  return p;
+}
+
+std::vector<double> square(double x0, double y0, double x1, double y1) {
+  return {x0, y0, x1, y0, x1, y1, x0, y1};
+}
+
+std::vector<double> random_inside(const Domain2& d, std::uint32_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> ux(d.bbox_lo()[0], d.bbox_hi()[0]);
+  std::uniform_real_distribution<double> uy(d.bbox_lo()[1], d.bbox_hi()[1]);
+  std::vector<double> xy;
+  while (xy.size() < 2 * std::size_t{n}) {
+    const double p[2] = {ux(rng), uy(rng)};
+    if (d.locate(p) == voroclip::Sign::positive) xy.insert(xy.end(), p, p + 2);
+  }
+  return xy;
+}
+
+}  // namespace
+
+TEST_CASE("cvt2d: gradient equals finite differences of the energy", "[cvt]") {
+  const Domain2 d(rings_of({square(0, 0, 1, 1), square(0.3, 0.3, 0.55, 0.6)}));
+  for (const auto& density :
+       {voroclip::Density2::constant(1.0),
+        voroclip::Density2::function([](double x, double y) { return 1 + x * x + 2 * y; })}) {
+    const std::vector<double> sites = random_inside(d, 60, 4);
+    std::vector<double> g;
+    voroclip::cvt_energy2(d, sites, density, &g);
+    const double h = 1e-6;
+    double max_err = 0, max_g = 0;
+    for (std::size_t k = 0; k < sites.size(); ++k) {
+      std::vector<double> plus = sites, minus = sites;
+      plus[k] += h;
+      minus[k] -= h;
+      const double fd =
+          (voroclip::cvt_energy2(d, plus, density) - voroclip::cvt_energy2(d, minus, density)) /
+          (2 * h);
+      max_err = std::max(max_err, std::fabs(fd - g[k]));
+      max_g = std::max(max_g, std::fabs(g[k]));
+    }
+    INFO("max |fd - g| = " << max_err << ", max |g| = " << max_g);
+    REQUIRE(max_g > 0);
+    REQUIRE(max_err <= 1e-6 * max_g + 1e-9);
+  }
+}
+
+TEST_CASE("cvt2d: known minimisers", "[cvt]") {
+  // Six sites in [0, 3] x [0, 2] started near the 3 x 2 grid of unit-square centres converge
+  // to it. Four sites in the unit square: the 2 x 2 grid.
+  const Domain2 rect(rings_of({square(0, 0, 3, 2)}));
+  const Domain2 unit(rings_of({square(0, 0, 1, 1)}));
+  for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+    Cvt2Options o;
+    o.method = method;
+    o.max_iterations = 500;
+    o.gradient_tolerance = 1e-9;
+    std::vector<double> six = {0.6, 0.4, 1.45, 0.58, 2.4, 0.45, 0.55, 1.6, 1.4, 1.45, 2.58, 1.55};
+    const auto r6 = voroclip::optimize_cvt2(rect, six, o);
+    REQUIRE(r6.converged);
+    for (int k = 0; k < 6; ++k) {
+      REQUIRE(std::fabs(six[2 * k] - (0.5 + k % 3)) < 1e-6);
+      REQUIRE(std::fabs(six[2 * k + 1] - (0.5 + k / 3)) < 1e-6);
+    }
+    std::vector<double> four = {0.2, 0.3, 0.7, 0.2, 0.8, 0.7, 0.3, 0.9};
+    const auto r4 = voroclip::optimize_cvt2(unit, four, o);
+    REQUIRE(r4.converged);
+    // Energy of the 2 x 2 grid: 4 squares of side 1/2, each ∫|x - c|^2 = (1/2)^4 / 6.
+    REQUIRE(std::fabs(r4.energy - 4 * 0.0625 / 6) < 1e-9);
+  }
+}
+
+TEST_CASE("cvt2d: Lloyd decreases the energy; L-BFGS reaches the tolerance", "[cvt]") {
+  const Domain2 d(voroclip::annulus_rings(0.4, 1.0, 64));
+  std::vector<double> sites = random_inside(d, 300, 11);
+  std::vector<double> energies;
+  Cvt2Options o;
+  o.method = CvtMethod::kLloyd;
+  o.max_iterations = 30;
+  o.gradient_tolerance = 0;
+  o.progress = [&](const voroclip::CvtProgress& p) {
+    energies.push_back(p.energy);
+    return true;
+  };
+  std::vector<double> lloyd = sites;
+  const auto rl = voroclip::optimize_cvt2(d, lloyd, o);
+  REQUIRE(rl.iterations == 30);
+  REQUIRE(energies.size() == 31);
+  for (std::size_t k = 1; k < energies.size(); ++k) REQUIRE(energies[k] <= energies[k - 1]);
+
+  Cvt2Options ob;
+  ob.max_iterations = 300;
+  ob.gradient_tolerance = 1e-3;
+  std::vector<double> lbfgs = sites;
+  const auto rb = voroclip::optimize_cvt2(d, lbfgs, ob);
+  REQUIRE(rb.converged);
+  REQUIRE(rb.gradient_norm <= 1e-3 * rb.initial_gradient_norm);
+  REQUIRE(rb.energy < energies.front());
+}
+
+TEST_CASE("cvt2d: sliding and fixed sites", "[cvt]") {
+  const Domain2 d(rings_of({square(0, 0, 1, 1)}));
+  std::vector<std::uint32_t> corners;
+  const auto paths = voroclip::boundary_paths(d, 30.0, &corners);
+  REQUIRE(corners.size() == 4);
+  REQUIRE(paths.size() == 4);
+  std::vector<double> sites = random_inside(d, 40, 2);
+  Cvt2Options o;
+  o.paths = paths;
+  o.constraints.assign(40 + 4 + 8, {});
+  // The corners fixed; two sites sliding on each side.
+  for (std::uint32_t c = 0; c < 4; ++c) {
+    sites.insert(sites.end(), d.vertex(corners[c]), d.vertex(corners[c]) + 2);
+    o.constraints[40 + c].kind = voroclip::SiteConstraint2::Kind::kFixed;
+  }
+  for (std::uint32_t p = 0; p < 4; ++p) {
+    const voroclip::PathParam2 param(d, paths[p]);
+    for (const double s : {0.3, 0.6}) {
+      double xy[2];
+      param.eval(s * param.length(), xy);
+      sites.insert(sites.end(), xy, xy + 2);
+      o.constraints[44 + 2 * p + (s > 0.5 ? 1 : 0)] = {voroclip::SiteConstraint2::Kind::kSlide, p};
+    }
+  }
+  const std::vector<double> start = sites;
+  o.max_iterations = 200;
+  const auto r = voroclip::optimize_cvt2(d, sites, o);
+  REQUIRE(r.iterations > 0);
+  for (std::uint32_t c = 0; c < 4; ++c) {
+    REQUIRE(sites[2 * (40 + c)] == start[2 * (40 + c)]);
+    REQUIRE(sites[2 * (40 + c) + 1] == start[2 * (40 + c) + 1]);
+  }
+  for (std::uint32_t k = 44; k < 52; ++k) {
+    const double x = sites[2 * k], y = sites[2 * k + 1];
+    // On the boundary of the unit square, within its side.
+    const double dist = std::min(std::min(std::fabs(x), std::fabs(1 - x)),
+                                 std::min(std::fabs(y), std::fabs(1 - y)));
+    REQUIRE(dist < 1e-15);
+    REQUIRE(x >= 0);
+    REQUIRE(x <= 1);
+    REQUIRE(y >= 0);
+    REQUIRE(y <= 1);
+  }
+}
+
+TEST_CASE("cvt2d: cancel from the progress callback; identical with 1 and 2 threads", "[cvt]") {
+  const Domain2 d(voroclip::square_with_holes(3, 0.4));
+  const std::vector<double> sites = random_inside(d, 500, 3);
+  Cvt2Options o;
+  o.progress = [](const voroclip::CvtProgress& p) { return p.iteration < 3; };
+  std::vector<double> s = sites;
+  const auto r = voroclip::optimize_cvt2(d, s, o);
+  REQUIRE(r.cancelled);
+  REQUIRE(r.iterations == 3);
+
+  Cvt2Options od;
+  od.max_iterations = 15;
+  std::vector<double> one = sites, two = sites;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    voroclip::optimize_cvt2(d, one, od);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    voroclip::optimize_cvt2(d, two, od);
+  }
+  REQUIRE(one == two);
+}
