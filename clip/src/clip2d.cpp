@@ -490,52 +490,123 @@ struct Clip2Impl {
                         }
                       });
 
-    // Inside/outside of the other cells: seeded by boundary cells, then a flood fill.
-    status.assign(n, -1);
-    std::vector<std::uint8_t> is_b(n, 0);
-    for (const std::uint32_t c : boundary_cells) is_b[c] = 1;
-    std::vector<std::uint32_t> queue, nbrs;
-    for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
-      const std::uint32_t c = boundary_cells[q];
-      dt.vertex_neighbors(c, nbrs);
-      for (const std::uint32_t k : nbrs) {
-        if (is_b[k] || status[k] != -1) continue;
-        const auto& w = cell_out[q].walked;
-        status[k] = std::find(w.begin(), w.end(), k) != w.end() ? 1 : 0;
-        queue.push_back(k);
-      }
-    }
-    for (std::size_t h = 0; h < queue.size(); ++h) {
-      const std::uint32_t c = queue[h];
-      dt.vertex_neighbors(c, nbrs);
-      for (const std::uint32_t k : nbrs) {
-        if (is_b[k] || status[k] != -1) continue;
-        status[k] = status[c];
-        queue.push_back(k);
-      }
-    }
-
+    classify_inner_cells();
     integrate();
   }
 
+  // ---- Step 3: inside or outside, for the cells no ring crosses. Each boundary cell
+  // seeds its other neighbours (inside when it walked their whole Voronoi edge); when a
+  // seed says outside (sites outside the domain), the seeds spread over the components of
+  // the graph of non-boundary cells (union-find over Delaunay edges, in triangle order).
+  void classify_inner_cells() {
+    status.assign(n, -1);
+    std::vector<std::uint8_t> is_b(n, 0);
+    for (const std::uint32_t c : boundary_cells) is_b[c] = 1;
+    std::vector<std::uint32_t> nbrs;
+    bool any_outside = false;
+    for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
+      dt.vertex_neighbors(boundary_cells[q], nbrs);
+      const auto& w = cell_out[q].walked;
+      for (const std::uint32_t k : nbrs) {
+        if (is_b[k]) continue;
+        const std::int8_t st = std::find(w.begin(), w.end(), k) != w.end() ? 1 : 0;
+        if (status[k] != -1 && status[k] != st) {
+          throw Error("clip2d: internal error: inconsistent inside/outside seeds at site " +
+                      std::to_string(k));
+        }
+        status[k] = st;
+        any_outside = any_outside || st == 0;
+      }
+    }
+    if (!any_outside) {
+      // Every component of non-boundary cells touches a boundary cell, and all said inside.
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (!is_b[i] && dt.duplicate_of(i) == i) status[i] = 1;
+      }
+      return;
+    }
+    std::vector<std::uint32_t> parent(n);
+    for (std::uint32_t i = 0; i < n; ++i) parent[i] = i;
+    const auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+      }
+      return x;
+    };
+    const std::vector<std::uint32_t>& tv = dt.tri_vertices();
+    for (std::size_t t = 0; t < dt.nb_triangles(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t u = tv[3 * t + static_cast<std::size_t>(k)];
+        const std::uint32_t w = tv[3 * t + static_cast<std::size_t>((k + 1) % 3)];
+        if (is_b[u] || is_b[w]) continue;
+        const std::uint32_t ru = find(u), rw = find(w);
+        if (ru != rw) parent[std::max(ru, rw)] = std::min(ru, rw);
+      }
+    }
+    std::vector<std::int8_t> root_status(n, -1);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (status[i] != -1) root_status[find(i)] = status[i];
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (!is_b[i] && dt.duplicate_of(i) == i) status[i] = root_status[find(i)];
+    }
+  }
+
+  // The finite triangles around vertex v counter-clockwise, read straight from the
+  // neighbour codes (3t' + k': v is at k' + 1 in the triangle t' across edge k + 1 of t).
+  // Returns false for a hull vertex (then `tris` is not filled: use the Delaunay2 walk).
+  bool inner_fan(std::uint32_t v, std::vector<std::uint32_t>& tris) const {
+    tris.clear();
+    const std::vector<std::uint32_t>& tv = dt.tri_vertices();
+    const std::vector<std::uint32_t>& tn = dt.tri_neighbors();
+    const std::uint32_t nt = dt.nb_triangles();
+    const std::uint32_t t0 = dt.vertex_triangle(v);
+    std::uint32_t t = t0;
+    std::uint32_t k = tv[3 * std::size_t{t}] == v ? 0 : tv[3 * std::size_t{t} + 1] == v ? 1 : 2;
+    do {
+      tris.push_back(t);
+      const std::uint32_t code = tn[3 * std::size_t{t} + (k + 1) % 3];
+      t = code / 3;
+      if (t >= nt) return false;
+      k = (code % 3 + 1) % 3;
+    } while (t != t0);
+    return true;
+  }
+
   void integrate() {
-    out.area_.assign(n, 0);
-    out.mass_.assign(n, 0);
-    out.energy_.assign(n, 0);
-    out.centroid_.resize(2 * std::size_t{n});
-    out.boundary_.assign(n, 0);
+    out.cells_.resize(n);
     out.nb_boundary_ = static_cast<std::uint32_t>(boundary_cells.size());
-    for (const std::uint32_t c : boundary_cells) out.boundary_[c] = 1;
-    std::vector<std::uint32_t> slot(n, kNone);
-    for (std::uint32_t q = 0; q < boundary_cells.size(); ++q) slot[boundary_cells[q]] = q;
+    // Per site, one word: the boundary cell's slot, kInner (inside, unclipped) or kEmpty
+    // (a duplicate, or outside the domain).
+    constexpr std::uint32_t kInner = 0xfffffffeu, kEmpty = 0xffffffffu;
+    std::vector<std::uint32_t> kind(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      kind[i] = dt.duplicate_of(i) == i && status[i] == 1 ? kInner : kEmpty;
+    }
+    for (std::uint32_t q = 0; q < boundary_cells.size(); ++q) kind[boundary_cells[q]] = q;
 
     const Density2& rho = options.density;
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> tri_scratch;
     tbb::enumerable_thread_specific<std::vector<double>> xy_scratch;
+    // Cells in the order of their first triangle (triangles are numbered along the BRIO
+    // curve), so that neighbouring cells read neighbouring memory.
+    const std::uint32_t nt = dt.nb_triangles();
+    std::vector<std::uint32_t> order(n), bucket(std::size_t{nt} + 2, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t t = kind[i] != kEmpty ? dt.vertex_triangle(i) : nt;
+      ++bucket[std::size_t{t} + 1];
+    }
+    for (std::size_t t = 0; t + 1 < bucket.size(); ++t) bucket[t + 1] += bucket[t];
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t t = kind[i] != kEmpty ? dt.vertex_triangle(i) : nt;
+      order[bucket[t]++] = i;
+    }
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
       std::vector<std::uint32_t>& tris = tri_scratch.local();
       std::vector<double>& xy = xy_scratch.local();
-      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+      for (std::uint32_t q = range.begin(); q != range.end(); ++q) {
+        const std::uint32_t i = order[q];
         const double* s = site(i);
         Moments m;
         const auto add_ring = [&](const double* ring, std::size_t count) {
@@ -545,10 +616,11 @@ struct Clip2Impl {
             add_triangle(rho, s, u[0] - s[0], u[1] - s[1], w[0] - s[0], w[1] - s[1], m);
           }
         };
-        if (dt.duplicate_of(i) != i) {
-          // An exact duplicate: its cell is empty.
-        } else if (slot[i] != kNone) {
-          const CellOut& co = cell_out[slot[i]];
+        const std::uint32_t ki = kind[i];
+        if (ki == kEmpty) {
+          // A duplicate, or a cell outside the domain.
+        } else if (ki != kInner) {
+          const CellOut& co = cell_out[ki];
           std::uint32_t begin = 0;
           for (const std::uint32_t end : co.ring_ends) {
             xy.resize(2 * std::size_t{end - begin});
@@ -558,8 +630,8 @@ struct Clip2Impl {
             add_ring(xy.data(), end - begin);
             begin = end;
           }
-        } else if (status[i] == 1) {
-          dt.triangles_around_vertex(i, tris);
+        } else {
+          if (!inner_fan(i, tris)) dt.triangles_around_vertex(i, tris);
           xy.resize(2 * tris.size());
           for (std::size_t k = 0; k < tris.size(); ++k) {
             xy[2 * k] = circ[2 * std::size_t{tris[k]}];
@@ -567,23 +639,20 @@ struct Clip2Impl {
           }
           add_ring(xy.data(), tris.size());
         }
-        out.area_[i] = m.area;
-        out.mass_[i] = m.mass;
-        out.energy_[i] = m.energy;
-        if (m.mass > 0) {
-          out.centroid_[2 * std::size_t{i}] = s[0] + m.mx / m.mass;
-          out.centroid_[2 * std::size_t{i} + 1] = s[1] + m.my / m.mass;
-        } else {
-          out.centroid_[2 * std::size_t{i}] = s[0];
-          out.centroid_[2 * std::size_t{i} + 1] = s[1];
-        }
+        ClippedVoronoi2::Cell& cell = out.cells_[i];
+        cell.area = m.area;
+        cell.mass = m.mass;
+        cell.energy = m.energy;
+        cell.centroid[0] = m.mass > 0 ? s[0] + m.mx / m.mass : s[0];
+        cell.centroid[1] = m.mass > 0 ? s[1] + m.my / m.mass : s[1];
+        cell.boundary = ki < kInner ? 1 : 0;
       }
     });
     out.total_area_ = out.total_mass_ = out.total_energy_ = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
-      out.total_area_ += out.area_[i];
-      out.total_mass_ += out.mass_[i];
-      out.total_energy_ += out.energy_[i];
+      out.total_area_ += out.cells_[i].area;
+      out.total_mass_ += out.cells_[i].mass;
+      out.total_energy_ += out.cells_[i].energy;
     }
 
     out.cell_ring_begin_.clear();
@@ -602,15 +671,15 @@ struct Clip2Impl {
       out.vertex_xy_.push_back(xy[1]);
     };
     for (std::uint32_t i = 0; i < n; ++i) {
-      if (dt.duplicate_of(i) == i && slot[i] != kNone) {
-        const CellOut& co = cell_out[slot[i]];
+      if (kind[i] < kInner) {
+        const CellOut& co = cell_out[kind[i]];
         std::uint32_t begin = 0;
         for (const std::uint32_t end : co.ring_ends) {
           for (std::uint32_t k = begin; k < end; ++k) push_vertex(co, k);
           out.ring_vertex_begin_.push_back(static_cast<std::uint32_t>(out.vertices_.size()));
           begin = end;
         }
-      } else if (dt.duplicate_of(i) == i && status[i] == 1) {
+      } else if (kind[i] == kInner) {
         dt.triangles_around_vertex(i, tris);
         for (const std::uint32_t t : tris) {
           out.vertices_.push_back(

@@ -112,6 +112,7 @@ double PathParam2::closest(const double* p) const {
 namespace {
 
 struct Cancelled {};
+struct Converged {};
 
 class Problem {
  public:
@@ -353,7 +354,9 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
       LBFGSpp::LBFGSBParam<double> param;
       param.m = static_cast<int>(std::max<std::uint32_t>(options.lbfgs_memory, 1));
       param.max_iterations = static_cast<int>(options.max_iterations);
-      param.epsilon = target;
+      // LBFGSpp tests the infinity norm of the projected gradient; the criterion here is
+      // the Euclidean norm, tested in the objective below, which ends the run by throwing.
+      param.epsilon = 0;
       param.epsilon_rel = 0;
       param.past = 0;
       param.max_linesearch = 30;
@@ -367,13 +370,17 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
         if (fx < best_f) {
           best_f = fx;
           best_z = x;
-          report(++accepted, fx, problem.projected_norm(x, grad, lo, hi));
+          const double gnorm = problem.projected_norm(x, grad, lo, hi);
+          report(++accepted, fx, gnorm);
+          if (gnorm <= target) throw Converged{};
         }
         return fx;
       };
       double fx = f;
       try {
         solver.minimize(fun, z, fx, lo, hi);
+      } catch (const Converged&) {
+        result.converged = true;
       } catch (const Error&) {
         throw;
       } catch (const std::runtime_error&) {

@@ -273,10 +273,10 @@ TEST_CASE("clip2d: densities", "[clip]") {
   // exact, and the degree-4 rule of the callback too (the integrands are of degree <= 3).
   const Domain2 d(rings_of({square(0, 0, 1, 1), square(0.25, 0.5, 0.5, 0.75)}));
   const auto rho = [](double x, double y) { return 1 + 2 * x + 3 * y; };
-  const double lo[2] = {-1, -1}, hi[2] = {2, 2};
+  const double lo[2] = {0, 0}, hi[2] = {1, 1};
   std::vector<double> values;
   for (int j = 0; j < 7; ++j) {
-    for (int i = 0; i < 7; ++i) values.push_back(rho(-1 + 0.5 * i, -1 + 0.5 * j));
+    for (int i = 0; i < 7; ++i) values.push_back(rho(i / 6.0, j / 6.0));
   }
   const std::vector<double> sites = sample_inside(d, 500, 9);
   const Delaunay2 dt(sites.data(), 500);

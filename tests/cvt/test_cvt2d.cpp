@@ -85,19 +85,22 @@ TEST_CASE("cvt2d: known minimisers", "[cvt]") {
     Cvt2Options o;
     o.method = method;
     o.max_iterations = 500;
-    o.gradient_tolerance = 1e-9;
+    // The energy is known to ~1e-17 relative; the line search cannot resolve gradients
+    // much below sqrt of that.
+    o.gradient_tolerance = 1e-6;
+    INFO((method == CvtMethod::kLloyd ? "Lloyd" : "L-BFGS"));
     std::vector<double> six = {0.6, 0.4, 1.45, 0.58, 2.4, 0.45, 0.55, 1.6, 1.4, 1.45, 2.58, 1.55};
     const auto r6 = voroclip::optimize_cvt2(rect, six, o);
     REQUIRE(r6.converged);
     for (int k = 0; k < 6; ++k) {
-      REQUIRE(std::fabs(six[2 * k] - (0.5 + k % 3)) < 1e-6);
-      REQUIRE(std::fabs(six[2 * k + 1] - (0.5 + k / 3)) < 1e-6);
+      REQUIRE(std::fabs(six[2 * k] - (0.5 + k % 3)) < 1e-5);
+      REQUIRE(std::fabs(six[2 * k + 1] - (0.5 + k / 3)) < 1e-5);
     }
     std::vector<double> four = {0.2, 0.3, 0.7, 0.2, 0.8, 0.7, 0.3, 0.9};
     const auto r4 = voroclip::optimize_cvt2(unit, four, o);
     REQUIRE(r4.converged);
     // Energy of the 2 x 2 grid: 4 squares of side 1/2, each ∫|x - c|^2 = (1/2)^4 / 6.
-    REQUIRE(std::fabs(r4.energy - 4 * 0.0625 / 6) < 1e-9);
+    REQUIRE(std::fabs(r4.energy - 4 * 0.0625 / 6) < 1e-11);
   }
 }
 

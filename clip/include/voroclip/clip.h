@@ -171,13 +171,13 @@ class ClippedVoronoi2 {
   // object is used for geometry queries).
   void compute(const Domain2& domain, const Delaunay2& dt, const Clip2Options& options = {});
 
-  std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(area_.size()); }
-  double area(std::uint32_t i) const { return area_[i]; }
-  double mass(std::uint32_t i) const { return mass_[i]; }
+  std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
+  double area(std::uint32_t i) const { return cells_[i].area; }
+  double mass(std::uint32_t i) const { return cells_[i].mass; }
   // The mass centroid; the site itself for an empty cell.
-  const double* centroid(std::uint32_t i) const { return centroid_.data() + 2 * std::size_t{i}; }
-  double energy(std::uint32_t i) const { return energy_[i]; }
-  bool is_boundary(std::uint32_t i) const { return boundary_[i] != 0; }
+  const double* centroid(std::uint32_t i) const { return cells_[i].centroid; }
+  double energy(std::uint32_t i) const { return cells_[i].energy; }
+  bool is_boundary(std::uint32_t i) const { return cells_[i].boundary != 0; }
   std::uint32_t nb_boundary_sites() const { return nb_boundary_; }
 
   // Sums over cells, in index order.
@@ -196,8 +196,12 @@ class ClippedVoronoi2 {
 
  private:
   friend struct Clip2Impl;
-  std::vector<double> area_, mass_, centroid_, energy_;
-  std::vector<std::uint8_t> boundary_;
+  // One record per cell: what a cell loop writes is one cache line.
+  struct Cell {
+    double area, mass, energy, centroid[2];
+    std::uint32_t boundary;
+  };
+  std::vector<Cell> cells_;
   std::uint32_t nb_boundary_ = 0;
   double total_area_ = 0, total_mass_ = 0, total_energy_ = 0;
   std::vector<std::uint32_t> cell_ring_begin_, ring_vertex_begin_;
