@@ -209,4 +209,90 @@ class ClippedVoronoi2 {
   std::vector<double> vertex_xy_;
 };
 
+// ---------------------------------------------------------------------------------------
+// Domain3: the volume of a tetrahedral mesh, validated (clip/src/domain3.cpp).
+//
+// Built from TetMeshInput (core.h). Every tet is made positively oriented (orient3d of its
+// vertices in order > 0, exact), swapping two vertices of a negative one. The constructor
+// throws Error, naming the source, the element (tet index as in the file, and its line)
+// and the defect, for
+//   - a tet of zero volume (four coplanar vertices, exact) or with a repeated vertex;
+//   - duplicate vertices (two vertices with equal coordinates, both used by tets);
+//   - a facet shared by more than two tets, or two tets that overlap (a facet whose two
+//     tets lie on the same side of it);
+//   - a boundary (facets of exactly one tet) that is not a closed 2-manifold: a boundary
+//     edge not shared by exactly two boundary triangles, or a vertex whose boundary
+//     triangles form more than one fan;
+//   - a non-finite coordinate.
+// Vertices used by no tet are allowed and ignored.
+//
+// Local numbering: facet f of tet t is opposite vertex f and has the vertices
+// kTetFacetVertex[f] (a triangle oriented outward from t). Boundary triangle b is the
+// facet kBoundaryFacet(b) of tet boundary_tet(b), with the same (outward) orientation; its
+// edge e is opposite its vertex e, and boundary_adjacent(b, e) is the boundary triangle
+// across that edge.
+class Domain3 {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  static constexpr int kTetFacetVertex[4][3] = {{1, 2, 3}, {0, 3, 2}, {3, 0, 1}, {2, 1, 0}};
+
+  Domain3() = default;
+  explicit Domain3(const TetMeshInput& mesh);
+
+  const std::string& source() const { return source_; }
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz_.size() / 3); }
+  const double* vertex(std::uint32_t v) const {
+    assert(v < nb_vertices());
+    return xyz_.data() + 3 * static_cast<std::size_t>(v);
+  }
+  const std::vector<double>& coords() const { return xyz_; }
+
+  std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets_.size() / 4); }
+  std::uint32_t tet_vertex(std::uint32_t t, int k) const {
+    assert(t < nb_tets() && k >= 0 && k < 4);
+    return tets_[4 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+  }
+  // The tet across facet f of t, or kNone on the boundary.
+  std::uint32_t tet_adjacent(std::uint32_t t, int f) const {
+    assert(t < nb_tets() && f >= 0 && f < 4);
+    return tet_adjacent_[4 * static_cast<std::size_t>(t) + static_cast<std::size_t>(f)];
+  }
+  // The boundary triangle that is facet f of t (kNone for an interior facet).
+  std::uint32_t tet_boundary(std::uint32_t t, int f) const;
+
+  std::uint32_t nb_boundary_triangles() const {
+    return static_cast<std::uint32_t>(boundary_tet_.size());
+  }
+  std::uint32_t boundary_vertex(std::uint32_t b, int k) const {
+    assert(b < nb_boundary_triangles() && k >= 0 && k < 3);
+    return boundary_vertices_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)];
+  }
+  std::uint32_t boundary_tet(std::uint32_t b) const { return boundary_tet_[b]; }
+  int boundary_facet(std::uint32_t b) const { return boundary_facet_[b]; }
+  std::uint32_t boundary_adjacent(std::uint32_t b, int e) const {
+    assert(b < nb_boundary_triangles() && e >= 0 && e < 3);
+    return boundary_adjacent_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(e)];
+  }
+  // Where tet t came from in the input (its index there), for messages.
+  std::uint32_t source_tet(std::uint32_t t) const { return source_tet_[t]; }
+
+  // Total volume (sum of tet volumes) and the bounding box of the used vertices.
+  double volume() const { return volume_; }
+  const double* bbox_lo() const { return bbox_; }
+  const double* bbox_hi() const { return bbox_ + 3; }
+
+ private:
+  std::string source_;
+  std::vector<double> xyz_;
+  std::vector<std::uint32_t> tets_;
+  std::vector<std::uint32_t> tet_adjacent_;
+  std::vector<std::uint32_t> boundary_vertices_;
+  std::vector<std::uint32_t> boundary_tet_;
+  std::vector<std::int8_t> boundary_facet_;
+  std::vector<std::uint32_t> boundary_adjacent_;
+  std::vector<std::uint32_t> source_tet_;
+  double volume_ = 0;
+  double bbox_[6] = {0, 0, 0, 0, 0, 0};
+};
+
 }  // namespace voroclip

@@ -93,4 +93,33 @@ PolygonRings annulus_rings(double r_inner, double r_outer, std::uint32_t segment
 /// each centred in its grid cell (0 < hole_fraction < 1).
 PolygonRings square_with_holes(std::uint32_t k, double hole_fraction);
 
+// ---------------------------------------------------------------------------------------
+// Tetrahedral meshes as read, before validation (validated: voroclip::Domain3, clip.h).
+
+/// A tetrahedral mesh as given by a file: vertices (packed x y z) and tets (4 vertex
+/// indices each, 0-based, in the file's order and orientation).
+struct TetMeshInput {
+  /// Where it came from (a file name), for error messages.
+  std::string source;
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> tets;
+  /// Per tet: the line of the file where it is defined (1-based; 0 when not known).
+  std::vector<std::uint32_t> tet_line;
+
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
+  std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
+};
+
+/// Reads a tetrahedral mesh, by extension:
+///   .mesh          Medit (INRIA) ASCII: Vertices and Tetrahedra sections, 1-based; other
+///                  sections (Triangles, Edges, ...) are read past and ignored;
+///   .node / .ele   TetGen: either file may be given, the other is found beside it;
+///   .msh           Gmsh ASCII, format 2.2 or 4.1 (4-node tetrahedra, element type 4; other
+///                  element types are skipped);
+///   .vtk           legacy VTK ASCII UNSTRUCTURED_GRID (cell type 10).
+/// Throws Error naming the file, the line and what is wrong: a missing file, an unknown
+/// format or version, a truncated section, a value that is not a number or not finite, a
+/// vertex index out of range, no tetrahedra.
+TetMeshInput read_tet_mesh(const std::string& path);
+
 }  // namespace voroclip
