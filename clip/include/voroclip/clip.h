@@ -213,24 +213,38 @@ class ClippedVoronoi2 {
 // Domain3: the volume of a tetrahedral mesh, validated (clip/src/domain3.cpp).
 //
 // Built from TetMeshInput (core.h). Every tet is made positively oriented (orient3d of its
-// vertices in order > 0, exact), swapping two vertices of a negative one. The constructor
-// throws Error, naming the source, the element (tet index as in the file, and its line)
-// and the defect, for
+// vertices in order > 0, exact), swapping its local vertices 2 and 3 when it is negative.
+// The constructor throws Error, naming the source, the element (tet index as in the
+// TetMeshInput, i.e. the file's order from 0, and its line in the file), the vertices
+// involved (indices into the TetMeshInput's vertices, from 0) and the defect, for
 //   - a tet of zero volume (four coplanar vertices, exact) or with a repeated vertex;
 //   - duplicate vertices (two vertices with equal coordinates, both used by tets);
 //   - a facet shared by more than two tets, or two tets that overlap (a facet whose two
 //     tets lie on the same side of it);
 //   - a boundary (facets of exactly one tet) that is not a closed 2-manifold: a boundary
-//     edge not shared by exactly two boundary triangles, or a vertex whose boundary
-//     triangles form more than one fan;
-//   - a non-finite coordinate.
-// Vertices used by no tet are allowed and ignored.
+//     edge not shared by exactly two boundary triangles (tets meeting along an edge only),
+//     or a vertex whose boundary triangles form more than one fan (tets meeting at a
+//     vertex only);
+//   - a non-finite coordinate (of a used vertex), a vertex index out of range.
+// Vertices used by no tet are allowed and ignored (kept, so indices stay those of the
+// input). Not detected: tets that intersect without sharing a facet (two crossing
+// components, a mesh winding twice around an edge): no local test sees them.
+// Tets keep the input's order (source_tet(t) == t) and the result is the same for any
+// thread count.
 //
-// Local numbering: facet f of tet t is opposite vertex f and has the vertices
-// kTetFacetVertex[f] (a triangle oriented outward from t). Boundary triangle b is the
-// facet kBoundaryFacet(b) of tet boundary_tet(b), with the same (outward) orientation; its
-// edge e is opposite its vertex e, and boundary_adjacent(b, e) is the boundary triangle
-// across that edge.
+// Local numbering (the convention of Delaunay3::kFacetVertex): facet f of tet t is
+// opposite vertex f and has the vertices kTetFacetVertex[f], listed so that
+// orient3d(facet, q) < 0 for q on the tet's side and > 0 beyond it: "outward" in the sense
+// of orient3d. With Shewchuk's sign convention (predicates.h) such a triangle is CLOCKWISE
+// seen from outside, i.e. its right-hand normal (b - a) x (c - a) points into the tet: a
+// surface file oriented by the right-hand rule (Medit Triangles, OBJ, the shared data's
+// boundary triangles) lists each boundary triangle reversed, and the enclosed volume is
+// -sum over boundary triangles of det(a, b, c) / 6. Input tets oriented the other way
+// (TetGen's det(p1 - p0, p2 - p0, p3 - p0) > 0, i.e. orient3d < 0) are all swapped.
+// Boundary triangle b is the facet boundary_facet(b) of tet boundary_tet(b), with the same
+// orientation; boundary triangles are ordered by (tet, facet). Its edge e is opposite its
+// vertex e (from vertex e + 1 to vertex e + 2, mod 3), and boundary_adjacent(b, e) is the
+// boundary triangle across that edge (which runs through it the other way).
 class Domain3 {
  public:
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -257,7 +271,8 @@ class Domain3 {
     assert(t < nb_tets() && f >= 0 && f < 4);
     return tet_adjacent_[4 * static_cast<std::size_t>(t) + static_cast<std::size_t>(f)];
   }
-  // The boundary triangle that is facet f of t (kNone for an interior facet).
+  // The boundary triangle that is facet f of t (kNone for an interior facet); O(1): t's
+  // boundary triangles are consecutive.
   std::uint32_t tet_boundary(std::uint32_t t, int f) const;
 
   std::uint32_t nb_boundary_triangles() const {
@@ -276,7 +291,9 @@ class Domain3 {
   // Where tet t came from in the input (its index there), for messages.
   std::uint32_t source_tet(std::uint32_t t) const { return source_tet_[t]; }
 
-  // Total volume (sum of tet volumes) and the bounding box of the used vertices.
+  // Total volume: the sum of the tet volumes |det| / 6 (each in floating point), summed in
+  // tet order with compensated summation. The bounding box of the used vertices (zero
+  // for an empty mesh).
   double volume() const { return volume_; }
   const double* bbox_lo() const { return bbox_; }
   const double* bbox_hi() const { return bbox_ + 3; }
@@ -291,6 +308,8 @@ class Domain3 {
   std::vector<std::int8_t> boundary_facet_;
   std::vector<std::uint32_t> boundary_adjacent_;
   std::vector<std::uint32_t> source_tet_;
+  // Tet t's boundary triangles are [tet_boundary_begin_[t], tet_boundary_begin_[t + 1]).
+  std::vector<std::uint32_t> tet_boundary_begin_;
   double volume_ = 0;
   double bbox_[6] = {0, 0, 0, 0, 0, 0};
 };

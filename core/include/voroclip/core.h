@@ -110,16 +110,47 @@ struct TetMeshInput {
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
 };
 
-/// Reads a tetrahedral mesh, by extension:
-///   .mesh          Medit (INRIA) ASCII: Vertices and Tetrahedra sections, 1-based; other
-///                  sections (Triangles, Edges, ...) are read past and ignored;
-///   .node / .ele   TetGen: either file may be given, the other is found beside it;
-///   .msh           Gmsh ASCII, format 2.2 or 4.1 (4-node tetrahedra, element type 4; other
-///                  element types are skipped);
-///   .vtk           legacy VTK ASCII UNSTRUCTURED_GRID (cell type 10).
-/// Throws Error naming the file, the line and what is wrong: a missing file, an unknown
-/// format or version, a truncated section, a value that is not a number or not finite, a
-/// vertex index out of range, no tetrahedra.
+/// Reads a tetrahedral mesh, by extension (case-insensitive):
+///   .mesh          Medit (INRIA) ASCII: keywords case-insensitive, '#' comments; the
+///                  Vertices (x y z ref) and Tetrahedra (4 indices from 1, ref) sections;
+///                  other sections (Triangles, Edges, Corners, Normals, ...) are read past
+///                  by their counts; MeshVersionFormatted 1 to 4, Dimension 3;
+///   .node / .ele   TetGen: either file may be given, the other is found beside it (same
+///                  name, other extension); nodes numbered from 0 or 1 (the first node
+///                  decides); 4 or 10 nodes per tetrahedron (10: the first 4 are used);
+///                  attributes and markers are read and ignored; `source` is the .ele file;
+///   .msh           Gmsh ASCII, format 2.x (2.2) or 4.1: $Nodes and $Elements (4-node
+///                  tetrahedra, element type 4; other element types are skipped), node
+///                  tags in any order and with gaps; other sections are read past;
+///   .vtk           legacy VTK ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
+///                  VTK 5.1 OFFSETS/CONNECTIVITY layout), CELL_TYPES; cells of type 10
+///                  (VTK_TETRA) are kept, others skipped.
+/// Binary files (.meshb, binary .msh, BINARY .vtk) are rejected. Vertices keep the file's
+/// order (Gmsh: the order of $Nodes), tetrahedra the file's order and orientation.
+/// Throws Error "file:line: what" (or "file: what" for the whole file) for a missing file,
+/// an unknown extension, format or version, a truncated section (which section, expected
+/// and found counts), a value that is not a number or not finite, a vertex index out of
+/// range (naming the element as the file numbers it: Medit's 1-based tetrahedron number,
+/// TetGen's tetrahedron number, Gmsh's element tag, VTK's 0-based cell index), no
+/// tetrahedra.
 TetMeshInput read_tet_mesh(const std::string& path);
+
+/// Tetrahedral mesh file formats that write_tet_mesh can write.
+enum class TetMeshFormat {
+  kMedit,   // .mesh, MeshVersionFormatted 2, vertices and tets numbered from 1, refs 0
+  kTetGen,  // .node + .ele (both written, whichever extension `path` has), numbered from 1
+  kGmsh22,  // .msh ASCII 2.2, node and element tags 1..n
+  kGmsh41,  // .msh ASCII 4.1, one volume entity, node and element tags 1..n
+  kVtk,     // legacy ASCII .vtk (write_vtk), cell data "cell_id"
+};
+
+/// Writes a tetrahedral mesh (all vertices, used or not, and the tets in order and
+/// orientation) so that read_tet_mesh reads back the same coordinates (shortest round-trip
+/// decimals) and tets. The file appears whole or not at all (write_file_atomically).
+/// Throws Error naming the file for an index out of range or a write failure.
+void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format);
+
+/// As above, the format chosen by the extension: .mesh, .node/.ele, .msh (4.1), .vtk.
+void write_tet_mesh(const std::string& path, const TetMeshInput& mesh);
 
 }  // namespace voroclip

@@ -1,0 +1,442 @@
+// Domain3: a tetrahedral mesh validated exactly, with tet and boundary adjacency (the
+// contract is the comment on Domain3 in clip.h).
+//
+// Passes, in this order; each reports its first defect in a fixed order (the smallest
+// index it concerns), so that the message does not depend on the thread count:
+//  1. Vertex indices in range; finite coordinates of the used vertices; bounding box.
+//  2. Per tet (parallel, one slot per tet): a repeated vertex; the exact sign of
+//     orient3d(p0, p1, p2, p3): zero is an error, negative is fixed by swapping local
+//     vertices 2 and 3. Volumes |det| / 6 in floating point, summed in tet order with
+//     Neumaier's compensated summation.
+//  3. Duplicate vertices: the used vertices sorted by coordinates, neighbours compared.
+//  4. Facets. Facet f of t is keyed by its sorted vertex triple (a < b < c); the keys are
+//     bucketed by a (a counting sort, stable in facet order 4t + f), then each bucket is
+//     sorted by (b, c, 4t + f) in parallel: O(n) plus tiny sorts, and the order is unique,
+//     so the result does not depend on the thread count. A key met once is a boundary
+//     triangle, twice an interior facet, more often an error. Both tets of an interior
+//     facet are positive after pass 2, and each lists the facet so that its own fourth
+//     vertex is on the negative side (kTetFacetVertex); so they lie on opposite sides of
+//     the facet (orient3d of the facet as t lists it and the fourth vertex of t' > 0)
+//     exactly when they list the facet with opposite orientations, i.e. when the
+//     permutations that sort the two listed triples have different parities. That parity
+//     test is the exact orient3d test, at no cost.
+//  5. Boundary edges, keyed and bucketed like the facets: each must be in exactly two
+//     boundary triangles, which run through it in opposite directions. (The boundary of a
+//     tet mesh is closed modulo 2, so an edge is always in an even number of boundary
+//     triangles: a defect here is an edge in 4, 6, ... triangles, where tets meet along an
+//     edge only.)
+//  6. Boundary vertices: the triangles around a vertex, walked across boundary edges,
+//     must form a single cycle (one fan); two tets meeting at a vertex only give two.
+//
+// Not detected (no local test sees them): tets that intersect without sharing a facet,
+// e.g. two separate components that cross, or a mesh that winds around an edge twice.
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "voroclip/clip.h"
+
+namespace voroclip {
+
+namespace {
+
+constexpr std::uint32_t kNone = Domain3::kNone;
+
+std::string number(double x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), x);
+  return std::string(buf, r.ptr);
+}
+
+std::string point(const double* p) {
+  return "(" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + ")";
+}
+
+// Names what a message is about, as in the input: the source, tets by their index in the
+// TetMeshInput (the file's order, from 0) with their line in the file.
+struct Namer {
+  const TetMeshInput& mesh;
+  std::string source;
+
+  std::uint32_t line(std::uint32_t t) const {
+    return t < mesh.tet_line.size() ? mesh.tet_line[t] : 0u;
+  }
+  // "tet 5 (line 40)", or "tet 5" when the line is not known.
+  std::string tet(std::uint32_t t) const {
+    const std::uint32_t l = line(t);
+    return "tet " + std::to_string(t) + (l != 0 ? " (line " + std::to_string(l) + ")" : "");
+  }
+  // "source:40: tet 5", the start of a message about tet t.
+  std::string at(std::uint32_t t) const {
+    const std::uint32_t l = line(t);
+    return source + (l != 0 ? ":" + std::to_string(l) : "") + ": tet " + std::to_string(t);
+  }
+  // "0 1 2 3": the vertices of tet t as given.
+  std::string vertices(std::uint32_t t) const {
+    std::string s;
+    for (std::size_t k = 0; k < 4; ++k) {
+      s += (k ? " " : "") + std::to_string(mesh.tets[4 * static_cast<std::size_t>(t) + k]);
+    }
+    return s;
+  }
+};
+
+// The first error found by a pass, keeping the one about the smallest key.
+struct FirstError {
+  std::uint64_t key = ~std::uint64_t{0};
+  std::string message;
+
+  bool wants(std::uint64_t k) const { return k < key; }
+  void set(std::uint64_t k, std::string m) {
+    key = k;
+    message = std::move(m);
+  }
+  void raise() const {
+    if (!message.empty()) throw Error(message);
+  }
+};
+
+// Sorts three indices; returns the parity of the permutation applied (1: odd).
+std::uint32_t sort3(std::uint32_t& a, std::uint32_t& b, std::uint32_t& c) {
+  std::uint32_t parity = 0;
+  if (a > b) std::swap(a, b), parity ^= 1u;
+  if (b > c) std::swap(b, c), parity ^= 1u;
+  if (a > b) std::swap(a, b), parity ^= 1u;
+  return parity;
+}
+
+// Keys bucketed by their smallest vertex; within a bucket, sorted by (hi0, hi1, code).
+struct Keyed {
+  std::uint32_t hi0, hi1, code, parity;
+};
+
+// Counting sort into buckets (stable in the order of `keys`), then each bucket sorted.
+// Returns the bucket offsets (nb_buckets + 1); `keys` is reordered in place.
+std::vector<std::uint32_t> bucket_sort(std::vector<Keyed>& keys,
+                                       const std::vector<std::uint32_t>& bucket,
+                                       std::uint32_t nb_buckets) {
+  std::vector<std::uint32_t> begin(static_cast<std::size_t>(nb_buckets) + 1, 0);
+  for (const std::uint32_t b : bucket) ++begin[b + 1];
+  for (std::size_t i = 0; i < nb_buckets; ++i) begin[i + 1] += begin[i];
+  std::vector<Keyed> sorted(keys.size());
+  std::vector<std::uint32_t> pos(begin.begin(), begin.end() - 1);
+  for (std::size_t i = 0; i < keys.size(); ++i) sorted[pos[bucket[i]]++] = keys[i];
+  keys.swap(sorted);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_buckets, 1024), [&](const auto& r) {
+    for (std::uint32_t a = r.begin(); a != r.end(); ++a) {
+      std::sort(keys.begin() + begin[a], keys.begin() + begin[a + 1],
+                [](const Keyed& x, const Keyed& y) {
+                  if (x.hi0 != y.hi0) return x.hi0 < y.hi0;
+                  if (x.hi1 != y.hi1) return x.hi1 < y.hi1;
+                  return x.code < y.code;
+                });
+    }
+  });
+  return begin;
+}
+
+// Neumaier's compensated sum, in the order given.
+double compensated_sum(const std::vector<double>& v) {
+  double sum = 0, comp = 0;
+  for (const double x : v) {
+    const double t = sum + x;
+    comp += std::fabs(sum) >= std::fabs(x) ? (sum - t) + x : (x - t) + sum;
+    sum = t;
+  }
+  return sum + comp;
+}
+
+}  // namespace
+
+Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
+  const Namer name{mesh, mesh.source.empty() ? std::string("tetrahedral mesh") : mesh.source};
+  if (mesh.xyz.size() % 3 != 0 || mesh.tets.size() % 4 != 0) {
+    throw Error(name.source + ": the mesh arrays hold " + std::to_string(mesh.xyz.size()) +
+                " coordinates and " + std::to_string(mesh.tets.size()) +
+                " tet vertex indices (multiples of 3 and 4 expected)");
+  }
+  const std::uint32_t nv = mesh.nb_vertices();
+  const std::uint32_t nt = mesh.nb_tets();
+  if (mesh.tets.size() / 4 >= (std::size_t{1} << 30)) {
+    throw Error(name.source + ": more than 2^30 tets");
+  }
+  xyz_ = mesh.xyz;
+  tets_ = mesh.tets;
+
+  // ---- 1. Indices, finite coordinates, bounding box.
+  std::vector<std::uint32_t> first_tet(nv, kNone);  // the first tet using each vertex
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = tet_vertex(t, k);
+      if (v >= nv) {
+        throw Error(name.at(t) + ": vertex index " + std::to_string(v) +
+                    " is out of range (the mesh has " + std::to_string(nv) + " vertices)");
+      }
+      if (first_tet[v] == kNone) first_tet[v] = t;
+    }
+  }
+  bool first_used = true;
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (first_tet[v] == kNone) continue;
+    const double* p = vertex(v);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      throw Error(name.at(first_tet[v]) + ": vertex " + std::to_string(v) +
+                  " has a non-finite coordinate " + point(p));
+    }
+    for (int k = 0; k < 3; ++k) {
+      bbox_[k] = first_used ? p[k] : std::min(bbox_[k], p[k]);
+      bbox_[k + 3] = first_used ? p[k] : std::max(bbox_[k + 3], p[k]);
+    }
+    first_used = false;
+  }
+
+  // ---- 2. Repeated vertices, exact orientation, volumes.
+  constexpr std::int8_t kRepeated = 2;
+  std::vector<std::int8_t> sign(nt);
+  std::vector<double> tet_volume(nt);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 4096), [&](const auto& r) {
+    for (std::uint32_t t = r.begin(); t != r.end(); ++t) {
+      const std::uint32_t* v = tets_.data() + 4 * static_cast<std::size_t>(t);
+      if (v[0] == v[1] || v[0] == v[2] || v[0] == v[3] || v[1] == v[2] || v[1] == v[3] ||
+          v[2] == v[3]) {
+        sign[t] = kRepeated;
+        continue;
+      }
+      const double *p0 = vertex(v[0]), *p1 = vertex(v[1]), *p2 = vertex(v[2]), *p3 = vertex(v[3]);
+      sign[t] = static_cast<std::int8_t>(orient3d(p0, p1, p2, p3));
+      const double a[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+      const double b[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      const double c[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
+      const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                         a[2] * (b[0] * c[1] - b[1] * c[0]);
+      tet_volume[t] = std::fabs(det) / 6;
+    }
+  });
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (sign[t] == kRepeated) {
+      throw Error(name.at(t) + " has a repeated vertex (vertices " + name.vertices(t) + ")");
+    }
+    if (sign[t] == 0) {
+      throw Error(name.at(t) + " has zero volume: its vertices " + name.vertices(t) +
+                  " are coplanar (exact orient3d)");
+    }
+    if (sign[t] < 0) std::swap(tets_[4 * static_cast<std::size_t>(t) + 2], tets_[4 * t + 3]);
+  }
+  volume_ = compensated_sum(tet_volume);
+
+  // ---- 3. Duplicate vertices among the used ones.
+  {
+    std::vector<std::uint32_t> used;
+    used.reserve(nv);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (first_tet[v] != kNone) used.push_back(v);
+    }
+    const auto less = [&](std::uint32_t u, std::uint32_t v) {
+      const double *p = vertex(u), *q = vertex(v);
+      if (p[0] != q[0]) return p[0] < q[0];
+      if (p[1] != q[1]) return p[1] < q[1];
+      if (p[2] != q[2]) return p[2] < q[2];
+      return u < v;
+    };
+    std::sort(used.begin(), used.end(), less);
+    FirstError error;
+    for (std::size_t i = 1; i < used.size(); ++i) {
+      const std::uint32_t u = used[i - 1], v = used[i];
+      const double *p = vertex(u), *q = vertex(v);
+      if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2] && error.wants(u)) {
+        error.set(u, name.source + ": vertices " + std::to_string(u) + " and " + std::to_string(v) +
+                         " have the same coordinates " + point(p) +
+                         " (duplicate vertices), used by " + name.tet(first_tet[u]) + " and " +
+                         name.tet(first_tet[v]));
+      }
+    }
+    error.raise();
+  }
+
+  // ---- 4. Facets: adjacency, boundary triangles.
+  tet_adjacent_.assign(4 * static_cast<std::size_t>(nt), kNone);
+  std::vector<std::uint32_t> boundary_codes;  // 4t + f of the boundary facets
+  {
+    std::vector<Keyed> keys(4 * static_cast<std::size_t>(nt));
+    std::vector<std::uint32_t> bucket(keys.size());
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      for (int f = 0; f < 4; ++f) {
+        std::uint32_t a = tet_vertex(t, kTetFacetVertex[f][0]);
+        std::uint32_t b = tet_vertex(t, kTetFacetVertex[f][1]);
+        std::uint32_t c = tet_vertex(t, kTetFacetVertex[f][2]);
+        const std::uint32_t parity = sort3(a, b, c);
+        const std::size_t i = 4 * static_cast<std::size_t>(t) + static_cast<std::size_t>(f);
+        keys[i] = {b, c, static_cast<std::uint32_t>(i), parity};
+        bucket[i] = a;
+      }
+    }
+    const std::vector<std::uint32_t> begin = bucket_sort(keys, bucket, nv);
+    FirstError error;
+    for (std::uint32_t a = 0; a < nv; ++a) {
+      for (std::uint32_t i = begin[a]; i < begin[a + 1];) {
+        std::uint32_t j = i + 1;
+        while (j < begin[a + 1] && keys[j].hi0 == keys[i].hi0 && keys[j].hi1 == keys[i].hi1) ++j;
+        const std::uint32_t t0 = keys[i].code / 4;
+        const auto facet = [&] {
+          return "(vertices " + std::to_string(a) + " " + std::to_string(keys[i].hi0) + " " +
+                 std::to_string(keys[i].hi1) + ")";
+        };
+        if (j - i == 1) {
+          boundary_codes.push_back(keys[i].code);
+        } else if (j - i == 2) {
+          const std::uint32_t t1 = keys[i + 1].code / 4;
+          if (keys[i].parity == keys[i + 1].parity) {
+            if (error.wants(t0)) {
+              error.set(t0, name.at(t0) + " and " + name.tet(t1) +
+                                " overlap: both lie on the same side of their shared facet " +
+                                facet());
+            }
+          } else {
+            tet_adjacent_[keys[i].code] = t1;
+            tet_adjacent_[keys[i + 1].code] = t0;
+          }
+        } else if (error.wants(t0)) {
+          std::string tets;
+          for (std::uint32_t k = i; k < j; ++k) {
+            tets += (k == i ? "" : k + 1 == j ? " and " : ", ") + name.tet(keys[k].code / 4);
+          }
+          error.set(t0, name.at(t0) + ": the facet " + facet() + " is shared by " +
+                            std::to_string(j - i) + " tets (at most 2): " + tets);
+        }
+        i = j;
+      }
+    }
+    error.raise();
+  }
+  std::sort(boundary_codes.begin(), boundary_codes.end());
+  const auto nb = static_cast<std::uint32_t>(boundary_codes.size());
+  boundary_tet_.resize(nb);
+  boundary_facet_.resize(nb);
+  boundary_vertices_.resize(3 * static_cast<std::size_t>(nb));
+  tet_boundary_begin_.assign(static_cast<std::size_t>(nt) + 1, 0);
+  for (std::uint32_t b = 0; b < nb; ++b) {
+    const std::uint32_t t = boundary_codes[b] / 4;
+    const int f = static_cast<int>(boundary_codes[b] % 4);
+    boundary_tet_[b] = t;
+    boundary_facet_[b] = static_cast<std::int8_t>(f);
+    for (int k = 0; k < 3; ++k) {
+      boundary_vertices_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)] =
+          tet_vertex(t, kTetFacetVertex[f][k]);
+    }
+    ++tet_boundary_begin_[t + 1];
+  }
+  for (std::size_t t = 0; t < nt; ++t) tet_boundary_begin_[t + 1] += tet_boundary_begin_[t];
+
+  // ---- 5. Boundary edges: edge e of b runs from vertex e + 1 to vertex e + 2.
+  boundary_adjacent_.assign(3 * static_cast<std::size_t>(nb), kNone);
+  {
+    std::vector<Keyed> keys(3 * static_cast<std::size_t>(nb));
+    std::vector<std::uint32_t> bucket(keys.size());
+    for (std::uint32_t b = 0; b < nb; ++b) {
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t u = boundary_vertex(b, (e + 1) % 3);
+        const std::uint32_t w = boundary_vertex(b, (e + 2) % 3);
+        const std::size_t i = 3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(e);
+        keys[i] = {std::max(u, w), 0, static_cast<std::uint32_t>(i), u < w ? 0u : 1u};
+        bucket[i] = std::min(u, w);
+      }
+    }
+    const std::vector<std::uint32_t> begin = bucket_sort(keys, bucket, nv);
+    FirstError error;
+    for (std::uint32_t a = 0; a < nv; ++a) {
+      for (std::uint32_t i = begin[a]; i < begin[a + 1];) {
+        std::uint32_t j = i + 1;
+        while (j < begin[a + 1] && keys[j].hi0 == keys[i].hi0) ++j;
+        const std::uint32_t b0 = keys[i].code / 3;
+        const std::uint32_t t0 = boundary_tet_[b0];
+        const auto edge = [&] {
+          return "(vertices " + std::to_string(a) + " " + std::to_string(keys[i].hi0) + ")";
+        };
+        if (j - i == 2 && keys[i].parity != keys[i + 1].parity) {
+          boundary_adjacent_[keys[i].code] = keys[i + 1].code / 3;
+          boundary_adjacent_[keys[i + 1].code] = b0;
+        } else if (j - i == 2) {
+          if (error.wants(t0)) {
+            error.set(t0, name.at(t0) +
+                              ": the boundary is not consistently oriented: the "
+                              "boundary triangles of " +
+                              name.tet(t0) + " and " +
+                              name.tet(boundary_tet_[keys[i + 1].code / 3]) +
+                              " run through their edge " + edge() + " in the same direction");
+          }
+        } else if (error.wants(t0)) {
+          std::string tets;
+          for (std::uint32_t k = i; k < j; ++k) {
+            tets += (k == i       ? ""
+                     : k + 1 == j ? " and "
+                                  : ", ") +
+                    name.tet(boundary_tet_[keys[k].code / 3]);
+          }
+          error.set(t0, name.at(t0) + ": the boundary is not a 2-manifold: the edge " + edge() +
+                            " is in " + std::to_string(j - i) +
+                            " boundary triangles (2 expected), the facets of " + tets);
+        }
+        i = j;
+      }
+    }
+    error.raise();
+  }
+
+  // ---- 6. One fan of boundary triangles around each boundary vertex.
+  {
+    std::vector<std::uint8_t> visited(3 * static_cast<std::size_t>(nb), 0);
+    std::vector<std::uint32_t> nb_corners(nv, 0), first_fan(nv, kNone);
+    for (const std::uint32_t v : boundary_vertices_) ++nb_corners[v];
+    FirstError error;
+    for (std::uint32_t b = 0; b < nb; ++b) {
+      for (int k = 0; k < 3; ++k) {
+        if (visited[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)]) continue;
+        const std::uint32_t v = boundary_vertex(b, k);
+        if (first_fan[v] == kNone) {
+          first_fan[v] = b;
+        } else if (error.wants(v)) {
+          error.set(v, name.source + ": the boundary is not a 2-manifold at vertex " +
+                           std::to_string(v) + " " + point(vertex(v)) +
+                           ": its boundary triangles form several fans, one in " +
+                           name.tet(boundary_tet_[first_fan[v]]) + ", another in " +
+                           name.tet(boundary_tet_[b]));
+        }
+        // Walk around v: across the edge opposite the next corner, which holds v.
+        std::uint32_t cur = b;
+        int loc = k;
+        for (std::uint32_t steps = 0;; ++steps) {
+          visited[3 * static_cast<std::size_t>(cur) + static_cast<std::size_t>(loc)] = 1;
+          cur = boundary_adjacent(cur, (loc + 1) % 3);
+          loc = boundary_vertex(cur, 0) == v ? 0 : boundary_vertex(cur, 1) == v ? 1 : 2;
+          if (cur == b) break;
+          if (steps > nb_corners[v]) {
+            throw Error(name.source + ": internal error: the fan around boundary vertex " +
+                        std::to_string(v) + " does not close");
+          }
+        }
+      }
+    }
+    error.raise();
+  }
+
+  source_tet_.resize(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) source_tet_[t] = t;
+}
+
+std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {
+  assert(t < nb_tets() && f >= 0 && f < 4);
+  for (std::uint32_t b = tet_boundary_begin_[t]; b < tet_boundary_begin_[t + 1]; ++b) {
+    if (boundary_facet_[b] == f) return b;
+  }
+  return kNone;
+}
+
+}  // namespace voroclip

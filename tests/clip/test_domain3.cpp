@@ -1,0 +1,478 @@
+// Domain3: every shared model validated and checked against facts independent of the
+// implementation (the file's own boundary triangles, the Euler characteristic of each
+// surface's genus, the divergence-theorem volume, exact orientation), hand-made meshes for
+// each defect with the whole message checked, scale sweeps and 1-vs-N threads.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/predicates.h"
+
+using voroclip::Domain3;
+using voroclip::Sign;
+using voroclip::TetMeshInput;
+
+namespace {
+
+const std::string kData = std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/";
+constexpr std::uint32_t kNone = Domain3::kNone;
+
+using Tri = std::array<std::uint32_t, 3>;
+
+// A triangle rotated so that its smallest vertex comes first (orientation kept).
+Tri canonical(Tri t) {
+  while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
+  return t;
+}
+
+std::array<std::uint32_t, 3> facet(const Domain3& d, std::uint32_t t, int f) {
+  return {d.tet_vertex(t, Domain3::kTetFacetVertex[f][0]),
+          d.tet_vertex(t, Domain3::kTetFacetVertex[f][1]),
+          d.tet_vertex(t, Domain3::kTetFacetVertex[f][2])};
+}
+
+// Checks every invariant of the contract in clip.h; returns the first violation, or "".
+std::string check_domain3(const Domain3& d) {
+  std::ostringstream err;
+  for (std::uint32_t t = 0; t < d.nb_tets(); ++t) {
+    if (d.source_tet(t) != t) return "source_tet(" + std::to_string(t) + ") != t";
+    const Sign s = voroclip::orient3d(d.vertex(d.tet_vertex(t, 0)), d.vertex(d.tet_vertex(t, 1)),
+                                      d.vertex(d.tet_vertex(t, 2)), d.vertex(d.tet_vertex(t, 3)));
+    if (s != Sign::positive) return "tet " + std::to_string(t) + " is not positive";
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t n = d.tet_adjacent(t, f);
+      const std::uint32_t b = d.tet_boundary(t, f);
+      if ((n == kNone) == (b == kNone)) {
+        return "tet " + std::to_string(t) + " facet " + std::to_string(f) +
+               ": neither or both of adjacent and boundary";
+      }
+      // The facet as listed is on the positive side of orient3d away from the tet.
+      const Tri tri = facet(d, t, f);
+      if (voroclip::orient3d(d.vertex(tri[0]), d.vertex(tri[1]), d.vertex(tri[2]),
+                             d.vertex(d.tet_vertex(t, f))) != Sign::negative) {
+        return "tet " + std::to_string(t) + " facet " + std::to_string(f) + " is not outward";
+      }
+      if (n != kNone) {
+        // Symmetric, the same triangle listed the other way round.
+        int back = -1;
+        for (int g = 0; g < 4; ++g) {
+          if (d.tet_adjacent(n, g) == t) back = g;
+        }
+        if (back < 0) return "adjacency not symmetric at tet " + std::to_string(t);
+        const Tri other = facet(d, n, back);
+        if (canonical(tri) != canonical({other[0], other[2], other[1]})) {
+          return "tets " + std::to_string(t) + " and " + std::to_string(n) +
+                 " do not share their facet with opposite orientations";
+        }
+      } else {
+        if (d.boundary_tet(b) != t || d.boundary_facet(b) != f) {
+          return "tet_boundary and boundary_tet/facet disagree at tet " + std::to_string(t);
+        }
+      }
+    }
+  }
+  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+    const std::uint32_t t = d.boundary_tet(b);
+    const int f = d.boundary_facet(b);
+    if (b > 0 &&
+        std::make_pair(d.boundary_tet(b - 1), d.boundary_facet(b - 1)) >= std::make_pair(t, f)) {
+      return "boundary triangles not ordered by (tet, facet) at " + std::to_string(b);
+    }
+    if (d.tet_adjacent(t, f) != kNone || d.tet_boundary(t, f) != b) {
+      return "boundary triangle " + std::to_string(b) + " is not a boundary facet";
+    }
+    const Tri tri = facet(d, t, f);
+    for (int k = 0; k < 3; ++k) {
+      if (d.boundary_vertex(b, k) != tri[static_cast<std::size_t>(k)]) {
+        return "boundary triangle " + std::to_string(b) + " is not its facet";
+      }
+    }
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t u = d.boundary_vertex(b, (e + 1) % 3);
+      const std::uint32_t w = d.boundary_vertex(b, (e + 2) % 3);
+      const std::uint32_t n = d.boundary_adjacent(b, e);
+      if (n == kNone || n == b) return "boundary triangle " + std::to_string(b) + " open edge";
+      int back = -1;
+      for (int g = 0; g < 3; ++g) {
+        if (d.boundary_vertex(n, (g + 1) % 3) == w && d.boundary_vertex(n, (g + 2) % 3) == u) {
+          back = g;
+        }
+      }
+      if (back < 0 || d.boundary_adjacent(n, back) != b) {
+        return "boundary adjacency not symmetric at triangle " + std::to_string(b);
+      }
+    }
+  }
+  return "";
+}
+
+void require_valid(const Domain3& d) {
+  const std::string problem = check_domain3(d);
+  INFO(problem);
+  REQUIRE(problem.empty());
+}
+
+// The Triangles section of a Medit file (0-based), as written.
+std::vector<Tri> medit_triangles(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line) && line != "Triangles") {
+  }
+  std::size_t n = 0;
+  in >> n;
+  std::vector<Tri> tris(n);
+  for (auto& t : tris) {
+    long long ref = 0;
+    in >> t[0] >> t[1] >> t[2] >> ref;
+    for (auto& v : t) --v;
+  }
+  return tris;
+}
+
+// Compensated sum, in the order given.
+struct Sum {
+  double s = 0, c = 0;
+  void add(double x) {
+    const double t = s + x;
+    c += std::fabs(s) >= std::fabs(x) ? (s - t) + x : (x - t) + s;
+    s = t;
+  }
+  double value() const { return s + c; }
+};
+
+double det3(const double* a, const double* b, const double* c) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+         a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+// The Euler characteristic V - E + F of the boundary surface.
+long long boundary_euler(const Domain3& d) {
+  std::set<std::uint32_t> vertices;
+  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+    for (int k = 0; k < 3; ++k) vertices.insert(d.boundary_vertex(b, k));
+  }
+  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t u = d.boundary_vertex(b, (e + 1) % 3);
+      const std::uint32_t w = d.boundary_vertex(b, (e + 2) % 3);
+      edges.emplace(std::min(u, w), std::max(u, w));
+    }
+  }
+  return static_cast<long long>(vertices.size()) - static_cast<long long>(edges.size()) +
+         static_cast<long long>(d.nb_boundary_triangles());
+}
+
+struct Model {
+  const char* name;
+  std::uint32_t vertices, tets, boundary;
+  int genus;
+};
+
+// The data README's table; genus from the surfaces README.
+const Model kModels[] = {
+    {"sphere", 763, 2413, 1280, 0},         {"sphere-fine", 22049, 105250, 20480, 0},
+    {"bunny", 4083, 14050, 6598, 0},        {"skull_low_resolution", 6260, 21774, 10312, 2},
+    {"elk", 7379, 29125, 10388, 1},         {"fandisk", 8636, 32914, 12946, 0},
+    {"homer", 8926, 36893, 12000, 0},       {"rocker-arm", 16157, 68468, 20088, 1},
+    {"gargoyle", 50002, 170710, 100000, 0},
+};
+
+// The unit cube split into the 6 Kuhn tets around its diagonal (0,0,0)-(1,1,1), vertex
+// i = x + 2y + 4z at (x, y, z); `orientations` alternate so that some need a swap.
+TetMeshInput kuhn_cube(double scale = 1, double shift = 0) {
+  TetMeshInput m;
+  m.source = "kuhn";
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) m.xyz.push_back(((i >> k) & 1) * scale + shift);
+  }
+  // Paths 0 -> 7 along the axes in the 6 orders.
+  const int orders[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
+  for (const auto& o : orders) {
+    const std::uint32_t a = 0, b = static_cast<std::uint32_t>(o[0]),
+                        c = static_cast<std::uint32_t>(o[0] + o[1]), d = 7;
+    m.tets.insert(m.tets.end(), {a, b, c, d});
+    m.tet_line.push_back(static_cast<std::uint32_t>(10 + m.tet_line.size()));
+  }
+  return m;
+}
+
+TetMeshInput make(std::vector<double> xyz, std::vector<std::uint32_t> tets) {
+  TetMeshInput m;
+  m.source = "hand";
+  m.xyz = std::move(xyz);
+  m.tets = std::move(tets);
+  for (std::uint32_t t = 0; t < m.nb_tets(); ++t) m.tet_line.push_back(100 + t);
+  return m;
+}
+
+std::string error_of(const TetMeshInput& m) {
+  try {
+    Domain3 d(m);
+  } catch (const voroclip::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// The unit tet (0,0,0) (1,0,0) (0,1,0) (0,0,1) and a fifth vertex per test.
+std::vector<double> tet_and(double x, double y, double z) {
+  return {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, x, y, z};
+}
+
+}  // namespace
+
+TEST_CASE("Domain3 validates every shared model", "[clip]") {
+  for (const Model& m : kModels) {
+    const std::string path = kData + m.name + ".mesh";
+    INFO(path);
+    const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+    const Domain3 d(mesh);
+    require_valid(d);
+    CHECK(d.source() == path);
+    CHECK(d.nb_vertices() == m.vertices);
+    CHECK(d.nb_tets() == m.tets);
+    CHECK(d.nb_boundary_triangles() == m.boundary);
+    CHECK(boundary_euler(d) == 2 - 2 * m.genus);
+
+    // The boundary triangles are the file's Triangles, each listed the other way round
+    // (outward in orient3d's sense is clockwise from outside; clip.h, Domain3).
+    std::vector<Tri> ours, file;
+    for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+      ours.push_back(
+          canonical({d.boundary_vertex(b, 0), d.boundary_vertex(b, 2), d.boundary_vertex(b, 1)}));
+    }
+    for (const Tri& t : medit_triangles(path)) file.push_back(canonical(t));
+    std::sort(ours.begin(), ours.end());
+    std::sort(file.begin(), file.end());
+    CHECK(ours == file);
+
+    // Volume = the volume enclosed by the boundary (divergence theorem): the file's
+    // triangles give +sum det / 6, ours (reversed) -sum det / 6.
+    Sum enclosed_file, enclosed_ours;
+    for (const Tri& t : medit_triangles(path)) {
+      enclosed_file.add(det3(d.vertex(t[0]), d.vertex(t[1]), d.vertex(t[2])) / 6);
+    }
+    for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+      enclosed_ours.add(-det3(d.vertex(d.boundary_vertex(b, 0)), d.vertex(d.boundary_vertex(b, 1)),
+                              d.vertex(d.boundary_vertex(b, 2))) /
+                        6);
+    }
+    CHECK(d.volume() > 0);
+    CHECK(std::fabs(d.volume() - enclosed_file.value()) <= 1e-12 * d.volume());
+    CHECK(std::fabs(d.volume() - enclosed_ours.value()) <= 1e-12 * d.volume());
+
+    // TetGen writes det(p1 - p0, p2 - p0, p3 - p0) > 0: orient3d < 0, so every tet was
+    // swapped (vertices 2 and 3), nothing else changed.
+    for (std::uint32_t t = 0; t < d.nb_tets(); ++t) {
+      const std::uint32_t* v = mesh.tets.data() + 4 * static_cast<std::size_t>(t);
+      REQUIRE(d.tet_vertex(t, 0) == v[0]);
+      REQUIRE(d.tet_vertex(t, 1) == v[1]);
+      REQUIRE(d.tet_vertex(t, 2) == v[3]);
+      REQUIRE(d.tet_vertex(t, 3) == v[2]);
+    }
+    // The bounding box is that of the vertices (all used).
+    for (int k = 0; k < 3; ++k) {
+      double lo = mesh.xyz[static_cast<std::size_t>(k)], hi = lo;
+      for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
+        lo = std::min(lo, mesh.xyz[3 * i + static_cast<std::size_t>(k)]);
+        hi = std::max(hi, mesh.xyz[3 * i + static_cast<std::size_t>(k)]);
+      }
+      CHECK(d.bbox_lo()[k] == lo);
+      CHECK(d.bbox_hi()[k] == hi);
+    }
+  }
+}
+
+TEST_CASE("Domain3 is identical for 1 and N threads", "[clip]") {
+  const TetMeshInput mesh = voroclip::read_tet_mesh(kData + "bunny.mesh");
+  const auto build = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(threads));
+    return Domain3(mesh);
+  };
+  const Domain3 one = build(1), many = build(8);
+  CHECK(one.volume() == many.volume());
+  REQUIRE(one.nb_boundary_triangles() == many.nb_boundary_triangles());
+  for (std::uint32_t t = 0; t < one.nb_tets(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      REQUIRE(one.tet_adjacent(t, f) == many.tet_adjacent(t, f));
+      REQUIRE(one.tet_vertex(t, f) == many.tet_vertex(t, f));
+    }
+  }
+  for (std::uint32_t b = 0; b < one.nb_boundary_triangles(); ++b) {
+    for (int e = 0; e < 3; ++e)
+      REQUIRE(one.boundary_adjacent(b, e) == many.boundary_adjacent(b, e));
+  }
+}
+
+TEST_CASE("Domain3: the Kuhn cube, mixed orientations, scale sweep", "[clip][exact]") {
+  for (const double scale : {1e-9, 1e-3, 1.0, 1e3, 1e9}) {
+    for (const double shift : {0.0, 1e3 * scale, -0.75 * scale}) {
+      INFO("scale " << scale << " shift " << shift);
+      TetMeshInput m = kuhn_cube(scale, shift);
+      // Flip every other tet: each is accepted and made positive.
+      for (std::size_t t = 0; t < m.nb_tets(); t += 2) std::swap(m.tets[4 * t], m.tets[4 * t + 1]);
+      const Domain3 d(m);
+      require_valid(d);
+      CHECK(d.nb_boundary_triangles() == 12);
+      CHECK(boundary_euler(d) == 2);
+      // (The shifted coordinates are rounded: the cube is a cube to ~1e-13 relative.)
+      CHECK(d.volume() == Approx(scale * scale * scale).epsilon(1e-11));
+      CHECK(d.bbox_lo()[0] == shift);
+      CHECK(d.bbox_hi()[2] == scale + shift);
+      // All 6 tets share the diagonal: the 12 boundary triangles are the cube's faces.
+      for (std::uint32_t b = 0; b < 12; ++b) {
+        const double* p = d.vertex(d.boundary_vertex(b, 0));
+        const double* q = d.vertex(d.boundary_vertex(b, 1));
+        const double* r = d.vertex(d.boundary_vertex(b, 2));
+        bool on_face = false;
+        for (int k = 0; k < 3; ++k) on_face = on_face || (p[k] == q[k] && q[k] == r[k]);
+        CHECK(on_face);
+      }
+    }
+  }
+}
+
+TEST_CASE("Domain3: a flipped tet is accepted and reoriented", "[clip]") {
+  // The unit tet in the right-handed order: det(p1 - p0, p2 - p0, p3 - p0) = 1 > 0, so
+  // orient3d (Shewchuk's sign) < 0; vertex 4 duplicates vertex 0 but is used by no tet.
+  const TetMeshInput m = make(tet_and(0, 0, 0), {0, 1, 2, 3});
+  REQUIRE(voroclip::orient3d(&m.xyz[0], &m.xyz[3], &m.xyz[6], &m.xyz[9]) == Sign::negative);
+  const Domain3 d(m);
+  require_valid(d);
+  CHECK(d.tet_vertex(0, 0) == 0);
+  CHECK(d.tet_vertex(0, 1) == 1);
+  CHECK(d.tet_vertex(0, 2) == 3);
+  CHECK(d.tet_vertex(0, 3) == 2);
+  CHECK(d.volume() == 1.0 / 6);
+  CHECK(d.nb_boundary_triangles() == 4);
+  CHECK(boundary_euler(d) == 2);
+  // Vertex 4 is used by no tet: ignored (not a duplicate), kept in the array.
+  CHECK(d.nb_vertices() == 5);
+  CHECK(d.bbox_hi()[0] == 1);
+}
+
+TEST_CASE("Domain3: a non-convex mesh (a Kuhn cube without one tet) is accepted", "[clip]") {
+  TetMeshInput m = kuhn_cube();
+  m.tets.erase(m.tets.begin() + 8, m.tets.begin() + 12);
+  m.tet_line.erase(m.tet_line.begin() + 2);
+  const Domain3 d(m);
+  require_valid(d);
+  CHECK(d.nb_boundary_triangles() == 12);
+  CHECK(boundary_euler(d) == 2);
+  CHECK(d.volume() == Approx(5.0 / 6).epsilon(1e-14));
+}
+
+TEST_CASE("Domain3 rejects zero-volume tets and repeated vertices", "[clip][degenerate]") {
+  CHECK(error_of(make(tet_and(0.5, 0.5, 0), {0, 1, 2, 4})) ==
+        "hand:100: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d)");
+  // Coplanar only exactly: 1e-300 off the plane is a valid (tiny) tet.
+  CHECK(error_of(make(tet_and(0.5, 0.5, 1e-300), {0, 1, 2, 4})) == "(no error)");
+  // Nearly coplanar in floating point, exactly coplanar: (1/3, 1/3, 1/3) is not a double,
+  // but 0.25 + 0.25 + 0.5 = 1 is, on the plane x + y + z = 1.
+  CHECK(error_of(make(tet_and(0.25, 0.25, 0.5), {0, 1, 2, 3, 1, 2, 3, 4})) ==
+        "hand:101: tet 1 has zero volume: its vertices 1 2 3 4 are coplanar (exact orient3d)");
+  CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 1, 2, 1, 3})) ==
+        "hand:101: tet 1 has a repeated vertex (vertices 1 2 1 3)");
+}
+
+TEST_CASE("Domain3 rejects duplicate vertices", "[clip][degenerate]") {
+  // Two tets sharing the facet (1, 2, 3), but the second names a copy of vertex 1.
+  TetMeshInput m = make(tet_and(1, 1, 1), {0, 1, 2, 3, 5, 3, 2, 4});
+  m.xyz.insert(m.xyz.end(), {1, 0, 0});
+  CHECK(error_of(m) ==
+        "hand: vertices 1 and 5 have the same coordinates (1, 0, 0) (duplicate vertices), "
+        "used by tet 0 (line 100) and tet 1 (line 101)");
+}
+
+TEST_CASE("Domain3 rejects overlapping tets and facets of three tets", "[clip][degenerate]") {
+  // (0, 1, 2, 4) is on the same side of (0, 1, 2) as the unit tet.
+  CHECK(error_of(make(tet_and(0.2, 0.2, 0.2), {0, 1, 2, 3, 0, 1, 2, 4})) ==
+        "hand:100: tet 0 and tet 1 (line 101) overlap: both lie on the same side of their "
+        "shared facet (vertices 0 1 2)");
+  // The same tet twice.
+  CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 3, 1, 2, 0})) ==
+        "hand:100: tet 0 and tet 1 (line 101) overlap: both lie on the same side of their "
+        "shared facet (vertices 0 1 2)");
+  // Three tets on the facet (0, 1, 2): z = 1, z = -1 and z = -2.
+  TetMeshInput m = make(tet_and(0.1, 0.1, -1), {0, 1, 2, 3, 0, 1, 2, 4, 0, 1, 2, 5});
+  m.xyz.insert(m.xyz.end(), {0.2, 0.2, -2});
+  CHECK(error_of(m) ==
+        "hand:100: tet 0: the facet (vertices 0 1 2) is shared by 3 tets (at most 2): tet 0 "
+        "(line 100), tet 1 (line 101) and tet 2 (line 102)");
+}
+
+TEST_CASE("Domain3 rejects a boundary that is not a closed 2-manifold", "[clip][degenerate]") {
+  // Two tets sharing only the edge (0, 1): it is in 4 boundary triangles. (A single tet,
+  // or a tet mesh with one tet removed, is always closed modulo 2: this is how an "open"
+  // boundary shows.)
+  TetMeshInput m = make(tet_and(0, -1, 0), {0, 1, 2, 3, 0, 1, 4, 5});
+  m.xyz.insert(m.xyz.end(), {0, 0, -1});
+  CHECK(error_of(m) ==
+        "hand:100: tet 0: the boundary is not a 2-manifold: the edge (vertices 0 1) is in 4 "
+        "boundary triangles (2 expected), the facets of tet 0 (line 100), tet 0 (line 100), "
+        "tet 1 (line 101) and tet 1 (line 101)");
+  // The Kuhn cube without two opposite tets: two wedges touching along the diagonal.
+  TetMeshInput k = kuhn_cube();
+  k.tets.erase(k.tets.begin() + 20, k.tets.begin() + 24);  // order {4, 2, 1}
+  k.tets.erase(k.tets.begin(), k.tets.begin() + 4);        // order {1, 2, 4}
+  k.tet_line = {11, 12, 13, 14};
+  const std::string e = error_of(k);
+  CHECK(e.find("kuhn:11: tet 0: the boundary is not a 2-manifold: the edge (vertices 0 7) is "
+               "in 4 boundary triangles") == 0);
+  // Two tets sharing only vertex 0: every edge is fine, vertex 0 has two fans.
+  TetMeshInput v = make(tet_and(-1, 0, 0), {0, 1, 2, 3, 0, 4, 5, 6});
+  v.xyz.insert(v.xyz.end(), {0, -1, 0, 0, 0, -1});
+  CHECK(error_of(v) ==
+        "hand: the boundary is not a 2-manifold at vertex 0 (0, 0, 0): its boundary "
+        "triangles form several fans, one in tet 0 (line 100), another in tet 1 (line 101)");
+}
+
+TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][degenerate]") {
+  const double nan = std::nan("");
+  CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 1, 2, 3, 9})) ==
+        "hand:101: tet 1: vertex index 9 is out of range (the mesh has 5 vertices)");
+  TetMeshInput m = make(tet_and(nan, 0, 0), {0, 1, 2, 4});
+  CHECK(error_of(m) == "hand:100: tet 0: vertex 4 has a non-finite coordinate (nan, 0, 0)");
+  // Unused: ignored.
+  m.tets = {0, 1, 2, 3};
+  CHECK(error_of(m) == "(no error)");
+  // No line known: the message says so by leaving it out.
+  TetMeshInput n = make(tet_and(0.5, 0.5, 0), {0, 1, 2, 4});
+  n.tet_line.clear();
+  CHECK(error_of(n) ==
+        "hand: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d)");
+  // An empty mesh is an empty domain.
+  const Domain3 empty{TetMeshInput{}};
+  CHECK(empty.nb_tets() == 0);
+  CHECK(empty.nb_boundary_triangles() == 0);
+  CHECK(empty.volume() == 0);
+}
+
+TEST_CASE("Domain3 messages name the file and line of the tet", "[clip]") {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string path = (dir / "voroclip_test_domain3_flat.mesh").string();
+  std::ofstream(path) << "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
+                         "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n"
+                         "Tetrahedra\n2\n1 2 3 4 0\n1 2 3 5 0\nEnd\n";
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(error_of(mesh) == path +
+                              ":13: tet 1 has zero volume: its vertices 0 1 2 4 are coplanar "
+                              "(exact orient3d)");
+  std::filesystem::remove(path);
+}

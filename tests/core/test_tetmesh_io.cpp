@@ -1,0 +1,521 @@
+// read_tet_mesh / write_tet_mesh: every shared model read with the counts of the data
+// README, written in every format and read back identically, hand-made files for each
+// format's features, and one named error per defect, checking the whole message.
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "voroclip/core.h"
+
+using voroclip::TetMeshFormat;
+using voroclip::TetMeshInput;
+
+namespace {
+
+const std::string kData = std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/";
+
+// A scratch directory for the files these tests write, removed at exit.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    path = std::filesystem::temp_directory_path() / "voroclip_test_tetmesh_io";
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+const TempDir& temp() {
+  static const TempDir dir;
+  return dir;
+}
+
+std::string write_temp(const std::string& name, const std::string& content) {
+  const std::string path = temp().file(name);
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    voroclip::read_tet_mesh(path);
+  } catch (const voroclip::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+struct Model {
+  const char* name;
+  std::uint32_t vertices, tets;
+};
+
+// The data README's table.
+const Model kModels[] = {
+    {"sphere", 763, 2413},       {"sphere-fine", 22049, 105250},
+    {"bunny", 4083, 14050},      {"skull_low_resolution", 6260, 21774},
+    {"elk", 7379, 29125},        {"fandisk", 8636, 32914},
+    {"homer", 8926, 36893},      {"rocker-arm", 16157, 68468},
+    {"gargoyle", 50002, 170710},
+};
+
+// The line of the Tetrahedra keyword in a Medit file.
+std::uint32_t medit_keyword_line(const std::string& path, const std::string& keyword) {
+  std::ifstream in(path);
+  std::string line;
+  for (std::uint32_t n = 1; std::getline(in, line); ++n) {
+    if (line == keyword) return n;
+  }
+  return 0;
+}
+
+// One tet: (0,0,0), (1,0,0), (0,1,0), (0,0,1).
+const char* kOneTetMedit =
+    "MeshVersionFormatted 2\n"
+    "Dimension 3\n"
+    "Vertices\n"
+    "4\n"
+    "0 0 0 0\n"
+    "1 0 0 0\n"
+    "0 1 0 0\n"
+    "0 0 1 0\n"
+    "Tetrahedra\n"
+    "1\n"
+    "1 2 3 4 0\n"
+    "End\n";
+
+const std::vector<double> kOneTetXyz = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh reads every shared model with the README's counts", "[core]") {
+  for (const Model& m : kModels) {
+    const std::string path = kData + m.name + ".mesh";
+    INFO(path);
+    const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+    CHECK(mesh.source == path);
+    CHECK(mesh.nb_vertices() == m.vertices);
+    CHECK(mesh.nb_tets() == m.tets);
+    REQUIRE(mesh.tet_line.size() == mesh.nb_tets());
+    // Tet t is on the line t + 2 after the keyword (the count comes first).
+    const std::uint32_t tets_line = medit_keyword_line(path, "Tetrahedra");
+    CHECK(mesh.tet_line.front() == tets_line + 2);
+    CHECK(mesh.tet_line.back() == tets_line + 1 + m.tets);
+    std::uint32_t max_index = 0;
+    for (const std::uint32_t v : mesh.tets) max_index = std::max(max_index, v);
+    CHECK(max_index < mesh.nb_vertices());
+  }
+  // Spot values: the first vertex of sphere.mesh, its first tet (1-based in the file).
+  const TetMeshInput sphere = voroclip::read_tet_mesh(kData + "sphere.mesh");
+  CHECK(sphere.xyz[0] == 0.0);
+  CHECK(sphere.xyz[1] == -1.0);
+  CHECK(sphere.xyz[3] == 0.723607);
+  CHECK(sphere.xyz[5] == 0.525725);
+}
+
+TEST_CASE("write_tet_mesh round-trips every model in every format", "[core]") {
+  const std::vector<std::pair<TetMeshFormat, std::string>> formats = {
+      {TetMeshFormat::kMedit, "rt.mesh"}, {TetMeshFormat::kTetGen, "rt.node"},
+      {TetMeshFormat::kGmsh22, "rt.msh"}, {TetMeshFormat::kGmsh41, "rt41.msh"},
+      {TetMeshFormat::kVtk, "rt.vtk"},
+  };
+  for (const Model& m : kModels) {
+    const TetMeshInput mesh = voroclip::read_tet_mesh(kData + m.name + ".mesh");
+    for (const auto& [format, name] : formats) {
+      INFO(m.name << " as " << name);
+      const std::string path = temp().file(name);
+      voroclip::write_tet_mesh(path, mesh, format);
+      const TetMeshInput back =
+          voroclip::read_tet_mesh(format == TetMeshFormat::kTetGen ? temp().file("rt.ele") : path);
+      CHECK(back.xyz == mesh.xyz);  // bitwise: shortest round-trip decimals
+      CHECK(back.tets == mesh.tets);
+      CHECK(back.tet_line.size() == mesh.nb_tets());
+    }
+  }
+}
+
+TEST_CASE("write_tet_mesh picks the format by extension", "[core]") {
+  TetMeshInput mesh;
+  mesh.xyz = kOneTetXyz;
+  mesh.tets = {0, 1, 2, 3};
+  voroclip::write_tet_mesh(temp().file("ext.mesh"), mesh);
+  voroclip::write_tet_mesh(temp().file("ext.ele"), mesh);
+  voroclip::write_tet_mesh(temp().file("ext.msh"), mesh);
+  voroclip::write_tet_mesh(temp().file("ext.vtk"), mesh);
+  std::ifstream medit(temp().file("ext.mesh"));
+  std::string first;
+  std::getline(medit, first);
+  CHECK(first == "MeshVersionFormatted 2");
+  std::ifstream msh(temp().file("ext.msh"));
+  std::string l1, l2;
+  std::getline(msh, l1);
+  std::getline(msh, l2);
+  CHECK(l2 == "4.1 0 8");
+  CHECK(std::filesystem::exists(temp().file("ext.node")));
+  for (const char* name : {"ext.mesh", "ext.node", "ext.msh", "ext.vtk"}) {
+    const TetMeshInput back = voroclip::read_tet_mesh(temp().file(name));
+    CHECK(back.xyz == mesh.xyz);
+    CHECK(back.tets == mesh.tets);
+  }
+  // Unused vertices are written too.
+  mesh.xyz.insert(mesh.xyz.end(), {5, 5, 5});
+  voroclip::write_tet_mesh(temp().file("unused.msh"), mesh);
+  CHECK(voroclip::read_tet_mesh(temp().file("unused.msh")).xyz == mesh.xyz);
+  // Errors name the file.
+  mesh.tets = {0, 1, 2, 9};
+  CHECK_THROWS_WITH(voroclip::write_tet_mesh(temp().file("bad.mesh"), mesh),
+                    "cannot write '" + temp().file("bad.mesh") +
+                        "': tet 0 has vertex 9, the mesh has 5 vertices");
+  CHECK_THROWS_WITH(voroclip::write_tet_mesh(temp().file("bad.obj"), mesh),
+                    Catch::Matchers::StartsWith("cannot write '" + temp().file("bad.obj") +
+                                                "': unknown tetrahedral mesh format '.obj'"));
+  CHECK_FALSE(std::filesystem::exists(temp().file("bad.mesh")));
+}
+
+TEST_CASE("read_tet_mesh: Medit keywords, comments and skipped sections", "[core]") {
+  const std::string path = write_temp("features.MESH",
+                                      "# a comment line\n"
+                                      "meshversionformatted 1\n"
+                                      "DIMENSION\n3\n"
+                                      "Vertices 5\n"
+                                      "0 0 0 1  1 0 0 1\n"  // free format: two per line
+                                      "0 1 0 1\n"
+                                      "0 0 1 1 # trailing comment\n"
+                                      "+2.5e0 -0.0 1e-3 7\n"
+                                      "Edges\n1\n1 2 0\n"
+                                      "Corners 2 1 2\n"
+                                      "Triangles\n2\n1 2 3 0\n1 3 4 0\n"
+                                      "NormalAtVertices 1 1 1\n"
+                                      "Normals 1 0 0 1\n"
+                                      "tetrahedra\n"
+                                      "2\n"
+                                      "1 2 3 4 3\n"
+                                      "\n"
+                                      "2 3 4 5 3\n"
+                                      "end\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 2.5, -0.0, 1e-3});
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_line == std::vector<std::uint32_t>{22, 24});
+}
+
+TEST_CASE("read_tet_mesh: TetGen .node/.ele from either name, numbered from 0 or 1", "[core]") {
+  // From 0, with an attribute and a marker per node, 10-node tets with a region attribute.
+  write_temp("tg0.node",
+             "# nodes\n5 3 1 1\n"
+             "0 0 0 0 9.5 1\n"
+             "1 1 0 0 9.5 1\n"
+             "2 0 1 0 9.5 1\n"
+             "3 0 0 1 9.5 1\n"
+             "4 1 1 1 9.5 0\n");
+  write_temp("tg0.ele",
+             "2 10 1\n"
+             "0 0 1 2 3 4 4 4 4 4 4 1\n"
+             "# comment between tets\n"
+             "1 1 2 3 4 0 0 0 0 0 0 1\n");
+  for (const char* name : {"tg0.node", "tg0.ele"}) {
+    const TetMeshInput mesh = voroclip::read_tet_mesh(temp().file(name));
+    CHECK(mesh.source == temp().file("tg0.ele"));
+    CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
+    CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+    CHECK(mesh.tet_line == std::vector<std::uint32_t>{2, 4});
+  }
+  // From 1, no attributes.
+  write_temp("tg1.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+  write_temp("tg1.ele", "1 4 0\n1 4 3 2 1\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(temp().file("tg1.ele"));
+  CHECK(mesh.xyz == kOneTetXyz);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{3, 2, 1, 0});
+}
+
+TEST_CASE("read_tet_mesh: Gmsh 2.2 with other elements and sparse node tags", "[core]") {
+  const std::string path = write_temp("g22.msh",
+                                      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+                                      "$PhysicalNames\n1\n3 1 \"volume\"\n$EndPhysicalNames\n"
+                                      "$Nodes\n5\n"
+                                      "10 0 0 0\n"
+                                      "30 0 1 0\n"
+                                      "20 1 0 0\n"
+                                      "40 0 0 1\n"
+                                      "7 1 1 1\n"
+                                      "$EndNodes\n"
+                                      "$Elements\n5\n"
+                                      "1 15 2 0 1 10\n"
+                                      "2 1 2 0 1 10 20\n"
+                                      "3 2 2 0 1 10 20 30\n"
+                                      "4 4 2 1 1 10 20 30 40\n"
+                                      "9 4 0 20 30 40 7\n"
+                                      "$EndElements\n"
+                                      "$NodeData\n1\n\"t\"\n$EndNodeData\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 1, 1, 1});
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 2, 1, 3, 2, 1, 3, 4});
+  CHECK(mesh.tet_line == std::vector<std::uint32_t>{21, 22});
+}
+
+TEST_CASE("read_tet_mesh: Gmsh 4.1 with entities, blocks and parametric nodes", "[core]") {
+  const std::string path = write_temp("g41.msh",
+                                      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                                      "$Entities\n1 0 0 1\n"
+                                      "1 0 0 0 0\n"
+                                      "1 0 0 0 1 1 1 0 0\n"
+                                      "$EndEntities\n"
+                                      "$Nodes\n"
+                                      "2 5 3 9000000000\n"
+                                      "0 1 0 1\n"
+                                      "9000000000\n"  // sparse tags: a hash map
+                                      "1 1 1\n"
+                                      "1 7 1 4\n"  // a parametric block on a curve: x y z u
+                                      "3\n"
+                                      "50\n"
+                                      "51\n"
+                                      "52\n"
+                                      "0 0 0 0.0\n"
+                                      "1 0 0 0.5\n"
+                                      "0 1 0 0.7\n"
+                                      "0 0 1 1.0\n"
+                                      "$EndNodes\n"
+                                      "$Elements\n"
+                                      "2 3 1 3\n"
+                                      "2 1 2 1\n"
+                                      "1 3 50 51\n"
+                                      "3 1 4 2\n"
+                                      "2 3 50 51 52\n"
+                                      "3 50 51 52 9000000000\n"
+                                      "$EndElements\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.xyz == std::vector<double>{1, 1, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1});
+  CHECK(mesh.tets == std::vector<std::uint32_t>{1, 2, 3, 4, 2, 3, 4, 0});
+  CHECK(mesh.tet_line == std::vector<std::uint32_t>{29, 30});
+}
+
+TEST_CASE("read_tet_mesh: legacy VTK, classic and 5.1 cell layouts", "[core]") {
+  const std::string classic = write_temp("classic.vtk",
+                                         "# vtk DataFile Version 3.0\n"
+                                         "a title with CELLS in it\n"
+                                         "ASCII\n"
+                                         "DATASET UNSTRUCTURED_GRID\n"
+                                         "POINTS 5 float\n"
+                                         "0 0 0 1 0 0 0 1 0\n"
+                                         "0 0 1 1 1 1\n"
+                                         "CELLS 3 14\n"
+                                         "3 0 1 2\n"
+                                         "4 0 1 2 3\n"
+                                         "4 1 2 3 4\n"
+                                         "CELL_TYPES 3\n"
+                                         "5\n10\n10\n"
+                                         "CELL_DATA 3\n"
+                                         "SCALARS id int 1\nLOOKUP_TABLE default\n0\n1\n2\n");
+  TetMeshInput mesh = voroclip::read_tet_mesh(classic);
+  CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_line == std::vector<std::uint32_t>{10, 11});
+  const std::string v51 = write_temp("v51.vtk",
+                                     "# vtk DataFile Version 5.1\n"
+                                     "vtk output\n"
+                                     "ASCII\n"
+                                     "DATASET UNSTRUCTURED_GRID\n"
+                                     "POINTS 5 double\n"
+                                     "0 0 0 1 0 0 0 1 0\n"
+                                     "0 0 1 1 1 1\n"
+                                     "METADATA\n"
+                                     "INFORMATION 0\n"
+                                     "\n"
+                                     "CELLS 4 11\n"
+                                     "OFFSETS vtktypeint64\n"
+                                     "0 3 7 11\n"
+                                     "CONNECTIVITY vtktypeint64\n"
+                                     "0 1 2\n"
+                                     "0 1 2 3\n"
+                                     "1 2 3 4\n"
+                                     "CELL_TYPES 3\n"
+                                     "5\n10\n10\n");
+  mesh = voroclip::read_tet_mesh(v51);
+  CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_line == std::vector<std::uint32_t>{16, 17});
+}
+
+TEST_CASE("read_tet_mesh: missing files, unknown formats and versions, binary files", "[core]") {
+  const std::string missing = temp().file("missing.mesh");
+  CHECK(error_of(missing) == missing + ": cannot open the file");
+  const std::string obj = write_temp("a.obj", "v 0 0 0\n");
+  CHECK(error_of(obj) == obj +
+                             ": unknown tetrahedral mesh format '.obj': expected .mesh, "
+                             ".node/.ele, .msh or .vtk");
+  CHECK(error_of(temp().file("noext")) ==
+        temp().file("noext") +
+            ": unknown tetrahedral mesh format (no extension): expected .mesh, .node/.ele, "
+            ".msh or .vtk");
+  CHECK(error_of(temp().file("a.meshb")) ==
+        temp().file("a.meshb") +
+            ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
+  // TetGen: the other file is missing.
+  const std::string node = write_temp("lonely.node", "4 3 0 0\n");
+  CHECK(error_of(node) == temp().file("lonely.ele") + ": cannot open the file");
+
+  const std::string medit = write_temp("v9.mesh", "MeshVersionFormatted 9\nDimension 3\n");
+  CHECK(error_of(medit) == medit + ":1: MeshVersionFormatted 9: unknown version (1 to 4)");
+  const std::string medit2d = write_temp("2d.mesh", "MeshVersionFormatted 2\nDimension 2\n");
+  CHECK(error_of(medit2d) == medit2d + ":2: Dimension 2: only 3D meshes are read");
+  const std::string garbage = write_temp("garbage.mesh", std::string("\x01\x02\xff\0abc", 7));
+  CHECK(error_of(garbage) ==
+        garbage + ":1: not a Medit mesh: expected MeshVersionFormatted, found '????abc'");
+  const std::string keyword = write_temp("kw.mesh", "MeshVersionFormatted 2\nFoo 3\n");
+  CHECK(error_of(keyword) == keyword + ":2: unknown Medit keyword 'Foo'");
+
+  const std::string msh40 = write_temp("v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n");
+  CHECK(error_of(msh40) == msh40 + ":2: Gmsh format version '4' is not supported (2.2 or 4.1)");
+  const std::string binary = write_temp("bin.msh", "$MeshFormat\n4.1 1 8\n\x01\0\0\0\n");
+  CHECK(error_of(binary) == binary +
+                                ":2: binary Gmsh file (file-type '1'): only ASCII .msh is read "
+                                "(save it with Mesh.Binary = 0)");
+  const std::string vtkbin = write_temp("bin.vtk",
+                                        "# vtk DataFile Version 3.0\nt\nBINARY\n"
+                                        "DATASET UNSTRUCTURED_GRID\n");
+  CHECK(error_of(vtkbin) == vtkbin + ":3: binary VTK file: only ASCII legacy .vtk is read");
+  const std::string poly =
+      write_temp("poly.vtk", "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\n");
+  CHECK(error_of(poly) == poly + ":4: DATASET 'POLYDATA': only UNSTRUCTURED_GRID is read");
+  const std::string notvtk = write_temp("not.vtk", "hello\n");
+  CHECK(error_of(notvtk) ==
+        notvtk + ":1: not a legacy VTK file: line 1 should start with '# vtk DataFile Version'");
+}
+
+TEST_CASE("read_tet_mesh: truncated sections name the section and the counts", "[core]") {
+  std::string text = kOneTetMedit;
+  // A Vertices section that announces 6 vertices holds 4 before Tetrahedra.
+  std::string bad = text;
+  bad.replace(bad.find("Vertices\n4"), 10, "Vertices\n6");
+  std::string path = write_temp("trunc1.mesh", bad);
+  CHECK(error_of(path) == path +
+                              ":9: section Vertices is truncated: expected 6 vertices, found 4 "
+                              "before 'Tetrahedra'");
+  // The file ends inside Tetrahedra.
+  path = write_temp("trunc2.mesh", text.substr(0, text.find("1 2 3 4 0") + 6));
+  CHECK(error_of(path) == path +
+                              ":11: section Tetrahedra is truncated: expected 1 tetrahedra, "
+                              "found 0 before the end of the file");
+  // A skipped section too.
+  path = write_temp("trunc3.mesh", "MeshVersionFormatted 2\nTriangles\n2\n1 2 3 0\nEnd\n");
+  CHECK(error_of(path) == path +
+                              ":5: section Triangles is truncated: expected 2 entries, found 1 "
+                              "before 'End'");
+  // Gmsh: $EndNodes comes early.
+  path = write_temp("trunc.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n"
+                    "$EndNodes\n");
+  CHECK(error_of(path) == path +
+                              ":8: section $Nodes is truncated: expected 3 nodes, found 2 "
+                              "before '$EndNodes'");
+  // Gmsh: more nodes than announced.
+  path = write_temp("long.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n2 1 0 0\n"
+                    "$EndNodes\n");
+  CHECK(error_of(path) == path + ":7: section $Nodes: expected $EndNodes after 1 nodes, found '2'");
+  // Gmsh: a section without its end.
+  path = write_temp("noend.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Comments\nabc\n");
+  CHECK(error_of(path) == path + ":4: section $Comments has no $EndComments");
+  // VTK: fewer points than announced.
+  path = write_temp("trunc.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 3 double\n0 0 0 1 0 0\nCELLS 1 5\n4 0 1 2 3\n");
+  CHECK(error_of(path) == path +
+                              ":7: section POINTS is truncated: expected 3 points, found 2 "
+                              "before 'CELLS'");
+  // TetGen: a node line too short, a missing node.
+  write_temp("short.node", "2 3 0 0\n1 0 0 0\n2 1 0\n");
+  write_temp("short.ele", "0 4 0\n");
+  CHECK(error_of(temp().file("short.ele")) ==
+        temp().file("short.node") + ":3: node 2: expected 4 values on the line, found 3");
+  write_temp("few.node", "3 3 0 0\n1 0 0 0\n2 1 0 0\n");
+  write_temp("few.ele", "0 4 0\n");
+  CHECK(error_of(temp().file("few.ele")) ==
+        temp().file("few.node") +
+            ":3: section nodes is truncated: expected 3 nodes, found 2 before the end of the "
+            "file");
+}
+
+TEST_CASE("read_tet_mesh: values that are not numbers or not finite", "[core]") {
+  std::string text = kOneTetMedit;
+  std::string bad = text;
+  bad.replace(bad.find("1 0 0 0\n"), 8, "1 0x 0 0\n");
+  std::string path = write_temp("nan1.mesh", bad);
+  CHECK(error_of(path) == path + ":6: '0x' is not a number");
+  bad = text;
+  bad.replace(bad.find("0 1 0 0\n"), 8, "0 nan 0 0\n");
+  path = write_temp("nan2.mesh", bad);
+  CHECK(error_of(path) == path + ":7: 'nan' is not a finite number");
+  bad = text;
+  bad.replace(bad.find("0 0 1 0\n"), 8, "0 0 1e999 0\n");
+  path = write_temp("nan3.mesh", bad);
+  CHECK(error_of(path) == path + ":8: '1e999' is out of the range of a double");
+  bad = text;
+  bad.replace(bad.find("1 2 3 4 0"), 9, "1 2 -3 4 0");
+  path = write_temp("neg.mesh", bad);
+  CHECK(error_of(path) == path + ":11: '-3' is not a valid vertex index (a non-negative integer)");
+  path = write_temp("inf.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 inf 0\n$EndNodes\n");
+  CHECK(error_of(path) == path + ":6: 'inf' is not a finite number");
+  write_temp("nan.node", "1 3 0 0\n1 0 0 NaN\n");
+  write_temp("nan.ele", "0 4 0\n");
+  CHECK(error_of(temp().file("nan.ele")) ==
+        temp().file("nan.node") + ":2: 'NaN' is not a finite number");
+}
+
+TEST_CASE("read_tet_mesh: vertex indices out of range name the element", "[core]") {
+  std::string bad = kOneTetMedit;
+  bad.replace(bad.find("1 2 3 4 0"), 9, "1 2 3 5 0");
+  std::string path = write_temp("range.mesh", bad);
+  CHECK(error_of(path) == path + ":11: tetrahedron 1: vertex 5 is out of range 1..4");
+  bad = kOneTetMedit;
+  bad.replace(bad.find("1 2 3 4 0"), 9, "0 2 3 4 0");
+  path = write_temp("range0.mesh", bad);
+  CHECK(error_of(path) == path + ":11: tetrahedron 1: vertex 0 is out of range 1..4");
+  write_temp("range.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+  write_temp("range.ele", "2 4 0\n7 0 1 2 3\n8 1 2 3 4\n");
+  CHECK(error_of(temp().file("range.node")) ==
+        temp().file("range.ele") + ":3: tetrahedron 8: vertex 4 is out of range 0..3");
+  path = write_temp("range.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n"
+                    "3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n"
+                    "77 4 2 0 1 1 2 3 5\n$EndElements\n");
+  CHECK(error_of(path) == path + ":13: element 77: node 5 is not in section $Nodes");
+  path = write_temp("dup.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n1 1 0 0\n"
+                    "$EndNodes\n$Elements\n1\n1 4 0 1 1 1 1\n$EndElements\n");
+  CHECK(error_of(path) == path + ":7: node tag 1 is repeated (first at line 6)");
+  path = write_temp("range.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 4\n"
+                    "CELL_TYPES 1\n10\n");
+  CHECK(error_of(path) == path + ":8: cell 0: vertex 4 is out of range 0..3");
+}
+
+TEST_CASE("read_tet_mesh: files without tetrahedra", "[core]") {
+  std::string path =
+      write_temp("notet.mesh", "MeshVersionFormatted 2\nVertices\n1\n0 0 0 0\nEnd\n");
+  CHECK(error_of(path) == path + ": no tetrahedra (no Tetrahedra section)");
+  path = write_temp("notet2.mesh", "MeshVersionFormatted 2\nTetrahedra\n0\nEnd\n");
+  CHECK(error_of(path) == path + ": the Tetrahedra section is empty");
+  path = write_temp("notet.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n"
+                    "3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n");
+  CHECK(error_of(path) == path + ": no tetrahedra (element type 4) in $Elements");
+  path = write_temp("notet.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 3 double\n0 0 0 1 0 0 0 1 0\nCELLS 1 4\n3 0 1 2\n"
+                    "CELL_TYPES 1\n5\n");
+  CHECK(error_of(path) == path + ": no tetrahedra (cell type 10)");
+  write_temp("notet.node", "0 3 0 0\n");
+  write_temp("notet.ele", "0 4 0\n");
+  CHECK(error_of(temp().file("notet.ele")) == temp().file("notet.ele") + ": no tetrahedra");
+}
