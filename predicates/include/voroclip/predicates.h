@@ -456,4 +456,37 @@ inline Sign insphere_fast(const double* a, const double* b, const double* c, con
   return detail::sign_of(detail::insphere_approx(a, b, c, d, e).det);
 }
 
+// ---------------------------------------------------------------------------------------
+// Voronoi clipping predicates in 3D (clip/, issue 5): the same perturbed power distance as
+// the 2D ones above, pi_i(x) = |x - p_i|^2 + eps_i (the lift perturbation of
+// insphere_sos), f_ij = pi_i - pi_j, x on site i's side of bisector(i, j) when
+// f_ij(x) < 0. Each returns the exact sign of f_ij at a symbolic vertex, never ZERO when
+// its preconditions hold (i, j, k, l, m distinct):
+//
+//   bisector_side_vertex3d     x = a, a mesh vertex: sign f_ij(a).
+//   bisector_side_edge3d       x = [a, b] ∩ bisector(i, k) (f_ik(a), f_ik(b) of opposite
+//                              perturbed signs): sign(f_ik(a) f_ij(b) - f_ij(a) f_ik(b))
+//                              * sign(f_ik(a) - f_ik(b)), as in 2D.
+//   bisector_side_facet3d      x = the point of the plane of triangle (a, b, c) on
+//                              bisectors (i, k) and (i, l) (the two lines they cut in the
+//                              plane must cross: denominator below non-zero). With the
+//                              3 x 3 matrices of values at a, b, c (columns)
+//                                 N = det[f_ij; f_ik; f_il],   D = det[1; f_ik; f_il],
+//                              sign f_ij(x) = sign(N) * sign(D). D does not depend on eps;
+//                              N = N0 + e_ij det[1; F_ik; F_il] + e_ik det[F_ij; 1; F_il]
+//                                  + e_il det[F_ij; F_ik; 1],  e_xy = eps_x - eps_y.
+//   bisector_side_voronoi3d    x = the Voronoi vertex of sites (i, k, l, m) (a tet of their
+//                              Delaunay triangulation, not coplanar): sign f_ij(x) =
+//                              -insphere_sos(i, k, l, m, j) * orient3d(i, k, l, m).
+Sign bisector_side_vertex3d(const double* pi, const double* pj, const double* a, std::uint32_t i,
+                            std::uint32_t j);
+Sign bisector_side_edge3d(const double* pi, const double* pk, const double* pj, const double* a,
+                          const double* b, std::uint32_t i, std::uint32_t k, std::uint32_t j);
+Sign bisector_side_facet3d(const double* pi, const double* pk, const double* pl, const double* pj,
+                           const double* a, const double* b, const double* c, std::uint32_t i,
+                           std::uint32_t k, std::uint32_t l, std::uint32_t j);
+Sign bisector_side_voronoi3d(const double* pi, const double* pk, const double* pl, const double* pm,
+                             const double* pj, std::uint32_t i, std::uint32_t k, std::uint32_t l,
+                             std::uint32_t m, std::uint32_t j);
+
 }  // namespace voroclip
