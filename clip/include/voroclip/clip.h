@@ -295,4 +295,73 @@ class Domain3 {
   double bbox_[6] = {0, 0, 0, 0, 0, 0};
 };
 
+// ---------------------------------------------------------------------------------------
+// ClippedVoronoi3: the Voronoi diagram of the vertices of a Delaunay3 clipped to the
+// volume of a Domain3 (Yan et al. 2011, sec. 4; clip/src/clip3d.cpp).
+//
+// Cells are indexed by input point; duplicates and cells that miss the volume are empty.
+// Per cell: volume, mass = ∫rho, centroid, energy = ∫rho |x - x_i|^2, the area of its
+// restricted surface cell (cell ∩ boundary surface) and whether that is non-empty (a
+// boundary cell). Boundary cells are clipped tet by tet (cell-tet propagation from the
+// boundary triangles they meet); inner cells come from the Delaunay triangulation.
+//
+// Threads: TBB loops over cells into per-cell slots; identical results for any thread
+// count (the surface pass is sequential).
+struct Clip3Options {
+  // rho: constant.
+  double density = 1.0;
+  // Keep the restricted surface polygons and the clipped pieces' faces (export, tests).
+  bool keep_geometry = false;
+};
+
+class ClippedVoronoi3 {
+ public:
+  void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
+
+  std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
+  double volume(std::uint32_t i) const { return cells_[i].volume; }
+  double mass(std::uint32_t i) const { return cells_[i].mass; }
+  const double* centroid(std::uint32_t i) const { return cells_[i].centroid; }
+  double energy(std::uint32_t i) const { return cells_[i].energy; }
+  double surface_area(std::uint32_t i) const { return cells_[i].surface_area; }
+  bool is_boundary(std::uint32_t i) const { return cells_[i].boundary != 0; }
+  std::uint32_t nb_boundary_sites() const { return nb_boundary_; }
+  double total_volume() const { return total_volume_; }
+  double total_energy() const { return total_energy_; }
+  double total_surface_area() const { return total_surface_area_; }
+
+  // Wall-clock seconds of the last compute(), per phase.
+  double seconds_surface() const { return seconds_[0]; }
+  double seconds_boundary_cells() const { return seconds_[1]; }
+  double seconds_inner_cells() const { return seconds_[2]; }
+  // (Cell, tet) pairs clipped for the boundary cells.
+  std::uint64_t nb_clipped_pairs() const { return nb_pairs_; }
+
+  // ---- Geometry (keep_geometry). Polygons as flat coordinate lists: polygon p has the
+  // points [polygon_begin[p], polygon_begin[p + 1]) of *_xyz (x y z each).
+  // Restricted surface: per boundary cell, its polygons (one per boundary triangle met).
+  struct Polygons {
+    std::vector<std::uint32_t> site;           // per polygon: its cell
+    std::vector<std::uint32_t> polygon_begin;  // nb polygons + 1
+    std::vector<double> xyz;
+  };
+  const Polygons& surface_polygons() const { return surface_; }
+  // Faces of the clipped cells (every cell: boundary cells piece by piece, inner cells'
+  // Voronoi faces), outward.
+  const Polygons& cell_faces() const { return faces_; }
+
+ private:
+  friend struct Clip3Impl;
+  struct Cell {
+    double volume, mass, energy, centroid[3], surface_area;
+    std::uint32_t boundary;
+  };
+  std::vector<Cell> cells_;
+  std::uint32_t nb_boundary_ = 0;
+  double total_volume_ = 0, total_energy_ = 0, total_surface_area_ = 0;
+  double seconds_[3] = {0, 0, 0};
+  std::uint64_t nb_pairs_ = 0;
+  Polygons surface_, faces_;
+};
+
 }  // namespace voroclip

@@ -418,7 +418,8 @@ Sign insphere_sos(const double* a, const double* b, const double* c, const doubl
 //   bisector_side_voronoi2d    x = the Voronoi vertex of sites (i, k, l) (a triangle of
 //                              their Delaunay triangulation, so not collinear; any
 //                              order): sign f_ij(x), i, j, k, l distinct. Equivalent to
-//                              -incircle_sos(i, k, l, j) * orient2d(i, k, l).
+//                              incircle_sos(i, k, l, j) * orient2d(i, k, l) (j inside the circle:
+//                              the vertex is nearer j, POSITIVE).
 //
 // Ordering of crossings along one bisector (for walking a cell's boundary):
 //   compare_on_bisector2d      q1 = [a1, b1] ∩ bisector(i, k), q2 = [a2, b2] ∩ bisector(i,
@@ -477,7 +478,8 @@ inline Sign insphere_fast(const double* a, const double* b, const double* c, con
 //                                  + e_il det[F_ij; F_ik; 1],  e_xy = eps_x - eps_y.
 //   bisector_side_voronoi3d    x = the Voronoi vertex of sites (i, k, l, m) (a tet of their
 //                              Delaunay triangulation, not coplanar): sign f_ij(x) =
-//                              -insphere_sos(i, k, l, m, j) * orient3d(i, k, l, m).
+//                              insphere_sos(i, k, l, m, j) * orient3d(i, k, l, m) (j inside
+//                              the sphere: the vertex is nearer j, POSITIVE).
 Sign bisector_side_vertex3d(const double* pi, const double* pj, const double* a, std::uint32_t i,
                             std::uint32_t j);
 Sign bisector_side_edge3d(const double* pi, const double* pk, const double* pj, const double* a,
