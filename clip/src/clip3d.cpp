@@ -123,6 +123,7 @@ struct Clip3Impl {
     std::vector<std::uint32_t> walked;  // neighbours with a face of some piece
     std::uint64_t pairs = 0;
     std::vector<std::uint32_t> face_begin{0};
+    std::vector<std::uint32_t> face_piece;
     std::vector<double> face_xyz;
   };
   std::vector<CellOut> cell_out;
@@ -169,7 +170,7 @@ struct Clip3Impl {
 
   // ---- Coordinates of a vertex, from its sorted global ids (bit-identical in every cell).
   void coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const {
-    std::uint32_t mesh[3], sites[4];
+    std::uint32_t mesh[4], sites[4];
     int nm = 0, ns = 0;
     bool facet_used[4] = {false, false, false, false};
     for (const Plane p : v.p) {
@@ -534,6 +535,7 @@ struct Clip3Impl {
             res.face_xyz.insert(res.face_xyz.end(), x, x + 3);
           }
           res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
+          res.face_piece.push_back(static_cast<std::uint32_t>(h));
         }
       }
     }
@@ -756,12 +758,19 @@ struct Clip3Impl {
     }
     for (const CellOut& c : cell_out) out.nb_pairs_ += c.pairs;
     if (options.keep_geometry) {
+      std::uint32_t pieces = 0;
       for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
         const CellOut& c = cell_out[q];
         const auto base = static_cast<std::uint32_t>(out.faces_.xyz.size() / 3);
         out.faces_.xyz.insert(out.faces_.xyz.end(), c.face_xyz.begin(), c.face_xyz.end());
+        std::uint32_t last = kNone;
         for (std::size_t f = 1; f < c.face_begin.size(); ++f) {
+          if (c.face_piece[f - 1] != last) {
+            last = c.face_piece[f - 1];
+            ++pieces;
+          }
           out.faces_.site.push_back(boundary_cells[q]);
+          out.faces_.piece.push_back(pieces - 1);
           out.faces_.polygon_begin.push_back(base + c.face_begin[f]);
         }
       }

@@ -342,12 +342,13 @@ class ClippedVoronoi3 {
   // Restricted surface: per boundary cell, its polygons (one per boundary triangle met).
   struct Polygons {
     std::vector<std::uint32_t> site;           // per polygon: its cell
+    std::vector<std::uint32_t> piece;          // per polygon: its convex piece (cell_faces)
     std::vector<std::uint32_t> polygon_begin;  // nb polygons + 1
     std::vector<double> xyz;
   };
   const Polygons& surface_polygons() const { return surface_; }
-  // Faces of the clipped cells (every cell: boundary cells piece by piece, inner cells'
-  // Voronoi faces), outward.
+  // Faces of the boundary cells' convex pieces (one piece per tet met), numbered pieces;
+  // orientation as Domain3::kTetFacetVertex (inward for positive tets).
   const Polygons& cell_faces() const { return faces_; }
 
  private:
