@@ -259,6 +259,8 @@ struct Clip3Impl {
     std::vector<std::uint64_t> edge_keys;
     std::vector<std::uint32_t> edge_new;
     std::vector<std::uint32_t> chain_next;
+    std::vector<std::uint32_t> remap;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_edges;
     std::vector<std::uint32_t> nbrs;
     std::vector<double> xyz;
   };
@@ -309,7 +311,7 @@ struct Clip3Impl {
     res.clear();
     if (!any_in) return true;
     // Kept vertices keep their index in a compacted list; new ones are appended.
-    std::vector<std::uint32_t>& remap = s.chain_next;  // reused: old vertex -> new index
+    std::vector<std::uint32_t>& remap = s.remap;  // old vertex -> new index
     remap.assign(nv, kNone);
     for (std::size_t v = 0; v < nv; ++v) {
       if (!s.sides[v]) {
@@ -335,7 +337,8 @@ struct Clip3Impl {
       return idx;
     };
     // New face: edges entry -> exit, chained (indices into res.verts).
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_edges;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& cut_edges = s.cut_edges;
+    cut_edges.clear();
     for (std::uint32_t f = 0; f < in.nb_faces(); ++f) {
       const std::uint32_t b = in.face_begin[f], e = in.face_begin[f + 1];
       const std::size_t start = res.face_verts.size();
@@ -360,7 +363,8 @@ struct Clip3Impl {
     }
     if (in.nb_faces() > 1 && cut_edges.size() >= 3) {
       // The face on the bisector: follow entry -> exit edges around.
-      std::vector<std::uint32_t> next(res.verts.size(), kNone);
+      std::vector<std::uint32_t>& next = s.chain_next;
+      next.assign(res.verts.size(), kNone);
       for (const auto& [a, b2] : cut_edges) next[a] = b2;
       const std::uint32_t first = cut_edges[0].first;
       std::uint32_t v = first;
@@ -486,15 +490,17 @@ struct Clip3Impl {
   }
 
   // ---- Step 2: a boundary cell, tet by tet.
-  void boundary_cell(std::uint32_t c, Scratch& s, std::vector<std::uint32_t>& visited,
+  // `stamp`: per tet, the last cell (+1) that queued it (a per-thread array, so that
+  // the visited test costs one load).
+  void boundary_cell(std::uint32_t c, Scratch& s, std::vector<std::uint32_t>& stamp,
                      std::vector<std::uint32_t>& queue, CellOut& res) const {
     dt.vertex_neighbors(c, s.nbrs);
-    const std::vector<std::uint32_t> nbrs = s.nbrs;
-    visited.clear();
+    const std::vector<std::uint32_t>& nbrs = s.nbrs;  // untouched by the clipping
+    if (stamp.size() != domain.nb_tets()) stamp.assign(domain.nb_tets(), 0);
     queue.clear();
     const auto push = [&](std::uint32_t t) {
-      if (std::find(visited.begin(), visited.end(), t) != visited.end()) return;
-      visited.push_back(t);
+      if (stamp[t] == c + 1) return;
+      stamp[t] = c + 1;
       queue.push_back(t);
     };
     for (std::uint32_t q = cell_tri_begin[c]; q < cell_tri_begin[c + 1]; ++q) {
