@@ -90,10 +90,13 @@ class Domain2 {
   const double* bbox_hi() const { return bbox_ + 2; }
   std::uint32_t nb_dropped_points() const { return nb_dropped_; }
 
-  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside.
+  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside;
+  // throws Error for a non-finite point. The crossing parity of an axis-parallel ray, over
+  // the edges of the point's band (below), in the direction whose band holds fewer edges.
   Sign locate(const double* p) const;
 
  private:
+  friend struct Domain2Impl;
   std::string source_;
   std::vector<double> xy_;
   std::vector<std::uint32_t> ring_begin_;  // nb_rings + 1
@@ -104,6 +107,17 @@ class Domain2 {
   double area_ = 0;
   double bbox_[4] = {0, 0, 0, 0};
   std::uint32_t nb_dropped_ = 0;
+  // Point-location index, one per axis: bands_[0] cuts the plane into horizontal bands (by
+  // y), bands_[1] into vertical ones (by x), of width h from lo; band k lists the edges
+  // edge[begin[k] .. begin[k + 1]) whose extent along that axis meets it. The band of a
+  // coordinate is a monotone function of it, so an edge whose closed extent holds the
+  // coordinate is listed in its band: the index only filters, decisions stay exact.
+  struct Bands {
+    double lo = 0, h = 1;
+    std::vector<std::uint32_t> begin, edge;
+    std::uint32_t band(double t) const;
+  };
+  Bands bands_[2];
 };
 
 // ---------------------------------------------------------------------------------------

@@ -69,6 +69,12 @@ struct PolygonRings {
   std::vector<std::uint32_t> ring_line;
   /// .poly hole markers (packed x y): each must lie in a hole of the domain.
   std::vector<double> hole_points;
+  /// Optional, for messages (empty when the format has nothing to say): per point, its own
+  /// number in the file (.poly: the vertex number as written, so that a ring assembled from
+  /// segments is reported with the user's numbering; otherwise a point is named by its
+  /// position in its ring), and per hole marker, the line of the file where it stands.
+  std::vector<std::uint32_t> point_number;
+  std::vector<std::uint32_t> hole_line;
 
   std::uint32_t nb_rings() const {
     return ring_begin.empty() ? 0u : static_cast<std::uint32_t>(ring_begin.size() - 1);
