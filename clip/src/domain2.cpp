@@ -148,8 +148,8 @@ class Namer {
 // that meet, or adjacent ones that fold back (a spike). Kinds in the order of reporting.
 struct Contact {
   enum Kind : std::uint8_t { kCross = 0, kSpike = 1, kOverlap = 2, kTouch = 3 };
-  Kind kind;
-  std::uint32_t e1, e2;
+  Kind kind = kTouch;
+  std::uint32_t e1 = 0, e2 = 0;
   // kSpike: the vertex where the edges fold back. kTouch: the vertex that touches (an endpoint of
   // e1 or e2) and, when it coincides with an endpoint of the other edge, that endpoint (else kNone:
   // it is inside the other edge).
@@ -231,7 +231,8 @@ struct Domain2Impl {
   void check_structure() const;
   void copy_rings();
   bool contact(std::uint32_t e, std::uint32_t f, Contact* out) const;
-  bool sweep_finds_contact() const;
+  bool sweep(Contact* found) const;
+  std::string describe(const Contact& c) const;
   void check_contacts() const;
   void build_bands();
   void nest_and_orient();
@@ -406,15 +407,14 @@ bool Domain2Impl::contact(std::uint32_t e, std::uint32_t f, Contact* out) const 
 }
 
 // Whether any contact exists (a spike, two vertices at one point, or two non-adjacent
-// edges meeting): the sweep of Shamos & Hoey (1976) in the form of CGAL's is_simple_2,
-// O(n log n) whatever the shape. Vertices are visited in lexicographic (x, y) order; the
-// status holds the edges met by the sweep line, ordered from below to above; every pair of
+// edges meeting), and one of them: the sweep of Shamos & Hoey (1976) in the form of CGAL's
+// is_simple_2, O(n log n) whatever the shape. Vertices are visited in lexicographic (x, y) order;
+// the status holds the edges met by the sweep line, ordered from below to above; every pair of
 // edges that becomes adjacent in the status is tested exactly, which finds the leftmost
 // contact when the sweep reaches it at the latest. The order of two edges is read at the
 // lexicographically later left endpoint of the two (orient2d), so it needs no sweep
-// position and holds while the status has no contact. Only a yes/no: when a contact
-// exists, the grid enumerates them all for the message.
-bool Domain2Impl::sweep_finds_contact() const {
+// position and holds while the status has no contact.
+bool Domain2Impl::sweep(Contact* found) const {
   const std::uint32_t n = d.nb_vertices();
   const auto lex_less = [this](std::uint32_t u, std::uint32_t v) {
     return p(u)[0] < p(v)[0] || (p(u)[0] == p(v)[0] && p(u)[1] < p(v)[1]);
@@ -422,7 +422,8 @@ bool Domain2Impl::sweep_finds_contact() const {
   for (std::uint32_t v = 0; v < n; ++v) {
     const std::uint32_t u = d.prev(v), w = d.next(v);
     if (orient2d(p(u), p(v), p(w)) == Sign::zero && same_side_on_line(p(u), p(v), p(w))) {
-      return true;  // a spike
+      *found = {Contact::kSpike, std::min(u, v), std::max(u, v), v};
+      return true;
     }
   }
   std::vector<std::uint32_t> order(n), left(n), right(n);
@@ -434,7 +435,11 @@ bool Domain2Impl::sweep_finds_contact() const {
   }
   std::sort(order.begin(), order.end(), lex_less);
   for (std::uint32_t i = 1; i < n; ++i) {
-    if (same_point(p(order[i - 1]), p(order[i]))) return true;  // one point, two vertices
+    const std::uint32_t a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
+    if (same_point(p(a), p(b))) {
+      *found = {Contact::kTouch, a, b, a, b};  // two vertices at one point
+      return true;
+    }
   }
 
   // Sign of (e - f) in the status: negative when e is below f. Antisymmetric; on a contact
@@ -463,10 +468,9 @@ bool Domain2Impl::sweep_finds_contact() const {
   using Status = std::set<std::uint32_t, decltype(below)>;
   Status status(below);
   std::vector<Status::iterator> where(n, status.end());
-  Contact unused;
   const auto meet = [&](Status::iterator a, Status::iterator b) {
     if (a == status.end() || b == status.end()) return false;
-    return contact(std::min(*a, *b), std::max(*a, *b), &unused);
+    return contact(std::min(*a, *b), std::max(*a, *b), found);
   };
   const auto before = [&](Status::iterator it) {
     return it == status.begin() ? status.end() : std::prev(it);
@@ -485,7 +489,7 @@ bool Domain2Impl::sweep_finds_contact() const {
     for (const std::uint32_t e : edges) {
       if (left[e] != v) continue;
       const auto inserted = status.insert(e);
-      if (!inserted.second) return true;  // cannot happen: the order is strict
+      if (!inserted.second) fail("internal error: the sweep order is not strict");
       where[e] = inserted.first;
     }
     for (const std::uint32_t e : edges) {
@@ -496,9 +500,12 @@ bool Domain2Impl::sweep_finds_contact() const {
   return false;
 }
 
-// Step 2: contacts. The sweep decides; when it finds one, the grid lists them all.
+// Step 2: contacts. The sweep decides; when it finds one, the grid lists them all for the
+// message, unless the candidate pairs are too many (edges long and dense, e.g. thousands of
+// long spikes side by side): then the contact the sweep found is reported alone.
 void Domain2Impl::check_contacts() const {
-  if (!sweep_finds_contact()) return;
+  Contact found;
+  if (!sweep(&found)) return;
   const std::uint32_t n = d.nb_vertices();
   const double* lo = d.bbox_lo();
   const double* hi = d.bbox_hi();
@@ -558,6 +565,17 @@ void Domain2Impl::check_contacts() const {
     return std::uint64_t{UINT64_MAX};
   };
 
+  std::size_t nb_candidates = 0;
+  for (std::size_t i = 0; i < entries.size();) {
+    std::size_t j = i;
+    while (j < entries.size() && entries[j].first == entries[i].first) ++j;
+    nb_candidates += (j - i) * (j - i - 1) / 2;
+    i = j;
+  }
+  if (nb_candidates > 16 * std::size_t{n} + (std::size_t{1} << 20)) {
+    fail(describe(found) + " (the first contact found; too many candidates to count them all)");
+  }
+
   std::vector<Contact> contacts;
   for (std::uint32_t v = 0; v < n; ++v) {
     const std::uint32_t u = d.prev(v), w = d.next(v);
@@ -587,6 +605,20 @@ void Domain2Impl::check_contacts() const {
       *std::min_element(contacts.begin(), contacts.end(), [](const Contact& x, const Contact& y) {
         return std::make_tuple(x.kind, x.e1, x.e2) < std::make_tuple(y.kind, y.e1, y.e2);
       });
+  std::string what = describe(c);
+  if (contacts.size() > 1) {
+    // Counted per pair of edges (a vertex touching at a corner is several pairs).
+    const std::size_t touching =
+        counts[Contact::kSpike] + counts[Contact::kOverlap] + counts[Contact::kTouch];
+    what += " (edge pairs in all: " + std::to_string(counts[Contact::kCross]) + " crossing, " +
+            std::to_string(touching) + " touching: " + std::to_string(counts[Contact::kSpike]) +
+            " folding back, " + std::to_string(counts[Contact::kOverlap]) + " overlapping, " +
+            std::to_string(counts[Contact::kTouch]) + " at a point)";
+  }
+  fail(what);
+}
+
+std::string Domain2Impl::describe(const Contact& c) const {
   const std::uint32_t r1 = d.ring_of(c.e1), r2 = d.ring_of(c.e2);
   std::string what;
   if (c.kind == Contact::kCross) {
@@ -628,16 +660,7 @@ void Domain2Impl::check_contacts() const {
                             " lies on the edge";
     }
   }
-  if (contacts.size() > 1) {
-    // Counted per pair of edges (a vertex touching at a corner is several pairs).
-    const std::size_t touching =
-        counts[Contact::kSpike] + counts[Contact::kOverlap] + counts[Contact::kTouch];
-    what += " (edge pairs in all: " + std::to_string(counts[Contact::kCross]) + " crossing, " +
-            std::to_string(touching) + " touching: " + std::to_string(counts[Contact::kSpike]) +
-            " folding back, " + std::to_string(counts[Contact::kOverlap]) + " overlapping, " +
-            std::to_string(counts[Contact::kTouch]) + " at a point)";
-  }
-  fail(what);
+  return what;
 }
 
 std::uint32_t Domain2::Bands::band(double t) const {
@@ -805,7 +828,7 @@ void Domain2Impl::nest_and_orient() {
     const Sign o = orient2d(p(d.prev(low)), p(low), p(d.next(low)));
     if (o == Sign::zero) fail("internal error: collinear neighbours at the lowest vertex");
     if ((o == Sign::positive) == (d.ring_hole_[r] != 0)) {
-      for (std::uint32_t i = b, j = e - 1; i < j; ++i, --j) {
+      for (std::uint32_t i = b + 1, j = e - 1; i < j; ++i, --j) {  // the first vertex stays
         std::swap(d.xy_[2 * std::size_t{i}], d.xy_[2 * std::size_t{j}]);
         std::swap(d.xy_[2 * std::size_t{i} + 1], d.xy_[2 * std::size_t{j} + 1]);
         std::swap(d.source_vertex_[i], d.source_vertex_[j]);

@@ -63,7 +63,7 @@ PolygonRings read_json_polygon(std::istream& in, const std::string& path) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number overflow
     throw Error(path + ": not valid JSON: " + e.what());
   }
   const char* expected =
