@@ -5,12 +5,13 @@
 // The steps, each reporting the first defect it finds with the input's numbering:
 //   1. per ring: finite coordinates, repeated points dropped (consecutive ones and the
 //      closing repeat), at least 3 points, not all collinear;
-//   2. contacts between edges, found by a uniform grid (below): spikes (two consecutive
-//      edges folding back onto each other: orient2d = 0 with both neighbours on one side),
-//      and between non-adjacent edges of one ring or of two, proper crossings, collinear
-//      overlaps and touches (a vertex on an edge, or two vertices at the same point). All
-//      are counted, per pair of edges; the message reports the first of the most serious
-//      kind (crossing, spike, overlap, touch) and the counts;
+//   2. contacts: spikes (two consecutive edges folding back onto each other: orient2d = 0
+//      with both neighbours on one side), two vertices at one point, and non-adjacent
+//      edges (of one ring or of two) that cross properly, overlap collinearly or touch (a
+//      vertex on an edge). Whether there is any is decided by a sweep in O(n log n) (see
+//      sweep()); if there is, a uniform grid (below) lists them all, counted per pair of
+//      edges, and the message describes the first of the most serious kind (crossing,
+//      spike, overlap, touch) and gives the counts;
 //   3. nesting: for each ring, the rings that contain one of its vertices (exact crossing
 //      parity of a horizontal ray; the vertex is on no other ring once step 2 passed, and
 //      disjoint simple rings are either nested or apart, so the containment of one vertex
@@ -24,14 +25,15 @@
 //      neighbours are not collinear with it once spikes are gone): outer rings are made
 //      counter-clockwise and holes clockwise, reversing vertex order where needed.
 //
-// The contact grid. Cells are squares of side h over the bounding box, h about the mean
-// edge extent (not below max-extent / 2^21, nor below max|coordinate| / 2^30: that keeps
-// rounding far below h). The cell of a coordinate, floor((x - lo) / h) clamped, is a
-// monotone function of x, so two segments that meet share a cell of their bounding boxes.
-// An edge whose box spans few cells is entered in all of them; a long slanted one only in
-// the cells along it (per column of its major axis, the cells its line can reach, widened
-// by 2h: a superset, computed in floating point with a margin that dominates the
-// rounding). A pair is tested in its first common cell only, so each once.
+// The contact grid (only for the message: the sweep has decided). Cells are squares of
+// side h over the bounding box, h about the mean edge extent (not below max-extent / 2^21,
+// nor below max|coordinate| / 2^30: that keeps rounding far below h). The cell of a
+// coordinate, floor((x - lo) / h) clamped, is a monotone function of x, so two segments
+// that meet share a cell of their bounding boxes. An edge whose box spans few cells is
+// entered in all of them; a long slanted one only in the cells along it (per column of its
+// major axis, the cells its line can reach, widened by 2h: a superset, computed in floating
+// point with a margin that dominates the rounding). A pair is tested in its first common
+// cell only, so each once.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -150,9 +152,9 @@ struct Contact {
   enum Kind : std::uint8_t { kCross = 0, kSpike = 1, kOverlap = 2, kTouch = 3 };
   Kind kind = kTouch;
   std::uint32_t e1 = 0, e2 = 0;
-  // kSpike: the vertex where the edges fold back. kTouch: the vertex that touches (an endpoint of
-  // e1 or e2) and, when it coincides with an endpoint of the other edge, that endpoint (else kNone:
-  // it is inside the other edge).
+  // kSpike: the vertex where the edges fold back. kTouch: the vertex that touches (an
+  // endpoint of e1 or e2) and, when it coincides with an endpoint of the other edge, that
+  // endpoint (else kNone: it is inside the other edge).
   std::uint32_t vertex = kNone, other_vertex = kNone;
 };
 
@@ -407,13 +409,13 @@ bool Domain2Impl::contact(std::uint32_t e, std::uint32_t f, Contact* out) const 
 }
 
 // Whether any contact exists (a spike, two vertices at one point, or two non-adjacent
-// edges meeting), and one of them: the sweep of Shamos & Hoey (1976) in the form of CGAL's
-// is_simple_2, O(n log n) whatever the shape. Vertices are visited in lexicographic (x, y) order;
-// the status holds the edges met by the sweep line, ordered from below to above; every pair of
-// edges that becomes adjacent in the status is tested exactly, which finds the leftmost
-// contact when the sweep reaches it at the latest. The order of two edges is read at the
-// lexicographically later left endpoint of the two (orient2d), so it needs no sweep
-// position and holds while the status has no contact.
+// edges meeting), and one of them: the sweep of Shamos & Hoey (1976), in the form of
+// CGAL's is_simple_2, O(n log n) whatever the shape. Vertices are visited in lexicographic
+// (x, y) order; the status holds the edges met by the sweep line, from below to above;
+// every pair of edges that becomes adjacent in the status is tested exactly, which finds
+// the leftmost contact when the sweep reaches it at the latest. The order of two edges is
+// read at the lexicographically later of their left endpoints (orient2d), so it needs no
+// sweep position and holds while the status has no contact.
 bool Domain2Impl::sweep(Contact* found) const {
   const std::uint32_t n = d.nb_vertices();
   const auto lex_less = [this](std::uint32_t u, std::uint32_t v) {
@@ -767,8 +769,9 @@ void Domain2Impl::nest_and_orient() {
   };
 
   if (in.ring_polygon.front() < 0) {
-    for (std::uint32_t r = 0; r < nb_rings; ++r)
+    for (std::uint32_t r = 0; r < nb_rings; ++r) {
       d.ring_hole_[r] = static_cast<std::uint8_t>(depth[r] % 2);
+    }
   } else {
     std::map<std::int32_t, std::uint32_t> outer_of;
     for (std::uint32_t r = 0; r < nb_rings; ++r) {
@@ -839,11 +842,12 @@ void Domain2Impl::nest_and_orient() {
   if (reversed) build_bands();  // edge numbers changed
 }
 
-// Twice the signed area of each ring, relative to its first vertex, as a compensated sum
-// of the error-free parts of each cross product: the differences are split into a rounded
-// value and its exact error (two_sum), the leading product kept exactly (two_product via
-// fma), the small cross terms rounded; so the result is within a few ulps of the exact
-// area whatever the cancellation.
+// The signed area of each ring, relative to its first vertex: the coordinate differences
+// are split into a rounded value and its exact error (two_diff), the leading product of
+// each shoelace term is kept exactly (two_product by fma), the small cross terms are
+// rounded, and everything goes into a compensated sum. The error is then about 2u |area|
+// plus n u^2 times the sum of the term magnitudes: close to the exactly rounded area even
+// when the terms cancel heavily.
 void Domain2Impl::compute_area() {
   const auto two_diff = [](double x, double y, double& hi, double& lo) {
     hi = x - y;

@@ -15,7 +15,6 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -69,8 +68,26 @@ PolygonRings scaled(PolygonRings r, int exponent) {
 
 // A message without its coordinates, "(x, y)", which change with the scale.
 std::string without_coordinates(const std::string& s) {
-  static const std::regex point(R"(\([-+0-9.eE]+, [-+0-9.eE]+\))");
-  return std::regex_replace(s, point, "(x, y)");
+  const auto number_end = [&s](std::size_t i) {
+    while (i < s.size() && std::string("+-0123456789.eE").find(s[i]) != std::string::npos) ++i;
+    return i;
+  };
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '(') {
+      const std::size_t x = number_end(i + 1);
+      if (x > i + 1 && s.compare(x, 2, ", ") == 0) {
+        const std::size_t y = number_end(x + 2);
+        if (y > x + 2 && y < s.size() && s[y] == ')') {
+          out += "(x, y)";
+          i = y;
+          continue;
+        }
+      }
+    }
+    out += s[i];
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------
