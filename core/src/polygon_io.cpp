@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "voroclip/core.h"
@@ -33,7 +34,7 @@ std::string lower_case(std::string s) {
   return s;
 }
 
-// Shortest decimal text that reads back as the same double (for names of generated data).
+// Decimal text that reads back as the same double (for the names of generated data).
 std::string number_text(double x) {
   std::ostringstream out;
   out.imbue(std::locale::classic());
@@ -189,10 +190,12 @@ class PolyReader {
     const std::string& s = t.fields[k];
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size())
+    if (end != s.c_str() + s.size()) {
       fail(t.number, std::string(what) + " '" + s + "' is not a number");
-    if (!std::isfinite(v))
+    }
+    if (!std::isfinite(v)) {
       fail(t.number, std::string(what) + " '" + s + "' is not a finite number");
+    }
     return v;
   }
 
@@ -250,9 +253,10 @@ PolygonRings PolyReader::read() {
              3, static_cast<std::size_t>(3 + nb_attributes + nb_vertex_markers));
     const long long id = integer(t, 0, "the vertex number", 0, kMaxCount);
     if (k == 0) {
-      if (id > 1)
+      if (id > 1) {
         fail(t.number,
              "the first vertex is numbered " + t.fields[0] + "; vertices are numbered from 0 or 1");
+      }
       base = id;
     } else if (id != base + k) {
       fail(t.number, "vertex numbered " + t.fields[0] + ", expected " + std::to_string(base + k) +
