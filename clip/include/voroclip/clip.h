@@ -33,11 +33,17 @@ namespace voroclip {
 //   - a non-finite coordinate.
 // Handled, not rejected: a repeated closing point and repeated consecutive points are
 // dropped (nb_dropped_points() counts them).
+// Messages name rings by their index in the input (per polygon when a JSON file holds
+// several; with the line where it starts for .poly) and vertices by their position in
+// their input ring (.poly: the file's vertex numbers). Contacts are counted per pair of
+// edges, and the first of the most serious kind is described: crossing, spike (consecutive
+// edges folding back), collinear overlap, touch at a point.
+// Cost: validation is O(n log n) (a sweep, see domain2.cpp), whatever the shape.
 //
 // Storage after validation: vertices packed ring after ring; ring r owns the vertices
 // [ring_begin(r), ring_end(r)); outer boundaries run counter-clockwise and holes clockwise,
-// so the domain is always on the LEFT of an edge. Edge v is the segment from vertex v to
-// next(v).
+// so the domain is always on the LEFT of an edge (a ring is reversed, when needed, after
+// its first vertex, which stays first). Edge v is the segment from vertex v to next(v).
 class Domain2 {
  public:
   Domain2() = default;
@@ -77,23 +83,31 @@ class Domain2 {
     const std::uint32_t r = ring_of(v);
     return v == ring_begin_[r] ? ring_begin_[r + 1] - 1 : v - 1;
   }
-  // Where vertex v and ring r came from in the PolygonRings (for messages).
+  // Where vertex v and ring r came from in the PolygonRings: the index of v's point (at
+  // xy[2 * source_vertex(v)]) and of r's ring (rings keep their input order).
   std::uint32_t source_vertex(std::uint32_t v) const { return source_vertex_[v]; }
   std::uint32_t source_ring(std::uint32_t r) const { return source_ring_[r]; }
   // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
   bool is_corner(std::uint32_t v) const;
 
-  // Area (outer rings minus holes), summed in floating point.
+  // Area (outer rings minus holes), summed in floating point: shoelace terms relative to
+  // each ring's first vertex, with error-free differences and products, compensated sums
+  // (close to the exactly rounded area).
   double area() const { return area_; }
   // Bounding box: lo = (x, y), hi = (x, y).
   const double* bbox_lo() const { return bbox_; }
   const double* bbox_hi() const { return bbox_ + 2; }
   std::uint32_t nb_dropped_points() const { return nb_dropped_; }
 
-  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside.
+  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside;
+  // throws Error for a non-finite point. The crossing parity of an axis-parallel ray, over
+  // the edges of the point's band (below), in the direction whose band holds fewer edges:
+  // a few edges for ordinary domains, up to most of them when every axis-parallel line
+  // through the point meets the boundary very often.
   Sign locate(const double* p) const;
 
  private:
+  friend struct Domain2Impl;
   std::string source_;
   std::vector<double> xy_;
   std::vector<std::uint32_t> ring_begin_;  // nb_rings + 1
@@ -104,6 +118,17 @@ class Domain2 {
   double area_ = 0;
   double bbox_[4] = {0, 0, 0, 0};
   std::uint32_t nb_dropped_ = 0;
+  // Point-location index, one per axis: bands_[0] cuts the plane into horizontal bands (by
+  // y), bands_[1] into vertical ones (by x), of width h from lo; band k lists the edges
+  // edge[begin[k] .. begin[k + 1]) whose extent along that axis meets it. The band of a
+  // coordinate is a monotone function of it, so an edge whose closed extent holds the
+  // coordinate is listed in its band: the index only filters, decisions stay exact.
+  struct Bands {
+    double lo = 0, h = 1;
+    std::vector<std::uint32_t> begin, edge;
+    std::uint32_t band(double t) const;
+  };
+  Bands bands_[2];
 };
 
 // ---------------------------------------------------------------------------------------
