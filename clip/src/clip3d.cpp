@@ -118,8 +118,11 @@ struct Clip3Impl {
   std::vector<std::uint32_t> cell_tri_begin, cell_tris;
   std::vector<double> surface_area;  // per site
   std::vector<std::uint32_t> boundary_cells;
-  struct CellOut {
+  // Integrals relative to the site: volume, first moment, ∫|x - site|^2.
+  struct Moments {
     double volume = 0, energy = 0, moment[3] = {0, 0, 0};
+  };
+  struct CellOut : Moments {
     std::vector<std::uint32_t> walked;  // neighbours with a face of some piece
     std::uint64_t pairs = 0;
     std::vector<std::uint32_t> face_begin{0};
@@ -553,7 +556,7 @@ struct Clip3Impl {
   // Signed tet (o, a, b, d), faces oriented as Domain3::kTetFacetVertex (inward-facing
   // for orient3d > 0): volume = -det(a - o, b - o, d - o) / 6.
   static void add_tet(const double* o, const double* a, const double* b, const double* d,
-                      CellOut& res) {
+                      Moments& res) {
     const double u[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
     const double v[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
     const double w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
@@ -627,7 +630,7 @@ struct Clip3Impl {
 
   // The inner cell of v from the triangulation: signed flags (v, c_e, c_f, c_t).
   void inner_cell(std::uint32_t v, const std::vector<double>& circ,
-                  std::vector<std::uint32_t>& tets, CellOut& res) const {
+                  std::vector<std::uint32_t>& tets, Moments& res) const {
     dt.vertex_tets(v, tets);
     const double* pv = site(v);
     for (const std::uint32_t t : tets) {
@@ -656,7 +659,7 @@ struct Clip3Impl {
           for (int a = 0; a < 4; ++a) {
             for (int b = a + 1; b < 4; ++b) inversions += perm[a] > perm[b] ? 1 : 0;
           }
-          CellOut part;
+          Moments part;
           add_tet(pv, ce, cf, ct, part);
           const double sgn = (inversions % 2 == 0) ? 1.0 : -1.0;
           res.volume += sgn * part.volume;
@@ -731,8 +734,8 @@ struct Clip3Impl {
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 256), [&](const auto& range) {
       std::vector<std::uint32_t>& tets = tet_lists.local();
       for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-        CellOut inner;
-        const CellOut* r = nullptr;
+        Moments inner;
+        const Moments* r = nullptr;
         if (slot[i] != kNone) {
           r = &cell_out[slot[i]];
         } else if (status[i] == 1) {
