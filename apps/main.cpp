@@ -160,6 +160,29 @@ int main(int argc, char** argv) {
     clip_cmd[c] = cmd;
   }
 
+  voroclip::cli::ClipArgs clip3d_args;
+  CLI::App* clip3d = app.add_subcommand(
+      "clip3d", "Voronoi diagram of sites clipped to the volume of a tetrahedral mesh (exact)");
+  clip3d
+      ->add_option("DOMAIN", clip3d_args.domain,
+                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII) or "
+                   "legacy VTK .vtk")
+      ->required()
+      ->type_name("MESH");
+  clip3d
+      ->add_option("--sites", clip3d_args.sites,
+                   "Site file: one 'x y z' per line ('#' comments) or a JSON array")
+      ->type_name("FILE");
+  clip3d->add_option("--random", clip3d_args.random, "Use N uniform random sites in the volume")
+      ->type_name("N");
+  clip3d->add_option("--seed", clip3d_args.seed, "Seed of --random (default 1)")->type_name("S");
+  clip3d
+      ->add_option("-o,--output", clip3d_args.output,
+                   "Write .vtu (boundary cells' pieces, faces shrunk, site_id), .obj (the "
+                   "restricted surface coloured by cell) or .json (per cell: site, volume, "
+                   "centroid, boundary)")
+      ->type_name("FILE");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -186,6 +209,10 @@ int main(int argc, char** argv) {
       voroclip::cli::run_demo(demo_args, global);
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
+    }
+    if (*clip3d) {
+      clip3d_args.random_set = clip3d->get_option("--random")->count() > 0;
+      voroclip::cli::run_clip3d(clip3d_args, global);
     }
     for (int c = 0; c < 2; ++c) {
       if (*clip_cmd[c]) {

@@ -14,6 +14,7 @@
 #include <random>
 #include <vector>
 
+#include "voroclip/core.h"
 #include "voroclip/predicates.h"
 
 namespace {
@@ -322,6 +323,93 @@ void BM_insphere_exact_near_degenerate(benchmark::State& s) {
   });
 }
 
+// ----- Voronoi clipping predicates in 2D
+// Random points: the filter decides. Tuples are (p_i, p_k, p_j, a, b) for the edge predicate
+// and (p_i, p_k, a1, b1, a2, b2) for compare_on_bisector2d.
+const auto& re() {
+  static const auto t = random_tuples<5, 2>(kRandomTuples);
+  return t;
+}
+const auto& rb() {
+  static const auto t = random_tuples<6, 2>(kRandomTuples);
+  return t;
+}
+void BM_bisector_side_edge2d(benchmark::State& s) {
+  run_batches(s, re(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_edge2d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                          t.point(i, 3), t.point(i, 4), id[0], id[1], id[2]);
+  });
+}
+void BM_compare_on_bisector2d(benchmark::State& s) {
+  run_batches(s, rb(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::compare_on_bisector2d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                           t.point(i, 3), t.point(i, 4), t.point(i, 5), id[0],
+                                           id[1]);
+  });
+}
+
+// Small integer grid points: exact ties everywhere (f_ij(q) == 0, shared crossings), so the
+// exact stage (128-bit integers) and the perturbation decide a large share of the calls.
+// Tuples violating a precondition (a segment not crossing the bisector) are dropped.
+template <int K, class Valid>
+Tuples<K, 2> grid_tuples(std::size_t n, Valid valid) {
+  std::mt19937_64 rng(kSeed);
+  std::uniform_int_distribution<int> g(0, 4);
+  Tuples<K, 2> t;
+  while (t.coords.size() < n) {
+    std::array<double, K * 2> c{};
+    for (auto& x : c) x = g(rng);
+    std::array<std::uint32_t, K> ids{};
+    for (int k = 0; k < K; ++k) ids[k] = static_cast<std::uint32_t>(K * t.coords.size() + k);
+    if (!valid(c, ids)) continue;
+    t.coords.push_back(c);
+    t.ids.push_back(ids);
+  }
+  return t;
+}
+template <class F>
+bool does_not_throw(F f) {
+  try {
+    f();
+    return true;
+  } catch (const voroclip::Error&) {
+    return false;
+  }
+}
+const auto& ge() {
+  static const auto t = grid_tuples<5>(4096, [](const auto& c, const auto& id) {
+    return does_not_throw([&] {
+      voroclip::bisector_side_edge2d(&c[0], &c[2], &c[4], &c[6], &c[8], id[0], id[1], id[2]);
+    });
+  });
+  return t;
+}
+const auto& gb() {
+  static const auto t = grid_tuples<6>(4096, [](const auto& c, const auto& id) {
+    return does_not_throw([&] {
+      voroclip::compare_on_bisector2d(&c[0], &c[2], &c[4], &c[6], &c[8], &c[10], id[0], id[1]);
+    });
+  });
+  return t;
+}
+void BM_bisector_side_edge2d_grid(benchmark::State& s) {
+  run_batches(s, ge(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_edge2d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                          t.point(i, 3), t.point(i, 4), id[0], id[1], id[2]);
+  });
+}
+void BM_compare_on_bisector2d_grid(benchmark::State& s) {
+  run_batches(s, gb(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::compare_on_bisector2d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                           t.point(i, 3), t.point(i, 4), t.point(i, 5), id[0],
+                                           id[1]);
+  });
+}
+
 }  // namespace
 
 BENCHMARK(BM_orient2d_naive);
@@ -343,5 +431,9 @@ BENCHMARK(BM_incircle_sos_cocircular);
 BENCHMARK(BM_insphere_exact_cospherical);
 BENCHMARK(BM_insphere_sos_cospherical);
 BENCHMARK(BM_insphere_exact_near_degenerate);
+BENCHMARK(BM_bisector_side_edge2d);
+BENCHMARK(BM_compare_on_bisector2d);
+BENCHMARK(BM_bisector_side_edge2d_grid);
+BENCHMARK(BM_compare_on_bisector2d_grid);
 
 BENCHMARK_MAIN();

@@ -83,3 +83,27 @@ for name, f in [("orient2d", orient2d), ("orient3d", orient3d),
     mant = math.ceil(x / 10**exp10 * 100) / 100
     print(f"{name:18s} deg {deg}  E = {float(e):.6e} = {float(e/u):.4f} u"
           f"   store {mant:.2f}e{exp10}   max |det~| <= {float(m):.3f} M^{deg}")
+
+# Dynamic bounds of the 2D bisector predicates (predicates/src/bisector2d.h): the filter
+# computes, beside each value, its magnitude mag~ (the same polynomial on absolute values of
+# the rounded leaves) and decides when |value~| > K mag~. With k the number of roundings on
+# a monomial's path (leaf difference 1, sum 1 + k(operand), product 1 + k(l) + k(r)),
+# |value~ - value| <= gamma_k mag; mag~ loses a factor (1 + u) per rounding of its own
+# evaluation (kmag) and the exact leaves exceed the rounded ones by at most 1 / (1 - u)
+# each (deg of them); two more roundings: K * mag~ and one to spare. Underflow is kept
+# below 2^-73 mag by the filter's test mag >= 2^-1000 (1 + S), inside the slack.
+def gamma(k):
+    return k * u / (1 - k * u)
+
+def round_up_3(x):
+    exp10 = math.floor(math.log10(x))
+    return math.ceil(x / 10**exp10 * 100) / 100 * 10**exp10
+
+for name, k, kmag, deg in [("bisector N, A (deg 4)", 11, 7, 4),
+                           ("bisector E (deg 2)", 4, 2, 2)]:
+    need = gamma(k) * (1 + u) ** (kmag + 2) / (1 - u) ** deg
+    stored = round_up_3(float(need))
+    slack = (Fr(stored) - need) / need
+    assert slack > Fr(1, 2**60)
+    print(f"{name:18s} k {k:2d}  K = {float(need):.6e} = {float(need/u):.4f} u"
+          f"   store {stored:.2e}   slack {float(slack) * 100:.2f} %")

@@ -243,6 +243,14 @@ TEST_CASE("clip2d: every valid polygon of shared/data", "[clip][data]") {
   }
 }
 
+TEST_CASE("clip2d: 10^5 random points in the cells of their nearest sites", "[clip][data]") {
+  const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue35.json"));
+  const auto n = static_cast<std::uint32_t>(5000 * test_scale());
+  const std::vector<double> sites = sample_inside(d, n, 21);
+  const Delaunay2 dt(sites.data(), n);
+  check_diagram(d, dt, clip(d, dt), static_cast<std::uint32_t>(100000 * test_scale()), 21);
+}
+
 TEST_CASE("clip2d: identical results with 1 and 2 threads", "[clip]") {
   const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue35.json"));
   const std::vector<double> sites = sample_inside(d, 20000, 3);

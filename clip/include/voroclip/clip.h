@@ -33,11 +33,17 @@ namespace voroclip {
 //   - a non-finite coordinate.
 // Handled, not rejected: a repeated closing point and repeated consecutive points are
 // dropped (nb_dropped_points() counts them).
+// Messages name rings by their index in the input (per polygon when a JSON file holds
+// several; with the line where it starts for .poly) and vertices by their position in
+// their input ring (.poly: the file's vertex numbers). Contacts are counted per pair of
+// edges, and the first of the most serious kind is described: crossing, spike (consecutive
+// edges folding back), collinear overlap, touch at a point.
+// Cost: validation is O(n log n) (a sweep, see domain2.cpp), whatever the shape.
 //
 // Storage after validation: vertices packed ring after ring; ring r owns the vertices
 // [ring_begin(r), ring_end(r)); outer boundaries run counter-clockwise and holes clockwise,
-// so the domain is always on the LEFT of an edge. Edge v is the segment from vertex v to
-// next(v).
+// so the domain is always on the LEFT of an edge (a ring is reversed, when needed, after
+// its first vertex, which stays first). Edge v is the segment from vertex v to next(v).
 class Domain2 {
  public:
   Domain2() = default;
@@ -77,23 +83,31 @@ class Domain2 {
     const std::uint32_t r = ring_of(v);
     return v == ring_begin_[r] ? ring_begin_[r + 1] - 1 : v - 1;
   }
-  // Where vertex v and ring r came from in the PolygonRings (for messages).
+  // Where vertex v and ring r came from in the PolygonRings: the index of v's point (at
+  // xy[2 * source_vertex(v)]) and of r's ring (rings keep their input order).
   std::uint32_t source_vertex(std::uint32_t v) const { return source_vertex_[v]; }
   std::uint32_t source_ring(std::uint32_t r) const { return source_ring_[r]; }
   // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
   bool is_corner(std::uint32_t v) const;
 
-  // Area (outer rings minus holes), summed in floating point.
+  // Area (outer rings minus holes), summed in floating point: shoelace terms relative to
+  // each ring's first vertex, with error-free differences and products, compensated sums
+  // (close to the exactly rounded area).
   double area() const { return area_; }
   // Bounding box: lo = (x, y), hi = (x, y).
   const double* bbox_lo() const { return bbox_; }
   const double* bbox_hi() const { return bbox_ + 2; }
   std::uint32_t nb_dropped_points() const { return nb_dropped_; }
 
-  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside.
+  // Exact point location: POSITIVE strictly inside, ZERO on the boundary, NEGATIVE outside;
+  // throws Error for a non-finite point. The crossing parity of an axis-parallel ray, over
+  // the edges of the point's band (below), in the direction whose band holds fewer edges:
+  // a few edges for ordinary domains, up to most of them when every axis-parallel line
+  // through the point meets the boundary very often.
   Sign locate(const double* p) const;
 
  private:
+  friend struct Domain2Impl;
   std::string source_;
   std::vector<double> xy_;
   std::vector<std::uint32_t> ring_begin_;  // nb_rings + 1
@@ -104,6 +118,17 @@ class Domain2 {
   double area_ = 0;
   double bbox_[4] = {0, 0, 0, 0};
   std::uint32_t nb_dropped_ = 0;
+  // Point-location index, one per axis: bands_[0] cuts the plane into horizontal bands (by
+  // y), bands_[1] into vertical ones (by x), of width h from lo; band k lists the edges
+  // edge[begin[k] .. begin[k + 1]) whose extent along that axis meets it. The band of a
+  // coordinate is a monotone function of it, so an edge whose closed extent holds the
+  // coordinate is listed in its band: the index only filters, decisions stay exact.
+  struct Bands {
+    double lo = 0, h = 1;
+    std::vector<std::uint32_t> begin, edge;
+    std::uint32_t band(double t) const;
+  };
+  Bands bands_[2];
 };
 
 // ---------------------------------------------------------------------------------------
@@ -312,6 +337,76 @@ class Domain3 {
   std::vector<std::uint32_t> tet_boundary_begin_;
   double volume_ = 0;
   double bbox_[6] = {0, 0, 0, 0, 0, 0};
+};
+
+// ---------------------------------------------------------------------------------------
+// ClippedVoronoi3: the Voronoi diagram of the vertices of a Delaunay3 clipped to the
+// volume of a Domain3 (Yan et al. 2011, sec. 4; clip/src/clip3d.cpp).
+//
+// Cells are indexed by input point; duplicates and cells that miss the volume are empty.
+// Per cell: volume, mass = ∫rho, centroid, energy = ∫rho |x - x_i|^2, the area of its
+// restricted surface cell (cell ∩ boundary surface) and whether that is non-empty (a
+// boundary cell). Boundary cells are clipped tet by tet (cell-tet propagation from the
+// boundary triangles they meet); inner cells come from the Delaunay triangulation.
+//
+// Threads: TBB loops over cells into per-cell slots; identical results for any thread
+// count (the surface pass is sequential).
+struct Clip3Options {
+  // rho: constant.
+  double density = 1.0;
+  // Keep the restricted surface polygons and the clipped pieces' faces (export, tests).
+  bool keep_geometry = false;
+};
+
+class ClippedVoronoi3 {
+ public:
+  void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
+
+  std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
+  double volume(std::uint32_t i) const { return cells_[i].volume; }
+  double mass(std::uint32_t i) const { return cells_[i].mass; }
+  const double* centroid(std::uint32_t i) const { return cells_[i].centroid; }
+  double energy(std::uint32_t i) const { return cells_[i].energy; }
+  double surface_area(std::uint32_t i) const { return cells_[i].surface_area; }
+  bool is_boundary(std::uint32_t i) const { return cells_[i].boundary != 0; }
+  std::uint32_t nb_boundary_sites() const { return nb_boundary_; }
+  double total_volume() const { return total_volume_; }
+  double total_energy() const { return total_energy_; }
+  double total_surface_area() const { return total_surface_area_; }
+
+  // Wall-clock seconds of the last compute(), per phase.
+  double seconds_surface() const { return seconds_[0]; }
+  double seconds_boundary_cells() const { return seconds_[1]; }
+  double seconds_inner_cells() const { return seconds_[2]; }
+  // (Cell, tet) pairs clipped for the boundary cells.
+  std::uint64_t nb_clipped_pairs() const { return nb_pairs_; }
+
+  // ---- Geometry (keep_geometry). Polygons as flat coordinate lists: polygon p has the
+  // points [polygon_begin[p], polygon_begin[p + 1]) of *_xyz (x y z each).
+  // Restricted surface: per boundary cell, its polygons (one per boundary triangle met).
+  struct Polygons {
+    std::vector<std::uint32_t> site;           // per polygon: its cell
+    std::vector<std::uint32_t> piece;          // per polygon: its convex piece (cell_faces)
+    std::vector<std::uint32_t> polygon_begin;  // nb polygons + 1
+    std::vector<double> xyz;
+  };
+  const Polygons& surface_polygons() const { return surface_; }
+  // Faces of the boundary cells' convex pieces (one piece per tet met), numbered pieces;
+  // orientation as Domain3::kTetFacetVertex (inward for positive tets).
+  const Polygons& cell_faces() const { return faces_; }
+
+ private:
+  friend struct Clip3Impl;
+  struct Cell {
+    double volume, mass, energy, centroid[3], surface_area;
+    std::uint32_t boundary;
+  };
+  std::vector<Cell> cells_;
+  std::uint32_t nb_boundary_ = 0;
+  double total_volume_ = 0, total_energy_ = 0, total_surface_area_ = 0;
+  double seconds_[3] = {0, 0, 0};
+  std::uint64_t nb_pairs_ = 0;
+  Polygons surface_, faces_;
 };
 
 }  // namespace voroclip

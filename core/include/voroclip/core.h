@@ -69,28 +69,47 @@ struct PolygonRings {
   std::vector<std::uint32_t> ring_line;
   /// .poly hole markers (packed x y): each must lie in a hole of the domain.
   std::vector<double> hole_points;
+  /// Optional, for messages (empty when the format has nothing to say): per point, its own
+  /// number in the file (.poly: the vertex number as written, so that a ring assembled from
+  /// segments is reported with the user's numbering; otherwise a point is named by its
+  /// position in its ring), and per hole marker, the line of the file where it stands.
+  std::vector<std::uint32_t> point_number;
+  std::vector<std::uint32_t> hole_line;
 
   std::uint32_t nb_rings() const {
     return ring_begin.empty() ? 0u : static_cast<std::uint32_t>(ring_begin.size() - 1);
   }
 };
 
-/// Reads a polygonal domain, by extension:
+/// Reads a polygonal domain, by extension (in any letter case):
 ///   .json  an array of rings (one polygon: ring 0 outer, the others holes) or an array of
-///          polygons, each an array of rings; a ring is an array of [x, y]. Orientation is
-///          free; the closing point may be repeated. (The format of shared/data/polygons.)
-///   .poly  Triangle's format: nodes, segments (chained into closed rings; every node used
-///          must have exactly two segments), holes. Attributes and markers are read and
-///          ignored; '#' starts a comment.
-/// Throws Error naming the file, the line (or JSON ring/point) and what is wrong.
+///          polygons, each an array of rings (ring_polygon numbers them); a ring is an array
+///          of [x, y]. The form is recognised by the nesting depth. Orientation is free; the
+///          closing point may be repeated. (The format of shared/data/polygons.)
+///   .poly  Triangle's format (https://www.cs.cmu.edu/~quake/triangle.poly.html): vertices
+///          (numbered from 0 or 1, as the first one says, then consecutively), segments,
+///          hole markers, then optionally regional attributes. Segments are chained into
+///          closed rings, each starting at the first segment not yet used, in its direction;
+///          every vertex used must end exactly two segments, unused vertices are ignored.
+///          Roles follow from nesting (ring_polygon = -1); point_number keeps the vertex
+///          numbers and hole_line the marker lines. Attributes, markers and regions are
+///          read and ignored; '#' starts a comment. A vertex count of 0 (vertices in a
+///          separate .node file) is not supported.
+/// Throws Error naming the file, the line (or JSON ring/point) and what is wrong: a missing
+/// file, a value that is not a finite number, a wrong number of fields, a truncated file, a
+/// vertex index out of range, segments that do not form closed rings.
 PolygonRings read_polygon(const std::string& path);
 
 /// An annulus centred at the origin: outer radius r_outer, inner r_inner, each circle a
-/// regular polygon with `segments` vertices.
+/// regular polygon with `segments` vertices, the first at angle 0; the outer ring runs
+/// counter-clockwise, the inner one clockwise, as one polygon. Source "annulus(r_inner,
+/// r_outer, segments)". Throws Error unless 0 < r_inner < r_outer (finite), segments >= 3.
 PolygonRings annulus_rings(double r_inner, double r_outer, std::uint32_t segments);
 
 /// The unit square [0, 1]^2 with a k x k grid of square holes of side `hole_fraction` / k
-/// each centred in its grid cell (0 < hole_fraction < 1).
+/// each centred in its grid cell (0 < hole_fraction < 1, k <= 4096), as one polygon: the
+/// square counter-clockwise, then the holes clockwise, row after row. Area 1 - fraction^2
+/// (1 when k = 0). Source "square_with_holes(k, hole_fraction)".
 PolygonRings square_with_holes(std::uint32_t k, double hole_fraction);
 
 // ---------------------------------------------------------------------------------------

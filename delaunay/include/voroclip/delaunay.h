@@ -333,6 +333,8 @@ class Delaunay3 {
   std::uint32_t nb_unique_points() const { return nb_unique_; }
   // The smallest input index with the same coordinates as point i (i itself if unique).
   std::uint32_t duplicate_of(std::uint32_t i) const { return duplicate_of_[i]; }
+  // Point v (x y z): after a build, input point v (during construction, internal ids).
+  const double* point(std::uint32_t v) const { return pts_ + 3 * static_cast<std::size_t>(v); }
 
   // Slots, including infinite and free ones: iterate t < nb_tet_slots() and skip with
   // is_free(t) / is_infinite(t).
@@ -388,7 +390,6 @@ class Delaunay3 {
   void mark(std::uint32_t t, int which) { tet_neighbors_[4 * t + which] |= kMark; }
   void unmark(std::uint32_t t, int which) { tet_neighbors_[4 * t + which] &= ~kMark; }
 
-  const double* point(std::uint32_t v) const { return pts_ + 3 * static_cast<std::size_t>(v); }
   // The index symbolic perturbation uses for vertex v: always the input index.
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
   std::uint32_t new_tet();

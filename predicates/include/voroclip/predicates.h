@@ -414,11 +414,15 @@ Sign insphere_sos(const double* a, const double* b, const double* c, const doubl
 //                              f_ik(a) and f_ik(b) must have opposite (perturbed) signs.
 //                              sign f_ij(q) = sign(f_ik(a) f_ij(b) - f_ij(a) f_ik(b))
 //                                             * sign(f_ik(a) - f_ik(b)).
-//                              i, j, k distinct.
+//                              i, j, k distinct. (Only f_ik(a) != f_ik(b) is checked: the
+//                              result is then f_ij at the crossing of LINE ab.)
 //   bisector_side_voronoi2d    x = the Voronoi vertex of sites (i, k, l) (a triangle of
 //                              their Delaunay triangulation, so not collinear; any
 //                              order): sign f_ij(x), i, j, k, l distinct. Equivalent to
-//                              -incircle_sos(i, k, l, j) * orient2d(i, k, l).
+//                              incircle_sos(i, k, l, j) * orient2d(i, k, l) (j inside the
+//                              circle through i, k, l means pi_j(x) < pi_i(x)). When
+//                              (i, k, l) is a triangle of the triangulation built with
+//                              incircle_sos (Delaunay2), NEGATIVE for every other site j.
 //
 // Ordering of crossings along one bisector (for walking a cell's boundary):
 //   compare_on_bisector2d      q1 = [a1, b1] ∩ bisector(i, k), q2 = [a2, b2] ∩ bisector(i,
@@ -429,6 +433,10 @@ Sign insphere_sos(const double* a, const double* b, const double* c, const doubl
 //                              when q2 comes after q1. ZERO only when the two crossings
 //                              coincide for every eps (the segments meet on the bisector:
 //                              never for two distinct edges of a valid domain).
+// Violated preconditions (equal indices, collinear i, k, l, a segment with f_ik(a) ==
+// f_ik(b)) and NaN or infinite coordinates throw voroclip::Error. Like the other
+// predicates these are exact for every finite input; the filters (predicates/src/
+// bisector2d.h) decide random input in about 10 ns (bench/bench_predicates.cpp).
 Sign bisector_side_vertex2d(const double* pi, const double* pj, const double* a, std::uint32_t i,
                             std::uint32_t j);
 Sign bisector_side_edge2d(const double* pi, const double* pk, const double* pj, const double* a,
@@ -455,5 +463,39 @@ inline Sign insphere_fast(const double* a, const double* b, const double* c, con
                           const double* e) {
   return detail::sign_of(detail::insphere_approx(a, b, c, d, e).det);
 }
+
+// ---------------------------------------------------------------------------------------
+// Voronoi clipping predicates in 3D (clip/, issue 5): the same perturbed power distance as
+// the 2D ones above, pi_i(x) = |x - p_i|^2 + eps_i (the lift perturbation of
+// insphere_sos), f_ij = pi_i - pi_j, x on site i's side of bisector(i, j) when
+// f_ij(x) < 0. Each returns the exact sign of f_ij at a symbolic vertex, never ZERO when
+// its preconditions hold (i, j, k, l, m distinct):
+//
+//   bisector_side_vertex3d     x = a, a mesh vertex: sign f_ij(a).
+//   bisector_side_edge3d       x = [a, b] ∩ bisector(i, k) (f_ik(a), f_ik(b) of opposite
+//                              perturbed signs): sign(f_ik(a) f_ij(b) - f_ij(a) f_ik(b))
+//                              * sign(f_ik(a) - f_ik(b)), as in 2D.
+//   bisector_side_facet3d      x = the point of the plane of triangle (a, b, c) on
+//                              bisectors (i, k) and (i, l) (the two lines they cut in the
+//                              plane must cross: denominator below non-zero). With the
+//                              3 x 3 matrices of values at a, b, c (columns)
+//                                 N = det[f_ij; f_ik; f_il],   D = det[1; f_ik; f_il],
+//                              sign f_ij(x) = sign(N) * sign(D). D does not depend on eps;
+//                              N = N0 + e_ij det[1; F_ik; F_il] + e_ik det[F_ij; 1; F_il]
+//                                  + e_il det[F_ij; F_ik; 1],  e_xy = eps_x - eps_y.
+//   bisector_side_voronoi3d    x = the Voronoi vertex of sites (i, k, l, m) (a tet of their
+//                              Delaunay triangulation, not coplanar): sign f_ij(x) =
+//                              insphere_sos(i, k, l, m, j) * orient3d(i, k, l, m) (j inside
+//                              the sphere: the vertex is nearer j, POSITIVE).
+Sign bisector_side_vertex3d(const double* pi, const double* pj, const double* a, std::uint32_t i,
+                            std::uint32_t j);
+Sign bisector_side_edge3d(const double* pi, const double* pk, const double* pj, const double* a,
+                          const double* b, std::uint32_t i, std::uint32_t k, std::uint32_t j);
+Sign bisector_side_facet3d(const double* pi, const double* pk, const double* pl, const double* pj,
+                           const double* a, const double* b, const double* c, std::uint32_t i,
+                           std::uint32_t k, std::uint32_t l, std::uint32_t j);
+Sign bisector_side_voronoi3d(const double* pi, const double* pk, const double* pl, const double* pm,
+                             const double* pj, std::uint32_t i, std::uint32_t k, std::uint32_t l,
+                             std::uint32_t m, std::uint32_t j);
 
 }  // namespace voroclip

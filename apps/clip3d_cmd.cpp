@@ -1,0 +1,268 @@
+// voroclip clip3d: the Voronoi diagram of sites clipped to the volume of a tet mesh;
+// pieces (VTK), the restricted surface (OBJ, coloured by cell) and per-cell JSON out.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/delaunay.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+bool has_suffix(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A colour per cell for the OBJ materials: a hue from a hash of the index.
+void cell_rgb(std::uint32_t i, double* rgb) {
+  std::uint32_t h = i * 2654435761u;
+  h ^= h >> 15;
+  const double hue = (h % 360) / 60.0;
+  const double x = 1 - std::fabs(std::fmod(hue, 2.0) - 1);
+  const double c = 0.75, m = 0.2;
+  double r = 0, g = 0, b = 0;
+  switch (static_cast<int>(hue)) {
+    case 0:
+      r = c;
+      g = c * x;
+      break;
+    case 1:
+      r = c * x;
+      g = c;
+      break;
+    case 2:
+      g = c;
+      b = c * x;
+      break;
+    case 3:
+      g = c * x;
+      b = c;
+      break;
+    case 4:
+      r = c * x;
+      b = c;
+      break;
+    default:
+      r = c;
+      b = c * x;
+      break;
+  }
+  rgb[0] = r + m;
+  rgb[1] = g + m;
+  rgb[2] = b + m;
+}
+
+// The restricted surface as OBJ polygons with per-vertex colours (x y z r g b, the
+// colour extension read by MeshLab and Blender), one colour per cell.
+void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv) {
+  const ClippedVoronoi3::Polygons& s = cv.surface_polygons();
+  out << std::setprecision(17) << "# voroclip clip3d: restricted Voronoi diagram on the "
+      << "boundary surface, coloured by cell\n";
+  for (std::size_t p = 0; p + 1 < s.polygon_begin.size(); ++p) {
+    double rgb[3];
+    cell_rgb(s.site[p], rgb);
+    for (std::uint32_t v = s.polygon_begin[p]; v < s.polygon_begin[p + 1]; ++v) {
+      out << "v " << s.xyz[3 * v] << ' ' << s.xyz[3 * v + 1] << ' ' << s.xyz[3 * v + 2] << ' '
+          << std::setprecision(3) << rgb[0] << ' ' << rgb[1] << ' ' << rgb[2]
+          << std::setprecision(17) << '\n';
+    }
+  }
+  for (std::size_t p = 0; p + 1 < s.polygon_begin.size(); ++p) {
+    out << 'f';
+    for (std::uint32_t v = s.polygon_begin[p]; v < s.polygon_begin[p + 1]; ++v) out << ' ' << v + 1;
+    out << '\n';
+  }
+}
+
+// The boundary cells' pieces as VTK XML polygons (their faces, each shrunk towards its
+// piece's centre by 10 % so that cells stand apart), with site_id.
+void write_pieces_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
+  const ClippedVoronoi3::Polygons& f = cv.cell_faces();
+  const std::size_t nf = f.site.size();
+  // Piece centres: the mean of their face vertices.
+  std::vector<double> centre;
+  std::vector<std::uint32_t> count;
+  for (std::size_t k = 0; k < nf; ++k) {
+    const std::uint32_t p = f.piece[k];
+    if (centre.size() < 3 * (std::size_t{p} + 1)) {
+      centre.resize(3 * (std::size_t{p} + 1), 0);
+      count.resize(std::size_t{p} + 1, 0);
+    }
+    for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
+      for (int c = 0; c < 3; ++c)
+        centre[3 * p + static_cast<std::size_t>(c)] += f.xyz[3 * v + static_cast<std::size_t>(c)];
+      ++count[p];
+    }
+  }
+  for (std::size_t p = 0; p < count.size(); ++p) {
+    for (int c = 0; c < 3; ++c)
+      centre[3 * p + static_cast<std::size_t>(c)] /= std::max<std::uint32_t>(count[p], 1);
+  }
+  const std::uint32_t nv = nf == 0 ? 0 : f.polygon_begin[nf];
+  out << std::setprecision(17);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+      << nv << "\" NumberOfCells=\"" << nf << "\">\n<Points>\n<DataArray type=\"Float64\" "
+      << "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (std::size_t k = 0; k < nf; ++k) {
+    const double* c = &centre[3 * std::size_t{f.piece[k]}];
+    for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
+      for (int q = 0; q < 3; ++q)
+        out << c[q] + 0.9 * (f.xyz[3 * v + static_cast<std::size_t>(q)] - c[q])
+            << (q < 2 ? ' ' : '\n');
+    }
+  }
+  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+         "format=\"ascii\">\n";
+  for (std::uint32_t v = 0; v < nv; ++v) out << v << '\n';
+  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t k = 0; k < nf; ++k) out << f.polygon_begin[k + 1] << '\n';
+  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t k = 0; k < nf; ++k) out << "7\n";
+  out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
+         "Name=\"site_id\" format=\"ascii\">\n";
+  for (std::size_t k = 0; k < nf; ++k) out << f.site[k] << '\n';
+  out << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+void write_cells_json(std::ostream& out, const std::vector<double>& sites,
+                      const ClippedVoronoi3& cv) {
+  nlohmann::json cells = nlohmann::json::array();
+  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
+    const double* c = cv.centroid(i);
+    cells.push_back({{"index", i},
+                     {"site", {sites[3 * i], sites[3 * i + 1], sites[3 * i + 2]}},
+                     {"volume", cv.volume(i)},
+                     {"centroid", {c[0], c[1], c[2]}},
+                     {"energy", cv.energy(i)},
+                     {"surface_area", cv.surface_area(i)},
+                     {"boundary", cv.is_boundary(i)}});
+  }
+  out << nlohmann::json{{"cells", std::move(cells)}}.dump(1) << '\n';
+}
+
+}  // namespace
+
+std::vector<double> random_sites_in(const Domain3& domain, std::uint32_t n, std::uint64_t seed) {
+  // A tet chosen by volume, then a uniform point in it (barycentric gaps of sorted
+  // uniforms), from raw 64-bit draws: the same points on every platform.
+  std::vector<double> cumulative(domain.nb_tets());
+  double total = 0;
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    const double* a = domain.vertex(domain.tet_vertex(t, 0));
+    double u[3][3];
+    for (int k = 0; k < 3; ++k) {
+      const double* b = domain.vertex(domain.tet_vertex(t, k + 1));
+      for (int c = 0; c < 3; ++c) u[k][c] = b[c] - a[c];
+    }
+    total += std::fabs(u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
+                       u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
+                       u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0]));
+    cumulative[t] = total;
+  }
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  std::vector<double> xyz;
+  xyz.reserve(3 * std::size_t{n});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double r = uniform() * total;
+    const auto t = static_cast<std::uint32_t>(std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) -
+                                 cumulative.begin()),
+        domain.nb_tets() - 1));
+    double b[3] = {uniform(), uniform(), uniform()};
+    std::sort(b, b + 3);
+    const double w[4] = {b[0], b[1] - b[0], b[2] - b[1], 1 - b[2]};
+    double p[3] = {0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+      for (int c = 0; c < 3; ++c) p[c] += w[k] * domain.vertex(domain.tet_vertex(t, k))[c];
+    }
+    xyz.insert(xyz.end(), p, p + 3);
+  }
+  return xyz;
+}
+
+void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
+  if (!args.output.empty() && !has_suffix(args.output, ".vtu") &&
+      !has_suffix(args.output, ".obj") && !has_suffix(args.output, ".json")) {
+    throw UsageError(
+        "-o: the output must end in .vtu (cell pieces), .obj (restricted "
+        "surface) or .json (per cell), got '" +
+        args.output + "'");
+  }
+  if (args.sites.empty() == !args.random_set) {
+    throw UsageError("give exactly one of --sites FILE and --random N");
+  }
+  if (args.random_set && args.random < 4) throw UsageError("--random: needs at least 4 sites");
+  const Domain3 domain(read_tet_mesh(args.domain));
+  const std::vector<double> sites = args.random_set
+                                        ? random_sites_in(domain, args.random, args.seed)
+                                        : read_points(args.sites, 3);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Delaunay3 dt(sites.data(), n);
+  const double t_delaunay =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ClippedVoronoi3 cv;
+  Clip3Options o;
+  o.keep_geometry = has_suffix(args.output, ".vtu") || has_suffix(args.output, ".obj");
+  const auto t1 = std::chrono::steady_clock::now();
+  cv.compute(domain, dt, o);
+  const double t_clip =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  if (!args.output.empty()) {
+    write_file_atomically(args.output, [&](std::ostream& out) {
+      if (has_suffix(args.output, ".obj")) {
+        write_surface_obj(out, cv);
+      } else if (has_suffix(args.output, ".vtu")) {
+        write_pieces_vtu(out, cv);
+      } else {
+        write_cells_json(out, sites, cv);
+      }
+    });
+  }
+  if (options.stats_json) {
+    std::cout << nlohmann::json{{"tets", domain.nb_tets()},
+                                {"boundary_triangles", domain.nb_boundary_triangles()},
+                                {"sites", n},
+                                {"unique_sites", dt.nb_unique_points()},
+                                {"boundary_sites", cv.nb_boundary_sites()},
+                                {"domain_volume", domain.volume()},
+                                {"cells_volume_sum", cv.total_volume()},
+                                {"surface_area_sum", cv.total_surface_area()},
+                                {"clipped_pairs", cv.nb_clipped_pairs()},
+                                {"seconds",
+                                 {{"delaunay", t_delaunay},
+                                  {"surface_rvd", cv.seconds_surface()},
+                                  {"boundary_cells", cv.seconds_boundary_cells()},
+                                  {"inner_cells", cv.seconds_inner_cells()},
+                                  {"total", t_delaunay + t_clip}}}}
+                     .dump()
+              << '\n';
+  }
+  if (std::ostream* out = human_stream(options)) {
+    *out << "Clipped Voronoi diagram: " << n << " sites (" << cv.nb_boundary_sites()
+         << " boundary cells) in " << domain.source() << " (" << domain.nb_tets() << " tets, "
+         << domain.nb_boundary_triangles() << " boundary triangles); cells' volume "
+         << format_double(cv.total_volume()) << " (domain " << format_double(domain.volume())
+         << "); Delaunay " << format_double(t_delaunay) << " s, surface "
+         << format_double(cv.seconds_surface()) << " s, boundary cells "
+         << format_double(cv.seconds_boundary_cells()) << " s, inner cells "
+         << format_double(cv.seconds_inner_cells()) << " s\n";
+    if (!args.output.empty()) *out << "Written to " << args.output << '\n';
+  }
+}
+
+}  // namespace voroclip::cli
