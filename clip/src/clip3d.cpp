@@ -120,8 +120,9 @@ struct Clip3Impl {
   std::vector<std::uint32_t> boundary_cells;
   // Integrals relative to the site: volume, first moment, ∫|x - site|^2.
   struct Moments {
-    double volume = 0, energy = 0, moment[3] = {0, 0, 0};
+    double volume = 0, mass = 0, energy = 0, moment[3] = {0, 0, 0};
   };
+  bool linear_density = false;
   struct CellOut : Moments {
     std::vector<std::uint32_t> walked;  // neighbours with a face of some piece
     std::uint64_t pairs = 0;
@@ -495,8 +496,12 @@ struct Clip3Impl {
   // ---- Step 2: a boundary cell, tet by tet.
   // `stamp`: per tet, the last cell (+1) that queued it (a per-thread array, so that
   // the visited test costs one load).
-  void boundary_cell(std::uint32_t c, Scratch& s, std::vector<std::uint32_t>& stamp,
-                     std::vector<std::uint32_t>& queue, CellOut& res) const {
+  // Cell c tet by tet from the seed tets (a boundary cell: the tets of its boundary
+  // triangles). With `seeds_out`, every (neighbour, tet) where a piece has a face on
+  // their bisector is appended (the seeds of inner cells under a non-constant density).
+  void clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size_t nb_seeds, Scratch& s,
+                 std::vector<std::uint32_t>& stamp, std::vector<std::uint32_t>& queue, CellOut& res,
+                 std::vector<std::pair<std::uint32_t, std::uint32_t>>* seeds_out) const {
     dt.vertex_neighbors(c, s.nbrs);
     const std::vector<std::uint32_t>& nbrs = s.nbrs;  // untouched by the clipping
     if (stamp.size() != domain.nb_tets()) stamp.assign(domain.nb_tets(), 0);
@@ -506,9 +511,7 @@ struct Clip3Impl {
       stamp[t] = c + 1;
       queue.push_back(t);
     };
-    for (std::uint32_t q = cell_tri_begin[c]; q < cell_tri_begin[c + 1]; ++q) {
-      push(domain.boundary_tet(cell_tris[q]));
-    }
+    for (std::size_t q = 0; q < nb_seeds; ++q) push(seeds[q]);
     std::vector<std::uint8_t> walked(nbrs.size(), 0);
     const double* pc = site(c);
     for (std::size_t h = 0; h < queue.size(); ++h) {
@@ -529,6 +532,7 @@ struct Clip3Impl {
           for (std::size_t q = 0; q < nbrs.size(); ++q) {
             if (nbrs[q] == k) walked[q] = 1;
           }
+          if (seeds_out) seeds_out->emplace_back(k, t);
         }
         // Fan from the face's first vertex, apex the site: signed tets.
         const std::uint32_t fb = p.face_begin[f], fe = p.face_begin[f + 1];
@@ -536,7 +540,11 @@ struct Clip3Impl {
         for (std::uint32_t k = fb + 1; k + 1 < fe; ++k) {
           const double* b = &s.xyz[3 * std::size_t{p.face_verts[k]}];
           const double* d = &s.xyz[3 * std::size_t{p.face_verts[k + 1]}];
-          add_tet(pc, a, b, d, res);
+          if (linear_density) {
+            add_tet_linear(t, pc, a, b, d, res);
+          } else {
+            add_tet(pc, a, b, d, res);
+          }
         }
         if (options.keep_geometry) {
           for (std::uint32_t k = fb; k < fe; ++k) {
@@ -570,6 +578,72 @@ struct Clip3Impl {
         (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + v[0] * v[0] + v[1] * v[1] + v[2] * v[2] +
          w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) +
          (u[0] * w[0] + u[1] * w[1] + u[2] * w[2]) + (v[0] * w[0] + v[1] * w[1] + v[2] * w[2]));
+  }
+
+  // Signed tet (o, a, b, d) as add_tet, with rho linear: the linear function of tet t of
+  // the domain (exact: the integrands are polynomials of degree <= 3 and the signed fan
+  // is exact for polynomials). ∫ λ_i λ_j λ_k over a tet of volume V is V/20, V/60 or
+  // V/120 for three, two or no equal indices; ∫ λ_i λ_j is V/10 or V/20.
+  void add_tet_linear(std::uint32_t t, const double* o, const double* a, const double* b,
+                      const double* d, Moments& res) const {
+    const double* pts[4] = {o, a, b, d};
+    double r[4];
+    for (int k = 0; k < 4; ++k) r[k] = density_at(t, pts[k]);
+    double u[4][3];
+    for (int k = 0; k < 4; ++k) {
+      for (int c = 0; c < 3; ++c) u[k][c] = pts[k][c] - o[c];
+    }
+    const double det = u[1][0] * (u[2][1] * u[3][2] - u[2][2] * u[3][1]) -
+                       u[1][1] * (u[2][0] * u[3][2] - u[2][2] * u[3][0]) +
+                       u[1][2] * (u[2][0] * u[3][1] - u[2][1] * u[3][0]);
+    const double vol = -det / 6;
+    double mass = 0, mom[3] = {0, 0, 0}, energy = 0;
+    for (int i = 0; i < 4; ++i) {
+      mass += r[i] / 4;
+      for (int j = 0; j < 4; ++j) {
+        const double w2 = (i == j ? 1.0 / 10 : 1.0 / 20);
+        for (int c = 0; c < 3; ++c) mom[c] += w2 * r[i] * u[j][c];
+        for (int k = 0; k < 4; ++k) {
+          const double dot = u[j][0] * u[k][0] + u[j][1] * u[k][1] + u[j][2] * u[k][2];
+          const int equal = (i == j) + (j == k) + (i == k);
+          const double w3 = equal == 3 ? 1.0 / 20 : equal == 1 ? 1.0 / 60 : 1.0 / 120;
+          energy += w3 * r[i] * dot;
+        }
+      }
+    }
+    res.volume += vol;
+    res.mass += vol * mass;
+    for (int c = 0; c < 3; ++c) res.moment[c] += vol * mom[c];
+    res.energy += vol * energy;
+  }
+
+  // rho at x by the linear function of domain tet t (barycentric coordinates of x).
+  double density_at(std::uint32_t t, const double* x) const {
+    const double* p0 = domain.vertex(domain.tet_vertex(t, 0));
+    double m[3][3], rhs[3];
+    for (int k = 0; k < 3; ++k) {
+      const double* pk = domain.vertex(domain.tet_vertex(t, k + 1));
+      for (int c = 0; c < 3; ++c) m[c][k] = pk[c] - p0[c];
+    }
+    for (int c = 0; c < 3; ++c) rhs[c] = x[c] - p0[c];
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    double l[3];
+    for (int k = 0; k < 3; ++k) {
+      double mk[3][3];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) mk[r][c] = c == k ? rhs[r] : m[r][c];
+      }
+      l[k] = (mk[0][0] * (mk[1][1] * mk[2][2] - mk[1][2] * mk[2][1]) -
+              mk[0][1] * (mk[1][0] * mk[2][2] - mk[1][2] * mk[2][0]) +
+              mk[0][2] * (mk[1][0] * mk[2][1] - mk[1][1] * mk[2][0])) /
+             det;
+    }
+    const std::vector<double>& rho = options.vertex_density;
+    return rho[domain.tet_vertex(t, 0)] * (1 - l[0] - l[1] - l[2]) +
+           rho[domain.tet_vertex(t, 1)] * l[0] + rho[domain.tet_vertex(t, 2)] * l[1] +
+           rho[domain.tet_vertex(t, 3)] * l[2];
   }
 
   // ---- Step 3: the other cells.
@@ -700,23 +774,82 @@ struct Clip3Impl {
     auto t1 = Clock::now();
     out.seconds_[0] = std::chrono::duration<double>(t1 - t0).count();
 
+    linear_density = !options.vertex_density.empty();
     cell_out.assign(boundary_cells.size(), CellOut{});
     tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::enumerable_thread_specific<
         std::pair<std::vector<std::uint32_t>, std::vector<std::uint32_t>>>
         lists;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 4),
-                      [&](const auto& range) {
-                        Scratch& sc = scratch.local();
-                        auto& l = lists.local();
-                        for (std::size_t q = range.begin(); q != range.end(); ++q) {
-                          boundary_cell(boundary_cells[q], sc, l.first, l.second, cell_out[q]);
-                        }
-                      });
+    // Per boundary cell, its seeds: the tets of its boundary triangles.
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seeds_out(
+        linear_density ? boundary_cells.size() : 0);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 4), [&](const auto& range) {
+          Scratch& sc = scratch.local();
+          auto& l = lists.local();
+          std::vector<std::uint32_t> seeds;
+          for (std::size_t q = range.begin(); q != range.end(); ++q) {
+            const std::uint32_t c = boundary_cells[q];
+            seeds.clear();
+            for (std::uint32_t k = cell_tri_begin[c]; k < cell_tri_begin[c + 1]; ++k) {
+              seeds.push_back(domain.boundary_tet(cell_tris[k]));
+            }
+            clip_cell(c, seeds.data(), seeds.size(), sc, l.first, l.second, cell_out[q],
+                      linear_density ? &seeds_out[q] : nullptr);
+          }
+        });
     auto t2 = Clock::now();
     out.seconds_[1] = std::chrono::duration<double>(t2 - t1).count();
 
     classify();
+    // A non-constant density: inner cells are clipped too, layer after layer from the
+    // boundary cells (each layer seeded by the faces the previous one has on their
+    // bisectors; seeds sorted, so the order of everything is a function of the input).
+    std::vector<std::uint32_t> inner_slot(linear_density ? n : 0, kNone);
+    std::vector<CellOut> inner_out;
+    if (linear_density) {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pending;
+      for (const auto& v : seeds_out) pending.insert(pending.end(), v.begin(), v.end());
+      std::vector<std::uint8_t> done(n, 0);
+      for (const std::uint32_t c : boundary_cells) done[c] = 1;
+      for (;;) {
+        std::sort(pending.begin(), pending.end());
+        pending.erase(std::unique(pending.begin(), pending.end()), pending.end());
+        std::vector<std::uint32_t> layer, begin;
+        std::vector<std::uint32_t> seed_tets;
+        for (std::size_t k = 0; k < pending.size();) {
+          const std::uint32_t c = pending[k].first;
+          std::size_t e = k;
+          while (e < pending.size() && pending[e].first == c) ++e;
+          if (!done[c] && status[c] == 1) {
+            done[c] = 1;
+            layer.push_back(c);
+            begin.push_back(static_cast<std::uint32_t>(seed_tets.size()));
+            for (std::size_t q = k; q < e; ++q) seed_tets.push_back(pending[q].second);
+          }
+          k = e;
+        }
+        if (layer.empty()) break;
+        begin.push_back(static_cast<std::uint32_t>(seed_tets.size()));
+        const std::size_t base = inner_out.size();
+        inner_out.resize(base + layer.size());
+        std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> next(layer.size());
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, layer.size(), 4), [&](const auto& range) {
+              Scratch& sc = scratch.local();
+              auto& l = lists.local();
+              for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                clip_cell(layer[q], seed_tets.data() + begin[q], begin[q + 1] - begin[q], sc,
+                          l.first, l.second, inner_out[base + q], &next[q]);
+              }
+            });
+        for (std::size_t q = 0; q < layer.size(); ++q) {
+          inner_slot[layer[q]] = static_cast<std::uint32_t>(base + q);
+        }
+        pending.clear();
+        for (const auto& v : next) pending.insert(pending.end(), v.begin(), v.end());
+      }
+    }
     // Circumcentres of the Delaunay tets.
     std::vector<double> circ(3 * std::size_t{dt.nb_tet_slots()}, 0);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, dt.nb_tet_slots(), 4096),
@@ -738,6 +871,8 @@ struct Clip3Impl {
         const Moments* r = nullptr;
         if (slot[i] != kNone) {
           r = &cell_out[slot[i]];
+        } else if (linear_density) {
+          if (inner_slot[i] != kNone) r = &inner_out[inner_slot[i]];
         } else if (status[i] == 1) {
           inner_cell(i, circ, tets, inner);
           r = &inner;
@@ -745,10 +880,16 @@ struct Clip3Impl {
         ClippedVoronoi3::Cell& cell = out.cells_[i];
         const double* p = site(i);
         cell.volume = r ? r->volume : 0;
-        cell.mass = options.density * cell.volume;
-        cell.energy = r ? options.density * r->energy : 0;
+        if (linear_density) {
+          cell.mass = r ? r->mass : 0;
+          cell.energy = r ? r->energy : 0;
+        } else {
+          cell.mass = options.density * cell.volume;
+          cell.energy = r ? options.density * r->energy : 0;
+        }
+        const double m = linear_density ? cell.mass : cell.volume;
         for (int c = 0; c < 3; ++c) {
-          cell.centroid[c] = r && r->volume > 0 ? p[c] + r->moment[c] / r->volume : p[c];
+          cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
         }
         cell.surface_area = surface_area[i];
         cell.boundary = slot[i] != kNone ? 1 : 0;
@@ -758,14 +899,16 @@ struct Clip3Impl {
     out.seconds_[2] = std::chrono::duration<double>(t3 - t2).count();
 
     out.nb_boundary_ = static_cast<std::uint32_t>(boundary_cells.size());
-    out.total_volume_ = out.total_energy_ = out.total_surface_area_ = 0;
+    out.total_volume_ = out.total_mass_ = out.total_energy_ = out.total_surface_area_ = 0;
     out.nb_pairs_ = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
       out.total_volume_ += out.cells_[i].volume;
+      out.total_mass_ += out.cells_[i].mass;
       out.total_energy_ += out.cells_[i].energy;
       out.total_surface_area_ += out.cells_[i].surface_area;
     }
     for (const CellOut& c : cell_out) out.nb_pairs_ += c.pairs;
+    for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
     if (options.keep_geometry) {
       std::uint32_t pieces = 0;
       for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
@@ -793,6 +936,17 @@ void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
   if (dt.nb_points() == 0) throw Error("clip3d: no sites");
   if (!(options.density > 0) || !std::isfinite(options.density)) {
     throw Error("clip3d: the density must be finite and positive");
+  }
+  if (!options.vertex_density.empty()) {
+    if (options.vertex_density.size() != domain.nb_vertices()) {
+      throw Error("clip3d: vertex_density has " + std::to_string(options.vertex_density.size()) +
+                  " values for " + std::to_string(domain.nb_vertices()) + " domain vertices");
+    }
+    for (std::size_t v = 0; v < options.vertex_density.size(); ++v) {
+      if (!(options.vertex_density[v] >= 0) || !std::isfinite(options.vertex_density[v])) {
+        throw Error("clip3d: vertex_density[" + std::to_string(v) + "] is negative or not finite");
+      }
+    }
   }
   Clip3Impl impl(domain, dt, options, *this);
   impl.run();

@@ -395,3 +395,59 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
   REQUIRE(one.cell_faces().xyz == two.cell_faces().xyz);
   REQUIRE(one.surface_polygons().xyz == two.surface_polygons().xyz);
 }
+
+TEST_CASE("clip3d: density linear per tet", "[clip]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
+  const std::vector<double> sites = sample_volume(d, 3000, 8);
+  const Delaunay3 dt(sites.data(), 3000);
+  const ClippedVoronoi3 constant = clip(d, dt, false);
+  // rho = 1 at every vertex: every cell clipped tet by tet, the same cells as the
+  // unclipped inner cells of the constant path.
+  voroclip::Clip3Options ones;
+  ones.vertex_density.assign(d.nb_vertices(), 1.0);
+  ClippedVoronoi3 cv1;
+  cv1.compute(d, dt, ones);
+  for (std::uint32_t i = 0; i < 3000; ++i) {
+    INFO("site " << i);
+    REQUIRE(std::fabs(cv1.volume(i) - constant.volume(i)) <= 1e-12 * d.volume());
+    REQUIRE(std::fabs(cv1.mass(i) - constant.mass(i)) <= 1e-12 * d.volume());
+    REQUIRE(std::fabs(cv1.energy(i) - constant.energy(i)) <= 1e-12 * constant.total_energy());
+    for (int c = 0; c < 3; ++c) {
+      REQUIRE(std::fabs(cv1.centroid(i)[c] - constant.centroid(i)[c]) <= 1e-9);
+    }
+  }
+  // rho = 2 + x - 3y + z (positive on the bunny): the total mass is ∫rho over the tets.
+  const auto rho = [](const double* p) { return 2 + p[0] - 3 * p[1] + p[2]; };
+  voroclip::Clip3Options lin;
+  double mass = 0;
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v)
+    lin.vertex_density.push_back(rho(d.vertex(v)));
+  for (std::uint32_t t = 0; t < d.nb_tets(); ++t) {
+    const double* a = d.vertex(d.tet_vertex(t, 0));
+    double u[3][3], c[3] = {a[0], a[1], a[2]};
+    for (int k = 0; k < 3; ++k) {
+      const double* b = d.vertex(d.tet_vertex(t, k + 1));
+      for (int q = 0; q < 3; ++q) {
+        u[k][q] = b[q] - a[q];
+        c[q] += b[q];
+      }
+    }
+    for (double& x : c) x /= 4;
+    const double vol = std::fabs(u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
+                                 u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
+                                 u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0])) /
+                       6;
+    mass += vol * rho(c);
+  }
+  REQUIRE(mass > 0);
+  ClippedVoronoi3 cvl;
+  cvl.compute(d, dt, lin);
+  REQUIRE(std::fabs(cvl.total_mass() - mass) <= 1e-12 * mass);
+  REQUIRE(std::fabs(cvl.total_volume() - d.volume()) <= 1e-12 * d.volume());
+  // One-cell check: a cell's mass is the integral of rho over it (rho linear: volume times
+  // rho at the volume centroid), with the volume centroid from the constant path.
+  for (std::uint32_t i = 0; i < 3000; i += 97) {
+    REQUIRE(std::fabs(cvl.mass(i) - constant.volume(i) * rho(constant.centroid(i))) <=
+            1e-11 * mass);
+  }
+}

@@ -352,8 +352,12 @@ class Domain3 {
 // Threads: TBB loops over cells into per-cell slots; identical results for any thread
 // count (the surface pass is sequential).
 struct Clip3Options {
-  // rho: constant.
+  // rho: constant `density`, or, when vertex_density is not empty, linear on each tet of
+  // the domain with these values at its vertices (one per domain vertex, >= 0). A
+  // non-constant density makes every cell go through the tet-by-tet clipping (inner cells
+  // are then seeded from their clipped neighbours), integrated exactly per piece.
   double density = 1.0;
+  std::vector<double> vertex_density;
   // Keep the restricted surface polygons and the clipped pieces' faces (export, tests).
   bool keep_geometry = false;
 };
@@ -371,6 +375,7 @@ class ClippedVoronoi3 {
   bool is_boundary(std::uint32_t i) const { return cells_[i].boundary != 0; }
   std::uint32_t nb_boundary_sites() const { return nb_boundary_; }
   double total_volume() const { return total_volume_; }
+  double total_mass() const { return total_mass_; }
   double total_energy() const { return total_energy_; }
   double total_surface_area() const { return total_surface_area_; }
 
@@ -403,7 +408,7 @@ class ClippedVoronoi3 {
   };
   std::vector<Cell> cells_;
   std::uint32_t nb_boundary_ = 0;
-  double total_volume_ = 0, total_energy_ = 0, total_surface_area_ = 0;
+  double total_volume_ = 0, total_mass_ = 0, total_energy_ = 0, total_surface_area_ = 0;
   double seconds_[3] = {0, 0, 0};
   std::uint64_t nb_pairs_ = 0;
   Polygons surface_, faces_;
