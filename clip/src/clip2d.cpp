@@ -553,15 +553,15 @@ struct Clip2Impl {
     }
   }
 
-  // The finite triangles around vertex v counter-clockwise, read straight from the
+  // The finite triangles around vertex v (t0: one of them) counter-clockwise, read straight
+  // from the
   // neighbour codes (3t' + k': v is at k' + 1 in the triangle t' across edge k + 1 of t).
   // Returns false for a hull vertex (then `tris` is not filled: use the Delaunay2 walk).
-  bool inner_fan(std::uint32_t v, std::vector<std::uint32_t>& tris) const {
+  bool inner_fan(std::uint32_t v, std::uint32_t t0, std::vector<std::uint32_t>& tris) const {
     tris.clear();
     const std::vector<std::uint32_t>& tv = dt.tri_vertices();
     const std::vector<std::uint32_t>& tn = dt.tri_neighbors();
     const std::uint32_t nt = dt.nb_triangles();
-    const std::uint32_t t0 = dt.vertex_triangle(v);
     std::uint32_t t = t0;
     std::uint32_t k = tv[3 * std::size_t{t}] == v ? 0 : tv[3 * std::size_t{t} + 1] == v ? 1 : 2;
     do {
@@ -589,10 +589,16 @@ struct Clip2Impl {
     const Density2& rho = options.density;
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> tri_scratch;
     tbb::enumerable_thread_specific<std::vector<double>> xy_scratch;
-    // Cells in the order of their first triangle (triangles are numbered along the BRIO
-    // curve), so that neighbouring cells read neighbouring memory.
+    // Two passes, so that no pass reads memory at random per cell (sites come in any
+    // order; the triangles are numbered along the BRIO curve):
+    //  A. cells in the order of their first triangle (so neighbouring cells read
+    //     neighbouring triangles), moments relative to the cell's first ring vertex o,
+    //     written in that order;
+    //  B. cells in index order: moments moved to the site (energy by the parallel-axis
+    //     identity), written in place.
     const std::uint32_t nt = dt.nb_triangles();
-    std::vector<std::uint32_t> order(n), bucket(std::size_t{nt} + 2, 0);
+    std::vector<std::uint32_t> order(n), pos(n), kind_q(n), tri_q(n);
+    std::vector<std::uint32_t> bucket(std::size_t{nt} + 2, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::uint32_t t = kind[i] != kEmpty ? dt.vertex_triangle(i) : nt;
       ++bucket[std::size_t{t} + 1];
@@ -600,26 +606,40 @@ struct Clip2Impl {
     for (std::size_t t = 0; t + 1 < bucket.size(); ++t) bucket[t + 1] += bucket[t];
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::uint32_t t = kind[i] != kEmpty ? dt.vertex_triangle(i) : nt;
-      order[bucket[t]++] = i;
+      const std::uint32_t q = bucket[t]++;
+      order[q] = i;
+      pos[i] = q;
+      kind_q[q] = kind[i];
+      tri_q[q] = t;
     }
+    struct Acc {
+      Moments m;
+      double o[2];
+    };
+    std::vector<Acc> acc(n);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
       std::vector<std::uint32_t>& tris = tri_scratch.local();
       std::vector<double>& xy = xy_scratch.local();
       for (std::uint32_t q = range.begin(); q != range.end(); ++q) {
-        const std::uint32_t i = order[q];
-        const double* s = site(i);
-        Moments m;
+        Acc& a = acc[q];
+        a.m = Moments{};
+        a.o[0] = a.o[1] = 0;
+        const std::uint32_t ki = kind_q[q];
+        if (ki == kEmpty) continue;  // a duplicate, or a cell outside the domain
+        bool first = true;
         const auto add_ring = [&](const double* ring, std::size_t count) {
+          if (first) {
+            a.o[0] = ring[0];
+            a.o[1] = ring[1];
+            first = false;
+          }
           for (std::size_t j = 0; j < count; ++j) {
             const double* u = ring + 2 * j;
             const double* w = ring + 2 * ((j + 1) % count);
-            add_triangle(rho, s, u[0] - s[0], u[1] - s[1], w[0] - s[0], w[1] - s[1], m);
+            add_triangle(rho, a.o, u[0] - a.o[0], u[1] - a.o[1], w[0] - a.o[0], w[1] - a.o[1], a.m);
           }
         };
-        const std::uint32_t ki = kind[i];
-        if (ki == kEmpty) {
-          // A duplicate, or a cell outside the domain.
-        } else if (ki != kInner) {
+        if (ki != kInner) {
           const CellOut& co = cell_out[ki];
           std::uint32_t begin = 0;
           for (const std::uint32_t end : co.ring_ends) {
@@ -631,7 +651,8 @@ struct Clip2Impl {
             begin = end;
           }
         } else {
-          if (!inner_fan(i, tris)) dt.triangles_around_vertex(i, tris);
+          const std::uint32_t i = order[q];
+          if (!inner_fan(i, tri_q[q], tris)) dt.triangles_around_vertex(i, tris);
           xy.resize(2 * tris.size());
           for (std::size_t k = 0; k < tris.size(); ++k) {
             xy[2 * k] = circ[2 * std::size_t{tris[k]}];
@@ -639,13 +660,21 @@ struct Clip2Impl {
           }
           add_ring(xy.data(), tris.size());
         }
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 4096), [&](const auto& range) {
+      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+        const Acc& a = acc[pos[i]];
+        const double* s = site(i);
+        const double dx = a.o[0] - s[0], dy = a.o[1] - s[1];
         ClippedVoronoi2::Cell& cell = out.cells_[i];
-        cell.area = m.area;
-        cell.mass = m.mass;
-        cell.energy = m.energy;
-        cell.centroid[0] = m.mass > 0 ? s[0] + m.mx / m.mass : s[0];
-        cell.centroid[1] = m.mass > 0 ? s[1] + m.my / m.mass : s[1];
-        cell.boundary = ki < kInner ? 1 : 0;
+        cell.area = a.m.area;
+        cell.mass = a.m.mass;
+        // ∫rho |x - s|^2 = ∫rho |x - o|^2 + 2 (o - s).∫rho (x - o) + |o - s|^2 ∫rho
+        cell.energy = a.m.energy + 2 * (dx * a.m.mx + dy * a.m.my) + (dx * dx + dy * dy) * a.m.mass;
+        cell.centroid[0] = a.m.mass > 0 ? a.o[0] + a.m.mx / a.m.mass : s[0];
+        cell.centroid[1] = a.m.mass > 0 ? a.o[1] + a.m.my / a.m.mass : s[1];
+        cell.boundary = kind[i] < kInner ? 1 : 0;
       }
     });
     out.total_area_ = out.total_mass_ = out.total_energy_ = 0;
