@@ -353,13 +353,13 @@ void BM_compare_on_bisector2d(benchmark::State& s) {
 // Small integer grid points: exact ties everywhere (f_ij(q) == 0, shared crossings), so the
 // exact stage (128-bit integers) and the perturbation decide a large share of the calls.
 // Tuples violating a precondition (a segment not crossing the bisector) are dropped.
-template <int K, class Valid>
-Tuples<K, 2> grid_tuples(std::size_t n, Valid valid) {
+template <int K, int D, class Valid>
+Tuples<K, D> grid_tuples(std::size_t n, Valid valid) {
   std::mt19937_64 rng(kSeed);
   std::uniform_int_distribution<int> g(0, 4);
-  Tuples<K, 2> t;
+  Tuples<K, D> t;
   while (t.coords.size() < n) {
-    std::array<double, K * 2> c{};
+    std::array<double, K * D> c{};
     for (auto& x : c) x = g(rng);
     std::array<std::uint32_t, K> ids{};
     for (int k = 0; k < K; ++k) ids[k] = static_cast<std::uint32_t>(K * t.coords.size() + k);
@@ -379,7 +379,7 @@ bool does_not_throw(F f) {
   }
 }
 const auto& ge() {
-  static const auto t = grid_tuples<5>(4096, [](const auto& c, const auto& id) {
+  static const auto t = grid_tuples<5, 2>(4096, [](const auto& c, const auto& id) {
     return does_not_throw([&] {
       voroclip::bisector_side_edge2d(&c[0], &c[2], &c[4], &c[6], &c[8], id[0], id[1], id[2]);
     });
@@ -387,7 +387,7 @@ const auto& ge() {
   return t;
 }
 const auto& gb() {
-  static const auto t = grid_tuples<6>(4096, [](const auto& c, const auto& id) {
+  static const auto t = grid_tuples<6, 2>(4096, [](const auto& c, const auto& id) {
     return does_not_throw([&] {
       voroclip::compare_on_bisector2d(&c[0], &c[2], &c[4], &c[6], &c[8], &c[10], id[0], id[1]);
     });
@@ -407,6 +407,124 @@ void BM_compare_on_bisector2d_grid(benchmark::State& s) {
     return voroclip::compare_on_bisector2d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
                                            t.point(i, 3), t.point(i, 4), t.point(i, 5), id[0],
                                            id[1]);
+  });
+}
+
+// ----- Voronoi clipping predicates in 3D
+// Random points: the filter decides. Tuples are (p_i, p_k, p_j, a, b) for the edge
+// predicate and (p_i, p_k, p_l, p_j, a, b, c) for the facet predicate.
+const auto& re3() {
+  static const auto t = random_tuples<5, 3>(kRandomTuples);
+  return t;
+}
+const auto& rf3() {
+  static const auto t = random_tuples<7, 3>(kRandomTuples);
+  return t;
+}
+void BM_bisector_side_edge3d(benchmark::State& s) {
+  run_batches(s, re3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_edge3d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                          t.point(i, 3), t.point(i, 4), id[0], id[1], id[2]);
+  });
+}
+void BM_bisector_side_facet3d(benchmark::State& s) {
+  run_batches(s, rf3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_facet3d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                           t.point(i, 3), t.point(i, 4), t.point(i, 5),
+                                           t.point(i, 6), id[0], id[1], id[2], id[3]);
+  });
+}
+void BM_bisector_side_vertex3d(benchmark::State& s) {
+  run_batches(s, re3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_vertex3d(t.point(i, 0), t.point(i, 1), t.point(i, 2), id[0],
+                                            id[1]);
+  });
+}
+
+// Small integer grid points: exact ties (f_ij(x) == 0) in a large share of the calls, so the
+// exact stage (128-bit integers) and the perturbation decide them. Tuples violating a
+// precondition (E == 0, D == 0) are dropped.
+const auto& ge3() {
+  static const auto t = grid_tuples<5, 3>(4096, [](const auto& c, const auto& id) {
+    return does_not_throw([&] {
+      voroclip::bisector_side_edge3d(&c[0], &c[3], &c[6], &c[9], &c[12], id[0], id[1], id[2]);
+    });
+  });
+  return t;
+}
+const auto& gf3() {
+  static const auto t = grid_tuples<7, 3>(4096, [](const auto& c, const auto& id) {
+    return does_not_throw([&] {
+      voroclip::bisector_side_facet3d(&c[0], &c[3], &c[6], &c[9], &c[12], &c[15], &c[18], id[0],
+                                      id[1], id[2], id[3]);
+    });
+  });
+  return t;
+}
+void BM_bisector_side_edge3d_grid(benchmark::State& s) {
+  run_batches(s, ge3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_edge3d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                          t.point(i, 3), t.point(i, 4), id[0], id[1], id[2]);
+  });
+}
+void BM_bisector_side_facet3d_grid(benchmark::State& s) {
+  run_batches(s, gf3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_facet3d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                           t.point(i, 3), t.point(i, 4), t.point(i, 5),
+                                           t.point(i, 6), id[0], id[1], id[2], id[3]);
+  });
+}
+
+// Near-degenerate floating-point input: the facet's plane passes through the Voronoi vertex
+// of p_i, p_k, p_l, p_j up to rounding, so the filter fails and the expansions decide
+// (the cost of a clipping call that hits an almost-degenerate configuration).
+const auto& nf3() {
+  static const auto t = [] {
+    auto r = random_tuples<7, 3>(4096);
+    for (auto& c : r.coords) {
+      // Circumcentre o of the four sites (floating point), then a = o, b and c = o +- d.
+      const double* p = c.data();
+      double u[3], v[3], w[3];
+      for (int j = 0; j < 3; ++j) {
+        u[j] = p[3 + j] - p[j];
+        v[j] = p[6 + j] - p[j];
+        w[j] = p[9 + j] - p[j];
+      }
+      const auto cross = [](const double* x, const double* y, double* out) {
+        out[0] = x[1] * y[2] - x[2] * y[1];
+        out[1] = x[2] * y[0] - x[0] * y[2];
+        out[2] = x[0] * y[1] - x[1] * y[0];
+      };
+      double vw[3], wu[3], uv[3];
+      cross(v, w, vw);
+      cross(w, u, wu);
+      cross(u, v, uv);
+      const auto dot = [](const double* x, const double* y) {
+        return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+      };
+      const double det = 2 * dot(u, vw), uu = dot(u, u), vv = dot(v, v), ww = dot(w, w);
+      for (int j = 0; j < 3; ++j) {
+        const double o = p[j] + (uu * vw[j] + vv * wu[j] + ww * uv[j]) / det;
+        c[12 + j] = o;
+        c[15 + j] = o + c[15 + j];
+        c[18 + j] = o - c[18 + j];
+      }
+    }
+    return r;
+  }();
+  return t;
+}
+void BM_bisector_side_facet3d_near_degenerate(benchmark::State& s) {
+  run_batches(s, nf3(), [](const auto& t, std::size_t i) {
+    const auto& id = t.ids[i];
+    return voroclip::bisector_side_facet3d(t.point(i, 0), t.point(i, 1), t.point(i, 2),
+                                           t.point(i, 3), t.point(i, 4), t.point(i, 5),
+                                           t.point(i, 6), id[0], id[1], id[2], id[3]);
   });
 }
 
@@ -435,5 +553,11 @@ BENCHMARK(BM_bisector_side_edge2d);
 BENCHMARK(BM_compare_on_bisector2d);
 BENCHMARK(BM_bisector_side_edge2d_grid);
 BENCHMARK(BM_compare_on_bisector2d_grid);
+BENCHMARK(BM_bisector_side_vertex3d);
+BENCHMARK(BM_bisector_side_edge3d);
+BENCHMARK(BM_bisector_side_facet3d);
+BENCHMARK(BM_bisector_side_edge3d_grid);
+BENCHMARK(BM_bisector_side_facet3d_grid);
+BENCHMARK(BM_bisector_side_facet3d_near_degenerate);
 
 BENCHMARK_MAIN();

@@ -107,3 +107,21 @@ for name, k, kmag, deg in [("bisector N, A (deg 4)", 11, 7, 4),
     assert slack > Fr(1, 2**60)
     print(f"{name:18s} k {k:2d}  K = {float(need):.6e} = {float(need/u):.4f} u"
           f"   store {stored:.2e}   slack {float(slack) * 100:.2f} %")
+
+# Norm-product bounds of the 3D bisector predicates (predicates/src/bisector3d.h): the
+# filter decides when |value~| > K P~, P the product of the L-infinity norms of the
+# rounded leaf vectors that bounds each of the `count` monomials of the expression tree.
+# |value~ - value| <= gamma_k mag (k as above), mag <= count P / (1 - u)^deg (exact leaves
+# against rounded ones), P <= P~ (1 + u)^r (r: the roundings of P's own evaluation, counted
+# like k with exact leaves: the norms are maxima of absolute values), and two more
+# roundings: K * P~ and one to spare.
+for name, count, k, r, deg in [("edge N (deg 4)", 9, 13, 5, 4),
+                               ("edge E_k (deg 2)", 3, 5, 1, 2),
+                               ("facet N' (deg 6)", 54, 21, 9, 6),
+                               ("facet m_1 (deg 4)", 18, 12, 3, 4)]:
+    need = count * gamma(k) * (1 + u) ** (r + 2) / (1 - u) ** deg
+    stored = round_up_3(float(need))
+    slack = (Fr(stored) - need) / need
+    assert slack > Fr(1, 2**60)
+    print(f"{name:18s} k {k:2d}  K = {float(need):.6e} = {float(need/u):.4f} u"
+          f"   store {stored:.2e}   slack {float(slack) * 100:.2f} %")

@@ -9,7 +9,8 @@
 // error bound), then an exact stage on the coordinate differences to p_i: 128-bit integers
 // when those are small integers on a common binary grid, Shewchuk expansions after a
 // power-of-two scaling, big integers when the exponents span too wide a range (exact.cpp's
-// tiers but its fixed-width one, on exact.h's calculators), and finally the symbolic
+// tiers but its fixed-width one, on exact.h's calculators; the driver and the edge formula
+// are shared with 3D in bisector_common.h), and finally the symbolic
 // perturbation, whose terms here are linear in the eps_x: the first non-zero coefficient in
 // increasing index order decides.
 #include "bisector2d.h"
@@ -19,6 +20,7 @@
 #include <initializer_list>
 #include <string>
 
+#include "bisector_common.h"
 #include "exact.h"
 #include "voroclip/core.h"
 
@@ -39,60 +41,12 @@ namespace {
 // homogeneous too, so the power-of-two scaling keeps every sign).
 constexpr int kIntegerBits = 30;
 constexpr int kDegree = 4;
-
-// Returned by the formulas when the segment does not cross the bisector (E == 0).
-constexpr int kNoCrossing = 2;
-
-template <class C>
-typename C::Num dot(C& c, const typename C::Num (&p)[2], const typename C::Num (&q)[2]) {
-  return c.add(c.mul(p[0], q[0]), c.mul(p[1], q[1]));
-}
+constexpr int kHeadroomBits = 8;
 
 template <class C>
 typename C::Num cross(C& c, const typename C::Num (&p)[2], const typename C::Num (&q)[2]) {
   return c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
 }
-
-// The sign of a linear form sum_x coef_x eps_x with eps_x >> eps_y when x < y: the first
-// non-zero coefficient in increasing index order (three distinct indices).
-int perturbation_sign(const std::uint32_t (&index)[3], const int (&coef)[3]) {
-  int first = -1;
-  for (int x = 0; x < 3; ++x) {
-    if (coef[x] != 0 && (first < 0 || index[x] < index[first])) first = x;
-  }
-  return first < 0 ? 0 : coef[first];
-}
-
-// Edge: d = {c_k, c_j, u_a, u_b}. Returns sign f_ij(q), or kNoCrossing when E_k == 0.
-struct EdgeFormula {
-  std::uint32_t i, k, j;
-
-  template <class C, class M>
-  int operator()(C& c, const M& d) const {
-    using Num = typename C::Num;
-    const auto& ck = d[0];
-    const auto& cj = d[1];
-    const auto& ua = d[2];
-    const Num w[2] = {c.sub(d[3][0], ua[0]), c.sub(d[3][1], ua[1])};
-    const Num ek = dot(c, w, ck);
-    const int sign_ek = C::sign(ek);
-    if (sign_ek == 0) return kNoCrossing;
-    const Num ej = dot(c, w, cj);
-    // F_ix(a) = c_x . (2 u_a - c_x)
-    const Num sk[2] = {c.add(ua[0], c.sub(ua[0], ck[0])), c.add(ua[1], c.sub(ua[1], ck[1]))};
-    const Num sj[2] = {c.add(ua[0], c.sub(ua[0], cj[0])), c.add(ua[1], c.sub(ua[1], cj[1]))};
-    const Num fik = dot(c, ck, sk);
-    const Num fij = dot(c, cj, sj);
-    int n = C::sign(c.sub(c.mul(fij, ek), c.mul(fik, ej)));
-    if (n == 0) {
-      // N = eps_i (E_k - E_j) - eps_j E_k + eps_k E_j; the eps_j coefficient is non-zero.
-      const std::uint32_t index[3] = {i, j, k};
-      const int coef[3] = {C::sign(c.sub(ek, ej)), -sign_ek, C::sign(ej)};
-      n = perturbation_sign(index, coef);
-    }
-    return n * sign_ek;
-  }
-};
 
 // Compare: d = {c_k, u_a1, u_b1, u_a2, u_b2}. Returns sign d . (q2 - q1) (0 when the
 // crossings coincide for every eps), or kNoCrossing when E1 == 0 or E2 == 0.
@@ -123,73 +77,13 @@ struct CompareFormula {
   }
 };
 
-// 128-bit path (see exact.cpp's small_integer_sign): when every difference to the last
-// point is exact in floating point and, scaled by the power of two that brings the largest
-// below 2^kIntegerBits, an integer. Returns false when that does not hold (in particular
-// for NaN or infinite coordinates, whose round-off is NaN).
-template <int R, class Formula>
-bool small_integer_eval(const double* const (&pts)[R + 1], const Formula& formula, int& result) {
-  double d[R][2];
-  double largest = 0;
-  for (int r = 0; r < R; ++r) {
-    for (int j = 0; j < 2; ++j) {
-      double x, y;
-      expansion::two_diff(pts[r][j], pts[R][j], x, y);
-      if (y != 0) return false;
-      d[r][j] = x;
-      largest = std::max(largest, std::fabs(x));
-    }
-  }
-  const int shift = largest == 0 ? 0 : kIntegerBits - 1 - highest_bit_exponent(largest);
-  Int128Calc::Num n[R][2];
-  for (int r = 0; r < R; ++r) {
-    for (int j = 0; j < 2; ++j) {
-      // |scaled| < 2^30: the conversion is defined. The second test catches a non-zero
-      // difference that the scaling flushed to zero.
-      const double scaled = times_pow2(d[r][j], shift);
-      const auto integer = static_cast<long long>(scaled);
-      if (static_cast<double>(integer) != scaled || (integer == 0) != (d[r][j] == 0)) {
-        return false;
-      }
-      n[r][j] = integer;
-    }
-  }
-  Int128Calc calc;
-  result = formula(calc, n);
-  return true;
-}
-
-// Evaluates `formula` exactly over the differences of the R + 1 points to the last one.
-template <int R, class Formula>
-int exact_eval(const char* name, const double* const (&pts)[R + 1], const Formula& formula) {
-  int result = 0;
-  if (small_integer_eval<R>(pts, formula, result)) return result;
-  double coords[2 * (R + 1)];
-  for (int r = 0; r <= R; ++r) {
-    coords[2 * r] = pts[r][0];
-    coords[2 * r + 1] = pts[r][1];
-  }
-  require_finite(name, coords, 2 * (R + 1));
-  const ExponentSpan span = exponent_span(coords, 2 * (R + 1));
-  int scale = 0;
-  if (plan_expansion_scaling(span, kDegree, scale)) {
-    ExpansionCalc calc(thread_arena());
-    ExpansionCalc::Num d[R][2];
-    differences<ExpansionCalc, R, 2>(calc, pts, scale, d);
-    return formula(calc, d);
-  }
-  BigIntCalc calc(span.lowest);
-  BigInt d[R][2];
-  differences<BigIntCalc, R, 2>(calc, pts, 0, d);
-  return formula(calc, d);
-}
-
 }  // namespace
 
 Sign bisector_side_edge2d_exact(const double* pi, const double* pk, const double* pj,
                                 const double* a, const double* b, std::uint32_t i, std::uint32_t k,
                                 std::uint32_t j) {
-  const int s = exact_eval<4>("bisector_side_edge2d", {pk, pj, a, b, pi}, EdgeFormula{i, k, j});
+  const int s = exact_eval<4, 2, kIntegerBits, kDegree, kHeadroomBits, false>(
+      "bisector_side_edge2d", {pk, pj, a, b, pi}, EdgeFormula<2>{i, k, j});
   if (s == kNoCrossing) {
     throw Error("bisector_side_edge2d: segment [a, b] does not cross bisector(" +
                 std::to_string(i) + ", " + std::to_string(k) +
@@ -202,8 +96,8 @@ Sign bisector_side_edge2d_exact(const double* pi, const double* pk, const double
 Sign compare_on_bisector2d_exact(const double* pi, const double* pk, const double* a1,
                                  const double* b1, const double* a2, const double* b2,
                                  std::uint32_t i, std::uint32_t k) {
-  const int s =
-      exact_eval<5>("compare_on_bisector2d", {pk, a1, b1, a2, b2, pi}, CompareFormula{i, k});
+  const int s = exact_eval<5, 2, kIntegerBits, kDegree, kHeadroomBits, false>(
+      "compare_on_bisector2d", {pk, a1, b1, a2, b2, pi}, CompareFormula{i, k});
   if (s == kNoCrossing) {
     throw Error("compare_on_bisector2d: a segment does not cross bisector(" + std::to_string(i) +
                 ", " + std::to_string(k) +
@@ -215,39 +109,13 @@ Sign compare_on_bisector2d_exact(const double* pi, const double* pk, const doubl
 
 }  // namespace detail
 
-namespace {
-
-void require_distinct(const char* name, std::initializer_list<std::uint32_t> indices) {
-  for (auto x = indices.begin(); x != indices.end(); ++x) {
-    for (auto y = x + 1; y != indices.end(); ++y) {
-      if (*x == *y) {
-        throw Error(std::string(name) + ": site indices must be distinct (index " +
-                    std::to_string(*x) + " appears twice)");
-      }
-    }
-  }
-}
-
-// require_finite over separately stored 2D points.
-void require_finite_points(const char* name, std::initializer_list<const double*> points) {
-  double coords[8];
-  int n = 0;
-  for (const double* p : points) {
-    coords[n++] = p[0];
-    coords[n++] = p[1];
-  }
-  detail::require_finite(name, coords, n);
-}
-
-}  // namespace
-
 Sign bisector_side_vertex2d(const double* pi, const double* pj, const double* a, std::uint32_t i,
                             std::uint32_t j) {
-  require_distinct("bisector_side_vertex2d", {i, j});
+  detail::require_distinct("bisector_side_vertex2d", {i, j});
   // F_ij(a) = |a - p_i|^2 - |a - p_j|^2; eps_i - eps_j breaks a tie.
   const int s = detail::compare_distance2d_filter(a, pi, pj);
   if (s != 0) return static_cast<Sign>(s);
-  require_finite_points("bisector_side_vertex2d", {pi, pj, a});
+  detail::require_finite_points<2>("bisector_side_vertex2d", {pi, pj, a});
   const Sign f = detail::compare_distance2d_exact(a, pi, pj);
   if (f != Sign::zero) return f;
   return i < j ? Sign::positive : Sign::negative;
@@ -255,7 +123,7 @@ Sign bisector_side_vertex2d(const double* pi, const double* pj, const double* a,
 
 Sign bisector_side_edge2d(const double* pi, const double* pk, const double* pj, const double* a,
                           const double* b, std::uint32_t i, std::uint32_t k, std::uint32_t j) {
-  require_distinct("bisector_side_edge2d", {i, k, j});
+  detail::require_distinct("bisector_side_edge2d", {i, k, j});
   const int s = detail::bisector_edge_filter(pi, pk, pj, a, b);
   if (s != 0) return static_cast<Sign>(s);
   return detail::bisector_side_edge2d_exact(pi, pk, pj, a, b, i, k, j);
@@ -263,8 +131,8 @@ Sign bisector_side_edge2d(const double* pi, const double* pk, const double* pj, 
 
 Sign bisector_side_voronoi2d(const double* pi, const double* pk, const double* pl, const double* pj,
                              std::uint32_t i, std::uint32_t k, std::uint32_t l, std::uint32_t j) {
-  require_distinct("bisector_side_voronoi2d", {i, k, l, j});
-  require_finite_points("bisector_side_voronoi2d", {pi, pk, pl, pj});
+  detail::require_distinct("bisector_side_voronoi2d", {i, k, l, j});
+  detail::require_finite_points<2>("bisector_side_voronoi2d", {pi, pk, pl, pj});
   // With x the power centre of i, k, l (pi_i(x) = pi_k(x) = pi_l(x) = R), subtracting
   // 2 x times the coordinate columns and R - |x|^2 times the constant column from the lifted
   // column of the in-circle matrix leaves (0, 0, 0, pi_j(x) - R) there, so
@@ -280,7 +148,7 @@ Sign bisector_side_voronoi2d(const double* pi, const double* pk, const double* p
 
 Sign compare_on_bisector2d(const double* pi, const double* pk, const double* a1, const double* b1,
                            const double* a2, const double* b2, std::uint32_t i, std::uint32_t k) {
-  require_distinct("compare_on_bisector2d", {i, k});
+  detail::require_distinct("compare_on_bisector2d", {i, k});
   const int s = detail::bisector_compare_filter(pi, pk, a1, b1, a2, b2);
   if (s != 0) return static_cast<Sign>(s);
   return detail::compare_on_bisector2d_exact(pi, pk, a1, b1, a2, b2, i, k);

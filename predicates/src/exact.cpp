@@ -36,14 +36,14 @@ ExponentSpan exponent_span(const double* coords, int count) {
   return s;
 }
 
-bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale) {
+bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale, int headroom_bits) {
   scale = 0;
   if (!span.any_nonzero) return true;
   constexpr int kMinProductExponent = -1074;
   constexpr int kMaxMagnitudeExponent = 990;
   const auto fits = [&](int s) {
     return degree * (span.lowest + s) >= kMinProductExponent &&
-           degree * (span.highest + s + 2) + 8 <= kMaxMagnitudeExponent;
+           degree * (span.highest + s + 2) + headroom_bits <= kMaxMagnitudeExponent;
   };
   if (fits(0)) return true;
   scale = -(span.highest + 1);

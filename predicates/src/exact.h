@@ -58,13 +58,15 @@ ExponentSpan exponent_span(const double* coords, int count);
 // and below 2^(highest+scale+1) in magnitude. Every product of `degree` differences, and
 // every expansion component built from them, is then a multiple of q^degree; if
 // q^degree >= 2^-1074 nothing is ever rounded by underflow (Shewchuk's algorithms stay
-// exact under gradual underflow). Magnitudes stay below 2^(degree*(highest+scale+2)+8)
-// (the 8 covers the at most 120 terms of a 5x5 determinant and the lifts); keeping that
-// under 2^990 leaves room for Dekker's splitting constant. Prefers scale = 0 (no work);
-// otherwise scales the largest coordinate below 1. Returns false exactly when
-// highest - lowest + 1 > 1074 / degree (orient2d 537 bits, orient3d 358, incircle 268,
-// insphere 214): then the caller uses the big-integer calculator.
-bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale);
+// exact under gradual underflow). Magnitudes stay below
+// 2^(degree*(highest+scale+2)+headroom_bits): the default 8 covers the at most 120 terms
+// of a 5x5 determinant and the lifts; a formula with larger coefficients passes its own
+// bound. Keeping that under 2^990 leaves room for Dekker's splitting constant. Prefers
+// scale = 0 (no work); otherwise scales the largest coordinate below 1. Returns false
+// exactly when highest - lowest + 1 > 1074 / degree (orient2d 537 bits, orient3d 358,
+// incircle 268, insphere 214): then the caller uses the big-integer calculator.
+bool plan_expansion_scaling(const ExponentSpan& span, int degree, int& scale,
+                            int headroom_bits = 8);
 
 // ---------------------------------------------------------------------------------------
 // Expansion calculator.

@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "bisector2d.h"
+#include "eps_poly.h"
 #include "exact_oracle.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
@@ -48,106 +49,6 @@ using namespace voroclip::test;
 namespace {
 
 using P2 = std::array<double, 2>;
-using Q = mpq_class;
-
-// ---------------------------------------------------------------------------------------
-// Polynomials in the perturbations of up to four sites ("slots").
-
-class EpsPoly {
- public:
-  static constexpr int kSlots = 4;
-  using Exponents = std::array<int, kSlots>;
-
-  EpsPoly() = default;
-  EpsPoly(const Q& c) {  // NOLINT: implicit, constants mix freely with polynomials
-    if (sgn(c) != 0) terms_[Exponents{}] = c;
-  }
-  static EpsPoly eps(int slot) {
-    EpsPoly p;
-    Exponents e{};
-    e[static_cast<std::size_t>(slot)] = 1;
-    p.terms_[e] = 1;
-    return p;
-  }
-
-  friend EpsPoly operator+(const EpsPoly& a, const EpsPoly& b) { return a.combine(b, 1); }
-  friend EpsPoly operator-(const EpsPoly& a, const EpsPoly& b) { return a.combine(b, -1); }
-  friend EpsPoly operator*(const EpsPoly& a, const EpsPoly& b) {
-    EpsPoly r;
-    for (const auto& [ea, ca] : a.terms_) {
-      for (const auto& [eb, cb] : b.terms_) {
-        Exponents e{};
-        for (std::size_t s = 0; s < kSlots; ++s) e[s] = ea[s] + eb[s];
-        r.terms_[e] += ca * cb;
-      }
-    }
-    r.prune();
-    return r;
-  }
-
-  Q constant() const {
-    const auto it = terms_.find(Exponents{});
-    return it == terms_.end() ? Q(0) : it->second;
-  }
-  bool is_constant() const {
-    return terms_.empty() || (terms_.size() == 1 && terms_.begin()->first == Exponents{});
-  }
-
-  // The sign as the eps tend to 0 (index[s]: the site index of slot s; n slots in use),
-  // and the total degree of the deciding monomial (-1 for the zero polynomial).
-  int sign(const std::array<std::uint32_t, kSlots>& index, int n, int& degree) const {
-    // Slots by increasing index = decreasing eps (insertion sort: n <= 4).
-    int by_rank[kSlots] = {0, 1, 2, 3};
-    const auto index_of = [&](int slot) { return index[static_cast<std::size_t>(slot)]; };
-    for (int r = 1; r < n; ++r) {
-      for (int q = r; q > 0 && index_of(by_rank[q]) < index_of(by_rank[q - 1]); --q) {
-        std::swap(by_rank[q], by_rank[q - 1]);
-      }
-    }
-    // Exponents of the smallest eps first: the dominant monomial has the smallest key.
-    const auto key = [&](const Exponents& e) {
-      std::array<int, kSlots> k{};
-      for (int r = 0; r < n; ++r) {
-        k[static_cast<std::size_t>(r)] = e[static_cast<std::size_t>(by_rank[n - 1 - r])];
-      }
-      return k;
-    };
-    const std::pair<const Exponents, Q>* best = nullptr;
-    for (const auto& t : terms_) {
-      if (best == nullptr || key(t.first) < key(best->first)) best = &t;
-    }
-    if (best == nullptr) {
-      degree = -1;
-      return 0;
-    }
-    degree = 0;
-    for (const int x : best->first) degree += x;
-    return sgn(best->second);
-  }
-
- private:
-  EpsPoly combine(const EpsPoly& b, int s) const {
-    EpsPoly r = *this;
-    for (const auto& [e, c] : b.terms_) {
-      if (s > 0) {
-        r.terms_[e] += c;
-      } else {
-        r.terms_[e] -= c;
-      }
-    }
-    r.prune();
-    return r;
-  }
-  void prune() {
-    for (auto it = terms_.begin(); it != terms_.end();) {
-      it = sgn(it->second) == 0 ? terms_.erase(it) : std::next(it);
-    }
-  }
-
-  std::map<Exponents, Q> terms_;
-};
-
-using Slots = std::array<std::uint32_t, EpsPoly::kSlots>;
 
 Q sq_dist(const P2& x, const P2& p) {
   const Q dx = Q(x[0]) - Q(p[0]), dy = Q(x[1]) - Q(p[1]);
