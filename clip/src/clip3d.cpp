@@ -702,63 +702,60 @@ struct Clip3Impl {
     }
   }
 
-  // The inner cell of v from the triangulation: signed flags (v, c_e, c_f, c_t).
+  // The inner cell of v from the triangulation: a pyramid from the site over each Voronoi
+  // face, the face dual to Delaunay edge (v, x) being the polygon of the circumcentres of
+  // the tets around that edge, in cyclic order (a walk through the tets sharing the edge).
+  // The site lies strictly on its side of the face's plane (the bisector), so the
+  // pyramid's volume is positive: a face whose fan comes out negative is reversed.
+  // `tets`, `done`, `ring`: scratch. (Inner cells are bounded: no infinite tet on the way.)
   void inner_cell(std::uint32_t v, const std::vector<double>& circ,
-                  std::vector<std::uint32_t>& tets, Moments& res) const {
+                  std::vector<std::uint32_t>& tets, std::vector<std::uint32_t>& done,
+                  std::vector<std::uint32_t>& ring, Moments& res) const {
     dt.vertex_tets(v, tets);
     const double* pv = site(v);
-    for (const std::uint32_t t : tets) {
-      int lv = 0;
-      while (dt.tet_vertex(t, lv) != v) ++lv;
-      const double* ct = &circ[3 * std::size_t{t}];
-      // The other three local indices, and the flags over them: edge (v, x), face (v, x, y).
-      int o[3], no = 0;
-      for (int k = 0; k < 4; ++k) {
-        if (k != lv) o[no++] = k;
-      }
-      for (int xi = 0; xi < 3; ++xi) {
-        for (int yi = 0; yi < 3; ++yi) {
-          if (yi == xi) continue;
-          const int x = o[xi], y = o[yi], z = o[3 - xi - yi];
-          const double* px = site(dt.tet_vertex(t, x));
-          const double* py = site(dt.tet_vertex(t, y));
-          const double ce[3] = {0.5 * (pv[0] + px[0]), 0.5 * (pv[1] + px[1]),
-                                0.5 * (pv[2] + px[2])};
-          double cf[3];
-          triangle_circumcenter(pv, px, py, cf);
-          // The flag's orientation: the parity of the permutation (lv, x, y, z) of the
-          // positively oriented tet (0, 1, 2, 3).
-          const int perm[4] = {lv, x, y, z};
-          int inversions = 0;
-          for (int a = 0; a < 4; ++a) {
-            for (int b = a + 1; b < 4; ++b) inversions += perm[a] > perm[b] ? 1 : 0;
+    done.clear();
+    for (const std::uint32_t t0 : tets) {
+      for (int kx = 0; kx < 4; ++kx) {
+        const std::uint32_t x = dt.tet_vertex(t0, kx);
+        if (x == v || std::find(done.begin(), done.end(), x) != done.end()) continue;
+        done.push_back(x);
+        // Walk around edge (v, x): in tet `cur` with the two other vertices (a, b), step
+        // through the facet opposite a (it holds v, x, b) to the next tet.
+        ring.clear();
+        std::uint32_t cur = t0, a = kNone;
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t w = dt.tet_vertex(t0, k);
+          if (w != v && w != x) {
+            a = w;
+            break;
           }
-          Moments part;
-          add_tet(pv, ce, cf, ct, part);
-          const double sgn = (inversions % 2 == 0) ? 1.0 : -1.0;
-          res.volume += sgn * part.volume;
-          res.energy += sgn * part.energy;
-          for (int c = 0; c < 3; ++c) res.moment[c] += sgn * part.moment[c];
         }
+        for (std::size_t guard = 0; guard < 1000; ++guard) {
+          ring.push_back(cur);
+          int la = 0;
+          while (dt.tet_vertex(cur, la) != a) ++la;
+          std::uint32_t b = kNone;
+          for (int k = 0; k < 4; ++k) {
+            const std::uint32_t w = dt.tet_vertex(cur, k);
+            if (w != v && w != x && w != a) b = w;
+          }
+          cur = dt.tet_adjacent(cur, la);
+          a = b;
+          if (cur == t0) break;
+        }
+        // Fan of the face from its first vertex, apex the site.
+        Moments face;
+        const double* c0 = &circ[3 * std::size_t{ring[0]}];
+        for (std::size_t j = 1; j + 1 < ring.size(); ++j) {
+          add_tet(pv, c0, &circ[3 * std::size_t{ring[j]}], &circ[3 * std::size_t{ring[j + 1]}],
+                  face);
+        }
+        const double sgn = face.volume < 0 ? -1.0 : 1.0;
+        res.volume += sgn * face.volume;
+        res.energy += sgn * face.energy;
+        for (int c = 0; c < 3; ++c) res.moment[c] += sgn * face.moment[c];
       }
     }
-  }
-
-  static void triangle_circumcenter(const double* a, const double* b, const double* c,
-                                    double* out) {
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                         u[0] * v[1] - u[1] * v[0]};
-    const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    // x = (|u|^2 (v × n) + |v|^2 (n × u)) / (2 |n|^2)
-    const double vxn[3] = {v[1] * n[2] - v[2] * n[1], v[2] * n[0] - v[0] * n[2],
-                           v[0] * n[1] - v[1] * n[0]};
-    const double nxu[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2],
-                           n[0] * u[1] - n[1] * u[0]};
-    for (int k = 0; k < 3; ++k) out[k] = a[k] + (uu * vxn[k] + vv * nxu[k]) / (2 * nn);
   }
 
   void run() {
@@ -863,19 +860,50 @@ struct Clip3Impl {
     std::vector<std::uint32_t> slot(n, kNone);
     for (std::uint32_t q = 0; q < boundary_cells.size(); ++q) slot[boundary_cells[q]] = q;
     out.cells_.assign(n, ClippedVoronoi3::Cell{});
-    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> tet_lists;
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 256), [&](const auto& range) {
-      std::vector<std::uint32_t>& tets = tet_lists.local();
+    struct InnerScratch {
+      std::vector<std::uint32_t> tets, done, ring;
+    };
+    tbb::enumerable_thread_specific<InnerScratch> tet_lists;
+    // Inner cells of the constant density first, in the order of a tet of theirs (tets
+    // are numbered roughly along the insertion curve: neighbouring cells then walk
+    // neighbouring memory), into a buffer; then every cell in index order.
+    std::vector<Moments> inner_moments;
+    std::vector<std::uint32_t> inner_pos;
+    if (!linear_density) {
+      const std::uint32_t slots = dt.nb_tet_slots();
+      std::vector<std::uint32_t> bucket(std::size_t{slots} + 1, 0), order;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (slot[i] == kNone && status[i] == 1) ++bucket[dt.vertex_tet(i) + std::size_t{1}];
+      }
+      for (std::size_t t = 0; t < slots; ++t) bucket[t + 1] += bucket[t];
+      order.resize(bucket[slots]);
+      inner_pos.assign(n, kNone);
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (slot[i] == kNone && status[i] == 1) {
+          const std::uint32_t q = bucket[dt.vertex_tet(i)]++;
+          order[q] = i;
+          inner_pos[i] = q;
+        }
+      }
+      inner_moments.resize(order.size());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
+                        [&](const auto& range) {
+                          InnerScratch& is = tet_lists.local();
+                          for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                            inner_moments[q] = Moments{};
+                            inner_cell(order[q], circ, is.tets, is.done, is.ring, inner_moments[q]);
+                          }
+                        });
+    }
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
       for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-        Moments inner;
         const Moments* r = nullptr;
         if (slot[i] != kNone) {
           r = &cell_out[slot[i]];
         } else if (linear_density) {
           if (inner_slot[i] != kNone) r = &inner_out[inner_slot[i]];
         } else if (status[i] == 1) {
-          inner_cell(i, circ, tets, inner);
-          r = &inner;
+          r = &inner_moments[inner_pos[i]];
         }
         ClippedVoronoi3::Cell& cell = out.cells_[i];
         const double* p = site(i);
