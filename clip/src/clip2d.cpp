@@ -92,6 +92,12 @@ struct Moments {
   double area = 0, mass = 0, mx = 0, my = 0, energy = 0;  // mx, my relative to s
 };
 
+// A cell's moments relative to an origin o (its first ring vertex).
+struct Acc {
+  Moments m;
+  double o[2];
+};
+
 // Dunavant's degree-4 rule (6 points) on a triangle, barycentric coordinates and weights
 // summing to 1.
 constexpr double kQa = 0.445948490915965, kQb = 0.091576213509771;
@@ -166,23 +172,44 @@ bool ring_encloses(const Domain2& domain, std::uint32_t r, const double* p) {
 
 using namespace clip2;
 
+struct ClippedVoronoi2::Workspace {
+  std::vector<double> circ;     // circumcenter of each finite triangle
+  std::vector<clip2::Acc> acc;  // per cell, in triangle order: moments and their origin
+  std::vector<std::uint32_t> cell_chain_begin, kind, order, pos, kind_q, tri_q, bucket;
+  std::vector<std::int8_t> status;
+  std::vector<std::uint8_t> is_b;
+};
+
+ClippedVoronoi2::ClippedVoronoi2() : ws_(std::make_unique<Workspace>()) {}
+ClippedVoronoi2::~ClippedVoronoi2() = default;
+ClippedVoronoi2::ClippedVoronoi2(ClippedVoronoi2&&) noexcept = default;
+ClippedVoronoi2& ClippedVoronoi2::operator=(ClippedVoronoi2&&) noexcept = default;
+
 struct Clip2Impl {
   const Domain2& domain;
   const Delaunay2& dt;
   const Clip2Options& options;
   ClippedVoronoi2& out;
   Clip2Impl(const Domain2& d, const Delaunay2& t, const Clip2Options& o, ClippedVoronoi2& r)
-      : domain(d), dt(t), options(o), out(r) {}
+      : domain(d),
+        dt(t),
+        options(o),
+        out(r),
+        ws(*r.ws_),
+        circ(ws.circ),
+        cell_chain_begin(ws.cell_chain_begin),
+        status(ws.status) {}
+  ClippedVoronoi2::Workspace& ws;
 
   std::uint32_t n = 0;
-  std::vector<double> circ;  // circumcenter of each finite triangle
+  std::vector<double>& circ;  // circumcenter of each finite triangle
   std::vector<Chain> chains;
   std::vector<ClipVertex2> chain_vertices;
-  std::vector<std::uint32_t> cell_chain_begin;  // chains sorted by cell: CSR offsets
+  std::vector<std::uint32_t>& cell_chain_begin;  // chains sorted by cell: CSR offsets
   std::vector<std::uint32_t> chain_order;
   std::vector<std::uint32_t> boundary_cells;
-  std::vector<CellOut> cell_out;    // per boundary cell, in boundary_cells order
-  std::vector<std::int8_t> status;  // per site: 1 inside, 0 outside, -1 unknown
+  std::vector<CellOut> cell_out;     // per boundary cell, in boundary_cells order
+  std::vector<std::int8_t>& status;  // per site: 1 inside, 0 outside, -1 unknown
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
 
@@ -500,7 +527,8 @@ struct Clip2Impl {
   // the graph of non-boundary cells (union-find over Delaunay edges, in triangle order).
   void classify_inner_cells() {
     status.assign(n, -1);
-    std::vector<std::uint8_t> is_b(n, 0);
+    std::vector<std::uint8_t>& is_b = ws.is_b;
+    is_b.assign(n, 0);
     for (const std::uint32_t c : boundary_cells) is_b[c] = 1;
     std::vector<std::uint32_t> nbrs;
     bool any_outside = false;
@@ -580,7 +608,8 @@ struct Clip2Impl {
     // Per site, one word: the boundary cell's slot, kInner (inside, unclipped) or kEmpty
     // (a duplicate, or outside the domain).
     constexpr std::uint32_t kInner = 0xfffffffeu, kEmpty = 0xffffffffu;
-    std::vector<std::uint32_t> kind(n);
+    std::vector<std::uint32_t>& kind = ws.kind;
+    kind.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
       kind[i] = dt.duplicate_of(i) == i && status[i] == 1 ? kInner : kEmpty;
     }
@@ -597,8 +626,16 @@ struct Clip2Impl {
     //  B. cells in index order: moments moved to the site (energy by the parallel-axis
     //     identity), written in place.
     const std::uint32_t nt = dt.nb_triangles();
-    std::vector<std::uint32_t> order(n), pos(n), kind_q(n), tri_q(n);
-    std::vector<std::uint32_t> bucket(std::size_t{nt} + 2, 0);
+    std::vector<std::uint32_t>& order = ws.order;
+    std::vector<std::uint32_t>& pos = ws.pos;
+    std::vector<std::uint32_t>& kind_q = ws.kind_q;
+    std::vector<std::uint32_t>& tri_q = ws.tri_q;
+    std::vector<std::uint32_t>& bucket = ws.bucket;
+    order.resize(n);
+    pos.resize(n);
+    kind_q.resize(n);
+    tri_q.resize(n);
+    bucket.assign(std::size_t{nt} + 2, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::uint32_t t = kind[i] != kEmpty ? dt.vertex_triangle(i) : nt;
       ++bucket[std::size_t{t} + 1];
@@ -612,11 +649,8 @@ struct Clip2Impl {
       kind_q[q] = kind[i];
       tri_q[q] = t;
     }
-    struct Acc {
-      Moments m;
-      double o[2];
-    };
-    std::vector<Acc> acc(n);
+    std::vector<Acc>& acc = ws.acc;
+    acc.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
       std::vector<std::uint32_t>& tris = tri_scratch.local();
       std::vector<double>& xy = xy_scratch.local();
@@ -736,6 +770,7 @@ void ClippedVoronoi2::compute(const Domain2& domain, const Delaunay2& dt,
                               const Clip2Options& options) {
   if (domain.nb_rings() == 0) throw Error("clip2d: the domain is empty");
   if (dt.nb_points() == 0) throw Error("clip2d: no sites");
+  if (!ws_) ws_ = std::make_unique<Workspace>();  // a moved-from object
   Clip2Impl impl(domain, dt, options, *this);
   impl.run();
 }

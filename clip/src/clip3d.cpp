@@ -150,7 +150,7 @@ struct Clip3Impl {
     }
     const double* pi = site(i);
     const double* pj = site(j);
-    int others[3], no = 0;  // tet-local vertices not opposite a facet plane of v
+    int others[4], no = 0;  // tet-local vertices not opposite a facet plane of v
     for (int k = 0; k < 4; ++k) {
       bool used = false;
       for (int q = 0; q < nf; ++q) used = used || facets[q] == k;

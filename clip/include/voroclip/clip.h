@@ -8,6 +8,7 @@
 #include <cassert>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -191,7 +192,10 @@ struct ClipVertex2 {
 // is identical for any thread count.
 class ClippedVoronoi2 {
  public:
-  ClippedVoronoi2() = default;
+  ClippedVoronoi2();
+  ~ClippedVoronoi2();
+  ClippedVoronoi2(ClippedVoronoi2&&) noexcept;
+  ClippedVoronoi2& operator=(ClippedVoronoi2&&) noexcept;
   // `dt` must be a triangulation of the sites (its point array stays alive while this
   // object is used for geometry queries).
   void compute(const Domain2& domain, const Delaunay2& dt, const Clip2Options& options = {});
@@ -232,6 +236,10 @@ class ClippedVoronoi2 {
   std::vector<std::uint32_t> cell_ring_begin_, ring_vertex_begin_;
   std::vector<ClipVertex2> vertices_;
   std::vector<double> vertex_xy_;
+  // Per-site and per-triangle working arrays, kept between calls so that a CVT's
+  // repeated computes allocate nothing.
+  struct Workspace;
+  std::unique_ptr<Workspace> ws_;
 };
 
 // ---------------------------------------------------------------------------------------
