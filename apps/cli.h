@@ -82,8 +82,6 @@ struct ClipArgs {
 
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options);
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options);
-/// n uniform random points in the volume of a tet mesh (a tet by volume, then uniform).
-std::vector<double> random_sites_in(const Domain3& domain, std::uint32_t n, std::uint64_t seed);
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
 
 /// The domain of a 2D command: a polygon file (.json, .poly) or a built-in generator,

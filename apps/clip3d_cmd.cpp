@@ -7,13 +7,13 @@
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "cli.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
+#include "voroclip/cvt.h"
 #include "voroclip/delaunay.h"
 
 namespace voroclip::cli {
@@ -155,45 +155,6 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
 
 }  // namespace
 
-std::vector<double> random_sites_in(const Domain3& domain, std::uint32_t n, std::uint64_t seed) {
-  // A tet chosen by volume, then a uniform point in it (barycentric gaps of sorted
-  // uniforms), from raw 64-bit draws: the same points on every platform.
-  std::vector<double> cumulative(domain.nb_tets());
-  double total = 0;
-  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
-    const double* a = domain.vertex(domain.tet_vertex(t, 0));
-    double u[3][3];
-    for (int k = 0; k < 3; ++k) {
-      const double* b = domain.vertex(domain.tet_vertex(t, k + 1));
-      for (int c = 0; c < 3; ++c) u[k][c] = b[c] - a[c];
-    }
-    total += std::fabs(u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
-                       u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
-                       u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0]));
-    cumulative[t] = total;
-  }
-  std::mt19937_64 rng(seed);
-  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
-  std::vector<double> xyz;
-  xyz.reserve(3 * std::size_t{n});
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const double r = uniform() * total;
-    const auto t = static_cast<std::uint32_t>(std::min<std::size_t>(
-        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) -
-                                 cumulative.begin()),
-        domain.nb_tets() - 1));
-    double b[3] = {uniform(), uniform(), uniform()};
-    std::sort(b, b + 3);
-    const double w[4] = {b[0], b[1] - b[0], b[2] - b[1], 1 - b[2]};
-    double p[3] = {0, 0, 0};
-    for (int k = 0; k < 4; ++k) {
-      for (int c = 0; c < 3; ++c) p[c] += w[k] * domain.vertex(domain.tet_vertex(t, k))[c];
-    }
-    xyz.insert(xyz.end(), p, p + 3);
-  }
-  return xyz;
-}
-
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() && !has_suffix(args.output, ".vtu") &&
       !has_suffix(args.output, ".obj") && !has_suffix(args.output, ".json")) {
@@ -207,9 +168,8 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   }
   if (args.random_set && args.random < 4) throw UsageError("--random: needs at least 4 sites");
   const Domain3 domain(read_tet_mesh(args.domain));
-  const std::vector<double> sites = args.random_set
-                                        ? random_sites_in(domain, args.random, args.seed)
-                                        : read_points(args.sites, 3);
+  const std::vector<double> sites =
+      args.random_set ? random_points3(domain, args.random, args.seed) : read_points(args.sites, 3);
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
   const auto t0 = std::chrono::steady_clock::now();
   const Delaunay3 dt(sites.data(), n);

@@ -106,4 +106,80 @@ double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, cons
 Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
                          const Cvt2Options& options);
 
+// ---------------------------------------------------------------------------------------
+// 3D: the CVT energy of sites in the volume of a Domain3 (eq. 1 with the clipped cells of
+// ClippedVoronoi3), its gradient (eq. 2) and its minimisation, with sites that may be
+// free, fixed, or constrained to a surface or a curve (mesh generation, sec. 5.2:
+// boundary sites on the boundary surface, feature sites on sharp edges).
+//
+// A constrained site is parametrised by an unconstrained point z of space: the site is
+// x = P(z), the projection of z onto its constraint, given by the caller. Its gradient is
+// the part of dF/dx tangent to the constraint at x (eq. 3: (I - n n^T) dF/dx on a
+// surface with unit normal n; t t^T dF/dx on a curve with unit tangent t), which is the
+// exact derivative of F(P(z)) wherever P is locally an orthogonal projection onto a plane
+// or a line (z above the interior of a flat facet or a straight segment).
+
+struct SiteConstraint3 {
+  enum class Kind : std::uint8_t {
+    kFree,     // moves freely in space
+    kFixed,    // never moves
+    kSurface,  // stays on a surface (projection and unit normal from Cvt3Options::project)
+    kCurve,    // stays on a curve (projection and unit tangent from Cvt3Options::project)
+  };
+};
+
+// Projects point p (3 values) onto the constraint of `site` (of kind `kind`): writes the
+// projected point to q and to `direction` the unit normal (kSurface) or unit tangent
+// (kCurve) there. Called from one thread at a time; it must be deterministic.
+using SiteProjector3 = std::function<void(std::uint32_t site, SiteConstraint3::Kind kind,
+                                          const double* p, double* q, double* direction)>;
+
+struct Cvt3Options {
+  CvtMethod method = CvtMethod::kLbfgs;
+  std::uint32_t max_iterations = 100;
+  // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
+  double gradient_tolerance = 1e-4;
+  std::uint32_t lbfgs_memory = 7;
+  // Density and other settings of the clipped diagrams (keep_geometry is ignored).
+  Clip3Options clip;
+  // Called after every iteration and once at the start (iteration 0); return false to
+  // stop (the result then has cancelled == true and the sites of the last iteration).
+  std::function<bool(const CvtProgress&)> progress;
+  // Empty: every site free. Otherwise one entry per site; kSurface and kCurve need
+  // `project`.
+  std::vector<SiteConstraint3::Kind> constraints;
+  SiteProjector3 project;
+};
+
+struct Cvt3Result {
+  std::uint32_t iterations = 0;
+  std::uint32_t evaluations = 0;  // clipped diagrams computed
+  double energy = 0;
+  double gradient_norm = 0, initial_gradient_norm = 0;
+  double seconds = 0;
+  bool converged = false;
+  bool cancelled = false;
+};
+
+// The CVT energy at the given sites (packed x y z) and, optionally, its gradient (3 per
+// site, unconstrained: 2 m_i (x_i - c_i)). One Delaunay triangulation, one clipped diagram.
+double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
+                   const Clip3Options& options = {}, std::vector<double>* gradient = nullptr);
+
+// Minimises the CVT energy from the given sites (updated in place; constrained sites are
+// projected first). Lloyd moves each site to its cell's centroid (projected for
+// constrained sites); L-BFGS (LBFGSpp, Nocedal-Wright strong-Wolfe line search) minimises F(P(z)).
+// Deterministic: identical results for any thread count.
+Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
+                         const Cvt3Options& options);
+
+// n points in the volume of the domain, independent and distributed with density rho:
+// uniform when vertex_density is null, else linear on each tet with these values at the
+// domain's vertices (one per vertex, >= 0, not all zero on the tets). A tet is drawn by
+// its mass, then a uniform point in it, kept with probability rho / max rho on the tet.
+// Draws from std::mt19937_64(seed) turned into doubles bit by bit: the same points on
+// every platform.
+std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::uint64_t seed,
+                                   const std::vector<double>* vertex_density = nullptr);
+
 }  // namespace voroclip

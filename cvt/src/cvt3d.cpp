@@ -1,0 +1,355 @@
+// CVT in 3D: energy and gradient from the clipped Voronoi diagram of a tet-mesh volume
+// (Yan et al. 2011, sec. 2 and 5.2, eq. 1-3), minimised by Lloyd's iteration or by
+// L-BFGS (Liu, Wang, Lévy et al., "On centroidal Voronoi tessellation — energy smoothness
+// and fast computation", ACM TOG 2009) through LBFGSpp.
+//
+// Constrained sites (on a surface or a curve) are parametrised by a free point z of space
+// and placed at its projection x = P(z) (Cvt3Options::project); their gradient is the
+// tangential part of dF/dx (eq. 3). Over z above a flat facet (a straight segment), P is
+// an orthogonal projection onto a plane (line) and that is the exact derivative of
+// F(P(z)), so the line searches see a consistent function and gradient.
+#include <LBFGS.h>
+#include <LBFGSpp/LineSearchNocedalWright.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "voroclip/cvt.h"
+
+namespace voroclip {
+
+namespace {
+
+using Kind3 = SiteConstraint3::Kind;
+
+struct Cancelled3 {};
+struct Converged3 {};
+
+class Problem3 {
+ public:
+  Problem3(const Domain3& domain, std::vector<double>& sites, const Cvt3Options& options)
+      : domain_(domain), sites_(sites), options_(options), n_(sites.size() / 3) {
+    if (sites.size() % 3 != 0) throw Error("cvt3d: the site array's length is not a multiple of 3");
+    if (!options.constraints.empty() && options.constraints.size() != n_) {
+      throw Error("cvt3d: " + std::to_string(options.constraints.size()) + " constraints for " +
+                  std::to_string(n_) + " sites");
+    }
+    offset_.resize(n_ + 1, 0);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Kind3 k = kind(i);
+      if ((k == Kind3::kSurface || k == Kind3::kCurve) && !options.project) {
+        throw Error("cvt3d: site " + std::to_string(i) +
+                    " is constrained to a surface or curve, but no projection is given");
+      }
+      offset_[i + 1] = offset_[i] + (k == Kind3::kFixed ? 0 : 3);
+    }
+    direction_.assign(3 * n_, 0);
+    clip_options_ = options.clip;
+    clip_options_.keep_geometry = false;
+  }
+
+  std::size_t nb_variables() const { return offset_[n_]; }
+  Kind3 kind(std::size_t i) const {
+    return options_.constraints.empty() ? Kind3::kFree : options_.constraints[i];
+  }
+
+  // Current sites -> variables (constrained sites are projected first: z = x = P(x)).
+  Eigen::VectorXd variables() {
+    Eigen::VectorXd z(static_cast<Eigen::Index>(nb_variables()));
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Kind3 k = kind(i);
+      if (k == Kind3::kFixed) continue;
+      if (k != Kind3::kFree) project(i, &sites_[3 * i]);
+      const auto o = static_cast<Eigen::Index>(offset_[i]);
+      for (int c = 0; c < 3; ++c) z[o + c] = sites_[3 * i + static_cast<std::size_t>(c)];
+    }
+    return z;
+  }
+
+  // Variables -> sites.
+  void place(const Eigen::VectorXd& z) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Kind3 k = kind(i);
+      if (k == Kind3::kFixed) continue;
+      const auto o = static_cast<Eigen::Index>(offset_[i]);
+      double p[3] = {z[o], z[o + 1], z[o + 2]};
+      if (k != Kind3::kFree) project(i, p);
+      for (int c = 0; c < 3; ++c) sites_[3 * i + static_cast<std::size_t>(c)] = p[c];
+    }
+  }
+
+  // Energy at the current sites; gradient with respect to the variables.
+  double evaluate(Eigen::VectorXd* grad) {
+    dt_.build(sites_.data(), static_cast<std::uint32_t>(n_));
+    cv_.compute(domain_, dt_, clip_options_);
+    ++evaluations_;
+    if (grad) {
+      grad->resize(static_cast<Eigen::Index>(nb_variables()));
+      for (std::size_t i = 0; i < n_; ++i) {
+        const Kind3 k = kind(i);
+        if (k == Kind3::kFixed) continue;
+        const auto u = static_cast<std::uint32_t>(i);
+        const double m2 = 2 * cv_.mass(u);
+        const double* c = cv_.centroid(u);
+        double g[3];
+        for (int a = 0; a < 3; ++a)
+          g[a] = m2 * (sites_[3 * i + static_cast<std::size_t>(a)] - c[a]);
+        const double* d = &direction_[3 * i];
+        const double gd = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+        if (k == Kind3::kSurface) {
+          for (int a = 0; a < 3; ++a) g[a] -= gd * d[a];
+        } else if (k == Kind3::kCurve) {
+          for (int a = 0; a < 3; ++a) g[a] = gd * d[a];
+        }
+        const auto o = static_cast<Eigen::Index>(offset_[i]);
+        for (int a = 0; a < 3; ++a) (*grad)[o + a] = g[a];
+      }
+    }
+    return cv_.total_energy();
+  }
+
+  // Lloyd: every site to its cell's centroid (constrained sites: its projection).
+  void lloyd_step() {
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Kind3 k = kind(i);
+      const auto u = static_cast<std::uint32_t>(i);
+      if (k == Kind3::kFixed || cv_.mass(u) <= 0) continue;
+      double p[3] = {cv_.centroid(u)[0], cv_.centroid(u)[1], cv_.centroid(u)[2]};
+      if (k != Kind3::kFree) project(i, p);
+      for (int c = 0; c < 3; ++c) sites_[3 * i + static_cast<std::size_t>(c)] = p[c];
+    }
+  }
+
+  std::uint32_t evaluations() const { return evaluations_; }
+
+ private:
+  // p <- P(p), and the constraint's direction there.
+  void project(std::size_t i, double* p) {
+    double q[3], d[3] = {0, 0, 0};
+    options_.project(static_cast<std::uint32_t>(i), kind(i), p, q, d);
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 0) || !std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
+      throw Error("cvt3d: the projection of site " + std::to_string(i) +
+                  " returned a non-finite point or a zero direction");
+    }
+    for (int c = 0; c < 3; ++c) {
+      p[c] = q[c];
+      direction_[3 * i + static_cast<std::size_t>(c)] = d[c] / len;
+    }
+  }
+
+  const Domain3& domain_;
+  std::vector<double>& sites_;
+  const Cvt3Options& options_;
+  std::size_t n_;
+  std::vector<std::size_t> offset_;
+  std::vector<double> direction_;  // per site: unit normal (surface) or tangent (curve)
+  Clip3Options clip_options_;
+  Delaunay3 dt_;
+  ClippedVoronoi3 cv_;
+  std::uint32_t evaluations_ = 0;
+};
+
+double seconds_since3(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double tet_det(const Domain3& d, std::uint32_t t) {
+  const double* a = d.vertex(d.tet_vertex(t, 0));
+  double u[3][3];
+  for (int k = 0; k < 3; ++k) {
+    const double* b = d.vertex(d.tet_vertex(t, k + 1));
+    for (int c = 0; c < 3; ++c) u[k][c] = b[c] - a[c];
+  }
+  return std::fabs(u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
+                   u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
+                   u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0]));
+}
+
+}  // namespace
+
+double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
+                   const Clip3Options& options, std::vector<double>* gradient) {
+  if (sites.size() % 3 != 0) throw Error("cvt3d: the site array's length is not a multiple of 3");
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  const Delaunay3 dt(sites.data(), n);
+  ClippedVoronoi3 cv;
+  Clip3Options o = options;
+  o.keep_geometry = false;
+  cv.compute(domain, dt, o);
+  if (gradient) {
+    gradient->resize(sites.size());
+    for (std::uint32_t i = 0; i < n; ++i) {
+      for (std::uint32_t c = 0; c < 3; ++c) {
+        (*gradient)[3 * i + c] = 2 * cv.mass(i) * (sites[3 * i + c] - cv.centroid(i)[c]);
+      }
+    }
+  }
+  return cv.total_energy();
+}
+
+Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
+                         const Cvt3Options& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Problem3 problem(domain, sites, options);
+  Cvt3Result result;
+  Eigen::VectorXd z = problem.variables();
+  Eigen::VectorXd g;
+  double f = problem.evaluate(&g);
+  result.initial_gradient_norm = g.norm();
+  result.energy = f;
+  result.gradient_norm = result.initial_gradient_norm;
+  const double target = options.gradient_tolerance * result.initial_gradient_norm;
+  const auto report = [&](std::uint32_t iteration, double energy, double gnorm) {
+    result.iterations = iteration;
+    result.energy = energy;
+    result.gradient_norm = gnorm;
+    if (options.progress && !options.progress({iteration, energy, gnorm, seconds_since3(t0)})) {
+      throw Cancelled3{};
+    }
+  };
+
+  try {
+    report(0, f, result.gradient_norm);
+    if (result.gradient_norm <= target || z.size() == 0) {
+      result.converged = true;
+    } else if (options.method == CvtMethod::kLloyd) {
+      for (std::uint32_t it = 1; it <= options.max_iterations; ++it) {
+        problem.lloyd_step();
+        f = problem.evaluate(&g);
+        report(it, f, g.norm());
+        if (result.gradient_norm <= target) {
+          result.converged = true;
+          break;
+        }
+      }
+    } else {
+      // An iteration is reported each time an evaluation improves on the best energy so
+      // far (the accepted points of the line searches); the best point is kept.
+      LBFGSpp::LBFGSParam<double> param;
+      param.m = static_cast<int>(std::max<std::uint32_t>(options.lbfgs_memory, 1));
+      param.max_iterations = static_cast<int>(options.max_iterations);
+      // The stopping test is the Euclidean norm relative to |g_0|, done in the objective
+      // (which ends the run by throwing).
+      param.epsilon = 0;
+      param.epsilon_rel = 0;
+      param.past = 0;
+      param.max_linesearch = 30;
+      param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
+      LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
+      Eigen::VectorXd best_z = z;
+      double best_f = f;
+      std::uint32_t accepted = 0;
+      auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+        problem.place(x);
+        const double fx = problem.evaluate(&grad);
+        if (fx < best_f) {
+          best_f = fx;
+          best_z = x;
+          const double gnorm = grad.norm();
+          report(++accepted, fx, gnorm);
+          if (gnorm <= target) throw Converged3{};
+        }
+        return fx;
+      };
+      double fx = f;
+      try {
+        solver.minimize(fun, z, fx);
+      } catch (const Converged3&) {
+        result.converged = true;
+      } catch (const Error&) {
+        throw;
+      } catch (const std::invalid_argument& e) {
+        throw Error(std::string("cvt3d: internal error: L-BFGS: ") + e.what());
+      } catch (const std::runtime_error&) {
+        // The line search could not make progress at the precision of the energy (or the
+        // direction stopped being one of descent, below): the best point so far is the
+        // answer.
+      } catch (const std::logic_error&) {
+      }
+      problem.place(best_z);
+      f = problem.evaluate(&g);
+      result.energy = f;
+      result.gradient_norm = g.norm();
+      result.converged = result.converged || result.gradient_norm <= target;
+    }
+  } catch (const Cancelled3&) {
+    result.cancelled = true;
+  }
+  result.evaluations = problem.evaluations();
+  result.seconds = seconds_since3(t0);
+  return result;
+}
+
+std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::uint64_t seed,
+                                   const std::vector<double>* vertex_density) {
+  if (domain.nb_tets() == 0) throw Error("random_points3: the domain has no tets");
+  if (vertex_density && vertex_density->size() != domain.nb_vertices()) {
+    throw Error("random_points3: " + std::to_string(vertex_density->size()) +
+                " density values for " + std::to_string(domain.nb_vertices()) + " vertices");
+  }
+  const auto rho = [&](std::uint32_t t, int k) {
+    return (*vertex_density)[domain.tet_vertex(t, k)];
+  };
+  // Cumulative mass per tet (|det| = 6 volume; the factor does not matter).
+  std::vector<double> cumulative(domain.nb_tets());
+  double total = 0;
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    double m = tet_det(domain, t);
+    if (vertex_density) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) {
+        const double r = rho(t, k);
+        if (!(r >= 0) || !std::isfinite(r)) {
+          throw Error("random_points3: density " + std::to_string(r) + " at vertex " +
+                      std::to_string(domain.tet_vertex(t, k)) + " (must be finite and >= 0)");
+        }
+        s += r;
+      }
+      m *= s / 4;
+    }
+    total += m;
+    cumulative[t] = total;
+  }
+  if (!(total > 0)) throw Error("random_points3: the domain has zero mass");
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  std::vector<double> xyz;
+  xyz.reserve(3 * std::size_t{n});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double r = uniform() * total;
+    const auto t = static_cast<std::uint32_t>(std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) -
+                                 cumulative.begin()),
+        domain.nb_tets() - 1));
+    double rho_max = 0;
+    if (vertex_density) {
+      for (int k = 0; k < 4; ++k) rho_max = std::max(rho_max, rho(t, k));
+    }
+    for (;;) {
+      // Barycentric gaps of three sorted uniforms: uniform in the tet.
+      double b[3] = {uniform(), uniform(), uniform()};
+      std::sort(b, b + 3);
+      const double w[4] = {b[0], b[1] - b[0], b[2] - b[1], 1 - b[2]};
+      double p[3] = {0, 0, 0};
+      for (int k = 0; k < 4; ++k) {
+        for (int c = 0; c < 3; ++c) p[c] += w[k] * domain.vertex(domain.tet_vertex(t, k))[c];
+      }
+      if (vertex_density) {
+        double value = 0;
+        for (int k = 0; k < 4; ++k) value += w[k] * rho(t, k);
+        if (uniform() * rho_max > value) continue;  // rejected: draw again in this tet
+      }
+      xyz.insert(xyz.end(), p, p + 3);
+      break;
+    }
+  }
+  return xyz;
+}
+
+}  // namespace voroclip

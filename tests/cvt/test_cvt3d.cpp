@@ -1,0 +1,256 @@
+// Tests of the 3D CVT (voroclip/cvt.h): the gradient against central differences of the
+// energy (constant and linear density), a known minimiser, Lloyd decreasing the energy,
+// sites constrained to a plane and a line, cancellation, 1 vs 2 threads, the sampler.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/cvt.h"
+
+using voroclip::Cvt3Options;
+using voroclip::CvtMethod;
+using voroclip::Domain3;
+using Kind3 = voroclip::SiteConstraint3::Kind;
+
+namespace {
+
+// [0, k]^3 cut into k^3 unit cubes of 6 tets each (Kuhn's triangulation: conforming).
+voroclip::TetMeshInput kuhn_cube(std::uint32_t k, double scale = 1.0) {
+  voroclip::TetMeshInput m;
+  m.source = "cube";
+  const auto id = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    return (z * (k + 1) + y) * (k + 1) + x;
+  };
+  for (std::uint32_t z = 0; z <= k; ++z) {
+    for (std::uint32_t y = 0; y <= k; ++y) {
+      for (std::uint32_t x = 0; x <= k; ++x) {
+        m.xyz.insert(m.xyz.end(), {scale * x, scale * y, scale * z});
+      }
+    }
+  }
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (std::uint32_t z = 0; z < k; ++z) {
+    for (std::uint32_t y = 0; y < k; ++y) {
+      for (std::uint32_t x = 0; x < k; ++x) {
+        for (const auto& p : perms) {
+          std::uint32_t c[3] = {x, y, z};
+          std::uint32_t tet[4];
+          tet[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++c[p[s]];
+            tet[s + 1] = id(c[0], c[1], c[2]);
+          }
+          m.tets.insert(m.tets.end(), tet, tet + 4);
+          m.tet_line.push_back(0);
+        }
+      }
+    }
+  }
+  return m;
+}
+
+// Central differences of the energy along every coordinate against the gradient.
+void check_gradient(const Domain3& d, const std::vector<double>& sites,
+                    const voroclip::Clip3Options& o) {
+  std::vector<double> g;
+  voroclip::cvt_energy3(d, sites, o, &g);
+  const double h = 1e-6;
+  double max_err = 0, max_g = 0;
+  for (std::size_t k = 0; k < sites.size(); ++k) {
+    std::vector<double> plus = sites, minus = sites;
+    plus[k] += h;
+    minus[k] -= h;
+    const double fd =
+        (voroclip::cvt_energy3(d, plus, o) - voroclip::cvt_energy3(d, minus, o)) / (2 * h);
+    max_err = std::max(max_err, std::fabs(fd - g[k]));
+    max_g = std::max(max_g, std::fabs(g[k]));
+  }
+  INFO("max |fd - g| = " << max_err << ", max |g| = " << max_g);
+  REQUIRE(max_g > 0);
+  REQUIRE(max_err <= 1e-6 * max_g);
+}
+
+}  // namespace
+
+TEST_CASE("cvt3d: gradient equals finite differences of the energy", "[cvt]") {
+  const Domain3 d(kuhn_cube(2));
+  const std::uint64_t seed = 17;
+  INFO("seed " << seed);
+  const std::vector<double> sites = voroclip::random_points3(d, 30, seed);
+  SECTION("constant density") { check_gradient(d, sites, {}); }
+  SECTION("linear density") {
+    voroclip::Clip3Options o;
+    for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+      const double* p = d.vertex(v);
+      o.vertex_density.push_back(1 + p[0] + 0.5 * p[2]);
+    }
+    check_gradient(d, sites, o);
+  }
+}
+
+TEST_CASE("cvt3d: eight sites in a cube converge to the centres of its octants", "[cvt]") {
+  // [0, 2]^3: the 2 x 2 x 2 grid of unit-cube centres; energy 8 * (3 / 12) = 2.
+  const Domain3 d(kuhn_cube(2));
+  for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+    INFO((method == CvtMethod::kLloyd ? "Lloyd" : "L-BFGS"));
+    std::vector<double> sites;
+    for (int k = 0; k < 8; ++k) {
+      const double c[3] = {0.5 + (k & 1), 0.5 + ((k >> 1) & 1), 0.5 + ((k >> 2) & 1)};
+      // A deterministic perturbation of up to 0.2 per coordinate.
+      for (int a = 0; a < 3; ++a) sites.push_back(c[a] + 0.2 * std::sin(1.7 * k + 2.3 * a + 0.4));
+    }
+    Cvt3Options o;
+    o.method = method;
+    o.max_iterations = 400;
+    o.gradient_tolerance = 1e-6;
+    const auto r = voroclip::optimize_cvt3(d, sites, o);
+    REQUIRE(r.converged);
+    for (int k = 0; k < 8; ++k) {
+      const double c[3] = {0.5 + (k & 1), 0.5 + ((k >> 1) & 1), 0.5 + ((k >> 2) & 1)};
+      for (int a = 0; a < 3; ++a) REQUIRE(std::fabs(sites[3 * k + a] - c[a]) < 1e-5);
+    }
+    REQUIRE(std::fabs(r.energy - 2.0) < 1e-9);
+  }
+}
+
+TEST_CASE("cvt3d: Lloyd decreases the energy; L-BFGS goes lower in as many evaluations", "[cvt]") {
+  const Domain3 d(
+      voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/sphere.mesh"));
+  const std::uint64_t seed = 5;
+  INFO("seed " << seed);
+  const std::vector<double> start = voroclip::random_points3(d, 150, seed);
+  std::vector<double> energies;
+  Cvt3Options o;
+  o.method = CvtMethod::kLloyd;
+  o.max_iterations = 12;
+  o.gradient_tolerance = 0;
+  o.progress = [&](const voroclip::CvtProgress& p) {
+    energies.push_back(p.energy);
+    return true;
+  };
+  std::vector<double> lloyd = start;
+  const auto rl = voroclip::optimize_cvt3(d, lloyd, o);
+  REQUIRE(energies.size() == 13);
+  for (std::size_t k = 1; k < energies.size(); ++k) REQUIRE(energies[k] < energies[k - 1]);
+  REQUIRE(rl.gradient_norm < 0.5 * rl.initial_gradient_norm);
+
+  o.method = CvtMethod::kLbfgs;
+  o.max_iterations = 1000;
+  o.progress = nullptr;
+  std::vector<double> lbfgs = start;
+  // Stop L-BFGS at Lloyd's evaluation budget.
+  std::uint32_t evaluations = 0;
+  o.progress = [&](const voroclip::CvtProgress&) { return ++evaluations <= rl.evaluations; };
+  const auto rb = voroclip::optimize_cvt3(d, lbfgs, o);
+  REQUIRE(rb.energy < rl.energy);
+}
+
+TEST_CASE("cvt3d: sites on a plane and on a line stay there and move along them", "[cvt]") {
+  const Domain3 d(kuhn_cube(2));
+  const std::uint64_t seed = 23;
+  INFO("seed " << seed);
+  std::vector<double> sites = voroclip::random_points3(d, 40, seed);
+  Cvt3Options o;
+  o.constraints.assign(40, Kind3::kFree);
+  // Sites 0-7 on the face z = 0, sites 8-11 on the edge y = z = 0, site 12 fixed.
+  for (int i = 0; i < 8; ++i) o.constraints[i] = Kind3::kSurface;
+  for (int i = 8; i < 12; ++i) o.constraints[i] = Kind3::kCurve;
+  o.constraints[12] = Kind3::kFixed;
+  const std::vector<double> fixed(sites.begin() + 36, sites.begin() + 39);
+  std::uint32_t calls = 0;
+  o.project = [&](std::uint32_t site, Kind3 kind, const double* p, double* q, double* dir) {
+    ++calls;
+    REQUIRE(kind == o.constraints[site]);
+    if (kind == Kind3::kSurface) {
+      q[0] = std::clamp(p[0], 0.0, 2.0);
+      q[1] = std::clamp(p[1], 0.0, 2.0);
+      q[2] = 0;
+      dir[0] = 0, dir[1] = 0, dir[2] = -1;
+    } else {
+      q[0] = std::clamp(p[0], 0.0, 2.0);
+      q[1] = q[2] = 0;
+      dir[0] = 1, dir[1] = 0, dir[2] = 0;
+    }
+  };
+  o.max_iterations = 60;
+  o.gradient_tolerance = 1e-8;
+  const auto r = voroclip::optimize_cvt3(d, sites, o);
+  REQUIRE(calls > 0);
+  REQUIRE(r.gradient_norm < 1e-2 * r.initial_gradient_norm);
+  for (int i = 0; i < 8; ++i) REQUIRE(sites[3 * i + 2] == 0);
+  for (int i = 8; i < 12; ++i) {
+    REQUIRE(sites[3 * i + 1] == 0);
+    REQUIRE(sites[3 * i + 2] == 0);
+  }
+  REQUIRE(std::vector<double>(sites.begin() + 36, sites.begin() + 39) == fixed);
+  // At the optimum the tangential gradient vanishes: on the face, site 0's cell centroid
+  // lies above it (same x, y).
+  std::vector<double> g;
+  voroclip::cvt_energy3(d, sites, {}, &g);
+  double tangential = 0, normal = 0;
+  for (int i = 0; i < 8; ++i) {
+    tangential = std::max({tangential, std::fabs(g[3 * i]), std::fabs(g[3 * i + 1])});
+    normal = std::max(normal, std::fabs(g[3 * i + 2]));
+  }
+  INFO("tangential " << tangential << ", normal " << normal);
+  REQUIRE(tangential < 1e-2 * normal);
+}
+
+TEST_CASE("cvt3d: cancel from the progress callback; identical with 1 and 2 threads", "[cvt]") {
+  const Domain3 d(
+      voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/sphere.mesh"));
+  const std::vector<double> start = voroclip::random_points3(d, 200, 99);
+  Cvt3Options o;
+  o.max_iterations = 8;
+  o.gradient_tolerance = 0;
+  std::vector<double> one = start, two = start;
+  voroclip::Cvt3Result r1, r2;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    r1 = voroclip::optimize_cvt3(d, one, o);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    r2 = voroclip::optimize_cvt3(d, two, o);
+  }
+  REQUIRE(one == two);
+  REQUIRE(r1.energy == r2.energy);
+  REQUIRE(r1.evaluations == r2.evaluations);
+
+  std::vector<double> sites = start;
+  o.progress = [](const voroclip::CvtProgress& p) { return p.iteration < 3; };
+  const auto rc = voroclip::optimize_cvt3(d, sites, o);
+  REQUIRE(rc.cancelled);
+  REQUIRE(rc.iterations == 3);
+}
+
+TEST_CASE("random_points3: uniform and linear-density samples", "[cvt]") {
+  const Domain3 d(kuhn_cube(2));
+  const std::uint32_t n = 200000;
+  const auto mean_x = [](const std::vector<double>& xyz) {
+    double s = 0;
+    for (std::size_t i = 0; i < xyz.size(); i += 3) s += xyz[i];
+    return s / static_cast<double>(xyz.size() / 3);
+  };
+  const std::vector<double> u = voroclip::random_points3(d, n, 1);
+  REQUIRE(u.size() == 3 * std::size_t{n});
+  for (const double c : u) REQUIRE((c >= 0 && c <= 2));
+  REQUIRE(u == voroclip::random_points3(d, n, 1));
+  // Uniform on [0, 2]: mean 1, standard error 0.577 / sqrt(n) = 0.0013.
+  REQUIRE(std::fabs(mean_x(u) - 1.0) < 0.01);
+  // rho = 1 + x: E[x] = ∫x(1 + x) / ∫(1 + x) over [0, 2] = (2 + 8/3) / 4 = 7/6.
+  std::vector<double> rho;
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) rho.push_back(1 + d.vertex(v)[0]);
+  const std::vector<double> w = voroclip::random_points3(d, n, 2, &rho);
+  REQUIRE(std::fabs(mean_x(w) - 7.0 / 6) < 0.01);
+  rho[0] = -1;
+  REQUIRE_THROWS_WITH(voroclip::random_points3(d, 10, 2, &rho),
+                      Catch::Contains("density") && Catch::Contains("vertex 0"));
+}
