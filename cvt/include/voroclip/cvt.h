@@ -85,7 +85,8 @@ struct Cvt2Options {
   std::vector<BoundaryPath2> paths;
 };
 
-struct Cvt2Result {
+// The outcome of a CVT optimisation (2D and 3D).
+struct CvtResult {
   std::uint32_t iterations = 0;
   std::uint32_t evaluations = 0;  // clipped diagrams computed
   double energy = 0;
@@ -94,6 +95,7 @@ struct Cvt2Result {
   bool converged = false;
   bool cancelled = false;
 };
+using Cvt2Result = CvtResult;
 
 // The CVT energy and its gradient (2 per site; constrained sites: projected as above) at
 // the given sites. One Delaunay triangulation and one clipped diagram.
@@ -151,15 +153,7 @@ struct Cvt3Options {
   SiteProjector3 project;
 };
 
-struct Cvt3Result {
-  std::uint32_t iterations = 0;
-  std::uint32_t evaluations = 0;  // clipped diagrams computed
-  double energy = 0;
-  double gradient_norm = 0, initial_gradient_norm = 0;
-  double seconds = 0;
-  bool converged = false;
-  bool cancelled = false;
-};
+using Cvt3Result = CvtResult;
 
 // The CVT energy at the given sites (packed x y z) and, optionally, its gradient (3 per
 // site, unconstrained: 2 m_i (x_i - c_i)). One Delaunay triangulation, one clipped diagram.
