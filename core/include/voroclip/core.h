@@ -274,4 +274,158 @@ void write_surface(const std::string& path, const TriangleSurface& surface);
 /// three or more tets are not boundary; triangle_line is the tet's line. O(n log n).
 TriangleSurface tet_mesh_boundary(const TetMeshInput& mesh);
 
+/// Closest points on a triangle surface, for snapping and re-projecting points onto it.
+///
+/// A bounding-volume hierarchy over the triangles (median splits along the longest axis of
+/// the centroids' box, leaves of up to 4 triangles, their corners copied in leaf order),
+/// built once in O(n log n). A query visits the nearer child first and skips every box
+/// farther than the best distance so far. Distances are computed in double precision by
+/// the region test of the point against the triangle's vertices and edges, then its
+/// plane: a few ulps of relative error, no epsilon; a triangle of zero area counts as its
+/// three edges. The answer is the pair (squared distance, triangle index)
+/// that is smallest in lexicographic order, so it does not depend on the traversal or on
+/// the hint: ties (a closest point on an edge or vertex shared by several triangles) go to
+/// the lowest triangle index. Queries are const and thread-safe.
+class SurfaceTree {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  /// Where the closest point lies on its triangle.
+  enum class Feature : std::uint8_t {
+    kFace,    // inside the triangle
+    kEdge,    // on edge `index` (opposite corner `index`, from corner index+1 to index+2)
+    kVertex,  // at corner `index`
+  };
+
+  struct Closest {
+    double point[3] = {0, 0, 0};
+    double distance2 = 0;  // squared distance from the query point
+    std::uint32_t triangle = kNone;
+    Feature feature = Feature::kFace;
+    std::uint8_t index = 0;
+    /// The unit pseudo-normal at the point (Baerentzen and Aanaes 2005): the triangle's
+    /// normal inside it, the normalised sum of the normals of the triangles sharing the
+    /// edge on an edge, the angle-weighted mean of the normals around the vertex at a
+    /// vertex. Orientation by the right-hand rule of the triangles, so outward for an
+    /// outward surface; the sign of dot(query - point, normal) tells the side then. Zero
+    /// only where every triangle around is degenerate.
+    double normal[3] = {0, 0, 0};
+  };
+
+  SurfaceTree() = default;
+  /// Copies what it needs from `surface` (which may then go away). Throws Error for an
+  /// index out of range or a non-finite coordinate of a used vertex; an empty surface
+  /// gives a tree whose queries return triangle == kNone.
+  explicit SurfaceTree(const TriangleSurface& surface);
+
+  /// The closest point of the surface to p (triangle == kNone for a non-finite p, or when
+  /// the squared distance overflows).
+  Closest closest(const double* p) const { return closest(p, kNone); }
+  /// The same answer, usually faster when `hint` is a triangle near the answer (the
+  /// previous answer for a point that moved a little): its distance bounds the search.
+  Closest closest(const double* p, std::uint32_t hint) const;
+
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(leaf_triangle_.size()); }
+  /// The unit normal of triangle t (input index) by the right-hand rule, zero if degenerate.
+  const double* triangle_normal(std::uint32_t t) const { return &face_normal_[3 * std::size_t{t}]; }
+  /// Bounding box of the triangles' corners (zeros for an empty surface).
+  const double* bbox_lo() const { return bbox_; }
+  const double* bbox_hi() const { return bbox_ + 3; }
+
+ private:
+  struct Node {
+    double lo[3], hi[3];
+    // Leaf: triangles [first, first + count) in leaf order; inner: children first and
+    // first + 1, count == 0.
+    std::uint32_t first, count;
+  };
+  std::vector<Node> nodes_;
+  std::vector<double> corners_;               // 9 per triangle, leaf order
+  std::vector<std::uint32_t> leaf_triangle_;  // leaf order -> input index
+  std::vector<std::uint32_t> leaf_of_;        // input index -> leaf order
+  std::vector<std::uint32_t> triangles_;      // 3 per triangle, input order
+  std::vector<double> face_normal_;           // 3 per triangle, input order
+  std::vector<double> edge_normal_;           // 9 per triangle, input order: edge e's normal
+  std::vector<double> vertex_normal_;         // 3 per surface vertex
+  double bbox_[6] = {0, 0, 0, 0, 0, 0};
+};
+
+/// Sharp feature lines of a triangle surface, for meshing with crisp edges and corners.
+///
+/// An edge is sharp when the angle between the normals of its two triangles exceeds
+/// `feature_angle_deg` (i.e. its dihedral angle is below 180 - feature_angle_deg); an edge
+/// not shared by exactly two triangles (a border or a non-manifold edge) is always a
+/// feature; an edge of a zero-area triangle (no normal) shared by two triangles is not. Corners are
+/// the vertices where a number of feature edges other than 0 and 2 meet. Feature edges are chained
+/// into lines: each line runs from a corner to a corner (possibly the same) through vertices with
+/// exactly two feature edges; feature edges left over form closed loops (first vertex == last
+/// vertex, closed). Lines start at corners in increasing vertex order, along their edges in
+/// increasing order of the other vertex; loops start at their lowest vertex, towards its lower
+/// neighbour.
+struct FeatureLines {
+  /// Vertices (surface indices) of line l: line_vertices[line_begin[l] .. line_begin[l+1]).
+  std::vector<std::uint32_t> line_begin{0};
+  std::vector<std::uint32_t> line_vertices;
+  /// Per line: 1 for a closed loop without corner (its last vertex repeats its first).
+  std::vector<std::uint8_t> line_closed;
+  /// Corner vertices, increasing.
+  std::vector<std::uint32_t> corners;
+  std::uint32_t nb_feature_edges = 0;
+
+  std::uint32_t nb_lines() const { return static_cast<std::uint32_t>(line_closed.size()); }
+};
+
+/// The angle between the normals above which an edge is sharp, by default: 40 degrees
+/// (a dihedral angle below 140 degrees). On fandisk it keeps every crease of the part and
+/// nothing of its smooth faces (see the tests).
+constexpr double kDefaultFeatureAngleDeg = 40.0;
+
+/// Extracts the feature lines of `surface` (see FeatureLines). O(n log n).
+FeatureLines extract_feature_lines(const TriangleSurface& surface,
+                                   double feature_angle_deg = kDefaultFeatureAngleDeg);
+
+/// Closest points on feature lines, and their arclength parametrisation. A hierarchy of
+/// boxes over each line's segments; thread-safe const queries; ties go to the lowest
+/// (line, segment).
+class FeatureTree {
+ public:
+  struct Closest {
+    double point[3] = {0, 0, 0};
+    double distance2 = 0;
+    std::uint32_t line = SurfaceTree::kNone;
+    std::uint32_t segment = 0;      // between the line's vertices segment and segment + 1
+    double t = 0;                   // in [0, 1] along the segment
+    double arclength = 0;           // from the line's first vertex
+    double tangent[3] = {0, 0, 0};  // unit, along the line's direction (zero: empty segment)
+  };
+
+  FeatureTree() = default;
+  FeatureTree(const TriangleSurface& surface, const FeatureLines& lines);
+
+  /// The closest point on any line / on line `line` only.
+  Closest closest(const double* p) const;
+  Closest closest(const double* p, std::uint32_t line) const;
+
+  std::uint32_t nb_lines() const { return static_cast<std::uint32_t>(line_node_.size()); }
+  bool closed(std::uint32_t line) const { return closed_[line] != 0; }
+  double length(std::uint32_t line) const { return arclength_[point_begin_[line + 1] - 1]; }
+  /// The point at arclength s on a line (clamped to [0, length]; wrapped for a closed
+  /// line) and, optionally, the unit tangent there.
+  void eval(std::uint32_t line, double s, double* xyz, double* tangent = nullptr) const;
+
+ private:
+  struct Node {
+    double lo[3], hi[3];
+    std::uint32_t first, count;  // as SurfaceTree::Node, over segments
+  };
+  Closest closest_on(const double* p, std::uint32_t line, double best2) const;
+  std::vector<double> points_;                 // 3 per line vertex, lines one after another
+  std::vector<double> arclength_;              // per line vertex
+  std::vector<std::uint32_t> point_begin_{0};  // per line + 1
+  std::vector<std::uint8_t> closed_;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> line_node_;  // root node of each line's tree
+  std::vector<std::uint32_t> segments_;   // leaf order -> segment (global first point index)
+};
+
 }  // namespace voroclip
