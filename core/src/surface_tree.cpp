@@ -248,9 +248,13 @@ SurfaceTree::SurfaceTree(const TriangleSurface& surface) {
       }
     }
   }
-  for (int c = 0; c < 3; ++c) {
-    bbox_[c] = nodes_[0].lo[c];
-    bbox_[3 + c] = nodes_[0].hi[c];
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int c = 0; c < 3; ++c) {
+      const double lo = box[6 * std::size_t{t} + static_cast<std::size_t>(c)];
+      const double hi = box[6 * std::size_t{t} + 3 + static_cast<std::size_t>(c)];
+      bbox_[c] = t == 0 ? lo : std::min(bbox_[c], lo);
+      bbox_[3 + c] = t == 0 ? hi : std::max(bbox_[3 + c], hi);
+    }
   }
 }
 

@@ -276,16 +276,15 @@ TriangleSurface tet_mesh_boundary(const TetMeshInput& mesh);
 
 /// Closest points on a triangle surface, for snapping and re-projecting points onto it.
 ///
-/// A bounding-volume hierarchy over the triangles (median splits along the longest axis of
-/// the centroids' box, leaves of up to 4 triangles, their corners copied in leaf order),
-/// built once in O(n log n). A query visits the nearer child first and skips every box
-/// farther than the best distance so far. Distances are computed in double precision by
-/// the region test of the point against the triangle's vertices and edges, then its
-/// plane: a few ulps of relative error, no epsilon; a triangle of zero area counts as its
-/// three edges. The answer is the pair (squared distance, triangle index)
-/// that is smallest in lexicographic order, so it does not depend on the traversal or on
-/// the hint: ties (a closest point on an edge or vertex shared by several triangles) go to
-/// the lowest triangle index. Queries are const and thread-safe.
+/// A bounding-volume hierarchy over the triangles (binned surface-area heuristic, leaves of
+/// up to 2 triangles, their corners copied in leaf order), built once in O(n log n). A query visits
+/// the nearer child first and skips every box farther than the best distance so far. Distances are
+/// computed in double precision by the region test of the point against the triangle's vertices and
+/// edges, then its plane: a few ulps of relative error, no epsilon; a triangle of zero area counts
+/// as its three edges. The answer is the pair (squared distance, triangle index) that is smallest
+/// in lexicographic order, so it does not depend on the traversal or on the hint: ties (a closest
+/// point on an edge or vertex shared by several triangles) go to the lowest triangle index. Queries
+/// are const and thread-safe.
 class SurfaceTree {
  public:
   static constexpr std::uint32_t kNone = 0xffffffffu;
