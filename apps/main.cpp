@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
       "clip3d", "Voronoi diagram of sites clipped to the volume of a tetrahedral mesh (exact)");
   clip3d
       ->add_option("DOMAIN", clip3d_args.domain,
-                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII) or "
-                   "legacy VTK .vtk")
+                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII), "
+                   "legacy VTK .vtk or VTK XML .vtu")
       ->required()
       ->type_name("MESH");
   clip3d
