@@ -183,7 +183,9 @@ void write_quality_json(std::ostream& out, const TetQuality& q, const HausdorffD
 }
 
 void write_quality_svg(std::ostream& out, const TetQuality& q, const std::string& title) {
-  constexpr int kWidth = 960, kHeight = 640, kPanelW = 440, kPanelH = 240;
+  // Two rows of two panels; each panel: its name above, bars, axis labels, then a line of
+  // min / mean / max below.
+  constexpr int kWidth = 960, kHeight = 680, kPanelW = 420, kPanelH = 230;
   struct Panel {
     const char* name;
     const std::vector<std::uint64_t>* bins;
@@ -227,7 +229,7 @@ void write_quality_svg(std::ostream& out, const TetQuality& q, const std::string
   out << "</text>\n";
   for (int k = 0; k < 4; ++k) {
     const Panel& p = panels[k];
-    const int x0 = 40 + (k % 2) * (kPanelW + 40), y0 = 60 + (k / 2) * (kPanelH + 60);
+    const int x0 = 40 + (k % 2) * (kPanelW + 60), y0 = 60 + (k / 2) * (kPanelH + 80);
     std::uint64_t peak = 0;
     for (const std::uint64_t c : *p.bins) peak = std::max(peak, c);
     out << "<g>\n<text x=\"" << x0 << "\" y=\"" << y0 - 8 << "\" font-size=\"13\">"
@@ -250,7 +252,7 @@ void write_quality_svg(std::ostream& out, const TetQuality& q, const std::string
       out << "<text x=\"" << x0 + kPanelW * t / 4 << "\" y=\"" << y0 + kPanelH + 16
           << "\" text-anchor=\"middle\">" << fixed(v, p.hi > 1 ? 0 : 2) << "</text>\n";
     }
-    out << "<text x=\"" << x0 + kPanelW << "\" y=\"" << y0 + 12 << "\" text-anchor=\"end\">min "
+    out << "<text x=\"" << x0 << "\" y=\"" << y0 + kPanelH + 36 << "\">min "
         << fixed(p.stat->min, p.decimals) << "  mean " << fixed(p.stat->mean, p.decimals)
         << "  max " << fixed(p.stat->max, p.decimals) << "</text>\n</g>\n";
   }

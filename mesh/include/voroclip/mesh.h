@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "voroclip/core.h"
-#include "voroclip/cvt.h"
 
 namespace voroclip {
 
