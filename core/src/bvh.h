@@ -12,6 +12,7 @@
 namespace voroclip::detail {
 
 constexpr std::uint32_t kBvhLeafSize = 2;
+constexpr std::uint32_t kSahDepth = 48;
 
 // Squared distance from p to the box [lo, hi] (0 inside).
 inline double box_distance2(const double* lo, const double* hi, const double* p) {
@@ -44,9 +45,9 @@ std::uint32_t build_bvh(const std::vector<double>& box, std::uint32_t n, std::ve
   const auto root = static_cast<std::uint32_t>(nodes.size());
   nodes.emplace_back();
   struct Task {
-    std::uint32_t node, begin, end;
+    std::uint32_t node, begin, end, depth;
   };
-  std::vector<Task> stack{{root, 0, n}};
+  std::vector<Task> stack{{root, 0, n, 0}};
   const auto centre = [&](std::uint32_t i, int k) {
     return box[6 * std::size_t{i} + static_cast<std::size_t>(k)] +
            box[6 * std::size_t{i} + 3 + static_cast<std::size_t>(k)];
@@ -80,12 +81,13 @@ std::uint32_t build_bvh(const std::vector<double>& box, std::uint32_t n, std::ve
       continue;
     }
     // Binned surface-area heuristic: over each axis, kBins bins of the centres; the split
-    // minimising area(left) n_left + area(right) n_right. Degenerate extents (all centres
-    // equal along every axis) fall back to the median of the index order.
+    // minimising area(left) n_left + area(right) n_right. Below depth kSahDepth, and when
+    // every centre is equal, the median of the centres along the longest axis instead: the
+    // depth stays under kSahDepth + 33, which bounds the traversal's stack.
     constexpr int kBins = 16;
     double best_cost = std::numeric_limits<double>::infinity();
     int best_axis = -1, best_bin = 0;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3 && task.depth < kSahDepth; ++k) {
       const double extent = chi[k] - clo[k];
       if (!(extent > 0)) continue;
       double blo[kBins][3], bhi[kBins][3];
@@ -154,14 +156,24 @@ std::uint32_t build_bvh(const std::vector<double>& box, std::uint32_t n, std::ve
                                                         kBins)) <= best_bin;
           });
       mid = static_cast<std::uint32_t>(split - order.begin());
+    } else {
+      int axis = 0;
+      for (int k = 1; k < 3; ++k) {
+        if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+      }
+      std::nth_element(order.begin() + task.begin, order.begin() + mid, order.begin() + task.end,
+                       [&](std::uint32_t a, std::uint32_t b) {
+                         const double ca = centre(a, axis), cb = centre(b, axis);
+                         return ca < cb || (ca == cb && a < b);
+                       });
     }
     const auto children = static_cast<std::uint32_t>(nodes.size());
     nodes[task.node].first = children;
     nodes[task.node].count = 0;
     nodes.emplace_back();
     nodes.emplace_back();
-    stack.push_back({children + 1, mid, task.end});
-    stack.push_back({children, task.begin, mid});
+    stack.push_back({children + 1, mid, task.end, task.depth + 1});
+    stack.push_back({children, task.begin, mid, task.depth + 1});
   }
   return root;
 }
@@ -176,6 +188,7 @@ void nearest_leaves(const std::vector<Node>& nodes, std::uint32_t root, const do
     std::uint32_t node;
     double d2;
   };
+  // At most one deferred sibling per level: depth < kSahDepth + 33 < 128 (build_bvh).
   Entry stack[128];
   int top = 0;
   stack[top++] = {root, box_distance2(nodes[root].lo, nodes[root].hi, p)};

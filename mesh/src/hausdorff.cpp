@@ -86,6 +86,9 @@ OneSidedDistance sampled_distance(const TriangleSurface& from, const SurfaceTree
 
   const auto measure = [&](const double* p, std::uint32_t& hint, Slot& slot) {
     const SurfaceTree::Closest c = to.closest(p, hint);
+    if (c.triangle == SurfaceTree::kNone) {
+      throw Error(from.source + ": a squared distance overflows (coordinates too large)");
+    }
     hint = c.triangle;
     const double d = std::sqrt(c.distance2);
     if (d > slot.max) {

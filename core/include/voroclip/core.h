@@ -401,7 +401,7 @@ class FeatureTree {
   FeatureTree() = default;
   FeatureTree(const TriangleSurface& surface, const FeatureLines& lines);
 
-  /// The closest point on any line / on line `line` only.
+  /// The closest point on any line (line == kNone when there is none) / on line `line`.
   Closest closest(const double* p) const;
   Closest closest(const double* p, std::uint32_t line) const;
 
