@@ -32,9 +32,6 @@ V3 operator-(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] 
 V3 operator+(const V3& a, const V3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 V3 operator*(double s, const V3& a) { return {s * a[0], s * a[1], s * a[2]}; }
 double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 
 double segment_distance2(const V3& p, const V3& a, const V3& b) {
   const V3 ab = b - a;
@@ -44,19 +41,19 @@ double segment_distance2(const V3& p, const V3& a, const V3& b) {
   return dot(d, d);
 }
 
-// Independent oracle: the projection on the plane when its barycentric coordinates
-// (solved by Cramer's rule) are all >= 0, else the nearest of the three edges.
+// Independent oracle: the minimiser of |p - a - s (b - a) - t (c - a)|^2 over the plane,
+// from the 2 x 2 normal equations, when it lies in the triangle (s, t >= 0, s + t <= 1);
+// else the nearest of the three edges.
 double triangle_distance2(const V3& p, const V3& a, const V3& b, const V3& c) {
-  const V3 n = cross(b - a, c - a);
-  const double nn = dot(n, n);
-  if (nn > 0) {
-    const V3 q = p - (dot(p - a, n) / nn) * n;
-    const double u = dot(cross(b - q, c - q), n) / nn;
-    const double v = dot(cross(c - q, a - q), n) / nn;
-    const double w = 1 - u - v;
-    if (u >= 0 && v >= 0 && w >= 0) {
-      const double h = dot(p - a, n);
-      return h * h / nn;
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double aa = dot(ab, ab), bb = dot(ab, ac), cc = dot(ac, ac);
+  const double dd = dot(ab, ap), ee = dot(ac, ap);
+  const double det = aa * cc - bb * bb;
+  if (det > 0) {
+    const double s = (cc * dd - bb * ee) / det, t = (aa * ee - bb * dd) / det;
+    if (s >= 0 && t >= 0 && s + t <= 1) {
+      const V3 d = ap - s * ab - t * ac;
+      return dot(d, d);
     }
   }
   return std::min(
@@ -367,4 +364,34 @@ TEST_CASE("FeatureTree: closest points on lines equal brute force; arclength", "
   CHECK(a == V3{1, 0, 0});  // line 0 is 0 -> 1, length 1: clamped
   cubes.eval(0, -5, a.data());
   CHECK(a == V3{0, 0, 0});
+}
+
+TEST_CASE("SurfaceTree: triangles growing geometrically (a deep heuristic tree)",
+          "[core][regression]") {
+  // Each triangle 2.5 times the previous one, side by side: the last one is larger than
+  // all the others together, so the area heuristic splits off a few of the largest at
+  // each level (depth 64 here, against 8 for median splits). The build switches to median
+  // splits below depth 48, which bounds the traversal's stack (bvh.h). Sizes up to
+  // 2.5^160 ~ 1e63: squares stay far from overflow.
+  TriangleSurface s;
+  s.source = "geometric";
+  const std::uint32_t n = 160;
+  double x = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double size = std::pow(2.5, i);
+    s.xyz.insert(s.xyz.end(), {x, 0, 0, x + size, 0, 0, x, size, 0.001 * size});
+    s.triangles.insert(s.triangles.end(), {3 * i, 3 * i + 1, 3 * i + 2});
+    x += size;
+  }
+  const SurfaceTree tree(s);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int q = 0; q < 200; ++q) {
+    // Near a random triangle, at its scale (the oracle is well conditioned there).
+    const auto t = static_cast<std::uint32_t>(rng() % n);
+    const double* a = &s.xyz[9 * std::size_t{t}];
+    const double size = s.xyz[9 * std::size_t{t} + 3] - a[0];
+    const V3 p = {a[0] + size * (2 * u(rng) - 0.5), size * u(rng), size * (u(rng) - 0.5)};
+    CHECK(tree.closest(p.data()).distance2 == Approx(brute_force2(s, p)).epsilon(1e-9));
+  }
 }
