@@ -1,0 +1,476 @@
+// The restricted surface of the 3D clipped Voronoi diagram (Yan et al. 2011, sec. 4.1),
+// triangle by triangle rather than by the paper's global propagation, so that triangles go
+// in parallel and the result, concatenated in triangle order, does not depend on the
+// thread count.
+//
+// 1. The cell of every boundary vertex of the mesh (the perturbed nearest site: the
+//    descent over Delaunay neighbours decides with bisector_side_vertex3d), in the order of
+//    a breadth-first walk over the surface, each from the previous one's cell; a chunk of
+//    vertices starts from an exact nearest-site query.
+// 2. Per boundary triangle: when its three corners lie in one cell, so does the triangle
+//    (cells are convex; under the perturbation the corners are strictly inside); else the
+//    cells of its corners, then every cell across a bisector edge of a polygon found, are
+//    clipped against the triangle (Sutherland-Hodgman on symbolic vertices: exact). A
+//    bisector is skipped without a predicate when the three corners are certainly on the
+//    cell's side of it (certainly_nearer).
+// 3. Per polygon of cell c, the divergence theorem's share of ∂(C_c ∩ Ω) that the surface
+//    knows (clip3d_cells.cpp has the rest): the cones from p_c over the polygon (outward:
+//    the triangle's orientation reversed) and, over each polygon edge on bisector(c, j), the
+//    cone over the triangle (foot of p_c on the bisector, edge) — the edge bounds the facet
+//    of c on bisector(c, j) inside the volume. A polygon vertex on two bisectors (c, k),
+//    (c, l) is where the Voronoi edge of c, k, l crosses the surface; the polygon of the
+//    smallest of the three records it.
+// 4. Per Voronoi edge, its crossings are counted; with one crossing,
+//    voronoi_edge_direction3d tells which way it leaves the volume. Cells with a Voronoi
+//    edge crossing twice or more are clipped tet by tet (the order of the crossings along
+//    the edge would be needed).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "clip3d_internal.h"
+
+namespace voroclip {
+
+using namespace clip3;
+
+namespace {
+
+constexpr std::uint32_t kTriangleChunk = 128;
+constexpr std::uint32_t kVertexChunk = 256;
+
+std::uint64_t hash3(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  std::uint64_t h =
+      (std::uint64_t{a} * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t{b} + 0x632be59bd9b4e019ull);
+  h = (h ^ (h >> 29)) * 0xbf58476d1ce4e5b9ull;
+  h ^= std::uint64_t{c} * 0x94d049bb133111ebull;
+  return h ^ (h >> 31);
+}
+
+}  // namespace
+
+// Per chunk of triangles, its polygons in triangle order.
+struct Clip3Impl::SurfaceChunk {
+  std::vector<std::uint32_t> cell, tri;
+  std::vector<double> sums;  // per polygon: volume, moment (3), energy, area
+  std::vector<std::uint32_t> begin{0};
+  std::vector<ClipVertex3> verts;  // keep_surface
+  std::vector<double> xyz;         // keep_surface
+  std::vector<Crossing> crossings;
+};
+
+void Clip3Impl::star(std::uint32_t v, Star& s) const {
+  const std::uint32_t slots = dt.nb_tet_slots();
+  if (s.mark.size() != slots || s.next > 0xf0000000u) {
+    s.mark.assign(slots, 0);
+    s.next = 1;
+  }
+  s.first = s.next;
+  s.tets.clear();
+  const std::uint32_t t0 = dt.vertex_tet(v);
+  s.mark[t0] = s.first;
+  s.tets.push_back(t0);
+  for (std::size_t q = 0; q < s.tets.size(); ++q) {
+    const std::uint32_t t = s.tets[q];
+    for (int f = 0; f < 4; ++f) {
+      if (dt.tet_vertex(t, f) == v) continue;  // the facet opposite v does not contain v
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (s.mark[t2] < s.first) {
+        s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
+        s.tets.push_back(t2);
+      }
+    }
+  }
+  s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
+}
+
+std::pair<const std::uint32_t*, std::uint32_t> Clip3Impl::neighbors(std::uint32_t c,
+                                                                    ThreadScratch& s) const {
+  if (s.nbr_offset.size() != n) s.nbr_offset.assign(n, kNone);
+  std::uint32_t off = s.nbr_offset[c];
+  if (off == kNone) {
+    if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
+      s.site_mark.assign(n, 0);
+      s.site_gen = 0;
+    }
+    const std::uint32_t gen = ++s.site_gen;
+    star(c, s.star);
+    off = static_cast<std::uint32_t>(s.nbr_pool.size());
+    s.nbr_pool.push_back(0);
+    for (const std::uint32_t t : s.star.tets) {
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = dt.tet_vertex(t, k);
+        if (w == c || w == Delaunay3::kInfinite || s.site_mark[w] == gen) continue;
+        s.site_mark[w] = gen;
+        s.nbr_pool.push_back(w);
+      }
+    }
+    s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 1;
+    s.nbr_offset[c] = off;
+  }
+  return {s.nbr_pool.data() + off + 1, s.nbr_pool[off]};
+}
+
+// The cell of point p (perturbed): greedy descent from c. If p is not in cell c, a
+// Delaunay neighbour k has f_ck(p) > 0, and the power distance decreases at each step.
+std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch& s) const {
+  for (;;) {
+    const auto [list, count] = neighbors(c, s);
+    const double* pc = site(c);
+    std::uint32_t next = kNone;
+    for (std::uint32_t q = 0; q < count; ++q) {
+      const std::uint32_t k = list[q];
+      if (certainly_nearer(p, pc, site(k))) continue;
+      if (bisector_side_vertex3d(pc, site(k), p, c, k) == Sign::positive) {
+        next = k;
+        break;
+      }
+    }
+    if (next == kNone) return c;
+    c = next;
+  }
+}
+
+void Clip3Impl::compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
+  const std::uint32_t nb = domain.nb_boundary_triangles();
+  std::vector<std::uint32_t> order, queue;
+  std::vector<std::uint8_t> seen(domain.nb_vertices(), 0), tri_seen(nb, 0);
+  for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
+    if (tri_seen[b0]) continue;
+    tri_seen[b0] = 1;
+    queue.assign(1, b0);
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const std::uint32_t b = queue[h];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = domain.boundary_vertex(b, k);
+        if (!seen[v]) {
+          seen[v] = 1;
+          order.push_back(v);
+        }
+        const std::uint32_t b2 = domain.boundary_adjacent(b, k);
+        if (b2 != Domain3::kNone && !tri_seen[b2]) {
+          tri_seen[b2] = 1;
+          queue.push_back(b2);
+        }
+      }
+    }
+  }
+  vertex_cell.assign(domain.nb_vertices(), kNone);
+  const auto nb_chunks =
+      static_cast<std::uint32_t>((order.size() + kVertexChunk - 1) / kVertexChunk);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
+    ThreadScratch& s = ts.local();
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      const std::size_t end = std::min(order.size(), std::size_t{k + 1} * kVertexChunk);
+      std::uint32_t c = kNone;
+      for (std::size_t q = std::size_t{k} * kVertexChunk; q < end; ++q) {
+        const double* p = domain.vertex(order[q]);
+        if (c == kNone) c = dt.nearest_vertex(p);
+        c = descend(p, c, s);
+        vertex_cell[order[q]] = c;
+      }
+    }
+  });
+}
+
+// The polygon of triangle b in cell c: integrals, crossings, geometry (see the top).
+void Clip3Impl::emit_polygon(std::uint32_t b, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
+                             SurfaceChunk& chunk) const {
+  const std::uint32_t t = domain.boundary_tet(b);
+  const std::size_t m = p.size();
+  const double* pc = site(c);
+  s.xyz.resize(3 * m);
+  s.rel.resize(3 * m);
+  for (std::size_t k = 0; k < m; ++k) {
+    coords(p.v[k], t, c, &s.xyz[3 * k]);
+    for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
+  }
+  const auto x = [&](std::size_t k) { return &s.rel[3 * (k == m ? 0 : k)]; };
+  Moments r;
+  double area[3] = {0, 0, 0};
+  for (std::size_t k = 1; k + 1 < m; ++k) {
+    const double* o = x(0);
+    const double* u = x(k);
+    const double* w = x(k + 1);
+    const double a[3] = {u[0] - o[0], u[1] - o[1], u[2] - o[2]};
+    const double d[3] = {w[0] - o[0], w[1] - o[1], w[2] - o[2]};
+    area[0] += a[1] * d[2] - a[2] * d[1];
+    area[1] += a[2] * d[0] - a[0] * d[2];
+    area[2] += a[0] * d[1] - a[1] * d[0];
+    add_cone(o, w, u, r);  // reversed: outward
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    if (is_facet(p.e[k])) continue;
+    const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
+    const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
+    add_cone(h, x(k), x(k + 1), r);
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    const Plane e0 = p.e[k == 0 ? m - 1 : k - 1], e1 = p.e[k];
+    if (is_facet(e0) || is_facet(e1)) continue;
+    const auto k0 = static_cast<std::uint32_t>(e0), k1 = static_cast<std::uint32_t>(e1);
+    if (c > k0 || c > k1) continue;
+    Crossing cr{};
+    cr.s[0] = c;
+    cr.s[1] = std::min(k0, k1);
+    cr.s[2] = std::max(k0, k1);
+    cr.tri = b;
+    for (int q = 0; q < 3; ++q) cr.x[q] = s.xyz[3 * k + q];
+    chunk.crossings.push_back(cr);
+  }
+  chunk.cell.push_back(c);
+  chunk.tri.push_back(b);
+  chunk.sums.insert(chunk.sums.end(),
+                    {r.volume, r.moment[0], r.moment[1], r.moment[2], r.energy,
+                     0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2])});
+  if (keep_surface) {
+    for (std::size_t k = 0; k < m; ++k) {
+      chunk.verts.push_back(symbolic(p.v[k], t, c));
+      for (int q = 0; q < 3; ++q) chunk.xyz.push_back(s.xyz[3 * k + q]);
+    }
+    chunk.begin.push_back(static_cast<std::uint32_t>(chunk.verts.size()));
+  }
+}
+
+void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& chunk) const {
+  const std::uint32_t t = domain.boundary_tet(b);
+  const int f = domain.boundary_facet(b);
+  const int* lv = Domain3::kTetFacetVertex[f];
+  // The triangle: corner k is tet vertex lv[k] (on the three facets other than lv[k]'s
+  // opposite one), the edge from corner k to k + 1 on the facet opposite corner k + 2.
+  const auto init = [&](TriPoly& p) {
+    p.clear();
+    for (int k = 0; k < 3; ++k) {
+      PVertex v{};
+      int q = 0;
+      for (int g = 0; g < 4; ++g) {
+        if (g != lv[k]) v.p[q++] = facet_plane(g);
+      }
+      p.push(v, facet_plane(lv[(k + 2) % 3]));
+    }
+  };
+  std::uint32_t corner[3];
+  const double* cx[3];
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t mv = domain.tet_vertex(t, lv[k]);
+    corner[k] = vertex_cell[mv];
+    cx[k] = domain.vertex(mv);
+  }
+  init(s.a);
+  if (corner[0] == corner[1] && corner[1] == corner[2]) {
+    emit_polygon(b, corner[0], s.a, s, chunk);
+    return;
+  }
+  s.cells.clear();
+  for (const std::uint32_t c : corner) {
+    if (std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) s.cells.push_back(c);
+  }
+  for (std::size_t q = 0; q < s.cells.size(); ++q) {
+    const std::uint32_t c = s.cells[q];
+    const double* pc = site(c);
+    init(s.a);
+    const auto [list, count] = neighbors(c, s);
+    bool empty = false;
+    for (std::uint32_t h = 0; h < count && !empty; ++h) {
+      const std::uint32_t j = list[h];
+      const double* pj = site(j);
+      if (certainly_nearer(cx[0], pc, pj) && certainly_nearer(cx[1], pc, pj) &&
+          certainly_nearer(cx[2], pc, pj)) {
+        continue;
+      }
+      // Sutherland-Hodgman on symbolic vertices; a crossing of edge k lies on the planes
+      // f, e[k] and bisector(c, j).
+      const TriPoly& in = s.a;
+      const std::size_t m = in.size();
+      s.beyond.resize(m);
+      bool any_beyond = false, any_kept = false;
+      for (std::size_t k = 0; k < m; ++k) {
+        const bool o = side(in.v[k], t, c, j) == Sign::positive;
+        s.beyond[k] = o ? 1 : 0;
+        any_beyond = any_beyond || o;
+        any_kept = any_kept || !o;
+      }
+      if (!any_beyond) continue;
+      if (!any_kept) {
+        empty = true;
+        break;
+      }
+      TriPoly& res = s.b;
+      res.clear();
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t kn = k + 1 == m ? 0 : k + 1;
+        if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
+        if (s.beyond[k] != s.beyond[kn]) {
+          const PVertex x{{facet_plane(f), in.e[k], static_cast<Plane>(j)}};
+          res.push(x, s.beyond[k] ? in.e[k] : static_cast<Plane>(j));
+        }
+      }
+      std::swap(s.a, s.b);
+    }
+    if (empty) continue;  // (a corner's cell, or a cell across an edge, is never empty)
+    emit_polygon(b, c, s.a, s, chunk);
+    for (const Plane e : s.a.e) {
+      if (is_facet(e)) continue;
+      const auto k = static_cast<std::uint32_t>(e);
+      if (std::find(s.cells.begin(), s.cells.end(), k) == s.cells.end()) s.cells.push_back(k);
+    }
+  }
+}
+
+const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::uint32_t b,
+                                                          std::uint32_t c) const {
+  if (crossings.empty()) return nullptr;
+  std::uint32_t s[3] = {a, b, c};
+  small_sort(s, 3);
+  const auto mask = static_cast<std::uint32_t>(crossing_slots.size() - 1);
+  for (auto h = static_cast<std::uint32_t>(hash3(s[0], s[1], s[2])) & mask;; h = (h + 1) & mask) {
+    const std::uint32_t e = crossing_slots[h];
+    if (e == kNone) return nullptr;
+    const EdgeCrossings& x = crossings[e];
+    if (x.s[0] == s[0] && x.s[1] == s[1] && x.s[2] == s[2]) return &x;
+  }
+}
+
+void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
+  compute_vertex_cells(ts);
+  const std::uint32_t nb = domain.nb_boundary_triangles();
+  const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
+  std::vector<SurfaceChunk> chunks(nb_chunks);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
+    ThreadScratch& s = ts.local();
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
+      for (std::uint32_t b = k * kTriangleChunk; b < end; ++b) clip_triangle(b, s, chunks[k]);
+    }
+  });
+
+  // Polygons per cell, in triangle order.
+  std::vector<std::uint32_t> count(std::size_t{n} + 1, 0);
+  std::size_t nb_polygons = 0;
+  for (const SurfaceChunk& ch : chunks) {
+    for (const std::uint32_t c : ch.cell) ++count[c + std::size_t{1}];
+    nb_polygons += ch.cell.size();
+  }
+  for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
+  is_boundary.assign(n, 0);
+  boundary_slot.assign(n, kNone);
+  boundary_cells.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (count[i + 1] > count[i]) {
+      is_boundary[i] = 1;
+      boundary_slot[i] = static_cast<std::uint32_t>(boundary_cells.size());
+      boundary_cells.push_back(i);
+    }
+  }
+  // Polygon p of chunk h goes to position pos (cell-major); sums per cell in that order.
+  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
+  std::vector<std::uint32_t> where_chunk(nb_polygons), where_index(nb_polygons);
+  cell_tris.resize(nb_polygons);
+  for (std::uint32_t h = 0; h < nb_chunks; ++h) {
+    const SurfaceChunk& ch = chunks[h];
+    for (std::size_t p = 0; p < ch.cell.size(); ++p) {
+      const std::uint32_t pos = cursor[ch.cell[p]]++;
+      where_chunk[pos] = h;
+      where_index[pos] = static_cast<std::uint32_t>(p);
+      cell_tris[pos] = ch.tri[p];
+    }
+  }
+  cell_tri_begin.assign(boundary_cells.size() + 1, 0);
+  for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
+    cell_tri_begin[q + 1] = count[boundary_cells[q] + std::size_t{1}];
+  }
+  surface_area.assign(n, 0);
+  surface_moments.assign(boundary_cells.size(), Moments{});
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 256), [&](const auto& range) {
+        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+          Moments& r = surface_moments[q];
+          double area = 0;
+          for (std::uint32_t pos = cell_tri_begin[q]; pos < cell_tri_begin[q + 1]; ++pos) {
+            const double* v = &chunks[where_chunk[pos]].sums[6 * std::size_t{where_index[pos]}];
+            r.volume += v[0];
+            for (int c = 0; c < 3; ++c) r.moment[c] += v[1 + c];
+            r.energy += v[4];
+            area += v[5];
+          }
+          surface_area[boundary_cells[q]] = area;
+        }
+      });
+  if (keep_surface) {
+    ClippedVoronoi3::Polygons& sp = out.surface_;
+    sp.site_begin.assign(count.begin(), count.end());
+    sp.site.resize(nb_polygons);
+    sp.triangle.resize(nb_polygons);
+    sp.polygon_begin.assign(1, 0);
+    for (std::size_t pos = 0; pos < nb_polygons; ++pos) {
+      const SurfaceChunk& ch = chunks[where_chunk[pos]];
+      const std::uint32_t p = where_index[pos];
+      sp.site[pos] = ch.cell[p];
+      sp.triangle[pos] = ch.tri[p];
+      sp.vertices.insert(sp.vertices.end(), ch.verts.begin() + ch.begin[p],
+                         ch.verts.begin() + ch.begin[p + 1]);
+      sp.xyz.insert(sp.xyz.end(), ch.xyz.begin() + 3 * std::size_t{ch.begin[p]},
+                    ch.xyz.begin() + 3 * std::size_t{ch.begin[p + 1]});
+      sp.polygon_begin.push_back(static_cast<std::uint32_t>(sp.vertices.size()));
+    }
+  }
+
+  // Crossings per Voronoi edge.
+  std::vector<Crossing> all;
+  for (const SurfaceChunk& ch : chunks)
+    all.insert(all.end(), ch.crossings.begin(), ch.crossings.end());
+  std::sort(all.begin(), all.end(), [](const Crossing& x, const Crossing& y) {
+    if (x.s[0] != y.s[0]) return x.s[0] < y.s[0];
+    if (x.s[1] != y.s[1]) return x.s[1] < y.s[1];
+    if (x.s[2] != y.s[2]) return x.s[2] < y.s[2];
+    return x.tri < y.tri;
+  });
+  crossings.clear();
+  fallback.assign(n, 0);
+  for (std::size_t k = 0; k < all.size();) {
+    std::size_t e = k + 1;
+    while (e < all.size() && all[e].s[0] == all[k].s[0] && all[e].s[1] == all[k].s[1] &&
+           all[e].s[2] == all[k].s[2]) {
+      ++e;
+    }
+    EdgeCrossings x{};
+    for (int q = 0; q < 3; ++q) {
+      x.s[q] = all[k].s[q];
+      x.x[q] = all[k].x[q];
+    }
+    x.count = static_cast<std::uint32_t>(e - k);
+    if (x.count == 1) {
+      const std::uint32_t b = all[k].tri;
+      // Outward normal of the boundary triangle: its orientation reversed (Domain3).
+      const Sign d = voronoi_edge_direction3d(
+          site(x.s[0]), site(x.s[1]), site(x.s[2]), domain.vertex(domain.boundary_vertex(b, 0)),
+          domain.vertex(domain.boundary_vertex(b, 2)), domain.vertex(domain.boundary_vertex(b, 1)));
+      if (d == Sign::zero) {
+        throw Error("clip3d: internal error: the Voronoi edge of sites " + std::to_string(x.s[0]) +
+                    ", " + std::to_string(x.s[1]) + ", " + std::to_string(x.s[2]) +
+                    " crosses boundary triangle " + std::to_string(b) + " along its plane");
+      }
+      x.sigma = d == Sign::positive ? 1 : -1;
+    } else {
+      for (const std::uint32_t c : x.s) fallback[c] = 1;
+    }
+    crossings.push_back(x);
+    k = e;
+  }
+  std::size_t cap = 16;
+  while (cap < 2 * crossings.size()) cap *= 2;
+  crossing_slots.assign(cap, kNone);
+  const auto mask = static_cast<std::uint32_t>(cap - 1);
+  for (std::size_t e = 0; e < crossings.size(); ++e) {
+    const EdgeCrossings& x = crossings[e];
+    auto h = static_cast<std::uint32_t>(hash3(x.s[0], x.s[1], x.s[2])) & mask;
+    while (crossing_slots[h] != kNone) h = (h + 1) & mask;
+    crossing_slots[h] = static_cast<std::uint32_t>(e);
+  }
+}
+
+}  // namespace voroclip
