@@ -69,7 +69,15 @@ void Clip3Impl::run() {
     }
   };
 
-  // ---- Boundary cells.
+  // ---- Boundary cells. Circumcentres of the Delaunay tets first (inner cells use them too).
+  std::vector<double> circ(linear_density ? 0 : 3 * std::size_t{slots});
+  if (!linear_density) {
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 4096), [&](const auto& range) {
+      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+        if (!dt.is_free(t) && !infinite(t)) dt.circumcenter(t, &circ[3 * std::size_t{t}]);
+      }
+    });
+  }
   const std::size_t nb_boundary = boundary_cells.size();
   std::vector<std::uint32_t> order;
   by_tet([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
@@ -80,7 +88,7 @@ void Clip3Impl::run() {
     for (std::size_t h = range.begin(); h != range.end(); ++h) {
       const std::uint32_t q = boundary_slot[order[h]];
       Moments r = surface_moments[q];
-      if (boundary_cell(order[h], nullptr, s, r)) {
+      if (boundary_cell(order[h], circ.data(), nullptr, s, r)) {
         boundary_moments[q] = r;
       } else {
         unplaced[q] = 1;
@@ -94,7 +102,7 @@ void Clip3Impl::run() {
     for (std::size_t q = 0; q < nb_boundary; ++q) {
       if (!unplaced[q]) continue;
       Moments r = surface_moments[q];
-      boundary_cell(boundary_cells[q], flag.data(), s, r);
+      boundary_cell(boundary_cells[q], circ.data(), flag.data(), s, r);
       boundary_moments[q] = r;
     }
   }
@@ -180,12 +188,6 @@ void Clip3Impl::run() {
       for (const auto& v : next) pending.insert(pending.end(), v.begin(), v.end());
     }
   } else {
-    std::vector<double> circ(3 * std::size_t{slots}, 0);
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 4096), [&](const auto& range) {
-      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-        if (!dt.is_free(t) && !infinite(t)) dt.circumcenter(t, &circ[3 * std::size_t{t}]);
-      }
-    });
     by_tet([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
     inner_moments.resize(order.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
@@ -193,7 +195,7 @@ void Clip3Impl::run() {
                         ThreadScratch& s = ts.local();
                         for (std::size_t q = range.begin(); q != range.end(); ++q) {
                           inner_slot[order[q]] = static_cast<std::uint32_t>(q);
-                          inner_cell(order[q], circ.data(), s.star, inner_moments[q]);
+                          inner_cell(order[q], circ.data(), s, inner_moments[q]);
                         }
                       });
   }

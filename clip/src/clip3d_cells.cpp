@@ -110,16 +110,51 @@ namespace {
   throw Error("clip3d: internal error: " + what);
 }
 
+const double kZero[3] = {0, 0, 0};
+
 }  // namespace
 
-bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
-                              Moments& r) const {
+bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
+                              ThreadScratch& s, Moments& r) const {
   Star& st = s.star;
   star(i, st);
   const std::vector<std::uint32_t>& tets = st.tets;
   const std::size_t m = tets.size();
   std::vector<std::int8_t>& flag = s.flag;
   flag.assign(m, -1);
+  // The crossings of the Voronoi edge dual to each facet of each tet (only between boundary
+  // cells; a facet shared by two tets of the star is looked up once).
+  std::vector<const EdgeCrossings*>& fx = s.fx;
+  fx.assign(4 * m, nullptr);
+  std::vector<std::uint8_t>& known = s.beyond;
+  known.assign(4 * m, 0);
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    std::uint32_t w[4];
+    int nb = 0;
+    for (int k = 0; k < 4; ++k) {
+      w[k] = dt.tet_vertex(t, k);
+      nb += w[k] != Delaunay3::kInfinite && is_boundary[w[k]] ? 1 : 0;
+    }
+    if (nb < 3) continue;
+    for (int f = 0; f < 4; ++f) {
+      if (known[4 * q + f]) continue;
+      const EdgeCrossings* x = nullptr;
+      const std::uint32_t a = w[f == 0 ? 1 : 0], b = w[f <= 1 ? 2 : 1], c = w[f <= 2 ? 3 : 2];
+      if (a != Delaunay3::kInfinite && b != Delaunay3::kInfinite && c != Delaunay3::kInfinite &&
+          is_boundary[a] && is_boundary[b] && is_boundary[c]) {
+        x = find_crossings(a, b, c);
+      }
+      fx[4 * q + f] = x;
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (st.contains(t2)) {
+        const std::size_t k2 =
+            4 * std::size_t{st.pos(t2)} + std::size_t(dt.tet_adjacent_facet(t, f));
+        fx[k2] = x;
+        known[k2] = 1;
+      }
+    }
+  }
   std::vector<std::uint32_t>& queue = s.queue;
   queue.clear();
   const auto place = [&](std::size_t q, int v) {
@@ -130,18 +165,6 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
       internal_error("Voronoi vertex of tet " + std::to_string(tets[q]) +
                      " placed both inside and outside (cell " + std::to_string(i) + ")");
     }
-  };
-  // The crossings of the Voronoi edge dual to facet f of tet t (only between boundary cells).
-  const auto facet_crossings = [&](std::uint32_t t, int f) -> const EdgeCrossings* {
-    std::uint32_t w[3];
-    int q = 0;
-    for (int k = 0; k < 4; ++k) {
-      if (k == f) continue;
-      w[q] = dt.tet_vertex(t, k);
-      if (w[q] == Delaunay3::kInfinite || !is_boundary[w[q]]) return nullptr;
-      ++q;
-    }
-    return find_crossings(w[0], w[1], w[2]);
   };
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
@@ -154,7 +177,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
       continue;
     }
     for (int f = 0; f < 4; ++f) {
-      const EdgeCrossings* x = facet_crossings(t, f);
+      const EdgeCrossings* x = fx[4 * q + f];
       const std::uint32_t count = x ? x->count : 0;
       if (infinite(dt.tet_adjacent(t, f))) {
         place(q, static_cast<int>(count & 1));
@@ -174,7 +197,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
     const std::uint32_t t = tets[q];
     for (int f = 0; f < 4; ++f) {
       if (dt.tet_vertex(t, f) == i) continue;
-      const EdgeCrossings* x = facet_crossings(t, f);
+      const EdgeCrossings* x = fx[4 * q + f];
       const int parity = x ? static_cast<int>(x->count & 1) : 0;
       place(st.pos(dt.tet_adjacent(t, f)), flag[q] ^ parity);
     }
@@ -197,11 +220,22 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   if (linear_density || options.tet_clipping || fallback[i]) return true;
 
   // The pieces of the Voronoi edges around i inside Ω.
-  s.circ.resize(3 * m);
-  for (std::size_t q = 0; q < m; ++q) {
-    if (!infinite(tets[q])) dt.circumcenter(tets[q], &s.circ[3 * q]);
-  }
   const double* pi = site(i);
+  std::vector<Rel>& cu = s.cu;
+  std::vector<Rel>& half = s.half;
+  cu.resize(m);
+  half.resize(4 * m);
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    cu[q] = rel(circ + 3 * std::size_t{t}, pi);
+    for (int k = 0; k < 4; ++k) {
+      const double* pv = site(dt.tet_vertex(t, k));
+      const double h[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
+      half[4 * q + k] = rel(h, kZero);
+    }
+  }
+  PieceSums sums;
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (infinite(t)) continue;
@@ -212,66 +246,68 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
       const std::uint32_t t2 = dt.tet_adjacent(t, f);
       const bool infinite2 = infinite(t2);
       if (!infinite2 && t2 < t) continue;
-      const std::uint32_t j = dt.tet_vertex(t, kFaceOther[li][f][0]);
-      const std::uint32_t k = dt.tet_vertex(t, kFaceOther[li][f][1]);
       const std::uint32_t q2 = st.pos(t2);
       const bool in1 = flag[q] != 0, in2 = flag[q2] != 0;
-      const EdgeCrossings* x = is_boundary[j] && is_boundary[k] ? find_crossings(i, j, k) : nullptr;
+      const EdgeCrossings* x = fx[4 * q + f];
       const std::uint32_t count = x ? x->count : 0;
-      const double* p;
-      const double* e;
+      Rel u, w;
       if (count == 0) {
         if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
         if (!in1) continue;
-        p = &s.circ[3 * q];
-        e = &s.circ[3 * std::size_t{q2}];
+        u = cu[q];
+        w = cu[q2];
       } else if (count == 1) {
         if (in1 == in2) internal_error("a Voronoi edge with one crossing keeps its side");
-        p = in1 ? &s.circ[3 * q] : x->x;
-        e = in1 ? x->x : &s.circ[3 * std::size_t{q2}];
+        u = in1 ? cu[q] : rel(x->x, pi);
+        w = in1 ? rel(x->x, pi) : cu[q2];
       } else {
         internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
                        std::to_string(count) + " times");
       }
-      const double* pj = site(j);
-      const double* pk = site(k);
-      const double u[3] = {p[0] - pi[0], p[1] - pi[1], p[2] - pi[2]};
-      const double w[3] = {e[0] - pi[0], e[1] - pi[1], e[2] - pi[2]};
-      const double dj[3] = {pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]};
-      const double dk[3] = {pk[0] - pi[0], pk[1] - pi[1], pk[2] - pi[2]};
-      add_edge_piece(dj, dk, u, w, r);
+      add_edge_piece(half[4 * q + std::size_t(kFaceOther[li][f][0])],
+                     half[4 * q + std::size_t(kFaceOther[li][f][1])], u, w, sums);
     }
   }
+  sums.add_to(r);
   return true;
 }
 
-void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, Star& st, Moments& r) const {
+void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s,
+                           Moments& r) const {
+  Star& st = s.star;
   star(i, st);
   const double* pi = site(i);
-  for (const std::uint32_t t : st.tets) {
+  const std::vector<std::uint32_t>& tets = st.tets;
+  const std::size_t m = tets.size();
+  std::vector<Rel>& cu = s.cu;
+  cu.resize(m);
+  for (std::size_t q = 0; q < m; ++q) cu[q] = rel(circ + 3 * std::size_t{tets[q]}, pi);
+  PieceSums sums;
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
     int li = -1;
+    Rel h[4];
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t v = dt.tet_vertex(t, k);
-      if (v == i) li = k;
+      if (v == i) {
+        li = k;
+        continue;
+      }
       if (v == Delaunay3::kInfinite) {
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
+      const double* pv = site(v);
+      const double d[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
+      h[k] = rel(d, kZero);
     }
-    const double* ct = circ + 3 * std::size_t{t};
-    const double u[3] = {ct[0] - pi[0], ct[1] - pi[1], ct[2] - pi[2]};
     for (int f = 0; f < 4; ++f) {
       if (f == li) continue;
       const std::uint32_t t2 = dt.tet_adjacent(t, f);
       if (t2 < t) continue;
-      const double* pj = site(dt.tet_vertex(t, kFaceOther[li][f][0]));
-      const double* pk = site(dt.tet_vertex(t, kFaceOther[li][f][1]));
-      const double* c2 = circ + 3 * std::size_t{t2};
-      const double w[3] = {c2[0] - pi[0], c2[1] - pi[1], c2[2] - pi[2]};
-      const double dj[3] = {pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]};
-      const double dk[3] = {pk[0] - pi[0], pk[1] - pi[1], pk[2] - pi[2]};
-      add_edge_piece(dj, dk, u, w, r);
+      add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[st.pos(t2)], sums);
     }
   }
+  sums.add_to(r);
 }
 
 void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {
@@ -324,9 +360,9 @@ void Clip3Impl::decide_status(const std::vector<std::pair<std::uint32_t, std::in
     }
   }
   for (std::size_t h = 0; h < queue.size(); ++h) {
-    const auto [list, count] = neighbors(queue[h], s);
-    for (std::uint32_t q = 0; q < count; ++q) {
-      const std::uint32_t w = list[q];
+    const NeighborList nb = neighbors(queue[h], s);
+    for (std::uint32_t q = 0; q < nb.count; ++q) {
+      const std::uint32_t w = nb.id[q];
       if (is_boundary[w]) continue;
       if (status[w] == -1) {
         status[w] = 0;

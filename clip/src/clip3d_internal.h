@@ -52,17 +52,25 @@ struct Poly {
   bool empty() const { return face_plane.empty(); }
 };
 
-// A convex polygon in facet f of a tet (a boundary triangle clipped by a cell): vertex k is
-// v[k], and the edge from v[k] to v[k + 1] lies on plane e[k] (a facet of the tet: an edge
-// of the triangle, or a bisector). Vertex k is thus on the planes f, e[k - 1] and e[k].
+// A vertex of a boundary triangle clipped by cell c: tag 0..2, corner `tag` of the triangle;
+// 3..5, the triangle edge opposite corner tag - 3 ∩ bisector(c, k); 6, the triangle's plane
+// ∩ bisector(c, k) ∩ bisector(c, l), k < l.
+struct TriVertex {
+  std::int8_t tag;
+  std::uint32_t k, l;
+};
+
+// A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
+// v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
+// bisector of the cell).
 struct TriPoly {
-  std::vector<PVertex> v;
+  std::vector<TriVertex> v;
   std::vector<Plane> e;
   void clear() {
     v.clear();
     e.clear();
   }
-  void push(const PVertex& x, Plane edge) {
+  void push(const TriVertex& x, Plane edge) {
     v.push_back(x);
     e.push_back(edge);
   }
@@ -110,34 +118,52 @@ inline void add_cone(const double* a, const double* b, const double* c, Moments&
        (a[0] * c[0] + a[1] * c[1] + a[2] * c[2]) + (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]));
 }
 
+// A point relative to a site: y = (x - p_i) and |y|^2.
+struct Rel {
+  double y[3], yy;
+};
+inline Rel rel(const double* x, const double* pi) {
+  Rel r;
+  for (int k = 0; k < 3; ++k) r.y[k] = x[k] - pi[k];
+  r.yy = (r.y[0] * r.y[0] + r.y[1] * r.y[1]) + r.y[2] * r.y[2];
+  return r;
+}
+
+// Sums over the Voronoi edge pieces of a cell, scaled: volume 6 V, first moment 24 M,
+// energy 60 E (see add_edge_piece).
+struct PieceSums {
+  double v = 0, m[3] = {0, 0, 0}, e = 0;
+  void add_to(Moments& r) const {
+    r.volume += v * (1.0 / 6);
+    for (int k = 0; k < 3; ++k) r.moment[k] += m[k] * (1.0 / 24);
+    r.energy += e * (1.0 / 60);
+  }
+};
+
 // A piece [P, Q] of the Voronoi edge dual to Delaunay triangle (i, j, k), P -> Q running
 // counter-clockwise around p_j - p_i (so clockwise around p_k - p_i), with u = P - p_i,
-// w = Q - p_i, dj = p_j - p_i, dk = p_k - p_i. It bounds the facets of cell i on
-// bisector(i, j) and bisector(i, k), whose feet from p_i are the midpoints, dj / 2 and
-// dk / 2 from p_i: its share of the cones from p_i over them is
-//   cone(dj / 2, u, w) - cone(dk / 2, u, w)
+// w = Q - p_i, hj = (p_j - p_i) / 2, hk = (p_k - p_i) / 2 (Rel: with their squared norms).
+// It bounds the facets of cell i on bisector(i, j) and bisector(i, k), whose feet from p_i
+// are the midpoints, hj and hk: its share of the cones from p_i over them is
+//   cone(hj, u, w) - cone(hk, u, w)
 // (add_cone, outward: the facet on bisector(i, j) is counter-clockwise around its outward
-// normal p_j - p_i). u x w, u + w and the squared norms are shared by the two cones.
-inline void add_edge_piece(const double* dj, const double* dk, const double* u, const double* w,
-                           Moments& r) {
-  const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                       u[0] * w[1] - u[1] * w[0]};
-  const double s[3] = {u[0] + w[0], u[1] + w[1], u[2] + w[2]};
-  const double q = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) +
-                   (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) +
-                   (u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
-  const double* ds[2] = {dj, dk};
-  for (int side = 0; side < 2; ++side) {
-    const double* d = ds[side];
-    const double h[3] = {0.5 * d[0], 0.5 * d[1], 0.5 * d[2]};
-    const double det = h[0] * c[0] + h[1] * c[1] + h[2] * c[2];
-    const double vol = side == 0 ? det / 6 : -det / 6;
-    r.volume += vol;
-    for (int k = 0; k < 3; ++k) r.moment[k] += vol * (h[k] + s[k]) / 4;
-    r.energy +=
-        vol / 10 *
-        ((h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) + (h[0] * s[0] + h[1] * s[1] + h[2] * s[2]) + q);
-  }
+// normal p_j - p_i). With a = h . (u x w), s = u + w, q = |u|^2 + |w|^2 + u . w, a cone has
+// volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60.
+inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w, PieceSums& r) {
+  const double* a = u.y;
+  const double* b = w.y;
+  const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                       a[0] * b[1] - a[1] * b[0]};
+  const double s[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+  const double q = (u.yy + w.yy) + ((a[0] * b[0] + a[1] * b[1]) + a[2] * b[2]);
+  const double aj = (hj.y[0] * c[0] + hj.y[1] * c[1]) + hj.y[2] * c[2];
+  const double ak = (hk.y[0] * c[0] + hk.y[1] * c[1]) + hk.y[2] * c[2];
+  const double sj = (hj.y[0] * s[0] + hj.y[1] * s[1]) + hj.y[2] * s[2];
+  const double sk = (hk.y[0] * s[0] + hk.y[1] * s[1]) + hk.y[2] * s[2];
+  const double d = aj - ak;
+  r.v += d;
+  for (int k = 0; k < 3; ++k) r.m[k] += (aj * hj.y[k] - ak * hk.y[k]) + d * s[k];
+  r.e += (aj * (hj.yy + sj) - ak * (hk.yy + sk)) + d * q;
 }
 
 // True when |v - p_c|^2 < |v - p_j|^2 certainly: v is strictly on c's side of
@@ -155,6 +181,18 @@ inline bool certainly_nearer(const double* v, const double* pc, const double* pj
   const double A = (a0 * a0 + a1 * a1) + a2 * a2;
   const double B = (b0 * b0 + b1 * b1) + b2 * b2;
   return A - B < -(8.9e-16 * (A + B) + 1e-300);
+}
+
+// The same F = |v - p_c|^2 - |v - p_j|^2 as 2 r.e - |e|^2 with r = v - p_c and e = p_j - p_c
+// rounded once each (r shared by every neighbour of c, e by every point): the products and
+// sums add at most gamma_5 (2 sum |r_k e_k| + |e|^2) and the last subtraction u |F|, with
+// 2 |r_k e_k| <= r_k^2 + e_k^2, so |computed - F| <= gamma_7 (|r|^2 + 2 |e|^2) / (1 - gamma_3)
+// with rr, ee the computed squared norms: bound 1e-15 (rr + 2 ee) (> 7.2 u), plus 1e-300
+// for underflow. Returns F (rounded) and sets `bound`.
+inline double bisector_value(const double* r, double rr, const double* e, double ee,
+                             double& bound) {
+  bound = 1e-15 * (rr + 2 * ee) + 1e-300;
+  return 2 * ((r[0] * e[0] + r[1] * e[1]) + r[2] * e[2]) - ee;
 }
 
 // Tets around a vertex of the triangulation, breadth first through the facets that contain
@@ -226,8 +264,11 @@ struct Clip3Impl {
   Sign side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::uint32_t j) const;
   // Coordinates of a vertex, from its sorted global ids (bit-identical in every cell).
   void coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const;
-  // The symbolic vertex of a restricted polygon's vertex (in tet t, cell i).
-  ClipVertex3 symbolic(const PVertex& v, std::uint32_t t, std::uint32_t i) const;
+  // Mesh edge (ma, mb) ∩ bisector(s0, s1), and the plane of triangle mesh[0..2] ∩
+  // bisectors (s0, s1), (s0, s2), from sorted ids (the same bits wherever they are met).
+  void edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
+                  double* x) const;
+  void facet_point(const std::uint32_t* mesh, const std::uint32_t* sites, double* x) const;
   static void init_tet(Poly& p, int only_facet);
   bool clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i, std::uint32_t j,
             Scratch& s) const;
@@ -249,30 +290,6 @@ struct Clip3Impl {
                       const double* d, Moments& res) const;
   double density_at(std::uint32_t t, const double* x) const;
 
-  // ---- Per-thread scratch of the whole compute.
-  struct ThreadScratch {
-    Star star;
-    // Delaunay neighbours of a site (in star order), computed once per thread: the list of
-    // site c is nbr_pool[nbr_offset[c] + 1 ..], its length at nbr_pool[nbr_offset[c]].
-    std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark;
-    std::uint32_t site_gen = 0;
-    TriPoly a, b;
-    std::vector<std::uint8_t> beyond;
-    std::vector<std::uint32_t> cells;
-    std::vector<double> xyz, rel;
-    std::vector<std::int8_t> flag;
-    std::vector<std::uint32_t> queue;
-    std::vector<double> circ;
-    std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
-    Scratch clip;
-  };
-  // Fills s.tets with the tets around v, finite and infinite.
-  void star(std::uint32_t v, Star& s) const;
-  // The Delaunay neighbours of site c: (first, count), valid until the next call.
-  std::pair<const std::uint32_t*, std::uint32_t> neighbors(std::uint32_t c, ThreadScratch& s) const;
-
-  // ---- Restricted surface (clip3d_surface.cpp).
-  std::vector<std::uint32_t> vertex_cell;  // per domain vertex on the boundary: its cell
   // A Voronoi edge crossing the surface: Delaunay triangle (s[0] < s[1] < s[2]), the
   // boundary triangle, the point.
   struct Crossing {
@@ -288,8 +305,46 @@ struct Clip3Impl {
     double x[3];
     std::int8_t sigma;
   };
-  std::vector<EdgeCrossings> crossings;
-  std::vector<std::uint32_t> crossing_slots;  // open addressing over crossings
+  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2, norm = |e| (rounded).
+  struct NbrGeo {
+    double e[3], ee, norm;
+  };
+  // ---- Per-thread scratch of the whole compute.
+  struct ThreadScratch {
+    Star star;
+    // Delaunay neighbours of a site (in star order), computed once per thread: the list of
+    // site c is nbr_pool[nbr_offset[c] + 1 ..], its length at nbr_pool[nbr_offset[c]];
+    // nbr_geo[k] is the NbrGeo of nbr_pool[k] relative to c.
+    std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark;
+    std::vector<NbrGeo> nbr_geo;
+    std::uint32_t site_gen = 0;
+    TriPoly a, b;
+    std::vector<std::uint8_t> beyond;
+    std::vector<std::uint32_t> cells;
+    std::vector<double> xyz, rel;
+    std::vector<std::int8_t> flag;
+    std::vector<std::uint32_t> queue;
+    std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
+    std::vector<clip3::Rel> half;          // per star tet and local vertex: (p_v - p_site) / 2
+    std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
+    std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
+    Scratch clip;
+  };
+  // Fills s.tets with the tets around v, finite and infinite.
+  void star(std::uint32_t v, Star& s) const;
+  // The Delaunay neighbours of site c (ids, and geometry relative to c), valid until the
+  // next call.
+  struct NeighborList {
+    const std::uint32_t* id;
+    const NbrGeo* geo;
+    std::uint32_t count;
+  };
+  NeighborList neighbors(std::uint32_t c, ThreadScratch& s) const;
+
+  // ---- Restricted surface (clip3d_surface.cpp).
+  std::vector<std::uint32_t> vertex_cell;     // per domain vertex on the boundary: its cell
+  std::vector<EdgeCrossings> crossings;       // sorted by s
+  std::vector<std::uint32_t> crossing_begin;  // per site a: crossings with s[0] == a
   // The crossings of the Voronoi edge of sites a, b, c (any order; nullptr: none).
   const EdgeCrossings* find_crossings(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
   std::vector<std::uint8_t> is_boundary, fallback;  // per site
@@ -302,8 +357,16 @@ struct Clip3Impl {
   void compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScratch>& ts);
   std::uint32_t descend(const double* p, std::uint32_t c, ThreadScratch& s) const;
   struct SurfaceChunk;
+  // A boundary triangle: its index, corners (domain vertices, in the triangle's order).
+  struct Tri {
+    std::uint32_t b, mv[3];
+    const double* x[3];
+  };
+  Sign tri_side(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, std::uint32_t j) const;
+  void tri_coords(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, double* x) const;
+  ClipVertex3 tri_symbolic(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c) const;
   void clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& chunk) const;
-  void emit_polygon(std::uint32_t b, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
+  void emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
                     SurfaceChunk& chunk) const;
   void surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts);
 
@@ -313,9 +376,9 @@ struct Clip3Impl {
   // own crossings, or from `global_flag` when given) and, unless it is clipped tet by tet,
   // its integrals added to r. Appends (site, 0/1) for the non-boundary sites of its star.
   // False when no Voronoi vertex of its star could be placed from its own crossings.
-  bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
-                     Moments& r) const;
-  void inner_cell(std::uint32_t i, const double* circ, Star& s, Moments& r) const;
+  bool boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
+                     ThreadScratch& s, Moments& r) const;
+  void inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s, Moments& r) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
   void global_flags(std::vector<std::int8_t>& flag) const;

@@ -72,6 +72,42 @@ Sign Clip3Impl::side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::ui
   }
 }
 
+// F(x) = |x - p|^2 - |x - q|^2 relative to the midpoint: 2 (x - m).(q - p), halved.
+static double bisector_f(const double* a, const double* p, const double* q) {
+  double f = 0;
+  for (int c = 0; c < 3; ++c) f += (a[c] - 0.5 * (p[c] + q[c])) * (q[c] - p[c]);
+  return f;
+}
+
+void Clip3Impl::edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
+                           double* x) const {
+  const double* a = domain.vertex(ma);
+  const double* b = domain.vertex(mb);
+  const double fa = bisector_f(a, site(s0), site(s1)), fb = bisector_f(b, site(s0), site(s1));
+  double s = fa / (fa - fb);
+  if (!(s >= 0)) s = 0;
+  if (s > 1) s = 1;
+  for (int c = 0; c < 3; ++c) x[c] = a[c] + s * (b[c] - a[c]);
+}
+
+void Clip3Impl::facet_point(const std::uint32_t* mesh, const std::uint32_t* sites,
+                            double* x) const {
+  const double* a = domain.vertex(mesh[0]);
+  const double* b = domain.vertex(mesh[1]);
+  const double* c = domain.vertex(mesh[2]);
+  const double* p0 = site(sites[0]);
+  const double* p1 = site(sites[1]);
+  const double* p2 = site(sites[2]);
+  const double k0 = bisector_f(a, p0, p1), k1 = bisector_f(b, p0, p1), k2 = bisector_f(c, p0, p1);
+  const double l0 = bisector_f(a, p0, p2), l1 = bisector_f(b, p0, p2), l2 = bisector_f(c, p0, p2);
+  // Barycentric coordinates: [1 1 1; k; l] lambda = (1, 0, 0).
+  const double ca = k1 * l2 - k2 * l1, cb = k2 * l0 - k0 * l2, cc = k0 * l1 - k1 * l0;
+  const double d = ca + cb + cc;
+  double la = ca / d, lb = cb / d, lc = cc / d;
+  if (!std::isfinite(la) || !std::isfinite(lb) || !std::isfinite(lc)) la = lb = lc = 1.0 / 3;
+  for (int q = 0; q < 3; ++q) x[q] = la * a[q] + lb * b[q] + lc * c[q];
+}
+
 void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const {
   std::uint32_t mesh[4], sites[4];
   int nm = 0, ns = 0;
@@ -89,14 +125,6 @@ void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, doubl
   sites[ns++] = i;
   small_sort(mesh, nm);
   small_sort(sites, ns);
-  // F(x) = |x - p|^2 - |x - q|^2 relative to the midpoint: 2 (x - m).(q - p).
-  const auto F = [&](const double* a, std::uint32_t s0, std::uint32_t s1) {
-    const double* p = site(s0);
-    const double* q = site(s1);
-    double f = 0;
-    for (int c = 0; c < 3; ++c) f += (a[c] - 0.5 * (p[c] + q[c])) * (q[c] - p[c]);
-    return f;
-  };
   if (ns == 1) {  // a mesh vertex (nm == 1)
     const double* a = domain.vertex(mesh[0]);
     x[0] = a[0];
@@ -104,30 +132,12 @@ void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, doubl
     x[2] = a[2];
     return;
   }
-  if (ns == 2) {  // mesh edge ∩ bisector(sites[0], sites[1])
-    const double* a = domain.vertex(mesh[0]);
-    const double* b = domain.vertex(mesh[1]);
-    const double fa = F(a, sites[0], sites[1]), fb = F(b, sites[0], sites[1]);
-    double s = fa / (fa - fb);
-    if (!(s >= 0)) s = 0;
-    if (s > 1) s = 1;
-    for (int c = 0; c < 3; ++c) x[c] = a[c] + s * (b[c] - a[c]);
+  if (ns == 2) {
+    edge_point(mesh[0], mesh[1], sites[0], sites[1], x);
     return;
   }
-  if (ns == 3) {  // mesh facet ∩ bisectors (s0, s1), (s0, s2)
-    const double* a = domain.vertex(mesh[0]);
-    const double* b = domain.vertex(mesh[1]);
-    const double* c = domain.vertex(mesh[2]);
-    const double k0 = F(a, sites[0], sites[1]), k1 = F(b, sites[0], sites[1]),
-                 k2 = F(c, sites[0], sites[1]);
-    const double l0 = F(a, sites[0], sites[2]), l1 = F(b, sites[0], sites[2]),
-                 l2 = F(c, sites[0], sites[2]);
-    // Barycentric coordinates: [1 1 1; k; l] lambda = (1, 0, 0).
-    const double ca = k1 * l2 - k2 * l1, cb = k2 * l0 - k0 * l2, cc = k0 * l1 - k1 * l0;
-    const double d = ca + cb + cc;
-    double la = ca / d, lb = cb / d, lc = cc / d;
-    if (!std::isfinite(la) || !std::isfinite(lb) || !std::isfinite(lc)) la = lb = lc = 1.0 / 3;
-    for (int q = 0; q < 3; ++q) x[q] = la * a[q] + lb * b[q] + lc * c[q];
+  if (ns == 3) {
+    facet_point(mesh, sites, x);
     return;
   }
   // The circumcentre of the four sites.
@@ -153,34 +163,6 @@ void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, doubl
   x[0] = p0[0] + ux / det;
   x[1] = p0[1] + uy / det;
   x[2] = p0[2] + uz / det;
-}
-
-ClipVertex3 Clip3Impl::symbolic(const PVertex& v, std::uint32_t t, std::uint32_t i) const {
-  ClipVertex3 x{};
-  std::uint32_t mesh[4], sites[4];
-  int nm = 0, ns = 0;
-  bool facet_used[4] = {false, false, false, false};
-  for (const Plane p : v.p) {
-    if (is_facet(p)) {
-      facet_used[facet_of(p)] = true;
-    } else {
-      sites[ns++] = static_cast<std::uint32_t>(p);
-    }
-  }
-  for (int k = 0; k < 4; ++k) {
-    if (!facet_used[k]) mesh[nm++] = domain.tet_vertex(t, k);
-  }
-  if (ns > 0) sites[ns++] = i;
-  small_sort(mesh, nm);
-  small_sort(sites, ns);
-  x.kind = ns == 0   ? ClipVertex3::Kind::kMeshVertex
-           : ns == 2 ? ClipVertex3::Kind::kEdgeBisector
-                     : ClipVertex3::Kind::kFacetBisectors;
-  for (int k = 0; k < 3; ++k) {
-    x.mesh[k] = k < nm ? mesh[k] : ClipVertex3::kNone;
-    x.site[k] = k < ns ? sites[k] : ClipVertex3::kNone;
-  }
-  return x;
 }
 
 // The tet t (its four facets) as a polyhedron; with only_facet >= 0, that facet alone

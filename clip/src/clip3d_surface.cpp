@@ -43,14 +43,6 @@ namespace {
 constexpr std::uint32_t kTriangleChunk = 128;
 constexpr std::uint32_t kVertexChunk = 256;
 
-std::uint64_t hash3(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-  std::uint64_t h =
-      (std::uint64_t{a} * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t{b} + 0x632be59bd9b4e019ull);
-  h = (h ^ (h >> 29)) * 0xbf58476d1ce4e5b9ull;
-  h ^= std::uint64_t{c} * 0x94d049bb133111ebull;
-  return h ^ (h >> 31);
-}
-
 }  // namespace
 
 // Per chunk of triangles, its polygons in triangle order.
@@ -88,8 +80,7 @@ void Clip3Impl::star(std::uint32_t v, Star& s) const {
   s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
 }
 
-std::pair<const std::uint32_t*, std::uint32_t> Clip3Impl::neighbors(std::uint32_t c,
-                                                                    ThreadScratch& s) const {
+Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) const {
   if (s.nbr_offset.size() != n) s.nbr_offset.assign(n, kNone);
   std::uint32_t off = s.nbr_offset[c];
   if (off == kNone) {
@@ -101,33 +92,63 @@ std::pair<const std::uint32_t*, std::uint32_t> Clip3Impl::neighbors(std::uint32_
     star(c, s.star);
     off = static_cast<std::uint32_t>(s.nbr_pool.size());
     s.nbr_pool.push_back(0);
+    s.nbr_geo.push_back(NbrGeo{});
+    const double* pc = site(c);
     for (const std::uint32_t t : s.star.tets) {
       for (int k = 0; k < 4; ++k) {
         const std::uint32_t w = dt.tet_vertex(t, k);
         if (w == c || w == Delaunay3::kInfinite || s.site_mark[w] == gen) continue;
         s.site_mark[w] = gen;
         s.nbr_pool.push_back(w);
+        const double* pw = site(w);
+        NbrGeo g;
+        for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
+        g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
+        g.norm = std::sqrt(g.ee);
+        s.nbr_geo.push_back(g);
       }
     }
     s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 1;
     s.nbr_offset[c] = off;
   }
-  return {s.nbr_pool.data() + off + 1, s.nbr_pool[off]};
+  return {s.nbr_pool.data() + off + 1, s.nbr_geo.data() + off + 1, s.nbr_pool[off]};
 }
 
-// The cell of point p (perturbed): greedy descent from c. If p is not in cell c, a
-// Delaunay neighbour k has f_ck(p) > 0, and the power distance decreases at each step.
+// The cell of point p (perturbed): descent from c. If p is not in cell c, a Delaunay
+// neighbour k has f_ck(p) > 0, and the power distance decreases at each step. The
+// neighbours are tried nearest first (largest F in floating point); one certainly farther
+// than c needs no predicate.
 std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch& s) const {
   for (;;) {
-    const auto [list, count] = neighbors(c, s);
+    const NeighborList nb = neighbors(c, s);
     const double* pc = site(c);
+    const double r[3] = {p[0] - pc[0], p[1] - pc[1], p[2] - pc[2]};
+    const double rr = (r[0] * r[0] + r[1] * r[1]) + r[2] * r[2];
+    // The neighbour nearest to p in floating point first; the others not certainly
+    // farther than c only when it is not nearer (rare).
+    std::uint32_t best = kNone;
+    double best_f = 0;
+    for (std::uint32_t q = 0; q < nb.count; ++q) {
+      double bound;
+      const double f = bisector_value(r, rr, nb.geo[q].e, nb.geo[q].ee, bound);
+      if (f < -bound) continue;
+      if (best == kNone || f > best_f) {
+        best = q;
+        best_f = f;
+      }
+    }
+    if (best == kNone) return c;
     std::uint32_t next = kNone;
-    for (std::uint32_t q = 0; q < count; ++q) {
-      const std::uint32_t k = list[q];
-      if (certainly_nearer(p, pc, site(k))) continue;
-      if (bisector_side_vertex3d(pc, site(k), p, c, k) == Sign::positive) {
-        next = k;
-        break;
+    if (bisector_side_vertex3d(pc, site(nb.id[best]), p, c, nb.id[best]) == Sign::positive) {
+      next = nb.id[best];
+    } else {
+      for (std::uint32_t q = 0; q < nb.count && next == kNone; ++q) {
+        double bound;
+        const double f = bisector_value(r, rr, nb.geo[q].e, nb.geo[q].ee, bound);
+        if (q == best || f < -bound) continue;
+        if (bisector_side_vertex3d(pc, site(nb.id[q]), p, c, nb.id[q]) == Sign::positive) {
+          next = nb.id[q];
+        }
       }
     }
     if (next == kNone) return c;
@@ -136,20 +157,30 @@ std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch
 }
 
 void Clip3Impl::compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
+  // Boundary vertices in breadth-first order over the surface, each with a neighbour seen
+  // before it (its parent; kNone for the first of a component).
   const std::uint32_t nb = domain.nb_boundary_triangles();
-  std::vector<std::uint32_t> order, queue;
-  std::vector<std::uint8_t> seen(domain.nb_vertices(), 0), tri_seen(nb, 0);
+  std::vector<std::uint32_t> order, parent, queue;
+  std::vector<std::uint32_t> rank(domain.nb_vertices(), kNone);
+  std::vector<std::uint8_t> tri_seen(nb, 0);
   for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
     if (tri_seen[b0]) continue;
     tri_seen[b0] = 1;
     queue.assign(1, b0);
     for (std::size_t h = 0; h < queue.size(); ++h) {
       const std::uint32_t b = queue[h];
+      std::uint32_t known = kNone;
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = domain.boundary_vertex(b, k);
-        if (!seen[v]) {
-          seen[v] = 1;
+        if (rank[v] != kNone) known = v;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = domain.boundary_vertex(b, k);
+        if (rank[v] == kNone) {
+          rank[v] = static_cast<std::uint32_t>(order.size());
           order.push_back(v);
+          parent.push_back(known);
+          known = v;
         }
         const std::uint32_t b2 = domain.boundary_adjacent(b, k);
         if (b2 != Domain3::kNone && !tri_seen[b2]) {
@@ -159,16 +190,21 @@ void Clip3Impl::compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScrat
       }
     }
   }
+  // In chunks: a vertex starts from its parent's cell when the chunk has computed it, else
+  // from the previous vertex's, the first of a chunk from an exact nearest-site query.
   vertex_cell.assign(domain.nb_vertices(), kNone);
   const auto nb_chunks =
       static_cast<std::uint32_t>((order.size() + kVertexChunk - 1) / kVertexChunk);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
     ThreadScratch& s = ts.local();
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
-      const std::size_t end = std::min(order.size(), std::size_t{k + 1} * kVertexChunk);
+      const std::size_t begin = std::size_t{k} * kVertexChunk;
+      const std::size_t end = std::min(order.size(), begin + kVertexChunk);
       std::uint32_t c = kNone;
-      for (std::size_t q = std::size_t{k} * kVertexChunk; q < end; ++q) {
+      for (std::size_t q = begin; q < end; ++q) {
         const double* p = domain.vertex(order[q]);
+        const std::uint32_t up = parent[q];
+        if (up != kNone && rank[up] >= begin && rank[up] < q) c = vertex_cell[up];
         if (c == kNone) c = dt.nearest_vertex(p);
         c = descend(p, c, s);
         vertex_cell[order[q]] = c;
@@ -177,16 +213,70 @@ void Clip3Impl::compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScrat
   });
 }
 
-// The polygon of triangle b in cell c: integrals, crossings, geometry (see the top).
-void Clip3Impl::emit_polygon(std::uint32_t b, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
+Sign Clip3Impl::tri_side(const Tri& tri, const TriVertex& v, std::uint32_t c,
+                         std::uint32_t j) const {
+  if (v.tag < 3) return bisector_side_vertex3d(site(c), site(j), tri.x[v.tag], c, j);
+  if (v.tag < 6) {
+    const int o = v.tag - 3;
+    return bisector_side_edge3d(site(c), site(v.k), site(j), tri.x[(o + 1) % 3], tri.x[(o + 2) % 3],
+                                c, v.k, j);
+  }
+  return bisector_side_facet3d(site(c), site(v.k), site(v.l), site(j), tri.x[0], tri.x[1], tri.x[2],
+                               c, v.k, v.l, j);
+}
+
+void Clip3Impl::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, double* x) const {
+  if (v.tag < 3) {
+    for (int q = 0; q < 3; ++q) x[q] = tri.x[v.tag][q];
+  } else if (v.tag < 6) {
+    const int o = v.tag - 3;
+    const std::uint32_t a = tri.mv[(o + 1) % 3], b = tri.mv[(o + 2) % 3];
+    edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
+  } else {
+    std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
+    small_sort(mesh, 3);
+    small_sort(sites, 3);
+    facet_point(mesh, sites, x);
+  }
+}
+
+ClipVertex3 Clip3Impl::tri_symbolic(const Tri& tri, const TriVertex& v, std::uint32_t c) const {
+  ClipVertex3 x{};
+  std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
+  int nm = 3, ns = 3;
+  if (v.tag < 3) {
+    x.kind = ClipVertex3::Kind::kMeshVertex;
+    mesh[0] = tri.mv[v.tag];
+    nm = 1;
+    ns = 0;
+  } else if (v.tag < 6) {
+    x.kind = ClipVertex3::Kind::kEdgeBisector;
+    const int o = v.tag - 3;
+    mesh[0] = tri.mv[(o + 1) % 3];
+    mesh[1] = tri.mv[(o + 2) % 3];
+    nm = 2;
+    ns = 2;
+  } else {
+    x.kind = ClipVertex3::Kind::kFacetBisectors;
+  }
+  small_sort(mesh, nm);
+  small_sort(sites, ns);
+  for (int k = 0; k < 3; ++k) {
+    x.mesh[k] = k < nm ? mesh[k] : ClipVertex3::kNone;
+    x.site[k] = k < ns ? sites[k] : ClipVertex3::kNone;
+  }
+  return x;
+}
+
+// The polygon of a triangle in cell c: integrals, crossings, geometry (see the top).
+void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
                              SurfaceChunk& chunk) const {
-  const std::uint32_t t = domain.boundary_tet(b);
   const std::size_t m = p.size();
   const double* pc = site(c);
   s.xyz.resize(3 * m);
   s.rel.resize(3 * m);
   for (std::size_t k = 0; k < m; ++k) {
-    coords(p.v[k], t, c, &s.xyz[3 * k]);
+    tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
     for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
   }
   const auto x = [&](std::size_t k) { return &s.rel[3 * (k == m ? 0 : k)]; };
@@ -210,26 +300,26 @@ void Clip3Impl::emit_polygon(std::uint32_t b, std::uint32_t c, const TriPoly& p,
     add_cone(h, x(k), x(k + 1), r);
   }
   for (std::size_t k = 0; k < m; ++k) {
-    const Plane e0 = p.e[k == 0 ? m - 1 : k - 1], e1 = p.e[k];
-    if (is_facet(e0) || is_facet(e1)) continue;
-    const auto k0 = static_cast<std::uint32_t>(e0), k1 = static_cast<std::uint32_t>(e1);
-    if (c > k0 || c > k1) continue;
+    const TriVertex& v = p.v[k];
+    if (v.tag != 6 || c > v.k) continue;
     Crossing cr{};
     cr.s[0] = c;
-    cr.s[1] = std::min(k0, k1);
-    cr.s[2] = std::max(k0, k1);
-    cr.tri = b;
+    cr.s[1] = v.k;
+    cr.s[2] = v.l;
+    cr.tri = tri.b;
     for (int q = 0; q < 3; ++q) cr.x[q] = s.xyz[3 * k + q];
     chunk.crossings.push_back(cr);
   }
   chunk.cell.push_back(c);
-  chunk.tri.push_back(b);
-  chunk.sums.insert(chunk.sums.end(),
-                    {r.volume, r.moment[0], r.moment[1], r.moment[2], r.energy,
-                     0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2])});
+  chunk.tri.push_back(tri.b);
+  const double sums[6] = {
+      r.volume,    r.moment[0],
+      r.moment[1], r.moment[2],
+      r.energy,    0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2])};
+  chunk.sums.insert(chunk.sums.end(), sums, sums + 6);
   if (keep_surface) {
     for (std::size_t k = 0; k < m; ++k) {
-      chunk.verts.push_back(symbolic(p.v[k], t, c));
+      chunk.verts.push_back(tri_symbolic(tri, p.v[k], c));
       for (int q = 0; q < 3; ++q) chunk.xyz.push_back(s.xyz[3 * k + q]);
     }
     chunk.begin.push_back(static_cast<std::uint32_t>(chunk.verts.size()));
@@ -240,31 +330,35 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   const std::uint32_t t = domain.boundary_tet(b);
   const int f = domain.boundary_facet(b);
   const int* lv = Domain3::kTetFacetVertex[f];
-  // The triangle: corner k is tet vertex lv[k] (on the three facets other than lv[k]'s
-  // opposite one), the edge from corner k to k + 1 on the facet opposite corner k + 2.
+  // Corner k is tet vertex lv[k]; the edge from corner k to k + 1 lies on the facet opposite
+  // corner k + 2.
+  Tri tri{};
+  tri.b = b;
+  std::uint32_t corner[3];
+  for (int k = 0; k < 3; ++k) {
+    tri.mv[k] = domain.tet_vertex(t, lv[k]);
+    tri.x[k] = domain.vertex(tri.mv[k]);
+    corner[k] = vertex_cell[tri.mv[k]];
+  }
   const auto init = [&](TriPoly& p) {
     p.clear();
     for (int k = 0; k < 3; ++k) {
-      PVertex v{};
-      int q = 0;
-      for (int g = 0; g < 4; ++g) {
-        if (g != lv[k]) v.p[q++] = facet_plane(g);
-      }
-      p.push(v, facet_plane(lv[(k + 2) % 3]));
+      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone}, facet_plane(lv[(k + 2) % 3]));
     }
   };
-  std::uint32_t corner[3];
-  const double* cx[3];
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t mv = domain.tet_vertex(t, lv[k]);
-    corner[k] = vertex_cell[mv];
-    cx[k] = domain.vertex(mv);
-  }
   init(s.a);
   if (corner[0] == corner[1] && corner[1] == corner[2]) {
-    emit_polygon(b, corner[0], s.a, s, chunk);
+    emit_polygon(tri, corner[0], s.a, s, chunk);
     return;
   }
+  // A ball around the triangle: centre g, radius R (the farthest corner).
+  double g[3], radius = 0;
+  for (int q = 0; q < 3; ++q) g[q] = (tri.x[0][q] + tri.x[1][q] + tri.x[2][q]) / 3;
+  for (int k = 0; k < 3; ++k) {
+    const double d[3] = {tri.x[k][0] - g[0], tri.x[k][1] - g[1], tri.x[k][2] - g[2]};
+    radius = std::max(radius, (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2]);
+  }
+  radius = std::sqrt(radius) * (1 + 1e-14);  // above the true distance despite rounding
   s.cells.clear();
   for (const std::uint32_t c : corner) {
     if (std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) s.cells.push_back(c);
@@ -272,24 +366,47 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   for (std::size_t q = 0; q < s.cells.size(); ++q) {
     const std::uint32_t c = s.cells[q];
     const double* pc = site(c);
+    const double rg[3] = {g[0] - pc[0], g[1] - pc[1], g[2] - pc[2]};
+    const double rrg = (rg[0] * rg[0] + rg[1] * rg[1]) + rg[2] * rg[2];
+    double r[3][3], rr[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int h = 0; h < 3; ++h) r[k][h] = tri.x[k][h] - pc[h];
+      rr[k] = (r[k][0] * r[k][0] + r[k][1] * r[k][1]) + r[k][2] * r[k][2];
+    }
     init(s.a);
-    const auto [list, count] = neighbors(c, s);
+    const NeighborList nb = neighbors(c, s);
     bool empty = false;
-    for (std::uint32_t h = 0; h < count && !empty; ++h) {
-      const std::uint32_t j = list[h];
-      const double* pj = site(j);
-      if (certainly_nearer(cx[0], pc, pj) && certainly_nearer(cx[1], pc, pj) &&
-          certainly_nearer(cx[2], pc, pj)) {
-        continue;
+    for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
+      const NbrGeo& ng = nb.geo[h];
+      // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the
+      // ball; below zero there, the bisector misses the triangle.
+      double bound;
+      const double fg = bisector_value(rg, rrg, ng.e, ng.ee, bound);
+      if (fg + 2 * radius * ng.norm * (1 + 1e-14) < -bound) continue;
+      // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
+      int corner_side[3];
+      for (int k = 0; k < 3; ++k) {
+        const double fk = bisector_value(r[k], rr[k], ng.e, ng.ee, bound);
+        corner_side[k] = fk < -bound ? -1 : (fk > bound ? 1 : 0);
       }
-      // Sutherland-Hodgman on symbolic vertices; a crossing of edge k lies on the planes
-      // f, e[k] and bisector(c, j).
+      if (corner_side[0] < 0 && corner_side[1] < 0 && corner_side[2] < 0) continue;
+      const std::uint32_t j = nb.id[h];
+      // Sutherland-Hodgman on symbolic vertices. A corner's side, and that of a point of a
+      // triangle edge whose ends agree, comes from the filter when it decided (F is affine).
       const TriPoly& in = s.a;
       const std::size_t m = in.size();
       s.beyond.resize(m);
       bool any_beyond = false, any_kept = false;
       for (std::size_t k = 0; k < m; ++k) {
-        const bool o = side(in.v[k], t, c, j) == Sign::positive;
+        const int tag = in.v[k].tag;
+        int known = 0;
+        if (tag < 3) {
+          known = corner_side[tag];
+        } else if (tag < 6) {
+          const int a0 = corner_side[(tag - 3 + 1) % 3], a1 = corner_side[(tag - 3 + 2) % 3];
+          known = a0 == a1 ? a0 : 0;
+        }
+        const bool o = known != 0 ? known > 0 : tri_side(tri, in.v[k], c, j) == Sign::positive;
         s.beyond[k] = o ? 1 : 0;
         any_beyond = any_beyond || o;
         any_kept = any_kept || !o;
@@ -299,20 +416,30 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
         empty = true;
         break;
       }
+      // The crossing of edge k (plane e[k]) with bisector(c, j).
       TriPoly& res = s.b;
       res.clear();
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t kn = k + 1 == m ? 0 : k + 1;
         if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
         if (s.beyond[k] != s.beyond[kn]) {
-          const PVertex x{{facet_plane(f), in.e[k], static_cast<Plane>(j)}};
-          res.push(x, s.beyond[k] ? in.e[k] : static_cast<Plane>(j));
+          TriVertex x{6, j, kNone};
+          const Plane e = in.e[k];
+          if (is_facet(e)) {
+            int opposite = 0;
+            while (lv[opposite] != facet_of(e)) ++opposite;
+            x.tag = static_cast<std::int8_t>(3 + opposite);
+          } else {
+            x.k = std::min(j, static_cast<std::uint32_t>(e));
+            x.l = std::max(j, static_cast<std::uint32_t>(e));
+          }
+          res.push(x, s.beyond[k] ? e : static_cast<Plane>(j));
         }
       }
       std::swap(s.a, s.b);
     }
     if (empty) continue;  // (a corner's cell, or a cell across an edge, is never empty)
-    emit_polygon(b, c, s.a, s, chunk);
+    emit_polygon(tri, c, s.a, s, chunk);
     for (const Plane e : s.a.e) {
       if (is_facet(e)) continue;
       const auto k = static_cast<std::uint32_t>(e);
@@ -323,16 +450,13 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
 
 const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::uint32_t b,
                                                           std::uint32_t c) const {
-  if (crossings.empty()) return nullptr;
   std::uint32_t s[3] = {a, b, c};
   small_sort(s, 3);
-  const auto mask = static_cast<std::uint32_t>(crossing_slots.size() - 1);
-  for (auto h = static_cast<std::uint32_t>(hash3(s[0], s[1], s[2])) & mask;; h = (h + 1) & mask) {
-    const std::uint32_t e = crossing_slots[h];
-    if (e == kNone) return nullptr;
+  for (std::uint32_t e = crossing_begin[s[0]]; e < crossing_begin[s[0] + std::size_t{1}]; ++e) {
     const EdgeCrossings& x = crossings[e];
-    if (x.s[0] == s[0] && x.s[1] == s[1] && x.s[2] == s[2]) return &x;
+    if (x.s[1] == s[1] && x.s[2] == s[2]) return &x;
   }
+  return nullptr;
 }
 
 void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
@@ -461,16 +585,9 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     crossings.push_back(x);
     k = e;
   }
-  std::size_t cap = 16;
-  while (cap < 2 * crossings.size()) cap *= 2;
-  crossing_slots.assign(cap, kNone);
-  const auto mask = static_cast<std::uint32_t>(cap - 1);
-  for (std::size_t e = 0; e < crossings.size(); ++e) {
-    const EdgeCrossings& x = crossings[e];
-    auto h = static_cast<std::uint32_t>(hash3(x.s[0], x.s[1], x.s[2])) & mask;
-    while (crossing_slots[h] != kNone) h = (h + 1) & mask;
-    crossing_slots[h] = static_cast<std::uint32_t>(e);
-  }
+  crossing_begin.assign(std::size_t{n} + 1, 0);
+  for (const EdgeCrossings& x : crossings) ++crossing_begin[x.s[0] + std::size_t{1}];
+  for (std::uint32_t i = 0; i < n; ++i) crossing_begin[i + 1] += crossing_begin[i];
 }
 
 }  // namespace voroclip
