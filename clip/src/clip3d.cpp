@@ -74,7 +74,11 @@ void Clip3Impl::run() {
   if (!linear_density) {
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 4096), [&](const auto& range) {
       for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-        if (!dt.is_free(t) && !infinite(t)) dt.circumcenter(t, &circ[3 * std::size_t{t}]);
+        if (dt.is_free(t) || infinite(t)) continue;
+        std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                              dt.tet_vertex(t, 3)};
+        small_sort(v, 4);
+        voronoi_point(v, &circ[3 * std::size_t{t}]);
       }
     });
   }

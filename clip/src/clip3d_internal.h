@@ -269,6 +269,9 @@ struct Clip3Impl {
   void edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
                   double* x) const;
   void facet_point(const std::uint32_t* mesh, const std::uint32_t* sites, double* x) const;
+  // The Voronoi vertex (circumcentre) of sites[0..3], sorted: the same bits for the fast
+  // path (every tet's circumcentre) and the tet-by-tet clipping.
+  void voronoi_point(const std::uint32_t* sites, double* x) const;
   static void init_tet(Poly& p, int only_facet);
   bool clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i, std::uint32_t j,
             Scratch& s) const;

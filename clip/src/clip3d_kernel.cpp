@@ -108,6 +108,31 @@ void Clip3Impl::facet_point(const std::uint32_t* mesh, const std::uint32_t* site
   for (int q = 0; q < 3; ++q) x[q] = la * a[q] + lb * b[q] + lc * c[q];
 }
 
+void Clip3Impl::voronoi_point(const std::uint32_t* sites, double* x) const {
+  const double* p0 = site(sites[0]);
+  double r[3][3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    const double* pk = site(sites[k + 1]);
+    for (int c = 0; c < 3; ++c) r[k][c] = pk[c] - p0[c];
+    w[k] = 0.5 * (r[k][0] * r[k][0] + r[k][1] * r[k][1] + r[k][2] * r[k][2]);
+  }
+  const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                     r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                     r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+  const double ux = w[0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                    r[0][1] * (w[1] * r[2][2] - r[1][2] * w[2]) +
+                    r[0][2] * (w[1] * r[2][1] - r[1][1] * w[2]);
+  const double uy = r[0][0] * (w[1] * r[2][2] - r[1][2] * w[2]) -
+                    w[0] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                    r[0][2] * (r[1][0] * w[2] - w[1] * r[2][0]);
+  const double uz = r[0][0] * (r[1][1] * w[2] - w[1] * r[2][1]) -
+                    r[0][1] * (r[1][0] * w[2] - w[1] * r[2][0]) +
+                    w[0] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+  x[0] = p0[0] + ux / det;
+  x[1] = p0[1] + uy / det;
+  x[2] = p0[2] + uz / det;
+}
+
 void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const {
   std::uint32_t mesh[4], sites[4];
   int nm = 0, ns = 0;
@@ -140,29 +165,7 @@ void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, doubl
     facet_point(mesh, sites, x);
     return;
   }
-  // The circumcentre of the four sites.
-  const double* p0 = site(sites[0]);
-  double r[3][3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    const double* pk = site(sites[k + 1]);
-    for (int c = 0; c < 3; ++c) r[k][c] = pk[c] - p0[c];
-    w[k] = 0.5 * (r[k][0] * r[k][0] + r[k][1] * r[k][1] + r[k][2] * r[k][2]);
-  }
-  const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                     r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                     r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-  const double ux = w[0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                    r[0][1] * (w[1] * r[2][2] - r[1][2] * w[2]) +
-                    r[0][2] * (w[1] * r[2][1] - r[1][1] * w[2]);
-  const double uy = r[0][0] * (w[1] * r[2][2] - r[1][2] * w[2]) -
-                    w[0] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                    r[0][2] * (r[1][0] * w[2] - w[1] * r[2][0]);
-  const double uz = r[0][0] * (r[1][1] * w[2] - w[1] * r[2][1]) -
-                    r[0][1] * (r[1][0] * w[2] - w[1] * r[2][0]) +
-                    w[0] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-  x[0] = p0[0] + ux / det;
-  x[1] = p0[1] + uy / det;
-  x[2] = p0[2] + uz / det;
+  voronoi_point(sites, x);
 }
 
 // The tet t (its four facets) as a polyhedron; with only_facet >= 0, that facet alone
