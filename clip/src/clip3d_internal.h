@@ -55,10 +55,24 @@ struct Poly {
 // A vertex of a boundary triangle clipped by cell c: tag 0..2, corner `tag` of the triangle;
 // 3..5, the triangle edge opposite corner tag - 3 ∩ bisector(c, k); 6, the triangle's plane
 // ∩ bisector(c, k) ∩ bisector(c, l), k < l.
+// fk, fl: while the triangle is clipped by cell c, the rows of CornerValues of the
+// bisectors (c, k) and (c, l) (clip3d_surface.cpp).
 struct TriVertex {
   std::int8_t tag;
   std::uint32_t k, l;
+  std::uint32_t fk, fl;
 };
+
+// F = |y - p_c|^2 - |y - p_j|^2 at the three corners of a triangle (bisector_value), each
+// within err of the exact value.
+struct CornerValues {
+  double f[3], err[3];
+};
+
+// The sign of F at a point of the triangle from corner values, when the floating-point
+// evaluation decides it with a proven bound; 0 otherwise (clip3d_surface.cpp).
+int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b);
+int facet_point_side(const CornerValues& k, const CornerValues& l, const CornerValues& j);
 
 // A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
 // v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
@@ -323,6 +337,7 @@ struct Clip3Impl {
     std::uint32_t site_gen = 0;
     TriPoly a, b;
     std::vector<std::uint8_t> beyond;
+    std::vector<clip3::CornerValues> corner_values;
     std::vector<std::uint32_t> cells;
     std::vector<double> xyz, rel;
     std::vector<std::int8_t> flag;

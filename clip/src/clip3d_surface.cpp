@@ -45,6 +45,81 @@ constexpr std::uint32_t kVertexChunk = 256;
 
 }  // namespace
 
+namespace clip3 {
+
+// A point X of triangle edge (a, b) on bisector(c, k): F_k affine along the edge, so
+//   F_j(X) = N / D,  N = F_k(a) F_j(b) - F_k(b) F_j(a),  D = F_k(a) - F_k(b)
+// (the contract of bisector_side_edge3d, with F for f: they differ by eps terms only, which
+// matter only when N or D is zero). With each value F~ within err of F,
+//   |F~_k F~_j - F_k F_j| <= |F~_k| e_j + e_k |F~_j| + e_k e_j,
+// the two products and the difference round within 2.0001 u (|F~_k(a) F~_j(b)| +
+// |F~_k(b) F~_j(a)|), and the bound itself is rounded up by a factor 1 + 1e-14. Values are
+// used only in [1e-150, 1e150] (errors) and below 1e150 (values): no product overflows,
+// and one that underflows errs by less than the 1e-300 added (the products of two errors
+// are >= 1e-300).
+int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b) {
+  const double ka = k.f[a], kb = k.f[b], ja = j.f[a], jb = j.f[b];
+  const double eka = k.err[a], ekb = k.err[b], eja = j.err[a], ejb = j.err[b];
+  const double lo = std::min(std::min(eka, ekb), std::min(eja, ejb));
+  const double hi = std::max(std::max(std::fabs(ka) + eka, std::fabs(kb) + ekb),
+                             std::max(std::fabs(ja) + eja, std::fabs(jb) + ejb));
+  if (!(lo >= 1e-150 && hi <= 1e150)) return 0;
+  const double p1 = ka * jb, p2 = kb * ja;
+  const double n = p1 - p2, d = ka - kb;
+  const double bn = ((std::fabs(ka) * ejb + eka * std::fabs(jb) + eka * ejb) +
+                     (std::fabs(kb) * eja + ekb * std::fabs(ja) + ekb * eja) +
+                     2.0001 * 0x1p-53 * (std::fabs(p1) + std::fabs(p2)) + 1e-300) *
+                    (1 + 1e-14);
+  const double bd = (eka + ekb + 0x1p-53 * std::fabs(d)) * (1 + 1e-14);
+  if (!(std::fabs(n) > bn && std::fabs(d) > bd)) return 0;
+  return (n > 0) == (d > 0) ? 1 : -1;
+}
+
+// A point X of the triangle's plane on bisectors (c, k) and (c, l): with barycentric
+// coordinates from F_k(X) = F_l(X) = 0 (F affine), F_j(X) = N / D, N = det[F_j; F_k; F_l],
+// D = det[1; F_k; F_l] (rows: the values at the corners; the contract of
+// bisector_side_facet3d). Each of the 6 terms +-a_p b_q c_r of a determinant is within
+// (|a~| + e_a)(|b~| + e_b)(|c~| + e_c) - |a~ b~ c~| of its exact value, and the evaluation
+// by 2 x 2 minors rounds within 5.0001 u times the sum of |a~ b~ c~|; the bound is rounded
+// up by 1 + 1e-14. Values are used only with errors in [1e-100, 1e100] and magnitudes below
+// 1e100: no triple product overflows or underflows below 1e-300 unnoticed (1e-300 added).
+int facet_point_side(const CornerValues& k, const CornerValues& l, const CornerValues& j) {
+  double lo = 1e300, hi = 0;
+  for (const CornerValues* r : {&k, &l, &j}) {
+    for (int p = 0; p < 3; ++p) {
+      lo = std::min(lo, r->err[p]);
+      hi = std::max(hi, std::fabs(r->f[p]) + r->err[p]);
+    }
+  }
+  if (!(lo >= 1e-100 && hi <= 1e100)) return 0;
+  static constexpr int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1},
+                                      {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+  const auto det = [&](const CornerValues* a, double& bound) {
+    // a == nullptr: the row of ones.
+    const auto av = [&](int p) { return a ? a->f[p] : 1.0; };
+    const auto ae = [&](int p) { return a ? a->err[p] : 0.0; };
+    const double m0 = k.f[1] * l.f[2] - k.f[2] * l.f[1];
+    const double m1 = k.f[2] * l.f[0] - k.f[0] * l.f[2];
+    const double m2 = k.f[0] * l.f[1] - k.f[1] * l.f[0];
+    const double value = (av(0) * m0 + av(1) * m1) + av(2) * m2;
+    double spread = 0, magnitude = 0;
+    for (const auto& q : kPerm) {
+      const double x = std::fabs(av(q[0])), y = std::fabs(k.f[q[1]]), z = std::fabs(l.f[q[2]]);
+      const double t = x * y * z;
+      spread += (x + ae(q[0])) * (y + k.err[q[1]]) * (z + l.err[q[2]]) - t;
+      magnitude += t;
+    }
+    bound = (spread + 5.0001 * 0x1p-53 * magnitude + 1e-300) * (1 + 1e-14);
+    return value;
+  };
+  double bn, bd;
+  const double n = det(&j, bn), d = det(nullptr, bd);
+  if (!(std::fabs(n) > bn && std::fabs(d) > bd)) return 0;
+  return (n > 0) == (d > 0) ? 1 : -1;
+}
+
+}  // namespace clip3
+
 // Per chunk of triangles, its polygons in triangle order.
 struct Clip3Impl::SurfaceChunk {
   std::vector<std::uint32_t> cell, tri;
@@ -343,7 +418,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   const auto init = [&](TriPoly& p) {
     p.clear();
     for (int k = 0; k < 3; ++k) {
-      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone}, facet_plane(lv[(k + 2) % 3]));
+      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone},
+             facet_plane(lv[(k + 2) % 3]));
     }
   };
   init(s.a);
@@ -375,6 +451,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
     }
     init(s.a);
     const NeighborList nb = neighbors(c, s);
+    s.corner_values.clear();
     bool empty = false;
     for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
       const NbrGeo& ng = nb.geo[h];
@@ -384,10 +461,11 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
       const double fg = bisector_value(rg, rrg, ng.e, ng.ee, bound);
       if (fg + 2 * radius * ng.norm * (1 + 1e-14) < -bound) continue;
       // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
+      CornerValues fj;
       int corner_side[3];
       for (int k = 0; k < 3; ++k) {
-        const double fk = bisector_value(r[k], rr[k], ng.e, ng.ee, bound);
-        corner_side[k] = fk < -bound ? -1 : (fk > bound ? 1 : 0);
+        fj.f[k] = bisector_value(r[k], rr[k], ng.e, ng.ee, fj.err[k]);
+        corner_side[k] = fj.f[k] < -fj.err[k] ? -1 : (fj.f[k] > fj.err[k] ? 1 : 0);
       }
       if (corner_side[0] < 0 && corner_side[1] < 0 && corner_side[2] < 0) continue;
       const std::uint32_t j = nb.id[h];
@@ -398,13 +476,17 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
       s.beyond.resize(m);
       bool any_beyond = false, any_kept = false;
       for (std::size_t k = 0; k < m; ++k) {
-        const int tag = in.v[k].tag;
+        const TriVertex& x = in.v[k];
         int known = 0;
-        if (tag < 3) {
-          known = corner_side[tag];
-        } else if (tag < 6) {
-          const int a0 = corner_side[(tag - 3 + 1) % 3], a1 = corner_side[(tag - 3 + 2) % 3];
-          known = a0 == a1 ? a0 : 0;
+        if (x.tag < 3) {
+          known = corner_side[x.tag];
+        } else if (x.tag < 6) {
+          const int ea = (x.tag - 3 + 1) % 3, eb = (x.tag - 3 + 2) % 3;
+          known = corner_side[ea] == corner_side[eb]
+                      ? corner_side[ea]
+                      : edge_point_side(s.corner_values[x.fk], fj, ea, eb);
+        } else {
+          known = facet_point_side(s.corner_values[x.fk], s.corner_values[x.fl], fj);
         }
         const bool o = known != 0 ? known > 0 : tri_side(tri, in.v[k], c, j) == Sign::positive;
         s.beyond[k] = o ? 1 : 0;
@@ -416,22 +498,31 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
         empty = true;
         break;
       }
-      // The crossing of edge k (plane e[k]) with bisector(c, j).
+      // The crossing of edge k (plane e[k]) with bisector(c, j). The corner values of j
+      // join the table; those of a bisector edge's site come from the vertex it starts at.
+      const auto row = static_cast<std::uint32_t>(s.corner_values.size());
+      s.corner_values.push_back(fj);
       TriPoly& res = s.b;
       res.clear();
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t kn = k + 1 == m ? 0 : k + 1;
         if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
         if (s.beyond[k] != s.beyond[kn]) {
-          TriVertex x{6, j, kNone};
+          TriVertex x{6, j, kNone, row, kNone};
           const Plane e = in.e[k];
           if (is_facet(e)) {
             int opposite = 0;
             while (lv[opposite] != facet_of(e)) ++opposite;
             x.tag = static_cast<std::int8_t>(3 + opposite);
           } else {
-            x.k = std::min(j, static_cast<std::uint32_t>(e));
-            x.l = std::max(j, static_cast<std::uint32_t>(e));
+            // The edge from v[k] lies on bisector(c, e): v[k] is on it, and carries its row.
+            const TriVertex& from = in.v[k];
+            const auto ke = static_cast<std::uint32_t>(e);
+            const std::uint32_t row_e = from.k == ke ? from.fk : from.fl;
+            x.k = std::min(j, ke);
+            x.l = std::max(j, ke);
+            x.fk = x.k == j ? row : row_e;
+            x.fl = x.k == j ? row_e : row;
           }
           res.push(x, s.beyond[k] ? e : static_cast<Plane>(j));
         }
