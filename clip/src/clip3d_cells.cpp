@@ -275,7 +275,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
 void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s,
                            Moments& r) const {
   Star& st = s.star;
-  star(i, st);
+  star(i, st, circ);
   const double* pi = site(i);
   const std::vector<std::uint32_t>& tets = st.tets;
   const std::size_t m = tets.size();
