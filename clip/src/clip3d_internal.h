@@ -56,11 +56,12 @@ struct Poly {
 // 3..5, the triangle edge opposite corner tag - 3 ∩ bisector(c, k); 6, the triangle's plane
 // ∩ bisector(c, k) ∩ bisector(c, l), k < l.
 // fk, fl: while the triangle is clipped by cell c, the rows of CornerValues of the
-// bisectors (c, k) and (c, l) (clip3d_surface.cpp).
+// bisectors (c, k) and (c, l); fm: the row of FacetMinors of a point inside (tag 6)
+// (clip3d_surface.cpp).
 struct TriVertex {
   std::int8_t tag;
   std::uint32_t k, l;
-  std::uint32_t fk, fl;
+  std::uint32_t fk, fl, fm;
 };
 
 // F = |y - p_c|^2 - |y - p_j|^2 at the three corners of a triangle (bisector_value), each
@@ -69,10 +70,13 @@ struct CornerValues {
   double f[3], err[3];
 };
 
-// The sign of F at a point of the triangle from corner values, when the floating-point
-// evaluation decides it with a proven bound; 0 otherwise (clip3d_surface.cpp).
-int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b);
-int facet_point_side(const CornerValues& k, const CornerValues& l, const CornerValues& j);
+// A point of the triangle's plane on bisectors (c, k) and (c, l), from their CornerValues:
+// the 2 x 2 minors m[p] of the rows F_k, F_l (columns q, r after p), each within err[p], and
+// the sign of D = m[0] + m[1] + m[2] when decided (0 otherwise; clip3d_surface.cpp).
+struct FacetMinors {
+  double m[3], err[3];
+  int sign_d;
+};
 
 // A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
 // v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
@@ -338,6 +342,7 @@ struct Clip3Impl {
     TriPoly a, b;
     std::vector<std::uint8_t> beyond;
     std::vector<clip3::CornerValues> corner_values;
+    std::vector<clip3::FacetMinors> facet_minors;
     std::vector<std::uint32_t> cells;
     std::vector<double> xyz, rel;
     std::vector<std::int8_t> flag;

@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,7 @@ constexpr std::uint32_t kVertexChunk = 256;
 
 }  // namespace
 
-namespace clip3 {
+namespace {
 
 // A point X of triangle edge (a, b) on bisector(c, k): F_k affine along the edge, so
 //   F_j(X) = N / D,  N = F_k(a) F_j(b) - F_k(b) F_j(a),  D = F_k(a) - F_k(b)
@@ -56,8 +57,8 @@ namespace clip3 {
 // |F~_k(b) F~_j(a)|), and the bound itself is rounded up by a factor 1 + 1e-14. Values are
 // used only in [1e-150, 1e150] (errors) and below 1e150 (values): no product overflows,
 // and one that underflows errs by less than the 1e-300 added (the products of two errors
-// are >= 1e-300).
-int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b) {
+// are >= 1e-300). Returns the sign of F_j(X) when that decides it, else 0.
+inline int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b) {
   const double ka = k.f[a], kb = k.f[b], ja = j.f[a], jb = j.f[b];
   const double eka = k.err[a], ekb = k.err[b], eja = j.err[a], ejb = j.err[b];
   const double lo = std::min(std::min(eka, ekb), std::min(eja, ejb));
@@ -78,47 +79,75 @@ int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b) 
 // A point X of the triangle's plane on bisectors (c, k) and (c, l): with barycentric
 // coordinates from F_k(X) = F_l(X) = 0 (F affine), F_j(X) = N / D, N = det[F_j; F_k; F_l],
 // D = det[1; F_k; F_l] (rows: the values at the corners; the contract of
-// bisector_side_facet3d). Each of the 6 terms +-a_p b_q c_r of a determinant is within
-// (|a~| + e_a)(|b~| + e_b)(|c~| + e_c) - |a~ b~ c~| of its exact value, and the evaluation
-// by 2 x 2 minors rounds within 5.0001 u times the sum of |a~ b~ c~|; the bound is rounded
-// up by 1 + 1e-14. Values are used only with errors in [1e-100, 1e100] and magnitudes below
-// 1e100: no triple product overflows or underflows below 1e-300 unnoticed (1e-300 added).
-int facet_point_side(const CornerValues& k, const CornerValues& l, const CornerValues& j) {
+// bisector_side_facet3d). Expanding along the first row, N = sum_p F_j[p] m_p and
+// D = sum_p m_p with the minors m_p = F_k[q] F_l[r] - F_k[r] F_l[q] ((p, q, r) cyclic).
+// A minor of values within e of the exact ones errs by at most
+//   |k_q| e + e |l_r| + e e + |k_r| e + e |l_q| + e e
+// plus 2.0001 u (|k_q l_r| + |k_r l_q|) of rounding (every bound is a sum of non-negative
+// terms, so its own rounding is relative); a dot product sum_p a_p m_p of values
+// within e_a, e_m errs by sum_p (|a_p| e_m + e_a |m_p| + e_a e_m) plus 3.0001 u
+// sum_p |a_p m_p|. Bounds are rounded up by 1 + 1e-14. Values are used only with errors in
+// [1e-100, 1e100] and magnitudes below 1e100, so no product overflows, and the 1e-300 added
+// covers those that underflow (products of errors stay above 1e-200).
+FacetMinors facet_minors(const CornerValues& k, const CornerValues& l) {
+  FacetMinors fm{};
   double lo = 1e300, hi = 0;
-  for (const CornerValues* r : {&k, &l, &j}) {
+  for (const CornerValues* r : {&k, &l}) {
     for (int p = 0; p < 3; ++p) {
       lo = std::min(lo, r->err[p]);
       hi = std::max(hi, std::fabs(r->f[p]) + r->err[p]);
     }
   }
-  if (!(lo >= 1e-100 && hi <= 1e100)) return 0;
-  static constexpr int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1},
-                                      {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
-  const auto det = [&](const CornerValues* a, double& bound) {
-    // a == nullptr: the row of ones.
-    const auto av = [&](int p) { return a ? a->f[p] : 1.0; };
-    const auto ae = [&](int p) { return a ? a->err[p] : 0.0; };
-    const double m0 = k.f[1] * l.f[2] - k.f[2] * l.f[1];
-    const double m1 = k.f[2] * l.f[0] - k.f[0] * l.f[2];
-    const double m2 = k.f[0] * l.f[1] - k.f[1] * l.f[0];
-    const double value = (av(0) * m0 + av(1) * m1) + av(2) * m2;
-    double spread = 0, magnitude = 0;
-    for (const auto& q : kPerm) {
-      const double x = std::fabs(av(q[0])), y = std::fabs(k.f[q[1]]), z = std::fabs(l.f[q[2]]);
-      const double t = x * y * z;
-      spread += (x + ae(q[0])) * (y + k.err[q[1]]) * (z + l.err[q[2]]) - t;
-      magnitude += t;
-    }
-    bound = (spread + 5.0001 * 0x1p-53 * magnitude + 1e-300) * (1 + 1e-14);
-    return value;
-  };
-  double bn, bd;
-  const double n = det(&j, bn), d = det(nullptr, bd);
-  if (!(std::fabs(n) > bn && std::fabs(d) > bd)) return 0;
-  return (n > 0) == (d > 0) ? 1 : -1;
+  if (!(lo >= 1e-100 && hi <= 1e100)) {
+    fm.sign_d = 0;
+    fm.err[0] = fm.err[1] = fm.err[2] = std::numeric_limits<double>::infinity();
+    return fm;
+  }
+  double sum_err = 0, sum_abs = 0;
+  for (int p = 0; p < 3; ++p) {
+    const int q = (p + 1) % 3, r = (p + 2) % 3;
+    const double a = k.f[q] * l.f[r], b = k.f[r] * l.f[q];
+    fm.m[p] = a - b;
+    const double spread = (std::fabs(k.f[q]) * l.err[r] + k.err[q] * std::fabs(l.f[r]) +
+                           k.err[q] * l.err[r]) +
+                          (std::fabs(k.f[r]) * l.err[q] + k.err[r] * std::fabs(l.f[q]) +
+                           k.err[r] * l.err[q]);
+    fm.err[p] = (spread + 2.0001 * 0x1p-53 * (std::fabs(a) + std::fabs(b)) + 1e-300) * (1 + 1e-14);
+    sum_err += fm.err[p];
+    sum_abs += std::fabs(fm.m[p]);
+  }
+  const double d = (fm.m[0] + fm.m[1]) + fm.m[2];
+  const double bd = (sum_err + 3.0001 * 0x1p-53 * sum_abs + 1e-300) * (1 + 1e-14);
+  fm.sign_d = std::fabs(d) > bd ? (d > 0 ? 1 : -1) : 0;
+  return fm;
 }
 
-}  // namespace clip3
+// The sign of F_j at the facet point of `fm` when decided, else 0 (see facet_minors).
+inline int facet_point_side(const FacetMinors& fm, const CornerValues& j) {
+  if (fm.sign_d == 0) return 0;
+  double lo = 1e300, hi = 0;
+  for (int p = 0; p < 3; ++p) {
+    lo = std::min(lo, j.err[p]);
+    hi = std::max(hi, std::fabs(j.f[p]) + j.err[p]);
+  }
+  if (!(lo >= 1e-100 && hi <= 1e100)) return 0;
+  const double t0 = j.f[0] * fm.m[0], t1 = j.f[1] * fm.m[1], t2 = j.f[2] * fm.m[2];
+  const double n = (t0 + t1) + t2;
+  double spread = 0;
+  for (int p = 0; p < 3; ++p) {
+    spread += std::fabs(j.f[p]) * fm.err[p] + j.err[p] * std::fabs(fm.m[p]) + j.err[p] * fm.err[p];
+  }
+  const double bn =
+      (spread + 3.0001 * 0x1p-53 * ((std::fabs(t0) + std::fabs(t1)) + std::fabs(t2)) + 1e-300) *
+      (1 + 1e-14);
+  if (!(std::fabs(n) > bn)) return 0;
+  return (n > 0) == (fm.sign_d > 0) ? 1 : -1;
+}
+
+// The ends of the triangle edge opposite corner k.
+constexpr int kEdgeEnd[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+
+}  // namespace
 
 // Per chunk of triangles, its polygons in triangle order.
 struct Clip3Impl::SurfaceChunk {
@@ -419,7 +448,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   const auto init = [&](TriPoly& p) {
     p.clear();
     for (int k = 0; k < 3; ++k) {
-      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone},
+      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone, kNone},
              facet_plane(lv[(k + 2) % 3]));
     }
   };
@@ -453,6 +482,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
     init(s.a);
     const NeighborList nb = neighbors(c, s);
     s.corner_values.clear();
+    s.facet_minors.clear();
     bool empty = false;
     for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
       const NbrGeo& ng = nb.geo[h];
@@ -482,12 +512,12 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
         if (x.tag < 3) {
           known = corner_side[x.tag];
         } else if (x.tag < 6) {
-          const int ea = (x.tag - 3 + 1) % 3, eb = (x.tag - 3 + 2) % 3;
+          const int ea = kEdgeEnd[x.tag - 3][0], eb = kEdgeEnd[x.tag - 3][1];
           known = corner_side[ea] == corner_side[eb]
                       ? corner_side[ea]
                       : edge_point_side(s.corner_values[x.fk], fj, ea, eb);
         } else {
-          known = facet_point_side(s.corner_values[x.fk], s.corner_values[x.fl], fj);
+          known = facet_point_side(s.facet_minors[x.fm], fj);
         }
         const bool o = known != 0 ? known > 0 : tri_side(tri, in.v[k], c, j) == Sign::positive;
         s.beyond[k] = o ? 1 : 0;
@@ -509,7 +539,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
         const std::size_t kn = k + 1 == m ? 0 : k + 1;
         if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
         if (s.beyond[k] != s.beyond[kn]) {
-          TriVertex x{6, j, kNone, row, kNone};
+          TriVertex x{6, j, kNone, row, kNone, kNone};
           const Plane e = in.e[k];
           if (is_facet(e)) {
             int opposite = 0;
@@ -524,6 +554,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
             x.l = std::max(j, ke);
             x.fk = x.k == j ? row : row_e;
             x.fl = x.k == j ? row_e : row;
+            x.fm = static_cast<std::uint32_t>(s.facet_minors.size());
+            s.facet_minors.push_back(facet_minors(s.corner_values[x.fk], s.corner_values[x.fl]));
           }
           res.push(x, s.beyond[k] ? e : static_cast<Plane>(j));
         }
