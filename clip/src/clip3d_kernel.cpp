@@ -285,10 +285,20 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
 
 // Clips tet t (or its facet `only_facet`) by every bisector of cell i. The result is in
 // s.a (possibly empty).
+// A bisector with the tet's four vertices certainly on i's side (certainly_nearer) cannot
+// cut it: skipped without a predicate.
 void Clip3Impl::clip_by_cell(std::uint32_t t, int only_facet, std::uint32_t i,
                              const std::vector<std::uint32_t>& nbrs, Scratch& s) const {
   init_tet(s.a, only_facet);
+  const double* pi = site(i);
+  const double* v[4];
+  for (int k = 0; k < 4; ++k) v[k] = domain.vertex(domain.tet_vertex(t, k));
   for (const std::uint32_t j : nbrs) {
+    const double* pj = site(j);
+    if (certainly_nearer(v[0], pi, pj) && certainly_nearer(v[1], pi, pj) &&
+        certainly_nearer(v[2], pi, pj) && certainly_nearer(v[3], pi, pj)) {
+      continue;
+    }
     if (clip(s.a, s.b, t, i, j, s)) std::swap(s.a, s.b);
     if (s.a.empty()) return;
   }
