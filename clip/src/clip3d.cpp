@@ -57,15 +57,17 @@ void Clip3Impl::run() {
   // Sites in the order of a tet of theirs: tets are numbered roughly along the insertion
   // curve, so neighbouring cells then read neighbouring memory.
   const std::uint32_t slots = dt.nb_tet_slots();
+  // (A counting sort by vertex_tet / 8: as local, with an eighth of the buckets.)
+  const std::size_t nb_buckets = slots / 8 + 1;
   const auto by_tet = [&](auto&& take, std::vector<std::uint32_t>& order) {
-    std::vector<std::uint32_t> bucket(std::size_t{slots} + 1, 0);
+    std::vector<std::uint32_t> bucket(nb_buckets + 1, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
-      if (take(i)) ++bucket[dt.vertex_tet(i) + std::size_t{1}];
+      if (take(i)) ++bucket[dt.vertex_tet(i) / 8 + std::size_t{1}];
     }
-    for (std::size_t t = 0; t < slots; ++t) bucket[t + 1] += bucket[t];
-    order.resize(bucket[slots]);
+    for (std::size_t t = 0; t < nb_buckets; ++t) bucket[t + 1] += bucket[t];
+    order.resize(bucket[nb_buckets]);
     for (std::uint32_t i = 0; i < n; ++i) {
-      if (take(i)) order[bucket[dt.vertex_tet(i)]++] = i;
+      if (take(i)) order[bucket[dt.vertex_tet(i) / 8]++] = i;
     }
   };
 
