@@ -167,20 +167,24 @@ struct PieceSums {
 // (add_cone, outward: the facet on bisector(i, j) is counter-clockwise around its outward
 // normal p_j - p_i). With a = h . (u x w), s = u + w, q = |u|^2 + |w|^2 + u . w, a cone has
 // volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60.
-inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w, PieceSums& r) {
-  const double* a = u.y;
-  const double* b = w.y;
-  const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                       a[0] * b[1] - a[1] * b[0]};
-  const double s[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-  const double q = (u.yy + w.yy) + ((a[0] * b[0] + a[1] * b[1]) + a[2] * b[2]);
-  const double aj = (hj.y[0] * c[0] + hj.y[1] * c[1]) + hj.y[2] * c[2];
-  const double ak = (hk.y[0] * c[0] + hk.y[1] * c[1]) + hk.y[2] * c[2];
-  const double sj = (hj.y[0] * s[0] + hj.y[1] * s[1]) + hj.y[2] * s[2];
-  const double sk = (hk.y[0] * s[0] + hk.y[1] * s[1]) + hk.y[2] * s[2];
+inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w,
+                           PieceSums& r) {
+  const double a0 = u.y[0], a1 = u.y[1], a2 = u.y[2];
+  const double b0 = w.y[0], b1 = w.y[1], b2 = w.y[2];
+  const double c0 = a1 * b2 - a2 * b1, c1 = a2 * b0 - a0 * b2, c2 = a0 * b1 - a1 * b0;
+  const double s0 = a0 + b0, s1 = a1 + b1, s2 = a2 + b2;
+  const double q = (u.yy + w.yy) + ((a0 * b0 + a1 * b1) + a2 * b2);
+  const double j0 = hj.y[0], j1 = hj.y[1], j2 = hj.y[2];
+  const double k0 = hk.y[0], k1 = hk.y[1], k2 = hk.y[2];
+  const double aj = (j0 * c0 + j1 * c1) + j2 * c2;
+  const double ak = (k0 * c0 + k1 * c1) + k2 * c2;
+  const double sj = (j0 * s0 + j1 * s1) + j2 * s2;
+  const double sk = (k0 * s0 + k1 * s1) + k2 * s2;
   const double d = aj - ak;
   r.v += d;
-  for (int k = 0; k < 3; ++k) r.m[k] += (aj * hj.y[k] - ak * hk.y[k]) + d * s[k];
+  r.m[0] += (aj * j0 - ak * k0) + d * s0;
+  r.m[1] += (aj * j1 - ak * k1) + d * s1;
+  r.m[2] += (aj * j2 - ak * k2) + d * s2;
   r.e += (aj * (hj.yy + sj) - ak * (hk.yy + sk)) + d * q;
 }
 
