@@ -345,6 +345,9 @@ struct Clip3Impl {
     std::uint32_t site_gen = 0;
     TriPoly a, b;
     std::vector<std::uint8_t> beyond;
+    // Per domain vertex: its cell, when corner_stamp is the current chunk's (+ 1).
+    std::vector<std::uint32_t> corner_cell, corner_stamp;
+    std::uint32_t last_cell = clip3::kNone;  // the last cell met (a hint)
     std::vector<clip3::CornerValues> corner_values;
     std::vector<clip3::FacetMinors> facet_minors;
     std::vector<std::uint32_t> cells;
@@ -370,7 +373,6 @@ struct Clip3Impl {
   NeighborList neighbors(std::uint32_t c, ThreadScratch& s) const;
 
   // ---- Restricted surface (clip3d_surface.cpp).
-  std::vector<std::uint32_t> vertex_cell;     // per domain vertex on the boundary: its cell
   std::vector<EdgeCrossings> crossings;       // sorted by s
   std::vector<std::uint32_t> crossing_begin;  // per site a: crossings with s[0] == a
   // The crossings of the Voronoi edge of sites a, b, c (any order; nullptr: none).
@@ -382,7 +384,6 @@ struct Clip3Impl {
   std::vector<std::uint32_t> cell_tri_begin, cell_tris;
   std::vector<Moments> surface_moments;  // per boundary cell: the polygons' cones
   std::vector<double> surface_area;      // per site
-  void compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScratch>& ts);
   std::uint32_t descend(const double* p, std::uint32_t c, ThreadScratch& s) const;
   struct SurfaceChunk;
   // A boundary triangle: its index, corners (domain vertices, in the triangle's order).
@@ -393,7 +394,9 @@ struct Clip3Impl {
   Sign tri_side(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, std::uint32_t j) const;
   void tri_coords(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, double* x) const;
   ClipVertex3 tri_symbolic(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c) const;
-  void clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& chunk) const;
+  // Triangle b as the `stamp`-th chunk sees it (ThreadScratch::corner_cell).
+  void clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
+                     SurfaceChunk& chunk) const;
   void emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
                     SurfaceChunk& chunk) const;
   void surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts);

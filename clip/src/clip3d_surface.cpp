@@ -42,7 +42,6 @@ using namespace clip3;
 namespace {
 
 constexpr std::uint32_t kTriangleChunk = 128;
-constexpr std::uint32_t kVertexChunk = 256;
 
 }  // namespace
 
@@ -261,63 +260,6 @@ std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch
   }
 }
 
-void Clip3Impl::compute_vertex_cells(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
-  // Boundary vertices in breadth-first order over the surface, each with a neighbour seen
-  // before it (its parent; kNone for the first of a component).
-  const std::uint32_t nb = domain.nb_boundary_triangles();
-  std::vector<std::uint32_t> order, parent, queue;
-  std::vector<std::uint32_t> rank(domain.nb_vertices(), kNone);
-  std::vector<std::uint8_t> tri_seen(nb, 0);
-  for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
-    if (tri_seen[b0]) continue;
-    tri_seen[b0] = 1;
-    queue.assign(1, b0);
-    for (std::size_t h = 0; h < queue.size(); ++h) {
-      const std::uint32_t b = queue[h];
-      std::uint32_t known = kNone;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t v = domain.boundary_vertex(b, k);
-        if (rank[v] != kNone) known = v;
-      }
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t v = domain.boundary_vertex(b, k);
-        if (rank[v] == kNone) {
-          rank[v] = static_cast<std::uint32_t>(order.size());
-          order.push_back(v);
-          parent.push_back(known);
-          known = v;
-        }
-        const std::uint32_t b2 = domain.boundary_adjacent(b, k);
-        if (b2 != Domain3::kNone && !tri_seen[b2]) {
-          tri_seen[b2] = 1;
-          queue.push_back(b2);
-        }
-      }
-    }
-  }
-  // In chunks: a vertex starts from its parent's cell when the chunk has computed it, else
-  // from the previous vertex's, the first of a chunk from an exact nearest-site query.
-  vertex_cell.assign(domain.nb_vertices(), kNone);
-  const auto nb_chunks =
-      static_cast<std::uint32_t>((order.size() + kVertexChunk - 1) / kVertexChunk);
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
-    ThreadScratch& s = ts.local();
-    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
-      const std::size_t begin = std::size_t{k} * kVertexChunk;
-      const std::size_t end = std::min(order.size(), begin + kVertexChunk);
-      std::uint32_t c = kNone;
-      for (std::size_t q = begin; q < end; ++q) {
-        const double* p = domain.vertex(order[q]);
-        const std::uint32_t up = parent[q];
-        if (up != kNone && rank[up] >= begin && rank[up] < q) c = vertex_cell[up];
-        if (c == kNone) c = dt.nearest_vertex(p);
-        c = descend(p, c, s);
-        vertex_cell[order[q]] = c;
-      }
-    }
-  });
-}
-
 Sign Clip3Impl::tri_side(const Tri& tri, const TriVertex& v, std::uint32_t c,
                          std::uint32_t j) const {
   if (v.tag < 3) return bisector_side_vertex3d(site(c), site(j), tri.x[v.tag], c, j);
@@ -431,7 +373,8 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   }
 }
 
-void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& chunk) const {
+void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
+                              SurfaceChunk& chunk) const {
   const std::uint32_t t = domain.boundary_tet(b);
   const int f = domain.boundary_facet(b);
   const int* lv = Domain3::kTetFacetVertex[f];
@@ -439,11 +382,22 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   // corner k + 2.
   Tri tri{};
   tri.b = b;
+  // The cells of the corners that earlier triangles of this chunk found (kNone: unknown).
+  if (s.corner_cell.size() != domain.nb_vertices()) {
+    s.corner_cell.assign(domain.nb_vertices(), kNone);
+    s.corner_stamp.assign(domain.nb_vertices(), 0);
+  }
   std::uint32_t corner[3];
   for (int k = 0; k < 3; ++k) {
     tri.mv[k] = domain.tet_vertex(t, lv[k]);
     tri.x[k] = domain.vertex(tri.mv[k]);
-    corner[k] = vertex_cell[tri.mv[k]];
+    corner[k] = s.corner_stamp[tri.mv[k]] == stamp ? s.corner_cell[tri.mv[k]] : kNone;
+  }
+  if (corner[0] == kNone && corner[1] == kNone && corner[2] == kNone) {
+    // From the last cell this thread met (nearby: the order follows the surface), or an
+    // exact nearest-site query; the descent's result does not depend on where it starts.
+    const std::uint32_t hint = s.last_cell != kNone ? s.last_cell : dt.nearest_vertex(tri.x[0]);
+    corner[0] = descend(tri.x[0], hint, s);
   }
   const auto init = [&](TriPoly& p) {
     p.clear();
@@ -455,8 +409,17 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   init(s.a);
   if (corner[0] == corner[1] && corner[1] == corner[2]) {
     emit_polygon(tri, corner[0], s.a, s, chunk);
+    s.last_cell = corner[0];
     return;
   }
+  const auto record_corners = [&](std::uint32_t c, const TriPoly& p) {
+    for (const TriVertex& v : p.v) {
+      if (v.tag < 3) {
+        s.corner_cell[tri.mv[v.tag]] = c;
+        s.corner_stamp[tri.mv[v.tag]] = stamp;
+      }
+    }
+  };
   // A ball around the triangle: centre g, radius R (the farthest corner).
   double g[3], radius = 0;
   for (int q = 0; q < 3; ++q) g[q] = (tri.x[0][q] + tri.x[1][q] + tri.x[2][q]) / 3;
@@ -467,7 +430,9 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
   radius = std::sqrt(radius) * (1 + 1e-14);  // above the true distance despite rounding
   s.cells.clear();
   for (const std::uint32_t c : corner) {
-    if (std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) s.cells.push_back(c);
+    if (c != kNone && std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) {
+      s.cells.push_back(c);
+    }
   }
   for (std::size_t q = 0; q < s.cells.size(); ++q) {
     const std::uint32_t c = s.cells[q];
@@ -564,6 +529,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, ThreadScratch& s, SurfaceChunk& c
     }
     if (empty) continue;  // (a corner's cell, or a cell across an edge, is never empty)
     emit_polygon(tri, c, s.a, s, chunk);
+    record_corners(c, s.a);
+    s.last_cell = c;
     for (const Plane e : s.a.e) {
       if (is_facet(e)) continue;
       const auto k = static_cast<std::uint32_t>(e);
@@ -584,23 +551,58 @@ const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::
 }
 
 void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
-  compute_vertex_cells(ts);
+  // Triangles in depth-first order over the surface, in chunks: a triangle takes the
+  // cells of its corners from the polygons of the chunk's triangles before it (exact facts,
+  // so the order changes nothing but the work).
   const std::uint32_t nb = domain.nb_boundary_triangles();
+  std::vector<std::uint32_t> order;
+  order.reserve(nb);
+  {
+    std::vector<std::uint8_t> seen(nb, 0);
+    std::vector<std::uint32_t> stack;
+    for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
+      if (seen[b0]) continue;
+      stack.assign(1, b0);
+      while (!stack.empty()) {
+        const std::uint32_t b = stack.back();
+        stack.pop_back();
+        if (seen[b]) continue;
+        seen[b] = 1;
+        order.push_back(b);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t b2 = domain.boundary_adjacent(b, k);
+          if (b2 != Domain3::kNone && !seen[b2]) stack.push_back(b2);
+        }
+      }
+    }
+  }
   const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
   std::vector<SurfaceChunk> chunks(nb_chunks);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
     ThreadScratch& s = ts.local();
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
-      for (std::uint32_t b = k * kTriangleChunk; b < end; ++b) clip_triangle(b, s, chunks[k]);
+      for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
+        clip_triangle(order[h], k + 1, s, chunks[k]);
+      }
     }
   });
 
-  // Polygons per cell, in triangle order.
+  // Polygons per triangle (each triangle's are consecutive in its chunk), then per cell in
+  // triangle order.
+  std::vector<std::uint32_t> tri_chunk(nb), tri_first(nb), tri_count(nb, 0);
   std::vector<std::uint32_t> count(std::size_t{n} + 1, 0);
   std::size_t nb_polygons = 0;
-  for (const SurfaceChunk& ch : chunks) {
-    for (const std::uint32_t c : ch.cell) ++count[c + std::size_t{1}];
+  for (std::uint32_t h = 0; h < nb_chunks; ++h) {
+    const SurfaceChunk& ch = chunks[h];
+    for (std::size_t p = 0; p < ch.cell.size(); ++p) {
+      const std::uint32_t b = ch.tri[p];
+      if (tri_count[b]++ == 0) {
+        tri_chunk[b] = h;
+        tri_first[b] = static_cast<std::uint32_t>(p);
+      }
+      ++count[ch.cell[p] + std::size_t{1}];
+    }
     nb_polygons += ch.cell.size();
   }
   for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
@@ -618,13 +620,13 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
   std::vector<std::uint32_t> where_chunk(nb_polygons), where_index(nb_polygons);
   cell_tris.resize(nb_polygons);
-  for (std::uint32_t h = 0; h < nb_chunks; ++h) {
-    const SurfaceChunk& ch = chunks[h];
-    for (std::size_t p = 0; p < ch.cell.size(); ++p) {
+  for (std::uint32_t b = 0; b < nb; ++b) {
+    const SurfaceChunk& ch = chunks[tri_chunk[b]];
+    for (std::uint32_t p = tri_first[b]; p < tri_first[b] + tri_count[b]; ++p) {
       const std::uint32_t pos = cursor[ch.cell[p]]++;
-      where_chunk[pos] = h;
-      where_index[pos] = static_cast<std::uint32_t>(p);
-      cell_tris[pos] = ch.tri[p];
+      where_chunk[pos] = tri_chunk[b];
+      where_index[pos] = p;
+      cell_tris[pos] = b;
     }
   }
   cell_tri_begin.assign(boundary_cells.size() + 1, 0);
