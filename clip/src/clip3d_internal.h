@@ -167,8 +167,7 @@ struct PieceSums {
 // (add_cone, outward: the facet on bisector(i, j) is counter-clockwise around its outward
 // normal p_j - p_i). With a = h . (u x w), s = u + w, q = |u|^2 + |w|^2 + u . w, a cone has
 // volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60.
-inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w,
-                           PieceSums& r) {
+inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w, PieceSums& r) {
   const double a0 = u.y[0], a1 = u.y[1], a2 = u.y[2];
   const double b0 = w.y[0], b1 = w.y[1], b2 = w.y[2];
   const double c0 = a1 * b2 - a2 * b1, c1 = a2 * b0 - a0 * b2, c2 = a0 * b1 - a1 * b0;

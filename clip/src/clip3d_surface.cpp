@@ -107,10 +107,9 @@ FacetMinors facet_minors(const CornerValues& k, const CornerValues& l) {
     const int q = (p + 1) % 3, r = (p + 2) % 3;
     const double a = k.f[q] * l.f[r], b = k.f[r] * l.f[q];
     fm.m[p] = a - b;
-    const double spread = (std::fabs(k.f[q]) * l.err[r] + k.err[q] * std::fabs(l.f[r]) +
-                           k.err[q] * l.err[r]) +
-                          (std::fabs(k.f[r]) * l.err[q] + k.err[r] * std::fabs(l.f[q]) +
-                           k.err[r] * l.err[q]);
+    const double spread =
+        (std::fabs(k.f[q]) * l.err[r] + k.err[q] * std::fabs(l.f[r]) + k.err[q] * l.err[r]) +
+        (std::fabs(k.f[r]) * l.err[q] + k.err[r] * std::fabs(l.f[q]) + k.err[r] * l.err[q]);
     fm.err[p] = (spread + 2.0001 * 0x1p-53 * (std::fabs(a) + std::fabs(b)) + 1e-300) * (1 + 1e-14);
     sum_err += fm.err[p];
     sum_abs += std::fabs(fm.m[p]);
