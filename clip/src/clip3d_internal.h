@@ -343,14 +343,17 @@ struct Clip3Impl {
     std::vector<NbrGeo> nbr_geo;
     std::uint32_t site_gen = 0;
     TriPoly a, b;
+    // Per polygon vertex, beyond the bisector (boundary cells: per star facet, its
+    // crossings looked up).
     std::vector<std::uint8_t> beyond;
     // Per domain vertex: its cell, when corner_stamp is the current chunk's (+ 1).
     std::vector<std::uint32_t> corner_cell, corner_stamp;
     std::uint32_t last_cell = clip3::kNone;  // the last cell met (a hint)
     std::vector<clip3::CornerValues> corner_values;
     std::vector<clip3::FacetMinors> facet_minors;
+    // The cells met by the current triangle (a cell clipped tet by tet: its seed tets).
     std::vector<std::uint32_t> cells;
-    std::vector<double> xyz, rel;
+    std::vector<double> xyz, rel;  // a polygon's vertices, absolute and relative to its site
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
