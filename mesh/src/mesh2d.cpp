@@ -902,7 +902,6 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
       if (remove[i]) continue;
       kept.add(&sites[2 * i], set.constraints[i], set.kinds[i], set.domain_vertex[i], set.edge[i]);
     }
-    st.nb_gap_sites += fill_gaps(*domain, model, *grid, kept);
     set = std::move(kept);
     sites = set.xy;
     Cvt2Options co;

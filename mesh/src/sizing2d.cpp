@@ -172,6 +172,14 @@ double SizingField2::feature(double x, double y) const {
   return (1 - fv) * ((1 - fu) * n[0] + fu * n[1]) + fv * ((1 - fu) * m[0] + fu * m[1]);
 }
 
+double SizingField2::max_spacing() const {
+  double m = 0;
+  for (const Cell& c : cells_) {
+    if (c.res > 0) m = std::max(m, size_ / c.res);
+  }
+  return m;
+}
+
 void SizingField2::cell_box(std::uint32_t c, double* lo, double* hi) const {
   lo[0] = lo_[0] + static_cast<double>(c % nx_) * size_;
   lo[1] = lo_[1] + static_cast<double>(c / nx_) * size_;

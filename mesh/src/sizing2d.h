@@ -54,6 +54,9 @@ class SizingField2 {
   double feature(double x, double y) const;
   double cap() const { return cap_; }
   std::uint64_t nb_nodes() const { return nodes_.size(); }
+  // The largest node spacing of the cells with nodes (0 when there are none): the
+  // interpolant is within gradation * sqrt(2) * spacing of the envelope.
+  double max_spacing() const;
 
   // Coarse-cell data for sampling: cell c spans [x0 + i C, x0 + (i + 1) C) x [...] with
   // c = j nx + i.

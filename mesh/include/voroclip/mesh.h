@@ -18,25 +18,45 @@ namespace voroclip {
 // 2D: CVT triangle meshing of a Domain2 (mesh/src/mesh2d.cpp, sizing2d.cpp, extract2d.cpp)
 // =======================================================================================
 //
-// Pipeline (paper sec. 5.1):
+// Pipeline (paper sec. 5.1, steps 3-6; 1, 2 and 7 are this library's):
 //   1. Sizing. A target edge length h(x) = min(H, min_j (s_j + g |x - x_j|)): a uniform
 //      size H, capped near small boundary features (samples x_j of the boundary with the
-//      size s_j they need, see below) and growing away from them with slope g
-//      (`gradation`). H is chosen so that about `nb_vertices` vertices result (or given as
-//      `edge_length`). The CVT density is rho = h^-4 (cells of a CVT have a diameter
-//      proportional to rho^(-1/4) in 2D), so a constant h gives a constant density.
-//   2. Sampling: N sites, independent, with probability density proportional to h^-2,
+//      size s_j they need, below) and growing away from them with slope g (`gradation`).
+//      H is chosen so that the expected vertex count of an equilateral mesh of size h,
+//      (2 / sqrt(3)) * integral of h^-2, is `nb_vertices` (or H = `edge_length`). The CVT
+//      density is rho = (H / h)^4 (a CVT cell's diameter goes as rho^(-1/4) in 2D).
+//   2. Sampling: independent sites with probability density proportional to h^-2,
 //      strictly inside the domain (exact locate), from `seed`.
-//   3. Unconstrained CVT (L-BFGS by default).
-//   4. Boundary: the sites of boundary cells are snapped to their closest boundary point;
-//      required vertices (below) become fixed sites; the sliding sites of each boundary
-//      path closer than half the local size to a neighbour on the path are dropped.
+//   3. Unconstrained CVT (L-BFGS with a diagonal preconditioner, cvt.h).
+//   4. Boundary: fixed vertices (below) become fixed sites; the sites of boundary cells
+//      within 0.75 h of the boundary are snapped to their closest boundary point; each
+//      boundary path keeps round(integral of ds / h) - 1 sliding sites (the snapped sites
+//      closest to their neighbours are dropped, missing ones are added in the widest
+//      gaps). Snapping empties the middle of parts only a few cells wide, so empty circles
+//      are then filled: a free site at each Delaunay circumcenter inside the domain whose
+//      radius exceeds 0.8 h (0.577 h in an equilateral mesh) and that lies 0.4 h or more
+//      from the boundary, largest first.
 //   5. Constrained CVT: fixed sites stay, sliding sites move along their path (tangential
 //      gradient, eq. 3), the others are free.
 //   6. Extraction (extract_mesh2): the Delaunay triangles of the final sites whose
 //      circumcenter lies inside the domain, decided exactly; then every kept triangle is
-//      checked exactly to lie in the closed domain (a triangle that does not is dropped and
+//      checked exactly to lie in the closed domain (one that does not is dropped and
 //      counted, so the result is always valid); vertices used by no triangle are removed.
+//   7. Repair: while some triangle has an angle below `repair_angle_deg` (at most
+//      `repair_rounds` times), the non-fixed vertex at the largest angle of each such
+//      triangle is removed (an end of a needle's short edge, a cap's apex) and a short
+//      constrained CVT follows, then step 6 again.
+// The vertex count is approximate: the sampling gives `nb_vertices`, the boundary and
+// gap steps change it (parts of the domain a few cells wide take more vertices than
+// their area suggests: +28% on shared/data hilbert.json), the repair removes a few.
+//
+// What the circumcenter rule leaves out: obtuse triangles against the boundary (their
+// circumcenter is beyond it) are not kept, which leaves notches — under 1% of the area on
+// ordinary domains, a few percent where the domain is only a few cells wide
+// (Mesh2Stats::covered_fraction); `keep_gaps` keeps them. Where the two sides of a thin
+// spike of a hole are sampled more coarsely than the spike is wide, Delaunay triangles
+// jump across it; they fail the containment check and are dropped (dropped_outside),
+// leaving a small uncovered spot near the spike's tip.
 //
 // Boundary vertices. Domain vertices are classified by the turn of the boundary there
 // (domain on the left): REFLEX vertices (a right turn, interior angle > 180 degrees) are
@@ -47,28 +67,30 @@ namespace voroclip {
 // convex bend: the mesh stays inside). The fixed vertices split each ring into boundary
 // paths (a ring without one is one closed path).
 //
-// Sharp corners. A convex corner whose interior angle is below `sharp_angle_deg` cannot be
-// a mesh vertex without a triangle angle below that angle. Such a corner is not meshed:
-// its tip is cut off where the wedge is as wide as the local size h — two fixed sites at
-// arclength r = h / (2 sin(angle / 2)) from the tip on either side (or at the nearest
-// fixed vertex before that) and no sites in between, so that the mesh boundary there is
-// a chord of length about h, and the tip (an area about r h / 2) is left uncovered.
-// (A wedge narrower than h can only be filled by triangles with an angle at most its
-// own; this keeps the quality and loses the tip, a documented approximation.)
+// Sharp corners. A corner whose interior angle is below `sharp_angle_deg` cannot be a mesh
+// vertex without a triangle angle below that angle, and the wedge near it is narrower
+// than the local size. Such a corner is cut off the domain before meshing: the tip is
+// replaced by a chord between the points at arclength r = h / (2 sin(angle / 2)) from it
+// on either side (where the wedge is h wide), or the nearest fixed vertex before that,
+// or half-way to another sharp corner. The cut domain is validated exactly as a Domain2
+// (if a chord crosses another ring the cuts are halved, up to three times, else the
+// corners stay as fixed corners), re-analysed (a cut may make a sharp corner at a fixed
+// vertex; up to three rounds), and meshed: the chord's ends are fixed vertices, the tip
+// (an area about r h / 2 each) is left uncovered, and the mesh lies in the cut domain,
+// hence in the domain.
 //
-// Feature sizes s_j, on samples of every boundary path P (spacing a fraction of s_j):
+// Feature sizes s_j, on samples of every boundary path P (spacing half the local s_j):
 //   s_j = min(length of P, distance from x_j to the nearest fixed vertex that does not end
 //             P or to the nearest edge of a path that shares no end with P)
 // (Ruppert's local feature size with the paths as features: a narrow part of the domain
 // gets about one triangle across its width, and a short path between two fixed vertices
-// gets triangles of its length). Paths meeting at a cut sharp corner do not see each
-// other, so the wedge is not refined towards the tip.
+// gets triangles of its length).
 //
 // Coordinates. Fixed vertices at domain vertices have the domain's coordinates. Sliding
 // sites and cut points are rounded, after the optimisation, to a double point in the
-// closed domain (exactly on their edge when the edge is horizontal or vertical; otherwise
-// within a few ulps of it, on the domain side: a general segment holds no double point
-// but its ends).
+// closed domain: exactly on their edge when it holds already (for instance on horizontal
+// and vertical edges), otherwise a few ulps from it on the domain side (a general segment
+// holds no double point but its ends).
 //
 // Threads: the clipped diagrams, the sizing grid and the extraction checks run in TBB
 // loops writing per-item slots: the result is identical for any thread count.
@@ -113,8 +135,7 @@ struct Mesh2Progress {
 };
 
 struct Mesh2Options {
-  // Target number of mesh vertices (the sampling reaches it to within a few percent, plus
-  // the fixed vertices' share). 0: use edge_length.
+  // Target number of mesh vertices (approximate, see above). 0: use edge_length.
   std::uint32_t nb_vertices = 0;
   // Target edge length H far from small features, used when nb_vertices == 0.
   double edge_length = 0;
@@ -143,16 +164,15 @@ struct Mesh2Options {
   std::uint32_t constrained_iterations = 200;
   double unconstrained_tolerance = 1e-3;
   double constrained_tolerance = 1e-4;
-  // Repair (step 7): up to repair_rounds times, while some triangle has an angle below
-  // repair_angle_deg, remove the non-fixed vertex at the largest angle of each such
-  // triangle, refill gaps, and run repair_iterations of constrained CVT. 0 rounds: the
-  // paper's pipeline alone.
+  // Repair (step 7): rounds, the angle below which a triangle is repaired, and the CVT
+  // iterations after each round's removals. 0 rounds: the paper's pipeline alone.
   std::uint32_t repair_rounds = 4;
   double repair_angle_deg = 30;
   std::uint32_t repair_iterations = 40;
   // Called at the start of each phase (iteration 0) and after every CVT iteration; return
   // false to stop: the mesh is then extracted from the sites reached (valid, lower
-  // quality) and Mesh2Stats::cancelled is set.
+  // quality; an empty mesh when stopped at the start of the sampling) and
+  // Mesh2Stats::cancelled is set.
   std::function<bool(const Mesh2Progress&)> progress;
 };
 
