@@ -115,6 +115,9 @@ void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<
                     const ClippedVoronoi2& cv);
 
 void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options);
+/// SVG picture of a 2D mesh: triangles coloured by their smallest angle (red below 30
+/// degrees), the domain's rings, fixed vertices as dots.
+void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh);
 /// Writes a 2D mesh by extension: .svg (triangles coloured by their smallest angle), .vtu,
 /// .mesh (Medit), .msh (Gmsh 2.2), atomically.
 void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh);

@@ -69,11 +69,13 @@ int main(int argc, char** argv) {
   voroclip::cli::DemoArgs demo_args;
   CLI::App* demo = app.add_subcommand(
       "demo",
-      "Exact versus naive predicates on the classroom example of Kettner et al. (CGTA 2008) "
-      "and symbolic perturbation on the cube's corners");
+      "CVT meshing and a clipped Voronoi diagram of a domain with holes; exact versus naive "
+      "predicates on the classroom example of Kettner et al. (CGTA 2008); symbolic "
+      "perturbation on the cube's corners");
   CLI::Option* output =
       demo->add_option("-o,--output", demo_args.svg_path,
-                       "Write an SVG picture of the naive and exact signs to FILE");
+                       "Write an SVG picture (the clipped diagram, the mesh, the naive and exact "
+                       "signs) to FILE");
   output->type_name("FILE.svg");
 
   voroclip::cli::PredicateArgs predicate_args;

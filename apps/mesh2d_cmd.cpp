@@ -45,66 +45,6 @@ int vertex_ref(Mesh2::VertexKind k) {
   return k == Mesh2::VertexKind::kInterior ? 0 : k == Mesh2::VertexKind::kBoundary ? 1 : 2;
 }
 
-// Triangles filled by their smallest angle (red below 30 degrees, through yellow to green at
-// 60), the domain's rings in black, fixed vertices as dots.
-void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh) {
-  const double* lo = domain.bbox_lo();
-  const double* hi = domain.bbox_hi();
-  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
-  const double scale = 1000 / extent, margin = 10;
-  const double w = (hi[0] - lo[0]) * scale, h = (hi[1] - lo[1]) * scale;
-  out << std::setprecision(7);
-  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w + 2 * margin << "\" height=\""
-      << h + 2 * margin << "\" viewBox=\"" << -margin << ' ' << -margin << ' ' << w + 2 * margin
-      << ' ' << h + 2 * margin << "\">\n<rect x=\"" << -margin << "\" y=\"" << -margin
-      << "\" width=\"" << w + 2 * margin << "\" height=\"" << h + 2 * margin
-      << "\" fill=\"white\"/>\n";
-  const auto X = [&](double x) { return (x - lo[0]) * scale; };
-  const auto Y = [&](double y) { return (hi[1] - y) * scale; };
-  const double stroke =
-      std::max(0.05, std::min(0.6, 30 / std::sqrt(double(mesh.nb_vertices()) + 1)));
-  const std::vector<double> angles = min_angles(mesh);
-  // Group triangles by colour band (3-degree bands) to keep the file small.
-  out << "<g stroke=\"#333\" stroke-width=\"" << stroke << "\" stroke-linejoin=\"round\">\n";
-  for (int band = 0; band <= 20; ++band) {
-    std::ostringstream d;
-    d << std::setprecision(7);
-    bool any = false;
-    for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
-      const int b = std::min(20, static_cast<int>(angles[t] / 3));
-      if (b != band) continue;
-      any = true;
-      for (int k = 0; k < 3; ++k) {
-        const double* p = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
-        d << (k == 0 ? 'M' : 'L') << X(p[0]) << ' ' << Y(p[1]);
-      }
-      d << 'Z';
-    }
-    if (!any) continue;
-    // Hue 0 (red) below 30 degrees, then 30..60 degrees -> hue 50..130.
-    const double a = band * 3 + 1.5;
-    const int hue = a < 30 ? 0 : static_cast<int>(50 + (std::min(a, 60.0) - 30) * 80 / 30);
-    out << "<path fill=\"hsl(" << hue << ",65%," << (a < 30 ? 55 : 78) << "%)\" d=\"" << d.str()
-        << "\"/>\n";
-  }
-  out << "</g>\n<path fill=\"none\" stroke=\"black\" stroke-width=\"" << 3 * stroke << "\" d=\"";
-  for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
-    for (std::uint32_t v = domain.ring_begin(r); v < domain.ring_end(r); ++v) {
-      out << (v == domain.ring_begin(r) ? 'M' : 'L') << X(domain.vertex(v)[0]) << ' '
-          << Y(domain.vertex(v)[1]);
-    }
-    out << 'Z';
-  }
-  out << "\"/>\n<g fill=\"black\">\n";
-  const double radius = 2.5 * stroke;
-  for (std::uint32_t v = 0; v < mesh.nb_vertices(); ++v) {
-    if (mesh.vertex_kind[v] != Mesh2::VertexKind::kFixed) continue;
-    out << "<circle cx=\"" << X(mesh.xy[2 * v]) << "\" cy=\"" << Y(mesh.xy[2 * v + 1]) << "\" r=\""
-        << radius << "\"/>\n";
-  }
-  out << "</g>\n</svg>\n";
-}
-
 void write_mesh_vtu(std::ostream& out, const Mesh2& mesh) {
   const std::vector<double> angles = min_angles(mesh);
   out << std::setprecision(17);
@@ -212,6 +152,66 @@ void check_directory_of(const std::string& path) {
 }
 
 }  // namespace
+
+// Triangles filled by their smallest angle (red below 30 degrees, through yellow to green at
+// 60), the domain's rings in black, fixed vertices as dots.
+void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh) {
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+  const double scale = 1000 / extent, margin = 10;
+  const double w = (hi[0] - lo[0]) * scale, h = (hi[1] - lo[1]) * scale;
+  out << std::setprecision(7);
+  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w + 2 * margin << "\" height=\""
+      << h + 2 * margin << "\" viewBox=\"" << -margin << ' ' << -margin << ' ' << w + 2 * margin
+      << ' ' << h + 2 * margin << "\">\n<rect x=\"" << -margin << "\" y=\"" << -margin
+      << "\" width=\"" << w + 2 * margin << "\" height=\"" << h + 2 * margin
+      << "\" fill=\"white\"/>\n";
+  const auto X = [&](double x) { return (x - lo[0]) * scale; };
+  const auto Y = [&](double y) { return (hi[1] - y) * scale; };
+  const double stroke =
+      std::max(0.05, std::min(0.6, 30 / std::sqrt(double(mesh.nb_vertices()) + 1)));
+  const std::vector<double> angles = min_angles(mesh);
+  // Group triangles by colour band (3-degree bands) to keep the file small.
+  out << "<g stroke=\"#333\" stroke-width=\"" << stroke << "\" stroke-linejoin=\"round\">\n";
+  for (int band = 0; band <= 20; ++band) {
+    std::ostringstream d;
+    d << std::setprecision(7);
+    bool any = false;
+    for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+      const int b = std::min(20, static_cast<int>(angles[t] / 3));
+      if (b != band) continue;
+      any = true;
+      for (int k = 0; k < 3; ++k) {
+        const double* p = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
+        d << (k == 0 ? 'M' : 'L') << X(p[0]) << ' ' << Y(p[1]);
+      }
+      d << 'Z';
+    }
+    if (!any) continue;
+    // Hue 0 (red) below 30 degrees, then 30..60 degrees -> hue 50..130.
+    const double a = band * 3 + 1.5;
+    const int hue = a < 30 ? 0 : static_cast<int>(50 + (std::min(a, 60.0) - 30) * 80 / 30);
+    out << "<path fill=\"hsl(" << hue << ",65%," << (a < 30 ? 55 : 78) << "%)\" d=\"" << d.str()
+        << "\"/>\n";
+  }
+  out << "</g>\n<path fill=\"none\" stroke=\"black\" stroke-width=\"" << 3 * stroke << "\" d=\"";
+  for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+    for (std::uint32_t v = domain.ring_begin(r); v < domain.ring_end(r); ++v) {
+      out << (v == domain.ring_begin(r) ? 'M' : 'L') << X(domain.vertex(v)[0]) << ' '
+          << Y(domain.vertex(v)[1]);
+    }
+    out << 'Z';
+  }
+  out << "\"/>\n<g fill=\"black\">\n";
+  const double radius = 2.5 * stroke;
+  for (std::uint32_t v = 0; v < mesh.nb_vertices(); ++v) {
+    if (mesh.vertex_kind[v] != Mesh2::VertexKind::kFixed) continue;
+    out << "<circle cx=\"" << X(mesh.xy[2 * v]) << "\" cy=\"" << Y(mesh.xy[2 * v + 1]) << "\" r=\""
+        << radius << "\"/>\n";
+  }
+  out << "</g>\n</svg>\n";
+}
 
 void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh) {
   write_file_atomically(path, [&](std::ostream& out) {

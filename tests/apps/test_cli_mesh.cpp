@@ -151,3 +151,31 @@ TEST_CASE("mesh2d: errors are one line, exit status, and no file", "[apps]") {
   }
   CHECK_FALSE(exists(out));
 }
+
+TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes", "[apps]") {
+  const std::string path = "test_cli_mesh_demo.svg";
+  const Run run = run_cli({"demo", "--stats", "json", "-o", path});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  const double area = s["domain_area"], cells = s["cells_area"];
+  CHECK(std::fabs(area - cells) <= 1e-12 * area);
+  CHECK(s["cvt_sites"] == 200);
+  CHECK(s["boundary_cells"].get<int>() > 0);
+  CHECK(s["mesh_vertices"].get<int>() > 400);
+  CHECK(s["mesh_triangles"].get<int>() > s["mesh_vertices"].get<int>());
+  CHECK(s["mesh_min_angle_deg"].get<double>() >= 30);
+  CHECK(s["mesh_mean_min_angle_deg"].get<double>() >= 51);
+  CHECK(contains(run.err, "CVT mesh:"));
+  const std::string svg = slurp(path);
+  std::remove(path.c_str());
+  // The clipped diagram and the mesh, then the classroom example, nested in one picture.
+  std::size_t nested = 0;
+  for (std::size_t at = svg.find("<svg"); at != std::string::npos; at = svg.find("<svg", at + 1)) {
+    ++nested;
+  }
+  CHECK(nested == 4);
+  CHECK(contains(svg, "Clipped Voronoi diagram of a CVT"));
+  CHECK(contains(svg, "CVT mesh:"));
+  CHECK(contains(svg, "Naive floating point"));
+  CHECK(svg.find("<?xml", 1) == std::string::npos);
+}
