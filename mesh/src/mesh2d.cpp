@@ -847,6 +847,8 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
   const auto t3 = std::chrono::steady_clock::now();
   Mesh2 mesh;
   Extract2Stats es;
+  double best_min = 0, best_mean = 0;
+  std::uint32_t best_sites = 0;
   for (std::uint32_t round = 0;; ++round) {
     for (std::size_t i = 0; i < set.constraints.size(); ++i) {
       if (set.constraints[i].kind != SiteConstraint2::Kind::kSlide) continue;
@@ -861,8 +863,22 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
         !o.progress({Mesh2Phase::kExtraction, round, st.energy, 0, seconds_since(t0)})) {
       st.cancelled = true;
     }
-    mesh = extract_mesh2(*domain, sites, set.kinds, set.domain_vertex, set.edge, &es, o.keep_gaps);
-    if (st.cancelled || round >= o.repair_rounds) break;
+    Extract2Stats round_stats;
+    Mesh2 round_mesh = extract_mesh2(*domain, sites, set.kinds, set.domain_vertex, set.edge,
+                                     &round_stats, o.keep_gaps);
+    // Keep the best mesh of the rounds: the largest smallest angle, then the larger mean.
+    const TriangleQuality2 quality = triangle_quality2(round_mesh);
+    if (round == 0 || quality.min_angle > best_min ||
+        (quality.min_angle == best_min && quality.mean_min_angle > best_mean)) {
+      best_min = quality.min_angle;
+      best_mean = quality.mean_min_angle;
+      mesh = round_mesh;
+      es = std::move(round_stats);
+      best_sites = static_cast<std::uint32_t>(sites.size() / 2);
+    }
+    if (st.cancelled || round >= o.repair_rounds || quality.min_angle >= o.repair_angle_deg) {
+      break;
+    }
     // Per bad triangle, its non-fixed vertex with the largest angle (sites).
     std::vector<std::uint8_t> remove(set.kinds.size(), 0);
     std::uint32_t marked = 0;
@@ -885,11 +901,11 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
         return;
       }
     };
-    for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    for (std::uint32_t t = 0; t < round_mesh.nb_triangles(); ++t) {
       std::uint32_t site[3];
       for (int k = 0; k < 3; ++k) {
-        site[k] =
-            mesh.vertex_site[mesh.triangles[3 * std::size_t{t} + static_cast<std::size_t>(k)]];
+        site[k] = round_mesh.vertex_site[round_mesh.triangles[3 * std::size_t{t} +
+                                                              static_cast<std::size_t>(k)]];
       }
       mark(site);
     }
@@ -925,7 +941,7 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
       }
     }
   }
-  st.nb_sites = static_cast<std::uint32_t>(sites.size() / 2);
+  st.nb_sites = best_sites;
   st.nb_gaps = static_cast<std::uint32_t>(es.gap_triangles.size() / 3);
   double area = 0;
   for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
