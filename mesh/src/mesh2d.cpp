@@ -173,8 +173,16 @@ std::vector<FeatureSample> feature_samples(const Domain2& domain, const Boundary
           out.push_back({end[0], end[1], std::min(length, lfs(end))});
         }
       });
+  // A floor far below any meaningful size keeps the density finite.
+  const double floor = 1e-9 * std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
+                                         domain.bbox_hi()[1] - domain.bbox_lo()[1]);
   std::vector<FeatureSample> all;
-  for (const auto& s : per_path) all.insert(all.end(), s.begin(), s.end());
+  for (const auto& samples : per_path) {
+    for (FeatureSample f : samples) {
+      f.s = std::max(f.s, floor);
+      all.push_back(f);
+    }
+  }
   return all;
 }
 
@@ -198,7 +206,8 @@ std::vector<double> stratified_points(const Domain2& domain, std::uint32_t m, st
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
   const double w = hi[0] - lo[0], h = hi[1] - lo[1];
-  const double cells = std::max(1.0, m * (w * h) / std::max(domain.area(), 1e-300));
+  // About m points inside, from at most 2^20 cells of the box.
+  const double cells = std::clamp(m * (w * h) / std::max(domain.area(), 1e-300), 1.0, 1048576.0);
   const double step = std::sqrt(w * h / cells);
   const auto nx = static_cast<std::uint32_t>(std::clamp(std::ceil(w / step), 1.0, 4096.0));
   const auto ny = static_cast<std::uint32_t>(std::clamp(std::ceil(h / step), 1.0, 4096.0));
