@@ -227,6 +227,7 @@ TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh]") {
   Mesh2Options o;
   o.nb_vertices = 500;
   o.seed = 3;
+  INFO("seed " << o.seed);
   Mesh2 one, two;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
