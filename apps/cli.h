@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "voroclip/clip.h"
+#include "voroclip/mesh.h"
 #include "voroclip/predicates.h"
 
 namespace voroclip::cli {
@@ -80,6 +81,24 @@ struct ClipArgs {
   double tolerance = 1e-4;
 };
 
+struct Mesh2dArgs {
+  std::string domain;  // polygon file or generator spec
+  std::uint32_t vertices = 0;
+  bool vertices_set = false;
+  double edge_length = 0;
+  bool fix_input_vertices = false;
+  bool keep_gaps = false;
+  std::uint32_t repair_rounds = 4;
+  std::uint64_t seed = 1;
+  double gradation = 0.3;
+  double corner_angle = 20;
+  double sharp_angle = 30;
+  std::string method = "lbfgs";
+  std::uint32_t iterations = 200;  // constrained CVT budget
+  std::string output;              // .svg, .vtu, .mesh, .msh; empty: no file
+  std::string histogram;           // .svg angle histograms; empty: none
+};
+
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options);
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options);
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
@@ -104,6 +123,14 @@ struct QualityArgs {
 
 /// The quality report of a tet mesh (and the Hausdorff distance to a reference surface).
 void run_quality(const QualityArgs& args, const GlobalOptions& options);
+
+void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options);
+/// SVG picture of a 2D mesh: triangles coloured by their smallest angle (red below 30
+/// degrees), the domain's rings, fixed vertices as dots.
+void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh);
+/// Writes a 2D mesh by extension: .svg (triangles coloured by their smallest angle), .vtu,
+/// .mesh (Medit), .msh (Gmsh 2.2), atomically.
+void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh);
 
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
 void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);

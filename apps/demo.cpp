@@ -1,6 +1,7 @@
 #include "demo.h"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -37,7 +38,7 @@ std::string milliseconds(double seconds) {
 }
 
 void print_report(std::ostream& out, const ClassroomResult& classroom, const CubeResult& cube,
-                  double seconds, std::size_t threads) {
+                  const MeshDemoResult& mesh, double seconds, std::size_t threads) {
   constexpr std::size_t kPoints = ClassroomResult::kGrid * ClassroomResult::kGrid;
   out << "voroclip demo: exact predicates versus plain floating point\n\n"
       << "Classroom example (Kettner, Mehlhorn, Pion, Schirra, Yap, CGTA 2008):\n"
@@ -60,6 +61,21 @@ void print_report(std::ostream& out, const ClassroomResult& classroom, const Cub
     out << "  fifth point corner " << t.corner << corner_text(t.corner) << ": insphere "
         << sign_name(t.exact) << " (cospherical), insphere_sos " << sign_name(t.sos) << "\n";
   }
+  const TriangleQuality2& q = mesh.quality;
+  out << "\nCVT meshing (Yan, Wang, Levy, Liu, CAD 2011) of a domain with three holes:\n"
+      << "  centroidal Voronoi tessellation of " << mesh.cvt_sites
+      << " sites: " << mesh.cvt.iterations << " L-BFGS iterations, |g|/|g0| = "
+      << format_double(std::round(mesh.cvt.gradient_norm / mesh.cvt.initial_gradient_norm * 1e5) /
+                       1e5)
+      << ",\n"
+      << "    " << mesh.boundary_cells << " boundary cells; cells' area "
+      << format_double(std::round(mesh.cells_area * 1e9) / 1e9) << ", domain "
+      << format_double(std::round(mesh.domain.area() * 1e9) / 1e9) << "\n"
+      << "  CVT mesh: " << mesh.mesh.nb_vertices() << " vertices, " << mesh.mesh.nb_triangles()
+      << " triangles, angles " << format_double(std::round(q.min_angle * 100) / 100) << " to "
+      << format_double(std::round(q.max_angle * 100) / 100) << " degrees, mean smallest angle "
+      << format_double(std::round(q.mean_min_angle * 100) / 100) << ";\n"
+      << "    checked exactly: every triangle counter-clockwise and inside the domain\n";
   out << "\nTime: " << milliseconds(seconds) << " ms on " << threads
       << (threads == 1 ? " thread\n" : " threads\n");
 }
@@ -153,6 +169,7 @@ void run_demo(const DemoArgs& args, const GlobalOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const ClassroomResult classroom = run_classroom_example();
   const CubeResult cube = run_cube_example();
+  const MeshDemoResult mesh = run_mesh_demo();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::size_t threads =
@@ -160,11 +177,11 @@ void run_demo(const DemoArgs& args, const GlobalOptions& options) {
 
   if (!args.svg_path.empty()) {
     write_file_atomically(args.svg_path,
-                          [&](std::ostream& out) { write_classroom_svg(classroom, out); });
+                          [&](std::ostream& out) { write_demo_svg(classroom, mesh, out); });
   }
 
   if (std::ostream* human = human_stream(options)) {
-    print_report(*human, classroom, cube, seconds, threads);
+    print_report(*human, classroom, cube, mesh, seconds, threads);
     if (!args.svg_path.empty()) *human << "Picture written to " << args.svg_path << "\n";
   }
   if (options.stats_json) {
@@ -183,6 +200,16 @@ void run_demo(const DemoArgs& args, const GlobalOptions& options) {
     stats["cospherical_tests"] = cube.tests.size();
     stats["sos_positive"] = cube.sos_counts.positive;
     stats["sos_negative"] = cube.sos_counts.negative;
+    stats["cvt_sites"] = mesh.cvt_sites;
+    stats["cvt_iterations"] = mesh.cvt.iterations;
+    stats["boundary_cells"] = mesh.boundary_cells;
+    stats["cells_area"] = mesh.cells_area;
+    stats["domain_area"] = mesh.domain.area();
+    stats["mesh_vertices"] = mesh.mesh.nb_vertices();
+    stats["mesh_triangles"] = mesh.mesh.nb_triangles();
+    stats["mesh_min_angle_deg"] = mesh.quality.min_angle;
+    stats["mesh_mean_min_angle_deg"] = mesh.quality.mean_min_angle;
+    stats["mesh_max_angle_deg"] = mesh.quality.max_angle;
     stats["threads"] = threads;
     stats["seconds"] = seconds;
     stats["svg"] =

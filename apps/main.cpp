@@ -69,11 +69,13 @@ int main(int argc, char** argv) {
   voroclip::cli::DemoArgs demo_args;
   CLI::App* demo = app.add_subcommand(
       "demo",
-      "Exact versus naive predicates on the classroom example of Kettner et al. (CGTA 2008) "
-      "and symbolic perturbation on the cube's corners");
+      "CVT meshing and a clipped Voronoi diagram of a domain with holes; exact versus naive "
+      "predicates on the classroom example of Kettner et al. (CGTA 2008); symbolic "
+      "perturbation on the cube's corners");
   CLI::Option* output =
       demo->add_option("-o,--output", demo_args.svg_path,
-                       "Write an SVG picture of the naive and exact signs to FILE");
+                       "Write an SVG picture (the clipped diagram, the mesh, the naive and exact "
+                       "signs) to FILE");
   output->type_name("FILE.svg");
 
   voroclip::cli::PredicateArgs predicate_args;
@@ -160,6 +162,65 @@ int main(int argc, char** argv) {
     clip_cmd[c] = cmd;
   }
 
+  voroclip::cli::Mesh2dArgs mesh_args;
+  CLI::App* mesh2d = app.add_subcommand(
+      "mesh2d",
+      "CVT triangle mesh of a polygonal domain (Yan et al. 2011, sec. 5.1) with its quality "
+      "report");
+  mesh2d
+      ->add_option("DOMAIN", mesh_args.domain,
+                   "Polygon file (.json rings, Triangle .poly) or a generator: "
+                   "annulus:R_IN,R_OUT,SEGMENTS or square-holes:K,FRACTION")
+      ->required()
+      ->type_name("DOMAIN");
+  mesh2d->add_option("--vertices", mesh_args.vertices, "Target number of mesh vertices")
+      ->type_name("N");
+  mesh2d
+      ->add_option("--edge-length", mesh_args.edge_length,
+                   "Target edge length away from small features (instead of --vertices)")
+      ->type_name("H");
+  mesh2d->add_flag("--fix-input-vertices", mesh_args.fix_input_vertices,
+                   "Make every vertex of the domain a mesh vertex (sharp corners are still cut)");
+  mesh2d->add_flag("--keep-gaps", mesh_args.keep_gaps,
+                   "Also keep the triangles inside the domain whose circumcenter is outside "
+                   "(obtuse triangles against the boundary), for full coverage");
+  mesh2d
+      ->add_option("--repair-rounds", mesh_args.repair_rounds,
+                   "Rounds removing the vertex at the largest angle of triangles with an angle "
+                   "below 30 degrees, each followed by a short CVT (default 4; 0: none)")
+      ->type_name("N");
+  mesh2d->add_option("--seed", mesh_args.seed, "Seed of the initial sampling (default 1)")
+      ->type_name("S");
+  mesh2d
+      ->add_option("--gradation", mesh_args.gradation,
+                   "Growth of the edge length away from small features, per unit length "
+                   "(default 0.3)")
+      ->type_name("G");
+  mesh2d
+      ->add_option("--corner-angle", mesh_args.corner_angle,
+                   "Convex vertices turning by at least this many degrees are fixed corners "
+                   "(default 20); reflex vertices are always fixed")
+      ->type_name("DEG");
+  mesh2d
+      ->add_option("--sharp-angle", mesh_args.sharp_angle,
+                   "Corners with an interior angle below this are cut where the domain is as "
+                   "wide as the edge length (default 30)")
+      ->type_name("DEG");
+  mesh2d->add_option("--method", mesh_args.method, "lbfgs (default) or lloyd")->type_name("NAME");
+  mesh2d
+      ->add_option("--iterations", mesh_args.iterations,
+                   "Iteration budget of the constrained CVT (default 200)")
+      ->type_name("N");
+  mesh2d
+      ->add_option("-o,--output", mesh_args.output,
+                   "Write the mesh: .svg picture (triangles coloured by their smallest angle), "
+                   ".vtu, .mesh (Medit) or .msh (Gmsh 2.2)")
+      ->type_name("FILE");
+  mesh2d
+      ->add_option("--histogram", mesh_args.histogram,
+                   "Write the angle histograms as an SVG bar chart")
+      ->type_name("FILE.svg");
+
   voroclip::cli::ClipArgs clip3d_args;
   CLI::App* clip3d = app.add_subcommand(
       "clip3d", "Voronoi diagram of sites clipped to the volume of a tetrahedral mesh (exact)");
@@ -243,6 +304,9 @@ int main(int argc, char** argv) {
     if (*quality) {
       quality_args.samples_set = quality->get_option("--samples")->count() > 0;
       voroclip::cli::run_quality(quality_args, global);
+    } else if (*mesh2d) {
+      mesh_args.vertices_set = mesh2d->get_option("--vertices")->count() > 0;
+      voroclip::cli::run_mesh2d(mesh_args, global);
     }
     if (*clip3d) {
       clip3d_args.random_set = clip3d->get_option("--random")->count() > 0;

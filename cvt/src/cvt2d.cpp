@@ -53,6 +53,7 @@ PathParam2::PathParam2(const Domain2& domain, const BoundaryPath2& path) : close
   do {
     xy_.push_back(domain.vertex(v)[0]);
     xy_.push_back(domain.vertex(v)[1]);
+    edge_.push_back(v);
     v = domain.next(v);
   } while (v != path.last);
   xy_.push_back(domain.vertex(v)[0]);
@@ -64,17 +65,25 @@ PathParam2::PathParam2(const Domain2& domain, const BoundaryPath2& path) : close
   }
 }
 
-void PathParam2::eval(double s, double* xy, double* tangent) const {
+double PathParam2::wrap(double s) const {
   const double len = length();
   if (closed_) {
     s = std::fmod(s, len);
     if (s < 0) s += len;
-  } else {
-    s = std::clamp(s, 0.0, len);
+    return s;
   }
-  std::size_t k = static_cast<std::size_t>(
+  return std::clamp(s, 0.0, len);
+}
+
+std::size_t PathParam2::segment(double s) const {
+  const auto k = static_cast<std::size_t>(
       std::upper_bound(cumulative_.begin(), cumulative_.end(), s) - cumulative_.begin());
-  k = std::clamp<std::size_t>(k, 1, cumulative_.size() - 1);
+  return std::clamp<std::size_t>(k, 1, cumulative_.size() - 1);
+}
+
+void PathParam2::eval(double s, double* xy, double* tangent) const {
+  s = wrap(s);
+  const std::size_t k = segment(s);
   const double* a = &xy_[2 * (k - 1)];
   const double* b = &xy_[2 * k];
   const double seg = cumulative_[k] - cumulative_[k - 1];
@@ -86,6 +95,8 @@ void PathParam2::eval(double s, double* xy, double* tangent) const {
     tangent[1] = seg > 0 ? (b[1] - a[1]) / seg : 0;
   }
 }
+
+std::uint32_t PathParam2::edge(double s) const { return edge_[segment(wrap(s)) - 1]; }
 
 double PathParam2::closest(const double* p) const {
   double best = std::numeric_limits<double>::infinity(), best_s = 0;
@@ -144,11 +155,11 @@ class Problem {
       const auto o = static_cast<Eigen::Index>(offset_[i]);
       switch (kind(i)) {
         case SiteConstraint2::Kind::kFree:
-          z[o] = sites_[2 * i];
-          z[o + 1] = sites_[2 * i + 1];
+          z[o] = scale(i) * sites_[2 * i];
+          z[o + 1] = scale(i) * sites_[2 * i + 1];
           break;
         case SiteConstraint2::Kind::kSlide:
-          z[o] = path(i).closest(&sites_[2 * i]);
+          z[o] = scale(i) * path(i).closest(&sites_[2 * i]);
           break;
         case SiteConstraint2::Kind::kFixed:
           break;
@@ -164,7 +175,7 @@ class Problem {
     for (std::size_t i = 0; i < n_; ++i) {
       if (kind(i) == SiteConstraint2::Kind::kSlide && !path(i).closed()) {
         lo[static_cast<Eigen::Index>(offset_[i])] = 0;
-        hi[static_cast<Eigen::Index>(offset_[i])] = path(i).length();
+        hi[static_cast<Eigen::Index>(offset_[i])] = scale(i) * path(i).length();
       }
     }
   }
@@ -175,11 +186,11 @@ class Problem {
       const auto o = static_cast<Eigen::Index>(offset_[i]);
       switch (kind(i)) {
         case SiteConstraint2::Kind::kFree:
-          sites_[2 * i] = z[o];
-          sites_[2 * i + 1] = z[o + 1];
+          sites_[2 * i] = z[o] / scale(i);
+          sites_[2 * i + 1] = z[o + 1] / scale(i);
           break;
         case SiteConstraint2::Kind::kSlide:
-          path(i).eval(z[o], &sites_[2 * i]);
+          path(i).eval(z[o] / scale(i), &sites_[2 * i]);
           break;
         case SiteConstraint2::Kind::kFixed:
           break;
@@ -187,11 +198,13 @@ class Problem {
     }
   }
 
-  // Energy at the current sites; gradient with respect to the variables at z.
+  // Energy at the current sites; gradient with respect to the variables at z (the
+  // gradient with respect to the unscaled variables is kept for the norms).
   double evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* grad) {
     clip_current();
     if (grad) {
       grad->resize(static_cast<Eigen::Index>(nb_variables()));
+      unscaled_.resize(grad->size());
       for (std::size_t i = 0; i < n_; ++i) {
         const auto o = static_cast<Eigen::Index>(offset_[i]);
         const auto u = static_cast<std::uint32_t>(i);
@@ -199,17 +212,21 @@ class Problem {
         const double gy = 2 * cv_.mass(u) * (sites_[2 * i + 1] - cv_.centroid(u)[1]);
         switch (kind(i)) {
           case SiteConstraint2::Kind::kFree:
-            (*grad)[o] = gx;
-            (*grad)[o + 1] = gy;
+            unscaled_[o] = gx;
+            unscaled_[o + 1] = gy;
             break;
           case SiteConstraint2::Kind::kSlide: {
             double xy[2], t[2];
-            path(i).eval(z[o], xy, t);
-            (*grad)[o] = gx * t[0] + gy * t[1];
+            path(i).eval(z[o] / scale(i), xy, t);
+            unscaled_[o] = gx * t[0] + gy * t[1];
             break;
           }
           case SiteConstraint2::Kind::kFixed:
             break;
+        }
+        for (std::size_t k = offset_[i]; k < offset_[i + 1]; ++k) {
+          const auto e = static_cast<Eigen::Index>(k);
+          (*grad)[e] = unscaled_[e] / scale(i);
         }
       }
     }
@@ -217,15 +234,39 @@ class Problem {
     return cv_.total_energy();
   }
 
-  // Norm of the gradient, without the components that push a bounded variable out.
-  double projected_norm(const Eigen::VectorXd& z, const Eigen::VectorXd& g,
-                        const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) const {
+  // Norm of the (unscaled) gradient of the last evaluate, without the components that
+  // push a bounded variable out.
+  double projected_norm(const Eigen::VectorXd& z, const Eigen::VectorXd& lo,
+                        const Eigen::VectorXd& hi) const {
     double s = 0;
-    for (Eigen::Index k = 0; k < g.size(); ++k) {
-      if ((z[k] <= lo[k] && g[k] > 0) || (z[k] >= hi[k] && g[k] < 0)) continue;
-      s += g[k] * g[k];
+    for (Eigen::Index k = 0; k < unscaled_.size(); ++k) {
+      const double g = unscaled_[k];
+      if ((z[k] <= lo[k] && g > 0) || (z[k] >= hi[k] && g < 0)) continue;
+      s += g * g;
     }
     return std::sqrt(s);
+  }
+
+  // Diagonal preconditioning: variables of site i scaled by lambda sqrt(2 m_i), from the
+  // last evaluate. sqrt(2 m_i) is the square root of the CVT Hessian's diagonal (d2F/dx_i^2
+  // is about 2 m_i I), so the scaled Hessian is about the identity and the Newton step
+  // about minus the scaled gradient; lambda = 1 / |scaled gradient| makes that step of unit
+  // length, the length of L-BFGS-B's first step. Cells of mass below 1e-6 of the mean are
+  // treated as of that mass.
+  void set_scales() {
+    scale_.assign(n_, 1.0);
+    const double floor =
+        1e-6 * cv_.total_mass() / static_cast<double>(std::max<std::size_t>(n_, 1));
+    double g2 = 0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      scale_[i] = std::sqrt(2 * std::max(cv_.mass(static_cast<std::uint32_t>(i)), floor));
+      for (std::size_t k = offset_[i]; k < offset_[i + 1]; ++k) {
+        const double g = unscaled_[static_cast<Eigen::Index>(k)] / scale_[i];
+        g2 += g * g;
+      }
+    }
+    const double lambda = g2 > 0 ? 1 / std::sqrt(g2) : 1.0;
+    for (double& w : scale_) w *= lambda;
   }
 
   // Lloyd: every site to its centroid (sliding sites: to the closest point of their path).
@@ -250,6 +291,7 @@ class Problem {
   std::uint32_t evaluations() const { return evaluations_; }
 
  private:
+  double scale(std::size_t i) const { return scale_.empty() ? 1.0 : scale_[i]; }
   std::size_t nb_vars(std::size_t i) const {
     switch (kind(i)) {
       case SiteConstraint2::Kind::kFree:
@@ -278,6 +320,8 @@ class Problem {
   std::size_t n_;
   std::vector<PathParam2> params_;
   std::vector<std::size_t> offset_;
+  std::vector<double> scale_;  // per site; empty: 1
+  Eigen::VectorXd unscaled_;
   Clip2Options clip_options_;
   Delaunay2 dt_;
   ClippedVoronoi2 cv_;
@@ -320,7 +364,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
   problem.place(z);
   Eigen::VectorXd g;
   double f = problem.evaluate(z, &g);
-  result.initial_gradient_norm = problem.projected_norm(z, g, lo, hi);
+  result.initial_gradient_norm = problem.projected_norm(z, lo, hi);
   result.energy = f;
   result.gradient_norm = result.initial_gradient_norm;
   const double target = options.gradient_tolerance * result.initial_gradient_norm;
@@ -342,7 +386,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
         problem.lloyd_step();
         z = problem.variables();
         f = problem.evaluate(z, &g);
-        report(it, f, problem.projected_norm(z, g, lo, hi));
+        report(it, f, problem.projected_norm(z, lo, hi));
         if (result.gradient_norm <= target) {
           result.converged = true;
           break;
@@ -350,50 +394,71 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
       }
     } else {
       // L-BFGS-B. An iteration is reported each time an evaluation improves on the best
-      // energy so far (the accepted points of the line searches).
-      LBFGSpp::LBFGSBParam<double> param;
-      param.m = static_cast<int>(std::max<std::uint32_t>(options.lbfgs_memory, 1));
-      param.max_iterations = static_cast<int>(options.max_iterations);
-      // LBFGSpp tests the infinity norm of the projected gradient; the criterion here is
-      // the Euclidean norm, tested in the objective below, which ends the run by throwing.
-      param.epsilon = 0;
-      param.epsilon_rel = 0;
-      param.past = 0;
-      param.max_linesearch = 30;
-      LBFGSpp::LBFGSBSolver<double> solver(param);
-      Eigen::VectorXd best_z = z;
-      double best_f = f;
+      // energy so far (the accepted points of the line searches). With preconditioning the
+      // scales are refreshed, and the solver restarted, every `preconditioner_period`
+      // iterations.
       std::uint32_t accepted = 0;
-      auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
-        problem.place(x);
-        const double fx = problem.evaluate(x, &grad);
-        if (fx < best_f) {
-          best_f = fx;
-          best_z = x;
-          const double gnorm = problem.projected_norm(x, grad, lo, hi);
-          report(++accepted, fx, gnorm);
-          if (gnorm <= target) throw Converged{};
+      bool stop = false;
+      while (!stop) {
+        if (options.precondition) {
+          problem.set_scales();
+          problem.bounds(lo, hi);
+          z = problem.variables();
         }
-        return fx;
-      };
-      double fx = f;
-      try {
-        solver.minimize(fun, z, fx, lo, hi);
-      } catch (const Converged&) {
-        result.converged = true;
-      } catch (const Error&) {
-        throw;
-      } catch (const std::runtime_error&) {
-        // The line search could not make progress (at the precision of the energy): the
-        // best point so far is the answer.
-      } catch (const std::logic_error&) {
+        LBFGSpp::LBFGSBParam<double> param;
+        param.m = static_cast<int>(std::max<std::uint32_t>(options.lbfgs_memory, 1));
+        param.max_iterations = static_cast<int>(options.max_iterations - accepted);
+        // LBFGSpp tests the infinity norm of the projected gradient; the criterion here is
+        // the Euclidean norm, tested in the objective below, which ends the run by throwing.
+        param.epsilon = 0;
+        param.epsilon_rel = 0;
+        param.past = 0;
+        param.max_linesearch = 30;
+        LBFGSpp::LBFGSBSolver<double> solver(param);
+        Eigen::VectorXd best_z = z;
+        double best_f = f;
+        const std::uint32_t restart_at = options.precondition && options.preconditioner_period > 0
+                                             ? accepted + options.preconditioner_period
+                                             : std::numeric_limits<std::uint32_t>::max();
+        bool restart = false;
+        auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+          problem.place(x);
+          const double fx = problem.evaluate(x, &grad);
+          if (fx < best_f) {
+            best_f = fx;
+            best_z = x;
+            const double gnorm = problem.projected_norm(x, lo, hi);
+            report(++accepted, fx, gnorm);
+            if (gnorm <= target) throw Converged{};
+            if (accepted >= options.max_iterations) throw Converged{};
+            if (accepted >= restart_at) {
+              restart = true;
+              throw Converged{};
+            }
+          }
+          return fx;
+        };
+        double fx = f;
+        stop = true;
+        try {
+          solver.minimize(fun, z, fx, lo, hi);
+        } catch (const Converged&) {
+          stop = !restart;
+        } catch (const Error&) {
+          throw;
+        } catch (const std::runtime_error&) {
+          // The line search could not make progress (at the precision of the energy): the
+          // best point so far is the answer.
+        } catch (const std::logic_error&) {
+        }
+        z = best_z;
+        problem.place(z);
+        f = problem.evaluate(z, &g);
+        result.energy = f;
+        result.gradient_norm = problem.projected_norm(z, lo, hi);
+        result.converged = result.gradient_norm <= target;
+        if (result.converged || accepted >= options.max_iterations) stop = true;
       }
-      z = best_z;
-      problem.place(z);
-      f = problem.evaluate(z, &g);
-      result.energy = f;
-      result.gradient_norm = problem.projected_norm(z, g, lo, hi);
-      result.converged = result.converged || result.gradient_norm <= target;
     }
   } catch (const Cancelled&) {
     result.cancelled = true;

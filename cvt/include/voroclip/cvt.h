@@ -48,10 +48,16 @@ class PathParam2 {
   void eval(double s, double* xy, double* tangent = nullptr) const;
   double closest(const double* p) const;
   bool closed() const { return closed_; }
+  // The domain edge (vertex v to next(v)) under arclength s (clamped or wrapped as in
+  // eval; at a path vertex, the edge that starts there, or the last edge at the end).
+  std::uint32_t edge(double s) const;
 
  private:
-  std::vector<double> xy_;          // path vertices (closed: the first repeated at the end)
-  std::vector<double> cumulative_;  // arclength at each path vertex
+  std::size_t segment(double s) const;  // k >= 1: s lies on the segment from vertex k - 1 to k
+  double wrap(double s) const;
+  std::vector<double> xy_;           // path vertices (closed: the first repeated at the end)
+  std::vector<double> cumulative_;   // arclength at each path vertex
+  std::vector<std::uint32_t> edge_;  // per segment: its domain edge
   bool closed_ = false;
 };
 
@@ -77,6 +83,13 @@ struct Cvt2Options {
   double gradient_tolerance = 1e-4;
   Density2 density;
   std::uint32_t lbfgs_memory = 7;
+  // L-BFGS: optimise in variables scaled per site by sqrt(2 m_i) (m_i the mass of its
+  // cell), a diagonal preconditioner matching the energy's Hessian, refreshed (and the
+  // solver restarted) every preconditioner_period accepted iterations. Pays off when the
+  // masses vary much (a graded density); with a constant density the masses are nearly
+  // equal and it changes little.
+  bool precondition = false;
+  std::uint32_t preconditioner_period = 25;
   // Called after every iteration (and once at the start, iteration 0); return false to
   // stop (the result then has cancelled == true and the sites of that iteration).
   std::function<bool(const CvtProgress&)> progress;

@@ -7,9 +7,13 @@
 //      between triangle surfaces). Sources: mesh/src/quality3*.cpp, mesh/src/hausdorff.cpp.
 //   3D sizing field: SizingField3 (lfs from poles, a Lipschitz sizing grid, the CVT
 //      density for adaptive meshing). Source: mesh/src/sizing3d.cpp.
+//   2D CVT triangle meshing of polygons with holes (Yan et al. 2011, sec. 5.1) and its
+//      quality report. Sources: mesh/src/mesh2d.cpp, sizing2d.cpp, extract2d.cpp,
+//      quality2d.cpp.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -214,5 +218,255 @@ class SizingField3 {
   double spacing_ = 1;
   double h_min_ = 0;
 };
+
+// =======================================================================================
+// 2D: CVT triangle meshing of a Domain2 (mesh/src/mesh2d.cpp, sizing2d.cpp, extract2d.cpp)
+// =======================================================================================
+//
+// Pipeline (paper sec. 5.1, steps 3-6; 1, 2 and 7 are this library's):
+//   1. Sizing. A target edge length h(x) = min(H, min_j (s_j + g |x - x_j|)): a uniform
+//      size H, capped near small boundary features (samples x_j of the boundary with the
+//      size s_j they need, below) and growing away from them with slope g (`gradation`).
+//      H is chosen so that the expected vertex count of an equilateral mesh of size h,
+//      (2 / sqrt(3)) * integral of h^-2, is `nb_vertices` (or H = `edge_length`). The CVT
+//      density is rho = (H / h)^4 (a CVT cell's diameter goes as rho^(-1/4) in 2D).
+//   2. Sampling: independent sites with probability density proportional to h^-2,
+//      strictly inside the domain (exact locate), from `seed`.
+//   3. Unconstrained CVT (L-BFGS with a diagonal preconditioner, cvt.h).
+//   4. Boundary: fixed vertices (below) become fixed sites; the sites of boundary cells
+//      within 0.75 h of the boundary are snapped to their closest boundary point; each
+//      boundary path keeps round(integral of ds / h) - 1 sliding sites (the snapped sites
+//      closest to their neighbours are dropped, missing ones are added in the widest
+//      gaps). Snapping empties the middle of parts only a few cells wide, so empty circles
+//      are then filled: a free site at each Delaunay circumcenter inside the domain whose
+//      radius exceeds 0.8 h (0.577 h in an equilateral mesh) and that lies 0.4 h or more
+//      from the boundary, largest first.
+//   5. Constrained CVT: fixed sites stay, sliding sites move along their path (tangential
+//      gradient, eq. 3), the others are free.
+//   6. Extraction (extract_mesh2): the Delaunay triangles of the final sites whose
+//      circumcenter lies inside the domain, decided exactly; then every kept triangle is
+//      checked exactly to lie in the closed domain (one that does not is dropped and
+//      counted, so the result is always valid); vertices used by no triangle are removed.
+//   7. Repair: while some triangle has an angle below `repair_angle_deg` (at most
+//      `repair_rounds` times), the non-fixed vertex at the largest angle of each such
+//      triangle is removed (an end of a needle's short edge, a cap's apex) and a short
+//      constrained CVT follows, then step 6 again. The result is the best mesh of the
+//      rounds (largest smallest angle, then largest mean smallest angle): repair never
+//      makes it worse.
+// The vertex count is approximate: the sampling gives `nb_vertices`, the boundary and
+// gap steps change it (parts of the domain a few cells wide take more vertices than
+// their area suggests: +28% on shared/data hilbert.json), the repair removes a few.
+//
+// What the circumcenter rule leaves out: obtuse triangles against the boundary (their
+// circumcenter is beyond it) are not kept, which leaves notches — under 1% of the area on
+// ordinary domains, a few percent where the domain is only a few cells wide
+// (Mesh2Stats::covered_fraction); `keep_gaps` keeps them. Where the two sides of a thin
+// spike of a hole are sampled more coarsely than the spike is wide, Delaunay triangles
+// jump across it; they fail the containment check and are dropped (dropped_outside),
+// leaving a small uncovered spot near the spike's tip.
+//
+// Boundary vertices. Domain vertices are classified by the turn of the boundary there
+// (domain on the left): REFLEX vertices (a right turn, interior angle > 180 degrees) are
+// always fixed mesh vertices — a mesh edge cutting one would leave the domain, so the mesh
+// could not be valid otherwise; CONVEX vertices turning by at least `corner_angle_deg` are
+// fixed CORNERS; with `fix_input_vertices` every vertex is fixed (paper Fig. 13); other
+// convex vertices and collinear ones are passed by sliding sites (a mesh edge may cut a
+// convex bend: the mesh stays inside). The fixed vertices split each ring into boundary
+// paths (a ring without one is one closed path).
+//
+// Sharp corners. A corner whose interior angle is below `sharp_angle_deg` cannot be a mesh
+// vertex without a triangle angle below that angle, and the wedge near it is narrower
+// than the local size. Such a corner is cut off the domain before meshing: the tip is
+// replaced by a chord between the points at arclength r = h / (2 sin(angle / 2)) from it
+// on either side (where the wedge is h wide), or the nearest fixed vertex before that,
+// or half-way to another sharp corner. The cut domain is validated exactly as a Domain2
+// (if a chord crosses another ring the cuts are halved, up to three times, else the
+// corners stay as fixed corners), re-analysed (a cut may make a sharp corner at a fixed
+// vertex; up to three rounds), and meshed: the chord's ends are fixed vertices, the tip
+// (an area about r h / 2 each) is left uncovered, and the mesh lies in the cut domain,
+// hence in the domain.
+//
+// Feature sizes s_j, on samples of every boundary path P (spacing half the local s_j):
+//   s_j = min(length of P, distance from x_j to the nearest fixed vertex that does not end
+//             P or to the nearest edge of a path that shares no end with P)
+// (Ruppert's local feature size with the paths as features: a narrow part of the domain
+// gets about one triangle across its width, and a short path between two fixed vertices
+// gets triangles of its length).
+//
+// Coordinates. Fixed vertices at domain vertices have the domain's coordinates. Sliding
+// sites and cut points are rounded, after the optimisation, to a double point in the
+// closed domain: exactly on their edge when it holds already (for instance on horizontal
+// and vertical edges), otherwise a few ulps from it on the domain side (a general segment
+// holds no double point but its ends).
+//
+// Threads: the clipped diagrams, the sizing grid and the extraction checks run in TBB
+// loops writing per-item slots: the result is identical for any thread count.
+
+// A triangle mesh in the plane: counter-clockwise triangles (orient2d > 0, exact).
+struct Mesh2 {
+  enum class VertexKind : std::uint8_t {
+    kInterior,  // a free site
+    kBoundary,  // a sliding site, on `vertex_edge`
+    kFixed,     // a fixed site: a domain vertex (`vertex_domain`) or a cut point of a
+                // sharp corner (on `vertex_edge`)
+  };
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  std::vector<double> xy;                    // packed x y
+  std::vector<std::uint32_t> triangles;      // 3 vertex indices per triangle
+  std::vector<VertexKind> vertex_kind;       // per vertex
+  std::vector<std::uint32_t> vertex_domain;  // the domain vertex it sits at, or kNone
+  std::vector<std::uint32_t> vertex_edge;    // boundary vertices not at a domain vertex: the
+                                             // domain edge (vertex v to next(v)), or kNone
+  std::vector<std::uint32_t> vertex_site;    // index of its site in the optimised site array
+
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xy.size() / 2); }
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
+};
+
+enum class Mesh2Phase : std::uint8_t {
+  kSampling,       // sizing field and initial sites (iteration 0)
+  kUnconstrained,  // CVT of free sites
+  kConstrained,    // CVT with sliding and fixed boundary sites
+  kExtraction,     // triangles (iteration: the repair round)
+  kRepair,         // short constrained CVT after a repair's removals
+};
+const char* phase_name(Mesh2Phase phase);
+
+struct Mesh2Progress {
+  Mesh2Phase phase = Mesh2Phase::kSampling;
+  std::uint32_t iteration = 0;  // within the phase
+  double energy = 0;
+  double gradient_norm = 0;
+  double seconds = 0;  // since the start of mesh_domain2
+};
+
+struct Mesh2Options {
+  // Target number of mesh vertices (approximate, see above). 0: use edge_length.
+  std::uint32_t nb_vertices = 0;
+  // Target edge length H far from small features, used when nb_vertices == 0.
+  double edge_length = 0;
+  // Slope g of the sizing field away from small features (h grows by g per unit length).
+  double gradation = 0.3;
+  // Convex domain vertices where the boundary turns by at least this many degrees are
+  // fixed corners.
+  double corner_angle_deg = 20;
+  // Convex corners with an interior angle below this many degrees are cut (see above).
+  double sharp_angle_deg = 30;
+  // Every domain vertex becomes a fixed mesh vertex (paper Fig. 13).
+  bool fix_input_vertices = false;
+  // Also keep the Delaunay triangles that lie in the domain but whose circumcenter does
+  // not (obtuse triangles against the boundary, which the paper's rule leaves out as
+  // notches): the mesh then covers the domain wherever the boundary is recovered, at the
+  // price of some angles above 90 degrees.
+  bool keep_gaps = false;
+  // Optional density rho for the CVT instead of the sizing field's uniform part: the size
+  // is then h = min(c rho^(-1/4), feature sizes) with c set by nb_vertices / edge_length.
+  // Must be positive on the domain. Constant (the default): uniform.
+  Density2 density;
+  std::uint64_t seed = 1;
+  CvtMethod method = CvtMethod::kLbfgs;
+  // Each CVT phase stops when |g| <= tolerance * |g_0| or after its iteration budget.
+  std::uint32_t unconstrained_iterations = 100;
+  std::uint32_t constrained_iterations = 200;
+  double unconstrained_tolerance = 1e-3;
+  double constrained_tolerance = 1e-4;
+  // Repair (step 7): rounds, the angle below which a triangle is repaired, and the CVT
+  // iterations after each round's removals. 0 rounds: the paper's pipeline alone.
+  std::uint32_t repair_rounds = 4;
+  double repair_angle_deg = 30;
+  std::uint32_t repair_iterations = 40;
+  // Called at the start of each phase (iteration 0) and after every CVT iteration; return
+  // false to stop: the mesh is then extracted from the sites reached (valid, lower
+  // quality; an empty mesh when stopped at the start of the sampling) and
+  // Mesh2Stats::cancelled is set.
+  std::function<bool(const Mesh2Progress&)> progress;
+};
+
+struct Mesh2Stats {
+  std::uint32_t nb_sites = 0;          // after the boundary step
+  std::uint32_t nb_fixed = 0;          // fixed sites: domain vertices and cut points
+  std::uint32_t nb_sliding = 0;        // sliding sites
+  std::uint32_t nb_sharp_corners = 0;  // corners cut (sharp_angle_deg)
+  std::uint32_t nb_gap_sites = 0;      // free sites added in gaps after the boundary step
+  std::uint32_t nb_paths = 0;
+  double edge_length = 0;  // H
+  double min_size = 0;     // smallest h of the feature samples
+  std::uint32_t unconstrained_iterations = 0, constrained_iterations = 0;
+  double energy = 0;                   // final CVT energy
+  double relative_gradient = 0;        // |g| / |g0| at the end of the constrained phase
+  std::uint32_t repair_rounds = 0;     // repair rounds run
+  std::uint32_t repair_removed = 0;    // vertices removed by them
+  std::uint32_t nb_gaps = 0;           // triangles left out by the circumcenter rule alone
+  double covered_fraction = 0;         // mesh area / domain area
+  std::uint32_t dropped_outside = 0;   // kept by the circumcenter rule, but not contained
+  std::uint32_t removed_vertices = 0;  // sites used by no triangle
+  double seconds_sampling = 0, seconds_unconstrained = 0, seconds_constrained = 0,
+         seconds_extraction = 0, seconds = 0;
+  bool cancelled = false;
+};
+
+// Meshes the domain. Throws Error for impossible options (no size given, a non-positive
+// size, gradation, or angle out of range). Deterministic for given options.
+Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stats* stats = nullptr);
+
+// Step 6 alone: the mesh of given sites. `kinds` (optional, one per site) and
+// `site_domain` / `site_edge` (optional) are copied to the mesh's vertex data.
+struct Extract2Stats {
+  std::uint32_t nb_delaunay = 0;  // finite Delaunay triangles
+  std::uint32_t nb_circumcenter_outside = 0;
+  std::uint32_t dropped_outside = 0;  // circumcenter inside but triangle not contained
+  std::uint32_t removed_vertices = 0;
+  // Gaps: triangles in the closed domain whose circumcenter is outside (obtuse triangles
+  // against the boundary, which the rule leaves out), as site indices, 3 per triangle.
+  std::vector<std::uint32_t> gap_triangles;
+};
+Mesh2 extract_mesh2(const Domain2& domain, const std::vector<double>& sites,
+                    const std::vector<Mesh2::VertexKind>& kinds = {},
+                    const std::vector<std::uint32_t>& site_domain = {},
+                    const std::vector<std::uint32_t>& site_edge = {},
+                    Extract2Stats* stats = nullptr, bool keep_gaps = false);
+
+// Exact location of the circumcenter of the Delaunay triangle (i, k, l) of `dt` (the
+// Voronoi vertex of the three sites, with the symbolic perturbation of the Voronoi
+// clipping predicates, so never on the boundary): POSITIVE inside the domain, NEGATIVE
+// outside. Crossing parity of the ray along bisector(i, k) beyond the vertex, each
+// crossing decided by bisector_side_edge2d; O(domain edges).
+Sign circumcenter_location2(const Domain2& domain, const Delaunay2& dt, std::uint32_t triangle);
+
+// Exact checks of a mesh against its domain: every triangle counter-clockwise with
+// non-zero area (orient2d), inside the closed domain (no domain edge meets its interior,
+// and its interior is inside), edges shared by at most two triangles with opposite
+// orientations, every vertex used. Empty when valid, else the first defect.
+std::string check_mesh2(const Domain2& domain, const Mesh2& mesh);
+
+// ---------------------------------------------------------------------------------------
+// Quality of a triangle mesh (angles in degrees, computed in floating point).
+struct TriangleQuality2 {
+  std::uint32_t nb_triangles = 0, nb_vertices = 0;
+  double min_angle = 0, max_angle = 0;
+  double mean_angle = 0;      // of all angles: 60 whenever there is a triangle
+  double mean_min_angle = 0;  // mean over triangles of the smallest angle
+  double mean_max_angle = 0;  // mean over triangles of the largest angle
+  // Radius ratio 2 r_in / r_circ: 1 for an equilateral triangle, 0 for a flat one.
+  double min_radius_ratio = 0, mean_radius_ratio = 0;
+  std::uint32_t nb_below_30 = 0;  // triangles with an angle below 30 degrees
+  double bin_degrees = 0;
+  // Histograms over [0, 180) in bins of bin_degrees: all angles, and the smallest and
+  // largest angle of each triangle.
+  std::vector<std::uint32_t> angle_histogram, min_angle_histogram, max_angle_histogram;
+};
+
+TriangleQuality2 triangle_quality2(const Mesh2& mesh, double bin_degrees = 2.0);
+// Human-readable summary (several lines), and one JSON object with the keys
+// nb_triangles, nb_vertices, min_angle_deg, mean_angle_deg, max_angle_deg,
+// mean_min_angle_deg, mean_max_angle_deg, min_radius_ratio, mean_radius_ratio,
+// triangles_below_30_deg, bin_deg, angle_histogram, min_angle_histogram,
+// max_angle_histogram.
+std::string quality_text(const TriangleQuality2& q);
+std::string quality_json(const TriangleQuality2& q);
+// An SVG bar chart of the angle histograms (all angles, and per-triangle min and max),
+// with the summary figures; `title` is escaped.
+void write_quality_svg(std::ostream& out, const TriangleQuality2& q, const std::string& title);
 
 }  // namespace voroclip

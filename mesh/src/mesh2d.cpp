@@ -1,0 +1,969 @@
+// CVT triangle meshing of a polygonal domain (Yan, Wang, Lévy & Liu, CAD 2011, sec. 5.1):
+// sizing, sampling, unconstrained CVT, boundary snapping, constrained CVT, extraction. The
+// steps and the treatment of reflex vertices, corners and sharp corners are described in
+// voroclip/mesh.h.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "edge_grid2.h"
+#include "sizing2d.h"
+#include "voroclip/mesh.h"
+
+namespace voroclip {
+
+const char* phase_name(Mesh2Phase phase) {
+  switch (phase) {
+    case Mesh2Phase::kSampling:
+      return "sampling";
+    case Mesh2Phase::kUnconstrained:
+      return "unconstrained CVT";
+    case Mesh2Phase::kConstrained:
+      return "constrained CVT";
+    case Mesh2Phase::kExtraction:
+      return "extraction";
+    case Mesh2Phase::kRepair:
+      return "repair CVT";
+  }
+  return "?";
+}
+
+namespace {
+
+using mesh2d::ConeEnvelope;
+using mesh2d::EdgeGrid2;
+using mesh2d::FeatureSample;
+using mesh2d::SizingField2;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::uint32_t kNone = Mesh2::kNone;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---------------------------------------------------------------------------------------
+// Boundary: vertex classes, paths between break vertices, per-edge path data.
+
+struct Boundary {
+  std::vector<std::uint8_t> fixed;     // per domain vertex: a fixed site
+  std::vector<std::uint8_t> sharp;     // per domain vertex: a cut sharp corner
+  std::vector<double> interior_angle;  // per domain vertex, degrees
+  std::vector<BoundaryPath2> paths;
+  std::vector<double> length;            // per path
+  std::vector<std::uint32_t> edge_path;  // per domain edge
+  std::vector<double> edge_offset;       // per domain edge: arclength of its start on its path
+  bool any_sharp = false;
+};
+
+// `sharp_angle`: o.sharp_angle_deg, or 0 once the sharp corners are cut (any left, where a
+// cut failed, are then ordinary fixed corners).
+Boundary analyse_boundary(const Domain2& domain, const Mesh2Options& o, double sharp_angle) {
+  const std::uint32_t nv = domain.nb_vertices();
+  Boundary b;
+  b.fixed.assign(nv, 0);
+  b.sharp.assign(nv, 0);
+  b.interior_angle.assign(nv, 180);
+  std::vector<std::uint8_t> brk(nv, 0);
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    const double* a = domain.vertex(domain.prev(v));
+    const double* p = domain.vertex(v);
+    const double* c = domain.vertex(domain.next(v));
+    const Sign turn = orient2d(a, p, c);
+    const double ux = p[0] - a[0], uy = p[1] - a[1], wx = c[0] - p[0], wy = c[1] - p[1];
+    const double angle = std::atan2(ux * wy - uy * wx, ux * wx + uy * wy) * 180 / kPi;
+    b.interior_angle[v] = 180 - angle;
+    const bool reflex = turn == Sign::negative;
+    const bool convex = turn == Sign::positive;
+    const bool corner = convex && angle >= o.corner_angle_deg;
+    b.sharp[v] = convex && b.interior_angle[v] < sharp_angle;
+    b.any_sharp = b.any_sharp || b.sharp[v];
+    b.fixed[v] = !b.sharp[v] && (reflex || corner || o.fix_input_vertices);
+    brk[v] = b.fixed[v] || b.sharp[v];
+  }
+  b.edge_path.assign(nv, kNone);
+  b.edge_offset.assign(nv, 0);
+  for (std::uint32_t r = 0; r < domain.nb_rings(); ++r) {
+    std::vector<std::uint32_t> breaks;
+    for (std::uint32_t v = domain.ring_begin(r); v < domain.ring_end(r); ++v) {
+      if (brk[v]) breaks.push_back(v);
+    }
+    if (breaks.empty()) {
+      b.paths.push_back({domain.ring_begin(r), domain.ring_begin(r), true});
+    } else {
+      for (std::size_t k = 0; k < breaks.size(); ++k) {
+        b.paths.push_back({breaks[k], breaks[(k + 1) % breaks.size()], false});
+      }
+    }
+  }
+  for (std::uint32_t p = 0; p < b.paths.size(); ++p) {
+    double s = 0;
+    std::uint32_t v = b.paths[p].first;
+    do {
+      b.edge_path[v] = p;
+      b.edge_offset[v] = s;
+      const double* x = domain.vertex(v);
+      const double* y = domain.vertex(domain.next(v));
+      s += std::hypot(y[0] - x[0], y[1] - x[1]);
+      v = domain.next(v);
+    } while (v != b.paths[p].last);
+    b.length.push_back(s);
+  }
+  return b;
+}
+
+bool paths_adjacent(const BoundaryPath2& p, const BoundaryPath2& q) {
+  if (p.closed || q.closed) return false;
+  return p.first == q.first || p.first == q.last || p.last == q.first || p.last == q.last;
+}
+
+// Feature samples along every path (mesh.h, "Feature sizes").
+std::vector<FeatureSample> feature_samples(const Domain2& domain, const Boundary& b,
+                                           const EdgeGrid2& grid) {
+  const std::size_t np = b.paths.size();
+  std::vector<std::vector<FeatureSample>> per_path(np);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, np), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+          const BoundaryPath2& path = b.paths[p];
+          // Distance to the features path p must resolve: edges of non-adjacent paths, and
+          // fixed vertices that do not end p.
+          const auto lfs = [&](const double* x) {
+            std::uint32_t e;
+            double d2;
+            const auto dist2 = [&](std::uint32_t f) {
+              const std::uint32_t q = b.edge_path[f];
+              if (q == p) return kInf;
+              if (paths_adjacent(path, b.paths[q])) {
+                if (!b.fixed[f] || f == path.first || f == path.last) return kInf;
+                const double* w = domain.vertex(f);
+                return (w[0] - x[0]) * (w[0] - x[0]) + (w[1] - x[1]) * (w[1] - x[1]);
+              }
+              return mesh2d::segment_distance2(x, domain.vertex(f), domain.vertex(domain.next(f)));
+            };
+            return grid.nearest(x, dist2, &e, &d2) ? std::sqrt(d2) : kInf;
+          };
+          const double length = b.length[p];
+          std::vector<FeatureSample>& out = per_path[p];
+          std::uint32_t v = path.first;
+          do {
+            const double* a = domain.vertex(v);
+            const double* c = domain.vertex(domain.next(v));
+            const double len = std::hypot(c[0] - a[0], c[1] - a[1]);
+            double t = 0;
+            for (;;) {
+              const double x[2] = {a[0] + t / len * (c[0] - a[0]), a[1] + t / len * (c[1] - a[1])};
+              const double s = std::min(length, lfs(x));
+              out.push_back({x[0], x[1], s});
+              t += std::max(0.5 * s, len / 256);
+              if (t >= len) break;
+            }
+            v = domain.next(v);
+          } while (v != path.last);
+          const double* end = domain.vertex(path.last);
+          out.push_back({end[0], end[1], std::min(length, lfs(end))});
+        }
+      });
+  // A floor far below any meaningful size keeps the density finite.
+  const double floor = 1e-9 * std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
+                                         domain.bbox_hi()[1] - domain.bbox_lo()[1]);
+  std::vector<FeatureSample> all;
+  for (const auto& samples : per_path) {
+    for (FeatureSample f : samples) {
+      f.s = std::max(f.s, floor);
+      all.push_back(f);
+    }
+  }
+  return all;
+}
+
+// ---------------------------------------------------------------------------------------
+// Size model: h(x) = min(u(x), f(x)), u = H or c rho^(-1/4).
+
+struct SizeModel {
+  SizingField2 field;
+  bool user_density = false;
+  Density2 density;  // user density (user_density)
+  double c = 0;      // u = c rho^(-1/4)
+  double H = 0;      // uniform size, or the cap of the field with a user density
+  double size(double x, double y) const {
+    const double f = field.feature(x, y);
+    return user_density ? std::min(c / std::sqrt(std::sqrt(density(x, y))), f) : f;
+  }
+};
+
+// Stratified points strictly inside the domain (about m of them), for the count estimate.
+std::vector<double> stratified_points(const Domain2& domain, std::uint32_t m, std::uint64_t seed) {
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const double w = hi[0] - lo[0], h = hi[1] - lo[1];
+  // About m points inside, from at most 2^20 cells of the box.
+  const double cells = std::clamp(m * (w * h) / std::max(domain.area(), 1e-300), 1.0, 1048576.0);
+  const double step = std::sqrt(w * h / cells);
+  const auto nx = static_cast<std::uint32_t>(std::clamp(std::ceil(w / step), 1.0, 4096.0));
+  const auto ny = static_cast<std::uint32_t>(std::clamp(std::ceil(h / step), 1.0, 4096.0));
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+  std::vector<double> pts;
+  for (std::uint32_t j = 0; j < ny; ++j) {
+    for (std::uint32_t i = 0; i < nx; ++i) {
+      const double u = static_cast<double>(rng() >> 11) * 0x1p-53;
+      const double v = static_cast<double>(rng() >> 11) * 0x1p-53;
+      const double p[2] = {lo[0] + (i + u) * w / nx, lo[1] + (j + v) * h / ny};
+      if (domain.locate(p) == Sign::positive) pts.insert(pts.end(), p, p + 2);
+    }
+  }
+  return pts;
+}
+
+SizeModel build_size_model(const Domain2& domain, const Mesh2Options& o,
+                           const std::vector<FeatureSample>& samples, double* min_size) {
+  SizeModel model;
+  model.user_density = o.density.kind != Density2::Kind::kConstant;
+  model.density = o.density;
+  const ConeEnvelope envelope(samples, o.gradation, domain.bbox_lo(), domain.bbox_hi());
+  *min_size = envelope.min_size();
+  const std::vector<double> pts = stratified_points(domain, 20000, o.seed);
+  const std::size_t m = pts.size() / 2;
+  if (m == 0) throw Error("mesh2d: " + domain.source() + ": the domain has no interior");
+  std::vector<double> f(m), r(m, 1.0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                        f[k] = envelope.value(pts[2 * k], pts[2 * k + 1], kInf);
+                        if (model.user_density) {
+                          const double rho = o.density(pts[2 * k], pts[2 * k + 1]);
+                          r[k] = rho > 0 && std::isfinite(rho) ? 1 / std::sqrt(std::sqrt(rho)) : -1;
+                        }
+                      }
+                    });
+  double r_max = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    if (r[k] < 0) {
+      throw Error("mesh2d: the density is not a positive finite number at (" +
+                  std::to_string(pts[2 * k]) + ", " + std::to_string(pts[2 * k + 1]) + ")");
+    }
+    r_max = std::max(r_max, r[k]);
+  }
+  double f_max = 0;
+  for (const double v : f) f_max = std::isfinite(v) ? std::max(f_max, v) : f_max;
+  // Expected vertex count for the scale t (t = H, or c): equilateral triangles of side h
+  // have (sqrt(3)/2) h^2 of area per vertex.
+  const auto count = [&](double t) {
+    double sum = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      const double h = std::min(t * r[k], f[k]);
+      sum += 1 / (h * h);
+    }
+    return 2 / std::sqrt(3.0) * domain.area() * sum / static_cast<double>(m);
+  };
+  double t = 0;
+  if (o.nb_vertices > 0) {
+    const double target = o.nb_vertices;
+    const double diag = std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
+                                   domain.bbox_hi()[1] - domain.bbox_lo()[1]);
+    const double hi = diag / std::max(r_max, 1e-300) * 4;
+    double lo = hi;
+    while (count(lo) < target && lo > 1e-300) lo *= 0.5;
+    if (count(hi) >= target) {
+      t = hi;  // the features alone need at least the target: no uniform part
+    } else {
+      double a = lo, z = hi;
+      for (int it = 0; it < 200 && z - a > 1e-12 * z; ++it) {
+        const double mid = 0.5 * (a + z);
+        (count(mid) > target ? a : z) = mid;
+      }
+      t = 0.5 * (a + z);
+    }
+  } else {
+    t = o.edge_length;
+  }
+  if (model.user_density) {
+    model.c = t;
+    model.H = std::max(1.25 * t * r_max, 1e-300);
+  } else {
+    // Beyond the largest feature size inside the domain the cap does nothing.
+    model.H = f_max > 0 ? std::min(t, f_max) : t;
+  }
+  model.field.build(envelope, model.H, domain.bbox_lo(), domain.bbox_hi());
+  return model;
+}
+
+// N sites with density proportional to h^-2, strictly inside the domain.
+std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, std::uint32_t n,
+                                 std::uint64_t seed) {
+  const SizingField2& field = model.field;
+  const std::uint32_t nc = field.nb_cells();
+  std::vector<double> cumulative(nc), hmin(nc);
+  double total = 0;
+  const double* blo = domain.bbox_lo();
+  const double* bhi = domain.bbox_hi();
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    double lo[2], hi[2];
+    field.cell_box(c, lo, hi);
+    const double w = std::max(0.0, std::min(hi[0], bhi[0]) - std::max(lo[0], blo[0]));
+    const double h = std::max(0.0, std::min(hi[1], bhi[1]) - std::max(lo[1], blo[1]));
+    double weight = field.cell_mean_inverse_square(c);
+    hmin[c] = field.cell_min(c);
+    if (model.user_density) {
+      // Estimate from a 3 x 3 pattern; the rejection below clamps the ratio to 1.
+      double m = kInf, inv2 = 0;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          const double s = model.size(lo[0] + (0.5 * a + 0.25) * (hi[0] - lo[0]) * 0.8,
+                                      lo[1] + (0.5 * b + 0.25) * (hi[1] - lo[1]) * 0.8);
+          m = std::min(m, s);
+          inv2 += 1 / (s * s) / 9;
+        }
+      }
+      hmin[c] = 0.8 * m;
+      weight = inv2;
+    }
+    total += w * h * weight;
+    cumulative[c] = total;
+  }
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  std::vector<double> xy;
+  xy.reserve(2 * std::size_t{n});
+  std::uint64_t tries = 0;
+  while (xy.size() < 2 * std::size_t{n}) {
+    if (++tries > 10000 * std::uint64_t{n} + 1000000) {
+      throw Error("mesh2d: " + domain.source() + ": cannot sample points inside the domain");
+    }
+    const double u = uniform() * total;
+    const auto c = static_cast<std::uint32_t>(std::min<std::size_t>(
+        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(), nc - 1));
+    double lo[2], hi[2];
+    field.cell_box(c, lo, hi);
+    lo[0] = std::max(lo[0], blo[0]);
+    lo[1] = std::max(lo[1], blo[1]);
+    hi[0] = std::min(hi[0], bhi[0]);
+    hi[1] = std::min(hi[1], bhi[1]);
+    const double p[2] = {lo[0] + uniform() * (hi[0] - lo[0]), lo[1] + uniform() * (hi[1] - lo[1])};
+    const double h = model.size(p[0], p[1]);
+    const double ratio = std::min(1.0, hmin[c] / h);
+    if (uniform() >= ratio * ratio) continue;
+    if (domain.locate(p) != Sign::positive) continue;
+    xy.insert(xy.end(), p, p + 2);
+  }
+  return xy;
+}
+
+// Moves p (computed on edge e, up to rounding) to a double point in the closed domain:
+// unchanged when it is on the edge or inside already, else a few ulps towards the inside.
+void round_into_domain(const Domain2& domain, std::uint32_t e, double* p) {
+  const double* a = domain.vertex(e);
+  const double* b = domain.vertex(domain.next(e));
+  const double nx = a[1] - b[1], ny = b[0] - a[0];  // inward (left) normal
+  for (int k = 0; k < 16 && orient2d(a, b, p) == Sign::negative; ++k) {
+    if (nx != 0) p[0] = std::nextafter(p[0], nx > 0 ? kInf : -kInf);
+    if (ny != 0) p[1] = std::nextafter(p[1], ny > 0 ? kInf : -kInf);
+  }
+  if (domain.locate(p) == Sign::negative) {
+    // Within rounding of a vertex where the boundary turns: take the nearer end.
+    const double da = std::hypot(p[0] - a[0], p[1] - a[1]);
+    const double db = std::hypot(p[0] - b[0], p[1] - b[1]);
+    const double* q = da <= db ? a : b;
+    p[0] = q[0];
+    p[1] = q[1];
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Sharp corners: the domain with their tips cut off (mesh.h, "Sharp corners").
+
+struct CutDomain {
+  Domain2 domain;
+  // Per vertex of the cut domain: the original vertex, or kNone for a cut point; and for
+  // a cut point the original edge it lies on.
+  std::vector<std::uint32_t> vertex, cut_edge;
+  // Per edge of the cut domain: the original edge containing it, or kNone for a chord.
+  std::vector<std::uint32_t> edge;
+  std::uint32_t nb_cut = 0;
+};
+
+// Cuts every sharp corner c at arclength r_c = factor * h(c) / (2 sin(angle / 2)) on
+// both sides, stopping at the nearest fixed vertex, half-way to another sharp corner, and
+// within 0.45 of the ring's length. Throws Error when the result is not a valid domain.
+CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const SizeModel& model,
+                            double factor) {
+  struct Side {
+    bool at_vertex = false;    // the cut is the fixed vertex `vertex`
+    std::uint32_t vertex = 0;  // at_vertex: that vertex
+    std::uint32_t edge = 0;    // otherwise: the edge holding the cut point p
+    double p[2] = {0, 0};
+  };
+  const std::uint32_t nv = domain.nb_vertices();
+  std::vector<std::uint8_t> removed(nv, 0);
+  std::vector<Side> sides(2 * std::size_t{nv});
+  const auto step = [&](std::uint32_t v, int dir) {
+    return dir > 0 ? domain.next(v) : domain.prev(v);
+  };
+  const auto dist = [&](std::uint32_t v, std::uint32_t w) {
+    return std::hypot(domain.vertex(w)[0] - domain.vertex(v)[0],
+                      domain.vertex(w)[1] - domain.vertex(v)[1]);
+  };
+  for (std::uint32_t c = 0; c < nv; ++c) {
+    if (!b.sharp[c]) continue;
+    removed[c] = 1;
+    const std::uint32_t ring = domain.ring_of(c);
+    double ring_length = 0;
+    for (std::uint32_t v = domain.ring_begin(ring); v < domain.ring_end(ring); ++v) {
+      ring_length += dist(v, domain.next(v));
+    }
+    const double half = std::max(b.interior_angle[c], 1e-3) * kPi / 360;
+    const double r = std::min(
+        factor * model.size(domain.vertex(c)[0], domain.vertex(c)[1]) / (2 * std::sin(half)),
+        0.45 * ring_length);
+    for (int side = 0; side < 2; ++side) {
+      const int dir = side == 0 ? -1 : 1;
+      Side& out = sides[2 * std::size_t{c} + static_cast<std::size_t>(side)];
+      double travelled = 0, target = r;
+      std::uint32_t v = c;
+      for (;;) {
+        const std::uint32_t w = step(v, dir);
+        const double len = dist(v, w);
+        if (b.sharp[w]) {
+          // Another sharp corner ahead: meet it half-way at most.
+          double total = travelled + len;
+          target = std::min(target, 0.5 * total);
+        }
+        if (b.fixed[w] && !b.sharp[w] && travelled + len <= target) {
+          out.at_vertex = true;
+          out.vertex = w;
+          break;
+        }
+        if (travelled + len < target && !b.sharp[w] && !b.fixed[w]) {
+          travelled += len;
+          removed[w] = 1;
+          v = w;
+          continue;
+        }
+        const double t = std::clamp((target - travelled) / len, 0.0, 1.0);
+        const double* x = domain.vertex(v);
+        const double* y = domain.vertex(w);
+        out.p[0] = x[0] + t * (y[0] - x[0]);
+        out.p[1] = x[1] + t * (y[1] - x[1]);
+        out.edge = dir > 0 ? v : w;
+        round_into_domain(domain, out.edge, out.p);
+        break;
+      }
+    }
+  }
+  PolygonRings rings;
+  rings.source = domain.source();
+  rings.ring_begin.push_back(0);
+  std::vector<std::uint32_t> point_vertex, point_edge;  // per point of `rings`
+  const auto add_point = [&](const double* p, std::uint32_t v, std::uint32_t e) {
+    rings.xy.insert(rings.xy.end(), p, p + 2);
+    point_vertex.push_back(v);
+    point_edge.push_back(e);
+  };
+  CutDomain cut;
+  for (std::uint32_t ring = 0; ring < domain.nb_rings(); ++ring) {
+    for (std::uint32_t v = domain.ring_begin(ring); v < domain.ring_end(ring); ++v) {
+      if (b.sharp[v]) {
+        ++cut.nb_cut;
+        for (int side = 0; side < 2; ++side) {
+          const Side& k = sides[2 * std::size_t{v} + static_cast<std::size_t>(side)];
+          if (!k.at_vertex) add_point(k.p, kNone, k.edge);
+        }
+      } else if (!removed[v]) {
+        add_point(domain.vertex(v), v, kNone);
+      }
+    }
+    rings.ring_begin.push_back(static_cast<std::uint32_t>(rings.xy.size() / 2));
+    rings.ring_polygon.push_back(-1);
+    rings.ring_line.push_back(0);
+  }
+  cut.domain = Domain2(rings);
+  const Domain2& d = cut.domain;
+  cut.vertex.resize(d.nb_vertices());
+  cut.cut_edge.resize(d.nb_vertices());
+  cut.edge.resize(d.nb_vertices());
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+    cut.vertex[v] = point_vertex[d.source_vertex(v)];
+    cut.cut_edge[v] = point_edge[d.source_vertex(v)];
+  }
+  // An edge of the cut domain lies on an original edge when both ends do: two original
+  // vertices consecutive in the original ring, a cut point and an end of its edge, or two
+  // cut points on one edge. Anything else is a chord.
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+    const std::uint32_t w = d.next(v);
+    const std::uint32_t ov = cut.vertex[v], ow = cut.vertex[w];
+    const std::uint32_t ev = cut.cut_edge[v], ew = cut.cut_edge[w];
+    std::uint32_t e = kNone;
+    if (ov != kNone && ow != kNone) {
+      if (domain.next(ov) == ow) e = ov;
+    } else if (ov != kNone) {
+      if (ew == ov) e = ew;
+    } else if (ow != kNone) {
+      if (domain.next(ev) == ow) e = ev;
+    } else if (ev == ew) {
+      e = ev;
+    }
+    cut.edge[v] = e;
+  }
+  return cut;
+}
+
+// The sliding sites: boundary-cell sites within 0.75 h of the boundary snapped to their
+// closest boundary point, then per path as many as the sizing asks for,
+// round(integral of ds / h) segments: the snapped ones nearest to their neighbours are
+// dropped first, missing ones are added in the middle of the widest gaps. (A CVT's first
+// row of sites lies about 0.43 h from a straight boundary, the second about 1.3 h, so the
+// distance test keeps the second row free where the domain is only a few cells wide.)
+struct SiteSet {
+  std::vector<double> xy;
+  std::vector<SiteConstraint2> constraints;
+  std::vector<Mesh2::VertexKind> kinds;
+  std::vector<std::uint32_t> domain_vertex, edge;
+  void add(const double* p, SiteConstraint2 c, Mesh2::VertexKind kind, std::uint32_t v,
+           std::uint32_t e) {
+    xy.insert(xy.end(), p, p + 2);
+    constraints.push_back(c);
+    kinds.push_back(kind);
+    domain_vertex.push_back(v);
+    edge.push_back(e);
+  }
+};
+
+SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel& model,
+                      const EdgeGrid2& grid, const std::vector<PathParam2>& params,
+                      const std::vector<double>& sites) {
+  SiteSet set;
+  for (std::uint32_t v = 0; v < domain.nb_vertices(); ++v) {
+    if (b.fixed[v]) {
+      set.add(domain.vertex(v), {SiteConstraint2::Kind::kFixed, 0}, Mesh2::VertexKind::kFixed, v,
+              kNone);
+    }
+  }
+  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
+  const Delaunay2 dt(sites.data(), n);
+  ClippedVoronoi2 cv;
+  cv.compute(domain, dt);
+  std::vector<std::vector<double>> on_path(params.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (cv.area(i) <= 0) continue;
+    const double* x = &sites[2 * std::size_t{i}];
+    std::uint32_t e = kNone;
+    double d2 = kInf;
+    if (cv.is_boundary(i)) {
+      const auto dist2 = [&](std::uint32_t f) {
+        return mesh2d::segment_distance2(x, domain.vertex(f), domain.vertex(domain.next(f)));
+      };
+      grid.nearest(x, dist2, &e, &d2);
+    }
+    const double h = model.size(x[0], x[1]);
+    if (e == kNone || d2 > 0.5625 * h * h) {
+      set.add(x, {SiteConstraint2::Kind::kFree, 0}, Mesh2::VertexKind::kInterior, kNone, kNone);
+      continue;
+    }
+    double t;
+    const double* a = domain.vertex(e);
+    const double* c = domain.vertex(domain.next(e));
+    mesh2d::segment_distance2(x, a, c, &t);
+    const std::uint32_t p = b.edge_path[e];
+    const double s = b.edge_offset[e] + t * std::hypot(c[0] - a[0], c[1] - a[1]);
+    on_path[p].push_back(std::clamp(s, 0.0, params[p].length()));
+  }
+  for (std::uint32_t q = 0; q < params.size(); ++q) {
+    const PathParam2& param = params[q];
+    const double len = param.length();
+    const bool closed = param.closed();
+    double segments = 0;
+    for (double s = 0; s < len;) {
+      double xy[2];
+      param.eval(s, xy);
+      const double h = model.size(xy[0], xy[1]);
+      const double step = std::min(0.25 * h, len - s);
+      segments += step / h;
+      s += step;
+    }
+    const auto wanted =
+        static_cast<std::size_t>(std::max(0.0, std::round(segments) - (closed ? 0.0 : 1.0)));
+    std::vector<double>& kept = on_path[q];
+    std::sort(kept.begin(), kept.end());
+    // The gaps on either side of kept[k] (open paths end at fixed sites at 0 and len).
+    const auto before = [&](std::size_t k) {
+      if (k > 0) return kept[k] - kept[k - 1];
+      return closed ? kept[0] + len - kept.back() : kept[0];
+    };
+    const auto after = [&](std::size_t k) {
+      if (k + 1 < kept.size()) return kept[k + 1] - kept[k];
+      return closed ? kept[0] + len - kept.back() : len - kept.back();
+    };
+    while (kept.size() > wanted) {
+      std::size_t worst = 0;
+      double smallest = kInf;
+      for (std::size_t k = 0; k < kept.size(); ++k) {
+        const double g = before(k) + after(k);
+        if (g < smallest) {
+          smallest = g;
+          worst = k;
+        }
+      }
+      kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(worst));
+    }
+    while (kept.size() < wanted) {
+      if (kept.empty()) {
+        kept.push_back(closed ? 0 : 0.5 * len);
+        continue;
+      }
+      // Gap k lies before kept[k]; for open paths gap kept.size() follows the last one.
+      std::size_t widest = 0;
+      double largest = -1;
+      for (std::size_t k = 0; k <= kept.size(); ++k) {
+        const double g = k < kept.size() ? before(k) : (closed ? -1.0 : after(k - 1));
+        if (g > largest) {
+          largest = g;
+          widest = k;
+        }
+      }
+      double s = widest < kept.size() ? kept[widest] - 0.5 * largest : kept.back() + 0.5 * largest;
+      if (s < 0) s += len;
+      kept.insert(std::upper_bound(kept.begin(), kept.end(), s), s);
+    }
+    for (const double s : kept) {
+      double xy[2];
+      param.eval(s, xy);
+      set.add(xy, {SiteConstraint2::Kind::kSlide, q}, Mesh2::VertexKind::kBoundary, kNone,
+              param.edge(s));
+    }
+  }
+  return set;
+}
+
+// Gaps left by the boundary step: snapping moves the first row of sites onto the
+// boundary, and where the domain is only a few cells wide nothing refills the middle.
+// Empty circles show them: a Delaunay triangle of the sites whose circumcircle has a radius
+// above 0.8 h (0.577 h in an equilateral mesh of edge h), centred inside the domain and at
+// least 0.4 h from its boundary, gets a free site at its circumcenter, largest radius (to
+// h) first, no two closer than 0.7 h. Two passes.
+std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const EdgeGrid2& grid,
+                        SiteSet& set) {
+  std::uint32_t added = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto n = static_cast<std::uint32_t>(set.xy.size() / 2);
+    const Delaunay2 dt(set.xy.data(), n);
+    struct Candidate {
+      double ratio, x, y, h;
+    };
+    std::vector<Candidate> candidates;
+    for (std::uint32_t t = 0; t < dt.nb_triangles(); ++t) {
+      double c[2];
+      dt.circumcenter(t, c);
+      const double* p = dt.point(dt.tri_vertex(t, 0));
+      const double r = std::hypot(c[0] - p[0], c[1] - p[1]);
+      if (!std::isfinite(r)) continue;
+      const double h = model.size(c[0], c[1]);
+      if (r <= 0.8 * h || domain.locate(c) != Sign::positive) continue;
+      std::uint32_t e;
+      double d2;
+      const auto dist2 = [&](std::uint32_t f) {
+        return mesh2d::segment_distance2(c, domain.vertex(f), domain.vertex(domain.next(f)));
+      };
+      if (grid.nearest(c, dist2, &e, &d2) && d2 < 0.16 * h * h) continue;
+      candidates.push_back({r / h, c[0], c[1], h});
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return a.ratio > b.ratio || (a.ratio == b.ratio && (a.x < b.x || (a.x == b.x && a.y < b.y)));
+    });
+    std::vector<Candidate> chosen;
+    for (const Candidate& c : candidates) {
+      bool close = false;
+      for (const Candidate& o : chosen) {
+        const double d = std::hypot(c.x - o.x, c.y - o.y);
+        if (d < 0.7 * std::min(c.h, o.h)) {
+          close = true;
+          break;
+        }
+      }
+      if (close) continue;
+      chosen.push_back(c);
+      const double p[2] = {c.x, c.y};
+      set.add(p, {SiteConstraint2::Kind::kFree, 0}, Mesh2::VertexKind::kInterior, kNone, kNone);
+      ++added;
+    }
+    if (chosen.empty()) break;
+  }
+  return added;
+}
+
+// Sizing of a domain: its boundary, feature samples and size model.
+struct Sizing {
+  Boundary boundary;
+  SizeModel model;
+  double min_size = 0;
+};
+
+Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_angle,
+                   const EdgeGrid2& grid) {
+  Sizing z;
+  z.boundary = analyse_boundary(domain, o, sharp_angle);
+  const std::vector<FeatureSample> samples = feature_samples(domain, z.boundary, grid);
+  z.model = build_size_model(domain, o, samples, &z.min_size);
+  return z;
+}
+
+}  // namespace
+
+Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* stats_out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (original.nb_rings() == 0) throw Error("mesh2d: the domain is empty");
+  if (o.nb_vertices == 0 && !(o.edge_length > 0 && std::isfinite(o.edge_length))) {
+    throw Error("mesh2d: give a number of vertices or a positive edge length");
+  }
+  if (!(o.gradation > 0 && o.gradation <= 10)) {
+    throw Error("mesh2d: the gradation must be in (0, 10], got " + std::to_string(o.gradation));
+  }
+  if (!(o.corner_angle_deg >= 0 && o.corner_angle_deg <= 180)) {
+    throw Error("mesh2d: the corner angle must be in [0, 180] degrees");
+  }
+  if (!(o.sharp_angle_deg >= 0 && o.sharp_angle_deg < 180)) {
+    throw Error("mesh2d: the sharp-corner angle must be in [0, 180) degrees");
+  }
+  Mesh2Stats st;
+  const auto finish = [&](Mesh2 mesh) {
+    st.seconds = seconds_since(t0);
+    if (stats_out) *stats_out = st;
+    return mesh;
+  };
+  if (o.progress && !o.progress({Mesh2Phase::kSampling, 0, 0, 0, 0})) {
+    st.cancelled = true;
+    return finish(Mesh2{});
+  }
+
+  // ---- 1. Sharp corners cut (a few rounds: a cut may create a sharp corner at a fixed
+  // vertex where it ends), then the sizing of the domain that is meshed.
+  std::vector<CutDomain> cuts;  // successive cut domains
+  const Domain2* domain = &original;
+  std::unique_ptr<EdgeGrid2> grid = std::make_unique<EdgeGrid2>(*domain);
+  Sizing sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid);
+  for (int round = 0; round < 3 && sizing.boundary.any_sharp; ++round) {
+    bool done = false;
+    for (double factor = 1; factor > 0.1 && !done; factor *= 0.5) {
+      try {
+        cuts.push_back(cut_sharp_corners(*domain, sizing.boundary, sizing.model, factor));
+        done = true;
+      } catch (const Error&) {
+        // The cut domain is not valid (a chord crossing another ring): try shorter cuts.
+      }
+    }
+    if (!done) break;
+    st.nb_sharp_corners += cuts.back().nb_cut;
+    domain = &cuts.back().domain;
+    grid = std::make_unique<EdgeGrid2>(*domain);
+    sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid);
+  }
+  if (sizing.boundary.any_sharp) sizing = size_domain(*domain, o, 0, *grid);
+  const Boundary& b = sizing.boundary;
+  const SizeModel& model = sizing.model;
+  st.min_size = sizing.min_size;
+  st.edge_length = model.user_density ? model.c : model.H;
+
+  // ---- 2. Sampling.
+  std::uint32_t n = o.nb_vertices;
+  if (n == 0) {
+    const std::vector<double> pts = stratified_points(*domain, 20000, o.seed);
+    double sum = 0;
+    for (std::size_t k = 0; k < pts.size() / 2; ++k) {
+      const double h = model.size(pts[2 * k], pts[2 * k + 1]);
+      sum += 1 / (h * h);
+    }
+    const double est = 2 / std::sqrt(3.0) * domain->area() * sum /
+                       std::max(1.0, static_cast<double>(pts.size() / 2));
+    if (!(est < 1e9)) throw Error("mesh2d: the edge length asks for more than 10^9 vertices");
+    n = static_cast<std::uint32_t>(std::max(3.0, std::round(est)));
+  }
+  std::vector<double> sites = sample_sites(*domain, model, n, o.seed);
+  st.seconds_sampling = seconds_since(t0);
+
+  // CVT density rho = (H / h)^4 (1 where the size is uniform).
+  Density2 rho = Density2::constant(1.0);
+  if (model.user_density || model.field.nb_nodes() > 0) {
+    const SizeModel* m = &model;
+    const double H = model.user_density ? model.c : model.H;
+    rho = Density2::function([m, H](double x, double y) {
+      const double r = H / m->size(x, y);
+      return (r * r) * (r * r);
+    });
+  }
+  const auto run_cvt = [&](Mesh2Phase phase, Cvt2Options& co, std::uint32_t iterations,
+                           double tolerance) {
+    co.method = o.method;
+    co.max_iterations = iterations;
+    co.gradient_tolerance = tolerance;
+    co.density = rho;
+    co.precondition = true;
+    co.progress = [&](const CvtProgress& p) {
+      return !o.progress ||
+             o.progress({phase, p.iteration, p.energy, p.gradient_norm, seconds_since(t0)});
+    };
+    return optimize_cvt2(*domain, sites, co);
+  };
+
+  // ---- 3. Unconstrained CVT.
+  const auto t1 = std::chrono::steady_clock::now();
+  {
+    Cvt2Options co;
+    const Cvt2Result r = run_cvt(Mesh2Phase::kUnconstrained, co, o.unconstrained_iterations,
+                                 o.unconstrained_tolerance);
+    st.unconstrained_iterations = r.iterations;
+    st.energy = r.energy;
+    st.cancelled = r.cancelled;
+  }
+  st.seconds_unconstrained = seconds_since(t1);
+
+  // ---- 4-5. Boundary sites, constrained CVT.
+  const auto t2 = std::chrono::steady_clock::now();
+  std::vector<PathParam2> params;
+  for (const BoundaryPath2& path : b.paths) params.emplace_back(*domain, path);
+  st.nb_paths = static_cast<std::uint32_t>(params.size());
+  SiteSet set = boundary_step(*domain, b, model, *grid, params, sites);
+  st.nb_gap_sites = fill_gaps(*domain, model, *grid, set);
+  sites = std::move(set.xy);
+  for (const SiteConstraint2& c : set.constraints) {
+    st.nb_fixed += c.kind == SiteConstraint2::Kind::kFixed;
+    st.nb_sliding += c.kind == SiteConstraint2::Kind::kSlide;
+  }
+  st.nb_sites = static_cast<std::uint32_t>(sites.size() / 2);
+  if (!st.cancelled) {
+    Cvt2Options co;
+    co.constraints = set.constraints;
+    co.paths = b.paths;
+    const Cvt2Result r =
+        run_cvt(Mesh2Phase::kConstrained, co, o.constrained_iterations, o.constrained_tolerance);
+    st.constrained_iterations = r.iterations;
+    st.energy = r.energy;
+    st.relative_gradient =
+        r.initial_gradient_norm > 0 ? r.gradient_norm / r.initial_gradient_norm : 0;
+    st.cancelled = r.cancelled;
+  }
+  st.seconds_constrained = seconds_since(t2);
+
+  // ---- 6. Sliding sites exactly on their path and in the domain; extraction in the
+  // meshed (cut) domain; repair rounds (mesh.h, step 7).
+  const auto t3 = std::chrono::steady_clock::now();
+  Mesh2 mesh;
+  Extract2Stats es;
+  double best_min = 0, best_mean = 0;
+  std::uint32_t best_sites = 0;
+  for (std::uint32_t round = 0;; ++round) {
+    for (std::size_t i = 0; i < set.constraints.size(); ++i) {
+      if (set.constraints[i].kind != SiteConstraint2::Kind::kSlide) continue;
+      double* x = &sites[2 * i];
+      const PathParam2& param = params[set.constraints[i].path];
+      const double s = param.closest(x);
+      param.eval(s, x);
+      set.edge[i] = param.edge(s);
+      round_into_domain(*domain, set.edge[i], x);
+    }
+    if (!st.cancelled && o.progress &&
+        !o.progress({Mesh2Phase::kExtraction, round, st.energy, 0, seconds_since(t0)})) {
+      st.cancelled = true;
+    }
+    Extract2Stats round_stats;
+    Mesh2 round_mesh = extract_mesh2(*domain, sites, set.kinds, set.domain_vertex, set.edge,
+                                     &round_stats, o.keep_gaps);
+    // Keep the best mesh of the rounds: the largest smallest angle, then the larger mean.
+    const TriangleQuality2 quality = triangle_quality2(round_mesh);
+    if (round == 0 || quality.min_angle > best_min ||
+        (quality.min_angle == best_min && quality.mean_min_angle > best_mean)) {
+      best_min = quality.min_angle;
+      best_mean = quality.mean_min_angle;
+      mesh = round_mesh;
+      es = std::move(round_stats);
+      best_sites = static_cast<std::uint32_t>(sites.size() / 2);
+    }
+    if (st.cancelled || round >= o.repair_rounds || quality.min_angle >= o.repair_angle_deg) {
+      break;
+    }
+    // Per bad triangle, its non-fixed vertex with the largest angle (sites).
+    std::vector<std::uint8_t> remove(set.kinds.size(), 0);
+    std::uint32_t marked = 0;
+    const auto mark = [&](const std::uint32_t site[3]) {
+      double angle[3];
+      for (int k = 0; k < 3; ++k) {
+        const double* a = &sites[2 * std::size_t{site[k]}];
+        const double* p = &sites[2 * std::size_t{site[(k + 1) % 3]}];
+        const double* q = &sites[2 * std::size_t{site[(k + 2) % 3]}];
+        const double ux = p[0] - a[0], uy = p[1] - a[1], wx = q[0] - a[0], wy = q[1] - a[1];
+        angle[k] = std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi;
+      }
+      if (std::min({angle[0], angle[1], angle[2]}) >= o.repair_angle_deg) return;
+      int order[3] = {0, 1, 2};
+      std::sort(order, order + 3, [&](int x, int y) { return angle[x] > angle[y]; });
+      for (const int k : order) {
+        if (set.kinds[site[k]] == Mesh2::VertexKind::kFixed) continue;
+        if (!remove[site[k]]) ++marked;
+        remove[site[k]] = 1;
+        return;
+      }
+    };
+    for (std::uint32_t t = 0; t < round_mesh.nb_triangles(); ++t) {
+      std::uint32_t site[3];
+      for (int k = 0; k < 3; ++k) {
+        site[k] = round_mesh.vertex_site[round_mesh.triangles[3 * std::size_t{t} +
+                                                              static_cast<std::size_t>(k)]];
+      }
+      mark(site);
+    }
+
+    if (marked == 0) break;
+    ++st.repair_rounds;
+    st.repair_removed += marked;
+    SiteSet kept;
+    for (std::size_t i = 0; i < set.kinds.size(); ++i) {
+      if (remove[i]) continue;
+      kept.add(&sites[2 * i], set.constraints[i], set.kinds[i], set.domain_vertex[i], set.edge[i]);
+    }
+    set = std::move(kept);
+    sites = set.xy;
+    Cvt2Options co;
+    co.constraints = set.constraints;
+    co.paths = b.paths;
+    const Cvt2Result r =
+        run_cvt(Mesh2Phase::kRepair, co, o.repair_iterations, o.constrained_tolerance);
+    st.energy = r.energy;
+    st.cancelled = r.cancelled;
+  }
+  // Vertex data in the original domain's numbering, through the successive cuts.
+  for (std::size_t k = cuts.size(); k-- > 0;) {
+    const CutDomain& cut = cuts[k];
+    for (std::uint32_t i = 0; i < mesh.nb_vertices(); ++i) {
+      if (mesh.vertex_domain[i] != kNone) {
+        const std::uint32_t v = mesh.vertex_domain[i];
+        mesh.vertex_domain[i] = cut.vertex[v];
+        if (cut.vertex[v] == kNone) mesh.vertex_edge[i] = cut.cut_edge[v];  // a cut point
+      } else if (mesh.vertex_edge[i] != kNone) {
+        mesh.vertex_edge[i] = cut.edge[mesh.vertex_edge[i]];
+      }
+    }
+  }
+  st.nb_sites = best_sites;
+  st.nb_gaps = static_cast<std::uint32_t>(es.gap_triangles.size() / 3);
+  double area = 0;
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    const double* a = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t}]}];
+    const double* p = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + 1]}];
+    const double* q = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + 2]}];
+    area += 0.5 * ((p[0] - a[0]) * (q[1] - a[1]) - (p[1] - a[1]) * (q[0] - a[0]));
+  }
+  st.covered_fraction = area / original.area();
+  st.dropped_outside = es.dropped_outside;
+  st.removed_vertices = es.removed_vertices;
+  st.seconds_extraction = seconds_since(t3);
+  return finish(std::move(mesh));
+}
+
+}  // namespace voroclip

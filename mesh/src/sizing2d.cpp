@@ -1,0 +1,190 @@
+// The 2D mesher's sizing field (sizing2d.h): the cone envelope over feature samples and its
+// two-level tabulation.
+#include "sizing2d.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace voroclip::mesh2d {
+
+namespace {
+
+std::uint32_t clamp_index(double t, std::uint32_t n) {
+  if (!(t > 0)) return 0;
+  if (t >= static_cast<double>(n - 1)) return n - 1;
+  return static_cast<std::uint32_t>(t);
+}
+
+}  // namespace
+
+ConeEnvelope::ConeEnvelope(std::vector<FeatureSample> samples, double gradation, const double* lo,
+                           const double* hi)
+    : g_(gradation) {
+  lo_[0] = lo[0];
+  lo_[1] = lo[1];
+  const double w = hi[0] - lo[0], h = hi[1] - lo[1];
+  const double bins = std::max(1.0, static_cast<double>(samples.size()) / 4);
+  size_ = std::sqrt(std::max(w * h, 1e-300) / bins);
+  size_ = std::max({size_, w / 2048, h / 2048});
+  if (!(size_ > 0) || !std::isfinite(size_)) size_ = 1;
+  nx_ = static_cast<std::uint32_t>(std::min(2048.0, std::floor(w / size_) + 1));
+  ny_ = static_cast<std::uint32_t>(std::min(2048.0, std::floor(h / size_) + 1));
+  const std::size_t nb = std::size_t{nx_} * ny_;
+  std::vector<std::uint32_t> bin_of(samples.size());
+  begin_.assign(nb + 1, 0);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const std::uint32_t i = clamp_index(std::floor((samples[k].x - lo_[0]) / size_), nx_);
+    const std::uint32_t j = clamp_index(std::floor((samples[k].y - lo_[1]) / size_), ny_);
+    bin_of[k] = j * nx_ + i;
+    ++begin_[bin_of[k] + 1];
+  }
+  for (std::size_t b = 0; b < nb; ++b) begin_[b + 1] += begin_[b];
+  samples_.resize(samples.size());
+  std::vector<std::uint32_t> fill(begin_.begin(), begin_.end() - 1);
+  bin_min_s_.assign(nb, std::numeric_limits<double>::infinity());
+  min_s_ = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    samples_[fill[bin_of[k]]++] = samples[k];
+    bin_min_s_[bin_of[k]] = std::min(bin_min_s_[bin_of[k]], samples[k].s);
+    min_s_ = std::min(min_s_, samples[k].s);
+  }
+}
+
+double ConeEnvelope::value(double x, double y, double cap) const {
+  double best = cap;
+  if (samples_.empty()) return best;
+  const auto ci = static_cast<std::int64_t>(clamp_index(std::floor((x - lo_[0]) / size_), nx_));
+  const auto cj = static_cast<std::int64_t>(clamp_index(std::floor((y - lo_[1]) / size_), ny_));
+  const std::int64_t rmax = std::max<std::int64_t>(nx_, ny_);
+  for (std::int64_t r = 0; r <= rmax; ++r) {
+    // Every bin of ring r is at least (r - 1) bins away from (x, y) (x may lie outside the
+    // clamped bin's box, which only makes the bound smaller than the true distance).
+    if (r > 1 && min_s_ + g_ * static_cast<double>(r - 1) * size_ >= best) break;
+    for (std::int64_t j = cj - r; j <= cj + r; ++j) {
+      if (j < 0 || j >= ny_) continue;
+      const bool full_row = j == cj - r || j == cj + r;
+      for (std::int64_t i = ci - r; i <= ci + r; i += full_row ? 1 : 2 * r) {
+        if (i >= 0 && i < nx_) {
+          const std::size_t b = static_cast<std::size_t>(j) * nx_ + static_cast<std::size_t>(i);
+          if (bin_min_s_[b] < best) {
+            const double bx0 = lo_[0] + static_cast<double>(i) * size_;
+            const double by0 = lo_[1] + static_cast<double>(j) * size_;
+            const double dx = std::max({bx0 - x, x - (bx0 + size_), 0.0});
+            const double dy = std::max({by0 - y, y - (by0 + size_), 0.0});
+            if (bin_min_s_[b] + g_ * std::sqrt(dx * dx + dy * dy) < best) {
+              for (std::uint32_t k = begin_[b]; k < begin_[b + 1]; ++k) {
+                const FeatureSample& s = samples_[k];
+                const double v = s.s + g_ * std::hypot(x - s.x, y - s.y);
+                best = std::min(best, v);
+              }
+            }
+          }
+        }
+        if (r == 0) break;
+      }
+    }
+  }
+  return best;
+}
+
+void SizingField2::build(const ConeEnvelope& envelope, double cap, const double* lo,
+                         const double* hi) {
+  cap_ = cap;
+  lo_[0] = lo[0];
+  lo_[1] = lo[1];
+  const double w = hi[0] - lo[0], h = hi[1] - lo[1];
+  // Coarse cells of side the cap, at least 16 x 16 of them over the box and at most
+  // about 4M.
+  size_ = std::min(cap, std::sqrt(std::max(w * h, 0.0) / 256));
+  size_ = std::max({size_, std::sqrt(std::max(w * h, 0.0) / 4e6), w / 8192, h / 8192});
+  if (!(size_ > 0) || !std::isfinite(size_)) size_ = 1;
+  nx_ = static_cast<std::uint32_t>(std::min(8192.0, std::floor(w / size_) + 1));
+  ny_ = static_cast<std::uint32_t>(std::min(8192.0, std::floor(h / size_) + 1));
+  cells_.assign(std::size_t{nx_} * ny_, Cell{});
+  const double half_diagonal = size_ * std::sqrt(0.5);
+  // Pass 1: which cells need nodes, and how many.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells_.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t c = range.begin(); c != range.end(); ++c) {
+                        Cell& cell = cells_[c];
+                        cell.min = cap;
+                        cell.mean_inv2 = 1 / (cap * cap);
+                        if (envelope.empty()) continue;
+                        const double x = lo_[0] + (static_cast<double>(c % nx_) + 0.5) * size_;
+                        const double y = lo_[1] + (static_cast<double>(c / nx_) + 0.5) * size_;
+                        const double reach = envelope.gradation() * half_diagonal;
+                        const double v = envelope.value(x, y, cap + reach);
+                        if (v - reach >= cap) continue;
+                        const double low = std::max(v - reach, envelope.min_size());
+                        const double res = std::ceil(size_ / std::max(low, 1e-300));
+                        cell.res = static_cast<std::uint32_t>(std::clamp(res, 1.0, 96.0));
+                      }
+                    });
+  std::uint64_t total = 0;
+  for (Cell& cell : cells_) {
+    if (cell.res == 0) continue;
+    cell.first = static_cast<std::uint32_t>(total);
+    total += std::uint64_t{cell.res + 1} * (cell.res + 1);
+  }
+  nodes_.assign(total, cap);
+  // Pass 2: node values.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells_.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t c = range.begin(); c != range.end(); ++c) {
+                        Cell& cell = cells_[c];
+                        if (cell.res == 0) continue;
+                        const double x0 = lo_[0] + static_cast<double>(c % nx_) * size_;
+                        const double y0 = lo_[1] + static_cast<double>(c / nx_) * size_;
+                        const double step = size_ / cell.res;
+                        double mn = cap, inv2 = 0;
+                        for (std::uint32_t b = 0; b <= cell.res; ++b) {
+                          for (std::uint32_t a = 0; a <= cell.res; ++a) {
+                            const double v = envelope.value(x0 + a * step, y0 + b * step, cap);
+                            nodes_[cell.first + b * (cell.res + 1) + a] = v;
+                            mn = std::min(mn, v);
+                            inv2 += 1 / (v * v);
+                          }
+                        }
+                        cell.min = mn;
+                        cell.mean_inv2 = inv2 / ((cell.res + 1.0) * (cell.res + 1.0));
+                      }
+                    });
+}
+
+double SizingField2::feature(double x, double y) const {
+  const double tx = (x - lo_[0]) / size_, ty = (y - lo_[1]) / size_;
+  const std::uint32_t i = clamp_index(std::floor(tx), nx_);
+  const std::uint32_t j = clamp_index(std::floor(ty), ny_);
+  const Cell& cell = cells_[std::size_t{j} * nx_ + i];
+  if (cell.res == 0) return cap_;
+  const double u = std::clamp(tx - i, 0.0, 1.0) * cell.res;
+  const double v = std::clamp(ty - j, 0.0, 1.0) * cell.res;
+  const std::uint32_t a = std::min(static_cast<std::uint32_t>(u), cell.res - 1);
+  const std::uint32_t b = std::min(static_cast<std::uint32_t>(v), cell.res - 1);
+  const double fu = u - a, fv = v - b;
+  const double* n = &nodes_[cell.first + b * (cell.res + 1) + a];
+  const double* m = n + cell.res + 1;
+  return (1 - fv) * ((1 - fu) * n[0] + fu * n[1]) + fv * ((1 - fu) * m[0] + fu * m[1]);
+}
+
+double SizingField2::max_spacing() const {
+  double m = 0;
+  for (const Cell& c : cells_) {
+    if (c.res > 0) m = std::max(m, size_ / c.res);
+  }
+  return m;
+}
+
+void SizingField2::cell_box(std::uint32_t c, double* lo, double* hi) const {
+  lo[0] = lo_[0] + static_cast<double>(c % nx_) * size_;
+  lo[1] = lo_[1] + static_cast<double>(c / nx_) * size_;
+  hi[0] = lo[0] + size_;
+  hi[1] = lo[1] + size_;
+}
+
+}  // namespace voroclip::mesh2d

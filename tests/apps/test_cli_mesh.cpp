@@ -1,0 +1,181 @@
+// The mesh2d command: statistics, the four mesh formats parsed back, the histogram, errors.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_run.h"
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+std::string temp_path(const std::string& suffix) {
+  char name[] = "test_cli_mesh_XXXXXX";
+  const int fd = mkstemp(name);
+  REQUIRE(fd >= 0);
+  close(fd);
+  std::remove(name);
+  return std::string(name) + suffix;
+}
+
+// The number after `keyword` on its own line (Medit sections), or -1.
+long medit_count(const std::string& text, const std::string& keyword) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line == keyword) {
+      long n = -1;
+      in >> n;
+      return n;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST_CASE("mesh2d: statistics, quality and the four formats", "[apps]") {
+  const Run run = run_cli(
+      {"mesh2d", "square-holes:2,0.4", "--vertices", "500", "--seed", "2", "--stats", "json"});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  const int vertices = s["vertices"], triangles = s["triangles"];
+  CHECK(vertices > 400);
+  CHECK(vertices < 650);
+  CHECK(triangles > vertices);
+  CHECK(s["min_angle_deg"].get<double>() >= 30);
+  CHECK(s["mean_min_angle_deg"].get<double>() >= 51);
+  CHECK(s["max_angle_deg"].get<double>() < 120);
+  CHECK(s["seconds"].get<double>() > 0);
+  CHECK(s["quality"]["nb_triangles"] == triangles);
+  // Progress went to stderr: phases with iteration, energy and |g|.
+  CHECK(contains(run.err, "unconstrained CVT"));
+  CHECK(contains(run.err, "constrained CVT"));
+  CHECK(contains(run.err, "|g|"));
+
+  for (const char* ext : {".svg", ".vtu", ".mesh", ".msh"}) {
+    const std::string out = temp_path(ext);
+    const std::string hist = temp_path(".svg");
+    const Run w = run_cli({"-q", "mesh2d", "square-holes:2,0.4", "--vertices", "500", "--seed", "2",
+                           "-o", out, "--histogram", hist});
+    CHECK(w.status == 0);
+    CHECK(w.out.empty());
+    const std::string text = slurp(out);
+    const std::string h = slurp(hist);
+    std::remove(out.c_str());
+    std::remove(hist.c_str());
+    CHECK(h.rfind("<svg", 0) == 0);
+    CHECK(contains(h, "smallest angle"));
+    const std::string e = ext;
+    if (e == ".svg") {
+      CHECK(text.rfind("<svg", 0) == 0);
+      CHECK(contains(text, "</svg>"));
+    } else if (e == ".vtu") {
+      CHECK(contains(text, "NumberOfPoints=\"" + std::to_string(vertices) + "\""));
+      CHECK(contains(text, "NumberOfCells=\"" + std::to_string(triangles) + "\""));
+    } else if (e == ".mesh") {
+      CHECK(medit_count(text, "Vertices") == vertices);
+      CHECK(medit_count(text, "Triangles") == triangles);
+      CHECK(medit_count(text, "Edges") > 0);
+      CHECK(contains(text, "Dimension 2"));
+    } else {
+      CHECK(text.rfind("$MeshFormat\n2.2 0 8\n", 0) == 0);
+      std::istringstream in(text.substr(text.find("$Nodes\n") + 7));
+      long nodes = 0;
+      in >> nodes;
+      CHECK(nodes == vertices);
+    }
+  }
+}
+
+TEST_CASE("mesh2d: --fix-input-vertices, --edge-length and a real polygon", "[apps]") {
+  const Run run = run_cli({"--stats", "json", "mesh2d", kData + "/polygons/valid/issue29.json",
+                           "--edge-length", "4", "--fix-input-vertices"});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  CHECK(s["fixed_sites"] == 40);  // every vertex of the 40-vertex polygon
+  CHECK(s["edge_length"].get<double>() == 4);
+  CHECK(s["vertices"].get<int>() > 100);
+  CHECK(s["min_angle_deg"].get<double>() > 20);
+}
+
+TEST_CASE("mesh2d: errors are one line, exit status, and no file", "[apps]") {
+  const std::string out = temp_path(".mesh");
+  SECTION("no size") {
+    const Run run = run_cli({"mesh2d", "annulus:1,2,32", "-o", out});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--vertices"));
+  }
+  SECTION("both sizes") {
+    const Run run =
+        run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "--edge-length", "1"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("too few vertices") {
+    const Run run = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "2"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("an unknown output format") {
+    const Run run = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", "m.obj"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, ".msh"));
+    CHECK_FALSE(exists("m.obj"));
+  }
+  SECTION("a degenerate polygon") {
+    const Run run = run_cli({"mesh2d", kData + "/polygons/degenerate/self-touching.json",
+                             "--vertices", "100", "-o", out});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "self-touching.json"));
+  }
+  SECTION("a bad gradation") {
+    const Run run =
+        run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "--gradation", "0", "-o", out});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("an output in a missing directory") {
+    const Run run =
+        run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", "/nonexistent/dir/m.mesh"});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "/nonexistent/dir/m.mesh"));
+  }
+  CHECK_FALSE(exists(out));
+}
+
+TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes", "[apps]") {
+  const std::string path = "test_cli_mesh_demo.svg";
+  const Run run = run_cli({"demo", "--stats", "json", "-o", path});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  const double area = s["domain_area"], cells = s["cells_area"];
+  CHECK(std::fabs(area - cells) <= 1e-12 * area);
+  CHECK(s["cvt_sites"] == 200);
+  CHECK(s["boundary_cells"].get<int>() > 0);
+  CHECK(s["mesh_vertices"].get<int>() > 400);
+  CHECK(s["mesh_triangles"].get<int>() > s["mesh_vertices"].get<int>());
+  CHECK(s["mesh_min_angle_deg"].get<double>() >= 30);
+  CHECK(s["mesh_mean_min_angle_deg"].get<double>() >= 51);
+  CHECK(contains(run.err, "CVT mesh:"));
+  const std::string svg = slurp(path);
+  std::remove(path.c_str());
+  // The clipped diagram and the mesh, then the classroom example, nested in one picture.
+  std::size_t nested = 0;
+  for (std::size_t at = svg.find("<svg"); at != std::string::npos; at = svg.find("<svg", at + 1)) {
+    ++nested;
+  }
+  CHECK(nested == 4);
+  CHECK(contains(svg, "Clipped Voronoi diagram of a CVT"));
+  CHECK(contains(svg, "CVT mesh:"));
+  CHECK(contains(svg, "Naive floating point"));
+  CHECK(svg.find("<?xml", 1) == std::string::npos);
+}

@@ -1,0 +1,309 @@
+// Tests of the 2D CVT mesher (voroclip/mesh.h, mesh_domain2): every mesh is checked
+// exactly (check_mesh2: counter-clockwise non-degenerate triangles inside the closed
+// domain, conforming, no unused vertex); quality thresholds are facts about our output
+// for fixed seeds; fixed vertices present; sliding vertices on their edge; sharp corners
+// cut; 1 vs 2 threads bitwise identical; bad options and cancellation.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+
+using voroclip::Domain2;
+using voroclip::Mesh2;
+using voroclip::Mesh2Options;
+using voroclip::Mesh2Stats;
+using voroclip::PolygonRings;
+using voroclip::Sign;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+PolygonRings rings_of(const std::vector<std::vector<double>>& rings) {
+  PolygonRings p;
+  p.source = "test";
+  p.ring_begin.push_back(0);
+  for (const auto& r : rings) {
+    p.xy.insert(p.xy.end(), r.begin(), r.end());
+    p.ring_begin.push_back(static_cast<std::uint32_t>(p.xy.size() / 2));
+    p.ring_polygon.push_back(0);
+    p.ring_line.push_back(0);
+  }
+  return p;
+}
+
+Mesh2 mesh_of(const Domain2& d, std::uint32_t n, Mesh2Stats* st = nullptr,
+              Mesh2Options o = Mesh2Options{}) {
+  o.nb_vertices = n;
+  Mesh2 m = voroclip::mesh_domain2(d, o, st);
+  INFO("domain " << d.source() << ", " << n << " vertices asked, seed " << o.seed);
+  REQUIRE(voroclip::check_mesh2(d, m).empty());
+  return m;
+}
+
+bool has_vertex_at(const Mesh2& m, const double* p) {
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    if (m.xy[2 * v] == p[0] && m.xy[2 * v + 1] == p[1]) return true;
+  }
+  return false;
+}
+
+// Every reflex vertex and every convex vertex turning by at least `corner` degrees is a
+// mesh vertex, recorded as fixed at that domain vertex.
+void check_fixed_vertices(const Domain2& d, const Mesh2& m, double corner) {
+  std::vector<std::uint8_t> seen(d.nb_vertices(), 0);
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    if (m.vertex_domain[v] == Mesh2::kNone) continue;
+    REQUIRE(m.vertex_kind[v] == Mesh2::VertexKind::kFixed);
+    const double* p = d.vertex(m.vertex_domain[v]);
+    REQUIRE(m.xy[2 * v] == p[0]);
+    REQUIRE(m.xy[2 * v + 1] == p[1]);
+    seen[m.vertex_domain[v]] = 1;
+  }
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+    const double* a = d.vertex(d.prev(v));
+    const double* p = d.vertex(v);
+    const double* c = d.vertex(d.next(v));
+    const double ux = p[0] - a[0], uy = p[1] - a[1], wx = c[0] - p[0], wy = c[1] - p[1];
+    const double turn = std::atan2(ux * wy - uy * wx, ux * wx + uy * wy) * 180 / M_PI;
+    const bool required = voroclip::orient2d(a, p, c) == Sign::negative || turn >= corner;
+    INFO("domain vertex " << v << " (" << p[0] << ", " << p[1] << "), turn " << turn);
+    if (required) REQUIRE(seen[v]);
+  }
+}
+
+// Boundary vertices lie in the closed domain, on their edge up to a few ulps; `exact`:
+// exactly on it (orient2d zero), as on horizontal and vertical edges.
+void check_boundary_vertices(const Domain2& d, const Mesh2& m, bool exact) {
+  std::uint32_t nb = 0;
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    if (m.vertex_kind[v] != Mesh2::VertexKind::kBoundary) continue;
+    const std::uint32_t e = m.vertex_edge[v];
+    REQUIRE(e != Mesh2::kNone);
+    ++nb;
+    const double* p = &m.xy[2 * v];
+    const double* a = d.vertex(e);
+    const double* b = d.vertex(d.next(e));
+    REQUIRE(d.locate(p) != Sign::negative);
+    REQUIRE(voroclip::orient2d(a, b, p) != Sign::negative);
+    if (exact) {
+      REQUIRE(voroclip::orient2d(a, b, p) == Sign::zero);
+      REQUIRE(d.locate(p) == Sign::zero);
+    }
+    REQUIRE(std::min(a[0], b[0]) <= p[0]);
+    REQUIRE(p[0] <= std::max(a[0], b[0]));
+    REQUIRE(std::min(a[1], b[1]) <= p[1]);
+    REQUIRE(p[1] <= std::max(a[1], b[1]));
+    const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+    const double dist =
+        std::fabs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / len;
+    const double ulp = std::numeric_limits<double>::epsilon() *
+                       std::max({std::fabs(p[0]), std::fabs(p[1]), 1e-300});
+    REQUIRE(dist <= 8 * ulp);
+  }
+  REQUIRE(nb > 0);
+}
+
+}  // namespace
+
+TEST_CASE("mesh2d: square with holes — valid, quality, corners, exact boundary vertices",
+          "[mesh][exact]") {
+  const Domain2 d(voroclip::square_with_holes(2, 0.4));
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 800, &st);
+  const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+  INFO(voroclip::quality_text(q));
+  CHECK(q.min_angle >= 30);
+  CHECK(q.mean_min_angle >= 51);
+  CHECK(st.nb_sharp_corners == 0);
+  CHECK(m.nb_vertices() > 700);
+  CHECK(m.nb_vertices() < 1000);
+  check_fixed_vertices(d, m, 20);
+  check_boundary_vertices(d, m, true);
+  CHECK(st.covered_fraction > 0.98);
+  CHECK(st.covered_fraction <= 1 + 1e-12);
+}
+
+TEST_CASE("mesh2d: building.json and an annulus — quality facts", "[mesh][exact]") {
+  SECTION("building.json") {
+    const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/building.json"));
+    const Mesh2 m = mesh_of(d, 1000);
+    const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+    INFO(voroclip::quality_text(q));
+    CHECK(q.min_angle >= 30);
+    CHECK(q.mean_min_angle >= 51);
+    check_fixed_vertices(d, m, 20);
+    check_boundary_vertices(d, m, false);
+  }
+  SECTION("annulus, 48 segments") {
+    const Domain2 d(voroclip::annulus_rings(0.5, 1.0, 48));
+    Mesh2Stats st;
+    const Mesh2 m = mesh_of(d, 700, &st);
+    const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+    INFO(voroclip::quality_text(q));
+    CHECK(q.min_angle >= 30);
+    CHECK(q.mean_min_angle >= 51);
+    // Inner ring: reflex vertices, all fixed; outer ring: 7.5-degree turns, passed.
+    CHECK(st.nb_fixed == 48);
+    check_fixed_vertices(d, m, 20);
+    check_boundary_vertices(d, m, false);
+  }
+}
+
+TEST_CASE("mesh2d: a sharp corner is cut, the rest stays valid and good", "[mesh][exact]") {
+  // A quadrilateral whose corner at the origin has an interior angle of 2 atan(0.13) =
+  // 14.8 degrees.
+  const Domain2 d(rings_of({{0, 0, 10, -1.3, 12, 0, 10, 1.3}}));
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 600, &st);
+  const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+  INFO(voroclip::quality_text(q));
+  CHECK(st.nb_sharp_corners == 1);
+  const double tip[2] = {0, 0};
+  CHECK_FALSE(has_vertex_at(m, tip));
+  CHECK(q.min_angle >= 30);
+  // The chord's ends: fixed vertices on the two edges at the tip (edges 3 and 0).
+  std::uint32_t cut_points = 0;
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    if (m.vertex_kind[v] != Mesh2::VertexKind::kFixed || m.vertex_domain[v] != Mesh2::kNone) {
+      continue;
+    }
+    ++cut_points;
+    const std::uint32_t e = m.vertex_edge[v];
+    REQUIRE((e == 0 || e == 3));
+    CHECK(d.locate(&m.xy[2 * v]) != Sign::negative);
+  }
+  CHECK(cut_points == 2);
+  // Without the cut (sharp_angle_deg = 0) the tip is a fixed site; the mesh is still
+  // valid (the circumcenter rule may trim the tip's triangles itself).
+  Mesh2Options o;
+  o.sharp_angle_deg = 0;
+  Mesh2Stats uncut_stats;
+  mesh_of(d, 600, &uncut_stats, o);
+  CHECK(uncut_stats.nb_sharp_corners == 0);
+  CHECK(uncut_stats.nb_fixed == st.nb_fixed - 2 + 1);
+}
+
+TEST_CASE("mesh2d: --fix-input-vertices keeps every domain vertex", "[mesh]") {
+  const Domain2 d(voroclip::annulus_rings(0.5, 1.0, 24));
+  Mesh2Options o;
+  const Mesh2 passed = mesh_of(d, 400, nullptr, o);
+  o.fix_input_vertices = true;
+  const Mesh2 fixed = mesh_of(d, 400, nullptr, o);
+  std::uint32_t in_passed = 0, in_fixed = 0;
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+    in_passed += has_vertex_at(passed, d.vertex(v));
+    in_fixed += has_vertex_at(fixed, d.vertex(v));
+  }
+  CHECK(in_fixed == d.nb_vertices());
+  CHECK(in_passed < d.nb_vertices());  // the outer ring's 15-degree turns are passed
+  CHECK(in_passed >= 24);              // the inner ring's reflex vertices are not
+}
+
+TEST_CASE("mesh2d: a user density grades the mesh", "[mesh]") {
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, 1, 0, 1}}));
+  Mesh2Options o;
+  o.density = voroclip::Density2::function([](double x, double) { return 1 + 10 * x; });
+  const Mesh2 m = mesh_of(d, 800, nullptr, o);
+  std::uint32_t left = 0, right = 0;
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) (m.xy[2 * v] < 0.5 ? left : right) += 1;
+  // Point density goes as rho^(1/2): sqrt(8.5 / 3.5) = 1.56 between the halves' centres.
+  INFO(left << " left, " << right << " right");
+  CHECK(right > 1.3 * left);
+  CHECK(voroclip::triangle_quality2(m).min_angle >= 25);
+}
+
+TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh]") {
+  const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue29.json"));
+  Mesh2Options o;
+  o.nb_vertices = 500;
+  o.seed = 3;
+  INFO("seed " << o.seed);
+  Mesh2 one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = voroclip::mesh_domain2(d, o);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = voroclip::mesh_domain2(d, o);
+  }
+  REQUIRE(one.nb_triangles() > 0);
+  REQUIRE(one.xy == two.xy);
+  REQUIRE(one.triangles == two.triangles);
+  REQUIRE(one.vertex_site == two.vertex_site);
+}
+
+TEST_CASE("mesh2d: bad options throw voroclip::Error; cancellation", "[mesh]") {
+  const Domain2 d(voroclip::square_with_holes(1, 0.5));
+  Mesh2Options o;
+  CHECK_THROWS_AS(voroclip::mesh_domain2(d, o), voroclip::Error);  // no size
+  o.nb_vertices = 100;
+  o.gradation = 0;
+  CHECK_THROWS_AS(voroclip::mesh_domain2(d, o), voroclip::Error);
+  o.gradation = 0.3;
+  o.sharp_angle_deg = 200;
+  CHECK_THROWS_AS(voroclip::mesh_domain2(d, o), voroclip::Error);
+  o.sharp_angle_deg = 30;
+  o.density = voroclip::Density2::function([](double x, double) { return x - 0.5; });
+  CHECK_THROWS_WITH(voroclip::mesh_domain2(d, o), Catch::Contains("density"));
+  o.density = voroclip::Density2::constant(1);
+  CHECK_THROWS_AS(voroclip::mesh_domain2(Domain2(), o), voroclip::Error);
+
+  SECTION("stopped at once: an empty mesh") {
+    o.progress = [](const voroclip::Mesh2Progress&) { return false; };
+    Mesh2Stats st;
+    const Mesh2 m = voroclip::mesh_domain2(d, o, &st);
+    CHECK(st.cancelled);
+    CHECK(m.nb_triangles() == 0);
+  }
+  SECTION("stopped in the unconstrained CVT: a valid mesh of the sites reached") {
+    std::vector<voroclip::Mesh2Phase> phases;
+    o.progress = [&](const voroclip::Mesh2Progress& p) {
+      phases.push_back(p.phase);
+      return !(p.phase == voroclip::Mesh2Phase::kUnconstrained && p.iteration == 3);
+    };
+    Mesh2Stats st;
+    const Mesh2 m = voroclip::mesh_domain2(d, o, &st);
+    CHECK(st.cancelled);
+    CHECK(st.unconstrained_iterations == 3);
+    CHECK(st.constrained_iterations == 0);
+    CHECK(m.nb_triangles() > 0);
+    CHECK(voroclip::check_mesh2(d, m).empty());
+    CHECK(phases.front() == voroclip::Mesh2Phase::kSampling);
+    CHECK(std::count(phases.begin(), phases.end(), voroclip::Mesh2Phase::kConstrained) == 0);
+  }
+}
+
+TEST_CASE("mesh2d: every valid polygon and a 10^4-vertex annulus meet the target",
+          "[mesh][.slow]") {
+  // The issue's target: min angle >= 30 and mean per-triangle min angle >= 51 degrees.
+  // N per input as in bench/RESULTS.md.
+  struct Case {
+    const char* name;
+    std::uint32_t n;
+  };
+  for (const Case& c :
+       {Case{"building", 5000}, Case{"dude", 5000}, Case{"earcut", 5000}, Case{"eberly-6", 10000},
+        Case{"hilbert", 5000}, Case{"issue29", 5000}, Case{"issue34", 5000}, Case{"issue35", 5000},
+        Case{"issue52", 5000}, Case{"annulus", 10000}}) {
+    const std::string name = c.name;
+    const Domain2 d(name == "annulus"
+                        ? voroclip::annulus_rings(0.5, 1.0, 256)
+                        : voroclip::read_polygon(kData + "/polygons/valid/" + name + ".json"));
+    const Mesh2 m = mesh_of(d, c.n);
+    const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+    INFO(name << ": " << voroclip::quality_text(q));
+    CHECK(q.min_angle >= 30);
+    CHECK(q.mean_min_angle >= 51);
+  }
+}
