@@ -147,9 +147,9 @@ void write_demo_svg(const ClassroomResult& classroom, const MeshDemoResult& mesh
       << "<g transform=\"translate(" << x2 << ',' << kTop << ") scale(" << scale << ")\">\n"
       << nested(mesh.mesh_svg) << "</g>\n"
       << "<text x=\"" << x2 + kPanelWidth / 2 << "\" y=\"" << kTop + panel_height + 22
-      << "\" text-anchor=\"middle\" font-size=\"12\">triangles coloured by their smallest angle "
-      << "(red below 30&#176;, green at 60&#176;); mean smallest angle "
-      << fixed2(mesh.quality.mean_min_angle) << "&#176;; fixed vertices as dots</text>\n"
+      << "\" text-anchor=\"middle\" font-size=\"12\">coloured by smallest angle (red below "
+      << "30&#176;, green at 60&#176;); mean smallest angle " << fixed2(mesh.quality.mean_min_angle)
+      << "&#176;</text>\n"
       << "<g transform=\"translate(0," << top_height << ")\">\n"
       << nested(classroom_svg.str()) << "</g>\n</svg>\n";
 }
