@@ -258,8 +258,10 @@ void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint
   }
 }
 
-std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim) {
+std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
+                                      std::vector<std::uint32_t>* round_starts) {
   std::vector<std::uint32_t> order(n);
+  if (round_starts != nullptr) round_starts->assign(1, n);
   if (n == 0) return order;
   // Level 0 is the last round (about n/2 points), level L the one before (n/2^(L+1)), up to
   // max_level which takes everything deeper (about n/2^max_level >= kBrioMinRound points).
@@ -301,6 +303,7 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
       std::reverse(first, last);
     }
   }
+  if (round_starts != nullptr) round_starts->assign(start.begin(), start.end());
   return order;
 }
 

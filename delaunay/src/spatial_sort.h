@@ -35,8 +35,11 @@ namespace voroclip::detail {
 inline constexpr std::uint32_t kBrioMinRound = 64;
 
 // A permutation of [0, n): the insertion order of the n points given as packed
-// coordinates (dim = 2 or 3 doubles per point). Coordinates must be finite.
-std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim);
+// coordinates (dim = 2 or 3 doubles per point). Coordinates must be finite. With
+// `round_starts`, it receives the position in the order where each round begins, followed
+// by n (so round r is [round_starts[r], round_starts[r + 1])).
+std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
+                                      std::vector<std::uint32_t>* round_starts = nullptr);
 
 // Sorts the point indices [first, last) along a Hilbert curve (one BRIO round).
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
