@@ -32,6 +32,7 @@
 #include <sstream>
 #include <string>
 
+#include "insphere_det.h"
 #include "nearest.h"
 #include "spatial_sort.h"
 #include "voroclip/core.h"
@@ -91,7 +92,20 @@ std::size_t capacity_bytes(const std::vector<T>& v) {
 // ---------------------------------------------------------------------------------------
 // Predicates on the triangulation
 
+// The common case inline (a finite tet, decided by the static filter); the rest in
+// in_conflict_rest, out of line so that the hot path needs few registers.
 inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
+  const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
+  if (v[3] != kInfinite) {
+    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 (the same value).
+    const double det =
+        detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    if (std::fabs(det) > filter_.insphere_bound()) return det > 0;
+  }
+  return in_conflict_rest(t, q);
+}
+
+bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
   const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   const double* pq = point(q);
   if (v[3] != kInfinite) {
@@ -99,7 +113,7 @@ inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
     const double* b = point(v[1]);
     const double* c = point(v[2]);
     const double* d = point(v[3]);
-    Sign r = insphere(a, b, c, d, pq, filter_);
+    Sign r = insphere(a, b, c, d, pq);
     if (r == Sign::zero) {
       r = insphere_sos(a, b, c, d, pq, sos_id(v[0]), sos_id(v[1]), sos_id(v[2]), sos_id(v[3]),
                        sos_id(q));

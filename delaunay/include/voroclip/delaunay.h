@@ -502,6 +502,7 @@ class Delaunay3 {
   // The index symbolic perturbation uses for vertex v: always the input index.
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
+  [[gnu::noinline]] bool in_conflict_rest(std::uint32_t t, std::uint32_t q) const;
   template <bool kZoned>
   bool walk(const Zone& zone, const double* p, std::uint32_t& t) const;
   std::uint32_t walk_query(const double* p, std::uint32_t t) const;
