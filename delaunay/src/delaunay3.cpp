@@ -20,10 +20,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -65,21 +61,10 @@ bool collinear(const double* a, const double* b, const double* c) {
          orient2d(azx, bzx, czx) == Sign::zero;
 }
 
-// Reserves room for `size` elements and asks the kernel to back the untouched memory with
-// huge pages (Linux transparent huge pages in "madvise" mode): the triangulation's arrays
-// are read at random, and 4 KiB pages would cost a TLB miss on most accesses. Only a hint.
+// Reserves room for exactly `size` elements (resize() alone may double the capacity).
 template <class T>
-void reserve_huge(std::vector<T>& v, std::size_t size) {
-  if (size <= v.capacity()) return;
-  v.reserve(size);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
-  const auto begin = reinterpret_cast<std::uintptr_t>(v.data() + v.size());
-  const auto end = reinterpret_cast<std::uintptr_t>(v.data() + v.capacity());
-  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-  const std::uintptr_t last = end & ~(kHuge - 1);
-  if (first < last) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-#endif
+void reserve_exactly(std::vector<T>& v, std::size_t size) {
+  if (size > v.capacity()) v.reserve(size);
 }
 
 template <class T>
@@ -223,8 +208,8 @@ void Delaunay3::grow_slots(std::size_t slots) {
   if (slots <= size) return;
   const std::size_t capacity = tets_.capacity() / 8;
   if (slots > capacity) {
-    reserve_huge(tets_,
-                 8 * std::min<std::size_t>(kMaxTets, std::max(slots, capacity + capacity / 8)));
+    reserve_exactly(tets_,
+                    8 * std::min<std::size_t>(kMaxTets, std::max(slots, capacity + capacity / 8)));
   }
   tets_.resize(8 * std::min(tets_.capacity() / 8, std::max(slots, size + size / 16 + 64)));
   note_memory();
@@ -798,7 +783,7 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
     }
     // Internal numbering: rank in the insertion order.
     const auto m = static_cast<std::uint32_t>(input_id_.size());
-    reserve_huge(sorted_xyz_, 3 * static_cast<std::size_t>(m));
+    reserve_exactly(sorted_xyz_, 3 * static_cast<std::size_t>(m));
     sorted_xyz_.resize(3 * static_cast<std::size_t>(m));
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m, 16384),
                       [this, xyz](const tbb::blocked_range<std::uint32_t>& range) {
@@ -811,13 +796,13 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
     sos_ids_ = input_id_.data();
     duplicate_internal_.resize(m);
     std::iota(duplicate_internal_.begin(), duplicate_internal_.end(), 0u);
-    reserve_huge(local_id_, m);
+    reserve_exactly(local_id_, m);
     local_id_.assign(m, 0);
     // Uniform random points give about 6.75 tets per point.
     const std::size_t expected = static_cast<std::size_t>(6.8 * static_cast<double>(m)) + 64;
     if (tets_.capacity() < 8 * expected) {
       std::vector<std::uint32_t>().swap(tets_);
-      reserve_huge(tets_, 8 * expected);
+      reserve_exactly(tets_, 8 * expected);
     }
     tets_.resize(8 * expected);
     triangulate(round_starts);
@@ -867,10 +852,12 @@ void Delaunay3::finish() {
   free.clear();
   nb_slots_ = live;
   tets_.resize(8 * static_cast<std::size_t>(live));
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 8 * static_cast<std::size_t>(live), 65536),
-                    [this](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        if ((i & 4u) == 0 && tets_[i] != kInfinite) tets_[i] = input_id_[tets_[i]];
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, live, 16384),
+                    [this](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+                        std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+                        for (std::size_t k = 0; k < 3; ++k) w[k] = input_id_[w[k]];
+                        if (w[3] != kInfinite) w[3] = input_id_[w[3]];
                       }
                     });
   pts_ = xyz_;

@@ -98,6 +98,23 @@ void hilbert_3(Item<3>* first, Item<3>* last, int x, unsigned up) {
   hilbert_3(m7, m8, z, flip(z, x));
 }
 
+// The bits of x (b <= 16 of them) spread out D apart: bit k moves to bit D k. Interleaving
+// the D coordinates' spread bits, x[0] the most significant at each level, makes the index.
+template <int D>
+std::uint64_t spread(std::uint64_t x) {
+  if constexpr (D == 2) {
+    x = (x | x << 8) & 0x00ff00ffu;
+    x = (x | x << 4) & 0x0f0f0f0fu;
+    x = (x | x << 2) & 0x33333333u;
+    return (x | x << 1) & 0x55555555u;
+  } else {
+    x = (x | x << 16) & 0x0000ff0000ffull;
+    x = (x | x << 8) & 0x00f00f00f00full;
+    x = (x | x << 4) & 0x0c30c30c30c3ull;
+    return (x | x << 2) & 0x249249249249ull;
+  }
+}
+
 // Skilling's transform ("Programming the Hilbert curve", AIP Conf. Proc. 707, 2004): the
 // cell coordinates x[0..D) of b bits each become the "transposed" Hilbert index, whose
 // bits, interleaved from the most significant down (x[0] first), are the index along the
@@ -122,9 +139,7 @@ std::uint64_t hilbert_key(std::uint32_t x[D], int b) {
   }
   for (int i = 0; i < D; ++i) x[i] ^= t;
   std::uint64_t key = 0;
-  for (int bit = b - 1; bit >= 0; --bit) {
-    for (int i = 0; i < D; ++i) key = (key << 1) | ((x[i] >> bit) & 1u);
-  }
+  for (int i = 0; i < D; ++i) key |= spread<D>(x[i]) << (D - 1 - i);
   return key;
 }
 
@@ -160,16 +175,22 @@ void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
 // median-split recursion, which adapts to any clustering.
 constexpr std::size_t kRefineRun = 16;
 
-// One round: Hilbert keys on a 2^16 grid per axis over the bounding box of the range,
+// One round: Hilbert keys on a 2^b grid per axis (b <= 16, at least 64 cells per point)
+// over the bounding box of the range,
 // radix-sorted; ties in runs of kRefineRun or more are refined by the median
 // recursion (all points equal, a cluster far smaller than the box, or a box whose extent
 // overflows: then every key is 0 and the median recursion sorts everything).
 template <int D>
 void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_t* last) {
-  constexpr int kBits = 16;
-  constexpr double kCells = static_cast<double>(1u << kBits);
   const std::size_t count = static_cast<std::size_t>(last - first);
   if (count < 2) return;
+  // Enough grid cells that few points share one (at least 64 cells per point), at most
+  // 2^16 per axis: the key's cost grows with its bits.
+  int bits = 1;
+  while (bits < 16 && (std::uint64_t{1} << (D * bits)) < 64 * static_cast<std::uint64_t>(count)) {
+    ++bits;
+  }
+  const double cells = static_cast<double>(1u << bits);
   // Gather the coordinates once (the indices of a round are scattered) with the box.
   std::vector<Item<D>> items(count);
   double lo[D], hi[D], scale[D];
@@ -186,7 +207,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
   }
   for (int a = 0; a < D; ++a) {
     const double extent = hi[a] - lo[a];
-    scale[a] = extent > 0 && std::isfinite(extent) ? kCells / extent : 0.0;
+    scale[a] = extent > 0 && std::isfinite(extent) ? cells / extent : 0.0;
     if (!std::isfinite(scale[a])) scale[a] = 0.0;
   }
   std::vector<Keyed> keyed(count), tmp;
@@ -198,9 +219,9 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
           std::uint32_t x[D];
           for (int a = 0; a < D; ++a) {
             const double t = (items[i].c[a] - lo[a]) * scale[a];
-            x[a] = t >= 0 ? (t < kCells ? static_cast<std::uint32_t>(t) : (1u << kBits) - 1) : 0;
+            x[a] = t >= 0 ? (t < cells ? static_cast<std::uint32_t>(t) : (1u << bits) - 1) : 0;
           }
-          keyed[i] = {hilbert_key<D>(x, kBits), static_cast<std::uint32_t>(i)};
+          keyed[i] = {hilbert_key<D>(x, bits), static_cast<std::uint32_t>(i)};
         }
       });
   radix_sort(keyed, tmp);

@@ -13,8 +13,9 @@
 // before (a reversed Hilbert curve is still one), so the walk from the last inserted point
 // stays short across round boundaries.
 //
-// hilbert_sort: each point gets its index along the Hilbert curve through a 2^16 x 2^16
-// (x 2^16) grid over the bounding box of the range, computed with Skilling's transform
+// hilbert_sort: each point gets its index along the Hilbert curve through a 2^b x 2^b
+// (x 2^b) grid over the bounding box of the range (b <= 16, the smallest giving at least
+// 64 cells per point), computed with Skilling's transform
 // ("Programming the Hilbert curve", 2004), and the range is radix-sorted by it: O(n).
 // Points sharing a grid cell in runs of 16 or more (clusters far smaller than the box, all
 // points equal, or extents that overflow) are then ordered by the recursive median-split
