@@ -62,8 +62,8 @@ bool collinear(const double* a, const double* b, const double* c) {
 }
 
 // Reserves room for exactly `size` elements (resize() alone may double the capacity).
-template <class T>
-void reserve_exactly(std::vector<T>& v, std::size_t size) {
+template <class T, class A>
+void reserve_exactly(std::vector<T, A>& v, std::size_t size) {
   if (size > v.capacity()) v.reserve(size);
 }
 
@@ -76,8 +76,8 @@ inline void prefetch(const void* p) {
 #endif
 }
 
-template <class T>
-std::size_t capacity_bytes(const std::vector<T>& v) {
+template <class T, class A>
+std::size_t capacity_bytes(const std::vector<T, A>& v) {
   return v.capacity() * sizeof(T);
 }
 
@@ -131,8 +131,9 @@ bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
 // remembering the tet it came from; it terminates in a Delaunay triangulation (Edelsbrunner
 // 1990). The facet tested first rotates with the step, which avoids the worst cases of a
 // fixed order. Ends in t: a finite tet whose closure holds p, or an infinite tet whose hull
-// facet p lies strictly beyond (both in conflict with p). kZoned: returns false, leaving
-// the triangulation untouched, when the next tet has a vertex outside the zone's box.
+// facet p lies strictly beyond (both in conflict with p). kZoned: only steps into tets whose
+// finite vertices are in the zone; returns false, leaving the triangulation untouched,
+// when p is beyond a facet of the current tet but every such facet leads out of the zone.
 template <bool kZoned>
 bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const {
   std::uint32_t current = t;
@@ -154,6 +155,7 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
       prefetch(&tets_[8 * static_cast<std::size_t>((v[4 + f] & kCodeMask) / 4)]);
     }
     std::uint32_t next_code = kNoTet;
+    bool blocked = false;  // a facet p lies beyond leads out of the zone
     for (std::size_t i = 0; i < 4; ++i) {
       const std::size_t f = (step + i) & 3u;
       const std::uint32_t code = v[4 + f] & kCodeMask;
@@ -161,19 +163,24 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
       const int* fv = kFacetVertex[f];
       if (orient3d(point(v[fv[0]]), point(v[fv[1]]), point(v[fv[2]]), p, filter_) ==
           Sign::positive) {
+        if constexpr (kZoned) {
+          // Any facet p lies beyond will do (the walk still terminates): take one whose tet
+          // is in the zone.
+          const std::uint32_t o = tets_[8 * static_cast<std::size_t>(code / 4) + code % 4];
+          if (o != kInfinite && !zone.contains(point(o))) {
+            blocked = true;
+            continue;
+          }
+        }
         next_code = code;
         break;
       }
     }
     if (next_code == kNoTet) {
       t = current;
-      return true;
+      return !blocked;
     }
     const std::uint32_t* n = &tets_[8 * static_cast<std::size_t>(next_code / 4)];
-    if constexpr (kZoned) {
-      const std::uint32_t o = n[next_code % 4];
-      if (o != kInfinite && !zone.contains(point(o))) return false;
-    }
     previous = current;
     current = next_code / 4;
     if (n[3] == kInfinite) {
@@ -587,10 +594,13 @@ void split_zones(const std::vector<std::uint32_t>& points, ZoneT* zones, std::si
 }
 
 // The number of zones a set of points is split into: a function of its size alone (never
-// of the number of threads), so that the construction is the same for any thread count.
+// of the number of threads), so that the construction is the same for any thread count;
+// a power of two, so that 2, 4, 8 ... threads share the zones evenly.
 std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
-  return std::max<std::size_t>(1,
-                               std::min(kMaxZones, nb_points / std::max<std::size_t>(per_zone, 1)));
+  const std::size_t wanted = nb_points / std::max<std::size_t>(per_zone, 1);
+  std::size_t zones = 1;
+  while (2 * zones <= wanted && 2 * zones <= kMaxZones) zones *= 2;
+  return zones;
 }
 
 }  // namespace
@@ -660,6 +670,12 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     grow_slots(next);
     const auto end_slots = static_cast<std::uint32_t>(next);
     first.hint = hint;
+    // Each zone's points along the Hilbert curve of its own box: the round's curve leaves
+    // and re-enters a box, and consecutive points of a zone would be far apart there.
+    tbb::parallel_for(std::size_t{0}, nb_zones, [this](std::size_t k) {
+      std::vector<std::uint32_t>& p = zones_[k].points;
+      detail::hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
+    });
     std::vector<char> started(nb_zones, 0);
     for (std::size_t k = 0; k < nb_zones; ++k) started[k] = start_zone(zones_[k]) ? 1 : 0;
     nb_slots_ = end_slots;  // the walks' step limit reads it
@@ -824,7 +840,7 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
     // Uniform random points give about 6.75 tets per point.
     const std::size_t expected = static_cast<std::size_t>(6.8 * static_cast<double>(m)) + 64;
     if (tets_.capacity() < 8 * expected) {
-      std::vector<std::uint32_t>().swap(tets_);
+      decltype(tets_)().swap(tets_);
       reserve_exactly(tets_, 8 * expected);
     }
     tets_.resize(8 * expected);

@@ -75,7 +75,10 @@
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "voroclip/predicates.h"
@@ -373,10 +376,12 @@ struct Delaunay3Options {
   // Run check_topology() and check_delaunay() at the end of every build and throw
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
-  // Parallel insertion: a BRIO round of n points is split into n / points_per_zone zones
-  // (at most 64; none below 2 * points_per_zone points). Fewer points per zone give more
-  // parallelism and more points deferred at zone boundaries. The tet set never depends on
-  // it; the slot numbering does (but never on the number of threads).
+  // Parallel insertion: a BRIO round of n points is split into as many zones as the
+  // largest power of two <= n / points_per_zone (at most 64; a round of fewer than
+  // 2 * points_per_zone points is inserted sequentially), the points it defers into zones
+  // of points_per_zone / 8. Fewer points per zone give more parallelism and more points
+  // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
+  // (but never on the number of threads).
   std::uint32_t points_per_zone = 65536;
 };
 
@@ -569,7 +574,28 @@ class Delaunay3 {
   std::size_t peak_bytes_ = 0;
   Stats stats_;
 
-  std::vector<std::uint32_t> tets_;
+  // Elements are left uninitialized when the array grows (every slot is written before it
+  // is read): the pages are touched, and faulted in, by the tasks that fill them.
+  template <class T>
+  struct UninitializedAllocator : std::allocator<T> {
+    using value_type = T;
+    template <class U>
+    struct rebind {
+      using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    explicit UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <class U>
+    void construct(U* p) {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
+  std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> tets_;
   std::vector<std::uint32_t> vertex_tet_;
   std::vector<std::uint32_t> duplicate_of_;
   std::vector<std::uint32_t> duplicate_internal_;  // during construction, by rank
