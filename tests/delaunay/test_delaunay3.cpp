@@ -436,7 +436,7 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
-  // only rounds of 2^17 points or more do).
+  // only rounds of 2^16 points or more do).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;

@@ -382,7 +382,7 @@ struct Delaunay3Options {
   // of points_per_zone / 8. Fewer points per zone give more parallelism and more points
   // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
   // (but never on the number of threads).
-  std::uint32_t points_per_zone = 65536;
+  std::uint32_t points_per_zone = 32768;
 };
 
 class Delaunay3 {
@@ -462,7 +462,9 @@ class Delaunay3 {
 
   // Bytes held by the triangulation's arrays (capacities), for memory reports.
   std::size_t memory_bytes() const;
-  // The largest memory_bytes() reached during the last build, scratch arrays included.
+  // The largest memory_bytes() reached during the last build, the construction's copies
+  // and scratch arrays included (not the spatial sort's temporaries, freed before the tet
+  // array is first allocated; a rebuild keeps the tet array while they exist).
   std::size_t peak_memory_bytes() const { return peak_bytes_; }
   // How the last build inserted its points (all counts of insertion attempts).
   struct Stats {
