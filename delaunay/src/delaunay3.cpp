@@ -48,6 +48,8 @@ constexpr std::uint32_t kTableSide = 32;
 constexpr double kSlotsPerPoint = 6.9;
 // A set of points is split into at most this many zones.
 constexpr std::size_t kMaxZones = 64;
+// Zones of at least this many points that defer most of them turn zoning off.
+constexpr std::size_t kLargeZone = 16384;
 
 bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
@@ -719,11 +721,18 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     first.frame = 0;
     std::copy_n(everywhere_lo, 3, first.lo);
     std::copy_n(everywhere_hi, 3, first.hi);
+    // Zones of many points that deferred most of them: cavities span the zones (points on
+    // a sphere: their tets cross the ball). Zones only waste work then: the rest of the
+    // build is sequential. (Uniform points defer under 10% from zones this large.)
+    if (frame == 0 && 2 * deferred.size() > points.size() &&
+        points.size() >= kLargeZone * nb_zones) {
+      zoning_off_ = true;
+    }
     std::sort(deferred.begin(), deferred.end());  // back to insertion order
     points.swap(deferred);
     // The points deferred lie near the first pass's zone boundaries, which the skew frame's
     // boundaries cross: fewer points per zone suffice.
-    nb_zones = zone_count(points.size(), options_.points_per_zone / 8);
+    nb_zones = zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone / 8);
   }
   insert_sequentially(points.data(), points.data() + points.size());
 }
@@ -747,6 +756,7 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     seq.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
   }
   std::vector<std::uint32_t> points;
+  zoning_off_ = false;
   for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
     points.clear();
     for (std::uint32_t q = round_starts[r]; q < round_starts[r + 1]; ++q) {
@@ -754,7 +764,8 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
         points.push_back(q);
       }
     }
-    const std::size_t nb_zones = zone_count(points.size(), options_.points_per_zone);
+    const std::size_t nb_zones =
+        zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone);
     if (nb_zones > 1) {
       nb_slots_ = zones_[0].fresh;
       insert_in_parallel(points, nb_zones);

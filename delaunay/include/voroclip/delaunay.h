@@ -358,9 +358,11 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // tasks need no locks: a point whose walk or cavity would reach a vertex outside the zone
 // is deferred, leaving the triangulation untouched. The deferred points get a second pass
 // with zones in a skew frame (boxes in (x + y, y + z, z + x), whose faces cross the first
-// pass's), and what remains is inserted sequentially. This is HXT's scheme (Marot,
-// Pellerin & Remacle, "One machine, one minute, three billion tetrahedra", IJNME 2019)
-// with boxes instead of Hilbert ranges as zones. Each zone owns a range of fresh slots and
+// pass's), and what remains is inserted sequentially. Zones of many points that defer
+// most of them (points on a sphere: their tets cross the ball) turn zoning off for the
+// rest of the build. This is HXT's scheme (Marot, Pellerin & Remacle, "One machine, one
+// minute, three billion tetrahedra", IJNME 2019) with boxes instead of Hilbert ranges as
+// zones. Each zone owns a range of fresh slots and
 // a share of the free ones. The number of zones, their boxes, their slots and their
 // points depend on the input alone, never on the number of threads, and a zone's work
 // depends on its own tets only: every array of the result (tet slots, neighbour codes,
@@ -604,6 +606,7 @@ class Delaunay3 {
   std::vector<std::uint8_t> local_id_;             // per rank: scratch of the gluing
   std::vector<Zone> zones_;                        // zones_[0] inserts sequentially
   std::uint32_t initial_[4] = {0, 0, 0, 0};        // ranks of the first tet's vertices
+  bool zoning_off_ = false;  // a zoned pass deferred most of its points: no more zones
 };
 
 }  // namespace voroclip
