@@ -191,19 +191,18 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
     ++bits;
   }
   const double cells = static_cast<double>(1u << bits);
-  // Gather the coordinates once (the indices of a round are scattered) with the box.
-  std::vector<Item<D>> items(count);
+  // The box. (A round's indices are increasing: the coordinates are read in order.)
+  const auto at = [coords](std::uint32_t index) {
+    return coords + static_cast<std::size_t>(D) * index;
+  };
   double lo[D], hi[D], scale[D];
-  for (int a = 0; a < D; ++a)
-    lo[a] = hi[a] = coords[static_cast<std::size_t>(D) * *first + static_cast<std::size_t>(a)];
+  for (int a = 0; a < D; ++a) lo[a] = hi[a] = at(*first)[a];
   for (std::size_t i = 0; i < count; ++i) {
-    const double* p = coords + static_cast<std::size_t>(D) * first[i];
+    const double* p = at(first[i]);
     for (int a = 0; a < D; ++a) {
-      items[i].c[a] = p[a];
       lo[a] = std::min(lo[a], p[a]);
       hi[a] = std::max(hi[a], p[a]);
     }
-    items[i].index = first[i];
   }
   for (int a = 0; a < D; ++a) {
     const double extent = hi[a] - lo[a];
@@ -216,23 +215,27 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
       tbb::blocked_range<std::size_t>(0, count, 16384),
       [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const double* p = at(first[i]);
           std::uint32_t x[D];
           for (int a = 0; a < D; ++a) {
-            const double t = (items[i].c[a] - lo[a]) * scale[a];
+            const double t = (p[a] - lo[a]) * scale[a];
             x[a] = t >= 0 ? (t < cells ? static_cast<std::uint32_t>(t) : (1u << bits) - 1) : 0;
           }
-          keyed[i] = {hilbert_key<D>(x, bits), static_cast<std::uint32_t>(i)};
+          keyed[i] = {hilbert_key<D>(x, bits), first[i]};
         }
       });
-  radix_sort(keyed, tmp);
-  for (std::size_t i = 0; i < count; ++i) first[i] = items[keyed[i].index].index;
+  radix_sort(keyed, tmp);  // stable: equal keys keep the order of [first, last)
+  for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
   std::vector<Item<D>> run;
   for (std::size_t i = 0; i < count;) {
     std::size_t j = i + 1;
     while (j < count && keyed[j].key == keyed[i].key) ++j;
     if (j - i >= kRefineRun) {
       run.resize(j - i);
-      for (std::size_t k = i; k < j; ++k) run[k - i] = items[keyed[k].index];
+      for (std::size_t k = i; k < j; ++k) {
+        std::copy_n(at(keyed[k].index), D, run[k - i].c);
+        run[k - i].index = keyed[k].index;
+      }
       if constexpr (D == 2) {
         hilbert_2(run.data(), run.data() + run.size(), 0, 3u);
       } else {
