@@ -32,25 +32,29 @@ int main(int argc, char** argv) {
 
   std::size_t ours_triangles = 0, cgal_triangles = 0;
   voroclip::Delaunay2 reused;
-  const auto best =
-      voroclip::bench::best_times(runs, {[&] {
-                                           const voroclip::Delaunay2 d(xy.data(), n);
-                                           ours_triangles = d.nb_triangles();
-                                         },
-                                         [&] { reused.build(xy.data(), n); },
-                                         [&] {
-                                           const CgalDelaunay dt(points.begin(), points.end());
-                                           cgal_triangles = dt.number_of_faces();
-                                         }});
-  std::printf("points                 %u  (one thread; best of %d, wall / CPU)\n", n, runs);
-  std::printf("voroclip Delaunay2     %.3f / %.3f s  (%zu triangles)\n", best[0].wall, best[0].cpu,
-              ours_triangles);
-  std::printf("voroclip rebuild       %.3f / %.3f s  (buffers reused)\n", best[1].wall,
-              best[1].cpu);
-  std::printf("CGAL Delaunay_2        %.3f / %.3f s  (%zu triangles)\n", best[2].wall, best[2].cpu,
-              cgal_triangles);
-  std::printf("ratio ours / CGAL      %.2f / %.2f  (rebuild %.2f / %.2f)\n",
-              best[0].wall / best[2].wall, best[0].cpu / best[2].cpu, best[1].wall / best[2].wall,
-              best[1].cpu / best[2].cpu);
+  const auto fresh = [&] {
+    const voroclip::Delaunay2 d(xy.data(), n);
+    ours_triangles = d.nb_triangles();
+  };
+  const auto best = voroclip::bench::best_times(
+      runs, {fresh, [&] { reused.build(xy.data(), n); },
+             [&] {
+               const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+               fresh();
+             },
+             [&] {
+               const CgalDelaunay dt(points.begin(), points.end());
+               cgal_triangles = dt.number_of_faces();
+             }});
+  const auto line = [&](const char* name, const voroclip::bench::Best& b) {
+    std::printf("%-34s %.3f / %.3f s   ratio to CGAL %.2f / %.2f\n", name, b.wall, b.cpu,
+                b.wall / best[3].wall, b.cpu / best[3].cpu);
+  };
+  std::printf("points %u, best of %d runs, wall / CPU time (all threads)\n", n, runs);
+  line("voroclip Delaunay2", best[0]);
+  line("voroclip rebuild (buffers reused)", best[1]);
+  line("voroclip, one thread", best[2]);
+  line("CGAL Delaunay_triangulation_2", best[3]);
+  std::printf("triangles: %zu (voroclip), %zu (CGAL)\n", ours_triangles, cgal_triangles);
   return ours_triangles == cgal_triangles ? 0 : 1;
 }

@@ -109,10 +109,10 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
   canonicalize();
   if (!options_.keep_buffers) {
-    for (auto* buffer :
-         {&scratch_a_, &scratch_c_, &rec_, &starting_at_, &stack_, &cavity_, &free_}) {
+    for (auto* buffer : {&scratch_a_, &scratch_c_, &starting_at_, &stack_, &cavity_, &free_}) {
       std::vector<std::uint32_t>().swap(*buffer);
     }
+    decltype(rec_)().swap(rec_);
     std::vector<std::uint64_t>().swap(keys_);
     std::vector<std::uint64_t>().swap(placed_);
     std::vector<double>().swap(coords_);
@@ -159,7 +159,7 @@ void Delaunay2::insert_all() {
   // rebuild on as many points touches nothing here.
   const std::size_t expected = 8 * (2 * static_cast<std::size_t>(m) + 16);
   if (rec_.size() < expected) {
-    if (rec_.capacity() < expected) std::vector<std::uint32_t>().swap(rec_);
+    if (rec_.capacity() < expected) decltype(rec_)().swap(rec_);
     rec_.reserve(expected);
     rec_.resize(expected);
   }

@@ -85,6 +85,32 @@
 
 namespace voroclip {
 
+namespace detail {
+
+// An allocator whose vector elements are left uninitialized by resize(): for arrays whose
+// every element is written before it is read, so that growing them touches no memory.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  explicit UninitializedAllocator(const UninitializedAllocator<U>&) {}
+  template <class U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+}  // namespace detail
+
 struct Delaunay2Options {
   // Run check_topology() and check_delaunay() at the end of every build and throw
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
@@ -240,7 +266,7 @@ class Delaunay2 {
   //   rec_[8t + k] vertex k (local id), rec_[8t + 3] the cavity search's stamp,
   //   rec_[8t + 4 + k] neighbour code 3t' + k', rec_[8t + 7] unused.
   // Slots [0, rec_slots_) are in use; free ones have rec_[8t] == kFreeVertex.
-  std::vector<std::uint32_t> rec_;
+  std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> rec_;
   std::uint32_t rec_slots_ = 0;
   std::vector<std::uint32_t> free_;
   std::vector<std::uint32_t> vertex_triangle_;
@@ -578,28 +604,9 @@ class Delaunay3 {
   std::size_t peak_bytes_ = 0;
   Stats stats_;
 
-  // Elements are left uninitialized when the array grows (every slot is written before it
-  // is read): the pages are touched, and faulted in, by the tasks that fill them.
-  template <class T>
-  struct UninitializedAllocator : std::allocator<T> {
-    using value_type = T;
-    template <class U>
-    struct rebind {
-      using other = UninitializedAllocator<U>;
-    };
-    UninitializedAllocator() = default;
-    template <class U>
-    explicit UninitializedAllocator(const UninitializedAllocator<U>&) {}
-    template <class U>
-    void construct(U* p) {
-      ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-  };
-  std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> tets_;
+  // Grows without initializing (every slot is written before it is read): the pages are
+  // touched, and faulted in, by the tasks that fill them.
+  std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> tets_;
   std::vector<std::uint32_t> vertex_tet_;
   std::vector<std::uint32_t> duplicate_of_;
   std::vector<std::uint32_t> duplicate_internal_;  // during construction, by rank
