@@ -67,9 +67,10 @@
 // Threads. Insertion runs on the calling thread; the spatial sort and the renumbering use
 // TBB parallel loops over disjoint ranges. The result is identical for any thread count.
 //
-// Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2): 1M uniform points in
-// about 0.50-0.55 s for a first build, 0.44-0.48 s for a rebuild, on the project's 2-core
-// VM under load: 0.9-1.05x CGAL's Delaunay_triangulation_2 measured in the same run.
+// Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2; bench/RESULTS.md): 1M
+// uniform points in about 0.6 s of CPU time for a first build, 0.5 s for a rebuild, on the
+// project's 2-core VM under load: 0.97x (rebuild 0.82x) CGAL's Delaunay_triangulation_2
+// measured in the same run.
 #pragma once
 
 #include <cassert>
@@ -378,23 +379,27 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // alive and unchanged while the triangulation is used (until the next build()).
 //
 // Threads. A BRIO round of at least 2 * points_per_zone points (Options) is split by count
-// into zones (kd bisection along the longest axis), each inserted by its own TBB task in
-// Hilbert order. A task only touches tets having a facet whose finite vertices all lie in
-// its zone, which no other task can touch (two facets of a tet share an edge), so the
-// tasks need no locks: a point whose walk or cavity would reach a vertex outside the zone
-// is deferred, leaving the triangulation untouched. The deferred points get a second pass
-// with zones in a skew frame (boxes in (x + y, y + z, z + x), whose faces cross the first
-// pass's), and what remains is inserted sequentially. Zones of many points that defer
-// most of them (points on a sphere: their tets cross the ball) turn zoning off for the
-// rest of the build. This is HXT's scheme (Marot, Pellerin & Remacle, "One machine, one
-// minute, three billion tetrahedra", IJNME 2019) with boxes instead of Hilbert ranges as
-// zones. Each zone owns a range of fresh slots and
-// a share of the free ones. The number of zones, their boxes, their slots and their
-// points depend on the input alone, never on the number of threads, and a zone's work
-// depends on its own tets only: every array of the result (tet slots, neighbour codes,
-// vertex_tet, duplicate_of) is identical to the last bit for any number of threads,
-// without a renumbering pass. (A renumbering into a sorted order was measured at 0.35 s
-// for 1M points with a second 32-byte-per-tet array, or 1.3 s permuted in place.)
+// into zones (kd bisection along the longest axis), each inserted by its own TBB task along
+// the Hilbert curve of its box. A task only touches tets having a facet whose finite
+// vertices all lie in its zone, which no other task can touch (two facets of a tet share
+// an edge), so the tasks need no locks: a point whose walk or cavity would reach a vertex
+// outside the zone is deferred, leaving the triangulation untouched. The deferred points
+// get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x), whose faces
+// cross the first pass's), and what remains is inserted sequentially. Zones of many points
+// that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
+// for the rest of the build. This is HXT's scheme (Marot, Pellerin & Remacle, "One
+// machine, one minute, three billion tetrahedra", IJNME 2019) with boxes instead of Hilbert
+// ranges as zones. Each zone owns a range of fresh slots and a share of the free ones. The
+// number of zones, their boxes, their slots and their points depend on the input alone,
+// never on the number of threads, and a zone's work depends on its own tets only: every
+// array of the result (tet slots, neighbour codes, vertex_tet, duplicate_of) is identical
+// to the last bit for any number of threads, without a renumbering pass. (A renumbering
+// into a sorted order was measured at 0.35 s for 1M points with a second 32-byte-per-tet
+// array, or 1.3 s permuted in place.)
+//
+// Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
+// uniform points in about 2.3 s of CPU time on one thread, 0.58 of CGAL's
+// Delaunay_triangulation_3 in the same run, 35 bytes per tet at the end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
 // mixed (free slots left by the construction are filled with the last live records).
