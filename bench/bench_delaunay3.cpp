@@ -1,8 +1,11 @@
 // Delaunay3 construction: uniform random points in the unit cube (1e4 ... 1e6), an integer
-// grid (cospherical everywhere) and points on a sphere; points per second, finite tets and
-// the bytes the triangulation's arrays hold per tet (capacities, including the sorted copy
-// of the points made during construction). Fixed seeds.
+// grid (cospherical everywhere) and points on a sphere, on one thread, and 1M uniform
+// points on 1 and 2 threads; points per second, finite tets, the bytes the triangulation's
+// arrays hold per tet at the end (capacities) and at their peak during the build (the
+// construction's copies and scratch included), and the share of the points inserted in
+// parallel zones that were deferred to a later pass. Fixed seeds.
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdint>
@@ -41,7 +44,8 @@ std::vector<double> sphere_points(std::size_t n) {
   return xyz;
 }
 
-void run(benchmark::State& state, const std::vector<double>& xyz) {
+void run(benchmark::State& state, const std::vector<double>& xyz, std::size_t threads = 1) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
   voroclip::Delaunay3 dt;
   for (auto _ : state) {
@@ -50,13 +54,23 @@ void run(benchmark::State& state, const std::vector<double>& xyz) {
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * n);
   state.SetComplexityN(n);
-  state.counters["tets"] = dt.nb_finite_tets();
-  state.counters["bytes_per_tet"] =
-      static_cast<double>(dt.memory_bytes()) / static_cast<double>(dt.nb_finite_tets());
+  const auto tets = static_cast<double>(dt.nb_finite_tets());
+  state.counters["tets"] = tets;
+  state.counters["bytes_per_tet"] = static_cast<double>(dt.memory_bytes()) / tets;
+  state.counters["peak_bytes_per_tet"] = static_cast<double>(dt.peak_memory_bytes()) / tets;
+  const auto& stats = dt.stats();
+  state.counters["deferred"] =
+      stats.zoned_points == 0
+          ? 0.0
+          : static_cast<double>(stats.deferred_points) / static_cast<double>(stats.zoned_points);
 }
 
 void BM_delaunay3_uniform(benchmark::State& state) {
   run(state, uniform_points(static_cast<std::size_t>(state.range(0))));
+}
+void BM_delaunay3_uniform_threads(benchmark::State& state) {
+  run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
+      static_cast<std::size_t>(state.range(1)));
 }
 void BM_delaunay3_grid(benchmark::State& state) {
   run(state, grid_points(static_cast<int>(state.range(0))));
@@ -72,6 +86,11 @@ BENCHMARK(BM_delaunay3_uniform)
     ->Range(10000, 1000000)
     ->Unit(benchmark::kMillisecond)
     ->Complexity();
+BENCHMARK(BM_delaunay3_uniform_threads)
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_delaunay3_grid)->Arg(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_delaunay3_sphere)->Arg(1000000)->Unit(benchmark::kMillisecond);
 

@@ -33,11 +33,18 @@ namespace voroclip {
 namespace {
 
 constexpr int kNext[3] = {1, 2, 0};
-// Sort keys of infinite triangles in canonicalize(): above every finite key (rank < 2^29).
-constexpr std::uint64_t kInfiniteKey = std::uint64_t{1} << 63;
 constexpr int kPrev[3] = {2, 0, 1};
 
 bool same_point(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1]; }
+
+// A hint that the cache line at p will be read soon (no effect on results).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p);
+#else
+  static_cast<void>(p);
+#endif
+}
 
 // p strictly between a and b, given that the three are collinear and a != b.
 bool strictly_between(const double* a, const double* b, const double* p) {
@@ -102,10 +109,11 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
   canonicalize();
   if (!options_.keep_buffers) {
-    for (auto* buffer : {&scratch_a_, &scratch_b_, &scratch_c_, &tmp_vertices_, &tmp_neighbors_,
-                         &starting_at_, &stack_, &cavity_, &free_}) {
+    for (auto* buffer : {&scratch_a_, &scratch_c_, &starting_at_, &stack_, &cavity_, &free_}) {
       std::vector<std::uint32_t>().swap(*buffer);
     }
+    decltype(rec_)().swap(rec_);
+    std::vector<std::uint64_t>().swap(keys_);
     std::vector<std::uint64_t>().swap(placed_);
     std::vector<double>().swap(coords_);
     std::vector<BoundaryEdge>().swap(boundary_);
@@ -118,22 +126,23 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
 }
 
 void Delaunay2::clear_triangles() {
-  tri_vertices_.clear();
-  tri_neighbors_.clear();
-  tri_mark_.clear();
+  rec_slots_ = 0;
   free_.clear();
 }
 
+// A slot for a new triangle: a recycled one, else the next of rec_ (whose mark is reset:
+// rec_ keeps the stamps of the previous build).
 std::uint32_t Delaunay2::new_triangle() {
   if (!free_.empty()) {
     const std::uint32_t t = free_.back();
     free_.pop_back();
     return t;
   }
-  const auto t = static_cast<std::uint32_t>(tri_mark_.size());
-  tri_vertices_.resize(tri_vertices_.size() + 3);
-  tri_neighbors_.resize(tri_neighbors_.size() + 3);
-  tri_mark_.push_back(0);
+  const std::uint32_t t = rec_slots_++;
+  if (8 * static_cast<std::size_t>(rec_slots_) > rec_.size()) {
+    rec_.resize(rec_.size() + rec_.size() / 8 + 64);
+  }
+  rec_[8 * static_cast<std::size_t>(t) + 3] = 0;
   return t;
 }
 
@@ -146,9 +155,14 @@ void Delaunay2::insert_all() {
     coords_[2 * static_cast<std::size_t>(q) + 1] = pt(input_index_[q])[1];
   }
   starting_at_.resize(static_cast<std::size_t>(m) + 1);
-  tri_vertices_.reserve(6 * static_cast<std::size_t>(m) + 12);
-  tri_neighbors_.reserve(6 * static_cast<std::size_t>(m) + 12);
-  tri_mark_.reserve(2 * static_cast<std::size_t>(m) + 4);
+  // About 2m triangles in all (finite and infinite). resize() rather than reserve(): a
+  // rebuild on as many points touches nothing here.
+  const std::size_t expected = 8 * (2 * static_cast<std::size_t>(m) + 16);
+  if (rec_.size() < expected) {
+    if (rec_.capacity() < expected) decltype(rec_)().swap(rec_);
+    rec_.reserve(expected);
+    rec_.resize(expected);
+  }
 
   // The first triangle: a = 0, b the first point different from a, c the first point not
   // collinear with a and b. The points skipped meanwhile are inserted later, in order.
@@ -171,22 +185,22 @@ void Delaunay2::insert_all() {
   // (v_{k+2}, v_{k+1}, inf); adjacency by matching reversed edges.
   std::uint32_t t[4];
   for (auto& s : t) s = new_triangle();
-  for (int i = 0; i < 3; ++i) tri_vertices_[3 * t[0] + static_cast<std::uint32_t>(i)] = v[i];
+  for (int i = 0; i < 3; ++i) rec_[8 * t[0] + static_cast<std::uint32_t>(i)] = v[i];
   for (int k = 0; k < 3; ++k) {
-    std::uint32_t* w = &tri_vertices_[3 * t[k + 1]];
+    std::uint32_t* w = &rec_[8 * t[k + 1]];
     w[0] = v[kPrev[k]];
     w[1] = v[kNext[k]];
     w[2] = kInfinite;
   }
   for (int i = 0; i < 4; ++i) {
     for (int ki = 0; ki < 3; ++ki) {
-      const std::uint32_t* vi = &tri_vertices_[3 * t[i]];
+      const std::uint32_t* vi = &rec_[8 * t[i]];
       const std::uint32_t p = vi[kNext[ki]], q = vi[kPrev[ki]];
       for (int j = 0; j < 4; ++j) {
-        const std::uint32_t* vj = &tri_vertices_[3 * t[j]];
+        const std::uint32_t* vj = &rec_[8 * t[j]];
         for (int kj = 0; kj < 3; ++kj) {
           if (j != i && vj[kNext[kj]] == q && vj[kPrev[kj]] == p) {
-            tri_neighbors_[3 * t[i] + static_cast<std::uint32_t>(ki)] =
+            rec_[8 * t[i] + 4 + static_cast<std::uint32_t>(ki)] =
                 3 * t[j] + static_cast<std::uint32_t>(kj);
           }
         }
@@ -204,9 +218,9 @@ void Delaunay2::insert_all() {
 // index of p, for the perturbation.
 template <bool kLocal>
 bool Delaunay2::in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const {
-  const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+  const std::uint32_t* v = vertices_of<kLocal>(t);
   const auto point_of = [this](std::uint32_t w) { return kLocal ? local_pt(w) : pt(w); };
-  const int kinf = infinite_slot(t);
+  const int kinf = v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
   if (kinf < 0) {
     const double* a = point_of(v[0]);
     const double* b = point_of(v[1]);
@@ -240,17 +254,22 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
       return orient2d(pt(a), pt(b), p);
     }
   };
-  const std::size_t limit = tri_mark_.size() + 8;
+  const std::uint32_t slots = kLocal ? rec_slots_ : nb_slots_;
+  const std::size_t limit = static_cast<std::size_t>(slots) + 8;
   std::uint32_t previous = kNone;
   std::uint32_t state = 0x9e3779b9u;  // xorshift32: a fixed sequence of edge choices
   for (std::size_t step = 0; step < limit; ++step) {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
-    const int kinf = infinite_slot(t);
+    const std::uint32_t* v = vertices_of<kLocal>(t);
+    const int kinf = v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
     if (kinf >= 0) {
       if (orient(v[kNext[kinf]], v[kPrev[kinf]]) == Sign::positive) return t;
       previous = t;
-      t = tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(kinf)] / 3;
+      t = neighbor_of<kLocal>(t, kinf) / 3;
       continue;
+    }
+    if constexpr (kLocal) {
+      // The next triangle is a neighbour: load them while the predicates run.
+      for (int k = 0; k < 3; ++k) prefetch(vertices_of<true>(neighbor_of<true>(t, k) / 3));
     }
     state ^= state << 13;
     state ^= state >> 17;
@@ -259,8 +278,7 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
     bool moved = false;
     for (int j = 0; j < 3 && !moved; ++j) {
       const int k = (k0 + j) % 3;
-      const std::uint32_t next =
-          tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)] / 3;
+      const std::uint32_t next = neighbor_of<kLocal>(t, k) / 3;
       if (next == previous) continue;
       if (orient(v[kNext[k]], v[kPrev[k]]) == Sign::negative) {
         previous = t;
@@ -271,11 +289,10 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
     if (!moved) return t;
   }
   // Unreachable in a valid triangulation (see the file comment): scan every triangle.
-  const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
   for (std::uint32_t s = 0; s < slots; ++s) {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(s)];
+    const std::uint32_t* v = vertices_of<kLocal>(s);
     if (v[0] == kFreeVertex) continue;
-    const int kinf = infinite_slot(s);
+    const int kinf = v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
     if (kinf >= 0) {
       if (orient(v[kNext[kinf]], v[kPrev[kinf]]) == Sign::positive) return s;
     } else if (orient(v[1], v[2]) != Sign::negative && orient(v[2], v[0]) != Sign::negative &&
@@ -290,10 +307,10 @@ void Delaunay2::insert(std::uint32_t q) {
   const double* p = local_pt(q);
   const std::uint32_t ip = input_index_[q];
   const std::uint32_t start = walk<true>(p, hint_);
-  if (infinite_slot(start) < 0) {
+  const std::uint32_t* sv = vertices_of<true>(start);
+  if (sv[0] != kInfinite && sv[1] != kInfinite && sv[2] != kInfinite) {
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t w =
-          tri_vertices_[3 * static_cast<std::size_t>(start) + static_cast<std::size_t>(k)];
+      const std::uint32_t w = sv[k];
       if (!same_point(local_pt(w), p)) continue;
       std::uint32_t root = input_index_[w];
       while (duplicate_of_[root] != root) root = duplicate_of_[root];
@@ -306,30 +323,36 @@ void Delaunay2::insert(std::uint32_t q) {
       return;
     }
   }
+  // A triangle's neighbours are read when it is taken from the stack: their records are
+  // prefetched as it enters (they are scattered over the array).
+  const auto prefetch_neighbors = [this](std::uint32_t t) {
+    for (int k = 0; k < 3; ++k) prefetch(vertices_of<true>(neighbor_of<true>(t, k) / 3));
+  };
   stamp_ += 2;  // stamp_: in the cavity; stamp_ + 1: tested, not in conflict
   const std::uint32_t rejected = stamp_ + 1;
   stack_.clear();
   cavity_.clear();
   boundary_.clear();
-  tri_mark_[start] = stamp_;
+  rec_[8 * static_cast<std::size_t>(start) + 3] = stamp_;
+  prefetch_neighbors(start);
   stack_.push_back(start);
   while (!stack_.empty()) {
     const std::uint32_t c = stack_.back();
     stack_.pop_back();
     cavity_.push_back(c);
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(c)];
+    const std::uint32_t* v = vertices_of<true>(c);
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t code =
-          tri_neighbors_[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)];
+      const std::uint32_t code = v[4 + k];
       const std::uint32_t nt = code / 3;
-      const std::uint32_t mark = tri_mark_[nt];
+      std::uint32_t& mark = rec_[8 * static_cast<std::size_t>(nt) + 3];
       if (mark == stamp_) continue;
       if (mark != rejected && in_conflict<true>(nt, p, ip)) {
-        tri_mark_[nt] = stamp_;
+        mark = stamp_;
+        prefetch_neighbors(nt);
         stack_.push_back(nt);
         continue;
       }
-      tri_mark_[nt] = rejected;
+      mark = rejected;
       boundary_.push_back({v[kNext[k]], v[kPrev[k]], code});
     }
   }
@@ -343,20 +366,20 @@ void Delaunay2::insert(std::uint32_t q) {
   stack_.clear();
   for (const BoundaryEdge& e : boundary_) {
     const std::uint32_t t = new_triangle();
-    std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    std::uint32_t* v = &rec_[8 * static_cast<std::size_t>(t)];
     v[0] = q;
     v[1] = e.u;
     v[2] = e.w;
-    tri_neighbors_[3 * static_cast<std::size_t>(t)] = e.outside;
-    tri_neighbors_[e.outside] = 3 * t;
+    v[4] = e.outside;
+    rec_[8 * static_cast<std::size_t>(e.outside / 3) + 4 + e.outside % 3] = 3 * t;
     starting_at_[slot_of(e.u)] = t;
     stack_.push_back(t);
   }
   for (const std::uint32_t t : stack_) {
-    const std::uint32_t next =
-        starting_at_[slot_of(tri_vertices_[3 * static_cast<std::size_t>(t) + 2])];
-    tri_neighbors_[3 * static_cast<std::size_t>(t) + 1] = 3 * next + 2;
-    tri_neighbors_[3 * static_cast<std::size_t>(next) + 2] = 3 * t + 1;
+    std::uint32_t* v = &rec_[8 * static_cast<std::size_t>(t)];
+    const std::uint32_t next = starting_at_[slot_of(v[2])];
+    v[5] = 3 * next + 2;
+    rec_[8 * static_cast<std::size_t>(next) + 6] = 3 * t + 1;
   }
   hint_ = stack_.back();
 }
@@ -367,125 +390,130 @@ void Delaunay2::insert(std::uint32_t q) {
 // bucket r the few triangles whose last inserted vertex is r). The key is the largest rank
 // because a triangle is created by the insertion of that vertex: the new order follows the
 // insertion order, along the Hilbert curve, which keeps the renumbering cache-friendly.
-// The parallel loops write per-slot results only, so the outcome does not depend on the
-// number of threads.
+// The parallel loops work on disjoint ranges and write per-item results only, so the
+// outcome does not depend on the number of threads.
 void Delaunay2::canonicalize() {
-  const auto slots = static_cast<std::uint32_t>(tri_mark_.size());
+  const std::uint32_t slots = rec_slots_;
   const std::size_t m = input_index_.size();
-  const tbb::blocked_range<std::uint32_t> all_slots(0, slots, 16384);
-  // The sort key of a live slot: (largest rank, next rank counter-clockwise) for a finite
-  // triangle, kInfiniteKey | rank of a for an infinite one (a, b, inf).
-  const auto key_of = [this](std::uint32_t t) -> std::uint64_t {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
-    const int kinf = infinite_slot(t);
-    if (kinf >= 0) return kInfiniteKey | v[kNext[kinf]];
-    const int r = v[0] > v[1] ? (v[0] > v[2] ? 0 : 2) : (v[1] > v[2] ? 1 : 2);
-    return (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
+  const auto kinf_of = [](const std::uint32_t* v) {
+    return v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
   };
-  // packed[t] = (new index << 2) | rotation, the rotation first: new vertex j is old
-  // vertex (j + rotation) mod 3, so that a finite triangle starts at its smallest input
-  // index and an infinite one ends with kInfinite.
+  // Per slot: keys[t] = (largest rank r0 << 32) | rank of the vertex after it
+  // counter-clockwise, for a finite triangle (kNoKey otherwise); packed[t] = rotation: new
+  // vertex j is old vertex (j + rotation) mod 3, so that a finite triangle starts at its
+  // smallest input index and an infinite one ends with kInfinite. The new index is or-ed
+  // in as (index << 2) below.
+  constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
+  std::vector<std::uint64_t>& keys = keys_;
+  keys.resize(slots);
   std::vector<std::uint32_t>& packed = scratch_c_;
   packed.resize(slots);
-  tbb::parallel_for(all_slots, [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
-    for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-      const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
-      if (v[0] == kFreeVertex) continue;
-      const int kinf = infinite_slot(t);
-      int s;
-      if (kinf >= 0) {
-        s = kNext[kinf];
-      } else {
-        const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]],
-                            i2 = input_index_[v[2]];
-        s = i0 < i1 ? (i0 < i2 ? 0 : 2) : (i1 < i2 ? 1 : 2);
-      }
-      packed[t] = static_cast<std::uint32_t>(s);
-    }
-  });
-  // Counting sort: finite triangles by largest rank, infinite ones by the rank of a
-  // (starting_at_, a construction scratch of m + 1 entries, maps it to the slot).
-  scratch_a_.assign(m + 2, 0);
-  starting_at_.assign(m + 1, kNone);
-  std::uint32_t nb_finite = 0, nb_infinite = 0;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 16384),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+                        const std::uint32_t* v = vertices_of<true>(t);
+                        keys[t] = kNoKey;
+                        if (v[0] == kFreeVertex) continue;
+                        const int kinf = kinf_of(v);
+                        if (kinf >= 0) {
+                          packed[t] = static_cast<std::uint32_t>(kNext[kinf]);
+                          continue;
+                        }
+                        const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]],
+                                            i2 = input_index_[v[2]];
+                        packed[t] = i0 < i1 ? (i0 < i2 ? 0u : 2u) : (i1 < i2 ? 1u : 2u);
+                        const int r = v[0] > v[1] ? (v[0] > v[2] ? 0 : 2) : (v[1] > v[2] ? 1 : 2);
+                        keys[t] = (static_cast<std::uint64_t>(v[r]) << 32) | v[kNext[r]];
+                      }
+                    });
+  // Counting sort of the finite triangles by r0; bucket_end[r] ends bucket r.
+  std::vector<std::uint32_t>& bucket_end = scratch_a_;
+  bucket_end.assign(m + 1, 0);
   for (std::uint32_t t = 0; t < slots; ++t) {
-    if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    const std::uint64_t key = key_of(t);
-    if (key >= kInfiniteKey) {
-      starting_at_[key & 0xffffffffu] = t;
-      ++nb_infinite;
-    } else {
-      ++scratch_a_[(key >> 32) + 1];
-      ++nb_finite;
-    }
+    if (keys[t] != kNoKey) ++bucket_end[(keys[t] >> 32) + 1];
   }
-  for (std::size_t i = 1; i < scratch_a_.size(); ++i) scratch_a_[i] += scratch_a_[i - 1];
-  // placed_: (rank of the next vertex << 32) | slot, by bucket; then sorted in each bucket.
+  for (std::size_t r = 1; r <= m; ++r) bucket_end[r] += bucket_end[r - 1];
+  const std::uint32_t nb_finite = bucket_end[m];
+  // placed_[i] = (r1 << 32) | slot, by bucket (bucket_end[r] moves from the start to the
+  // end of bucket r).
   placed_.resize(nb_finite);
   for (std::uint32_t t = 0; t < slots; ++t) {
-    if (tri_vertices_[3 * static_cast<std::size_t>(t)] == kFreeVertex) continue;
-    const std::uint64_t key = key_of(t);
-    if (key < kInfiniteKey) placed_[scratch_a_[key >> 32]++] = (key << 32) | t;
+    const std::uint64_t key = keys[t];
+    if (key != kNoKey) placed_[bucket_end[key >> 32]++] = (key << 32) | t;
   }
-  // scratch_a_[r] is now the end of bucket r, the start of bucket r + 1. A bucket holds
-  // about two triangles: insertion sort.
-  std::uint32_t begin = 0;
-  for (std::size_t r = 0; r < m; ++r) {
-    const std::uint32_t end = scratch_a_[r];
-    for (std::uint32_t i = begin + 1; i < end; ++i) {
-      const std::uint64_t x = placed_[i];
-      std::uint32_t j = i;
-      for (; j > begin && placed_[j - 1] > x; --j) placed_[j] = placed_[j - 1];
-      placed_[j] = x;
-    }
-    begin = end;
-  }
-  // New indices: finite, then infinite; scratch_b_ lists the slots in their new order.
-  scratch_b_.resize(nb_finite + nb_infinite);
-  for (std::uint32_t i = 0; i < nb_finite; ++i) {
-    const auto t = static_cast<std::uint32_t>(placed_[i] & 0xffffffffu);
-    packed[t] |= i << 2;
-    scratch_b_[i] = t;
-  }
-  std::uint32_t next = nb_finite;
-  for (std::size_t r = 0; r < m; ++r) {
-    if (starting_at_[r] == kNone) continue;
-    packed[starting_at_[r]] |= next << 2;
-    scratch_b_[next++] = starting_at_[r];
-  }
-  const std::uint32_t total = next;
-  // Per rank, the smallest new finite triangle incident to it.
-  scratch_a_.assign(m, kNone);
-  for (std::uint32_t i = 0; i < nb_finite; ++i) {
-    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(scratch_b_[i])];
-    for (int k = 0; k < 3; ++k) scratch_a_[v[k]] = std::min(scratch_a_[v[k]], i);
-  }
-  vertex_triangle_.assign(nb_points_, kNone);
-  for (std::size_t r = 0; r < m; ++r) vertex_triangle_[input_index_[r]] = scratch_a_[r];
-  // The new arrays, in new order (sequential writes): each slot rotated, with input
-  // indices and new neighbour codes.
-  tmp_vertices_.resize(3 * static_cast<std::size_t>(total));
-  tmp_neighbors_.resize(3 * static_cast<std::size_t>(total));
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, total, 16384),
-                    [this, &packed](const tbb::blocked_range<std::uint32_t>& range) {
-                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-                        const std::uint32_t t = scratch_b_[i];
-                        const std::uint32_t s = packed[t] & 3u;
-                        for (std::uint32_t j = 0; j < 3; ++j) {
-                          const std::size_t old = 3 * static_cast<std::size_t>(t) + (j + s) % 3;
-                          const std::uint32_t code = tri_neighbors_[old];
-                          const std::uint32_t other = packed[code / 3];
-                          const std::uint32_t w = tri_vertices_[old];
-                          const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
-                          tmp_neighbors_[slot] =
-                              3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
-                          tmp_vertices_[slot] = w == kInfinite ? kInfinite : input_index_[w];
+  // Each bucket (about two triangles) by r1: insertion sort.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 16384),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        const std::uint32_t begin = r == 0 ? 0 : bucket_end[r - 1];
+                        for (std::uint32_t i = begin + 1; i < bucket_end[r]; ++i) {
+                          const std::uint64_t x = placed_[i];
+                          std::uint32_t j = i;
+                          for (; j > begin && placed_[j - 1] > x; --j) placed_[j] = placed_[j - 1];
+                          placed_[j] = x;
                         }
                       }
                     });
-  tri_vertices_.swap(tmp_vertices_);
-  tri_neighbors_.swap(tmp_neighbors_);
-  tri_mark_.assign(total, 0);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_finite, 16384),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        packed[placed_[i] & 0xffffffffu] |= i << 2;
+                      }
+                    });
+  // Infinite triangles (a, b, inf) follow in hull order, the next one starting at b, from
+  // the one whose a has the smallest input index (so hull_vertices() starts there).
+  std::uint32_t total = nb_finite;
+  {
+    std::uint32_t first = kNone, smallest = kNone;
+    for (std::uint32_t t = 0; t < slots; ++t) {
+      const std::uint32_t* v = vertices_of<true>(t);
+      if (v[0] == kFreeVertex || keys[t] != kNoKey) continue;
+      const std::uint32_t a = input_index_[v[kNext[kinf_of(v)]]];
+      if (a < smallest) {
+        smallest = a;
+        first = t;
+      }
+    }
+    std::uint32_t t = first;
+    do {
+      packed[t] |= total++ << 2;
+      t = neighbor_of<true>(t, static_cast<int>(packed[t] & 3u)) / 3;  // across (b, inf)
+    } while (t != first);
+  }
+  // The new arrays, in new order (sequential writes): each slot rotated, with input
+  // indices and new neighbour codes.
+  tri_vertices_.resize(3 * static_cast<std::size_t>(total));
+  tri_neighbors_.resize(3 * static_cast<std::size_t>(total));
+  const auto write = [&](std::uint32_t i, std::uint32_t t) {
+    const std::uint32_t* v = vertices_of<true>(t);
+    const std::uint32_t s = packed[t] & 3u;
+    for (std::uint32_t j = 0; j < 3; ++j) {
+      const std::uint32_t k = (j + s) % 3;
+      const std::uint32_t code = v[4 + k];
+      const std::uint32_t other = packed[code / 3];
+      const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
+      tri_neighbors_[slot] = 3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
+      tri_vertices_[slot] = v[k] == kInfinite ? kInfinite : input_index_[v[k]];
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_finite, 16384),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        write(i, static_cast<std::uint32_t>(placed_[i] & 0xffffffffu));
+                      }
+                    });
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    if (vertices_of<true>(t)[0] != kFreeVertex && keys[t] == kNoKey) write(packed[t] >> 2, t);
+  }
+  // The smallest finite triangle of each vertex: the last write of a descending pass.
+  vertex_triangle_.assign(nb_points_, kNone);
+  for (std::uint32_t i = nb_finite; i-- > 0;) {
+    const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(i)];
+    vertex_triangle_[v[0]] = i;
+    vertex_triangle_[v[1]] = i;
+    vertex_triangle_[v[2]] = i;
+  }
+  nb_slots_ = total;
   free_.clear();
   stamp_ = 0;
   hint_ = 0;

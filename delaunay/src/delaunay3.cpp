@@ -1,18 +1,55 @@
-// Delaunay3: Bowyer–Watson insertion; see delaunay3.h for the storage, the local numbering
-// and the conflict rules.
-#include "voroclip/delaunay.h"
+// Delaunay3: Bowyer–Watson insertion (Bowyer 1981; Watson 1981) in BRIO order (Amenta,
+// Choi & Rote 2003), located by a remembering visibility walk (Devillers, Pion & Teillaud
+// 2002) from the last created tet; parallel insertion in boxes after HXT (Marot, Pellerin
+// & Remacle, IJNME 2019). Storage, numbering, the conflict test, the slot numbering and
+// the threading scheme are documented once in voroclip/delaunay.h.
+//
+// One insertion: walk to a tet in conflict with q, grow the cavity by a breadth-first
+// search over adjacent tets in conflict (the cavity array is the queue), then replace it
+// by the star of q over the cavity boundary. Each boundary facet (a, b, c), listed as in
+// the cavity tet behind it, gives the new tet (q, a, b, c) (q takes the place of the
+// vertex opposite the facet, so the orientation is kept), rotated so that kInfinite stays
+// vertex 3. Its facet 0 is glued to the tet outside; facets 1, 2, 3 contain q and the
+// boundary edges (b, c), (c, a), (a, b): the new tets are glued pairwise by these edges,
+// each directed edge of one boundary facet matching the reversed edge of another. Small
+// cavities (at most 31 boundary vertices, nearly all of them) give their boundary vertices
+// local ids 1..31 (0 is kInfinite) and glue through a 32 x 32 table; larger ones sort their
+// edges. The new tets reuse the cavity's slots first, while they are in cache.
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
 #include <string>
 
+#include "insphere_det.h"
 #include "nearest.h"
 #include "spatial_sort.h"
 #include "voroclip/core.h"
+#include "voroclip/delaunay.h"
 
 namespace voroclip {
 
 namespace {
+
+constexpr std::uint32_t kInCavity = 0x80000000u;  // marks in tets_[8t + 4]
+constexpr std::uint32_t kOutside = 0x40000000u;
+// Cavities with at most this many boundary facets have at most 31 boundary vertices
+// (a triangulated sphere with F facets has F / 2 + 2 vertices): the table path.
+constexpr std::size_t kSmallCavity = 58;
+constexpr std::uint32_t kTableSide = 32;
+// Fresh slots given to a zone per point it inserts (uniform points need about 6.75).
+constexpr double kSlotsPerPoint = 6.9;
+// A set of points is split into at most this many zones.
+constexpr std::size_t kMaxZones = 64;
+// Zones of at least this many points that defer most of them turn zoning off.
+constexpr std::size_t kLargeZone = 16384;
 
 bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
@@ -26,320 +63,748 @@ bool collinear(const double* a, const double* b, const double* c) {
          orient2d(azx, bzx, czx) == Sign::zero;
 }
 
-constexpr std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
-  return (static_cast<std::uint64_t>(u) << 32) | v;
+// Reserves room for exactly `size` elements (resize() alone may double the capacity).
+template <class T, class A>
+void reserve_exactly(std::vector<T, A>& v, std::size_t size) {
+  if (size > v.capacity()) v.reserve(size);
+}
+
+// A hint that the cache line at p will be read soon (no effect on results).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p);
+#else
+  static_cast<void>(p);
+#endif
+}
+
+template <class T, class A>
+std::size_t capacity_bytes(const std::vector<T, A>& v) {
+  return v.capacity() * sizeof(T);
 }
 
 }  // namespace
 
-bool Delaunay3::is_infinite(std::uint32_t t) const { return infinite_slot(t) >= 0; }
+// ---------------------------------------------------------------------------------------
+// Predicates on the triangulation
 
-int Delaunay3::infinite_slot(std::uint32_t t) const {
-  const std::uint32_t* v = &tet_vertices_[4 * static_cast<std::size_t>(t)];
-  return v[0] == kInfinite   ? 0
-         : v[1] == kInfinite ? 1
-         : v[2] == kInfinite ? 2
-         : v[3] == kInfinite ? 3
-                             : -1;
-}
-
-std::uint32_t Delaunay3::new_tet() {
-  if (!free_tets_.empty()) {
-    const std::uint32_t t = free_tets_.back();
-    free_tets_.pop_back();
-    std::fill_n(&tet_neighbors_[4 * static_cast<std::size_t>(t)], 4, 0u);
-    return t;
+// The common case inline (a finite tet, decided by the static filter); the rest in
+// in_conflict_rest, out of line so that the hot path needs few registers.
+inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
+  const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
+  if (v[3] != kInfinite) {
+    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 (the same value).
+    const double det =
+        detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    if (std::fabs(det) > filter_.insphere_bound()) return det > 0;
   }
-  const auto t = nb_tet_slots();
-  if (t >= kMaxTets) throw Error("Delaunay3: more than 2^28 tetrahedra; input too large");
-  tet_vertices_.resize(tet_vertices_.size() + 4);
-  tet_neighbors_.resize(tet_neighbors_.size() + 4);
-  return t;
+  return in_conflict_rest(t, q);
 }
 
-void Delaunay3::free_tet(std::uint32_t t) {
-  tet_vertices_[4 * static_cast<std::size_t>(t)] = kFreeVertex;
-  free_tets_.push_back(t);
-}
-
-bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
-  const std::uint32_t* v = &tet_vertices_[4 * static_cast<std::size_t>(t)];
+bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
+  const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   const double* pq = point(q);
-  const int s = infinite_slot(t);
-  if (s < 0) {
-    Sign r = insphere(point(v[0]), point(v[1]), point(v[2]), point(v[3]), pq, filter_);
+  if (v[3] != kInfinite) {
+    const double* a = point(v[0]);
+    const double* b = point(v[1]);
+    const double* c = point(v[2]);
+    const double* d = point(v[3]);
+    Sign r = insphere(a, b, c, d, pq);
     if (r == Sign::zero) {
-      r = insphere_sos(point(v[0]), point(v[1]), point(v[2]), point(v[3]), pq, sos_id(v[0]),
-                       sos_id(v[1]), sos_id(v[2]), sos_id(v[3]), sos_id(q));
+      r = insphere_sos(a, b, c, d, pq, sos_id(v[0]), sos_id(v[1]), sos_id(v[2]), sos_id(v[3]),
+                       sos_id(q));
     }
     return r == Sign::positive;
   }
-  const std::uint32_t a = v[kFacetVertex[s][0]], b = v[kFacetVertex[s][1]],
-                      c = v[kFacetVertex[s][2]];
-  const Sign o = orient3d(point(a), point(b), point(c), pq, filter_);
+  // Facet 3 as listed, (v2, v1, v0): the hull facet, the hull's inside on its positive side.
+  const double* a = point(v[2]);
+  const double* b = point(v[1]);
+  const double* c = point(v[0]);
+  const Sign o = orient3d(a, b, c, pq, filter_);
   if (o != Sign::zero) return o == Sign::negative;
   // On the hull facet's plane: inside its circumcircle (see the header).
-  const std::uint32_t n = tet_adjacent(t, s);
-  const std::uint32_t d = tet_vertex(n, tet_adjacent_facet(t, s));
-  return insphere_sos(point(a), point(b), point(c), point(d), pq, sos_id(a), sos_id(b), sos_id(c),
-                      sos_id(d), sos_id(q)) == Sign::positive;
+  const std::uint32_t code = v[7] & kCodeMask;
+  const std::uint32_t d = tets_[8 * static_cast<std::size_t>(code / 4) + code % 4];
+  return insphere_sos(a, b, c, point(d), pq, sos_id(v[2]), sos_id(v[1]), sos_id(v[0]), sos_id(d),
+                      sos_id(q)) == Sign::positive;
 }
 
-template <bool kStaticFilter>
-std::uint32_t Delaunay3::walk(const double* p, std::uint32_t hint) const {
-  std::uint32_t t = hint;
-  if (const int s = infinite_slot(t); s >= 0) t = tet_adjacent(t, s);
+// Visibility walk from t towards p (a point of the construction, inside the filter's box),
+// remembering the tet it came from; it terminates in a Delaunay triangulation (Edelsbrunner
+// 1990). The facet tested first rotates with the step, which avoids the worst cases of a
+// fixed order. Ends in t: a finite tet whose closure holds p, or an infinite tet whose hull
+// facet p lies strictly beyond (both in conflict with p). kZoned: only steps into tets whose
+// finite vertices are in the zone; returns false, leaving the triangulation untouched,
+// when p is beyond a facet of the current tet but every such facet leads out of the zone.
+template <bool kZoned>
+bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const {
+  std::uint32_t current = t;
+  if (tets_[8 * static_cast<std::size_t>(current) + 3] == kInfinite) {
+    const std::uint32_t code = tets_[8 * static_cast<std::size_t>(current) + 7] & kCodeMask;
+    if constexpr (kZoned) {
+      if (!zone.contains(point(tets_[8 * static_cast<std::size_t>(code / 4) + code % 4]))) {
+        return false;
+      }
+    }
+    current = code / 4;
+  }
   std::uint32_t previous = kNoTet;
-  // Visibility walk, remembering the tet it came from (Devillers, Pion & Teillaud 2002);
-  // it terminates in a Delaunay triangulation (Edelsbrunner 1990). The facet tested
-  // first rotates deterministically, which avoids the worst cases of a fixed order.
-  const std::size_t limit = 16 * static_cast<std::size_t>(nb_tet_slots()) + 64;
+  const std::size_t limit = 16 * static_cast<std::size_t>(nb_slots_) + 64;
   for (std::size_t step = 0; step < limit; ++step) {
-    const std::uint32_t* v = &tet_vertices_[4 * static_cast<std::size_t>(t)];
-    bool moved = false;
-    for (int i = 0; i < 4; ++i) {
-      const int f = static_cast<int>((step + static_cast<std::size_t>(i)) & 3u);
-      const std::uint32_t n = tet_adjacent(t, f);
-      if (n == previous) continue;
-      const double* a = point(v[kFacetVertex[f][0]]);
-      const double* b = point(v[kFacetVertex[f][1]]);
-      const double* c = point(v[kFacetVertex[f][2]]);
-      // The static filter holds only for points inside the input's box: queries use the
-      // plain predicate.
-      const Sign o = kStaticFilter ? orient3d(a, b, c, p, filter_) : orient3d(a, b, c, p);
-      if (o == Sign::positive) {
-        previous = t;
-        t = n;
-        moved = true;
+    const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(current)];
+    // The next tet is one of the neighbours: load them while the predicates run.
+    for (std::size_t f = 0; f < 4; ++f) {
+      prefetch(&tets_[8 * static_cast<std::size_t>((v[4 + f] & kCodeMask) / 4)]);
+    }
+    std::uint32_t next_code = kNoTet;
+    bool blocked = false;  // a facet p lies beyond leads out of the zone
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::size_t f = (step + i) & 3u;
+      const std::uint32_t code = v[4 + f] & kCodeMask;
+      if (code / 4 == previous) continue;
+      const int* fv = kFacetVertex[f];
+      if (orient3d(point(v[fv[0]]), point(v[fv[1]]), point(v[fv[2]]), p, filter_) ==
+          Sign::positive) {
+        if constexpr (kZoned) {
+          // Any facet p lies beyond will do (the walk still terminates): take one whose tet
+          // is in the zone.
+          const std::uint32_t o = tets_[8 * static_cast<std::size_t>(code / 4) + code % 4];
+          if (o != kInfinite && !zone.contains(point(o))) {
+            blocked = true;
+            continue;
+          }
+        }
+        next_code = code;
         break;
       }
     }
-    if (!moved || infinite_slot(t) >= 0) return t;
+    if (next_code == kNoTet) {
+      t = current;
+      return !blocked;
+    }
+    const std::uint32_t* n = &tets_[8 * static_cast<std::size_t>(next_code / 4)];
+    previous = current;
+    current = next_code / 4;
+    if (n[3] == kInfinite) {
+      t = current;
+      return true;
+    }
   }
   throw Error("Delaunay3: internal error, the point location walk did not terminate");
 }
 
-std::uint32_t Delaunay3::locate(std::uint32_t q, std::uint32_t hint,
-                                std::uint32_t& duplicate) const {
-  duplicate = kInfinite;
+// The same walk for queries on the finished triangulation: plain predicates (the query may
+// lie outside the filter's box).
+std::uint32_t Delaunay3::walk_query(const double* p, std::uint32_t t) const {
+  if (is_infinite(t)) t = tet_adjacent(t, 3);
+  std::uint32_t previous = kNoTet;
+  const std::size_t limit = 16 * static_cast<std::size_t>(nb_slots_) + 64;
+  for (std::size_t step = 0; step < limit; ++step) {
+    std::uint32_t next = kNoTet;
+    for (std::size_t i = 0; i < 4 && next == kNoTet; ++i) {
+      const int f = static_cast<int>((step + i) & 3u);
+      const std::uint32_t n = tet_adjacent(t, f);
+      if (n == previous) continue;
+      const int* fv = kFacetVertex[f];
+      if (orient3d(point(tet_vertex(t, fv[0])), point(tet_vertex(t, fv[1])),
+                   point(tet_vertex(t, fv[2])), p) == Sign::positive) {
+        next = n;
+      }
+    }
+    if (next == kNoTet) return t;
+    previous = t;
+    t = next;
+    if (is_infinite(t)) return t;
+  }
+  throw Error("Delaunay3: internal error, the point location walk did not terminate");
+}
+
+// ---------------------------------------------------------------------------------------
+// Insertion
+
+// Makes at least `slots` slots addressable: within the capacity by steps of 1/16, beyond
+// it by reallocating with 1/8 more (resize() alone would double the capacity).
+void Delaunay3::grow_slots(std::size_t slots) {
+  if (slots > kMaxTets) throw Error("Delaunay3: more than 2^28 tetrahedra; input too large");
+  const std::size_t size = tets_.size() / 8;
+  if (slots <= size) return;
+  const std::size_t capacity = tets_.capacity() / 8;
+  if (slots > capacity) {
+    reserve_exactly(tets_,
+                    8 * std::min<std::size_t>(kMaxTets, std::max(slots, capacity + capacity / 8)));
+  }
+  tets_.resize(8 * std::min(tets_.capacity() / 8, std::max(slots, size + size / 16 + 64)));
+  note_memory();
+}
+
+// Makes `count` slots available to the zone (its free list, then its fresh range). A
+// sequential insertion grows the array; a zone with a fixed range may run out.
+template <bool kZoned>
+bool Delaunay3::take_slots(Zone& zone, std::size_t count) {
+  const std::size_t available = zone.free.size() + (zone.fresh_end - zone.fresh);
+  if (available >= count) return true;
+  if constexpr (kZoned) {
+    return false;
+  } else {
+    grow_slots(static_cast<std::size_t>(zone.fresh) + count);
+    zone.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
+    return true;
+  }
+}
+
+void Delaunay3::unmark_cavity(const Zone& zone) {
+  for (const std::uint32_t t : zone.cavity) tets_[8 * static_cast<std::size_t>(t) + 4] &= kCodeMask;
+  for (const BoundaryFacet& b : zone.boundary) {
+    tets_[8 * static_cast<std::size_t>(b.code / 4) + 4] &= kCodeMask;
+  }
+}
+
+template <bool kZoned>
+Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const double* pq = point(q);
-  const std::uint32_t t = walk<true>(pq, hint);
-  if (infinite_slot(t) < 0) {
-    for (int k = 0; k < 4; ++k) {
-      if (same_point(point(tet_vertex(t, k)), pq)) duplicate = tet_vertex(t, k);
+  std::uint32_t start = zone.hint;
+  if (!walk<kZoned>(zone, pq, start)) return Inserted::deferred;
+  if (tets_[8 * static_cast<std::size_t>(start) + 3] != kInfinite) {
+    for (std::size_t k = 0; k < 4; ++k) {
+      const std::uint32_t w = tets_[8 * static_cast<std::size_t>(start) + k];
+      if (same_point(point(w), pq)) {
+        duplicate_internal_[q] = w;
+        zone.hint = start;
+        return Inserted::duplicate;
+      }
     }
   }
-  return t;
-}
 
-std::uint32_t Delaunay3::locate(const double* p, std::uint32_t hint) const {
-  require_finite_query(p);
-  if (hint == kNoTet || hint >= nb_tet_slots() || is_free(hint)) hint = any_tet();
-  return walk<false>(p, hint);
-}
-
-std::uint32_t Delaunay3::nearest_vertex(const double* p, std::uint32_t hint) const {
-  const std::uint32_t t = locate(p, hint);
-  std::uint32_t v = kInfinite;
-  for (int k = 0; k < 4 && v == kInfinite; ++k) v = tet_vertex(t, k);
-  return detail::nearest_on_delaunay_graph(
-      v, [this](std::uint32_t w, std::vector<std::uint32_t>& out) { vertex_neighbors(w, out); },
-      [this, p](std::uint32_t w, std::uint32_t u) {
-        return compare_distance3d(p, point(w), point(u));
-      });
-}
-
-std::uint32_t Delaunay3::any_tet() const {
-  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
-    if (!is_free(t)) return t;
-  }
-  throw Error("Delaunay3: the triangulation is empty (build() has not succeeded)");
-}
-
-void Delaunay3::require_finite_query(const double* p) const {
-  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-    throw Error("Delaunay3: the query point has a non-finite coordinate");
-  }
-}
-
-void Delaunay3::insert(std::uint32_t q, std::uint32_t& hint) {
-  std::uint32_t duplicate;
-  const std::uint32_t start = locate(q, hint, duplicate);
-  if (duplicate != kInfinite) {
-    duplicate_internal_[q] = duplicate;
-    return;
-  }
-  // Cavity: tets in conflict, found by a search from the located one (which is in
-  // conflict: q lies in it, or strictly beyond its hull facet). Mark 0 flags cavity tets,
-  // mark 1 tets tested and found outside; cavity tets are recycled below (which clears
-  // their marks) and the outside marks are cleared at the end.
-  constexpr int kInCavity = 0, kOutside = 1;
-  cavity_.clear();
-  boundary_.clear();
-  stack_.clear();
-  mark(start, kInCavity);
-  cavity_.push_back(start);
-  stack_.push_back(start);
-  while (!stack_.empty()) {
-    const std::uint32_t t = stack_.back();
-    stack_.pop_back();
-    for (int f = 0; f < 4; ++f) {
-      const std::uint32_t n = tet_adjacent(t, f);
-      if (marked(n, kInCavity)) continue;
-      if (!marked(n, kOutside)) {
+  // The cavity: breadth-first from the located tet (in conflict: q lies in it, or
+  // strictly beyond its hull facet). Marks: kInCavity on cavity tets, kOutside on tets
+  // tested and found outside; both are cleared below.
+  std::vector<std::uint32_t>& cavity = zone.cavity;
+  std::vector<BoundaryFacet>& boundary = zone.boundary;
+  cavity.clear();
+  boundary.clear();
+  // A tet's neighbours are read when it is taken from the queue, a few tets after it entered:
+  // their records are prefetched as it enters (they are scattered over the array).
+  const auto prefetch_neighbors = [this](std::uint32_t t) {
+    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+    for (std::size_t f = 0; f < 4; ++f) {
+      prefetch(&tets_[8 * static_cast<std::size_t>((w[4 + f] & kCodeMask) / 4)]);
+    }
+  };
+  tets_[8 * static_cast<std::size_t>(start) + 4] |= kInCavity;
+  prefetch_neighbors(start);
+  cavity.push_back(start);
+  for (std::size_t i = 0; i < cavity.size(); ++i) {
+    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(cavity[i])];
+    for (std::size_t f = 0; f < 4; ++f) {
+      const std::uint32_t code = w[4 + f] & kCodeMask;
+      const std::uint32_t n = code / 4;
+      std::uint32_t& marks = tets_[8 * static_cast<std::size_t>(n) + 4];
+      if ((marks & kInCavity) != 0) continue;
+      if ((marks & kOutside) == 0) {
         if (in_conflict(n, q)) {
-          mark(n, kInCavity);
-          cavity_.push_back(n);
-          stack_.push_back(n);
+          if constexpr (kZoned) {
+            const std::uint32_t o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
+            if (o != kInfinite && !zone.contains(point(o))) {
+              unmark_cavity(zone);
+              return Inserted::deferred;
+            }
+          }
+          marks |= kInCavity;
+          prefetch_neighbors(n);
+          cavity.push_back(n);
           continue;
         }
-        mark(n, kOutside);
+        marks |= kOutside;
       }
-      BoundaryFacet b{n, tet_adjacent_facet(t, f), f, {}};
-      for (int k = 0; k < 4; ++k) b.vertex[k] = k == f ? q : tet_vertex(t, k);
-      boundary_.push_back(b);
+      const int* fv = kFacetVertex[f];
+      boundary.push_back({code, {w[fv[0]], w[fv[1]], w[fv[2]]}});
     }
   }
 
-  // One new tet per boundary facet: the dead tet's vertices with q in place of the vertex
-  // opposite the facet (so it keeps the dead tet's positive orientation). Its facets
-  // through q are glued pairwise by their edge: the facet (q, u, v) of one new tet is the
-  // facet (q, v, u) of another. The cavity's slots are freed first, so that the new tets
-  // reuse them while they are still in cache.
-  for (const std::uint32_t t : cavity_) free_tet(t);
-  const std::size_t nb_new = boundary_.size();
-  std::size_t table_size = 64;
-  while (table_size < 8 * nb_new) table_size *= 2;
-  edge_keys_.assign(table_size, ~std::uint64_t{0});
-  edge_values_.resize(table_size);
-  const std::size_t mask = table_size - 1;
-  std::uint32_t last = kNoTet;
-  for (const BoundaryFacet& b : boundary_) {
-    const std::uint32_t nt = new_tet();
-    std::copy_n(b.vertex, 4, &tet_vertices_[4 * static_cast<std::size_t>(nt)]);
-    set_neighbors(nt, b.dead_facet, b.tet, b.facet);
-    for (int f = 0; f < 4; ++f) {
-      if (f == b.dead_facet) continue;
-      // The facet's vertices, rotated to start at q: (q, u, v).
-      const int* fv = kFacetVertex[f];
-      int at = 0;
-      while (fv[at] != b.dead_facet) ++at;
-      const std::uint32_t u = tet_vertex(nt, fv[(at + 1) % 3]);
-      const std::uint32_t w = tet_vertex(nt, fv[(at + 2) % 3]);
-      const std::uint64_t want = edge_key(w, u);
-      std::size_t h = static_cast<std::size_t>((want * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-      bool glued = false;
-      while (edge_keys_[h] != ~std::uint64_t{0}) {
-        if (edge_keys_[h] == want) {
-          const std::uint32_t other = edge_values_[h];
-          set_neighbors(nt, f, other / 4, static_cast<int>(other % 4));
-          edge_keys_[h] = ~std::uint64_t{0} - 1;  // tombstone: used
-          glued = true;
-          break;
-        }
-        h = (h + 1) & mask;
-      }
-      if (!glued) {
-        const std::uint64_t key = edge_key(u, w);
-        std::size_t g = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-        while (edge_keys_[g] != ~std::uint64_t{0} && edge_keys_[g] != ~std::uint64_t{0} - 1) {
-          g = (g + 1) & mask;
-        }
-        edge_keys_[g] = key;
-        edge_values_[g] = 4 * nt + static_cast<std::uint32_t>(f);
-      }
-    }
-    last = nt;
+  // Slots for the new tets: the cavity's, then the zone's free list, then fresh ones.
+  const std::size_t nb_new = boundary.size();
+  const std::size_t nb_dead = cavity.size();
+  if (nb_new > nb_dead && !take_slots<kZoned>(zone, nb_new - nb_dead)) {
+    unmark_cavity(zone);
+    return Inserted::deferred;
   }
-  for (const BoundaryFacet& b : boundary_) unmark(b.tet, kOutside);
-  hint = last;
+  for (std::size_t i = nb_new; i < nb_dead; ++i) {
+    std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(cavity[i])];
+    w[0] = kFreeVertex;
+    w[4] = 0;
+    zone.free.push_back(cavity[i]);
+  }
+  while (cavity.size() < nb_new) {
+    if (!zone.free.empty()) {
+      cavity.push_back(zone.free.back());
+      zone.free.pop_back();
+    } else {
+      cavity.push_back(zone.fresh++);
+    }
+  }
+
+  const bool small = nb_new <= kSmallCavity;
+  std::uint32_t nb_local = 1;
+  const auto local = [this, &zone, &nb_local](std::uint32_t v) -> std::uint32_t {
+    if (v == kInfinite) return 0;
+    const std::uint32_t l = local_id_[v];
+    if (l < nb_local && zone.local_vertex[l] == v) return l;
+    zone.local_vertex[nb_local] = v;
+    local_id_[v] = static_cast<std::uint8_t>(nb_local);
+    return nb_local++;
+  };
+  for (std::size_t i = 0; i < nb_new; ++i) {
+    BoundaryFacet& b = boundary[i];
+    const std::uint32_t nt = cavity[i];
+    std::uint32_t x = b.v[0], y = b.v[1], z = b.v[2];
+    if (x == kInfinite) {  // (y, z, x): an even permutation keeps the orientation
+      x = y;
+      y = z;
+      z = kInfinite;
+    } else if (y == kInfinite) {  // (z, x, y)
+      y = x;
+      x = z;
+      z = kInfinite;
+    }
+    std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(nt)];
+    w[0] = q;
+    w[1] = x;
+    w[2] = y;
+    w[3] = z;
+    w[4] = b.code;
+    std::uint32_t* outside = &tets_[8 * static_cast<std::size_t>(b.code / 4)];
+    outside[4] &= kCodeMask;
+    outside[4 + b.code % 4] = (outside[4 + b.code % 4] & ~kCodeMask) | (4 * nt);
+    if (small) {
+      b.v[0] = local(x);
+      b.v[1] = local(y);
+      b.v[2] = local(z);
+    }
+    b.code = 4 * nt;
+  }
+  if (small) {
+    // Table entry (u, v): the facet through q and the directed boundary edge u -> v.
+    std::uint32_t* table = zone.edge_map.data();
+    for (const BoundaryFacet& b : boundary) {
+      table[b.v[0] * kTableSide + b.v[1]] = b.code + 3;
+      table[b.v[1] * kTableSide + b.v[2]] = b.code + 1;
+      table[b.v[2] * kTableSide + b.v[0]] = b.code + 2;
+    }
+    for (const BoundaryFacet& b : boundary) {
+      std::uint32_t* w = &tets_[2 * static_cast<std::size_t>(b.code) + 4];
+      w[1] = table[b.v[2] * kTableSide + b.v[1]];
+      w[2] = table[b.v[0] * kTableSide + b.v[2]];
+      w[3] = table[b.v[1] * kTableSide + b.v[0]];
+    }
+  } else {
+    glue_large_cavity(zone, q);
+  }
+  cavity.resize(nb_new);
+  zone.hint = cavity.back();
+  return Inserted::yes;
 }
 
-std::uint32_t Delaunay3::initial_tetrahedron(const std::vector<std::uint32_t>& order) {
+// Gluing for large cavities: every directed boundary edge (u, v) with the new tet's facet
+// through it, sorted; the facet through (v, u) is found by binary search.
+void Delaunay3::glue_large_cavity(Zone& zone, std::uint32_t q) {
+  std::vector<std::uint64_t>& keys = zone.edges;
+  std::vector<std::uint32_t>& codes = zone.edge_codes;
+  keys.clear();
+  for (const BoundaryFacet& b : zone.boundary) {
+    const std::uint32_t* w = &tets_[2 * static_cast<std::size_t>(b.code)];
+    const auto key = [](std::uint32_t u, std::uint32_t v) {
+      return (static_cast<std::uint64_t>(u) << 32) | v;
+    };
+    // Facet f of (q, a, b, c) holds the edge opposite: 1 -> (b, c), 2 -> (c, a), 3 -> (a, b).
+    keys.push_back(key(w[2], w[3]));
+    keys.push_back(key(w[3], w[1]));
+    keys.push_back(key(w[1], w[2]));
+  }
+  // Sort the keys with their facet codes (the code of entry 3i + j is 4 * tet + j + 1).
+  codes.resize(keys.size());
+  std::iota(codes.begin(), codes.end(), 0u);
+  std::sort(codes.begin(), codes.end(),
+            [&keys](std::uint32_t i, std::uint32_t j) { return keys[i] < keys[j]; });
+  std::vector<std::uint64_t>& sorted = zone.sorted_edges;
+  sorted.resize(keys.size());
+  for (std::size_t i = 0; i < codes.size(); ++i) sorted[i] = keys[codes[i]];
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const std::uint64_t reversed = (sorted[i] << 32) | (sorted[i] >> 32);
+    const auto at = std::lower_bound(sorted.begin(), sorted.end(), reversed);
+    if (at == sorted.end() || *at != reversed) {
+      throw Error("Delaunay3: internal error, the cavity boundary is not closed (point " +
+                  std::to_string(sos_id(q)) + ")");
+    }
+    const std::uint32_t mine = codes[i];
+    const std::uint32_t other = codes[static_cast<std::size_t>(at - sorted.begin())];
+    const std::uint32_t my_tet = zone.boundary[mine / 3].code / 4;
+    const std::uint32_t other_tet = zone.boundary[other / 3].code / 4;
+    tets_[8 * static_cast<std::size_t>(my_tet) + 4 + 1 + mine % 3] = 4 * other_tet + 1 + other % 3;
+  }
+}
+
+std::uint32_t Delaunay3::initial_tetrahedron() {
   // The first four affinely independent points of the insertion order.
+  const auto m = static_cast<std::uint32_t>(input_id_.size());
   std::uint32_t chosen[4];
-  std::size_t i = 0;
-  const std::size_t n = order.size();
-  chosen[0] = order[0];
-  for (i = 1; i < n && same_point(point(order[i]), point(chosen[0])); ++i) {
+  std::uint32_t i = 0;
+  chosen[0] = 0;
+  for (i = 1; i < m && same_point(point(i), point(chosen[0])); ++i) {
   }
-  if (i == n) throw Error("Delaunay3: all points coincide; need 4 affinely independent points");
-  chosen[1] = order[i];
-  for (++i; i < n && collinear(point(chosen[0]), point(chosen[1]), point(order[i])); ++i) {
+  if (i == m) throw Error("Delaunay3: all points coincide; need 4 affinely independent points");
+  chosen[1] = i;
+  for (++i; i < m && collinear(point(chosen[0]), point(chosen[1]), point(i)); ++i) {
   }
-  if (i == n)
+  if (i == m)
     throw Error("Delaunay3: all points are collinear; need 4 affinely independent points");
-  chosen[2] = order[i];
+  chosen[2] = i;
   Sign o = Sign::zero;
-  for (++i; i < n; ++i) {
-    o = orient3d(point(chosen[0]), point(chosen[1]), point(chosen[2]), point(order[i]));
+  for (++i; i < m; ++i) {
+    o = orient3d(point(chosen[0]), point(chosen[1]), point(chosen[2]), point(i));
     if (o != Sign::zero) break;
   }
-  if (i == n) throw Error("Delaunay3: all points are coplanar; need 4 affinely independent points");
-  chosen[3] = order[i];
+  if (i == m) throw Error("Delaunay3: all points are coplanar; need 4 affinely independent points");
+  chosen[3] = i;
   if (o == Sign::negative) std::swap(chosen[0], chosen[1]);
 
-  const std::uint32_t t0 = new_tet();
-  for (int k = 0; k < 4; ++k) tet_vertices_[4 * t0 + static_cast<std::uint32_t>(k)] = chosen[k];
-  // An infinite tet on each facet (a, b, c) of t0 lists it reversed: (b, c, a, inf) has
-  // facet 3 = (a, c, b). Their facets through the infinite vertex are glued by edge.
-  std::uint32_t inf[4];
-  for (int f = 0; f < 4; ++f) {
-    inf[f] = new_tet();
-    const std::uint32_t a = chosen[kFacetVertex[f][0]], b = chosen[kFacetVertex[f][1]],
-                        c = chosen[kFacetVertex[f][2]];
-    std::uint32_t* v = &tet_vertices_[4 * static_cast<std::size_t>(inf[f])];
-    v[0] = b;
-    v[1] = c;
-    v[2] = a;
+  // Tet 0 and, on each facet (a, b, c) of it, the infinite tet (b, c, a, inf), whose facet
+  // 3 = (a, c, b) lists it reversed. Their facets through the infinite vertex are glued by
+  // matching vertex sets.
+  grow_slots(5);
+  nb_slots_ = 5;
+  std::fill_n(tets_.begin(), 40, 0u);
+  for (std::size_t k = 0; k < 4; ++k) tets_[k] = chosen[k];
+  for (std::uint32_t f = 0; f < 4; ++f) {
+    std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(f + 1)];
+    v[0] = chosen[kFacetVertex[f][1]];
+    v[1] = chosen[kFacetVertex[f][2]];
+    v[2] = chosen[kFacetVertex[f][0]];
     v[3] = kInfinite;
-    set_neighbors(t0, f, inf[f], 3);
+    tets_[4 + f] = 4 * (f + 1) + 3;
+    v[7] = f;
   }
-  for (int f = 0; f < 4; ++f) {
-    for (int g = 0; g < 3; ++g) {
-      // Facet g of inf[f] holds the infinite vertex and the edge opposite v[g].
-      for (int f2 = 0; f2 < 4; ++f2) {
-        if (f2 == f) continue;
-        for (int g2 = 0; g2 < 3; ++g2) {
-          const auto shares = [&](std::uint32_t t1, int h1, std::uint32_t t2, int h2) {
-            int common = 0;
-            for (int x = 0; x < 3; ++x) {
-              for (int y = 0; y < 3; ++y) {
-                common +=
-                    tet_vertex(t1, kFacetVertex[h1][x]) == tet_vertex(t2, kFacetVertex[h2][y]);
-              }
+  for (std::uint32_t t = 1; t < 5; ++t) {
+    for (std::uint32_t g = 0; g < 3; ++g) {
+      for (std::uint32_t t2 = 1; t2 < 5; ++t2) {
+        for (std::uint32_t g2 = 0; g2 < 3 && t2 != t; ++g2) {
+          int common = 0;
+          for (int x = 0; x < 3; ++x) {
+            for (int y = 0; y < 3; ++y) {
+              common += tets_[8 * t + static_cast<std::uint32_t>(kFacetVertex[g][x])] ==
+                        tets_[8 * t2 + static_cast<std::uint32_t>(kFacetVertex[g2][y])];
             }
-            return common == 3;
-          };
-          if (shares(inf[f], g, inf[f2], g2)) {
-            tet_neighbors_[4 * inf[f] + static_cast<std::uint32_t>(g)] =
-                4 * inf[f2] + static_cast<std::uint32_t>(g2);
           }
+          if (common == 3) tets_[8 * t + 4 + g] = 4 * t2 + g2;
         }
       }
     }
   }
-  return t0;
+  initial_[0] = chosen[0];
+  initial_[1] = chosen[1];
+  initial_[2] = chosen[2];
+  initial_[3] = chosen[3];
+  return 0;
 }
+
+void Delaunay3::insert_sequentially(const std::uint32_t* first, const std::uint32_t* last) {
+  Zone& zone = zones_[0];
+  stats_.sequential_points += static_cast<std::uint32_t>(last - first);
+  for (; first != last; ++first) insert<false>(zone, *first);
+}
+
+// A start tet for the zone: the tet holding one of a few of its points (spread over its
+// list), found by a sequential walk, if all its finite vertices lie in the zone. False when none is
+// found (then the zone's points are deferred).
+bool Delaunay3::start_zone(Zone& zone) {
+  constexpr std::size_t kTries = 16;
+  std::uint32_t t = zones_[0].hint;
+  const std::size_t size = zone.points.size();
+  for (std::size_t i = 0; i < size && i < kTries; ++i) {
+    walk<false>(zones_[0], point(zone.points[i * size / kTries]), t);
+    bool inside = true;
+    for (std::size_t k = 0; k < 4 && inside; ++k) {
+      const std::uint32_t v = tets_[8 * static_cast<std::size_t>(t) + k];
+      inside = v == kInfinite || zone.contains(point(v));
+    }
+    if (inside) {
+      zone.hint = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+// Splits `points` (in insertion order) by count into nb boxes of the given frame, kd-style:
+// each split is at a quantile of the longest axis of the points' bounding box, the lower
+// part getting floor(nb / 2) / nb of them. Writes each zone's box and its points, in their
+// original order.
+template <class ZoneT, class PointOf>
+void split_zones(const std::vector<std::uint32_t>& points, ZoneT* zones, std::size_t nb,
+                 const double* lo, const double* hi, int frame, const PointOf& point_of,
+                 std::vector<double>& scratch) {
+  const auto coordinates = [&point_of, frame](std::uint32_t p, double* u) {
+    ZoneT::frame_coordinates(frame, point_of(p), u);
+  };
+  if (nb == 1) {
+    ZoneT& z = zones[0];
+    z.frame = frame;
+    std::copy_n(lo, 3, z.lo);
+    std::copy_n(hi, 3, z.hi);
+    z.points = points;
+    return;
+  }
+  double box_lo[3] = {0, 0, 0}, box_hi[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double u[3];
+    coordinates(points[i], u);
+    for (int a = 0; a < 3; ++a) {
+      box_lo[a] = i == 0 ? u[a] : std::min(box_lo[a], u[a]);
+      box_hi[a] = i == 0 ? u[a] : std::max(box_hi[a], u[a]);
+    }
+  }
+  int axis = 0;
+  for (int a = 1; a < 3; ++a) {
+    if (box_hi[a] - box_lo[a] > box_hi[axis] - box_lo[axis]) axis = a;
+  }
+  const std::size_t nb_low = nb / 2;
+  const std::size_t target = points.size() * nb_low / nb;
+  double split = box_lo[axis];
+  if (target < points.size()) {
+    scratch.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      double u[3];
+      coordinates(points[i], u);
+      scratch[i] = u[axis];
+    }
+    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(target),
+                     scratch.end());
+    split = scratch[target];
+  }
+  std::vector<std::uint32_t> low, high;
+  for (const std::uint32_t p : points) {
+    double u[3];
+    coordinates(p, u);
+    (u[axis] < split ? low : high).push_back(p);
+  }
+  double low_hi[3] = {hi[0], hi[1], hi[2]}, high_lo[3] = {lo[0], lo[1], lo[2]};
+  low_hi[axis] = split;
+  high_lo[axis] = split;
+  split_zones(low, zones, nb_low, lo, low_hi, frame, point_of, scratch);
+  split_zones(high, zones + nb_low, nb - nb_low, high_lo, hi, frame, point_of, scratch);
+}
+
+// The number of zones a set of points is split into: a function of its size alone (never
+// of the number of threads), so that the construction is the same for any thread count;
+// a power of two, so that 2, 4, 8 ... threads share the zones evenly.
+std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
+  const std::size_t wanted = nb_points / std::max<std::size_t>(per_zone, 1);
+  std::size_t zones = 1;
+  while (2 * zones <= wanted && 2 * zones <= kMaxZones) zones *= 2;
+  return zones;
+}
+
+}  // namespace
+
+// Inserts `points` (ranks in insertion order) by nb_zones tasks, each in its zone; a
+// second pass, with zones in the skew frame, takes the points the first deferred, and the
+// rest is inserted sequentially. See "Threads" in the header.
+void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double everywhere_lo[3] = {-kInf, -kInf, -kInf}, everywhere_hi[3] = {kInf, kInf, kInf};
+  std::vector<double> scratch;
+  for (int frame = 0; frame < 2 && nb_zones > 1; ++frame) {
+    if (zones_.size() < nb_zones) zones_.resize(nb_zones);
+    Zone& first = zones_[0];
+    for (std::size_t k = 1; k < nb_zones; ++k) {
+      zones_[k].edge_map.resize(kTableSide * kTableSide);
+      zones_[k].local_vertex.assign(kTableSide, kInfinite);  // local id 0 is kInfinite
+    }
+    // zones_[0] is also the sequential zone: keep its free list and hint aside.
+    std::vector<std::uint32_t> free_slots;
+    free_slots.swap(first.free);
+    const std::uint32_t hint = first.hint;
+    split_zones(
+        points, zones_.data(), nb_zones, everywhere_lo, everywhere_hi, frame,
+        [this](std::uint32_t v) { return point(v); }, scratch);
+    // Slots: each zone needs about kSlotsPerPoint per point. It gets a share of the free
+    // slots proportional to that, then a fresh range after the used slots for the rest
+    // (shrunk to the array's capacity when that is nearly enough: growing copies the
+    // array; a zone that runs out defers its remaining points).
+    std::vector<std::size_t> need(nb_zones);
+    std::size_t total_need = 0;
+    for (std::size_t k = 0; k < nb_zones; ++k) {
+      need[k] =
+          static_cast<std::size_t>(kSlotsPerPoint * static_cast<double>(zones_[k].points.size())) +
+          64;
+      total_need += need[k];
+    }
+    std::size_t wanted = 0, dealt = 0, cumulative = 0;
+    for (std::size_t k = 0; k < nb_zones; ++k) {
+      Zone& z = zones_[k];
+      cumulative += need[k];
+      const std::size_t until = free_slots.size() * cumulative / total_need;
+      z.free.assign(free_slots.begin() + static_cast<std::ptrdiff_t>(dealt),
+                    free_slots.begin() + static_cast<std::ptrdiff_t>(until));
+      need[k] -= std::min(need[k], until - dealt);
+      dealt = until;
+      wanted += need[k];
+    }
+    free_slots.clear();
+    const std::size_t capacity = tets_.capacity() / 8;
+    const std::size_t room = capacity - std::min<std::size_t>(capacity, nb_slots_);
+    double scale = 1.0;
+    if (room >= wanted / 2 && room < wanted) {
+      scale = static_cast<double>(room) / static_cast<double>(wanted);
+    } else if (room < wanted) {
+      grow_slots(nb_slots_ + wanted);
+    }
+    std::size_t next = nb_slots_;
+    for (std::size_t k = 0; k < nb_zones; ++k) {
+      Zone& z = zones_[k];
+      z.deferred.clear();
+      z.fresh = static_cast<std::uint32_t>(next);
+      next += static_cast<std::size_t>(scale * static_cast<double>(need[k]));
+      next = std::min(next, tets_.capacity() / 8);
+      z.fresh_end = static_cast<std::uint32_t>(next);
+    }
+    grow_slots(next);
+    const auto end_slots = static_cast<std::uint32_t>(next);
+    first.hint = hint;
+    // Each zone's points along the Hilbert curve of its own box: the round's curve leaves
+    // and re-enters a box, and consecutive points of a zone would be far apart there.
+    tbb::parallel_for(std::size_t{0}, nb_zones, [this](std::size_t k) {
+      std::vector<std::uint32_t>& p = zones_[k].points;
+      detail::hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
+    });
+    std::vector<char> started(nb_zones, 0);
+    for (std::size_t k = 0; k < nb_zones; ++k) started[k] = start_zone(zones_[k]) ? 1 : 0;
+    nb_slots_ = end_slots;  // the walks' step limit reads it
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, nb_zones, 1),
+        [this, &started](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            Zone& z = zones_[k];
+            if (started[k] == 0) {
+              z.deferred = z.points;
+              continue;
+            }
+            for (const std::uint32_t q : z.points) {
+              if (insert<true>(z, q) == Inserted::deferred) z.deferred.push_back(q);
+            }
+          }
+        },
+        tbb::simple_partitioner());
+    // Unused fresh slots become free; all free slots go back to the sequential zone.
+    std::vector<std::uint32_t> deferred;
+    for (std::size_t k = 0; k < nb_zones; ++k) {
+      Zone& z = zones_[k];
+      for (std::uint32_t t = z.fresh; t < z.fresh_end; ++t) {
+        tets_[8 * static_cast<std::size_t>(t)] = kFreeVertex;
+        tets_[8 * static_cast<std::size_t>(t) + 4] = 0;
+        free_slots.push_back(t);
+      }
+      free_slots.insert(free_slots.end(), z.free.begin(), z.free.end());
+      deferred.insert(deferred.end(), z.deferred.begin(), z.deferred.end());
+    }
+    ++stats_.zoned_passes;
+    stats_.zoned_points += static_cast<std::uint32_t>(points.size());
+    stats_.deferred_points += static_cast<std::uint32_t>(deferred.size());
+    // A live tet to continue from: the hint of the last zone that started.
+    for (std::size_t k = 0; k < nb_zones; ++k) {
+      if (started[k] != 0) first.hint = zones_[k].hint;
+    }
+    first.free.swap(free_slots);
+    first.fresh = end_slots;
+    first.fresh_end = end_slots;
+    first.frame = 0;
+    std::copy_n(everywhere_lo, 3, first.lo);
+    std::copy_n(everywhere_hi, 3, first.hi);
+    // Zones of many points that deferred most of them: cavities span the zones (points on
+    // a sphere: their tets cross the ball). Zones only waste work then: the rest of the
+    // build is sequential. (Uniform points defer under 10% from zones this large.)
+    if (frame == 0 && 2 * deferred.size() > points.size() &&
+        points.size() >= kLargeZone * nb_zones) {
+      zoning_off_ = true;
+    }
+    std::sort(deferred.begin(), deferred.end());  // back to insertion order
+    points.swap(deferred);
+    // The points deferred lie near the first pass's zone boundaries, which the skew frame's
+    // boundaries cross: fewer points per zone suffice.
+    nb_zones = zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone / 8);
+  }
+  insert_sequentially(points.data(), points.data() + points.size());
+}
+
+// Inserts every point (rank) but the initial tet's, round by round: rounds large enough
+// in parallel zones, the others sequentially.
+void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (zones_.empty()) zones_.resize(1);
+  {
+    Zone& seq = zones_[0];
+    seq.frame = 0;
+    std::fill_n(seq.lo, 3, -kInf);
+    std::fill_n(seq.hi, 3, kInf);
+    seq.edge_map.resize(kTableSide * kTableSide);
+    seq.local_vertex.assign(kTableSide, kInfinite);  // local id 0 is kInfinite
+    seq.free.clear();
+    nb_slots_ = 0;
+    seq.hint = initial_tetrahedron();
+    seq.fresh = nb_slots_;
+    seq.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
+  }
+  std::vector<std::uint32_t> points;
+  zoning_off_ = false;
+  for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
+    points.clear();
+    for (std::uint32_t q = round_starts[r]; q < round_starts[r + 1]; ++q) {
+      if (q != initial_[0] && q != initial_[1] && q != initial_[2] && q != initial_[3]) {
+        points.push_back(q);
+      }
+    }
+    const std::size_t nb_zones =
+        zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone);
+    if (nb_zones > 1) {
+      nb_slots_ = zones_[0].fresh;
+      insert_in_parallel(points, nb_zones);
+    } else {
+      insert_sequentially(points.data(), points.data() + points.size());
+    }
+    nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
+  }
+}
+
+void Delaunay3::note_memory() { peak_bytes_ = std::max(peak_bytes_, memory_bytes()); }
 
 void Delaunay3::build(const double* xyz, std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (!std::isfinite(xyz[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(j)])) {
-        throw Error("Delaunay3: point " + std::to_string(i) + " has a non-finite coordinate");
-      }
+    const double* p = xyz + 3 * static_cast<std::size_t>(i);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      std::ostringstream message;
+      message << "Delaunay3: point " << i << " has a non-finite coordinate (" << p[0] << ", "
+              << p[1] << ", " << p[2] << ")";
+      throw Error(message.str());
     }
   }
+  nb_slots_ = 0;
+  nb_finite_tets_ = 0;
+  nb_unique_ = 0;
+  vertex_tet_.clear();
   if (n < 4) {
     throw Error("Delaunay3: " + std::to_string(n) + " points; need 4 affinely independent points");
   }
   xyz_ = xyz;
   nb_points_ = n;
+  peak_bytes_ = 0;
+  stats_ = {};
   filter_ = StaticFilter::bounding(xyz, n, 3);
   duplicate_of_.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) duplicate_of_[i] = i;
+  std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
 
-  input_id_ = detail::brio_order(xyz, n, 3);
+  std::vector<std::uint32_t> round_starts;
+  input_id_ = detail::brio_order(xyz, n, 3, &round_starts);
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
       // Duplicates whose smallest index was not the one inserted first: build again
@@ -356,66 +821,133 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
       for (std::uint32_t i = 0; i < n; ++i) duplicate_of_[i] = group_min[duplicate_of_[i]];
       std::vector<std::uint32_t> kept;
       kept.reserve(n);
-      for (const std::uint32_t i : input_id_) {
-        if (duplicate_of_[i] == i) kept.push_back(i);
+      std::vector<std::uint32_t> starts(1, 0);
+      for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
+        for (std::uint32_t k = round_starts[r]; k < round_starts[r + 1]; ++k) {
+          if (duplicate_of_[input_id_[k]] == input_id_[k]) kept.push_back(input_id_[k]);
+        }
+        starts.push_back(static_cast<std::uint32_t>(kept.size()));
       }
       input_id_.swap(kept);
+      round_starts.swap(starts);
     }
-    // Internal numbering: position in the insertion order.
+    // Internal numbering: rank in the insertion order.
     const auto m = static_cast<std::uint32_t>(input_id_.size());
+    reserve_exactly(sorted_xyz_, 3 * static_cast<std::size_t>(m));
     sorted_xyz_.resize(3 * static_cast<std::size_t>(m));
-    for (std::uint32_t v = 0; v < m; ++v) {
-      std::copy_n(xyz + 3 * static_cast<std::size_t>(input_id_[v]), 3,
-                  &sorted_xyz_[3 * static_cast<std::size_t>(v)]);
-    }
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m, 16384),
+                      [this, xyz](const tbb::blocked_range<std::uint32_t>& range) {
+                        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                          std::copy_n(xyz + 3 * static_cast<std::size_t>(input_id_[v]), 3,
+                                      &sorted_xyz_[3 * static_cast<std::size_t>(v)]);
+                        }
+                      });
     pts_ = sorted_xyz_.data();
     sos_ids_ = input_id_.data();
     duplicate_internal_.resize(m);
-    for (std::uint32_t v = 0; v < m; ++v) duplicate_internal_[v] = v;
+    std::iota(duplicate_internal_.begin(), duplicate_internal_.end(), 0u);
+    reserve_exactly(local_id_, m);
+    local_id_.assign(m, 0);
     // Uniform random points give about 6.75 tets per point.
-    const std::size_t expected = 27 * static_cast<std::size_t>(m) / 4 + 64;
-    tet_vertices_.clear();
-    tet_neighbors_.clear();
-    free_tets_.clear();
-    tet_vertices_.reserve(4 * expected);
-    tet_neighbors_.reserve(4 * expected);
-
-    std::vector<std::uint32_t> order(m);
-    for (std::uint32_t v = 0; v < m; ++v) order[v] = v;
-    // The first four affinely independent points of the order form the initial tet; the
-    // points passed over to find them are inserted later like any other.
-    const std::uint32_t t0 = initial_tetrahedron(order);
-    const std::uint32_t used[4] = {tet_vertex(t0, 0), tet_vertex(t0, 1), tet_vertex(t0, 2),
-                                   tet_vertex(t0, 3)};
-    std::uint32_t hint = t0;
-    for (std::uint32_t q = 0; q < m; ++q) {
-      if (q != used[0] && q != used[1] && q != used[2] && q != used[3]) insert(q, hint);
+    const std::size_t expected = static_cast<std::size_t>(6.8 * static_cast<double>(m)) + 64;
+    if (tets_.capacity() < 8 * expected) {
+      decltype(tets_)().swap(tets_);
+      reserve_exactly(tets_, 8 * expected);
     }
+    tets_.resize(8 * expected);
+    triangulate(round_starts);
     for (std::uint32_t v = 0; v < m; ++v) {
       duplicate_of_[input_id_[v]] = input_id_[duplicate_internal_[v]];
     }
   }
-
-  // Back to input indices (free slots keep their marker).
-  for (std::uint32_t& v : tet_vertices_) {
-    if (v != kInfinite && v != kFreeVertex) v = input_id_[v];
+  for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
+  note_memory();
+  // The construction's copies are not needed any more: free them before renumbering, so
+  // that the renumbering's arrays do not add to the peak.
+  std::vector<double>().swap(sorted_xyz_);
+  std::vector<std::uint32_t>().swap(duplicate_internal_);
+  std::vector<std::uint8_t>().swap(local_id_);
+  finish();
+  note_memory();
+  if (options_.check) {
+    std::string defect = check_topology();
+    if (defect.empty()) defect = check_delaunay();
+    if (!defect.empty()) throw Error("Delaunay3: internal check failed: " + defect);
   }
-  pts_ = xyz_;
-  sos_ids_ = nullptr;
+}
 
-  vertex_tet_.assign(n, kNoTet);
-  nb_finite_tets_ = 0;
-  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
-    if (is_free(t)) continue;
-    const bool finite = !is_infinite(t);
-    nb_finite_tets_ += finite ? 1 : 0;
-    for (int k = 0; k < 4; ++k) {
-      const std::uint32_t v = tet_vertex(t, k);
-      if (v != kInfinite && (vertex_tet_[v] == kNoTet || finite)) vertex_tet_[v] = t;
+// ---------------------------------------------------------------------------------------
+// After the construction: the free slots are filled with the last live records (so that
+// every slot below nb_tet_slots() is live), ranks become input indices, vertex_tet_ is
+// the smallest finite tet of each vertex. All of it depends on the triangulation's arrays
+// only, which the construction makes the same for any number of threads.
+void Delaunay3::finish() {
+  std::vector<std::uint32_t>& free = zones_[0].free;
+  std::sort(free.begin(), free.end());
+  const auto live = static_cast<std::uint32_t>(nb_slots_ - free.size());
+  std::uint32_t mover = nb_slots_;
+  for (const std::uint32_t hole : free) {
+    if (hole >= live) break;
+    do {
+      --mover;
+    } while (tets_[8 * static_cast<std::size_t>(mover)] == kFreeVertex);
+    std::uint32_t* to = &tets_[8 * static_cast<std::size_t>(hole)];
+    std::copy_n(&tets_[8 * static_cast<std::size_t>(mover)], 8, to);
+    for (std::uint32_t f = 0; f < 4; ++f) {
+      const std::uint32_t code = to[4 + f] & kCodeMask;
+      std::uint32_t& back = tets_[8 * static_cast<std::size_t>(code / 4) + 4 + code % 4];
+      back = (back & ~kCodeMask) | (4 * hole + f);
     }
   }
-  nb_unique_ = 0;
-  for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1 : 0;
+  free.clear();
+  nb_slots_ = live;
+  tets_.resize(8 * static_cast<std::size_t>(live));
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, live, 16384),
+                    [this](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+                        std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+                        for (std::size_t k = 0; k < 3; ++k) w[k] = input_id_[w[k]];
+                        if (w[3] != kInfinite) w[3] = input_id_[w[3]];
+                      }
+                    });
+  pts_ = xyz_;
+  sos_ids_ = nullptr;
+  vertex_tet_.assign(nb_points_, kNoTet);
+  nb_finite_tets_ = 0;
+  for (std::uint32_t t = live; t-- > 0;) {
+    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+    if (w[3] == kInfinite) continue;
+    ++nb_finite_tets_;
+    for (std::size_t k = 0; k < 4; ++k) vertex_tet_[w[k]] = t;
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Queries
+
+std::uint32_t Delaunay3::any_tet() const {
+  if (nb_slots_ == 0) {
+    throw Error("Delaunay3: the triangulation is empty (build() has not succeeded)");
+  }
+  return 0;
+}
+
+std::uint32_t Delaunay3::locate(const double* p, std::uint32_t hint) const {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+    throw Error("Delaunay3: the query point has a non-finite coordinate");
+  }
+  if (hint == kNoTet || hint >= nb_slots_ || is_free(hint)) hint = any_tet();
+  return walk_query(p, hint);
+}
+
+std::uint32_t Delaunay3::nearest_vertex(const double* p, std::uint32_t hint) const {
+  const std::uint32_t t = locate(p, hint);
+  const std::uint32_t v = tet_vertex(t, 0);  // never kInfinite, which is vertex 3
+  return detail::nearest_on_delaunay_graph(
+      v, [this](std::uint32_t w, std::vector<std::uint32_t>& out) { vertex_neighbors(w, out); },
+      [this, p](std::uint32_t w, std::uint32_t u) {
+        return compare_distance3d(p, point(w), point(u));
+      });
 }
 
 void Delaunay3::vertex_star(std::uint32_t v, std::vector<std::uint32_t>& star) const {
@@ -460,11 +992,9 @@ void Delaunay3::vertex_neighbors(std::uint32_t v, std::vector<std::uint32_t>& ou
 
 std::vector<std::uint32_t> Delaunay3::hull_vertices() const {
   std::vector<std::uint32_t> out;
-  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
-    if (is_free(t) || !is_infinite(t)) continue;
-    for (int k = 0; k < 4; ++k) {
-      if (tet_vertex(t, k) != kInfinite) out.push_back(tet_vertex(t, k));
-    }
+  for (std::uint32_t t = 0; t < nb_slots_; ++t) {
+    if (!is_infinite(t)) continue;
+    for (int k = 0; k < 3; ++k) out.push_back(tet_vertex(t, k));
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -498,68 +1028,121 @@ void Delaunay3::circumcenter(std::uint32_t t, double* out) const {
 }
 
 std::size_t Delaunay3::memory_bytes() const {
-  const auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return bytes(tet_vertices_) + bytes(tet_neighbors_) + bytes(free_tets_) + bytes(vertex_tet_) +
-         bytes(duplicate_of_) + bytes(duplicate_internal_) + bytes(sorted_xyz_) + bytes(input_id_) +
-         bytes(cavity_) + bytes(stack_) + bytes(boundary_) + bytes(edge_keys_) +
-         bytes(edge_values_);
+  std::size_t bytes = capacity_bytes(tets_) + capacity_bytes(vertex_tet_) +
+                      capacity_bytes(duplicate_of_) + capacity_bytes(duplicate_internal_) +
+                      capacity_bytes(sorted_xyz_) + capacity_bytes(input_id_) +
+                      capacity_bytes(local_id_);
+  for (const Zone& z : zones_) {
+    bytes += capacity_bytes(z.cavity) + capacity_bytes(z.boundary) + capacity_bytes(z.free) +
+             capacity_bytes(z.edge_map) + capacity_bytes(z.local_vertex) + capacity_bytes(z.edges) +
+             capacity_bytes(z.edge_codes) + capacity_bytes(z.sorted_edges) +
+             capacity_bytes(z.points) + capacity_bytes(z.deferred);
+  }
+  return bytes;
 }
 
+// ---------------------------------------------------------------------------------------
+// Checks
+
 std::string Delaunay3::check_topology() const {
-  std::vector<std::uint32_t> facet_a(3), facet_b(3);
-  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
-    if (is_free(t)) continue;
-    int infinite = 0;
-    for (int k = 0; k < 4; ++k) infinite += tet_vertex(t, k) == kInfinite;
-    if (infinite > 1) return "tet " + std::to_string(t) + " has several infinite vertices";
-    if (infinite == 0 &&
+  std::ostringstream err;
+  if (tets_.size() < 8 * static_cast<std::size_t>(nb_slots_)) return "the tet array is too short";
+  std::uint32_t facet_a[3], facet_b[3];
+  std::uint32_t nb_finite = 0;
+  for (std::uint32_t t = 0; t < nb_slots_; ++t) {
+    if (is_free(t)) {
+      err << "slot " << t << " is free after a build";
+      return err.str();
+    }
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = tet_vertex(t, k);
+      if (v == kInfinite) {
+        if (k != 3) {
+          err << "tet " << t << " has the infinite vertex in position " << k;
+          return err.str();
+        }
+      } else if (v >= nb_points_ || duplicate_of_[v] != v) {
+        err << "tet " << t << " has vertex " << v << " which is not a vertex";
+        return err.str();
+      }
+      for (int j = 0; j < k; ++j) {
+        if (tet_vertex(t, j) == v) {
+          err << "tet " << t << " repeats vertex " << v;
+          return err.str();
+        }
+      }
+    }
+    nb_finite += is_infinite(t) ? 0 : 1;
+    if (!is_infinite(t) &&
         orient3d(point(tet_vertex(t, 0)), point(tet_vertex(t, 1)), point(tet_vertex(t, 2)),
                  point(tet_vertex(t, 3))) != Sign::positive) {
-      return "finite tet " + std::to_string(t) + " is not positively oriented";
+      err << "finite tet " << t << " is not positively oriented";
+      return err.str();
     }
     for (int f = 0; f < 4; ++f) {
       const std::uint32_t n = tet_adjacent(t, f);
       const int g = tet_adjacent_facet(t, f);
-      if (n >= nb_tet_slots() || is_free(n)) {
-        return "tet " + std::to_string(t) + " facet " + std::to_string(f) + ": bad neighbour";
+      if ((tets_[8 * static_cast<std::size_t>(t) + 4] & ~kCodeMask) != 0) {
+        err << "tet " << t << " carries a cavity mark";
+        return err.str();
+      }
+      if (n >= nb_slots_) {
+        err << "tet " << t << " facet " << f << ": bad neighbour " << n;
+        return err.str();
       }
       if (tet_adjacent(n, g) != t || tet_adjacent_facet(n, g) != f) {
-        return "tet " + std::to_string(t) + " facet " + std::to_string(f) + ": not symmetric";
+        err << "tet " << t << " facet " << f << ": not symmetric";
+        return err.str();
       }
       // The shared facet, listed reversed by the neighbour: (a, b, c) vs a rotation of
       // (a, c, b).
       for (int i = 0; i < 3; ++i) {
-        facet_a[static_cast<std::size_t>(i)] = tet_vertex(t, kFacetVertex[f][i]);
-        facet_b[static_cast<std::size_t>(i)] = tet_vertex(n, kFacetVertex[g][2 - i]);
+        facet_a[i] = tet_vertex(t, kFacetVertex[f][i]);
+        facet_b[i] = tet_vertex(n, kFacetVertex[g][2 - i]);
       }
       bool match = false;
       for (int r = 0; r < 3 && !match; ++r) {
-        std::rotate(facet_b.begin(), facet_b.begin() + 1, facet_b.end());
-        match = facet_a == facet_b;
+        std::rotate(facet_b, facet_b + 1, facet_b + 3);
+        match = std::equal(facet_a, facet_a + 3, facet_b);
       }
       if (!match) {
-        return "tet " + std::to_string(t) + " facet " + std::to_string(f) +
-               ": the neighbour does not list the same facet reversed";
+        err << "tet " << t << " facet " << f
+            << ": the neighbour does not list the same facet reversed";
+        return err.str();
       }
     }
   }
+  if (nb_finite != nb_finite_tets_) {
+    err << nb_finite << " finite tets, nb_finite_tets() = " << nb_finite_tets_;
+    return err.str();
+  }
+  std::vector<std::uint32_t> first(nb_points_, kNoTet);
+  for (std::uint32_t t = nb_slots_; t-- > 0;) {
+    if (is_infinite(t)) continue;
+    for (int k = 0; k < 4; ++k) first[tet_vertex(t, k)] = t;
+  }
+  std::uint32_t nb_vertices = 0;
   for (std::uint32_t v = 0; v < nb_points_; ++v) {
-    const std::uint32_t t = vertex_tet_[v];
     if (duplicate_of_[v] != v) {
-      if (t != kNoTet) return "duplicate point " + std::to_string(v) + " is a vertex";
+      if (vertex_tet_[v] != kNoTet) {
+        err << "duplicate point " << v << " is a vertex";
+        return err.str();
+      }
       continue;
     }
-    if (t == kNoTet || is_free(t)) return "vertex " + std::to_string(v) + " has no tet";
-    bool has = false;
-    for (int k = 0; k < 4; ++k) has = has || tet_vertex(t, k) == v;
-    if (!has) return "vertex " + std::to_string(v) + ": its tet does not contain it";
+    ++nb_vertices;
+    if (vertex_tet_[v] != first[v] || first[v] == kNoTet) {
+      err << "vertex_tet(" << v << ") = " << vertex_tet_[v]
+          << ", not the smallest finite tet incident to it (" << first[v] << ")";
+      return err.str();
+    }
   }
+  if (nb_vertices != nb_unique_) return "nb_unique_points() disagrees with duplicate_of()";
   return {};
 }
 
 std::string Delaunay3::check_delaunay() const {
-  for (std::uint32_t t = 0; t < nb_tet_slots(); ++t) {
-    if (is_free(t)) continue;
+  for (std::uint32_t t = 0; t < nb_slots_; ++t) {
     for (int f = 0; f < 4; ++f) {
       const std::uint32_t n = tet_adjacent(t, f);
       const std::uint32_t opposite = tet_vertex(n, tet_adjacent_facet(t, f));

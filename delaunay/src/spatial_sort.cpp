@@ -98,6 +98,23 @@ void hilbert_3(Item<3>* first, Item<3>* last, int x, unsigned up) {
   hilbert_3(m7, m8, z, flip(z, x));
 }
 
+// The bits of x (b <= 16 of them) spread out D apart: bit k moves to bit D k. Interleaving
+// the D coordinates' spread bits, x[0] the most significant at each level, makes the index.
+template <int D>
+std::uint64_t spread(std::uint64_t x) {
+  if constexpr (D == 2) {
+    x = (x | x << 8) & 0x00ff00ffu;
+    x = (x | x << 4) & 0x0f0f0f0fu;
+    x = (x | x << 2) & 0x33333333u;
+    return (x | x << 1) & 0x55555555u;
+  } else {
+    x = (x | x << 16) & 0x0000ff0000ffull;
+    x = (x | x << 8) & 0x00f00f00f00full;
+    x = (x | x << 4) & 0x0c30c30c30c3ull;
+    return (x | x << 2) & 0x249249249249ull;
+  }
+}
+
 // Skilling's transform ("Programming the Hilbert curve", AIP Conf. Proc. 707, 2004): the
 // cell coordinates x[0..D) of b bits each become the "transposed" Hilbert index, whose
 // bits, interleaved from the most significant down (x[0] first), are the index along the
@@ -122,9 +139,7 @@ std::uint64_t hilbert_key(std::uint32_t x[D], int b) {
   }
   for (int i = 0; i < D; ++i) x[i] ^= t;
   std::uint64_t key = 0;
-  for (int bit = b - 1; bit >= 0; --bit) {
-    for (int i = 0; i < D; ++i) key = (key << 1) | ((x[i] >> bit) & 1u);
-  }
+  for (int i = 0; i < D; ++i) key |= spread<D>(x[i]) << (D - 1 - i);
   return key;
 }
 
@@ -160,33 +175,38 @@ void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
 // median-split recursion, which adapts to any clustering.
 constexpr std::size_t kRefineRun = 16;
 
-// One round: Hilbert keys on a 2^16 grid per axis over the bounding box of the range,
+// One round: Hilbert keys on a 2^b grid per axis (b <= 16, at least 64 cells per point)
+// over the bounding box of the range,
 // radix-sorted; ties in runs of kRefineRun or more are refined by the median
 // recursion (all points equal, a cluster far smaller than the box, or a box whose extent
 // overflows: then every key is 0 and the median recursion sorts everything).
 template <int D>
 void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_t* last) {
-  constexpr int kBits = 16;
-  constexpr double kCells = static_cast<double>(1u << kBits);
   const std::size_t count = static_cast<std::size_t>(last - first);
   if (count < 2) return;
-  // Gather the coordinates once (the indices of a round are scattered) with the box.
-  std::vector<Item<D>> items(count);
+  // Enough grid cells that few points share one (at least 64 cells per point), at most
+  // 2^16 per axis: the key's cost grows with its bits.
+  int bits = 1;
+  while (bits < 16 && (std::uint64_t{1} << (D * bits)) < 64 * static_cast<std::uint64_t>(count)) {
+    ++bits;
+  }
+  const double cells = static_cast<double>(1u << bits);
+  // The box. (A round's indices are increasing: the coordinates are read in order.)
+  const auto at = [coords](std::uint32_t index) {
+    return coords + static_cast<std::size_t>(D) * index;
+  };
   double lo[D], hi[D], scale[D];
-  for (int a = 0; a < D; ++a)
-    lo[a] = hi[a] = coords[static_cast<std::size_t>(D) * *first + static_cast<std::size_t>(a)];
+  for (int a = 0; a < D; ++a) lo[a] = hi[a] = at(*first)[a];
   for (std::size_t i = 0; i < count; ++i) {
-    const double* p = coords + static_cast<std::size_t>(D) * first[i];
+    const double* p = at(first[i]);
     for (int a = 0; a < D; ++a) {
-      items[i].c[a] = p[a];
       lo[a] = std::min(lo[a], p[a]);
       hi[a] = std::max(hi[a], p[a]);
     }
-    items[i].index = first[i];
   }
   for (int a = 0; a < D; ++a) {
     const double extent = hi[a] - lo[a];
-    scale[a] = extent > 0 && std::isfinite(extent) ? kCells / extent : 0.0;
+    scale[a] = extent > 0 && std::isfinite(extent) ? cells / extent : 0.0;
     if (!std::isfinite(scale[a])) scale[a] = 0.0;
   }
   std::vector<Keyed> keyed(count), tmp;
@@ -195,23 +215,27 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
       tbb::blocked_range<std::size_t>(0, count, 16384),
       [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const double* p = at(first[i]);
           std::uint32_t x[D];
           for (int a = 0; a < D; ++a) {
-            const double t = (items[i].c[a] - lo[a]) * scale[a];
-            x[a] = t >= 0 ? (t < kCells ? static_cast<std::uint32_t>(t) : (1u << kBits) - 1) : 0;
+            const double t = (p[a] - lo[a]) * scale[a];
+            x[a] = t >= 0 ? (t < cells ? static_cast<std::uint32_t>(t) : (1u << bits) - 1) : 0;
           }
-          keyed[i] = {hilbert_key<D>(x, kBits), static_cast<std::uint32_t>(i)};
+          keyed[i] = {hilbert_key<D>(x, bits), first[i]};
         }
       });
-  radix_sort(keyed, tmp);
-  for (std::size_t i = 0; i < count; ++i) first[i] = items[keyed[i].index].index;
+  radix_sort(keyed, tmp);  // stable: equal keys keep the order of [first, last)
+  for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
   std::vector<Item<D>> run;
   for (std::size_t i = 0; i < count;) {
     std::size_t j = i + 1;
     while (j < count && keyed[j].key == keyed[i].key) ++j;
     if (j - i >= kRefineRun) {
       run.resize(j - i);
-      for (std::size_t k = i; k < j; ++k) run[k - i] = items[keyed[k].index];
+      for (std::size_t k = i; k < j; ++k) {
+        std::copy_n(at(keyed[k].index), D, run[k - i].c);
+        run[k - i].index = keyed[k].index;
+      }
       if constexpr (D == 2) {
         hilbert_2(run.data(), run.data() + run.size(), 0, 3u);
       } else {
@@ -258,8 +282,10 @@ void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint
   }
 }
 
-std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim) {
+std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
+                                      std::vector<std::uint32_t>* round_starts) {
   std::vector<std::uint32_t> order(n);
+  if (round_starts != nullptr) round_starts->assign(1, n);
   if (n == 0) return order;
   // Level 0 is the last round (about n/2 points), level L the one before (n/2^(L+1)), up to
   // max_level which takes everything deeper (about n/2^max_level >= kBrioMinRound points).
@@ -301,6 +327,7 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
       std::reverse(first, last);
     }
   }
+  if (round_starts != nullptr) round_starts->assign(start.begin(), start.end());
   return order;
 }
 

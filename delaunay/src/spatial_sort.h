@@ -13,8 +13,9 @@
 // before (a reversed Hilbert curve is still one), so the walk from the last inserted point
 // stays short across round boundaries.
 //
-// hilbert_sort: each point gets its index along the Hilbert curve through a 2^16 x 2^16
-// (x 2^16) grid over the bounding box of the range, computed with Skilling's transform
+// hilbert_sort: each point gets its index along the Hilbert curve through a 2^b x 2^b
+// (x 2^b) grid over the bounding box of the range (b <= 16, the smallest giving at least
+// 64 cells per point), computed with Skilling's transform
 // ("Programming the Hilbert curve", 2004), and the range is radix-sorted by it: O(n).
 // Points sharing a grid cell in runs of 16 or more (clusters far smaller than the box, all
 // points equal, or extents that overflow) are then ordered by the recursive median-split
@@ -35,8 +36,11 @@ namespace voroclip::detail {
 inline constexpr std::uint32_t kBrioMinRound = 64;
 
 // A permutation of [0, n): the insertion order of the n points given as packed
-// coordinates (dim = 2 or 3 doubles per point). Coordinates must be finite.
-std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim);
+// coordinates (dim = 2 or 3 doubles per point). Coordinates must be finite. With
+// `round_starts`, it receives the position in the order where each round begins, followed
+// by n (so round r is [round_starts[r], round_starts[r + 1])).
+std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
+                                      std::vector<std::uint32_t>* round_starts = nullptr);
 
 // Sorts the point indices [first, last) along a Hilbert curve (one BRIO round).
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);

@@ -11,9 +11,11 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "tet_set.h"
 #include "voroclip/core.h"
@@ -370,25 +372,104 @@ TEST_CASE("Delaunay3 nearest_vertex breaks ties by the smallest index", "[delaun
       }
 }
 
-TEST_CASE("Delaunay3 is identical with 1 and 2 threads", "[delaunay]") {
-  // The spatial sort runs in parallel; the triangulation must not depend on it.
-  const auto xyz = random_points(200000, 41);
-  const auto build_with = [&](std::size_t threads) {
-    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    const Delaunay3 dt(xyz.data(), 200000);
-    std::vector<std::uint32_t> arrays;
-    for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
-      for (int k = 0; k < 4; ++k) {
-        arrays.push_back(dt.tet_vertex(t, k));
-        arrays.push_back(dt.tet_adjacent(t, k));
-      }
+namespace {
+
+// Everything a build exposes, in one array: every slot's vertices and neighbour codes, then
+// vertex_tet and duplicate_of of every point.
+std::vector<std::uint32_t> all_arrays(const Delaunay3& dt) {
+  std::vector<std::uint32_t> out;
+  out.push_back(dt.nb_tet_slots());
+  out.push_back(dt.nb_finite_tets());
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+    for (int k = 0; k < 4; ++k) {
+      out.push_back(dt.tet_vertex(t, k));
+      out.push_back(dt.neighbor_code(t, k));
     }
-    return arrays;
-  };
-  const auto one = build_with(1);
-  const auto two = build_with(2);
-  CHECK(one.size() > 4 * 6 * 200000);
-  CHECK(one == two);
+  }
+  for (std::uint32_t v = 0; v < dt.nb_points(); ++v) {
+    out.push_back(dt.vertex_tet(v));
+    out.push_back(dt.duplicate_of(v));
+  }
+  return out;
+}
+
+// Builds with at most `threads` threads (an arena of that many slots, so that a 2-core
+// machine still runs 4 threads).
+Delaunay3 build_with_threads(const std::vector<double>& xyz, std::size_t threads,
+                             const Delaunay3::Options& options) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  tbb::task_arena arena(static_cast<int>(threads));
+  Delaunay3 dt(options);
+  arena.execute([&] { dt.build(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3)); });
+  return dt;
+}
+
+// Inputs for the parallel construction: uniform, a grid (cospherical everywhere, symbolic
+// perturbation decides), points on a sphere (all on the hull), duplicates.
+std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
+  std::vector<std::pair<std::string, std::vector<double>>> inputs;
+  inputs.emplace_back("uniform", random_points(20000, 61));
+  std::vector<double> grid;
+  for (int x = 0; x < 20; ++x)
+    for (int y = 0; y < 20; ++y)
+      for (int z = 0; z < 20; ++z) grid.insert(grid.end(), {double(x), double(y), double(z)});
+  inputs.emplace_back("grid 20^3", grid);
+  std::mt19937_64 rng(62);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> sphere;
+  for (int i = 0; i < 10000; ++i) {
+    const double v[3] = {g(rng), g(rng), g(rng)};
+    const double r = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    sphere.insert(sphere.end(), {v[0] / r, v[1] / r, v[2] / r});
+  }
+  inputs.emplace_back("sphere", sphere);
+  auto duplicated = random_points(15000, 63);
+  for (std::size_t i = 0; i < 15000; i += 7) {
+    const std::size_t j = (i * 7919) % 15000;  // j takes the coordinates of i
+    std::copy_n(&duplicated[3 * i], 3, &duplicated[3 * j]);
+  }
+  inputs.emplace_back("duplicates", duplicated);
+  return inputs;
+}
+
+}  // namespace
+
+TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
+  // Small zones, so that these sizes go through the parallel passes (with default options
+  // only rounds of 2^16 points or more do).
+  Delaunay3::Options zoned;
+  zoned.points_per_zone = 512;
+  Delaunay3::Options sequential;
+  sequential.points_per_zone = 0xffffffffu;
+  for (const auto& [name, xyz] : parallel_inputs()) {
+    INFO(name);
+    const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+    require_valid(one);
+    CHECK(one.stats().zoned_passes >= 4);
+    CHECK(one.stats().zoned_points > one.stats().sequential_points);
+    CHECK(one.stats().deferred_points > 0);
+    // The perturbed Delaunay triangulation is unique: the zones change the slots, not the set.
+    const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+    require_valid(reference);
+    CHECK(reference.stats().zoned_passes == 0);
+    CHECK(finite_tets(one) == finite_tets(reference));
+    const auto arrays = all_arrays(one);
+    for (const std::size_t threads : {2u, 4u}) {
+      INFO(threads << " threads");
+      const Delaunay3 dt = build_with_threads(xyz, threads, zoned);
+      CHECK(all_arrays(dt) == arrays);
+    }
+  }
+}
+
+TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
+          "[delaunay][parallel][.slow]") {
+  const auto xyz = random_points(300000, 41);
+  const Delaunay3 one = build_with_threads(xyz, 1, {});
+  const Delaunay3 two = build_with_threads(xyz, 2, {});
+  CHECK(one.stats().zoned_passes > 0);
+  require_valid(two);
+  CHECK(all_arrays(one) == all_arrays(two));
 }
 
 TEST_CASE("Delaunay3 vertex stars and circumcenters", "[delaunay]") {

@@ -124,3 +124,22 @@ TEST_CASE("Delaunay3 equals CGAL on random points", "[delaunay][cgal]") {
     CHECK(voroclip::test::finite_tets(dt) == cgal_tets(xyz));
   }
 }
+
+TEST_CASE("Delaunay3 built in parallel zones equals CGAL", "[delaunay][cgal][parallel]") {
+  // Small zones: most points go through the parallel passes and many are deferred at zone
+  // boundaries; the result must still be CGAL's Delaunay triangulation.
+  voroclip::Delaunay3::Options options;
+  options.points_per_zone = 256;
+  for (const std::uint64_t seed : {404u, 505u}) {
+    INFO("seed " << seed);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> xyz(3 * 10000);
+    for (double& x : xyz) x = u(rng);
+    const voroclip::Delaunay3 dt(xyz.data(), 10000, options);
+    REQUIRE(dt.stats().zoned_points > 5000);
+    REQUIRE(dt.check_topology().empty());
+    REQUIRE(dt.check_delaunay().empty());
+    CHECK(voroclip::test::finite_tets(dt) == cgal_tets(xyz));
+  }
+}

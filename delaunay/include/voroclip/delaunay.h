@@ -4,15 +4,17 @@
 // Watson 1981) in BRIO order over a Hilbert curve (Amenta, Choi & Rote 2003), with exact
 // predicates and symbolic perturbation, on flat 32-bit arrays.
 //
-// Storage (28 bytes per triangle slot, about 2 slots per point):
+// Storage (24 bytes per triangle slot, about 2 slots per point):
 //   tri_vertices_[3t + k]   vertex k of triangle t: an input point index, or kInfinite
 //   tri_neighbors_[3t + k]  3t' + k': the triangle t' across the edge opposite vertex k,
 //                           and the local index k' of the vertex of t' opposite that edge
-//   tri_mark_[t]            scratch stamp of the cavity search (compared with a counter
-//                           that only grows, so it is never cleared between insertions)
-// The convex hull is closed by infinite triangles, each made of one hull edge and the
-// infinite vertex kInfinite, so every edge has two triangles (a triangulated sphere).
-// Slots freed while inserting go to a free list and are reused first.
+// The construction works on one 32-byte record per triangle instead (vertices, the cavity
+// search's stamp, neighbour codes: one cache line for two triangles), which the
+// renumbering below converts to these arrays. The stamp is compared with a counter that
+// only grows, so it is never cleared between insertions. The convex hull is closed by infinite
+// triangles, each made of one hull edge and the infinite vertex kInfinite, so every edge has two
+// triangles (a triangulated sphere). Slots freed while inserting go to a free list and are reused
+// first.
 //
 // Local numbering (the one convention; everything else refers to it):
 //
@@ -46,8 +48,11 @@
 // in the BRIO order) among the triangle's vertices and r1 the rank of the vertex following
 // that one counter-clockwise, so that triangles numbered close together are close in
 // space; each is rotated to start at its smallest input index. Infinite triangles follow,
-// rotated to (a, b, kInfinite) and sorted by the rank of a. There are no free slots after a
-// build; vertex_triangle(v) is the smallest-numbered finite triangle incident to v.
+// rotated to (a, b, kInfinite), in hull order (the next one starts at b) from the one whose
+// a has the smallest input index. There are no free slots after a build;
+// vertex_triangle(v) is the smallest-numbered finite triangle incident to v. (Keeping the
+// construction's slot order instead saves 0.03 s of a 1M-point build but made the
+// clipping that reads the triangles in this order 35% slower.)
 //
 // Duplicates. Points with exactly equal coordinates are detected while inserting; only the
 // one with the smallest index becomes a vertex. duplicate_of(i) gives that index. (When a
@@ -62,29 +67,59 @@
 // Threads. Insertion runs on the calling thread; the spatial sort and the renumbering use
 // TBB parallel loops over disjoint ranges. The result is identical for any thread count.
 //
-// Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2): 1M uniform points in
-// about 0.50-0.55 s for a first build, 0.44-0.48 s for a rebuild, on the project's 2-core
-// VM under load: 0.9-1.05x CGAL's Delaunay_triangulation_2 measured in the same run.
+// Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2; bench/RESULTS.md): 1M
+// uniform points in about 0.6 s of CPU time for a first build, 0.5 s for a rebuild, on the
+// project's 2-core VM under load: 0.97x (rebuild 0.82x) CGAL's Delaunay_triangulation_2
+// measured in the same run.
 #pragma once
 
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "voroclip/predicates.h"
 
 namespace voroclip {
 
+namespace detail {
+
+// An allocator whose vector elements are left uninitialized by resize(): for arrays whose
+// every element is written before it is read, so that growing them touches no memory.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  explicit UninitializedAllocator(const UninitializedAllocator<U>&) {}
+  template <class U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+}  // namespace detail
+
 struct Delaunay2Options {
   // Run check_topology() and check_delaunay() at the end of every build and throw
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
   // Keep the construction buffers (point copy, sort keys, renumbering arrays) between
-  // builds, so that a rebuild allocates nothing: about 170 bytes per point in all. With
-  // false they are freed at the end of each build, leaving about 70 bytes per point (the
-  // triangle arrays, 28 bytes per triangle, and the per-point maps).
+  // builds, so that a rebuild allocates nothing: about 180 bytes per point in all. With
+  // false they are freed at the end of each build, leaving about 60 bytes per point (the
+  // triangle arrays, 24 bytes per triangle, and the per-point maps).
   bool keep_buffers = true;
 };
 
@@ -119,7 +154,7 @@ class Delaunay2 {
 
   // ---- Triangles. Finite ones are [0, nb_triangles()), infinite ones follow.
   std::uint32_t nb_triangles() const { return nb_finite_; }
-  std::uint32_t nb_triangle_slots() const { return static_cast<std::uint32_t>(tri_mark_.size()); }
+  std::uint32_t nb_triangle_slots() const { return nb_slots_; }
   bool is_infinite(std::uint32_t t) const;
   std::uint32_t tri_vertex(std::uint32_t t, int k) const;
   // The triangle across edge k of t, and the local index of that edge in it.
@@ -189,6 +224,24 @@ class Delaunay2 {
     const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(t)];
     return v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
   }
+  // A triangle's vertices and neighbour codes: in rec_ during construction (kLocal), in
+  // the final arrays after it.
+  template <bool kLocal>
+  const std::uint32_t* vertices_of(std::uint32_t t) const {
+    if constexpr (kLocal) {
+      return &rec_[8 * static_cast<std::size_t>(t)];
+    } else {
+      return &tri_vertices_[3 * static_cast<std::size_t>(t)];
+    }
+  }
+  template <bool kLocal>
+  std::uint32_t neighbor_of(std::uint32_t t, int k) const {
+    if constexpr (kLocal) {
+      return rec_[8 * static_cast<std::size_t>(t) + 4 + static_cast<std::size_t>(k)];
+    } else {
+      return tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+    }
+  }
   template <bool kLocal>
   bool in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const;
   template <bool kLocal>
@@ -209,7 +262,13 @@ class Delaunay2 {
 
   std::vector<std::uint32_t> tri_vertices_;
   std::vector<std::uint32_t> tri_neighbors_;
-  std::vector<std::uint32_t> tri_mark_;
+  std::uint32_t nb_slots_ = 0;
+  // Construction: one 32-byte record per slot, two per cache line:
+  //   rec_[8t + k] vertex k (local id), rec_[8t + 3] the cavity search's stamp,
+  //   rec_[8t + 4 + k] neighbour code 3t' + k', rec_[8t + 7] unused.
+  // Slots [0, rec_slots_) are in use; free ones have rec_[8t] == kFreeVertex.
+  std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> rec_;
+  std::uint32_t rec_slots_ = 0;
   std::vector<std::uint32_t> free_;
   std::vector<std::uint32_t> vertex_triangle_;
   std::vector<std::uint32_t> duplicate_of_;
@@ -228,9 +287,8 @@ class Delaunay2 {
   std::vector<std::uint32_t> starting_at_;  // new triangle per boundary start vertex (+1 slot)
   std::vector<double> coords_;
   std::vector<std::uint32_t> input_index_;
-  std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_c_;
-  std::vector<std::uint32_t> tmp_vertices_, tmp_neighbors_;
-  std::vector<std::uint64_t> placed_;
+  std::vector<std::uint32_t> scratch_a_, scratch_c_;
+  std::vector<std::uint64_t> keys_, placed_;
   std::vector<std::uint8_t> shift_;
 };
 
@@ -274,18 +332,17 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // ---------------------------------------------------------------------------------------
 // Delaunay3: the 3D Delaunay triangulation by Bowyer–Watson insertion (Bowyer 1981,
 // Watson 1981) in BRIO order (Amenta, Choi & Rote 2003), with exact predicates and
-// symbolic perturbation, on flat arrays.
+// symbolic perturbation, on one flat array; parallel insertion with TBB.
 //
-// Storage (32 bytes per tetrahedron):
-//   tet_vertices_[4t + k]   vertex k of tet t (a point index, or kInfinite)
-//   tet_neighbors_[4t + f]  4t' + f': the tet across facet f (the facet opposite vertex f)
-//                           and the local index of that facet in t'
-// The two top bits of tet_neighbors_[4t] and [4t + 1] are the cavity search's marks
-// ("in the cavity", "tested, outside"), cleared after each insertion; neighbour codes use
-// the low 30 bits, which caps a triangulation at 2^28 tets. A recycled slot has
-// tet_vertices_[4t] == kFreeVertex.
-// The hull is closed by infinite tets: each holds kInfinite and one hull facet. Deleted
-// slots go to free_tets_ and are reused first.
+// Storage (32 bytes per tetrahedron slot, one cache line holds two):
+//   tets_[8t + k]       vertex k of tet t (k < 4): a point index, or kInfinite
+//   tets_[8t + 4 + f]   4t' + f': the tet t' across facet f (the facet opposite vertex f)
+//                       and the local index f' of that facet in t'
+// The two top bits of tets_[8t + 4] are the cavity search's marks ("in the cavity",
+// "tested, outside"), clear outside an insertion; neighbour codes use the low 30 bits,
+// which caps a triangulation at 2^28 tets. A recycled slot has tets_[8t] == kFreeVertex.
+// The hull is closed by infinite tets: each holds one hull facet and kInfinite, always as
+// its vertex 3 (so is_infinite(t) is tet_vertex(t, 3) == kInfinite).
 //
 // Local numbering. A finite tet (p0, p1, p2, p3) is positive: orient3d(p0, p1, p2, p3) > 0.
 // Facet f is opposite vertex f, its vertices listed as kFacetVertex[f]:
@@ -301,18 +358,70 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 //
 // Conflict (the Bowyer–Watson cavity of a new point q):
 //   finite tet     insphere_sos(p0, p1, p2, p3, q) > 0 (indices = input indices).
-//   infinite tet   with hull facet (a, b, c) as listed in it (inside of the hull on the
-//                  positive side): orient3d(a, b, c, q) < 0, q strictly outside; or q on
-//                  the facet's plane and inside the facet's circumcircle, decided with the
-//                  same perturbation: insphere_sos(a, b, c, d, q) > 0 where d is the
+//   infinite tet   with hull facet (a, b, c) = facet 3 as listed in it (inside of the hull
+//                  on the positive side): orient3d(a, b, c, q) < 0, q strictly outside; or
+//                  q on the facet's plane and inside the facet's circumcircle, decided with
+//                  the same perturbation: insphere_sos(a, b, c, d, q) > 0 where d is the
 //                  fourth vertex of the finite tet behind the facet. (Any sphere through
 //                  a, b, c meets the plane in their circumcircle; the sign of the
 //                  perturbed terms does not depend on d, whose own term is orient3d(a, b,
 //                  c, q) = 0.) The infinite vertex is thus the limit of the lifting, as in
 //                  CGAL and Geogram: coplanar points on the hull are triangulated within
 //                  the hull facet, and no tet of zero volume is ever created.
+// The perturbation makes the result the regular triangulation of the points with
+// infinitesimal weights given by their indices: unique, whatever the insertion order.
+//
+// Duplicates. Points with exactly equal coordinates are detected while inserting; only the
+// one with the smallest index becomes a vertex, duplicate_of(i) gives that index.
+//
+// Points. The construction works on a copy of the coordinates in insertion order (for
+// memory locality), but the finished triangulation reads the caller's array: it must stay
+// alive and unchanged while the triangulation is used (until the next build()).
+//
+// Threads. A BRIO round of at least 2 * points_per_zone points (Options) is split by count
+// into zones (kd bisection along the longest axis), each inserted by its own TBB task along
+// the Hilbert curve of its box. A task only touches tets having a facet whose finite
+// vertices all lie in its zone, which no other task can touch (two facets of a tet share
+// an edge), so the tasks need no locks: a point whose walk or cavity would reach a vertex
+// outside the zone is deferred, leaving the triangulation untouched. The deferred points
+// get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x), whose faces
+// cross the first pass's), and what remains is inserted sequentially. Zones of many points
+// that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
+// for the rest of the build. This is HXT's scheme (Marot, Pellerin & Remacle, "One
+// machine, one minute, three billion tetrahedra", IJNME 2019) with boxes instead of Hilbert
+// ranges as zones. Each zone owns a range of fresh slots and a share of the free ones. The
+// number of zones, their boxes, their slots and their points depend on the input alone,
+// never on the number of threads, and a zone's work depends on its own tets only: every
+// array of the result (tet slots, neighbour codes, vertex_tet, duplicate_of) is identical
+// to the last bit for any number of threads, without a renumbering pass. (A renumbering
+// into a sorted order was measured at 0.35 s for 1M points with a second 32-byte-per-tet
+// array, or 1.3 s permuted in place.)
+//
+// Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
+// uniform points in about 2.3 s of CPU time on one thread, 0.58 of CGAL's
+// Delaunay_triangulation_3 in the same run, 35 bytes per tet at the end, 39 at the peak.
+//
+// Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
+// mixed (free slots left by the construction are filled with the last live records).
+// vertex_tet(v) is the smallest-numbered finite tet incident to v.
+//
+struct Delaunay3Options {
+  // Run check_topology() and check_delaunay() at the end of every build and throw
+  // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
+  bool check = false;
+  // Parallel insertion: a BRIO round of n points is split into as many zones as the
+  // largest power of two <= n / points_per_zone (at most 64; a round of fewer than
+  // 2 * points_per_zone points is inserted sequentially), the points it defers into zones
+  // of points_per_zone / 8. Fewer points per zone give more parallelism and more points
+  // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
+  // (but never on the number of threads).
+  std::uint32_t points_per_zone = 32768;
+};
+
 class Delaunay3 {
  public:
+  using Options = Delaunay3Options;
+
   static constexpr std::uint32_t kInfinite = 0xffffffffu;
   static constexpr std::uint32_t kNoTet = 0xffffffffu;
 
@@ -320,11 +429,14 @@ class Delaunay3 {
   static constexpr int kFacetVertex[4][3] = {{1, 2, 3}, {0, 3, 2}, {3, 0, 1}, {2, 1, 0}};
 
   Delaunay3() = default;
+  explicit Delaunay3(const Options& options) : options_(options) {}
   // Triangulates n points given as packed x y z. The array is referenced, not copied: it
   // must outlive the triangulation (or the next build()).
-  Delaunay3(const double* xyz, std::uint32_t n) { build(xyz, n); }
+  Delaunay3(const double* xyz, std::uint32_t n, const Options& options = {}) : options_(options) {
+    build(xyz, n);
+  }
 
-  // (Re)builds on new points, reusing every buffer (CVT rebuilds each iteration).
+  // (Re)builds on new points, reusing the tet array (CVT rebuilds each iteration).
   // Throws voroclip::Error for non-finite coordinates or fewer than 4 affinely
   // independent points.
   void build(const double* xyz, std::uint32_t n);
@@ -332,27 +444,37 @@ class Delaunay3 {
   std::uint32_t nb_points() const { return nb_points_; }
   std::uint32_t nb_unique_points() const { return nb_unique_; }
   // The smallest input index with the same coordinates as point i (i itself if unique).
-  std::uint32_t duplicate_of(std::uint32_t i) const { return duplicate_of_[i]; }
+  std::uint32_t duplicate_of(std::uint32_t i) const {
+    assert(i < nb_points_);
+    return duplicate_of_[i];
+  }
   // Point v (x y z): after a build, input point v (during construction, internal ids).
   const double* point(std::uint32_t v) const { return pts_ + 3 * static_cast<std::size_t>(v); }
 
-  // Slots, including infinite and free ones: iterate t < nb_tet_slots() and skip with
-  // is_free(t) / is_infinite(t).
-  std::uint32_t nb_tet_slots() const {
-    return static_cast<std::uint32_t>(tet_vertices_.size() / 4);
-  }
+  // Slots: after a build every slot below nb_tet_slots() holds a live tet, finite or
+  // infinite (skip these with is_infinite(t)); is_free(t) is true only during a build.
+  std::uint32_t nb_tet_slots() const { return nb_slots_; }
   std::uint32_t nb_finite_tets() const { return nb_finite_tets_; }
-  bool is_free(std::uint32_t t) const { return tet_vertices_[4 * t] == kFreeVertex; }
-  bool is_infinite(std::uint32_t t) const;
-  std::uint32_t tet_vertex(std::uint32_t t, int k) const { return tet_vertices_[4 * t + k]; }
-  std::uint32_t tet_adjacent(std::uint32_t t, int f) const {
-    return (tet_neighbors_[4 * t + f] & kCodeMask) / 4;
+  bool is_free(std::uint32_t t) const { return word(t, 0) == kFreeVertex; }
+  bool is_infinite(std::uint32_t t) const { return word(t, 3) == kInfinite; }
+  std::uint32_t tet_vertex(std::uint32_t t, int k) const {
+    assert(k >= 0 && k < 4);
+    return word(t, static_cast<std::uint32_t>(k));
   }
+  std::uint32_t tet_adjacent(std::uint32_t t, int f) const { return neighbor_code(t, f) / 4; }
   int tet_adjacent_facet(std::uint32_t t, int f) const {
-    return static_cast<int>(tet_neighbors_[4 * t + f] & 3u);
+    return static_cast<int>(neighbor_code(t, f) & 3u);
   }
-  // A tet incident to vertex v (kNoTet for duplicates and unused points).
-  std::uint32_t vertex_tet(std::uint32_t v) const { return vertex_tet_[v]; }
+  // The raw encoding 4t' + f' (see above).
+  std::uint32_t neighbor_code(std::uint32_t t, int f) const {
+    assert(f >= 0 && f < 4);
+    return word(t, 4 + static_cast<std::uint32_t>(f)) & kCodeMask;
+  }
+  // The smallest-numbered finite tet incident to vertex v (kNoTet for duplicates).
+  std::uint32_t vertex_tet(std::uint32_t v) const {
+    assert(v < nb_points_);
+    return vertex_tet_[v];
+  }
 
   // The finite tets incident to vertex v, and its Delaunay neighbours (the sites of the
   // adjacent Voronoi cells), appended to `out` (cleared first), sorted.
@@ -373,50 +495,107 @@ class Delaunay3 {
 
   // Bytes held by the triangulation's arrays (capacities), for memory reports.
   std::size_t memory_bytes() const;
+  // The largest memory_bytes() reached during the last build, the construction's copies
+  // and scratch arrays included (not the spatial sort's temporaries, freed before the tet
+  // array is first allocated; a rebuild keeps the tet array while they exist).
+  std::size_t peak_memory_bytes() const { return peak_bytes_; }
+  // How the last build inserted its points (all counts of insertion attempts).
+  struct Stats {
+    std::uint32_t zoned_passes = 0;       // parallel passes (each over several zones)
+    std::uint32_t zoned_points = 0;       // points attempted in a zone
+    std::uint32_t deferred_points = 0;    // of those, deferred (the cavity left the zone)
+    std::uint32_t sequential_points = 0;  // points inserted sequentially
+  };
+  const Stats& stats() const { return stats_; }
 
   // Exact checks, used by the tests on every result. Return an empty string when valid,
-  // else a description of the first defect found.
+  // else a description of the first defect found. check_topology also verifies the
+  // layout after a build (no free slot, kInfinite as vertex 3, vertex_tet minimal).
   std::string check_topology() const;
   std::string check_delaunay() const;
 
  private:
   static constexpr std::uint32_t kFreeVertex = 0xfffffffeu;
   static constexpr std::uint32_t kCodeMask = 0x3fffffffu;
-  static constexpr std::uint32_t kMark = 0x80000000u;  // in [4t]: in the cavity; in [4t+1]: outside
   static constexpr std::uint32_t kMaxTets = 1u << 28;
-  bool marked(std::uint32_t t, int which) const {
-    return (tet_neighbors_[4 * t + which] & kMark) != 0;
-  }
-  void mark(std::uint32_t t, int which) { tet_neighbors_[4 * t + which] |= kMark; }
-  void unmark(std::uint32_t t, int which) { tet_neighbors_[4 * t + which] &= ~kMark; }
 
+  // Per-task insertion state: a box of space (the zone; unbounded when inserting
+  // sequentially), scratch reused between insertions, the slots it may fill.
+  struct BoundaryFacet {
+    std::uint32_t code;  // 4t + f of the tet outside the cavity and its facet on the boundary
+    std::uint32_t v[3];  // the facet as listed in the cavity tet behind it (kFacetVertex)
+  };
+  struct Zone {
+    // The zone: points whose coordinates in `frame` lie in the box [lo, hi), half-open on
+    // every axis. Frame 0 is (x, y, z), frame 1 (x + y, y + z, z + x) (floating point: a
+    // zone need only be a function of the coordinates, so that zones are disjoint).
+    int frame = 0;
+    double lo[3], hi[3];
+    std::uint32_t hint = kNoTet;
+    std::vector<std::uint32_t> cavity;
+    std::vector<BoundaryFacet> boundary;
+    std::vector<std::uint32_t> free;          // recycled slots this zone may reuse
+    std::uint32_t fresh = 0, fresh_end = 0;   // never used slots [fresh, fresh_end)
+    std::vector<std::uint32_t> edge_map;      // 32 x 32 small-cavity gluing table
+    std::vector<std::uint32_t> local_vertex;  // local id -> vertex, for edge_map
+    std::vector<std::uint64_t> edges;         // large-cavity gluing: directed edges,
+    std::vector<std::uint32_t> edge_codes;    // their order by key,
+    std::vector<std::uint64_t> sorted_edges;  // and the keys sorted
+    std::vector<std::uint32_t> points;        // points to insert in this zone
+    std::vector<std::uint32_t> deferred;      // points whose cavity left the box
+    static void frame_coordinates(int frame, const double* p, double* u) {
+      if (frame == 0) {
+        u[0] = p[0];
+        u[1] = p[1];
+        u[2] = p[2];
+      } else {
+        u[0] = p[0] + p[1];
+        u[1] = p[1] + p[2];
+        u[2] = p[2] + p[0];
+      }
+    }
+    bool contains(const double* p) const {
+      double u[3];
+      frame_coordinates(frame, p, u);
+      return u[0] >= lo[0] && u[0] < hi[0] && u[1] >= lo[1] && u[1] < hi[1] && u[2] >= lo[2] &&
+             u[2] < hi[2];
+    }
+  };
+  enum class Inserted { yes, duplicate, deferred };
+
+  std::uint32_t word(std::uint32_t t, std::uint32_t k) const {
+    assert(t < nb_slots_);
+    return tets_[8 * static_cast<std::size_t>(t) + k];
+  }
   // The index symbolic perturbation uses for vertex v: always the input index.
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
-  std::uint32_t new_tet();
-  void free_tet(std::uint32_t t);
-  // Sets the adjacency both ways, keeping the marks of either tet.
-  void set_neighbors(std::uint32_t t, int f, std::uint32_t t2, int f2) {
-    std::uint32_t& a = tet_neighbors_[4 * t + f];
-    std::uint32_t& b = tet_neighbors_[4 * t2 + f2];
-    a = (a & ~kCodeMask) | (4 * t2 + static_cast<std::uint32_t>(f2));
-    b = (b & ~kCodeMask) | (4 * t + static_cast<std::uint32_t>(f));
-  }
-  int infinite_slot(std::uint32_t t) const;
-  // All tets incident to v, infinite ones included, in search order.
-  void vertex_star(std::uint32_t v, std::vector<std::uint32_t>& star) const;
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
-  template <bool kStaticFilter>
-  std::uint32_t walk(const double* p, std::uint32_t hint) const;
+  [[gnu::noinline]] bool in_conflict_rest(std::uint32_t t, std::uint32_t q) const;
+  template <bool kZoned>
+  bool walk(const Zone& zone, const double* p, std::uint32_t& t) const;
+  std::uint32_t walk_query(const double* p, std::uint32_t t) const;
+  template <bool kZoned>
+  Inserted insert(Zone& zone, std::uint32_t q);
+  template <bool kZoned>
+  bool take_slots(Zone& zone, std::size_t count);
+  void glue_large_cavity(Zone& zone, std::uint32_t q);
+  void unmark_cavity(const Zone& zone);
+  void insert_sequentially(const std::uint32_t* first, const std::uint32_t* last);
+  void insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones);
+  bool start_zone(Zone& zone);
+  void grow_slots(std::size_t slots);
+  std::uint32_t initial_tetrahedron();
+  void triangulate(const std::vector<std::uint32_t>& round_starts);
+  void finish();
+  void note_memory();
+  void vertex_star(std::uint32_t v, std::vector<std::uint32_t>& star) const;
   std::uint32_t any_tet() const;
-  void require_finite_query(const double* p) const;
-  std::uint32_t locate(std::uint32_t q, std::uint32_t hint, std::uint32_t& duplicate) const;
-  void insert(std::uint32_t q, std::uint32_t& hint);
-  std::uint32_t initial_tetrahedron(const std::vector<std::uint32_t>& order);
 
+  Options options_;
   const double* xyz_ = nullptr;
-  // During construction vertices are numbered in insertion order and their coordinates
-  // copied in that order (sorted_xyz_), so that the points of neighbouring tets are
-  // neighbours in memory; input_id_ maps them back. build() ends by renumbering the tets
+  // During construction vertices are numbered in insertion order (rank) and their
+  // coordinates copied in that order (sorted_xyz_), so that the points of neighbouring
+  // tets are neighbours in memory; input_id_ maps ranks back. build() ends by renumbering
   // to input indices; from then on pts_ = xyz_ and sos_ids_ = nullptr.
   const double* pts_ = nullptr;
   const std::uint32_t* sos_ids_ = nullptr;
@@ -425,27 +604,21 @@ class Delaunay3 {
   std::uint32_t nb_points_ = 0;
   std::uint32_t nb_unique_ = 0;
   std::uint32_t nb_finite_tets_ = 0;
+  std::uint32_t nb_slots_ = 0;
   StaticFilter filter_;
+  std::size_t peak_bytes_ = 0;
+  Stats stats_;
 
-  std::vector<std::uint32_t> tet_vertices_;
-  std::vector<std::uint32_t> tet_neighbors_;
-  std::vector<std::uint32_t> free_tets_;
+  // Grows without initializing (every slot is written before it is read): the pages are
+  // touched, and faulted in, by the tasks that fill them.
+  std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> tets_;
   std::vector<std::uint32_t> vertex_tet_;
   std::vector<std::uint32_t> duplicate_of_;
-  std::vector<std::uint32_t> duplicate_internal_;  // during construction, internal ids
-
-  // Per-insertion scratch, reused.
-  std::vector<std::uint32_t> cavity_;
-  std::vector<std::uint32_t> stack_;
-  struct BoundaryFacet {
-    std::uint32_t tet;        // the tet outside the cavity
-    int facet;                // its facet on the cavity boundary
-    int dead_facet;           // the facet's index in the cavity tet behind it
-    std::uint32_t vertex[4];  // that cavity tet's vertices, q in place of the opposite one
-  };
-  std::vector<BoundaryFacet> boundary_;
-  std::vector<std::uint64_t> edge_keys_;
-  std::vector<std::uint32_t> edge_values_;
+  std::vector<std::uint32_t> duplicate_internal_;  // during construction, by rank
+  std::vector<std::uint8_t> local_id_;             // per rank: scratch of the gluing
+  std::vector<Zone> zones_;                        // zones_[0] inserts sequentially
+  std::uint32_t initial_[4] = {0, 0, 0, 0};        // ranks of the first tet's vertices
+  bool zoning_off_ = false;  // a zoned pass deferred most of its points: no more zones
 };
 
 }  // namespace voroclip
