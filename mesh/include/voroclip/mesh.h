@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "voroclip/clip.h"
@@ -63,6 +64,79 @@ class SizingField3 {
   double lo_[3] = {0, 0, 0};
   double spacing_ = 1;
   double h_min_ = 0;
+};
+
+// =======================================================================================
+// 3D CVT tet meshing: extraction of the mesh from the Delaunay triangulation of the sites
+// (paper sec. 5.2, "Final mesh extraction"; mesh/src/extract3d.cpp).
+//
+// A Delaunay tet is kept when its circumcenter lies in the CLOSED domain: inside a tet of
+// the Domain3 or on the boundary surface (the tie rule: a circumcenter exactly on the
+// boundary counts as inside). The decision is exact: orient3d_circumcenter against the
+// facets of the domain tets that may contain the circumcenter, found by a grid over the
+// domain tets' bounding boxes queried with the proven error box of the floating-point
+// circumcenter (circumcenter3d_enclosure; when it has none, every domain tet is a
+// candidate). No epsilon anywhere.
+//
+// The kept tets can have a non-manifold boundary (tets meeting along an edge or at a
+// vertex only; it happens near concave parts of the boundary). With repair_manifold, each
+// such edge or vertex is fixed by a local rule (extract3d.cpp): around it, either every
+// kept component of its star but the one of largest volume is removed, or every non-kept
+// component but the largest (the one holding infinite tets, if any) is added, whichever
+// changes less volume; a tet changed once is not changed again. What that leaves after
+// max_repair_passes is fixed by removals only (every kept component but the largest; at a
+// vertex whose kept tets form one component around holes, all of them), which always ends
+// with a closed 2-manifold boundary.
+
+struct Extract3Options {
+  bool repair_manifold = true;
+  // Passes of the repair (each re-examines the boundary); it stops earlier when clean.
+  std::uint32_t max_repair_passes = 16;
+};
+
+struct Extract3Stats {
+  std::uint32_t nb_delaunay_tets = 0;          // finite tets of the triangulation
+  std::uint32_t nb_inside = 0;                 // with the circumcenter in the closed domain
+  std::uint32_t nb_on_boundary = 0;            // of those, exactly on the boundary (tie rule)
+  std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
+  std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
+  std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
+  std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
+  std::uint32_t nb_unrepaired = 0;             // edges and vertices left non-manifold
+  std::uint32_t nb_repair_passes = 0;
+  std::uint32_t nb_kept = 0;  // tets returned
+  double seconds = 0;
+};
+
+// The exact location of circumcenters in a domain, and the extraction. Builds its grid
+// once (O(number of domain tets)); queries are const and thread-safe. The domain must
+// outlive it.
+class TetExtractor3 {
+ public:
+  explicit TetExtractor3(const Domain3& domain);
+  ~TetExtractor3();
+  TetExtractor3(TetExtractor3&&) noexcept;
+  TetExtractor3& operator=(TetExtractor3&&) = delete;
+
+  // Where the circumcenter of p0..p3 (not coplanar) lies: POSITIVE strictly inside the
+  // domain (in a domain tet or on a facet between two), ZERO on the boundary surface,
+  // NEGATIVE outside. Exact. Throws Error for coplanar points.
+  Sign circumcenter_side(const double* p0, const double* p1, const double* p2,
+                         const double* p3) const;
+
+  // The kept tets of dt (4 input point indices each), each listed so that
+  // det(p1 - p0, p2 - p0, p3 - p0) > 0 (orient3d(p0, p1, p2, p3) < 0: the right-handed
+  // orientation of TetGen, Medit and the shared data), in the order of dt's tet slots.
+  // Parallel over the tets, one slot each: the same result for any thread count.
+  std::vector<std::uint32_t> extract(const Delaunay3& dt, const Extract3Options& options = {},
+                                     Extract3Stats* stats = nullptr) const;
+
+ private:
+  struct Grid;
+  Sign locate(const double* p0, const double* p1, const double* p2, const double* p3,
+              bool& unbounded) const;
+  const Domain3* domain_;
+  std::unique_ptr<Grid> grid_;
 };
 
 }  // namespace voroclip

@@ -1,0 +1,534 @@
+// Extraction of the tet mesh from the Delaunay triangulation of the final sites (Yan et
+// al. 2011, sec. 5.2, "Final mesh extraction"): the tets whose circumcenter lies in the
+// domain, decided exactly, then a local repair of a non-manifold boundary (mesh.h).
+//
+// Location. A uniform grid over the domain's bounding box lists, per cell, the domain tets
+// whose bounding box meets the cell (cells of about two tets each). The cell of a
+// coordinate is clamp(floor((x - lo) * inv_h)), a monotone function of x, so a tet whose
+// box meets a query box is listed in a cell of the query's cell range: the grid only
+// filters. A tet met in several cells of one query is tested in the first of them only
+// (the cell whose index is, per axis, the larger of the two ranges' starts). The query box
+// is the proven enclosure of the circumcenter; each candidate tet is then tested exactly
+// with orient3d_circumcenter against its four facets (Domain3::kTetFacetVertex lists them
+// so that the tet's inside is negative).
+//
+// Repair. Boundary facets are the facets of kept tets whose neighbour is not kept (or
+// infinite). An edge of the boundary is non-manifold when the tets around it (a cycle,
+// closed through infinite tets on the hull) hold two or more runs of kept tets; a vertex is
+// non-manifold when its star (the tets around it, connected through their facets that
+// contain it) holds two or more components of kept tets, or two or more of non-kept ones
+// (the boundary triangles around it then form several fans: on the sphere of its link,
+// the number of boundary cycles is the number of kept components plus non-kept components
+// minus one). The rule of mesh.h makes it a single run / a disk. Edges are handled before
+// vertices, each in increasing order of its vertices: the result is deterministic.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "voroclip/mesh.h"
+
+namespace voroclip {
+
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+double tet_volume(const double* a, const double* b, const double* c, const double* d) {
+  double u[3], v[3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = b[k] - a[k];
+    v[k] = c[k] - a[k];
+    w[k] = d[k] - a[k];
+  }
+  return std::fabs(u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                   u[2] * (v[0] * w[1] - v[1] * w[0])) /
+         6;
+}
+
+}  // namespace
+
+struct TetExtractor3::Grid {
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double inv_h = 1;
+  std::uint32_t n[3] = {1, 1, 1};
+  std::vector<std::uint32_t> begin;  // per cell + 1
+  std::vector<std::uint32_t> tets;
+  std::vector<double> box;  // per domain tet: lo xyz, hi xyz
+
+  std::uint32_t cell(int axis, double x) const {
+    const double f = std::floor((x - lo[axis]) * inv_h);
+    if (!(f > 0)) return 0;  // NaN too
+    const double top = static_cast<double>(n[axis] - 1);
+    return f >= top ? n[axis] - 1 : static_cast<std::uint32_t>(f);
+  }
+  std::size_t index(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+    return (std::size_t{k} * n[1] + j) * n[0] + i;
+  }
+};
+
+TetExtractor3::TetExtractor3(const Domain3& domain) : domain_(&domain), grid_(new Grid) {
+  Grid& g = *grid_;
+  const std::uint32_t nt = domain.nb_tets();
+  for (int c = 0; c < 3; ++c) {
+    g.lo[c] = domain.bbox_lo()[c];
+    g.hi[c] = domain.bbox_hi()[c];
+  }
+  const double ext[3] = {g.hi[0] - g.lo[0], g.hi[1] - g.lo[1], g.hi[2] - g.lo[2]};
+  // About two tets per cell; cells are cubes.
+  const double vol = std::max(ext[0], 1e-300) * std::max(ext[1], 1e-300) * std::max(ext[2], 1e-300);
+  double h = std::cbrt(vol / std::max(1.0, nt / 2.0));
+  if (!(h > 0) || !std::isfinite(h)) h = 1;
+  for (int c = 0; c < 3; ++c) {
+    const double cells = std::min(std::ceil(ext[c] / h), 1024.0);
+    g.n[c] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));
+  }
+  g.inv_h = 1 / h;
+  g.box.resize(6 * std::size_t{nt});
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    double* b = &g.box[6 * std::size_t{t}];
+    for (int c = 0; c < 3; ++c) {
+      b[c] = std::numeric_limits<double>::infinity();
+      b[3 + c] = -b[c];
+    }
+    for (int k = 0; k < 4; ++k) {
+      const double* p = domain.vertex(domain.tet_vertex(t, k));
+      for (int c = 0; c < 3; ++c) {
+        b[c] = std::min(b[c], p[c]);
+        b[3 + c] = std::max(b[3 + c], p[c]);
+      }
+    }
+  }
+  const std::size_t nc = std::size_t{g.n[0]} * g.n[1] * g.n[2];
+  g.begin.assign(nc + 1, 0);
+  const auto for_cells = [&](std::uint32_t t, auto visit) {
+    const double* b = &g.box[6 * std::size_t{t}];
+    for (std::uint32_t k = g.cell(2, b[2]); k <= g.cell(2, b[5]); ++k)
+      for (std::uint32_t j = g.cell(1, b[1]); j <= g.cell(1, b[4]); ++j)
+        for (std::uint32_t i = g.cell(0, b[0]); i <= g.cell(0, b[3]); ++i) visit(g.index(i, j, k));
+  };
+  for (std::uint32_t t = 0; t < nt; ++t) for_cells(t, [&](std::size_t c) { ++g.begin[c + 1]; });
+  for (std::size_t c = 0; c < nc; ++c) g.begin[c + 1] += g.begin[c];
+  g.tets.resize(g.begin[nc]);
+  std::vector<std::uint32_t> fill(g.begin.begin(), g.begin.end() - 1);
+  for (std::uint32_t t = 0; t < nt; ++t)
+    for_cells(t, [&](std::size_t c) { g.tets[fill[c]++] = t; });
+}
+
+TetExtractor3::~TetExtractor3() = default;
+TetExtractor3::TetExtractor3(TetExtractor3&&) noexcept = default;
+
+Sign TetExtractor3::circumcenter_side(const double* p0, const double* p1, const double* p2,
+                                      const double* p3) const {
+  bool unbounded = false;
+  return locate(p0, p1, p2, p3, unbounded);
+}
+
+Sign TetExtractor3::locate(const double* p0, const double* p1, const double* p2, const double* p3,
+                           bool& unbounded) const {
+  const Grid& g = *grid_;
+  const Domain3& d = *domain_;
+  double centre[3], hw[3], qlo[3], qhi[3];
+  if (circumcenter3d_enclosure(p0, p1, p2, p3, centre, hw)) {
+    for (int c = 0; c < 3; ++c) {
+      qlo[c] = centre[c] - hw[c];
+      qhi[c] = centre[c] + hw[c];
+      if (qhi[c] < g.lo[c] || qlo[c] > g.hi[c]) return Sign::negative;
+    }
+  } else {
+    // No error box: every domain tet is a candidate. (The predicate below throws for
+    // coplanar sites.)
+    unbounded = true;
+    for (int c = 0; c < 3; ++c) {
+      qlo[c] = g.lo[c];
+      qhi[c] = g.hi[c];
+    }
+  }
+  const std::uint32_t c0[3] = {g.cell(0, qlo[0]), g.cell(1, qlo[1]), g.cell(2, qlo[2])};
+  const std::uint32_t c1[3] = {g.cell(0, qhi[0]), g.cell(1, qhi[1]), g.cell(2, qhi[2])};
+  bool in_closed = false;
+  for (std::uint32_t k = c0[2]; k <= c1[2]; ++k) {
+    for (std::uint32_t j = c0[1]; j <= c1[1]; ++j) {
+      for (std::uint32_t i = c0[0]; i <= c1[0]; ++i) {
+        const std::size_t cell = g.index(i, j, k);
+        for (std::uint32_t e = g.begin[cell]; e < g.begin[cell + 1]; ++e) {
+          const std::uint32_t t = g.tets[e];
+          const double* b = &g.box[6 * std::size_t{t}];
+          if (b[0] > qhi[0] || b[3] < qlo[0] || b[1] > qhi[1] || b[4] < qlo[1] || b[2] > qhi[2] ||
+              b[5] < qlo[2]) {
+            continue;
+          }
+          // Test t in the first cell of the query where it is listed.
+          if (i != std::max(c0[0], g.cell(0, b[0])) || j != std::max(c0[1], g.cell(1, b[1])) ||
+              k != std::max(c0[2], g.cell(2, b[2]))) {
+            continue;
+          }
+          int zero_facets = 0;  // bit f: facet f has the circumcenter on its plane
+          bool inside = true;
+          for (int f = 0; f < 4 && inside; ++f) {
+            const int* fv = Domain3::kTetFacetVertex[f];
+            const Sign s = orient3d_circumcenter(d.vertex(d.tet_vertex(t, fv[0])),
+                                                 d.vertex(d.tet_vertex(t, fv[1])),
+                                                 d.vertex(d.tet_vertex(t, fv[2])), p0, p1, p2, p3);
+            if (s == Sign::positive) inside = false;
+            if (s == Sign::zero) zero_facets |= 1 << f;
+          }
+          if (!inside) continue;
+          if (zero_facets == 0) return Sign::positive;
+          for (int f = 0; f < 4; ++f) {
+            if ((zero_facets >> f & 1) != 0 && d.tet_adjacent(t, f) == Domain3::kNone) {
+              return Sign::zero;
+            }
+          }
+          in_closed = true;
+        }
+      }
+    }
+  }
+  return in_closed ? Sign::positive : Sign::negative;
+}
+
+namespace {
+
+// The local repair of extract3d.cpp's header, on kept flags per tet slot of dt.
+class ManifoldRepair {
+ public:
+  ManifoldRepair(const Delaunay3& dt, std::vector<std::uint8_t>& kept, Extract3Stats& stats)
+      : dt_(dt), kept_(kept), stats_(stats), frozen_(kept.size(), 0) {}
+
+  void run(std::uint32_t max_passes) {
+    // Phase 1: the rule of mesh.h (least volume changed, a tet changed at most once).
+    for (std::uint32_t pass = 0; pass < max_passes; ++pass) {
+      ++stats_.nb_repair_passes;
+      bool changed = false;
+      collect_boundary();
+      for (const auto& e : edges_) changed = repair_edge(e, false) || changed;
+      collect_boundary();
+      for (const std::uint32_t v : vertices_) changed = repair_vertex(v, false) || changed;
+      if (!changed) break;
+    }
+    // Phase 2, for what phase 1 left: removals only (every kept component but the
+    // largest; at a vertex whose kept tets form one component around holes, all of them).
+    // Each change removes tets, so this ends, with a manifold boundary (possibly having
+    // dropped more than phase 1 would have).
+    for (;;) {
+      ++stats_.nb_repair_passes;
+      bool changed = false;
+      collect_boundary();
+      for (const auto& e : edges_) changed = repair_edge(e, true) || changed;
+      collect_boundary();
+      for (const std::uint32_t v : vertices_) changed = repair_vertex(v, true) || changed;
+      if (!changed) break;
+    }
+    collect_boundary();
+    std::uint32_t left = 0;
+    for (const auto& e : edges_) {
+      edge_star(e);
+      left += count_runs() >= 2 ? 1 : 0;
+    }
+    for (const std::uint32_t v : vertices_) {
+      vertex_star(v);
+      std::uint32_t nk = 0, ng = 0;
+      components(nk, ng);
+      left += nk >= 2 || ng >= 2 ? 1 : 0;
+    }
+    stats_.nb_unrepaired = left;
+  }
+
+ private:
+  struct Edge {
+    std::uint32_t a, b, tet;
+    bool operator<(const Edge& o) const { return a != o.a ? a < o.a : b < o.b; }
+    bool operator==(const Edge& o) const { return a == o.a && b == o.b; }
+  };
+
+  bool is_kept(std::uint32_t t) const { return kept_[t] != 0; }
+
+  // Edges and vertices of the boundary triangles, sorted, each edge with a tet holding it.
+  void collect_boundary() {
+    edges_.clear();
+    vertices_.clear();
+    for (std::uint32_t t = 0; t < dt_.nb_tet_slots(); ++t) {
+      if (!is_kept(t)) continue;
+      for (int f = 0; f < 4; ++f) {
+        if (is_kept(dt_.tet_adjacent(t, f))) continue;
+        const int* fv = Delaunay3::kFacetVertex[f];
+        for (int e = 0; e < 3; ++e) {
+          std::uint32_t a = dt_.tet_vertex(t, fv[e]), b = dt_.tet_vertex(t, fv[(e + 1) % 3]);
+          vertices_.push_back(a);
+          if (a > b) std::swap(a, b);
+          edges_.push_back({a, b, t});
+        }
+      }
+    }
+    std::sort(edges_.begin(), edges_.end());
+    edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+    std::sort(vertices_.begin(), vertices_.end());
+    vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+  }
+
+  int local(std::uint32_t t, std::uint32_t v) const {
+    for (int k = 0; k < 4; ++k) {
+      if (dt_.tet_vertex(t, k) == v) return k;
+    }
+    return -1;
+  }
+
+  // star_: the tets around edge e in cyclic order.
+  void edge_star(const Edge& e) {
+    star_.clear();
+    std::uint32_t t = e.tet;
+    // c, d: the two other vertices of t; turn across the facet opposite c.
+    std::uint32_t c = kNone, d = kNone;
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t w = dt_.tet_vertex(t, k);
+      if (w == e.a || w == e.b) continue;
+      (c == kNone ? c : d) = w;
+    }
+    do {
+      star_.push_back(t);
+      const std::uint32_t next = dt_.tet_adjacent(t, local(t, c));
+      std::uint32_t other = kNone;
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = dt_.tet_vertex(next, k);
+        if (w != e.a && w != e.b && w != d) other = w;
+      }
+      c = d;
+      d = other;
+      t = next;
+    } while (t != e.tet);
+  }
+
+  std::uint32_t count_runs() const {
+    std::uint32_t runs = 0;
+    const std::size_t n = star_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (is_kept(star_[i]) && !is_kept(star_[(i + n - 1) % n])) ++runs;
+    }
+    return runs;
+  }
+
+  // star_: the tets around v (finite and infinite), breadth-first.
+  void vertex_star(std::uint32_t v) {
+    star_.clear();
+    const std::uint32_t start = dt_.vertex_tet(v);
+    if (start == Delaunay3::kNoTet) return;
+    star_.push_back(start);
+    for (std::size_t i = 0; i < star_.size(); ++i) {
+      const std::uint32_t t = star_[i];
+      for (int f = 0; f < 4; ++f) {
+        if (dt_.tet_vertex(t, f) == v) continue;
+        const std::uint32_t n = dt_.tet_adjacent(t, f);
+        if (std::find(star_.begin(), star_.end(), n) == star_.end()) star_.push_back(n);
+      }
+    }
+    vertex_ = v;
+  }
+
+  // Components of kept and of non-kept tets of the star (vertex_star or edge_star):
+  // comp_[i] per star tet; counts nk, ng.
+  void components(std::uint32_t& nk, std::uint32_t& ng) {
+    const std::size_t n = star_.size();
+    comp_.assign(n, kNone);
+    nk = ng = 0;
+    std::uint32_t next_id = 0;
+    for (std::size_t s = 0; s < n; ++s) {
+      if (comp_[s] != kNone) continue;
+      const bool k = is_kept(star_[s]);
+      (k ? nk : ng) += 1;
+      comp_[s] = next_id;
+      queue_.assign(1, static_cast<std::uint32_t>(s));
+      for (std::size_t q = 0; q < queue_.size(); ++q) {
+        const std::uint32_t t = star_[queue_[q]];
+        for (int f = 0; f < 4; ++f) {
+          if (dt_.tet_vertex(t, f) == vertex_) continue;
+          const std::uint32_t nb = dt_.tet_adjacent(t, f);
+          if (is_kept(nb) != k) continue;
+          const auto it = std::find(star_.begin(), star_.end(), nb);
+          const auto idx = static_cast<std::size_t>(it - star_.begin());
+          if (it == star_.end() || comp_[idx] != kNone) continue;
+          comp_[idx] = next_id;
+          queue_.push_back(static_cast<std::uint32_t>(idx));
+        }
+      }
+      ++next_id;
+    }
+  }
+
+  double volume(std::uint32_t t) const {
+    if (dt_.is_infinite(t)) return std::numeric_limits<double>::infinity();
+    return tet_volume(dt_.point(dt_.tet_vertex(t, 0)), dt_.point(dt_.tet_vertex(t, 1)),
+                      dt_.point(dt_.tet_vertex(t, 2)), dt_.point(dt_.tet_vertex(t, 3)));
+  }
+
+  // The rule of mesh.h on the components comp_ of star_ (ids [0, nb)). Returns whether
+  // anything changed.
+  bool apply_rule(std::uint32_t nb, bool removal_only) {
+    std::vector<double>& vol = vol_;
+    std::vector<std::uint8_t>& kept_comp = kept_comp_;
+    std::vector<std::uint8_t>& locked = locked_;
+    vol.assign(nb, 0);
+    kept_comp.assign(nb, 0);
+    locked.assign(nb, 0);
+    for (std::size_t s = 0; s < star_.size(); ++s) {
+      const std::uint32_t t = star_[s], c = comp_[s];
+      vol[c] += volume(t);
+      kept_comp[c] = is_kept(t) ? 1 : 0;
+      if (frozen_[t] != 0 || dt_.is_infinite(t)) locked[c] = 1;
+    }
+    // Option A: keep the largest kept component, remove the others. Option B: keep the
+    // largest non-kept component, add the others.
+    double cost[2] = {0, 0};
+    bool valid[2] = {true, true};
+    chosen_[0] = chosen_[1] = kNone;
+    for (int option = 0; option < 2; ++option) {
+      const std::uint8_t side = option == 0 ? 1 : 0;
+      std::uint32_t largest = kNone, count = 0;
+      for (std::uint32_t c = 0; c < nb; ++c) {
+        if (kept_comp[c] != side) continue;
+        ++count;
+        if (largest == kNone || vol[c] > vol[largest]) largest = c;
+      }
+      if (count < 2) {
+        valid[option] = false;
+        continue;
+      }
+      for (std::uint32_t c = 0; c < nb; ++c) {
+        if (kept_comp[c] != side || c == largest) continue;
+        if (locked[c] != 0) valid[option] = false;
+        cost[option] += vol[c];
+      }
+      chosen_[option] = largest;
+    }
+    if (removal_only) {
+      // Phase 2: frozen tets may change again, but only towards removal.
+      valid[1] = false;
+      if (chosen_[0] == kNone || count_kept_components(nb) < 2) {
+        // One kept component (around holes of the star): all of it goes.
+        bool any = false;
+        for (std::size_t s = 0; s < star_.size(); ++s) {
+          if (!is_kept(star_[s])) continue;
+          kept_[star_[s]] = 0;
+          ++stats_.nb_removed;
+          any = true;
+        }
+        return any;
+      }
+      valid[0] = true;
+    }
+    int option = -1;
+    if (valid[0] && (!valid[1] || cost[0] <= cost[1])) {
+      option = 0;
+    } else if (valid[1]) {
+      option = 1;
+    }
+    if (option < 0) return false;
+    const std::uint8_t side = option == 0 ? 1 : 0;
+    for (std::size_t s = 0; s < star_.size(); ++s) {
+      const std::uint32_t t = star_[s], c = comp_[s];
+      if (kept_comp[c] != side || c == chosen_[option]) continue;
+      kept_[t] = side == 1 ? 0 : 1;
+      frozen_[t] = 1;
+      (side == 1 ? stats_.nb_removed : stats_.nb_added) += 1;
+    }
+    return true;
+  }
+
+  std::uint32_t count_kept_components(std::uint32_t nb) const {
+    std::uint32_t n = 0;
+    for (std::uint32_t c = 0; c < nb; ++c) n += kept_comp_[c];
+    return n;
+  }
+
+  bool repair_edge(const Edge& e, bool removal_only) {
+    edge_star(e);
+    if (count_runs() < 2) return false;
+    ++stats_.nb_nonmanifold_edges;
+    // Components of a cycle: its runs.
+    const std::size_t n = star_.size();
+    comp_.assign(n, kNone);
+    std::size_t first = 0;
+    while (first < n && is_kept(star_[first]) == is_kept(star_[(first + n - 1) % n])) ++first;
+    std::uint32_t id = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t s = (first + i) % n;
+      if (i > 0 && is_kept(star_[s]) != is_kept(star_[(s + n - 1) % n])) ++id;
+      comp_[s] = id;
+    }
+    return apply_rule(id + 1, removal_only);
+  }
+
+  bool repair_vertex(std::uint32_t v, bool removal_only) {
+    vertex_star(v);
+    std::uint32_t nk = 0, ng = 0;
+    components(nk, ng);
+    if (nk < 2 && ng < 2) return false;
+    ++stats_.nb_nonmanifold_vertices;
+    return apply_rule(nk + ng, removal_only);
+  }
+
+  const Delaunay3& dt_;
+  std::vector<std::uint8_t>& kept_;
+  Extract3Stats& stats_;
+  std::vector<std::uint8_t> frozen_;
+  std::vector<Edge> edges_;
+  std::vector<std::uint32_t> vertices_;
+  std::vector<std::uint32_t> star_, comp_, queue_;
+  std::vector<double> vol_;
+  std::vector<std::uint8_t> kept_comp_, locked_;
+  std::uint32_t chosen_[2] = {kNone, kNone};
+  std::uint32_t vertex_ = kNone;
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
+                                                  const Extract3Options& options,
+                                                  Extract3Stats* stats) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  Extract3Stats st;
+  const std::uint32_t ns = dt.nb_tet_slots();
+  // Per slot: bit 0 kept, bit 1 on the boundary, bit 2 searched without an error box.
+  std::vector<std::uint8_t> flags(ns, 0);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, ns, 1024), [&](const auto& range) {
+    for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+      if (dt.is_free(t) || dt.is_infinite(t)) continue;
+      const double* p[4];
+      for (int k = 0; k < 4; ++k) p[k] = dt.point(dt.tet_vertex(t, k));
+      bool unbounded = false;
+      const Sign s = locate(p[0], p[1], p[2], p[3], unbounded);
+      std::uint8_t f = unbounded ? 4 : 0;
+      if (s != Sign::negative) f |= 1;
+      if (s == Sign::zero) f |= 2;
+      flags[t] = f;
+    }
+  });
+  std::vector<std::uint8_t> kept(ns, 0);
+  for (std::uint32_t t = 0; t < ns; ++t) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    ++st.nb_delaunay_tets;
+    kept[t] = flags[t] & 1;
+    st.nb_inside += flags[t] & 1;
+    st.nb_on_boundary += (flags[t] >> 1) & 1;
+    st.nb_unbounded += (flags[t] >> 2) & 1;
+  }
+  if (options.repair_manifold) ManifoldRepair(dt, kept, st).run(options.max_repair_passes);
+  std::vector<std::uint32_t> tets;
+  for (std::uint32_t t = 0; t < ns; ++t) {
+    if (kept[t] == 0) continue;
+    // Delaunay3's tets have orient3d > 0; swapping the last two gives the right-handed order.
+    tets.insert(tets.end(), {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 3),
+                             dt.tet_vertex(t, 2)});
+  }
+  st.nb_kept = static_cast<std::uint32_t>(tets.size() / 4);
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stats) *stats = st;
+  return tets;
+}
+
+}  // namespace voroclip

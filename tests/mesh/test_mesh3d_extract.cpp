@@ -1,0 +1,213 @@
+// Tests of the 3D mesh extraction (voroclip/mesh.h, TetExtractor3): the circumcenter of
+// every Delaunay tet located exactly (against a brute-force search over every domain tet
+// with the exact predicate, and against hand-placed circumcenters on facets, edges,
+// vertices and the boundary), the orientation of the output, the manifold repair (the
+// result is accepted by Domain3's exact validation) and 1 vs 2 threads.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+
+using voroclip::Delaunay3;
+using voroclip::Domain3;
+using voroclip::Extract3Options;
+using voroclip::Extract3Stats;
+using voroclip::Sign;
+using voroclip::TetExtractor3;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+// The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
+Domain3 cube_domain() {
+  voroclip::TetMeshInput m;
+  m.source = "cube";
+  for (int k = 0; k < 8; ++k) {
+    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 2.0 * ((k >> 1) & 1), 2.0 * ((k >> 2) & 1)});
+  }
+  // Paths 0 -> 7 along the axes in every order.
+  const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
+  for (const auto& a : axes) {
+    m.tets.insert(m.tets.end(), {0u, static_cast<std::uint32_t>(a[0]),
+                                 static_cast<std::uint32_t>(a[0] + a[1]), 7u});
+  }
+  return Domain3(m);
+}
+
+// Brute force: where the circumcenter of p lies, over every domain tet (exact predicate).
+Sign brute_force_side(const Domain3& d, const std::array<const double*, 4>& p) {
+  bool in_closed = false, on_boundary = false, strictly = false;
+  for (std::uint32_t t = 0; t < d.nb_tets(); ++t) {
+    int zero = 0;
+    bool inside = true;
+    for (int f = 0; f < 4 && inside; ++f) {
+      const int* fv = Domain3::kTetFacetVertex[f];
+      const Sign s = voroclip::orient3d_circumcenter(
+          d.vertex(d.tet_vertex(t, fv[0])), d.vertex(d.tet_vertex(t, fv[1])),
+          d.vertex(d.tet_vertex(t, fv[2])), p[0], p[1], p[2], p[3]);
+      if (s == Sign::positive) inside = false;
+      if (s == Sign::zero) {
+        zero |= 1 << f;
+        if (d.tet_adjacent(t, f) == Domain3::kNone) on_boundary = true;
+      }
+    }
+    if (!inside) continue;
+    in_closed = true;
+    strictly = strictly || zero == 0;
+  }
+  (void)strictly;
+  if (!in_closed) return Sign::negative;
+  return on_boundary ? Sign::zero : Sign::positive;
+}
+
+// n points: half uniform in the volume, half on boundary triangles (random barycentric
+// combinations, rounded: on or within rounding of the surface), which gives flat boundary
+// tets with circumcenters anywhere.
+std::vector<double> mixed_sites(const Domain3& d, std::uint32_t n, std::uint64_t seed) {
+  std::vector<double> xyz = voroclip::random_points3(d, n / 2, seed);
+  std::mt19937_64 rng(seed);
+  const auto u01 = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  for (std::uint32_t i = n / 2; i < n; ++i) {
+    const std::uint32_t b = static_cast<std::uint32_t>(rng() % d.nb_boundary_triangles());
+    double w[3] = {u01(), u01(), 0};
+    if (w[0] + w[1] > 1) {
+      w[0] = 1 - w[0];
+      w[1] = 1 - w[1];
+    }
+    w[2] = 1 - w[0] - w[1];
+    for (int c = 0; c < 3; ++c) {
+      double x = 0;
+      for (int k = 0; k < 3; ++k) x += w[k] * d.vertex(d.boundary_vertex(b, k))[c];
+      xyz.push_back(x);
+    }
+  }
+  return xyz;
+}
+
+std::vector<std::uint32_t> kept_by_brute_force(const Domain3& d, const Delaunay3& dt) {
+  std::vector<std::uint32_t> kept;
+  for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+    if (dt.is_free(t) || dt.is_infinite(t)) continue;
+    const std::array<const double*, 4> p = {
+        dt.point(dt.tet_vertex(t, 0)), dt.point(dt.tet_vertex(t, 1)), dt.point(dt.tet_vertex(t, 2)),
+        dt.point(dt.tet_vertex(t, 3))};
+    if (brute_force_side(d, p) != Sign::negative) {
+      kept.insert(kept.end(), {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 3),
+                               dt.tet_vertex(t, 2)});
+    }
+  }
+  return kept;
+}
+
+}  // namespace
+
+TEST_CASE("circumcenter_side: circumcenters on facets, edges, vertices and the boundary",
+          "[mesh][exact][degenerate]") {
+  const Domain3 cube = cube_domain();
+  const TetExtractor3 ex(cube);
+  // Four points at distance r from c (not coplanar): their circumcenter is c exactly.
+  const auto side = [&](double cx, double cy, double cz) {
+    const double r = 0.75;
+    const double p[4][3] = {{cx + r, cy, cz}, {cx - r, cy, cz}, {cx, cy + r, cz}, {cx, cy, cz + r}};
+    return ex.circumcenter_side(p[0], p[1], p[2], p[3]);
+  };
+  CHECK(side(1, 1, 1) == Sign::positive);       // on the diagonal shared by the six tets
+  CHECK(side(1, 0.5, 0.25) == Sign::positive);  // inside one tet
+  CHECK(side(1, 1, 0.5) == Sign::positive);     // on a facet between two tets
+  CHECK(side(1, 1, 0) == Sign::zero);           // on the boundary, inside a face
+  CHECK(side(2, 1, 0) == Sign::zero);           // on a boundary edge
+  CHECK(side(0, 0, 0) == Sign::zero);           // at a corner
+  CHECK(side(1, 0, 1) == Sign::zero);           // on a face diagonal (a boundary edge)
+  CHECK(side(2.5, 1, 1) == Sign::negative);
+  CHECK(side(1, 1, -0x1p-50) == Sign::negative);  // just below the bottom face
+  CHECK(side(1, 1, 0x1p-50) == Sign::positive);
+  CHECK(side(100, 0, 0) == Sign::negative);
+  // Coplanar points: no circumcenter.
+  const double q[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  CHECK_THROWS_AS(ex.circumcenter_side(q[0], q[1], q[2], q[3]), voroclip::Error);
+}
+
+TEST_CASE("extract: exactly the Delaunay tets whose circumcenter lies in the closed domain",
+          "[mesh][exact]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  const TetExtractor3 ex(d);
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    INFO("seed " << seed);
+    const std::vector<double> sites = mixed_sites(d, 400, seed);
+    const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+    Extract3Options raw;
+    raw.repair_manifold = false;
+    Extract3Stats st;
+    const std::vector<std::uint32_t> tets = ex.extract(dt, raw, &st);
+    CHECK(tets == kept_by_brute_force(d, dt));
+    CHECK(st.nb_kept * 4 == tets.size());
+    CHECK(st.nb_inside == st.nb_kept);
+    CHECK(st.nb_delaunay_tets == dt.nb_finite_tets());
+    // Some circumcenters are outside (the flat tets on the surface), most inside.
+    CHECK(st.nb_kept < st.nb_delaunay_tets);
+    CHECK(st.nb_kept > st.nb_delaunay_tets / 2);
+    // Every tet listed right-handed: orient3d(p0, p1, p2, p3) < 0, exactly.
+    for (std::size_t t = 0; t < tets.size(); t += 4) {
+      CHECK(voroclip::orient3d(&sites[3 * tets[t]], &sites[3 * tets[t + 1]],
+                               &sites[3 * tets[t + 2]], &sites[3 * tets[t + 3]]) == Sign::negative);
+    }
+  }
+}
+
+TEST_CASE("extract: the repair leaves a closed 2-manifold boundary", "[mesh][exact]") {
+  // fandisk: concave creases, where the raw rule gives non-manifold edges and vertices.
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  const TetExtractor3 ex(d);
+  std::uint32_t found = 0;
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    INFO("seed " << seed);
+    const std::vector<double> sites =
+        mixed_sites(d, 300 + 100 * static_cast<std::uint32_t>(seed), seed);
+    const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+    Extract3Stats st;
+    const std::vector<std::uint32_t> tets = ex.extract(dt, {}, &st);
+    INFO(st.nb_nonmanifold_edges << " non-manifold edges, " << st.nb_nonmanifold_vertices
+                                 << " vertices; " << st.nb_added << " added, " << st.nb_removed
+                                 << " removed");
+    found += st.nb_nonmanifold_edges + st.nb_nonmanifold_vertices;
+    CHECK(st.nb_unrepaired == 0);
+    voroclip::TetMeshInput m;
+    m.source = "extracted";
+    m.xyz = sites;
+    m.tets = tets;
+    // Domain3 validates exactly: no zero-volume tet, every facet in at most two tets on
+    // opposite sides, boundary edges in exactly two triangles, one fan per vertex.
+    CHECK_NOTHROW(Domain3(m));
+    CHECK(st.nb_kept + st.nb_removed == st.nb_inside + st.nb_added);
+  }
+  // The inputs exercise the repair.
+  CHECK(found > 0);
+}
+
+TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  const TetExtractor3 ex(d);
+  const std::vector<double> sites = mixed_sites(d, 2000, 7);
+  const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+  std::vector<std::uint32_t> one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = ex.extract(dt);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = ex.extract(dt);
+  }
+  CHECK(one == two);
+}
