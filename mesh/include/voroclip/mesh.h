@@ -90,7 +90,7 @@ class SizingField3 {
 
 struct Extract3Options {
   bool repair_manifold = true;
-  // Passes of the repair (each re-examines the boundary); it stops earlier when clean.
+  // Passes of the first rule (each re-examines the boundary); it stops earlier when clean.
   std::uint32_t max_repair_passes = 16;
 };
 
@@ -102,7 +102,6 @@ struct Extract3Stats {
   std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
   std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
   std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
-  std::uint32_t nb_unrepaired = 0;             // edges and vertices left non-manifold
   std::uint32_t nb_repair_passes = 0;
   std::uint32_t nb_kept = 0;  // tets returned
   double seconds = 0;
@@ -133,8 +132,10 @@ class TetExtractor3 {
 
  private:
   struct Grid;
+  // circumcenter_side, starting from tet `hint` (kNone: none; updated to a tet near the
+  // circumcenter); `unbounded` set when no error box exists.
   Sign locate(const double* p0, const double* p1, const double* p2, const double* p3,
-              bool& unbounded) const;
+              bool& unbounded, std::uint32_t& hint) const;
   const Domain3* domain_;
   std::unique_ptr<Grid> grid_;
 };
