@@ -3,14 +3,22 @@
 // domain, decided exactly, then a local repair of a non-manifold boundary (mesh.h).
 //
 // Location. A uniform grid over the domain's bounding box lists, per cell, the domain tets
-// whose bounding box meets the cell (cells of about two tets each). The cell of a
-// coordinate is clamp(floor((x - lo) * inv_h)), a monotone function of x, so a tet whose
-// box meets a query box is listed in a cell of the query's cell range: the grid only
-// filters. A tet met in several cells of one query is tested in the first of them only
-// (the cell whose index is, per axis, the larger of the two ranges' starts). The query box
-// is the proven enclosure of the circumcenter; each candidate tet is then tested exactly
-// with orient3d_circumcenter against its four facets (Domain3::kTetFacetVertex lists them
-// so that the tet's inside is negative).
+// whose bounding box meets the cell (cells of about eight tets of the box's volume); the
+// tets are copied in Morton order of their centroid's cell. The cell of a coordinate is
+// clamp(floor((x - lo) * inv_h)), a monotone function of x, so a tet whose box meets a
+// query box is listed in a cell of the query's cell range: the grid only filters. The
+// query box is the proven enclosure of the circumcenter (circumcenter3d_enclosure).
+//   1. Walk: from the previous answer (the Delaunay tets are visited in Morton order of
+//      their centroid's cell, so it is near) or a tet of the centre's cell, step across
+//      the facets that orient3d_fast puts the floating-point centre beyond; the tet
+//      reached is tested exactly (orient3d_circumcenter against its four facets,
+//      Domain3::kTetFacetVertex listing them so that the tet's inside is negative). A
+//      strict inclusion, or an exact zero on a boundary facet, decides.
+//   2. Otherwise (the walk left the domain or looped, the centre is on an interior facet,
+//      edge or vertex, or there is no error box): every tet listed in the query's cells
+//      whose box meets the query box is tested exactly, each once (in the first cell of
+//      the query where it is listed: per axis, the larger of the two ranges' starts).
+// The walk in floating point only chooses which tet the exact test sees first.
 //
 // Repair. Boundary facets are the facets of kept tets whose neighbour is not kept (or
 // infinite). An edge of the boundary is non-manifold when the tets around it (a cycle,
