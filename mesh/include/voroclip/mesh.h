@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -139,5 +140,40 @@ class TetExtractor3 {
   const Domain3* domain_;
   std::unique_ptr<Grid> grid_;
 };
+
+// =======================================================================================
+// 3D CVT tet meshing: sliver removal by vertex perturbation (Tournois, Srinivasan & Alliez,
+// IMR 2009; mesh/src/slivers3d.cpp has the algorithm).
+
+// The smallest dihedral angle of a tet, in degrees (floating point; 0 when flat).
+double min_dihedral_deg(const double* p0, const double* p1, const double* p2, const double* p3);
+
+struct Perturb3Options {
+  // Kept tets whose smallest dihedral angle is below this are slivers.
+  double target_dihedral_deg = 30;
+  std::uint32_t max_rounds = 20;
+  // Seed of the pseudo-random directions.
+  std::uint64_t seed = 1;
+  // Called before each round with the round, the number of slivers and the smallest
+  // dihedral angle; return false to stop.
+  std::function<bool(std::uint32_t, std::uint32_t, double)> progress;
+};
+
+struct Perturb3Stats {
+  std::uint32_t rounds = 0, moves = 0;
+  std::uint32_t initial_slivers = 0, final_slivers = 0;
+  double initial_min_dihedral_deg = 0, final_min_dihedral_deg = 0;
+  double seconds = 0;
+  bool cancelled = false;
+};
+
+// Moves the vertices of slivers of the mesh extracted from the sites' Delaunay
+// triangulation (sites updated in place). kinds: per site (or empty: all free); fixed
+// sites never move, surface and curve sites move within their constraint through
+// `project` (as in Cvt3Options; here it may be called from several threads at once, so
+// it must be thread-safe). Deterministic: the same result for any thread count.
+Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<double>& sites,
+                               const std::vector<SiteConstraint3::Kind>& kinds,
+                               const SiteProjector3& project, const Perturb3Options& options = {});
 
 }  // namespace voroclip
