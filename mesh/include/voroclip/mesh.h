@@ -171,9 +171,13 @@ struct Perturb3Stats {
 // triangulation (sites updated in place). kinds: per site (or empty: all free); fixed
 // sites never move, surface and curve sites move within their constraint through
 // `project` (as in Cvt3Options; here it may be called from several threads at once, so
-// it must be thread-safe). Deterministic: the same result for any thread count.
+// it must be thread-safe). `mesh` and `extraction`, when given, receive the tets that
+// extract() (default options) gives for the final sites, and its statistics.
+// Deterministic: the same result for any thread count.
 Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<double>& sites,
                                const std::vector<SiteConstraint3::Kind>& kinds,
-                               const SiteProjector3& project, const Perturb3Options& options = {});
+                               const SiteProjector3& project, const Perturb3Options& options = {},
+                               std::vector<std::uint32_t>* mesh = nullptr,
+                               Extract3Stats* extraction = nullptr);
 
 }  // namespace voroclip
