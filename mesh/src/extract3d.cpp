@@ -183,26 +183,6 @@ Sign TetExtractor3::circumcenter_side(const double* p0, const double* p1, const 
 Sign TetExtractor3::locate(const double* p0, const double* p1, const double* p2, const double* p3,
                            bool& unbounded, std::uint32_t& hint) const {
   const Grid& g = *grid_;
-  // Exact: is the circumcenter in closed tet t? 0 no; 1 strictly inside; 2 on its
-  // boundary but not on the domain's boundary; 3 on the domain's boundary.
-  const auto test = [&](std::uint32_t t) {
-    const double* x = &g.coords[12 * std::size_t{t}];
-    int zero_facets = 0;  // bit f: the circumcenter is on the plane of facet f
-    for (int f = 0; f < 4; ++f) {
-      const int* fv = Domain3::kTetFacetVertex[f];
-      const Sign s =
-          orient3d_circumcenter(x + 3 * fv[0], x + 3 * fv[1], x + 3 * fv[2], p0, p1, p2, p3);
-      if (s == Sign::positive) return 0;
-      if (s == Sign::zero) zero_facets |= 1 << f;
-    }
-    if (zero_facets == 0) return 1;
-    for (int f = 0; f < 4; ++f) {
-      if ((zero_facets >> f & 1) != 0 &&
-          g.adj[4 * std::size_t{t} + static_cast<std::size_t>(f)] == Domain3::kNone)
-        return 3;
-    }
-    return 2;
-  };
   double centre[3], hw[3], qlo[3], qhi[3];
   if (circumcenter3d_enclosure(p0, p1, p2, p3, centre, hw)) {
     for (int c = 0; c < 3; ++c) {
@@ -220,6 +200,49 @@ Sign TetExtractor3::locate(const double* p0, const double* p1, const double* p2,
       centre[c] = 0.5 * (qlo[c] + qhi[c]);
     }
   }
+  return locate_in(centre, qlo, qhi, unbounded, hint,
+                   [&](const double* a, const double* b, const double* c) {
+                     return orient3d_circumcenter(a, b, c, p0, p1, p2, p3);
+                   });
+}
+
+Sign TetExtractor3::point_side(const double* p) const {
+  const Grid& g = *grid_;
+  for (int c = 0; c < 3; ++c) {
+    if (!(p[c] >= g.lo[c] && p[c] <= g.hi[c])) {
+      if (!std::isfinite(p[c])) throw Error("point_side: a coordinate is not finite");
+      return Sign::negative;
+    }
+  }
+  std::uint32_t hint = Domain3::kNone;
+  return locate_in(p, p, p, false, hint, [&](const double* a, const double* b, const double* c) {
+    return orient3d(a, b, c, p);
+  });
+}
+
+template <class SideOf>
+Sign TetExtractor3::locate_in(const double* centre, const double* qlo, const double* qhi,
+                              bool unbounded, std::uint32_t& hint, const SideOf& side) const {
+  const Grid& g = *grid_;
+  // Exact: is the point in closed tet t? 0 no; 1 strictly inside; 2 on its boundary but
+  // not on the domain's boundary; 3 on the domain's boundary.
+  const auto test = [&](std::uint32_t t) {
+    const double* x = &g.coords[12 * std::size_t{t}];
+    int zero_facets = 0;  // bit f: the point is on the plane of facet f
+    for (int f = 0; f < 4; ++f) {
+      const int* fv = Domain3::kTetFacetVertex[f];
+      const Sign s = side(x + 3 * fv[0], x + 3 * fv[1], x + 3 * fv[2]);
+      if (s == Sign::positive) return 0;
+      if (s == Sign::zero) zero_facets |= 1 << f;
+    }
+    if (zero_facets == 0) return 1;
+    for (int f = 0; f < 4; ++f) {
+      if ((zero_facets >> f & 1) != 0 &&
+          g.adj[4 * std::size_t{t} + static_cast<std::size_t>(f)] == Domain3::kNone)
+        return 3;
+    }
+    return 2;
+  };
   const auto overlaps = [&](std::uint32_t t) {
     const double* b = &g.box[6 * std::size_t{t}];
     return !(b[0] > qhi[0] || b[3] < qlo[0] || b[1] > qhi[1] || b[4] < qlo[1] || b[2] > qhi[2] ||

@@ -138,6 +138,48 @@ TEST_CASE("circumcenter_side: circumcenters on facets, edges, vertices and the b
   CHECK_THROWS_AS(ex.circumcenter_side(q[0], q[1], q[2], q[3]), voroclip::Error);
 }
 
+TEST_CASE("point_side: exact point location in the domain", "[mesh][exact][degenerate]") {
+  const Domain3 cube = cube_domain();
+  const TetExtractor3 ex(cube);
+  const auto side = [&](double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    return ex.point_side(p);
+  };
+  CHECK(side(1, 1, 1) == Sign::positive);  // on the diagonal shared by six tets
+  CHECK(side(0.5, 1, 1.5) == Sign::positive);
+  CHECK(side(1, 1, 0) == Sign::zero);  // inside a face
+  CHECK(side(2, 2, 1) == Sign::zero);  // on an edge
+  CHECK(side(2, 2, 2) == Sign::zero);  // a corner
+  CHECK(side(1, 1, -0x1p-60) == Sign::negative);
+  CHECK(side(1, 1, 0x1p-60) == Sign::positive);
+  CHECK(side(3, 1, 1) == Sign::negative);
+  const double bad[3] = {std::nan(""), 0, 0};
+  CHECK_THROWS_AS(ex.point_side(bad), voroclip::Error);
+  // Against the brute force on a real model: random points in the bounding box.
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  const TetExtractor3 fx(d);
+  std::mt19937_64 rng(5);
+  const auto u01 = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  std::uint32_t inside = 0;
+  for (int i = 0; i < 300; ++i) {
+    double p[3];
+    for (int c = 0; c < 3; ++c) p[c] = d.bbox_lo()[c] + u01() * (d.bbox_hi()[c] - d.bbox_lo()[c]);
+    bool in = false;
+    for (std::uint32_t t = 0; t < d.nb_tets() && !in; ++t) {
+      bool all = true;
+      for (int f = 0; f < 4 && all; ++f) {
+        const int* fv = Domain3::kTetFacetVertex[f];
+        all = voroclip::orient3d(d.vertex(d.tet_vertex(t, fv[0])), d.vertex(d.tet_vertex(t, fv[1])),
+                                 d.vertex(d.tet_vertex(t, fv[2])), p) != Sign::positive;
+      }
+      in = all;
+    }
+    inside += in ? 1 : 0;
+    CHECK((fx.point_side(p) != Sign::negative) == in);
+  }
+  CHECK(inside > 30);
+}
+
 TEST_CASE("extract: exactly the Delaunay tets whose circumcenter lies in the closed domain",
           "[mesh][exact]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));

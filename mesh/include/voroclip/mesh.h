@@ -123,6 +123,9 @@ class TetExtractor3 {
   // NEGATIVE outside. Exact. Throws Error for coplanar points.
   Sign circumcenter_side(const double* p0, const double* p1, const double* p2,
                          const double* p3) const;
+  // Where point p lies, with the same convention (exact orient3d). Throws Error for a
+  // non-finite coordinate.
+  Sign point_side(const double* p) const;
 
   // The kept tets of dt (4 input point indices each), each listed so that
   // det(p1 - p0, p2 - p0, p3 - p0) > 0 (orient3d(p0, p1, p2, p3) < 0: the right-handed
@@ -137,6 +140,11 @@ class TetExtractor3 {
   // circumcenter); `unbounded` set when no error box exists.
   Sign locate(const double* p0, const double* p1, const double* p2, const double* p3,
               bool& unbounded, std::uint32_t& hint) const;
+  // The search of a point x given by `side` (side(a, b, c) = orient3d(a, b, c, x)), known
+  // to lie in the box [qlo, qhi] (centre: a floating-point approximation of it).
+  template <class SideOf>
+  Sign locate_in(const double* centre, const double* qlo, const double* qhi, bool unbounded,
+                 std::uint32_t& hint, const SideOf& side) const;
   const Domain3* domain_;
   std::unique_ptr<Grid> grid_;
 };
