@@ -604,6 +604,37 @@ class ManifoldRepair {
   std::uint32_t vertex_ = kNone;
 };
 
+// Dent filling (mesh.h): a boundary facet of the kept tets with a vertex that is not on the
+// surface gets the finite tet across it added. Passes over the slots in order, each seeing
+// the additions of the previous ones.
+void fill_dents(const Delaunay3& dt, const std::vector<std::uint8_t>& on_surface,
+                std::uint32_t max_passes, std::vector<std::uint8_t>& kept, Extract3Stats& st) {
+  if (on_surface.size() < dt.nb_points()) {
+    throw Error("extract: " + std::to_string(on_surface.size()) + " surface flags for " +
+                std::to_string(dt.nb_points()) + " points");
+  }
+  std::vector<std::uint32_t> added;
+  for (std::uint32_t pass = 0; pass < max_passes; ++pass) {
+    added.clear();
+    for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+      if (kept[t] == 0) continue;
+      for (int f = 0; f < 4; ++f) {
+        const std::uint32_t n = dt.tet_adjacent(t, f);
+        if (kept[n] != 0 || dt.is_infinite(n)) continue;
+        const int* fv = Delaunay3::kFacetVertex[f];
+        bool off = false;
+        for (int k = 0; k < 3; ++k) off = off || on_surface[dt.tet_vertex(t, fv[k])] == 0;
+        if (off) added.push_back(n);
+      }
+    }
+    if (added.empty()) break;
+    std::sort(added.begin(), added.end());
+    added.erase(std::unique(added.begin(), added.end()), added.end());
+    for (const std::uint32_t n : added) kept[n] = 1;
+    st.nb_filled += static_cast<std::uint32_t>(added.size());
+  }
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
@@ -656,6 +687,7 @@ std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
     st.nb_on_boundary += (flags[t] >> 1) & 1;
     st.nb_unbounded += (flags[t] >> 2) & 1;
   }
+  if (options.on_surface) fill_dents(dt, *options.on_surface, options.max_fill_passes, kept, st);
   if (options.repair_manifold) ManifoldRepair(dt, kept, st).run(options.max_repair_passes);
   std::vector<std::uint32_t> tets;
   for (std::uint32_t t = 0; t < ns; ++t) {

@@ -222,10 +222,10 @@ class LocalScorer {
 };
 
 void build_state(GlobalState& g, const TetExtractor3& extractor, const std::vector<double>& sites,
-                 Extract3Stats* extraction) {
+                 const Extract3Options& options, Extract3Stats* extraction) {
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
   g.dt.build(sites.data(), n);
-  g.tets = extractor.extract(g.dt, {}, extraction);
+  g.tets = extractor.extract(g.dt, options, extraction);
   const std::size_t nt = g.tets.size() / 4;
   g.q1.resize(nt);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1024), [&](const auto& range) {
@@ -360,7 +360,7 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
   std::vector<double> moved_to;
   std::vector<std::uint8_t> moved;
   for (std::uint32_t round = 0;; ++round) {
-    build_state(g, extractor, sites, extraction);
+    build_state(g, extractor, sites, options.extraction, extraction);
     const std::size_t nt = g.q1.size();
     std::uint32_t nb_slivers = 0;
     double worst = 180;

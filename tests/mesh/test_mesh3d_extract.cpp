@@ -236,6 +236,71 @@ TEST_CASE("extract: the repair leaves a closed 2-manifold boundary", "[mesh][exa
   CHECK(found > 0);
 }
 
+TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", "[mesh]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  const TetExtractor3 ex(d);
+  // Interior points, and points exactly on boundary triangles (mixed_sites) flagged as on
+  // the surface.
+  const std::vector<double> sites = mixed_sites(d, 800, 21);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  std::vector<std::uint8_t> on_surface(n, 0);
+  for (std::uint32_t i = n / 2; i < n; ++i) on_surface[i] = 1;
+  const Delaunay3 dt(sites.data(), n);
+  // Boundary facets of a tet set (4 per tet) with a vertex off the surface, and a finite
+  // Delaunay tet across.
+  const auto dents = [&](const std::vector<std::uint32_t>& tets) {
+    std::vector<std::array<std::uint32_t, 3>> faces;
+    for (std::size_t t = 0; t < tets.size(); t += 4) {
+      for (int f = 0; f < 4; ++f) {
+        std::array<std::uint32_t, 3> key;
+        int j = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (k != f) key[static_cast<std::size_t>(j++)] = tets[t + static_cast<std::size_t>(k)];
+        }
+        std::sort(key.begin(), key.end());
+        faces.push_back(key);
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const bool twice =
+          (i + 1 < faces.size() && faces[i + 1] == faces[i]) || (i > 0 && faces[i - 1] == faces[i]);
+      if (twice) continue;
+      if (on_surface[faces[i][0]] && on_surface[faces[i][1]] && on_surface[faces[i][2]]) continue;
+      // Off-surface boundary facet: is there a finite Delaunay tet across (not kept)?
+      std::uint32_t finite = 0;
+      for (std::uint32_t s = 0; s < dt.nb_tet_slots(); ++s) {
+        if (dt.is_free(s) || dt.is_infinite(s)) continue;
+        int hit = 0;
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t w = dt.tet_vertex(s, k);
+          hit += w == faces[i][0] || w == faces[i][1] || w == faces[i][2] ? 1 : 0;
+        }
+        finite += hit == 3 ? 1 : 0;
+      }
+      count += finite == 2 ? 1 : 0;
+    }
+    return count;
+  };
+  Extract3Options plain;
+  plain.repair_manifold = false;
+  const std::vector<std::uint32_t> raw = ex.extract(dt, plain);
+  Extract3Options filling = plain;
+  filling.on_surface = &on_surface;
+  Extract3Stats st;
+  const std::vector<std::uint32_t> filled = ex.extract(dt, filling, &st);
+  const std::uint32_t before = dents(raw), after = dents(filled);
+  INFO(before << " dents before, " << after << " after; " << st.nb_filled << " tets added");
+  CHECK(before > 0);
+  CHECK(after == 0);
+  CHECK(st.nb_filled > 0);
+  CHECK(filled.size() == raw.size() + 4 * std::size_t{st.nb_filled});
+  // Too few flags: an error.
+  on_surface.pop_back();
+  CHECK_THROWS_AS(ex.extract(dt, filling), voroclip::Error);
+}
+
 TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
   const TetExtractor3 ex(d);

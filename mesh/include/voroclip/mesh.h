@@ -90,6 +90,15 @@ class SizingField3 {
 // with a closed 2-manifold boundary.
 
 struct Extract3Options {
+  // Per point of the triangulation: nonzero when it lies on the domain's boundary surface.
+  // When given, the extraction fills dents: a boundary facet of the kept tets with a vertex
+  // that is not on the surface gets the (finite) tet across it added, in passes until none
+  // is left (at most max_fill_passes). Sites on a curved or polyhedral surface make the
+  // circumcenters of the boundary layer's tets lie close to the surface, on either side:
+  // without this, a well-shaped tet whose circumcenter is just outside leaves an interior
+  // site on the boundary, a dent one layer deep.
+  const std::vector<std::uint8_t>* on_surface = nullptr;
+  std::uint32_t max_fill_passes = 8;
   bool repair_manifold = true;
   // Passes of the first rule (each re-examines the boundary); it stops earlier when clean.
   std::uint32_t max_repair_passes = 16;
@@ -100,6 +109,7 @@ struct Extract3Stats {
   std::uint32_t nb_inside = 0;                 // with the circumcenter in the closed domain
   std::uint32_t nb_on_boundary = 0;            // of those, exactly on the boundary (tie rule)
   std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
+  std::uint32_t nb_filled = 0;                 // tets added by the dent filling
   std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
   std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
   std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
@@ -162,6 +172,8 @@ struct Perturb3Options {
   std::uint32_t max_rounds = 20;
   // Seed of the pseudo-random directions.
   std::uint64_t seed = 1;
+  // The options of every extraction (the on_surface flags must outlive the call).
+  Extract3Options extraction;
   // Called before each round with the round, the number of slivers and the smallest
   // dihedral angle; return false to stop.
   std::function<bool(std::uint32_t, std::uint32_t, double)> progress;
