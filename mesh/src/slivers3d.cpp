@@ -23,7 +23,8 @@
 //      within it (the candidate is projected by the caller's projector, as in the
 //      constrained CVT). The best candidate is taken when it beats the current position's
 //      score by kMinGain degrees.
-// The rounds stop when there is no sliver, when a round moves nothing, or after
+// The rounds stop when there is no sliver, when a round moves nothing, when a round
+// neither removes a sliver nor raises the smallest angle by min_progress_deg, or after
 // max_rounds. The local triangulation only chooses moves: the mesh is always extracted
 // from the global triangulation, exactly. The result does not depend on the thread count.
 #include <tbb/blocked_range.h>
@@ -368,13 +369,15 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
       nb_slivers += g.q1[t] < options.target_dihedral_deg ? 1 : 0;
       worst = std::min(worst, g.q1[t]);
     }
+    const bool stalled = round > 0 && nb_slivers >= stats.final_slivers &&
+                         worst < stats.final_min_dihedral_deg + options.min_progress_deg;
     if (round == 0) {
       stats.initial_slivers = nb_slivers;
       stats.initial_min_dihedral_deg = worst;
     }
     stats.final_slivers = nb_slivers;
     stats.final_min_dihedral_deg = worst;
-    if (nb_slivers == 0 || round == options.max_rounds) break;
+    if (nb_slivers == 0 || round == options.max_rounds || stalled) break;
     if (options.progress && !options.progress(round, nb_slivers, worst)) {
       stats.cancelled = true;
       break;

@@ -170,6 +170,8 @@ struct Perturb3Options {
   // Kept tets whose smallest dihedral angle is below this are slivers.
   double target_dihedral_deg = 30;
   std::uint32_t max_rounds = 20;
+  // Stop when a round removed no sliver and raised the smallest angle by less than this.
+  double min_progress_deg = 1;
   // Seed of the pseudo-random directions.
   std::uint64_t seed = 1;
   // The options of every extraction (the on_surface flags must outlive the call).
