@@ -604,16 +604,33 @@ class ManifoldRepair {
   std::uint32_t vertex_ = kNone;
 };
 
-// Dent filling (mesh.h): a boundary facet of the kept tets with a vertex that is not on the
-// surface gets the finite tet across it added. Passes over the slots in order, each seeing
+// Boundary filling (mesh.h, SurfacePatches). A boundary facet of the kept tets is a dent
+// when a vertex is on no patch, and crosses a crease when its vertices share no patch; the
+// finite tet across a dent is added, the one across a crease when its centroid (rounded)
+// is strictly inside the domain (exact point location: the tet fills a convex edge's
+// chamfer, not the outside of a concave one). Passes over the slots in order, each seeing
 // the additions of the previous ones.
-void fill_dents(const Delaunay3& dt, const std::vector<std::uint8_t>& on_surface,
-                std::uint32_t max_passes, std::vector<std::uint8_t>& kept, Extract3Stats& st) {
-  if (on_surface.size() < dt.nb_points()) {
-    throw Error("extract: " + std::to_string(on_surface.size()) + " surface flags for " +
-                std::to_string(dt.nb_points()) + " points");
+void fill_boundary(const TetExtractor3& domain, const Delaunay3& dt, const SurfacePatches& sp,
+                   std::uint32_t max_passes, std::vector<std::uint8_t>& kept, Extract3Stats& st) {
+  if (sp.begin.size() < std::size_t{dt.nb_points()} + 1 || sp.begin.back() > sp.patches.size()) {
+    throw Error("extract: surface patches for " +
+                std::to_string(sp.begin.size() - (sp.begin.empty() ? 0 : 1)) +
+                " points; the triangulation has " + std::to_string(dt.nb_points()));
   }
-  std::vector<std::uint32_t> added;
+  const auto shared = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    for (std::uint32_t i = sp.begin[a]; i < sp.begin[a + 1]; ++i) {
+      const std::uint32_t patch = sp.patches[i];
+      const auto has = [&](std::uint32_t v) {
+        for (std::uint32_t j = sp.begin[v]; j < sp.begin[v + 1]; ++j) {
+          if (sp.patches[j] == patch) return true;
+        }
+        return false;
+      };
+      if (has(b) && has(c)) return true;
+    }
+    return false;
+  };
+  std::vector<std::uint32_t> added;  // 2 * tet + reason
   for (std::uint32_t pass = 0; pass < max_passes; ++pass) {
     added.clear();
     for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
@@ -622,16 +639,30 @@ void fill_dents(const Delaunay3& dt, const std::vector<std::uint8_t>& on_surface
         const std::uint32_t n = dt.tet_adjacent(t, f);
         if (kept[n] != 0 || dt.is_infinite(n)) continue;
         const int* fv = Delaunay3::kFacetVertex[f];
-        bool off = false;
-        for (int k = 0; k < 3; ++k) off = off || on_surface[dt.tet_vertex(t, fv[k])] == 0;
-        if (off) added.push_back(n);
+        const std::uint32_t v[3] = {dt.tet_vertex(t, fv[0]), dt.tet_vertex(t, fv[1]),
+                                    dt.tet_vertex(t, fv[2])};
+        bool dent = false;
+        for (const std::uint32_t w : v) dent = dent || sp.begin[w] == sp.begin[w + 1];
+        if (dent) {
+          added.push_back(2 * n);
+        } else if (!shared(v[0], v[1], v[2])) {
+          double c[3] = {0, 0, 0};
+          for (int k = 0; k < 4; ++k) {
+            for (int a = 0; a < 3; ++a) c[a] += 0.25 * dt.point(dt.tet_vertex(n, k))[a];
+          }
+          if (domain.point_side(c) == Sign::positive) added.push_back(2 * n + 1);
+        }
       }
     }
     if (added.empty()) break;
+    // 2 n + reason (0 dent, 1 crease): each tet once, as a dent first.
     std::sort(added.begin(), added.end());
-    added.erase(std::unique(added.begin(), added.end()), added.end());
-    for (const std::uint32_t n : added) kept[n] = 1;
-    st.nb_filled += static_cast<std::uint32_t>(added.size());
+    for (std::size_t i = 0; i < added.size(); ++i) {
+      const std::uint32_t n = added[i] / 2;
+      if (i > 0 && added[i - 1] / 2 == n) continue;
+      kept[n] = 1;
+      ++((added[i] & 1) != 0 ? st.nb_creases : st.nb_filled);
+    }
   }
 }
 
@@ -687,7 +718,8 @@ std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
     st.nb_on_boundary += (flags[t] >> 1) & 1;
     st.nb_unbounded += (flags[t] >> 2) & 1;
   }
-  if (options.on_surface) fill_dents(dt, *options.on_surface, options.max_fill_passes, kept, st);
+  if (options.surface)
+    fill_boundary(*this, dt, *options.surface, options.max_fill_passes, kept, st);
   if (options.repair_manifold) ManifoldRepair(dt, kept, st).run(options.max_repair_passes);
   std::vector<std::uint32_t> tets;
   for (std::uint32_t t = 0; t < ns; ++t) {

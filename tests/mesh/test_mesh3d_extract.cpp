@@ -245,6 +245,13 @@ TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", 
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
   std::vector<std::uint8_t> on_surface(n, 0);
   for (std::uint32_t i = n / 2; i < n; ++i) on_surface[i] = 1;
+  // One patch: a smooth surface.
+  voroclip::SurfacePatches patches;
+  patches.begin.push_back(0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (on_surface[i] != 0) patches.patches.push_back(0);
+    patches.begin.push_back(static_cast<std::uint32_t>(patches.patches.size()));
+  }
   const Delaunay3 dt(sites.data(), n);
   // Boundary facets of a tet set (4 per tet) with a vertex off the surface, and a finite
   // Delaunay tet across.
@@ -287,7 +294,7 @@ TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", 
   plain.repair_manifold = false;
   const std::vector<std::uint32_t> raw = ex.extract(dt, plain);
   Extract3Options filling = plain;
-  filling.on_surface = &on_surface;
+  filling.surface = &patches;
   Extract3Stats st;
   const std::vector<std::uint32_t> filled = ex.extract(dt, filling, &st);
   const std::uint32_t before = dents(raw), after = dents(filled);
@@ -296,9 +303,100 @@ TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", 
   CHECK(after == 0);
   CHECK(st.nb_filled > 0);
   CHECK(filled.size() == raw.size() + 4 * std::size_t{st.nb_filled});
-  // Too few flags: an error.
-  on_surface.pop_back();
+  CHECK(st.nb_creases == 0);
+  // Too few entries: an error.
+  patches.begin.pop_back();
   CHECK_THROWS_AS(ex.extract(dt, filling), voroclip::Error);
+}
+
+TEST_CASE("extract: crease filling keeps the edges of a box", "[mesh]") {
+  const Domain3 cube = cube_domain();  // [0, 2]^3
+  const TetExtractor3 ex(cube);
+  // Random sites inside, on the six faces, on the twelve edges, and the corners, with
+  // their patches (the face x_c = 2 s has patch 2 c + s).
+  std::vector<double> xyz;
+  voroclip::SurfacePatches sp;
+  sp.begin.push_back(0);
+  std::mt19937_64 rng(9);
+  const auto u01 = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  // fixed[c]: -1 free in (0, 2), else the coordinate is 2 * fixed[c].
+  const auto add = [&](const int(&fixed)[3]) {
+    for (int c = 0; c < 3; ++c) {
+      xyz.push_back(fixed[c] < 0 ? 0.05 + 1.9 * u01() : 2.0 * fixed[c]);
+      if (fixed[c] >= 0) sp.patches.push_back(static_cast<std::uint32_t>(2 * c + fixed[c]));
+    }
+    sp.begin.push_back(static_cast<std::uint32_t>(sp.patches.size()));
+  };
+  for (int i = 0; i < 300; ++i) add({-1, -1, -1});
+  for (int c = 0; c < 3; ++c) {
+    for (int side = 0; side < 2; ++side) {
+      for (int i = 0; i < 40; ++i) {
+        int f[3] = {-1, -1, -1};
+        f[c] = side;
+        add(f);
+      }
+    }
+  }
+  for (int c = 0; c < 3; ++c) {  // edges along axis c
+    for (int a = 0; a < 2; ++a) {
+      for (int b = 0; b < 2; ++b) {
+        for (int i = 0; i < 6; ++i) {
+          int f[3];
+          f[c] = -1;
+          f[(c + 1) % 3] = a;
+          f[(c + 2) % 3] = b;
+          add(f);
+        }
+      }
+    }
+  }
+  for (int k = 0; k < 8; ++k) add({k & 1, (k >> 1) & 1, (k >> 2) & 1});
+  const Delaunay3 dt(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3));
+  // A boundary facet lies in a face when its three vertices have the same coordinate 0 or 2.
+  const auto off_faces = [&](const std::vector<std::uint32_t>& tets) {
+    std::vector<std::array<std::uint32_t, 3>> faces;
+    for (std::size_t t = 0; t < tets.size(); t += 4) {
+      for (int f = 0; f < 4; ++f) {
+        std::array<std::uint32_t, 3> key;
+        int j = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (k != f) key[static_cast<std::size_t>(j++)] = tets[t + static_cast<std::size_t>(k)];
+        }
+        std::sort(key.begin(), key.end());
+        faces.push_back(key);
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const bool twice =
+          (i + 1 < faces.size() && faces[i + 1] == faces[i]) || (i > 0 && faces[i - 1] == faces[i]);
+      if (twice) continue;
+      bool in_face = false;
+      for (int c = 0; c < 3 && !in_face; ++c) {
+        for (const double v : {0.0, 2.0}) {
+          bool all = true;
+          for (const std::uint32_t w : faces[i])
+            all = all && xyz[3 * w + static_cast<std::size_t>(c)] == v;
+          in_face = in_face || all;
+        }
+      }
+      count += in_face ? 0 : 1;
+    }
+    return count;
+  };
+  Extract3Options plain;
+  const std::vector<std::uint32_t> raw = ex.extract(dt, plain);
+  Extract3Options filling;
+  filling.surface = &sp;
+  Extract3Stats st;
+  const std::vector<std::uint32_t> filled = ex.extract(dt, filling, &st);
+  const std::uint32_t before = off_faces(raw), after = off_faces(filled);
+  INFO(before << " boundary facets off the faces before, " << after << " after; " << st.nb_creases
+              << " tets added across creases");
+  CHECK(before > 0);
+  CHECK(after == 0);
+  CHECK(st.nb_creases > 0);
 }
 
 TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh]") {

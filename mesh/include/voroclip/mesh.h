@@ -89,15 +89,27 @@ class SizingField3 {
 // vertex whose kept tets form one component around holes, all of them), which always ends
 // with a closed 2-manifold boundary.
 
+// Where the points of a triangulation lie on the domain's boundary: per point p, the
+// surface patches [begin[p], begin[p + 1]) of `patches` that hold it (none: not on the
+// surface). A patch is a region of the boundary surface bounded by feature lines (a smooth
+// surface is one patch); a point on a feature line is on the patches on both sides, a
+// feature corner on all the patches around it.
+struct SurfacePatches {
+  std::vector<std::uint32_t> begin;  // nb points + 1
+  std::vector<std::uint32_t> patches;
+};
+
 struct Extract3Options {
-  // Per point of the triangulation: nonzero when it lies on the domain's boundary surface.
-  // When given, the extraction fills dents: a boundary facet of the kept tets with a vertex
-  // that is not on the surface gets the (finite) tet across it added, in passes until none
-  // is left (at most max_fill_passes). Sites on a curved or polyhedral surface make the
-  // circumcenters of the boundary layer's tets lie close to the surface, on either side:
-  // without this, a well-shaped tet whose circumcenter is just outside leaves an interior
-  // site on the boundary, a dent one layer deep.
-  const std::vector<std::uint8_t>* on_surface = nullptr;
+  // When given, the extraction fills the boundary (extract3d.cpp): a boundary facet of the
+  // kept tets is a dent when one of its vertices is not on the surface, and crosses a
+  // crease when its vertices share no patch. The finite tet across a dent is added; the
+  // one across a crease is added when its centroid is strictly inside the domain (the
+  // chamfer of a convex feature edge). In passes, until none is left (at most
+  // max_fill_passes). Sites on a curved or polyhedral surface make the circumcenters of
+  // the boundary layer's tets lie close to the surface, on either side: without this, a
+  // well-shaped tet whose circumcenter is just outside leaves an interior site on the
+  // boundary (a dent one layer deep), or cuts a sharp edge.
+  const SurfacePatches* surface = nullptr;
   std::uint32_t max_fill_passes = 8;
   bool repair_manifold = true;
   // Passes of the first rule (each re-examines the boundary); it stops earlier when clean.
@@ -109,7 +121,8 @@ struct Extract3Stats {
   std::uint32_t nb_inside = 0;                 // with the circumcenter in the closed domain
   std::uint32_t nb_on_boundary = 0;            // of those, exactly on the boundary (tie rule)
   std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
-  std::uint32_t nb_filled = 0;                 // tets added by the dent filling
+  std::uint32_t nb_filled = 0;                 // tets added across dents
+  std::uint32_t nb_creases = 0;                // tets added across creases
   std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
   std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
   std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
@@ -174,7 +187,7 @@ struct Perturb3Options {
   double min_progress_deg = 1;
   // Seed of the pseudo-random directions.
   std::uint64_t seed = 1;
-  // The options of every extraction (the on_surface flags must outlive the call).
+  // The options of every extraction (the surface patches must outlive the call).
   Extract3Options extraction;
   // Called before each round with the round, the number of slivers and the smallest
   // dihedral angle; return false to stop.
