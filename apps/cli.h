@@ -93,6 +93,18 @@ std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std:
 void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<double>& sites,
                     const ClippedVoronoi2& cv);
 
+struct QualityArgs {
+  std::string mesh;       // tet mesh, any format read_tet_mesh reads
+  std::string surface;    // reference: a surface file or a tet mesh (its boundary); optional
+  std::string histogram;  // .svg picture of the histograms; empty: none
+  std::string output;     // .vtu with Q1..Q4 per tet; empty: none
+  std::uint64_t samples = 100000;  // minimum samples per surface for the distance
+  bool samples_set = false;
+};
+
+/// The quality report of a tet mesh (and the Hausdorff distance to a reference surface).
+void run_quality(const QualityArgs& args, const GlobalOptions& options);
+
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
 void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);
 void run_predicate(const PredicateArgs& args, const GlobalOptions& options);

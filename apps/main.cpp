@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
       "clip3d", "Voronoi diagram of sites clipped to the volume of a tetrahedral mesh (exact)");
   clip3d
       ->add_option("DOMAIN", clip3d_args.domain,
-                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII) or "
-                   "legacy VTK .vtk")
+                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII), "
+                   "legacy VTK .vtk or VTK XML .vtu")
       ->required()
       ->type_name("MESH");
   clip3d
@@ -182,6 +182,36 @@ int main(int argc, char** argv) {
                    "restricted surface coloured by cell) or .json (per cell: site, volume, "
                    "centroid, boundary)")
       ->type_name("FILE");
+
+  voroclip::cli::QualityArgs quality_args;
+  CLI::App* quality = app.add_subcommand(
+      "quality",
+      "Quality of a tet mesh: Q1 = min and Q2 = max dihedral angle, Q3 = 3 r_in / r_circ, Q4 = "
+      "12 (9V^2)^(1/3) / sum l^2 per tet (min / mean / max, histograms), inverted and "
+      "degenerate tets; with --surface the Hausdorff distance of its boundary to a reference");
+  quality
+      ->add_option("MESH", quality_args.mesh,
+                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh, legacy .vtk or .vtu; "
+                   "inverted and zero-volume tets are reported, not rejected")
+      ->required()
+      ->type_name("MESH");
+  quality
+      ->add_option("--surface", quality_args.surface,
+                   "Reference surface (.obj, .off, .stl, .ply), or a tet mesh whose boundary "
+                   "is used: adds the two-sided Hausdorff distance (Metro-style sampling), "
+                   "relative to the reference's bounding-box diagonal")
+      ->type_name("REF");
+  quality->add_option("--histogram", quality_args.histogram, "Write the histograms as SVG")
+      ->type_name("FILE.svg");
+  quality
+      ->add_option("-o,--output", quality_args.output,
+                   "Write the mesh as .vtu with Q1..Q4 per tet as cell data")
+      ->type_name("FILE.vtu");
+  quality
+      ->add_option("--samples", quality_args.samples,
+                   "Minimum number of samples on each surface for the distance (default "
+                   "100000; 10 per triangle when more)")
+      ->type_name("N");
 
   try {
     app.parse(argc, argv);
@@ -209,6 +239,10 @@ int main(int argc, char** argv) {
       voroclip::cli::run_demo(demo_args, global);
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
+    }
+    if (*quality) {
+      quality_args.samples_set = quality->get_option("--samples")->count() > 0;
+      voroclip::cli::run_quality(quality_args, global);
     }
     if (*clip3d) {
       clip3d_args.random_set = clip3d->get_option("--random")->count() > 0;

@@ -2,7 +2,7 @@
 // legacy VTK, read into a TetMeshInput and written from one.
 //
 // Reading. The whole file is read into memory and split into blank-separated tokens by
-// Lexer, which keeps the line of each token for messages and parses numbers with
+// Lexer (text_lexer.h), which keeps the line of each token for messages and parses numbers with
 // std::from_chars (locale-independent, correctly rounded). A counted section (n entries
 // announced by a header) that meets the end of the file, or a keyword, before its n-th
 // entry is reported as truncated with the counts expected and found. Tetrahedra are
@@ -30,232 +30,16 @@
 #include <utility>
 #include <vector>
 
+#include "text_lexer.h"
 #include "voroclip/core.h"
 
 namespace voroclip {
 
 namespace {
 
+using namespace detail;  // NOLINT: the shared tokenizer and helpers of text_lexer.h
+
 constexpr std::uint64_t kMaxVertices = std::numeric_limits<std::uint32_t>::max();
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-// A token as it may appear in a message: at most 40 characters, non-printable bytes as '?'
-// (a binary file read by mistake must not fill the terminal with garbage).
-std::string quote(std::string_view t) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < t.size() && i < 40; ++i) {
-    const auto c = static_cast<unsigned char>(t[i]);
-    out += std::isprint(c) ? static_cast<char>(c) : '?';
-  }
-  if (t.size() > 40) out += "...";
-  return out + "'";
-}
-
-std::string read_whole_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open the file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(path + ": read error");
-  return ss.str();
-}
-
-// Splits a text into tokens separated by blanks; `comment` (0: none) starts a comment that
-// runs to the end of its line.
-class Lexer {
- public:
-  Lexer(std::string path, std::string text, char comment)
-      : path_(std::move(path)), text_(std::move(text)), comment_(comment) {}
-
-  const std::string& path() const { return path_; }
-  const std::string& text() const { return text_; }
-
-  // The next token on any line; empty at the end of the text. line() is then its line.
-  std::string_view next() {
-    skip_blanks(true);
-    return take();
-  }
-  // The next token on any line, not consumed (line() is left as it was).
-  std::string_view peek() {
-    const std::size_t pos = pos_;
-    const std::uint32_t line = line_, tok_line = tok_line_;
-    const std::string_view t = next();
-    pos_ = pos;
-    line_ = line;
-    tok_line_ = tok_line;
-    return t;
-  }
-  // The next token if it is on the current line, else empty (nothing is consumed).
-  std::string_view next_on_line() {
-    skip_blanks(false);
-    if (pos_ < text_.size() && text_[pos_] == '\n') return {};
-    return take();
-  }
-  // Skips the rest of the current line.
-  void skip_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
-  // Skips whole lines up to and including the next line that is empty or blank.
-  void skip_to_blank_line() {
-    skip_line();
-    while (pos_ < text_.size()) {
-      ++pos_;
-      ++line_;
-      std::size_t end = pos_;
-      while (end < text_.size() && text_[end] != '\n' &&
-             std::isspace(static_cast<unsigned char>(text_[end]))) {
-        ++end;
-      }
-      if (end == text_.size() || text_[end] == '\n') {
-        pos_ = end;
-        return;
-      }
-      pos_ = end;
-      skip_line();
-    }
-  }
-  // The rest of the current line, verbatim (for free-text lines such as a VTK title).
-  std::string_view rest_of_line() {
-    const std::size_t begin = pos_;
-    skip_line();
-    tok_line_ = line_;
-    return std::string_view(text_).substr(begin, pos_ - begin);
-  }
-  // Moves to the start of the next line.
-  void next_line() {
-    skip_line();
-    if (pos_ < text_.size()) {
-      ++pos_;
-      ++line_;
-    }
-  }
-
-  // The line of the last token (at the end of the text: the last line).
-  std::uint32_t line() const { return tok_line_; }
-  std::string at() const { return path_ + ":" + std::to_string(tok_line_) + ": "; }
-  [[noreturn]] void fail(const std::string& what) const { throw Error(at() + what); }
-
- private:
-  void skip_blanks(bool cross_lines) {
-    while (pos_ < text_.size()) {
-      const char c = text_[pos_];
-      if (c == '\n') {
-        if (!cross_lines) return;
-        ++line_;
-        ++pos_;
-      } else if (comment_ != 0 && c == comment_) {
-        skip_line();
-      } else if (std::isspace(static_cast<unsigned char>(c))) {
-        ++pos_;
-      } else {
-        return;
-      }
-    }
-  }
-  std::string_view take() {
-    if (pos_ == text_.size()) {
-      // The last line that holds anything: a final newline does not open a line.
-      tok_line_ = line_ - (line_ > 1 && !text_.empty() && text_.back() == '\n' ? 1u : 0u);
-      return {};
-    }
-    const std::size_t begin = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) &&
-           (comment_ == 0 || text_[pos_] != comment_)) {
-      ++pos_;
-    }
-    tok_line_ = line_;
-    return std::string_view(text_).substr(begin, pos_ - begin);
-  }
-
-  std::string path_;
-  std::string text_;
-  char comment_;
-  std::size_t pos_ = 0;
-  std::uint32_t line_ = 1;      // line of text_[pos_]
-  std::uint32_t tok_line_ = 1;  // line of the last token
-};
-
-// A token that ends a counted section early: a section keyword (Medit "Triangles", VTK
-// "CELLS", Gmsh "$EndNodes"), as opposed to a malformed number ("1.5x", "nan").
-bool is_keyword(std::string_view t) {
-  if (t.empty()) return false;
-  if (t[0] == '$') return true;
-  if (!std::isalpha(static_cast<unsigned char>(t[0])) || t.size() < 3) return false;
-  for (char c : t) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
-  }
-  const std::string l = lower(t);
-  return l != "nan" && l != "inf" && l != "infinity";
-}
-
-// A section announcing `expected` entries, of which `found` were read so far.
-struct Section {
-  std::string name;   // as in the file: "Vertices", "$Nodes", "POINTS"
-  const char* entry;  // what an entry is, plural: "vertices", "nodes"
-  std::uint64_t expected;
-  std::uint64_t found = 0;
-};
-
-[[noreturn]] void truncated(const Lexer& lx, const Section& s, std::string_view t) {
-  lx.fail("section " + s.name + " is truncated: expected " + std::to_string(s.expected) + " " +
-          s.entry + ", found " + std::to_string(s.found) +
-          (t.empty() ? " before the end of the file" : " before " + quote(t)));
-}
-
-// The next token inside a counted section (see truncated()).
-std::string_view entry_token(Lexer& lx, const Section& s) {
-  const std::string_view t = lx.next();
-  if (t.empty() || is_keyword(t)) truncated(lx, s, t);
-  return t;
-}
-
-double to_double(const Lexer& lx, std::string_view t) {
-  std::string_view s = t;
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
-  double v = 0;
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (r.ec == std::errc::result_out_of_range) {
-    lx.fail(quote(t) + " is out of the range of a double");
-  }
-  if (r.ec != std::errc() || r.ptr != s.data() + s.size()) lx.fail(quote(t) + " is not a number");
-  if (!std::isfinite(v)) lx.fail(quote(t) + " is not a finite number");
-  return v;
-}
-
-// A non-negative integer (a count, an index, a tag, a type).
-std::uint64_t to_uint(const Lexer& lx, std::string_view t, const char* what) {
-  std::string_view s = t;
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
-  std::uint64_t v = 0;
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (r.ec != std::errc() || r.ptr != s.data() + s.size()) {
-    lx.fail(quote(t) + " is not a valid " + what + " (a non-negative integer)");
-  }
-  return v;
-}
-
-// A count from a header, that the memory reserved for it cannot blow up on a bad file.
-std::size_t reserve_for(const Lexer& lx, std::uint64_t count) {
-  return static_cast<std::size_t>(std::min<std::uint64_t>(count, lx.text().size() / 2 + 1));
-}
-
-// The next token as a number, in a counted section.
-double entry_double(Lexer& lx, const Section& s) { return to_double(lx, entry_token(lx, s)); }
-std::uint64_t entry_uint(Lexer& lx, const Section& s, const char* what) {
-  return to_uint(lx, entry_token(lx, s), what);
-}
-
-// The next header value (a count, a version...): a missing value is reported as such.
-std::string_view header_token(Lexer& lx, const std::string& header) {
-  const std::string_view t = lx.next();
-  if (t.empty()) lx.fail(header + ": missing value before the end of the file");
-  return t;
-}
 
 // Tetrahedra as the file numbers their vertices, with what a message needs.
 struct RawTets {
@@ -271,10 +55,6 @@ struct RawTets {
   }
   std::size_t size() const { return line.size(); }
 };
-
-[[noreturn]] void fail_at(const std::string& path, std::uint32_t line, const std::string& what) {
-  throw Error(path + ":" + std::to_string(line) + ": " + what);
-}
 
 // Vertex numbers base .. base + nb_vertices - 1 (Medit, TetGen, VTK).
 void finish_tets(const std::string& path, const RawTets& raw, std::uint64_t base,
@@ -893,17 +673,6 @@ TetMeshInput read_vtk(const std::string& path) {
 // ---------------------------------------------------------------------------------------
 // Writers.
 
-void append(std::string& out, double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  out.append(buf, r.ptr);
-}
-void append(std::string& out, std::uint64_t v) {
-  char buf[24];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  out.append(buf, r.ptr);
-}
-
 // Vertex i as "x y z" (shortest round-trip decimals).
 void append_vertex(std::string& out, const TetMeshInput& mesh, std::size_t i) {
   append(out, mesh.xyz[3 * i]);
@@ -1029,23 +798,6 @@ std::string gmsh41_text(const TetMeshInput& mesh) {
   return s;
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  });
-}
-
-std::string extension_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of("/\\");
-  const std::size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  return lower(path.substr(dot));
-}
-
-std::string without_extension(const std::string& path) {
-  return extension_of(path).empty() ? path : path.substr(0, path.find_last_of('.'));
-}
-
 void check_mesh_arrays(const std::string& path, const TetMeshInput& mesh) {
   if (mesh.xyz.size() % 3 != 0 || mesh.tets.size() % 4 != 0) {
     throw Error("cannot write '" + path + "': the mesh arrays hold " +
@@ -1072,12 +824,10 @@ TetMeshInput read_tet_mesh(const std::string& path) {
   if (ext == ".meshb") {
     throw Error(path + ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
   }
-  if (ext == ".vtu") {
-    throw Error(path + ": VTK XML files (.vtu) are not read: use a legacy ASCII .vtk file");
-  }
+  if (ext == ".vtu") return read_vtu_tet_mesh(path);
   throw Error(path + ": unknown tetrahedral mesh format " +
               (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-              ": expected .mesh, .node/.ele, .msh or .vtk");
+              ": expected .mesh, .node/.ele, .msh, .vtk or .vtu");
 }
 
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format) {
@@ -1098,6 +848,13 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
     case TetMeshFormat::kGmsh41:
       write_text(path, gmsh41_text(mesh));
       return;
+    case TetMeshFormat::kVtu:
+    case TetMeshFormat::kVtuAscii:
+      write_file_atomically(path, [&](std::ostream& out) {
+        write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, mesh.tets, 4,
+                  format == TetMeshFormat::kVtu);
+      });
+      return;
     case TetMeshFormat::kVtk:
       write_file_atomically(path, [&](std::ostream& out) {
         write_vtk(out, mesh.source.empty() ? "voroclip tetrahedral mesh" : mesh.source,
@@ -1114,9 +871,10 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh) {
   if (ext == ".node" || ext == ".ele") return write_tet_mesh(path, mesh, TetMeshFormat::kTetGen);
   if (ext == ".msh") return write_tet_mesh(path, mesh, TetMeshFormat::kGmsh41);
   if (ext == ".vtk") return write_tet_mesh(path, mesh, TetMeshFormat::kVtk);
+  if (ext == ".vtu") return write_tet_mesh(path, mesh, TetMeshFormat::kVtu);
   throw Error("cannot write '" + path + "': unknown tetrahedral mesh format " +
               (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-              ": expected .mesh, .node/.ele, .msh or .vtk");
+              ": expected .mesh, .node/.ele, .msh, .vtk or .vtu");
 }
 
 }  // namespace voroclip

@@ -3,10 +3,13 @@
 // format's features, and one named error per defect, checking the whole message.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -123,9 +126,10 @@ TEST_CASE("read_tet_mesh reads every shared model with the README's counts", "[c
 
 TEST_CASE("write_tet_mesh round-trips every model in every format", "[core]") {
   const std::vector<std::pair<TetMeshFormat, std::string>> formats = {
-      {TetMeshFormat::kMedit, "rt.mesh"}, {TetMeshFormat::kTetGen, "rt.node"},
-      {TetMeshFormat::kGmsh22, "rt.msh"}, {TetMeshFormat::kGmsh41, "rt41.msh"},
-      {TetMeshFormat::kVtk, "rt.vtk"},
+      {TetMeshFormat::kMedit, "rt.mesh"},    {TetMeshFormat::kTetGen, "rt.node"},
+      {TetMeshFormat::kGmsh22, "rt.msh"},    {TetMeshFormat::kGmsh41, "rt41.msh"},
+      {TetMeshFormat::kVtk, "rt.vtk"},       {TetMeshFormat::kVtu, "rt.vtu"},
+      {TetMeshFormat::kVtuAscii, "rta.vtu"},
   };
   for (const Model& m : kModels) {
     const TetMeshInput mesh = voroclip::read_tet_mesh(kData + m.name + ".mesh");
@@ -150,6 +154,7 @@ TEST_CASE("write_tet_mesh picks the format by extension", "[core]") {
   voroclip::write_tet_mesh(temp().file("ext.ele"), mesh);
   voroclip::write_tet_mesh(temp().file("ext.msh"), mesh);
   voroclip::write_tet_mesh(temp().file("ext.vtk"), mesh);
+  voroclip::write_tet_mesh(temp().file("ext.vtu"), mesh);
   std::ifstream medit(temp().file("ext.mesh"));
   std::string first;
   std::getline(medit, first);
@@ -160,7 +165,7 @@ TEST_CASE("write_tet_mesh picks the format by extension", "[core]") {
   std::getline(msh, l2);
   CHECK(l2 == "4.1 0 8");
   CHECK(std::filesystem::exists(temp().file("ext.node")));
-  for (const char* name : {"ext.mesh", "ext.node", "ext.msh", "ext.vtk"}) {
+  for (const char* name : {"ext.mesh", "ext.node", "ext.msh", "ext.vtk", "ext.vtu"}) {
     const TetMeshInput back = voroclip::read_tet_mesh(temp().file(name));
     CHECK(back.xyz == mesh.xyz);
     CHECK(back.tets == mesh.tets);
@@ -350,11 +355,11 @@ TEST_CASE("read_tet_mesh: missing files, unknown formats and versions, binary fi
   const std::string obj = write_temp("a.obj", "v 0 0 0\n");
   CHECK(error_of(obj) == obj +
                              ": unknown tetrahedral mesh format '.obj': expected .mesh, "
-                             ".node/.ele, .msh or .vtk");
+                             ".node/.ele, .msh, .vtk or .vtu");
   CHECK(error_of(temp().file("noext")) ==
         temp().file("noext") +
             ": unknown tetrahedral mesh format (no extension): expected .mesh, .node/.ele, "
-            ".msh or .vtk");
+            ".msh, .vtk or .vtu");
   CHECK(error_of(temp().file("a.meshb")) ==
         temp().file("a.meshb") +
             ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
@@ -518,4 +523,175 @@ TEST_CASE("read_tet_mesh: files without tetrahedra", "[core]") {
   write_temp("notet.node", "0 3 0 0\n");
   write_temp("notet.ele", "0 4 0\n");
   CHECK(error_of(temp().file("notet.ele")) == temp().file("notet.ele") + ": no tetrahedra");
+}
+
+namespace {
+
+// Test-side base64 (RFC 4648) and little/big-endian bytes, to build .vtu files by hand.
+std::string base64(const std::string& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::size_t i = 0;
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(bytes[k]); };
+  for (; i + 3 <= bytes.size(); i += 3) {
+    const unsigned v = (byte(i) << 16) | (byte(i + 1) << 8) | byte(i + 2);
+    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(v >> s) & 63];
+  }
+  if (i < bytes.size()) {
+    const unsigned v = (byte(i) << 16) | (i + 1 < bytes.size() ? byte(i + 1) << 8 : 0u);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+template <class T>
+std::string bytes_of(const std::vector<T>& values, bool big_endian) {
+  std::string out;
+  for (const T v : values) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    if (big_endian) std::reverse(b, b + sizeof(T));  // the test machine is little endian
+    out.append(b, sizeof(T));
+  }
+  return out;
+}
+
+std::string vtu_file(const std::string& header_attrs, const std::string& arrays,
+                     const std::string& appended) {
+  return "<?xml version=\"1.0\"?>\n<!-- made by hand -->\n<VTKFile type=\"UnstructuredGrid\" " +
+         header_attrs +
+         ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"5\" NumberOfCells=\"3\">\n" + arrays +
+         "</Piece>\n</UnstructuredGrid>\n" + appended + "</VTKFile>\n";
+}
+
+// Two tets and a triangle (skipped) on 5 points.
+const std::vector<double> kVtuXyz = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+const std::vector<std::int32_t> kVtuConn = {0, 1, 2, 3, 1, 2, 3, 4, 0, 1, 2};
+const std::vector<std::int32_t> kVtuOffsets = {4, 8, 11};
+const std::vector<std::uint8_t> kVtuTypes = {10, 10, 5};
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh: VTK XML .vtu in ASCII, inline binary and appended raw", "[core]") {
+  SECTION("ASCII, other cell types skipped") {
+    const std::string path = write_temp(
+        "ascii.vtu", vtu_file("version=\"0.1\" byte_order=\"LittleEndian\"",
+                              "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+                              "format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray>\n"
+                              "</Points>\n<Cells>\n<DataArray type=\"Int32\" "
+                              "Name=\"connectivity\" format=\"ascii\">0 1 2 3 1 2 3 4 0 1 2"
+                              "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" "
+                              "format=\"ascii\">4 8 11</DataArray>\n<DataArray type=\"UInt8\" "
+                              "Name=\"types\" format=\"ascii\">10 10 5</DataArray>\n</Cells>\n",
+                              ""));
+    const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+    CHECK(mesh.xyz == kVtuXyz);
+    CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+    CHECK(mesh.tet_line == std::vector<std::uint32_t>{10, 10});
+  }
+  for (const bool big : {false, true}) {
+    SECTION(std::string("inline binary, header and data in one base64 stream, ") +
+            (big ? "big" : "little") + " endian, UInt32 headers") {
+      const auto block = [&](const std::string& data) {
+        return base64(
+            bytes_of(std::vector<std::uint32_t>{static_cast<std::uint32_t>(data.size())}, big) +
+            data);
+      };
+      const std::string arrays =
+          "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"binary\">" +
+          block(bytes_of(kVtuXyz, big)) +
+          "</DataArray></Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" "
+          "format=\"binary\">\n  " +
+          block(bytes_of(kVtuConn, big)) +
+          "\n</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"binary\">" +
+          block(bytes_of(kVtuOffsets, big)) +
+          "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">" +
+          block(bytes_of(kVtuTypes, big)) + "</DataArray>\n</Cells>\n";
+      const std::string path =
+          write_temp("inline.vtu", vtu_file(std::string("version=\"0.1\" byte_order=\"") +
+                                                (big ? "Big" : "Little") + "Endian\"",
+                                            arrays, ""));
+      const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+      CHECK(mesh.xyz == kVtuXyz);
+      CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+    }
+  }
+  SECTION("appended raw, UInt64 headers") {
+    std::string data;
+    std::vector<std::size_t> offsets;
+    for (const std::string& bytes : {bytes_of(kVtuXyz, false), bytes_of(kVtuConn, false),
+                                     bytes_of(kVtuOffsets, false), bytes_of(kVtuTypes, false)}) {
+      offsets.push_back(data.size());
+      data += bytes_of(std::vector<std::uint64_t>{bytes.size()}, false) + bytes;
+    }
+    const auto array = [&](const std::string& type, const std::string& name, std::size_t i) {
+      return "<DataArray type=\"" + type + "\" Name=\"" + name + "\" NumberOfComponents=\"" +
+             (i == 0 ? "3" : "1") + "\" format=\"appended\" offset=\"" +
+             std::to_string(offsets[i]) + "\"/>\n";
+    };
+    const std::string path = write_temp(
+        "raw.vtu",
+        vtu_file("version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"",
+                 "<Points>\n" + array("Float64", "Points", 0) + "</Points>\n<Cells>\n" +
+                     array("Int32", "connectivity", 1) + array("Int32", "offsets", 2) +
+                     array("UInt8", "types", 3) + "</Cells>\n",
+                 "<AppendedData encoding=\"raw\">\n   _" + data + "\n</AppendedData>\n"));
+    const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+    CHECK(mesh.xyz == kVtuXyz);
+    CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  }
+  SECTION("the writer's binary file: base64 appended, parsed as text") {
+    TetMeshInput mesh;
+    mesh.xyz = kVtuXyz;
+    mesh.tets = {0, 1, 2, 3, 1, 2, 3, 4};
+    const std::string path = temp().file("written.vtu");
+    voroclip::write_tet_mesh(path, mesh, TetMeshFormat::kVtu);
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    CHECK(text.find("<AppendedData encoding=\"base64\">") != std::string::npos);
+    CHECK(text.find("header_type=\"UInt64\"") != std::string::npos);
+    // The Points array comes first at offset 0: its header is the byte count 15 * 8 = 120,
+    // as a UInt64 base64-encoded on its own ("eAAAAAAAAAA=").
+    const std::size_t underscore = text.find('_', text.find("<AppendedData"));
+    CHECK(text.substr(underscore + 1, 12) ==
+          base64(bytes_of(std::vector<std::uint64_t>{120}, false)));
+    CHECK(text.substr(underscore + 13, 160) == base64(bytes_of(kVtuXyz, false)));
+  }
+}
+
+TEST_CASE("read_tet_mesh: .vtu errors name the file, the line and the defect", "[core]") {
+  const std::string compressed =
+      write_temp("z.vtu",
+                 "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\">\n"
+                 "</VTKFile>\n");
+  CHECK(error_of(compressed) == compressed +
+                                    ":1: compressed VTK XML file (vtkZLibDataCompressor): only "
+                                    "uncompressed data is read");
+  const std::string poly = write_temp("p.vtu", "<?xml?>\n<VTKFile type=\"PolyData\">\n</VTKFile>");
+  CHECK(error_of(poly) == poly + ":2: VTKFile type 'PolyData': only UnstructuredGrid is read");
+  const std::string short_points =
+      write_temp("s.vtu", vtu_file("",
+                                   "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" "
+                                   "format=\"ascii\">0 0 0 1</DataArray></Points>\n",
+                                   ""));
+  CHECK(error_of(short_points) ==
+        short_points + ":6: DataArray Points: expected 15 values, found 4");
+  const std::string bad_index = write_temp(
+      "i.vtu",
+      vtu_file("",
+               "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+               "format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray>\n</Points>\n<Cells>\n"
+               "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 1 2 3 5 "
+               "0 1 2</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4 "
+               "8 11</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 10 "
+               "5</DataArray>\n</Cells>\n",
+               ""));
+  CHECK(error_of(bad_index) == bad_index + ":10: cell 1: point 5 is out of range 0..4");
+  const std::string mismatch = write_temp("m.vtu", "<VTKFile>\n<Piece>\n</VTKFile>\n");
+  CHECK(error_of(mismatch) == mismatch + ":3: closing tag </VTKFile> does not match <Piece>");
 }

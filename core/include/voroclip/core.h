@@ -143,7 +143,12 @@ struct TetMeshInput {
 ///                  tags in any order and with gaps; other sections are read past;
 ///   .vtk           legacy VTK ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
 ///                  VTK 5.1 OFFSETS/CONNECTIVITY layout), CELL_TYPES; cells of type 10
-///                  (VTK_TETRA) are kept, others skipped.
+///                  (VTK_TETRA) are kept, others skipped;
+///   .vtu           VTK XML UnstructuredGrid, one Piece: Points and the Cells arrays
+///                  connectivity, offsets, types (tetra cells kept), each ascii, binary
+///                  (inline base64) or appended (base64 or raw), UInt32 or UInt64 headers,
+///                  either byte order; compressed files are rejected; tet_line is the line
+///                  of the connectivity array.
 /// Binary files (.meshb, binary .msh, BINARY .vtk) are rejected. Vertices keep the file's
 /// order (Gmsh: the order of $Nodes), tetrahedra the file's order and orientation.
 /// Throws Error "file:line: what" (or "file: what" for the whole file) for a missing file,
@@ -156,11 +161,13 @@ TetMeshInput read_tet_mesh(const std::string& path);
 
 /// Tetrahedral mesh file formats that write_tet_mesh can write.
 enum class TetMeshFormat {
-  kMedit,   // .mesh, MeshVersionFormatted 2, vertices and tets numbered from 1, refs 0
-  kTetGen,  // .node + .ele (both written, whichever extension `path` has), numbered from 1
-  kGmsh22,  // .msh ASCII 2.2, node and element tags 1..n
-  kGmsh41,  // .msh ASCII 4.1, one volume entity, node and element tags 1..n
-  kVtk,     // legacy ASCII .vtk (write_vtk), cell data "cell_id"
+  kMedit,     // .mesh, MeshVersionFormatted 2, vertices and tets numbered from 1, refs 0
+  kTetGen,    // .node + .ele (both written, whichever extension `path` has), numbered from 1
+  kGmsh22,    // .msh ASCII 2.2, node and element tags 1..n
+  kGmsh41,    // .msh ASCII 4.1, one volume entity, node and element tags 1..n
+  kVtk,       // legacy ASCII .vtk (write_vtk), cell data "cell_id"
+  kVtu,       // VTK XML .vtu, binary: base64-encoded appended data (write_vtu)
+  kVtuAscii,  // VTK XML .vtu, ASCII data arrays (write_vtu)
 };
 
 /// Writes a tetrahedral mesh (all vertices, used or not, and the tets in order and
@@ -169,7 +176,255 @@ enum class TetMeshFormat {
 /// Throws Error naming the file for an index out of range or a write failure.
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format);
 
-/// As above, the format chosen by the extension: .mesh, .node/.ele, .msh (4.1), .vtk.
+/// As above, the format chosen by the extension: .mesh, .node/.ele, .msh (4.1), .vtk, .vtu
+/// (binary).
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh);
+
+/// A named per-cell scalar of a .vtu file (one value per cell, written as Float64).
+struct VtuCellField {
+  std::string name;
+  std::vector<double> values;
+};
+
+/// Writes a VTK XML unstructured grid (version 1.0, UInt64 headers, little endian): the
+/// points (z = 0 when dimension is 2), the cells (`vertices_per_cell` = 3: triangles, 4:
+/// tetrahedra), the cell index as cell data "cell_id", then `fields`. With `binary` the
+/// arrays are appended as base64 (each array: its byte count, then its bytes, each
+/// base64-encoded on its own, as VTK's reader expects); otherwise they are ASCII in place
+/// (shortest round-trip decimals). Coordinates are Float64 and indices Int64 either way,
+/// so a file read back gives the same doubles. Throws Error when a field does not have one
+/// value per cell.
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<std::uint32_t>& cells, int vertices_per_cell, bool binary,
+               const std::vector<VtuCellField>& fields = {});
+
+// ---------------------------------------------------------------------------------------
+// Triangle surfaces: files, the boundary of a tet mesh, closest-point queries and sharp
+// feature lines (surface_io.cpp, surface_tree.cpp, feature_lines.cpp).
+
+/// A triangle surface as read (or built): vertices packed x y z, triangles as 3 vertex
+/// indices each (0-based), in the file's order and orientation.
+struct TriangleSurface {
+  /// Where it came from (a file name, or what built it), for messages.
+  std::string source;
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> triangles;
+  /// Per triangle: the line of the file where its face is defined (1-based; 0 for binary
+  /// files and built surfaces). A polygon fan-triangulated into k triangles gives k equal
+  /// entries.
+  std::vector<std::uint32_t> triangle_line;
+
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
+};
+
+/// Reads a triangle surface, by extension (case-insensitive):
+///   .obj  Wavefront: `v x y z [w] [r g b]` and `f` with 3 or more corners, each `v`,
+///         `v/t`, `v//n` or `v/t/n`, 1-based or negative (relative to the last vertex read);
+///         every other statement (vn, vt, g, o, s, usemtl, mtllib, l, p...) is ignored;
+///         `\` at the end of a line continues it; '#' comments;
+///   .off  OFF, COFF, NOFF, CNOFF (Geomview): the counts, the vertices (x y z, then colours
+///         or normals, ignored), the faces (`k i0 .. ik-1`, then an optional colour); '#'
+///         comments; vertices numbered from 0;
+///   .stl  binary (80-byte header, count, 50 bytes per triangle; recognised by the size
+///         84 + 50 n, whatever the header says) or ASCII (`solid` ... `facet normal` ...
+///         `outer loop` 3 x `vertex x y z` `endloop` `endfacet` ... `endsolid`); STL has no
+///         shared vertices: vertices with equal coordinates are merged (the first one's
+///         index is kept, in order of appearance); facet normals are ignored;
+///   .ply  ASCII, binary_little_endian or binary_big_endian 1.0: the `vertex` element's x,
+///         y, z properties (any numeric type) and the `face` element's list property
+///         `vertex_indices` (or `vertex_index`); other properties and elements are read
+///         past (their types are known from the header).
+/// Polygons with k > 3 corners become the fan (c0, ci, ci+1), i = 1 .. k - 2. Vertices keep
+/// the file's order (STL: order of first appearance), unused vertices included.
+/// Throws Error "file:line: what" (binary files: "file: face N: what") for a missing file,
+/// an unknown extension, a bad header, a value that is not a (finite) number, a truncated
+/// file (what was expected, what was found), a face with fewer than 3 corners or a vertex
+/// index out of range (naming the face as the file numbers it, from 1 in OBJ and from 0 in
+/// OFF/PLY, and the index as written), no triangles. Degenerate triangles (repeated or
+/// collinear vertices) are kept: a reader does not judge geometry.
+TriangleSurface read_surface(const std::string& path);
+
+/// Triangle surface formats that write_surface can write.
+enum class SurfaceFormat {
+  kObj,        // v / f lines, 1-based
+  kOff,        // OFF, counts then vertices and faces
+  kStlAscii,   // solid / facet normal / outer loop, normals from the triangles
+  kStlBinary,  // 80-byte header; coordinates rounded to float32 (the format's type)
+  kPlyAscii,   // ply / format ascii 1.0, vertex x y z double, face list uchar int
+  kPlyBinary,  // ply / format binary_little_endian 1.0, same properties
+};
+
+/// Writes a surface so that read_surface reads back the same triangles and the same
+/// coordinates (shortest round-trip decimals in the text formats, exact doubles in binary
+/// PLY; float32 in binary STL). STL has no vertex indices: reading back merges equal
+/// coordinates, so unused and duplicate vertices do not survive. The file appears whole or
+/// not at all. Throws Error naming the file for an index out of range or a write failure.
+void write_surface(const std::string& path, const TriangleSurface& surface, SurfaceFormat format);
+
+/// As above, the format chosen by the extension: .obj, .off, .stl (binary), .ply (binary).
+void write_surface(const std::string& path, const TriangleSurface& surface);
+
+/// The boundary of a tet mesh: the facets that belong to exactly one tet (compared as
+/// vertex sets), in the order (tet, facet), facet k opposite tet vertex k, with the mesh's
+/// vertex array (unused vertices included). Facet k of tet (v0, v1, v2, v3) is written
+/// (v1, v2, v3), (v0, v3, v2), (v0, v1, v3), (v0, v2, v1) for k = 0..3: outward by the
+/// right-hand rule when the tet has det(v1 - v0, v2 - v0, v3 - v0) > 0 (TetGen's and the
+/// shared data's orientation), inward for tets oriented the other way. Facets shared by
+/// three or more tets are not boundary; triangle_line is the tet's line. O(n log n).
+TriangleSurface tet_mesh_boundary(const TetMeshInput& mesh);
+
+/// Closest points on a triangle surface, for snapping and re-projecting points onto it.
+///
+/// A bounding-volume hierarchy over the triangles (binned surface-area heuristic, leaves of
+/// up to 2 triangles, their corners copied in leaf order), built once in O(n log n). A query visits
+/// the nearer child first and skips every box farther than the best distance so far. Distances are
+/// computed in double precision by the region test of the point against the triangle's vertices and
+/// edges, then its plane: a few ulps of relative error, no epsilon; a triangle of zero area counts
+/// as its three edges. The answer is the pair (squared distance, triangle index) that is smallest
+/// in lexicographic order, so it does not depend on the traversal or on the hint: ties (a closest
+/// point on an edge or vertex shared by several triangles) go to the lowest triangle index. Queries
+/// are const and thread-safe.
+class SurfaceTree {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  /// Where the closest point lies on its triangle.
+  enum class Feature : std::uint8_t {
+    kFace,    // inside the triangle
+    kEdge,    // on edge `index` (opposite corner `index`, from corner index+1 to index+2)
+    kVertex,  // at corner `index`
+  };
+
+  struct Closest {
+    double point[3] = {0, 0, 0};
+    double distance2 = 0;  // squared distance from the query point
+    std::uint32_t triangle = kNone;
+    Feature feature = Feature::kFace;
+    std::uint8_t index = 0;
+    /// The unit pseudo-normal at the point (Baerentzen and Aanaes 2005): the triangle's
+    /// normal inside it, the normalised sum of the normals of the triangles sharing the
+    /// edge on an edge, the angle-weighted mean of the normals around the vertex at a
+    /// vertex. Orientation by the right-hand rule of the triangles, so outward for an
+    /// outward surface; the sign of dot(query - point, normal) tells the side then. Zero
+    /// only where every triangle around is degenerate.
+    double normal[3] = {0, 0, 0};
+  };
+
+  SurfaceTree() = default;
+  /// Copies what it needs from `surface` (which may then go away). Throws Error for an
+  /// index out of range or a non-finite coordinate of a used vertex; an empty surface
+  /// gives a tree whose queries return triangle == kNone.
+  explicit SurfaceTree(const TriangleSurface& surface);
+
+  /// The closest point of the surface to p (triangle == kNone for a non-finite p, or when
+  /// the squared distance overflows).
+  Closest closest(const double* p) const { return closest(p, kNone); }
+  /// The same answer, usually faster when `hint` is a triangle near the answer (the
+  /// previous answer for a point that moved a little): its distance bounds the search.
+  Closest closest(const double* p, std::uint32_t hint) const;
+
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(leaf_triangle_.size()); }
+  /// The unit normal of triangle t (input index) by the right-hand rule, zero if degenerate.
+  const double* triangle_normal(std::uint32_t t) const { return &face_normal_[3 * std::size_t{t}]; }
+  /// Bounding box of the triangles' corners (zeros for an empty surface).
+  const double* bbox_lo() const { return bbox_; }
+  const double* bbox_hi() const { return bbox_ + 3; }
+
+ private:
+  struct Node {
+    double lo[3], hi[3];
+    // Leaf: triangles [first, first + count) in leaf order; inner: children first and
+    // first + 1, count == 0.
+    std::uint32_t first, count;
+  };
+  std::vector<Node> nodes_;
+  std::vector<double> corners_;               // 9 per triangle, leaf order
+  std::vector<std::uint32_t> leaf_triangle_;  // leaf order -> input index
+  std::vector<std::uint32_t> leaf_of_;        // input index -> leaf order
+  std::vector<std::uint32_t> triangles_;      // 3 per triangle, input order
+  std::vector<double> face_normal_;           // 3 per triangle, input order
+  std::vector<double> edge_normal_;           // 9 per triangle, input order: edge e's normal
+  std::vector<double> vertex_normal_;         // 3 per surface vertex
+  double bbox_[6] = {0, 0, 0, 0, 0, 0};
+};
+
+/// Sharp feature lines of a triangle surface, for meshing with crisp edges and corners.
+///
+/// An edge is sharp when the angle between the normals of its two triangles exceeds
+/// `feature_angle_deg` (i.e. its dihedral angle is below 180 - feature_angle_deg); an edge
+/// not shared by exactly two triangles (a border or a non-manifold edge) is always a
+/// feature; an edge of a zero-area triangle (no normal) shared by two triangles is not. Corners are
+/// the vertices where a number of feature edges other than 0 and 2 meet. Feature edges are chained
+/// into lines: each line runs from a corner to a corner (possibly the same) through vertices with
+/// exactly two feature edges; feature edges left over form closed loops (first vertex == last
+/// vertex, closed). Lines start at corners in increasing vertex order, along their edges in
+/// increasing order of the other vertex; loops start at their lowest vertex, towards its lower
+/// neighbour.
+struct FeatureLines {
+  /// Vertices (surface indices) of line l: line_vertices[line_begin[l] .. line_begin[l+1]).
+  std::vector<std::uint32_t> line_begin{0};
+  std::vector<std::uint32_t> line_vertices;
+  /// Per line: 1 for a closed loop without corner (its last vertex repeats its first).
+  std::vector<std::uint8_t> line_closed;
+  /// Corner vertices, increasing.
+  std::vector<std::uint32_t> corners;
+  std::uint32_t nb_feature_edges = 0;
+
+  std::uint32_t nb_lines() const { return static_cast<std::uint32_t>(line_closed.size()); }
+};
+
+/// The angle between the normals above which an edge is sharp, by default: 40 degrees
+/// (a dihedral angle below 140 degrees). On fandisk it keeps every crease of the part and
+/// nothing of its smooth faces (see the tests).
+constexpr double kDefaultFeatureAngleDeg = 40.0;
+
+/// Extracts the feature lines of `surface` (see FeatureLines). O(n log n).
+FeatureLines extract_feature_lines(const TriangleSurface& surface,
+                                   double feature_angle_deg = kDefaultFeatureAngleDeg);
+
+/// Closest points on feature lines, and their arclength parametrisation. A hierarchy of
+/// boxes over each line's segments; thread-safe const queries; ties go to the lowest
+/// (line, segment).
+class FeatureTree {
+ public:
+  struct Closest {
+    double point[3] = {0, 0, 0};
+    double distance2 = 0;
+    std::uint32_t line = SurfaceTree::kNone;
+    std::uint32_t segment = 0;      // between the line's vertices segment and segment + 1
+    double t = 0;                   // in [0, 1] along the segment
+    double arclength = 0;           // from the line's first vertex
+    double tangent[3] = {0, 0, 0};  // unit, along the line's direction (zero: empty segment)
+  };
+
+  FeatureTree() = default;
+  FeatureTree(const TriangleSurface& surface, const FeatureLines& lines);
+
+  /// The closest point on any line (line == kNone when there is none) / on line `line`.
+  Closest closest(const double* p) const;
+  Closest closest(const double* p, std::uint32_t line) const;
+
+  std::uint32_t nb_lines() const { return static_cast<std::uint32_t>(line_node_.size()); }
+  bool closed(std::uint32_t line) const { return closed_[line] != 0; }
+  double length(std::uint32_t line) const { return arclength_[point_begin_[line + 1] - 1]; }
+  /// The point at arclength s on a line (clamped to [0, length]; wrapped for a closed
+  /// line) and, optionally, the unit tangent there.
+  void eval(std::uint32_t line, double s, double* xyz, double* tangent = nullptr) const;
+
+ private:
+  struct Node {
+    double lo[3], hi[3];
+    std::uint32_t first, count;  // as SurfaceTree::Node, over segments
+  };
+  Closest closest_on(const double* p, std::uint32_t line, double best2) const;
+  std::vector<double> points_;                 // 3 per line vertex, lines one after another
+  std::vector<double> arclength_;              // per line vertex
+  std::vector<std::uint32_t> point_begin_{0};  // per line + 1
+  std::vector<std::uint8_t> closed_;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> line_node_;  // root node of each line's tree
+  std::vector<std::uint32_t> segments_;   // leaf order -> segment (global first point index)
+};
 
 }  // namespace voroclip

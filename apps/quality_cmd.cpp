@@ -1,0 +1,128 @@
+// voroclip quality: the quality report of a tet mesh (Q1..Q4 of Yan et al. 2011, sec. 6,
+// their histograms, inverted and degenerate tets) and, with --surface, the Hausdorff
+// distance between its boundary and a reference surface.
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+std::string extension(const std::string& path) {
+  const std::size_t slash = path.find_last_of("/\\");
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+bool is_surface_file(const std::string& ext) {
+  return ext == ".obj" || ext == ".off" || ext == ".stl" || ext == ".ply";
+}
+
+bool is_tet_mesh_file(const std::string& ext) {
+  return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".msh" || ext == ".vtk" ||
+         ext == ".vtu";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+void run_quality(const QualityArgs& args, const GlobalOptions& options) {
+  if (!args.histogram.empty() && extension(args.histogram) != ".svg") {
+    throw UsageError("--histogram: the picture must end in .svg, got '" + args.histogram + "'");
+  }
+  if (!args.output.empty() && extension(args.output) != ".vtu") {
+    throw UsageError("-o: the output must end in .vtu (the mesh with Q1..Q4 per tet), got '" +
+                     args.output + "'");
+  }
+  const std::string ref_ext = extension(args.surface);
+  if (!args.surface.empty() && !is_surface_file(ref_ext) && !is_tet_mesh_file(ref_ext)) {
+    throw UsageError("--surface: unknown format " +
+                     (ref_ext.empty() ? std::string("(no extension)") : "'" + ref_ext + "'") +
+                     " of '" + args.surface +
+                     "': expected a surface (.obj, .off, .stl, .ply) or a tet mesh (.mesh, "
+                     ".node/.ele, .msh, .vtk, .vtu) whose boundary is used");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const TetMeshInput mesh = read_tet_mesh(args.mesh);
+  const double t_read = seconds_since(start);
+  TetQualityOptions qo;
+  qo.keep_per_tet = !args.output.empty();
+  const auto t1 = std::chrono::steady_clock::now();
+  const TetQuality q = tet_quality(mesh, qo);
+  const double t_quality = seconds_since(t1);
+
+  HausdorffDistance distance;
+  double t_hausdorff = 0;
+  if (!args.surface.empty()) {
+    const TriangleSurface reference = is_surface_file(ref_ext)
+                                          ? read_surface(args.surface)
+                                          : tet_mesh_boundary(read_tet_mesh(args.surface));
+    const TriangleSurface boundary = tet_mesh_boundary(mesh);
+    if (boundary.nb_triangles() == 0) {
+      throw Error(args.mesh + ": the mesh has no boundary triangle to compare");
+    }
+    HausdorffOptions ho;
+    if (args.samples_set) ho.min_samples = args.samples;
+    const auto t2 = std::chrono::steady_clock::now();
+    distance = hausdorff_distance(boundary, reference, ho);
+    t_hausdorff = seconds_since(t2);
+  }
+  const HausdorffDistance* d = args.surface.empty() ? nullptr : &distance;
+
+  if (!args.histogram.empty()) {
+    write_file_atomically(args.histogram,
+                          [&](std::ostream& out) { write_quality_svg(out, q, args.mesh); });
+  }
+  if (!args.output.empty()) {
+    std::vector<VtuCellField> fields(4);
+    fields[0].name = "q1_min_dihedral_deg";
+    fields[1].name = "q2_max_dihedral_deg";
+    fields[2].name = "q3_radius_ratio";
+    fields[3].name = "q4";
+    for (auto& f : fields) f.values.reserve(q.per_tet.size());
+    for (const TetShape& s : q.per_tet) {
+      fields[0].values.push_back(s.q1_deg);
+      fields[1].values.push_back(s.q2_deg);
+      fields[2].values.push_back(s.q3);
+      fields[3].values.push_back(s.q4);
+    }
+    write_file_atomically(args.output, [&](std::ostream& out) {
+      write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, mesh.tets, 4, true, fields);
+    });
+  }
+  if (options.stats_json) {
+    std::ostringstream text;
+    write_quality_json(text, q, d);
+    nlohmann::json j = nlohmann::json::parse(text.str());
+    j["mesh"] = args.mesh;
+    if (d != nullptr) j["surface"] = args.surface;
+    j["seconds"] = {{"read", t_read},
+                    {"quality", t_quality},
+                    {"hausdorff", t_hausdorff},
+                    {"total", seconds_since(start)}};
+    std::cout << j.dump() << '\n';
+  }
+  if (std::ostream* out = human_stream(options)) {
+    write_quality_text(*out, q, args.mesh, d, args.surface);
+    if (!args.histogram.empty()) *out << "Histograms written to " << args.histogram << '\n';
+    if (!args.output.empty()) *out << "Per-tet quality written to " << args.output << '\n';
+  }
+}
+
+}  // namespace voroclip::cli

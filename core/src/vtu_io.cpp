@@ -1,0 +1,577 @@
+// VTK XML unstructured grids (.vtu): the writer (ASCII, or binary as base64-encoded
+// appended data) and the reader behind read_tet_mesh for .vtu files.
+//
+// Binary layout (VTK's, not spelled out by its format document): every binary array is a
+// header — the array's byte count as UInt32 (header_type="UInt32", the default) or UInt64
+// — followed by its bytes, in the file's byte order. Inline ("binary") and appended
+// base64 data encode the header and the bytes as one base64 stream or as two (header,
+// then bytes, each padded); decoding group by group of 4 characters reads both. An
+// appended array's `offset` counts characters (base64) or bytes (raw) after the '_' that
+// opens the AppendedData section. Compressed files (a `compressor` attribute) are
+// rejected with a message.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "text_lexer.h"
+#include "voroclip/core.h"
+
+namespace voroclip {
+
+namespace {
+
+using namespace detail;  // NOLINT: the shared tokenizer and helpers of text_lexer.h
+
+constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+void base64_append(std::string& out, const unsigned char* data, std::size_t n) {
+  std::size_t i = 0;
+  for (; i + 3 <= n; i += 3) {
+    const std::uint32_t v = (std::uint32_t{data[i]} << 16) | (std::uint32_t{data[i + 1]} << 8) |
+                            std::uint32_t{data[i + 2]};
+    for (int s = 18; s >= 0; s -= 6) out += kBase64[(v >> s) & 63];
+  }
+  if (i < n) {
+    const std::uint32_t v =
+        (std::uint32_t{data[i]} << 16) | (i + 1 < n ? std::uint32_t{data[i + 1]} << 8 : 0u);
+    out += kBase64[(v >> 18) & 63];
+    out += kBase64[(v >> 12) & 63];
+    out += i + 1 < n ? kBase64[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+}
+
+bool machine_big_endian() {
+  const std::uint16_t one = 1;
+  unsigned char first = 0;
+  std::memcpy(&first, &one, 1);
+  return first == 0;
+}
+
+template <class T>
+void put_le(std::vector<unsigned char>& out, T v) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (machine_big_endian()) std::reverse(b, b + sizeof(T));
+  out.insert(out.end(), b, b + sizeof(T));
+}
+
+// One data array of the file being written.
+struct OutArray {
+  std::string type, name;
+  int components = 1;
+  std::vector<unsigned char> bytes;  // little endian (binary)
+  std::string ascii;                 // values (ASCII)
+};
+
+}  // namespace
+
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<std::uint32_t>& cells, int vertices_per_cell, bool binary,
+               const std::vector<VtuCellField>& fields) {
+  const auto per = static_cast<std::size_t>(vertices_per_cell);
+  const std::size_t nb_cells = cells.size() / per;
+  const auto dim = static_cast<std::size_t>(dimension);
+  for (const VtuCellField& f : fields) {
+    if (f.values.size() != nb_cells) {
+      throw Error("write_vtu: cell field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                  " values for " + std::to_string(nb_cells) + " cells");
+    }
+  }
+  std::vector<OutArray> arrays;
+  auto add_doubles = [&](const std::string& type, const std::string& name, int components,
+                         std::size_t n, auto value) {
+    OutArray a{type, name, components, {}, {}};
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = value(i);
+      if (binary) {
+        put_le<double>(a.bytes, v);
+      } else {
+        append(a.ascii, v);
+        a.ascii += (i + 1) % static_cast<std::size_t>(components) == 0 ? '\n' : ' ';
+      }
+    }
+    arrays.push_back(std::move(a));
+  };
+  auto add_ints = [&](const std::string& type, const std::string& name, std::size_t n, auto value) {
+    OutArray a{type, name, 1, {}, {}};
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t v = value(i);
+      if (!binary) {
+        append(a.ascii, v);
+        a.ascii += '\n';
+      } else if (type == "UInt8") {
+        put_le<std::uint8_t>(a.bytes, static_cast<std::uint8_t>(v));
+      } else {
+        put_le<std::int64_t>(a.bytes, static_cast<std::int64_t>(v));
+      }
+    }
+    arrays.push_back(std::move(a));
+  };
+  add_doubles("Float64", "Points", 3, 3 * std::size_t{nb_points}, [&](std::size_t i) {
+    const std::size_t p = i / 3, c = i % 3;
+    return c < dim ? coords[dim * p + c] : 0.0;
+  });
+  add_ints("Int64", "connectivity", cells.size(), [&](std::size_t i) { return cells[i]; });
+  add_ints("Int64", "offsets", nb_cells, [&](std::size_t c) { return (c + 1) * per; });
+  const std::uint64_t type = vertices_per_cell == 4 ? 10 : 5;  // VTK_TETRA, VTK_TRIANGLE
+  add_ints("UInt8", "types", nb_cells, [&](std::size_t) { return type; });
+  add_ints("Int64", "cell_id", nb_cells, [&](std::size_t c) { return c; });
+  for (const VtuCellField& f : fields) {
+    add_doubles("Float64", f.name, 1, nb_cells, [&](std::size_t c) { return f.values[c]; });
+  }
+
+  std::string appended;  // base64, after the '_'
+  std::vector<std::size_t> offset(arrays.size(), 0);
+  if (binary) {
+    for (std::size_t i = 0; i < arrays.size(); ++i) {
+      offset[i] = appended.size();
+      std::vector<unsigned char> header;
+      put_le<std::uint64_t>(header, arrays[i].bytes.size());
+      base64_append(appended, header.data(), header.size());
+      base64_append(appended, arrays[i].bytes.data(), arrays[i].bytes.size());
+    }
+  }
+  std::string s =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece "
+      "NumberOfPoints=\"" +
+      std::to_string(nb_points) + "\" NumberOfCells=\"" + std::to_string(nb_cells) + "\">\n";
+  auto data_array = [&](std::size_t i) {
+    const OutArray& a = arrays[i];
+    s += "<DataArray type=\"" + a.type + "\" Name=\"" + a.name + "\"";
+    if (a.components != 1) s += " NumberOfComponents=\"" + std::to_string(a.components) + "\"";
+    if (binary) {
+      s += " format=\"appended\" offset=\"" + std::to_string(offset[i]) + "\"/>\n";
+    } else {
+      s += " format=\"ascii\">\n" + a.ascii + "</DataArray>\n";
+    }
+  };
+  s += "<Points>\n";
+  data_array(0);
+  s += "</Points>\n<Cells>\n";
+  for (std::size_t i = 1; i <= 3; ++i) data_array(i);
+  s += "</Cells>\n<CellData Scalars=\"cell_id\">\n";
+  for (std::size_t i = 4; i < arrays.size(); ++i) data_array(i);
+  s += "</CellData>\n</Piece>\n</UnstructuredGrid>\n";
+  if (binary) s += "<AppendedData encoding=\"base64\">\n_" + appended + "\n</AppendedData>\n";
+  s += "</VTKFile>\n";
+  out.write(s.data(), static_cast<std::streamsize>(s.size()));
+}
+
+namespace detail {
+
+namespace {
+
+// The parts of a .vtu file the reader needs: elements with their attributes, parents and
+// content ranges. A minimal XML scanner: no entities, no CDATA (VTK writes neither).
+struct XmlElement {
+  std::string name, parent;
+  std::vector<std::pair<std::string, std::string>> attributes;
+  std::size_t content_begin = 0, content_end = 0;  // text between the tags
+  std::uint32_t line = 1;
+
+  const std::string* attribute(const std::string& key) const {
+    for (const auto& [k, v] : attributes) {
+      if (k == key) return &v;
+    }
+    return nullptr;
+  }
+};
+
+class VtuReader {
+ public:
+  VtuReader(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
+
+  TetMeshInput read() {
+    scan();
+    const XmlElement* file = find("VTKFile");
+    if (file == nullptr) fail(1, "not a VTK XML file: no VTKFile element");
+    const std::string* type = file->attribute("type");
+    if (type == nullptr || *type != "UnstructuredGrid") {
+      fail(file->line, "VTKFile type " + (type ? quote(*type) : std::string("(none)")) +
+                           ": only UnstructuredGrid is read");
+    }
+    if (file->attribute("compressor") != nullptr) {
+      fail(file->line, "compressed VTK XML file (" + *file->attribute("compressor") +
+                           "): only uncompressed data is read");
+    }
+    const std::string* order = file->attribute("byte_order");
+    big_endian_ = order != nullptr && *order == "BigEndian";
+    const std::string* header = file->attribute("header_type");
+    header64_ = header != nullptr && *header == "UInt64";
+    std::size_t pieces = 0;
+    for (const XmlElement& e : elements_) pieces += e.name == "Piece" ? 1 : 0;
+    if (pieces != 1) {
+      fail(file->line, std::to_string(pieces) + " Piece elements: exactly one is read");
+    }
+    const XmlElement* piece = find("Piece");
+    const std::uint64_t nb_points = count_attribute(*piece, "NumberOfPoints");
+    const std::uint64_t nb_cells = count_attribute(*piece, "NumberOfCells");
+    if (nb_points > 0xffffffffull) fail(piece->line, "more than 2^32 - 1 points");
+
+    TetMeshInput mesh;
+    mesh.source = path_;
+    const XmlElement* points = array_in("Points", nullptr);
+    if (points == nullptr) fail(piece->line, "no Points data array");
+    mesh.xyz = values(*points, 3 * nb_points, 3);
+    for (const double x : mesh.xyz) {
+      if (!std::isfinite(x)) fail(points->line, "Points: a coordinate is not finite");
+    }
+    const XmlElement* conn = array_in("Cells", "connectivity");
+    const XmlElement* offsets = array_in("Cells", "offsets");
+    const XmlElement* types = array_in("Cells", "types");
+    if (conn == nullptr || offsets == nullptr || types == nullptr) {
+      fail(piece->line, "Cells needs the data arrays connectivity, offsets and types");
+    }
+    const std::vector<double> off = values(*offsets, nb_cells, 1);
+    const std::vector<double> typ = values(*types, nb_cells, 1);
+    const std::uint64_t size = nb_cells == 0 ? 0 : static_cast<std::uint64_t>(off.back());
+    const std::vector<double> idx = values(*conn, size, 1);
+    std::uint64_t begin = 0;
+    for (std::size_t c = 0; c < nb_cells; ++c) {
+      const auto end = static_cast<std::uint64_t>(off[c]);
+      if (off[c] < 0 || end < begin || end > size) {
+        fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
+                                ", not in " + std::to_string(begin) + ".." + std::to_string(size));
+      }
+      if (typ[c] == 10) {
+        if (end - begin != 4) {
+          fail(types->line, "cell " + std::to_string(c) + " of type 10 (tetra) has " +
+                                std::to_string(end - begin) + " points, not 4");
+        }
+        for (std::uint64_t k = begin; k < end; ++k) {
+          const double v = idx[static_cast<std::size_t>(k)];
+          if (v < 0 || v >= static_cast<double>(nb_points)) {
+            fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
+                                 " is out of range 0.." + std::to_string(nb_points - 1));
+          }
+          mesh.tets.push_back(static_cast<std::uint32_t>(v));
+        }
+        mesh.tet_line.push_back(conn->line);
+      }
+      begin = end;
+    }
+    if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10)");
+    return mesh;
+  }
+
+ private:
+  [[noreturn]] void fail(std::uint32_t line, const std::string& what) const {
+    throw Error(path_ + ":" + std::to_string(line) + ": " + what);
+  }
+
+  static std::string fmt(double v) {
+    std::string s;
+    append(s, v);
+    return s;
+  }
+
+  std::uint32_t line_at(std::size_t pos) {
+    for (; line_pos_ < pos && line_pos_ < text_.size(); ++line_pos_) {
+      if (text_[line_pos_] == '\n') ++line_;
+    }
+    return line_;
+  }
+
+  void scan() {
+    std::vector<std::string> stack;
+    std::size_t pos = 0;
+    for (;;) {
+      const std::size_t lt = text_.find('<', pos);
+      if (lt == std::string::npos) break;
+      if (text_.compare(lt, 4, "<!--") == 0) {
+        const std::size_t end = text_.find("-->", lt);
+        if (end == std::string::npos) fail(line_at(lt), "unterminated comment");
+        pos = end + 3;
+        continue;
+      }
+      if (text_.compare(lt, 2, "<?") == 0) {
+        const std::size_t end = text_.find("?>", lt);
+        if (end == std::string::npos) fail(line_at(lt), "unterminated <?...?>");
+        pos = end + 2;
+        continue;
+      }
+      const std::size_t gt = text_.find('>', lt);
+      if (gt == std::string::npos) fail(line_at(lt), "unterminated tag");
+      if (text_[lt + 1] == '/') {
+        const std::string name = trim(text_.substr(lt + 2, gt - lt - 2));
+        if (stack.empty() || stack.back() != name) {
+          fail(line_at(lt),
+               "closing tag </" + name + "> does not match " +
+                   (stack.empty() ? std::string("any open element") : "<" + stack.back() + ">"));
+        }
+        for (auto it = elements_.rbegin(); it != elements_.rend(); ++it) {
+          if (it->name == name && it->content_end == kOpen) {
+            it->content_end = lt;
+            break;
+          }
+        }
+        stack.pop_back();
+        pos = gt + 1;
+        continue;
+      }
+      XmlElement e;
+      e.line = line_at(lt);
+      e.parent = stack.empty() ? "" : stack.back();
+      const bool self_closing = text_[gt - 1] == '/';
+      parse_tag(std::string_view(text_).substr(lt + 1, gt - lt - 1 - (self_closing ? 1 : 0)), e);
+      e.content_begin = gt + 1;
+      e.content_end = self_closing ? gt + 1 : kOpen;
+      if (e.name == "AppendedData") {
+        // Raw data may hold any byte: stop scanning here.
+        const std::size_t underscore = text_.find('_', gt + 1);
+        if (underscore == std::string::npos) fail(e.line, "AppendedData without '_'");
+        const std::string* enc = e.attribute("encoding");
+        appended_base64_ = enc == nullptr || *enc == "base64";
+        if (enc != nullptr && *enc != "base64" && *enc != "raw") {
+          fail(e.line, "AppendedData encoding " + quote(*enc) + ": base64 or raw");
+        }
+        appended_ = underscore + 1;
+        elements_.push_back(std::move(e));
+        return;
+      }
+      if (!self_closing) stack.push_back(e.name);
+      elements_.push_back(std::move(e));
+      pos = gt + 1;
+    }
+  }
+
+  static std::string trim(std::string s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+    std::size_t i = 0;
+    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+    return s.substr(i);
+  }
+
+  void parse_tag(std::string_view t, XmlElement& e) {
+    std::size_t i = 0;
+    while (i < t.size() && !std::isspace(static_cast<unsigned char>(t[i]))) ++i;
+    e.name = std::string(t.substr(0, i));
+    for (;;) {
+      while (i < t.size() && std::isspace(static_cast<unsigned char>(t[i]))) ++i;
+      if (i >= t.size()) return;
+      const std::size_t eq = t.find('=', i);
+      if (eq == std::string_view::npos) fail(e.line, "<" + e.name + ">: malformed attribute");
+      std::string key = trim(std::string(t.substr(i, eq - i)));
+      std::size_t q = eq + 1;
+      while (q < t.size() && std::isspace(static_cast<unsigned char>(t[q]))) ++q;
+      if (q >= t.size() || (t[q] != '"' && t[q] != '\'')) {
+        fail(e.line, "<" + e.name + ">: attribute " + key + " is not quoted");
+      }
+      const std::size_t close = t.find(t[q], q + 1);
+      if (close == std::string_view::npos) {
+        fail(e.line, "<" + e.name + ">: attribute " + key + " is not closed");
+      }
+      e.attributes.emplace_back(std::move(key), std::string(t.substr(q + 1, close - q - 1)));
+      i = close + 1;
+    }
+  }
+
+  const XmlElement* find(const std::string& name) const {
+    for (const XmlElement& e : elements_) {
+      if (e.name == name) return &e;
+    }
+    return nullptr;
+  }
+
+  // The DataArray in `parent` named `name` (nullptr: the first one).
+  const XmlElement* array_in(const std::string& parent, const char* name) const {
+    for (const XmlElement& e : elements_) {
+      if (e.name != "DataArray" || e.parent != parent) continue;
+      const std::string* n = e.attribute("Name");
+      if (name == nullptr || (n != nullptr && *n == name)) return &e;
+    }
+    return nullptr;
+  }
+
+  std::uint64_t count_attribute(const XmlElement& e, const char* key) {
+    const std::string* v = e.attribute(key);
+    if (v == nullptr) fail(e.line, "<" + e.name + "> has no " + key);
+    std::uint64_t n = 0;
+    const auto r = std::from_chars(v->data(), v->data() + v->size(), n);
+    if (r.ec != std::errc() || r.ptr != v->data() + v->size()) {
+      fail(e.line, std::string(key) + "=" + quote(*v) + " is not a count");
+    }
+    return n;
+  }
+
+  // A base64 stream over text_[pos, end): whole groups of 4 characters are decoded (a
+  // padded group gives 1 or 2 bytes, so separately encoded blocks read as one stream), and
+  // bytes of a group beyond what was asked wait for the next read.
+  struct Base64Stream {
+    std::size_t pos, end;
+    std::vector<unsigned char> pending;
+  };
+  std::vector<unsigned char> base64_read(Base64Stream& in, std::size_t n, std::uint32_t line) {
+    std::vector<unsigned char> out;
+    out.reserve(n);
+    const std::size_t first = std::min(n, in.pending.size());
+    out.assign(in.pending.begin(), in.pending.begin() + static_cast<std::ptrdiff_t>(first));
+    in.pending.erase(in.pending.begin(), in.pending.begin() + static_cast<std::ptrdiff_t>(first));
+    int group[4];
+    int k = 0, pad = 0;
+    while (out.size() < n && in.pos < in.end) {
+      const char c = text_[in.pos++];
+      if (std::isspace(static_cast<unsigned char>(c))) continue;
+      int v = 0;
+      if (c == '=') {
+        ++pad;
+      } else if (const char* p = std::strchr(kBase64, c); p != nullptr && c != 0) {
+        v = static_cast<int>(p - kBase64);
+      } else {
+        fail(line, "invalid base64 character " + quote(std::string(1, c)));
+      }
+      group[k++] = v;
+      if (k == 4) {
+        const std::uint32_t bits = (static_cast<std::uint32_t>(group[0]) << 18) |
+                                   (static_cast<std::uint32_t>(group[1]) << 12) |
+                                   (static_cast<std::uint32_t>(group[2]) << 6) |
+                                   static_cast<std::uint32_t>(group[3]);
+        const int bytes = 3 - std::min(pad, 2);
+        for (int b = 0; b < bytes; ++b) {
+          const auto byte = static_cast<unsigned char>((bits >> (16 - 8 * b)) & 0xff);
+          if (out.size() < n) {
+            out.push_back(byte);
+          } else {
+            in.pending.push_back(byte);
+          }
+        }
+        k = 0;
+        pad = 0;
+      }
+    }
+    if (out.size() < n) fail(line, "binary data is truncated");
+    return out;
+  }
+
+  std::uint64_t read_uint(const unsigned char* b, std::size_t size) const {
+    std::uint64_t v = 0;
+    for (std::size_t i = 0; i < size; ++i) {
+      const std::size_t j = big_endian_ ? i : size - 1 - i;
+      v = (v << 8) | b[j];
+    }
+    return v;
+  }
+
+  // `n` values of a DataArray, as doubles (integers up to 2^53 exactly).
+  std::vector<double> values(const XmlElement& a, std::uint64_t n, int components) {
+    const std::string* type = a.attribute("type");
+    const std::string* format = a.attribute("format");
+    const std::string name = a.attribute("Name") ? *a.attribute("Name") : "Points";
+    if (type == nullptr) fail(a.line, "DataArray " + name + " has no type");
+    if (const std::string* nc = a.attribute("NumberOfComponents");
+        nc != nullptr && *nc != std::to_string(components)) {
+      fail(a.line, "DataArray " + name + ": NumberOfComponents " + quote(*nc) + ", expected " +
+                       std::to_string(components));
+    }
+    std::size_t size = 0;
+    bool floating = false, is_signed = false;
+    if (*type == "Float64") {
+      size = 8, floating = true;
+    } else if (*type == "Float32") {
+      size = 4, floating = true;
+    } else if (*type == "Int64" || *type == "UInt64") {
+      size = 8, is_signed = *type == "Int64";
+    } else if (*type == "Int32" || *type == "UInt32") {
+      size = 4, is_signed = *type == "Int32";
+    } else if (*type == "Int16" || *type == "UInt16") {
+      size = 2, is_signed = *type == "Int16";
+    } else if (*type == "Int8" || *type == "UInt8") {
+      size = 1, is_signed = *type == "Int8";
+    } else {
+      fail(a.line, "DataArray " + name + ": unknown type " + quote(*type));
+    }
+    std::vector<double> out;
+    out.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(n, text_.size())));
+    const std::string f = format ? *format : "ascii";
+    if (f == "ascii") {
+      Lexer lx(path_, text_.substr(a.content_begin, a.content_end - a.content_begin), 0, a.line);
+      for (std::uint64_t i = 0; i < n; ++i) {
+        const std::string_view t = lx.next();
+        if (t.empty()) {
+          fail(a.line, "DataArray " + name + ": expected " + std::to_string(n) + " values, found " +
+                           std::to_string(i));
+        }
+        out.push_back(to_double(lx, t));
+      }
+      return out;
+    }
+    std::vector<unsigned char> bytes;
+    const std::size_t want = static_cast<std::size_t>(n) * size;
+    const std::size_t hsize = header64_ ? 8 : 4;
+    if (f == "binary" || (f == "appended" && appended_base64_)) {
+      Base64Stream in{a.content_begin, a.content_end, {}};
+      if (f == "appended") {
+        if (appended_ == 0) fail(a.line, "format=\"appended\" but no AppendedData section");
+        in.pos = appended_ + static_cast<std::size_t>(count_attribute(a, "offset"));
+        in.end = text_.size();
+      }
+      const std::vector<unsigned char> h = base64_read(in, hsize, a.line);
+      if (read_uint(h.data(), hsize) < want) {
+        fail(a.line, "DataArray " + name + ": " + std::to_string(read_uint(h.data(), hsize)) +
+                         " bytes, expected " + std::to_string(want));
+      }
+      bytes = base64_read(in, want, a.line);
+    } else if (f == "appended") {
+      const std::size_t pos = appended_ + static_cast<std::size_t>(count_attribute(a, "offset"));
+      if (pos + hsize + want > text_.size() || pos < appended_) {
+        fail(a.line, "DataArray " + name + ": appended data is truncated");
+      }
+      if (read_uint(reinterpret_cast<const unsigned char*>(text_.data() + pos), hsize) < want) {
+        fail(a.line, "DataArray " + name + ": its byte count is smaller than expected");
+      }
+      bytes.assign(text_.begin() + static_cast<std::ptrdiff_t>(pos + hsize),
+                   text_.begin() + static_cast<std::ptrdiff_t>(pos + hsize + want));
+    } else {
+      fail(a.line, "DataArray " + name + ": unknown format " + quote(f));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t raw = read_uint(bytes.data() + i * size, size);
+      if (floating && size == 8) {
+        double d;
+        std::memcpy(&d, &raw, 8);
+        out.push_back(d);
+      } else if (floating) {
+        const auto r32 = static_cast<std::uint32_t>(raw);
+        float x;
+        std::memcpy(&x, &r32, 4);
+        out.push_back(static_cast<double>(x));
+      } else if (is_signed) {
+        const std::uint64_t sign = std::uint64_t{1} << (8 * size - 1);
+        const auto v = static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign);
+        out.push_back(size == 8 ? static_cast<double>(static_cast<std::int64_t>(raw))
+                                : static_cast<double>(v));
+      } else {
+        out.push_back(static_cast<double>(raw));
+      }
+    }
+    return out;
+  }
+
+  static constexpr std::size_t kOpen = static_cast<std::size_t>(-1);
+  std::string path_;
+  std::string text_;
+  std::vector<XmlElement> elements_;
+  std::size_t appended_ = 0;  // first byte after the '_' (0: no AppendedData)
+  bool appended_base64_ = true;
+  bool big_endian_ = false, header64_ = false;
+  std::size_t line_pos_ = 0;
+  std::uint32_t line_ = 1;
+};
+
+}  // namespace
+
+TetMeshInput read_vtu_tet_mesh(const std::string& path) {
+  return VtuReader(path, read_whole_file(path)).read();
+}
+
+}  // namespace detail
+
+}  // namespace voroclip
