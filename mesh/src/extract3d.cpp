@@ -605,11 +605,12 @@ class ManifoldRepair {
 };
 
 // Boundary filling (mesh.h, SurfacePatches). A boundary facet of the kept tets is a dent
-// when a vertex is on no patch, and crosses a crease when its vertices share no patch; the
-// finite tet across a dent is added, the one across a crease when its centroid (rounded)
-// is strictly inside the domain (exact point location: the tet fills a convex edge's
-// chamfer, not the outside of a concave one). Passes over the slots in order, each seeing
-// the additions of the previous ones.
+// when a vertex is on no patch, and crosses a crease when its vertices share no patch. The
+// finite tet across a dent is added. At a crease, the tet across is added when its
+// centroid (rounded) is strictly inside the domain (it fills the chamfer of a convex
+// edge), and the kept tet itself is removed when its centroid is strictly outside (it
+// bridges a concave edge); exact point location. A tet changes at most once. Passes over
+// the slots in order, each seeing the changes of the previous ones.
 void fill_boundary(const TetExtractor3& domain, const Delaunay3& dt, const SurfacePatches& sp,
                    std::uint32_t max_passes, std::vector<std::uint8_t>& kept, Extract3Stats& st) {
   if (sp.begin.size() < std::size_t{dt.nb_points()} + 1 || sp.begin.back() > sp.patches.size()) {
@@ -630,38 +631,48 @@ void fill_boundary(const TetExtractor3& domain, const Delaunay3& dt, const Surfa
     }
     return false;
   };
-  std::vector<std::uint32_t> added;  // 2 * tet + reason
+  const auto centroid_side = [&](std::uint32_t t) {
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * dt.point(dt.tet_vertex(t, k))[a];
+    }
+    return domain.point_side(c);
+  };
+  std::vector<std::uint8_t> changed(kept.size(), 0);
+  std::vector<std::uint32_t> todo;  // 4 * tet + action: 0 add (dent), 1 add (crease), 2 remove
   for (std::uint32_t pass = 0; pass < max_passes; ++pass) {
-    added.clear();
+    todo.clear();
     for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
       if (kept[t] == 0) continue;
       for (int f = 0; f < 4; ++f) {
         const std::uint32_t n = dt.tet_adjacent(t, f);
-        if (kept[n] != 0 || dt.is_infinite(n)) continue;
+        if (kept[n] != 0) continue;
         const int* fv = Delaunay3::kFacetVertex[f];
         const std::uint32_t v[3] = {dt.tet_vertex(t, fv[0]), dt.tet_vertex(t, fv[1]),
                                     dt.tet_vertex(t, fv[2])};
         bool dent = false;
         for (const std::uint32_t w : v) dent = dent || sp.begin[w] == sp.begin[w + 1];
+        const bool finite = !dt.is_infinite(n) && changed[n] == 0;
         if (dent) {
-          added.push_back(2 * n);
+          if (finite) todo.push_back(4 * n);
         } else if (!shared(v[0], v[1], v[2])) {
-          double c[3] = {0, 0, 0};
-          for (int k = 0; k < 4; ++k) {
-            for (int a = 0; a < 3; ++a) c[a] += 0.25 * dt.point(dt.tet_vertex(n, k))[a];
+          if (finite && centroid_side(n) == Sign::positive) {
+            todo.push_back(4 * n + 1);
+          } else if (changed[t] == 0 && centroid_side(t) == Sign::negative) {
+            todo.push_back(4 * t + 2);
           }
-          if (domain.point_side(c) == Sign::positive) added.push_back(2 * n + 1);
         }
       }
     }
-    if (added.empty()) break;
-    // 2 n + reason (0 dent, 1 crease): each tet once, as a dent first.
-    std::sort(added.begin(), added.end());
-    for (std::size_t i = 0; i < added.size(); ++i) {
-      const std::uint32_t n = added[i] / 2;
-      if (i > 0 && added[i - 1] / 2 == n) continue;
-      kept[n] = 1;
-      ++((added[i] & 1) != 0 ? st.nb_creases : st.nb_filled);
+    if (todo.empty()) break;
+    // Each tet once, by its first action (dent before crease before removal).
+    std::sort(todo.begin(), todo.end());
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      const std::uint32_t t = todo[i] / 4, action = todo[i] % 4;
+      if (i > 0 && todo[i - 1] / 4 == t) continue;
+      changed[t] = 1;
+      kept[t] = action == 2 ? 0 : 1;
+      ++(action == 0 ? st.nb_filled : action == 1 ? st.nb_creases : st.nb_carved);
     }
   }
 }

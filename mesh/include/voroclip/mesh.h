@@ -256,13 +256,14 @@ struct SurfacePatches {
 struct Extract3Options {
   // When given, the extraction fills the boundary (extract3d.cpp): a boundary facet of the
   // kept tets is a dent when one of its vertices is not on the surface, and crosses a
-  // crease when its vertices share no patch. The finite tet across a dent is added; the
-  // one across a crease is added when its centroid is strictly inside the domain (the
-  // chamfer of a convex feature edge). In passes, until none is left (at most
-  // max_fill_passes). Sites on a curved or polyhedral surface make the circumcenters of
-  // the boundary layer's tets lie close to the surface, on either side: without this, a
-  // well-shaped tet whose circumcenter is just outside leaves an interior site on the
-  // boundary (a dent one layer deep), or cuts a sharp edge.
+  // crease when its vertices share no patch. The finite tet across a dent is added; at a
+  // crease, the tet across is added when its centroid is strictly inside the domain (the
+  // chamfer of a convex feature edge), and the kept tet is removed when its own centroid
+  // is strictly outside (a bridge over a concave edge). A tet changes at most once. In
+  // passes, until nothing changes (at most max_fill_passes). Sites on a curved or polyhedral
+  // surface make the circumcenters of the boundary layer's tets lie close to the surface, on either
+  // side: without this, a well-shaped tet whose circumcenter is just outside leaves an interior
+  // site on the boundary (a dent one layer deep), or cuts a sharp edge.
   const SurfacePatches* surface = nullptr;
   std::uint32_t max_fill_passes = 8;
   bool repair_manifold = true;
@@ -277,6 +278,7 @@ struct Extract3Stats {
   std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
   std::uint32_t nb_filled = 0;                 // tets added across dents
   std::uint32_t nb_creases = 0;                // tets added across creases
+  std::uint32_t nb_carved = 0;                 // tets removed at creases
   std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
   std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
   std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
@@ -368,5 +370,125 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
                                const SiteProjector3& project, const Perturb3Options& options = {},
                                std::vector<std::uint32_t>* mesh = nullptr,
                                Extract3Stats* extraction = nullptr);
+
+// =======================================================================================
+// 3D CVT tet meshing: the pipeline (Yan et al. 2011, sec. 5.2; mesh/src/mesh3d.cpp).
+//
+//   1. sizing: uniform, or adaptive from the local feature size (SizingField3: density
+//      h^-5 on the domain's vertices);
+//   2. initial sampling: about nb_vertices sites on a body-centred cubic lattice strictly
+//      inside the domain (uniform sizing: the lattice is the best known CVT in space, so
+//      only the boundary layer has far to go), or drawn with the density (random_points3);
+//   3. unconstrained CVT (L-BFGS);
+//   4. classification and snapping: the sites whose Voronoi cell meets the boundary
+//      surface move to their closest point on it; with features, the boundary edges whose
+//      triangles' normals differ by more than feature_angle_deg form feature lines
+//      (extract_feature_lines): the sites nearest to points along them move onto them,
+//      and each feature corner gets a fixed site (the nearest site, or a new one);
+//   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
+//      their line (eq. 3), corners are fixed;
+//   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
+//      exact, manifold repair);
+//   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
+//      constraint; the mesh is extracted again;
+//   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
+//      the tets (right-handed), the quality (tet_quality) and the timing of each phase.
+// Deterministic for a given seed: the same mesh for any thread count.
+
+enum class Mesh3Phase : std::uint8_t {
+  kSizing,
+  kSampling,
+  kUnconstrained,
+  kSnapping,
+  kConstrained,
+  kExtraction,
+  kSlivers,
+  kQuality,
+};
+
+// "sizing", "sampling", "unconstrained", "snapping", "constrained", "extraction",
+// "slivers", "quality".
+const char* mesh3_phase_name(Mesh3Phase phase);
+
+// What the progress callback receives: at the start of each phase (iteration 0), after
+// every CVT iteration (energy, gradient norm), and before every perturbation round
+// (iteration = round, slivers and min_dihedral_deg set).
+struct Mesh3Progress {
+  Mesh3Phase phase = Mesh3Phase::kSizing;
+  std::uint32_t iteration = 0;
+  double energy = 0;
+  double gradient_norm = 0;
+  std::uint32_t slivers = 0;
+  double min_dihedral_deg = 0;
+  double seconds = 0;  // since the start of the pipeline
+};
+
+enum class Mesh3Sampling : std::uint8_t {
+  kLattice,  // body-centred cubic lattice (uniform sizing only; adaptive sizing draws)
+  kRandom,   // random_points3 with the density
+};
+
+struct Mesh3Options {
+  // Number of sites (about the number of vertices of the result: plus one site per
+  // feature corner without a site nearby, minus the sites no tet uses).
+  std::uint32_t nb_vertices = 10000;
+  // Density from the local feature size (SizingField3 with `sizing`) instead of uniform.
+  bool adaptive = false;
+  Sizing3Options sizing;
+  // Sharp features: an edge is sharp when its triangles' normals differ by more than this
+  // (extract_feature_lines). features = false: the surface alone.
+  bool features = true;
+  double feature_angle_deg = kDefaultFeatureAngleDeg;
+  // Initial sampling, and its seed (the lattice's offset, or the random draws).
+  Mesh3Sampling sampling = Mesh3Sampling::kLattice;
+  std::uint64_t seed = 1;
+  // L-BFGS iterations of the two CVT phases, and their stopping tolerance on |g| / |g_0|.
+  std::uint32_t unconstrained_iterations = 20;
+  std::uint32_t constrained_iterations = 30;
+  double gradient_tolerance = 1e-4;
+  // Sliver perturbation (perturb = false: none).
+  bool perturb = true;
+  Perturb3Options perturbation;
+  // Called as described at Mesh3Progress; return false to stop: the result then has
+  // cancelled == true and no tets.
+  std::function<bool(const Mesh3Progress&)> progress;
+};
+
+enum class Mesh3VertexKind : std::uint8_t {
+  kInterior,  // free in the volume
+  kSurface,   // on the boundary surface
+  kFeature,   // on a feature line
+  kCorner,    // at a feature corner (fixed)
+};
+
+struct Mesh3Result {
+  std::vector<double> xyz;             // vertices, x y z each
+  std::vector<Mesh3VertexKind> kinds;  // per vertex
+  // 4 vertex indices per tet, det(p1 - p0, p2 - p0, p3 - p0) > 0 (exactly).
+  std::vector<std::uint32_t> tets;
+  std::uint32_t nb_sites = 0;          // sites optimised (corners added included)
+  std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
+  std::uint32_t nb_boundary_sites = 0, nb_feature_sites = 0, nb_corner_sites = 0;
+  std::uint32_t nb_feature_lines = 0, nb_feature_corners = 0;
+  CvtResult unconstrained, constrained;
+  Extract3Stats extraction;
+  Perturb3Stats perturbation;
+  TetQuality quality;
+  // Wall-clock seconds per phase (Mesh3Phase order) and in all.
+  double seconds[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double total_seconds = 0;
+  bool cancelled = false;
+
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
+  std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
+};
+
+// Meshes the volume of `domain` (mesh.h, "the pipeline"). Throws Error for invalid options
+// (fewer than 4 vertices, a feature angle outside [0, 180]) or a domain without boundary.
+Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
+
+// The boundary surface of a Domain3 as a TriangleSurface (its vertices, all of them, and
+// its boundary triangles oriented outward by the right-hand rule).
+TriangleSurface boundary_surface(const Domain3& domain);
 
 }  // namespace voroclip
