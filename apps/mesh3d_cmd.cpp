@@ -124,8 +124,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
         const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
         fields[0].values.push_back(
-            min_dihedral_deg(&r.xyz[3 * std::size_t{v[0]}], &r.xyz[3 * std::size_t{v[1]}],
-                             &r.xyz[3 * std::size_t{v[2]}], &r.xyz[3 * std::size_t{v[3]}]));
+            tet_shape(&r.xyz[3 * std::size_t{v[0]}], &r.xyz[3 * std::size_t{v[1]}],
+                      &r.xyz[3 * std::size_t{v[2]}], &r.xyz[3 * std::size_t{v[3]}])
+                .q1_deg);
       }
       write_file_atomically(args.output, [&](std::ostream& os) {
         write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, r.tets, 4, true, fields);

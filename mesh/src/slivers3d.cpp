@@ -58,8 +58,8 @@ void cross3(const double* a, const double* b, double* o) {
 }
 double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-}  // namespace
-
+// The perturbation's criterion, Q1 (tet_shape's q1_deg, without the other measures: it is
+// evaluated for every tet of every local triangulation).
 double min_dihedral_deg(const double* p0, const double* p1, const double* p2, const double* p3) {
   // Face f is opposite vertex f; n[f] its normal pointing away from vertex f. The dihedral
   // angle at the edge shared by faces f and g is pi - angle(n[f], n[g]).
@@ -89,8 +89,6 @@ double min_dihedral_deg(const double* p0, const double* p1, const double* p2, co
   }
   return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / kPi;
 }
-
-namespace {
 
 // What one round knows of the global mesh.
 struct GlobalState {

@@ -332,9 +332,6 @@ class TetExtractor3 {
 // 3D CVT tet meshing: sliver removal by vertex perturbation (Tournois, Srinivasan & Alliez,
 // IMR 2009; mesh/src/slivers3d.cpp has the algorithm).
 
-// The smallest dihedral angle of a tet, in degrees (floating point; 0 when flat).
-double min_dihedral_deg(const double* p0, const double* p1, const double* p2, const double* p3);
-
 struct Perturb3Options {
   // Kept tets whose smallest dihedral angle is below this are slivers.
   double target_dihedral_deg = 30;
