@@ -177,7 +177,8 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ClippedVoronoi3 cv;
   Clip3Options o;
-  o.keep_geometry = has_suffix(args.output, ".vtu") || has_suffix(args.output, ".obj");
+  o.keep_surface = has_suffix(args.output, ".obj");
+  o.keep_geometry = has_suffix(args.output, ".vtu");
   const auto t1 = std::chrono::steady_clock::now();
   cv.compute(domain, dt, o);
   const double t_clip =
@@ -203,6 +204,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
                                 {"cells_volume_sum", cv.total_volume()},
                                 {"surface_area_sum", cv.total_surface_area()},
                                 {"clipped_pairs", cv.nb_clipped_pairs()},
+                                {"fallback_cells", cv.nb_fallback_cells()},
                                 {"seconds",
                                  {{"delaunay", t_delaunay},
                                   {"surface_rvd", cv.seconds_surface()},

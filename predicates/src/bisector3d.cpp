@@ -83,7 +83,32 @@ struct FacetFormula {
   }
 };
 
+// m_1 alone, over d = {c_k, c_l, u_a, u_b, u_c}: (w1 . c_k)(w2 . c_l) - (w2 . c_k)(w1 . c_l)
+// with w1 = u_b - u_a, w2 = u_c - u_a. For leaves below 2^B, |w| < 2^(B+1), each dot product
+// is below 2^(2B+3) and m_1 below 2^(4B+7): the edge formula's bounds (degree 4, headroom 8,
+// 128-bit path for B = 30) hold.
+struct PlaneFormula {
+  template <class C, class M>
+  int operator()(C& c, const M& d) const {
+    using Num = typename C::Num;
+    Num w1[3], w2[3];
+    for (int t = 0; t < 3; ++t) {
+      w1[t] = c.sub(d[3][t], d[2][t]);
+      w2[t] = c.sub(d[4][t], d[2][t]);
+    }
+    const Num ek1 = dot<C, 3>(c, w1, d[0]), ek2 = dot<C, 3>(c, w2, d[0]);
+    const Num el1 = dot<C, 3>(c, w1, d[1]), el2 = dot<C, 3>(c, w2, d[1]);
+    return C::sign(c.sub(c.mul(ek1, el2), c.mul(ek2, el1)));
+  }
+};
+
 }  // namespace
+
+Sign voronoi_edge_direction3d_exact(const double* pi, const double* pk, const double* pl,
+                                    const double* a, const double* b, const double* c) {
+  return static_cast<Sign>(exact_eval<5, 3, kEdgeIntegerBits, kEdgeDegree, kEdgeHeadroomBits, true>(
+      "voronoi_edge_direction3d", {pk, pl, a, b, c, pi}, PlaneFormula{}));
+}
 
 Sign bisector_side_edge3d_exact(const double* pi, const double* pk, const double* pj,
                                 const double* a, const double* b, std::uint32_t i, std::uint32_t k,
@@ -166,6 +191,13 @@ Sign bisector_side_voronoi3d(const double* pi, const double* pk, const double* p
                 " are coplanar: they have no Voronoi vertex");
   }
   return insphere_sos(pi, pk, pl, pm, pj, i, k, l, m, j) * o;
+}
+
+Sign voronoi_edge_direction3d(const double* pi, const double* pk, const double* pl, const double* a,
+                              const double* b, const double* c) {
+  const int s = detail::voronoi_edge_direction3d_filter(pi, pk, pl, a, b, c);
+  if (s != 0) return static_cast<Sign>(s);
+  return detail::voronoi_edge_direction3d_exact(pi, pk, pl, a, b, c);
 }
 
 }  // namespace voroclip

@@ -156,6 +156,22 @@ inline int bisector_facet3d_filter(const double* pi, const double* pk, const dou
   return 0;
 }
 
+// sign(n . ((b - a) x (c - a))), n = (p_k - p_i) x (p_l - p_i): m_1 above (Binet-Cauchy), with
+// its bound, when certainly non-zero: +1 / -1; 0 when the exact stage must decide.
+inline int voronoi_edge_direction3d_filter(const double* pi, const double* pk, const double* pl,
+                                           const double* a, const double* b, const double* c) {
+  const Diff3 ck = diff3(pk, pi), cl = diff3(pl, pi), w1 = diff3(b, a), w2 = diff3(c, a);
+  const double m1 = dot3(w1, ck) * dot3(w2, cl) - dot3(w2, ck) * dot3(w1, cl);
+  const double lower = std::min(std::min(w1.norm, w2.norm), std::min(ck.norm, cl.norm));
+  const double upper = std::max(std::max(w1.norm, w2.norm), std::max(ck.norm, cl.norm));
+  const double pd = ((w1.norm * w2.norm) * ck.norm) * cl.norm;
+  if (lower >= kBisector3dFacetLower && upper <= kBisector3dFacetUpper &&
+      std::fabs(m1) > kBisector3dPlaneBound * pd) {
+    return decided_sign(m1);
+  }
+  return 0;
+}
+
 // The exact stages, for every finite input (non-finite coordinates throw voroclip::Error);
 // they also throw when the preconditions are violated (see predicates.h).
 Sign bisector_side_edge3d_exact(const double* pi, const double* pk, const double* pj,
@@ -165,5 +181,8 @@ Sign bisector_side_facet3d_exact(const double* pi, const double* pk, const doubl
                                  const double* pj, const double* a, const double* b,
                                  const double* c, std::uint32_t i, std::uint32_t k, std::uint32_t l,
                                  std::uint32_t j);
+
+Sign voronoi_edge_direction3d_exact(const double* pi, const double* pk, const double* pl,
+                                    const double* a, const double* b, const double* c);
 
 }  // namespace voroclip::detail

@@ -66,6 +66,50 @@ voroclip::TetMeshInput cube_mesh(std::uint32_t k) {
   return m;
 }
 
+// A box of nx x ny x nz cells of size (hx, hy, hz) from `lo`, each cut into 6 Kuhn tets.
+voroclip::TetMeshInput box_mesh(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz,
+                                const double h[3], const double lo[3]) {
+  voroclip::TetMeshInput m;
+  m.source = "box";
+  const auto id = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    return (z * (ny + 1) + y) * (nx + 1) + x;
+  };
+  for (std::uint32_t z = 0; z <= nz; ++z) {
+    for (std::uint32_t y = 0; y <= ny; ++y) {
+      for (std::uint32_t x = 0; x <= nx; ++x)
+        m.xyz.insert(m.xyz.end(), {lo[0] + x * h[0], lo[1] + y * h[1], lo[2] + z * h[2]});
+    }
+  }
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (std::uint32_t z = 0; z < nz; ++z) {
+    for (std::uint32_t y = 0; y < ny; ++y) {
+      for (std::uint32_t x = 0; x < nx; ++x) {
+        for (const auto& p : perms) {
+          std::uint32_t c[3] = {x, y, z};
+          std::uint32_t tet[4];
+          tet[0] = id(c[0], c[1], c[2]);
+          for (int k = 0; k < 3; ++k) {
+            ++c[p[k]];
+            tet[k + 1] = id(c[0], c[1], c[2]);
+          }
+          m.tets.insert(m.tets.end(), tet, tet + 4);
+          m.tet_line.push_back(0);
+        }
+      }
+    }
+  }
+  return m;
+}
+
+// Two meshes as one input (vertices and tets of b after a's).
+voroclip::TetMeshInput merged(voroclip::TetMeshInput a, const voroclip::TetMeshInput& b) {
+  const auto base = static_cast<std::uint32_t>(a.xyz.size() / 3);
+  a.xyz.insert(a.xyz.end(), b.xyz.begin(), b.xyz.end());
+  for (const std::uint32_t v : b.tets) a.tets.push_back(v + base);
+  a.tet_line.insert(a.tet_line.end(), b.tet_line.begin(), b.tet_line.end());
+  return a;
+}
+
 // Uniform random points in the volume: a tet by volume, then uniform in it.
 std::vector<double> sample_volume(const Domain3& d, std::uint32_t n, std::uint64_t seed,
                                   std::vector<std::uint32_t>* tet_of = nullptr) {
@@ -186,6 +230,52 @@ void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3&
     for (const std::uint32_t p : cell_pieces[s]) found = found || in_piece(p, x);
     REQUIRE(found);
   }
+}
+
+// The default path (cones over the boundary of cell ∩ volume) against the tet-by-tet
+// clipping of every boundary cell (tet_clipping), cell by cell: the restricted surface is
+// the same computation (bit for bit); volume, first moment and energy agree to `rel` (1e-12)
+// of the cell's scale (its own value, or that of an average cell: V = volume / sites,
+// h = V^(1/3)). Both paths round the same constructed points (Voronoi vertices, crossings)
+// but triangulate cell ∩ volume differently, so they differ by the points' rounding times
+// their conditioning. Returns the number of cells the default path clipped tet by tet.
+std::uint32_t check_against_tet_clipping(const Domain3& d, const Delaunay3& dt,
+                                         const std::string& what, double rel = 1e-12) {
+  INFO(what << ": " << dt.nb_points() << " sites in " << d.source());
+  ClippedVoronoi3 fast, ref;
+  voroclip::Clip3Options o;
+  fast.compute(d, dt, o);
+  o.tet_clipping = true;
+  ref.compute(d, dt, o);
+  REQUIRE(fast.nb_boundary_sites() == ref.nb_boundary_sites());
+  REQUIRE(ref.nb_clipped_pairs() > 0);
+  const double vunit = d.volume() / dt.nb_unique_points();
+  const double hunit = std::cbrt(vunit);
+  std::uint32_t compared = 0;
+  for (std::uint32_t i = 0; i < fast.nb_sites(); ++i) {
+    INFO("site " << i << " boundary " << ref.is_boundary(i));
+    REQUIRE(fast.is_boundary(i) == ref.is_boundary(i));
+    REQUIRE(fast.surface_area(i) == ref.surface_area(i));
+    const double v = ref.volume(i);
+    REQUIRE(std::fabs(fast.volume(i) - v) <= rel * (v + vunit));
+    const double* x = dt.point(i);
+    double reach = hunit;  // |centroid - site| + h
+    for (int c = 0; c < 3; ++c) reach += std::fabs(ref.centroid(i)[c] - x[c]);
+    for (int c = 0; c < 3; ++c) {
+      const double mf = fast.volume(i) * (fast.centroid(i)[c] - x[c]);
+      const double mr = v * (ref.centroid(i)[c] - x[c]);
+      REQUIRE(std::fabs(mf - mr) <= rel * (v + vunit) * reach);
+    }
+    INFO("energy " << fast.energy(i) << " vs " << ref.energy(i) << ", volume " << v << ", reach "
+                   << reach);
+    REQUIRE(std::fabs(fast.energy(i) - ref.energy(i)) <=
+            rel * (ref.energy(i) + vunit * reach * reach));
+    compared += v > 0 ? 1 : 0;
+  }
+  REQUIRE(compared > 0);
+  REQUIRE(std::fabs(fast.total_volume() - d.volume()) <= 1e-12 * d.volume());
+  REQUIRE(std::fabs(ref.total_volume() - d.volume()) <= 1e-12 * d.volume());
+  return fast.nb_fallback_cells();
 }
 
 }  // namespace
@@ -408,6 +498,33 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
   }
   REQUIRE(one.cell_faces().xyz == two.cell_faces().xyz);
   REQUIRE(one.surface_polygons().xyz == two.surface_polygons().xyz);
+  // The default path alone, with the restricted surface's symbolic vertices; sites outside
+  // too (cells placed outside spread through their neighbours).
+  std::vector<double> more = sites;
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (int k = 0; k < 3 * 300; ++k) more.push_back(u(rng) + d.bbox_lo()[k % 3] - 0.05);
+  const Delaunay3 dt2(more.data(), static_cast<std::uint32_t>(more.size() / 3));
+  voroclip::Clip3Options s;
+  s.keep_surface = true;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one.compute(d, dt2, s);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two.compute(d, dt2, s);
+  }
+  REQUIRE(std::fabs(one.total_volume() - d.volume()) <= 1e-12 * d.volume());
+  for (std::uint32_t i = 0; i < one.nb_sites(); ++i) {
+    REQUIRE(one.volume(i) == two.volume(i));
+    REQUIRE(one.energy(i) == two.energy(i));
+    REQUIRE(one.surface_area(i) == two.surface_area(i));
+    for (int c = 0; c < 3; ++c) REQUIRE(one.centroid(i)[c] == two.centroid(i)[c]);
+  }
+  REQUIRE(one.surface_polygons().xyz == two.surface_polygons().xyz);
+  REQUIRE(one.surface_polygons().vertices == two.surface_polygons().vertices);
+  REQUIRE(one.surface_polygons().triangle == two.surface_polygons().triangle);
 }
 
 TEST_CASE("clip3d: density linear per tet", "[clip]") {
@@ -469,4 +586,220 @@ TEST_CASE("clip3d: density linear per tet", "[clip]") {
     REQUIRE(std::fabs(cvl.mass(i) - constant.volume(i) * rho(constant.centroid(i))) <=
             1e-11 * mass);
   }
+}
+
+TEST_CASE("clip3d: cones over the boundary equal the tet-by-tet clipping, cell by cell",
+          "[clip][exact]") {
+  const Domain3 sphere(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  // Random sites, some outside the ball.
+  for (const std::uint64_t seed : {21u, 22u}) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.2, 1.2);
+    std::vector<double> sites = sample_volume(sphere, 400, seed);
+    for (int k = 0; k < 3 * 60; ++k) sites.push_back(u(rng));
+    const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+    check_against_tet_clipping(sphere, dt, "random, seed " + std::to_string(seed));
+  }
+  // Every mesh vertex a site (boundary and interior): bisectors through mesh vertices,
+  // edges and facets everywhere.
+  {
+    const Delaunay3 dt(sphere.coords().data(), sphere.nb_vertices());
+    check_against_tet_clipping(sphere, dt, "the mesh vertices");
+  }
+  // Sites on the boundary facets (centroids) and edges (midpoints), and inside. Three sites
+  // on neighbouring facets have a Voronoi edge nearly along the surface, whose crossing is
+  // ill-conditioned: 1e-11.
+  {
+    std::vector<double> sites = sample_volume(sphere, 300, 24);
+    for (std::uint32_t b = 0; b < sphere.nb_boundary_triangles(); b += 2) {
+      const double* p[3];
+      for (int k = 0; k < 3; ++k) p[k] = sphere.vertex(sphere.boundary_vertex(b, k));
+      for (int c = 0; c < 3; ++c) sites.push_back((p[0][c] + p[1][c] + p[2][c]) / 3);
+      for (int c = 0; c < 3; ++c) sites.push_back((p[0][c] + p[1][c]) / 2);
+    }
+    const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+    check_against_tet_clipping(sphere, dt, "on facets and edges", 1e-11);
+  }
+  // The cube's corners (Fig. 11), integer grids with duplicates and sites outside, the
+  // half-integer grid (bisectors along the mesh's facets).
+  {
+    const Domain3 cube(cube_mesh(2));
+    std::vector<double> corners;
+    for (int c = 0; c < 8; ++c)
+      corners.insert(corners.end(), {2.0 * (c & 1), 2.0 * ((c >> 1) & 1), 2.0 * (c >> 2)});
+    const Delaunay3 dt(corners.data(), 8);
+    check_against_tet_clipping(cube, dt, "cube corners");
+  }
+  {
+    const Domain3 cube(cube_mesh(3));
+    std::vector<double> grid, half;
+    for (int z = -1; z <= 4; ++z) {
+      for (int y = -1; y <= 4; ++y) {
+        for (int x = -1; x <= 4; ++x) {
+          grid.insert(grid.end(), {double(x), double(y), double(z)});
+          half.insert(half.end(), {x + 0.5, y + 0.5, z + 0.5});
+        }
+      }
+    }
+    grid.insert(grid.end(), grid.begin(), grid.begin() + 24);  // eight duplicates
+    const Delaunay3 dtg(grid.data(), static_cast<std::uint32_t>(grid.size() / 3));
+    check_against_tet_clipping(cube, dtg, "integer grid");
+    const Delaunay3 dth(half.data(), static_cast<std::uint32_t>(half.size() / 3));
+    check_against_tet_clipping(cube, dth, "half-integer grid");
+  }
+  // A real model with thin parts: some Voronoi edges cross the surface twice.
+  {
+    const Domain3 bunny(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
+    const std::vector<double> sites = sample_volume(bunny, 2000, 23);
+    const Delaunay3 dt(sites.data(), 2000);
+    CHECK(check_against_tet_clipping(bunny, dt, "bunny") > 0);
+  }
+}
+
+TEST_CASE("clip3d: Voronoi edges crossing a thin slab twice go tet by tet", "[clip][degenerate]") {
+  // A slab 6 x 6 x 0.25; sites in its mid-plane, slightly off it, and a few above and below:
+  // the Voronoi edges of the mid-plane sites run across the slab, through both faces.
+  const double h[3] = {1, 1, 0.125}, lo[3] = {0, 0, 0};
+  const Domain3 slab(box_mesh(6, 6, 2, h, lo));
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0.2, 5.8), dz(-0.01, 0.01);
+  std::vector<double> sites;
+  for (int k = 0; k < 40; ++k) sites.insert(sites.end(), {u(rng), u(rng), 0.125 + dz(rng)});
+  for (int k = 0; k < 6; ++k) sites.insert(sites.end(), {u(rng), u(rng), k % 2 ? 3.0 : -3.0});
+  const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+  const std::uint32_t fallback = check_against_tet_clipping(slab, dt, "slab");
+  CHECK(fallback >= 20);
+}
+
+TEST_CASE("clip3d: a surface component inside one cell (no Voronoi edge crosses it)",
+          "[clip][degenerate]") {
+  // Sites: the origin and the corners of [-10, 10]^3. The domain: the cube [-1, 1]^3, wholly
+  // in the origin's cell and far from every Voronoi vertex, plus a box [4, 14] x [-3, 3]^2
+  // that the cells of the corners (10, +-10, +-10) and the origin's share. The first
+  // component gives its cell no crossing to place its Voronoi vertices from.
+  const double h1[3] = {1, 1, 1}, lo1[3] = {-1, -1, -1};
+  const double h2[3] = {2.5, 1.5, 1.5}, lo2[3] = {4, -3, -3};
+  std::vector<double> sites = {0, 0, 0};
+  for (int c = 0; c < 8; ++c) {
+    sites.insert(sites.end(), {c & 1 ? 10.0 : -10.0, c & 2 ? 10.0 : -10.0, c & 4 ? 10.0 : -10.0});
+  }
+  const Delaunay3 dt(sites.data(), 9);
+  const Domain3 inner(box_mesh(2, 2, 2, h1, lo1));
+  ClippedVoronoi3 cv;
+  cv.compute(inner, dt);
+  REQUIRE(cv.is_boundary(0));
+  REQUIRE(cv.nb_boundary_sites() == 1);
+  REQUIRE(std::fabs(cv.volume(0) - 8) <= 1e-13);
+  REQUIRE(std::fabs(cv.energy(0) - 8.0) <= 1e-13);  // ∫ |x|^2 over [-1, 1]^3 = 8
+  for (int c = 0; c < 3; ++c) REQUIRE(std::fabs(cv.centroid(0)[c]) <= 1e-14);
+  const Domain3 both(merged(box_mesh(2, 2, 2, h1, lo1), box_mesh(4, 4, 4, h2, lo2)));
+  REQUIRE(std::fabs(both.volume() - 8 - 360) <= 1e-12);
+  check_against_tet_clipping(both, dt, "two components");
+  ClippedVoronoi3 cvb;
+  cvb.compute(both, dt);
+  // In the box, the origin's cell is x + |y| + |z| <= 15 (bisectors with the corners
+  // (10, +-10, +-10)): 288 - 2/3 of it.
+  REQUIRE(std::fabs(cvb.volume(0) - (8 + 288 - 2.0 / 3)) <= 1e-12);
+}
+
+TEST_CASE("clip3d: restricted surface polygons and their symbolic vertices", "[clip]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
+  const std::vector<double> sites = sample_volume(d, 1500, 41);
+  const Delaunay3 dt(sites.data(), 1500);
+  voroclip::Clip3Options o;
+  o.keep_surface = true;
+  ClippedVoronoi3 cv;
+  cv.compute(d, dt, o);
+  const ClippedVoronoi3::Polygons& s = cv.surface_polygons();
+  REQUIRE(s.site_begin.size() == 1501);
+  REQUIRE(s.polygon_begin.size() == s.site.size() + 1);
+  REQUIRE(s.vertices.size() * 3 == s.xyz.size());
+  REQUIRE(cv.cell_faces().site.empty());
+  // Boundary triangles: their area, and the polygons of each cover it.
+  std::vector<double> tri_area(d.nb_boundary_triangles(), 0), poly_area(tri_area.size(), 0);
+  const auto area_of = [](const double* p, std::size_t m) {
+    double a[3] = {0, 0, 0};
+    for (std::size_t k = 1; k + 1 < m; ++k) {
+      const double* u = p + 3 * k;
+      const double* w = p + 3 * (k + 1);
+      const double e[3] = {u[0] - p[0], u[1] - p[1], u[2] - p[2]};
+      const double f[3] = {w[0] - p[0], w[1] - p[1], w[2] - p[2]};
+      a[0] += e[1] * f[2] - e[2] * f[1];
+      a[1] += e[2] * f[0] - e[0] * f[2];
+      a[2] += e[0] * f[1] - e[1] * f[0];
+    }
+    return 0.5 * std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  };
+  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+    double p[9];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) p[3 * k + c] = d.vertex(d.boundary_vertex(b, k))[c];
+    }
+    tri_area[b] = area_of(p, 3);
+  }
+  double total = 0;
+  for (std::uint32_t i = 0; i < 1500; ++i) {
+    INFO("site " << i);
+    REQUIRE((s.site_begin[i + 1] > s.site_begin[i]) == cv.is_boundary(i));
+    double area = 0;
+    for (std::uint32_t p = s.site_begin[i]; p < s.site_begin[i + 1]; ++p) {
+      REQUIRE(s.site[p] == i);
+      if (p > s.site_begin[i]) REQUIRE(s.triangle[p] > s.triangle[p - 1]);
+      const std::uint32_t b = s.triangle[p];
+      std::uint32_t tv[3];
+      for (int k = 0; k < 3; ++k) tv[k] = d.boundary_vertex(b, k);
+      const std::uint32_t m = s.polygon_begin[p + 1] - s.polygon_begin[p];
+      REQUIRE(m >= 3);
+      const double a = area_of(&s.xyz[3 * std::size_t{s.polygon_begin[p]}], m);
+      area += a;
+      poly_area[b] += a;
+      for (std::uint32_t v = s.polygon_begin[p]; v < s.polygon_begin[p + 1]; ++v) {
+        const voroclip::ClipVertex3& x = s.vertices[v];
+        const double* xyz = &s.xyz[3 * std::size_t{v}];
+        int nm = 0, ns = 0;
+        for (int k = 0; k < 3; ++k) {
+          if (x.mesh[k] != voroclip::ClipVertex3::kNone) {
+            ++nm;
+            REQUIRE((x.mesh[k] == tv[0] || x.mesh[k] == tv[1] || x.mesh[k] == tv[2]));
+            if (k > 0) REQUIRE(x.mesh[k] > x.mesh[k - 1]);
+          }
+          if (x.site[k] != voroclip::ClipVertex3::kNone) {
+            ++ns;
+            REQUIRE(cv.is_boundary(x.site[k]));
+            if (k > 0) REQUIRE(x.site[k] > x.site[k - 1]);
+          }
+        }
+        switch (x.kind) {
+          case voroclip::ClipVertex3::Kind::kMeshVertex:
+            REQUIRE((nm == 1 && ns == 0));
+            for (int c = 0; c < 3; ++c) REQUIRE(xyz[c] == d.vertex(x.mesh[0])[c]);
+            break;
+          case voroclip::ClipVertex3::Kind::kEdgeBisector:
+            REQUIRE((nm == 2 && ns == 2));
+            break;
+          case voroclip::ClipVertex3::Kind::kFacetBisectors:
+            REQUIRE((nm == 3 && ns == 3));
+            break;
+        }
+        if (ns > 0) REQUIRE((x.site[0] == i || x.site[1] == i || x.site[2] == i));
+        // Equidistant from its sites, up to rounding.
+        if (ns >= 2) {
+          const auto d2 = [&](std::uint32_t k) {
+            const double* q = dt.point(k);
+            return (xyz[0] - q[0]) * (xyz[0] - q[0]) + (xyz[1] - q[1]) * (xyz[1] - q[1]) +
+                   (xyz[2] - q[2]) * (xyz[2] - q[2]);
+          };
+          for (int k = 1; k < ns; ++k) {
+            REQUIRE(std::fabs(d2(x.site[k]) - d2(x.site[0])) <= 1e-9 * (d2(x.site[0]) + 1e-3));
+          }
+        }
+      }
+    }
+    REQUIRE(std::fabs(area - cv.surface_area(i)) <= 1e-12 * (area + 1e-12));
+    total += area;
+  }
+  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+    REQUIRE(std::fabs(poly_area[b] - tri_area[b]) <= 1e-10 * tri_area[b]);
+  }
+  REQUIRE(std::fabs(total - cv.total_surface_area()) <= 1e-12 * total);
 }

@@ -1205,3 +1205,115 @@ TEST_CASE("3D bisector predicates: violated preconditions and non-finite input t
   CHECK_NOTHROW(bisector_side_vertex3d(huge.data(), nhuge.data(), p0.data(), 0, 1));
   CHECK_NOTHROW(facet(huge, nhuge, p2, p3, a, b, c, 0, 1, 2, 3));
 }
+
+// voronoi_edge_direction3d: sign(((p_k - p_i) x (p_l - p_i)) . ((b - a) x (c - a))), the
+// oracle's cross and dot products in rationals; it is the sign of the facet predicate's
+// D = det[1; F_ik; F_il] (rows of values at a, b, c), which the oracle computes too.
+namespace {
+
+int oracle_direction(const FacetCase& c) {
+  Q3 u, v, w1, w2;
+  for (std::size_t t = 0; t < 3; ++t) {
+    u[t] = Q(c.pk[t]) - Q(c.pi[t]);
+    v[t] = Q(c.pl[t]) - Q(c.pi[t]);
+    w1[t] = Q(c.b[t]) - Q(c.a[t]);
+    w2[t] = Q(c.c[t]) - Q(c.a[t]);
+  }
+  const auto cross = [](const Q3& x, const Q3& y) {
+    return Q3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+  };
+  const Q3 n = cross(u, v), m = cross(w1, w2);
+  return sgn(n[0] * m[0] + n[1] * m[1] + n[2] * m[2]);
+}
+
+// sign(D) of the facet predicate's contract, from the values F_ix at a, b, c.
+int oracle_d(const FacetCase& c) {
+  const auto row = [&](const P3& px) {
+    return std::array<Q, 3>{sq_dist(c.a, c.pi) - sq_dist(c.a, px),
+                            sq_dist(c.b, c.pi) - sq_dist(c.b, px),
+                            sq_dist(c.c, c.pi) - sq_dist(c.c, px)};
+  };
+  const std::array<Q, 3> one = {Q(1), Q(1), Q(1)};
+  return sgn(det3(one, row(c.pk), row(c.pl)));
+}
+
+Got run_direction(const FacetCase& c) {
+  return call([&] {
+    return voronoi_edge_direction3d(c.pi.data(), c.pk.data(), c.pl.data(), c.a.data(), c.b.data(),
+                                    c.c.data());
+  });
+}
+
+}  // namespace
+
+TEST_CASE("voronoi_edge_direction3d agrees with the rational oracle on every family",
+          "[predicates][exact][degenerate]") {
+  const std::uint64_t seed = seed_for(0xb15e50);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  for (const Family fam : kFamilies) {
+    INFO("family " << name(fam));
+    const std::size_t n = scaled(fam == Family::mixed ? 2000 : 8000);
+    std::size_t failures = 0, zeros = 0, undecided = 0;
+    for (std::size_t it = 0; it < n; ++it) {
+      FacetCase c = make_facet(fam, rng);
+      if (fam == Family::near) {
+        // The plane within rounding of parallel to the Voronoi edge: c moved off the plane
+        // through a, b spanned by the edge direction, by a few ulps.
+        const P3 dir = cross(sub(c.pk, c.pi), sub(c.pl, c.pi));
+        c.c = nudged(add(c.a, dir, uniform(rng, -1, 1)), rng, 2);
+      }
+      const int want = oracle_direction(c);
+      zeros += want == 0;
+      const Got got = run_direction(c);
+      const int d = oracle_d(c);
+      undecided += detail::voronoi_edge_direction3d_filter(c.pi.data(), c.pk.data(), c.pl.data(),
+                                                           c.a.data(), c.b.data(), c.c.data()) == 0;
+      // Swapping k, l or two triangle vertices flips it; (i, k, l) rotated keeps it.
+      FacetCase kl = c, ab = c, rot = c;
+      std::swap(kl.pk, kl.pl);
+      std::swap(ab.a, ab.b);
+      rot.pi = c.pk, rot.pk = c.pl, rot.pl = c.pi;
+      if (got.threw || got.sign != want || d != want || run_direction(kl).sign != -want ||
+          run_direction(ab).sign != -want || run_direction(rot).sign != want) {
+        ++failures;
+        FAIL_CHECK(describe(c) << ": want " << want << " (D " << d << ") got "
+                               << (got.threw ? "throw" : std::to_string(got.sign)));
+      }
+    }
+    INFO(zeros << " zero, " << undecided << " filter undecided of " << n);
+    CHECK(failures == 0);
+    if (fam == Family::random) CHECK(undecided * 1000 <= n);
+    if (fam == Family::grid) CHECK(zeros > n / 50);
+    if (fam == Family::near) CHECK(undecided > n / 8);
+  }
+  // Scale sweep: the sign is that of a homogeneous polynomial.
+  for (std::size_t it = 0; it < scaled(200); ++it) {
+    const FacetCase c0 = make_facet(it % 2 ? Family::grid : Family::near, rng);
+    const Got g0 = run_direction(c0);
+    for (int ex = -500; ex <= 500; ex += 50) {
+      FacetCase c = c0;
+      for (P3* p : {&c.pi, &c.pk, &c.pl, &c.a, &c.b, &c.c}) *p = scaled_point(*p, ex);
+      CHECK(same(run_direction(c), g0));
+    }
+  }
+  // Non-finite input throws; finite input whose differences overflow is decided exactly.
+  const P3 o = {0, 0, 0}, x = {1, 0, 0}, y = {0, 1, 0}, z = {0, 0, 1};
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(voronoi_edge_direction3d(o.data(), x.data(), y.data(), o.data(), x.data(), y.data()) ==
+        Sign::positive);
+  CHECK(voronoi_edge_direction3d(o.data(), x.data(), y.data(), o.data(), x.data(), z.data()) ==
+        Sign::zero);
+  const P3 bad = {0, inf, 0}, nan = {std::nan(""), 0, 0};
+  for (const P3* b : {&bad, &nan}) {
+    CHECK_THROWS_AS(
+        voronoi_edge_direction3d(b->data(), x.data(), y.data(), o.data(), x.data(), z.data()),
+        Error);
+    CHECK_THROWS_AS(
+        voronoi_edge_direction3d(o.data(), x.data(), y.data(), o.data(), b->data(), z.data()),
+        Error);
+  }
+  const P3 huge = {0x1p1023, 0, 0}, nhuge = {-0x1p1023, 1, 0};
+  CHECK(voronoi_edge_direction3d(huge.data(), nhuge.data(), y.data(), o.data(), x.data(),
+                                 y.data()) == Sign::negative);
+}

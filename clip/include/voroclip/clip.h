@@ -354,11 +354,36 @@ class Domain3 {
 // Cells are indexed by input point; duplicates and cells that miss the volume are empty.
 // Per cell: volume, mass = ∫rho, centroid, energy = ∫rho |x - x_i|^2, the area of its
 // restricted surface cell (cell ∩ boundary surface) and whether that is non-empty (a
-// boundary cell). Boundary cells are clipped tet by tet (cell-tet propagation from the
-// boundary triangles they meet); inner cells come from the Delaunay triangulation.
+// boundary cell). The restricted surface is computed triangle by triangle; inner cells
+// come from the Delaunay triangulation (cones over their Voronoi facets); boundary cells,
+// by the divergence theorem, from their restricted surface polygons and the pieces of their
+// Voronoi edges inside the volume (clip3d.cpp). A boundary cell with a Voronoi edge that
+// crosses the surface twice or more, and every cell under a non-constant density, is
+// clipped tet by tet (sec. 4.2) instead.
 //
-// Threads: TBB loops over cells into per-cell slots; identical results for any thread
-// count (the surface pass is sequential).
+// Threads: TBB loops into per-cell (per-triangle) slots, reduced in index order: identical
+// results for any thread count.
+
+// A vertex of a restricted surface polygon, kept as what defines it (DESIGN.md,
+// "Exactness"): mesh vertex indices (Domain3) and sites, each list sorted, unused entries
+// kNone. The decisions about it are exact predicates on those (predicates.h).
+struct ClipVertex3 {
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  enum class Kind : std::uint8_t {
+    kMeshVertex,      // mesh[0]
+    kEdgeBisector,    // mesh edge (mesh[0], mesh[1]) ∩ bisector(site[0], site[1])
+    kFacetBisectors,  // boundary triangle (mesh[0..2]) ∩ bisector(site[0], site[1]) ∩
+                      // bisector(site[0], site[2]): the Voronoi edge of the three sites
+  };
+  Kind kind;
+  std::uint32_t mesh[3];
+  std::uint32_t site[3];
+  bool operator==(const ClipVertex3& o) const {
+    return kind == o.kind && mesh[0] == o.mesh[0] && mesh[1] == o.mesh[1] && mesh[2] == o.mesh[2] &&
+           site[0] == o.site[0] && site[1] == o.site[1] && site[2] == o.site[2];
+  }
+};
+
 struct Clip3Options {
   // rho: constant `density`, or, when vertex_density is not empty, linear on each tet of
   // the domain with these values at its vertices (one per domain vertex, >= 0). A
@@ -366,8 +391,16 @@ struct Clip3Options {
   // are then seeded from their clipped neighbours), integrated exactly per piece.
   double density = 1.0;
   std::vector<double> vertex_density;
-  // Keep the restricted surface polygons and the clipped pieces' faces (export, tests).
+  // Keep the restricted surface polygons (surface_polygons(): per cell, symbolic vertices
+  // and coordinates). They are computed anyway: this only stores them.
+  bool keep_surface = false;
+  // Keep the restricted surface and the faces of the boundary cells' pieces (cell_faces()),
+  // for export and tests. The pieces come from the tet-by-tet clipping (slow); the cell
+  // integrals do not change.
   bool keep_geometry = false;
+  // Integrate every boundary cell by the tet-by-tet clipping (sec. 4.2), the reference the
+  // default path is tested against: several times slower.
+  bool tet_clipping = false;
 };
 
 class ClippedVoronoi3 {
@@ -387,25 +420,39 @@ class ClippedVoronoi3 {
   double total_energy() const { return total_energy_; }
   double total_surface_area() const { return total_surface_area_; }
 
-  // Wall-clock seconds of the last compute(), per phase.
+  // Wall-clock seconds of the last compute(), per phase: the restricted surface (cells of
+  // the boundary vertices, clipped triangles, crossings of Voronoi edges with the
+  // surface); the boundary cells (their Voronoi vertices placed inside or outside, their
+  // integrals, the tet-by-tet clipping where needed); the inner cells (circumcentres,
+  // inside/outside of the other cells, their integrals, the per-cell results).
   double seconds_surface() const { return seconds_[0]; }
   double seconds_boundary_cells() const { return seconds_[1]; }
   double seconds_inner_cells() const { return seconds_[2]; }
-  // (Cell, tet) pairs clipped for the boundary cells.
+  // (Cell, tet) pairs clipped tet by tet; boundary cells clipped tet by tet because a
+  // Voronoi edge of theirs crosses the surface more than once (not counting tet_clipping
+  // and a non-constant density, which clip them all).
   std::uint64_t nb_clipped_pairs() const { return nb_pairs_; }
+  std::uint32_t nb_fallback_cells() const { return nb_fallback_; }
 
-  // ---- Geometry (keep_geometry). Polygons as flat coordinate lists: polygon p has the
-  // points [polygon_begin[p], polygon_begin[p + 1]) of *_xyz (x y z each).
-  // Restricted surface: per boundary cell, its polygons (one per boundary triangle met).
+  // ---- Geometry. Polygons as flat coordinate lists: polygon p has the points
+  // [polygon_begin[p], polygon_begin[p + 1]) of xyz (x y z each).
   struct Polygons {
     std::vector<std::uint32_t> site;           // per polygon: its cell
-    std::vector<std::uint32_t> piece;          // per polygon: its convex piece (cell_faces)
+    std::vector<std::uint32_t> piece;          // cell_faces: per polygon, its convex piece
     std::vector<std::uint32_t> polygon_begin;  // nb polygons + 1
     std::vector<double> xyz;
+    // surface_polygons only: per polygon its boundary triangle (Domain3), per point its
+    // symbolic vertex; the polygons of site i are [site_begin[i], site_begin[i + 1]).
+    std::vector<std::uint32_t> triangle;
+    std::vector<ClipVertex3> vertices;
+    std::vector<std::uint32_t> site_begin;
   };
+  // The restricted surface (keep_surface or keep_geometry): per boundary cell, one polygon
+  // per boundary triangle it meets, in triangle order, with the triangle's orientation
+  // (Domain3: clockwise seen from outside); cells in index order.
   const Polygons& surface_polygons() const { return surface_; }
-  // Faces of the boundary cells' convex pieces (one piece per tet met), numbered pieces;
-  // orientation as Domain3::kTetFacetVertex (inward for positive tets).
+  // Faces of the boundary cells' convex pieces (keep_geometry; one piece per tet met),
+  // numbered pieces; orientation as Domain3::kTetFacetVertex (inward for positive tets).
   const Polygons& cell_faces() const { return faces_; }
 
  private:
@@ -415,7 +462,7 @@ class ClippedVoronoi3 {
     std::uint32_t boundary;
   };
   std::vector<Cell> cells_;
-  std::uint32_t nb_boundary_ = 0;
+  std::uint32_t nb_boundary_ = 0, nb_fallback_ = 0;
   double total_volume_ = 0, total_mass_ = 0, total_energy_ = 0, total_surface_area_ = 0;
   double seconds_[3] = {0, 0, 0};
   std::uint64_t nb_pairs_ = 0;

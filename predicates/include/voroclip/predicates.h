@@ -501,6 +501,15 @@ inline Sign insphere_fast(const double* a, const double* b, const double* c, con
 //                              except a duplicate of one of them: for p_j == p_v the
 //                              perturbation gives every point to the larger of j and v,
 //                              while Delaunay3 keeps the smaller (duplicate_of).
+//   voronoi_edge_direction3d   the direction in which the Voronoi edge of sites i, k, l (the
+//                              dual of Delaunay triangle (i, k, l)), oriented along
+//                              n = (p_k - p_i) x (p_l - p_i), crosses the plane of triangle
+//                              (a, b, c): sign(n . ((b - a) x (c - a))), POSITIVE when it
+//                              goes the way of the triangle's right-hand normal. It is the
+//                              sign of D above (D = 4 n . ((b - a) x (c - a))), so it has
+//                              no perturbation and is never ZERO at a point that
+//                              bisector_side_facet3d accepts; ZERO when the edge is parallel
+//                              to the plane or a triangle is degenerate.
 // Violated preconditions (equal indices; a segment with F_ik(a) == F_ik(b); D == 0, i.e. a
 // degenerate triangle, sites i, k, l collinear, or the plane parallel to the line of the
 // two bisectors; coplanar i, k, l, m) and NaN or infinite coordinates throw voroclip::Error.
@@ -516,6 +525,8 @@ Sign bisector_side_facet3d(const double* pi, const double* pk, const double* pl,
 Sign bisector_side_voronoi3d(const double* pi, const double* pk, const double* pl, const double* pm,
                              const double* pj, std::uint32_t i, std::uint32_t k, std::uint32_t l,
                              std::uint32_t m, std::uint32_t j);
+Sign voronoi_edge_direction3d(const double* pi, const double* pk, const double* pl, const double* a,
+                              const double* b, const double* c);
 
 // ---------------------------------------------------------------------------------------
 // Circumcenters of tetrahedra (3D mesh extraction, issue 6; predicates/src/circumcenter3d.h

@@ -1,0 +1,381 @@
+// Cells of the 3D clipped Voronoi diagram straight from the Delaunay triangulation
+// (clip3d.cpp gives the overview).
+//
+// Cones over the boundary. For a region R bounded by an outward-oriented closed surface,
+// ∫_R g = Σ over faces of the signed integral of g over the cone from p_i to the face (the
+// cones' indicator functions sum to R's), for any g and any apex. Cell i ∩ Ω is bounded by
+// its restricted surface polygons (clip3d_surface.cpp) and, on each bisector(i, j), by the
+// region F_ij ∩ Ω of its Voronoi facet F_ij. That region is planar; a fan from the foot
+// m_ij = (p_i + p_j) / 2 over its oriented boundary gives its cone, and the boundary is made
+// of (a) the pieces of F_ij's Voronoi edges inside Ω and (b) the edges of the restricted
+// polygons on bisector(i, j) (the surface pass adds those). So cell i needs, per Voronoi
+// edge around it, the piece inside Ω: add_edge_piece.
+//
+// Voronoi edges. The edge dual to Delaunay facet (i, j, k) between tets T and T' runs from
+// the circumcentre c_T to c_T' along the normal of the facet pointing out of T (for the
+// perturbed Delaunay triangulation the edge is [t_T, t_T'] along that normal, t_T <= t_T').
+// With (i, j, k, l) an even permutation of T's positive vertex order (l opposite the
+// facet), that normal is (p_j - p_i) x (p_k - p_i) and the edge runs counter-clockwise
+// around p_j - p_i: kFaceOther numbers (j, k) so. Each facet of a star is taken once, from
+// the tet of the smaller index (or the finite one).
+//
+// Inside or outside. A Voronoi vertex (a tet's circumcentre) of an inner cell is inside
+// Ω. For boundary cells the surface pass gives, per Voronoi edge, its crossings with the
+// surface: an edge with one crossing has one end inside, the one it leaves Ω from
+// (voronoi_edge_direction3d), and across a Delaunay facet the flag flips with the parity
+// of its crossings; an infinite tet (a vertex at infinity) is outside. A boundary cell
+// places its star's vertices from the crossings of its star's facets, by a breadth-first
+// search over the star; no floating-point decision is involved. When none of them has a
+// single crossing nor an infinite neighbour (a surface component that meets at most two
+// cells, or only multiply-crossed edges), the flags come from a search over all tets from
+// the infinite ones (global_flags).
+//
+// Other cells. A cell that does not meet the surface lies wholly inside or outside Ω
+// (cells are connected), and so does each connected group of them (adjacent cells share a
+// facet). Every group borders a boundary cell (the Delaunay graph is connected), whose
+// star places the vertices the group's cells share with it: the boundary cells report
+// those, groups reported outside are spread by a search through their neighbours, every
+// other cell is inside.
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "clip3d_internal.h"
+
+namespace voroclip {
+
+namespace clip3 {
+
+namespace {
+
+struct FaceOtherTable {
+  std::int8_t v[4][4][2];
+};
+
+constexpr FaceOtherTable make_face_other() {
+  FaceOtherTable t{};
+  for (int li = 0; li < 4; ++li) {
+    for (int f = 0; f < 4; ++f) {
+      if (li == f) {
+        t.v[li][f][0] = t.v[li][f][1] = -1;
+        continue;
+      }
+      int o[2] = {0, 0}, q = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (k != li && k != f) o[q++] = k;
+      }
+      const int p[4] = {li, o[0], o[1], f};
+      int inversions = 0;
+      for (int a = 0; a < 4; ++a) {
+        for (int b = a + 1; b < 4; ++b) inversions += p[a] > p[b] ? 1 : 0;
+      }
+      const bool even = inversions % 2 == 0;
+      t.v[li][f][0] = static_cast<std::int8_t>(even ? o[0] : o[1]);
+      t.v[li][f][1] = static_cast<std::int8_t>(even ? o[1] : o[0]);
+    }
+  }
+  return t;
+}
+
+constexpr FaceOtherTable kTable = make_face_other();
+
+}  // namespace
+
+const std::int8_t kFaceOther[4][4][2] = {
+    {{kTable.v[0][0][0], kTable.v[0][0][1]},
+     {kTable.v[0][1][0], kTable.v[0][1][1]},
+     {kTable.v[0][2][0], kTable.v[0][2][1]},
+     {kTable.v[0][3][0], kTable.v[0][3][1]}},
+    {{kTable.v[1][0][0], kTable.v[1][0][1]},
+     {kTable.v[1][1][0], kTable.v[1][1][1]},
+     {kTable.v[1][2][0], kTable.v[1][2][1]},
+     {kTable.v[1][3][0], kTable.v[1][3][1]}},
+    {{kTable.v[2][0][0], kTable.v[2][0][1]},
+     {kTable.v[2][1][0], kTable.v[2][1][1]},
+     {kTable.v[2][2][0], kTable.v[2][2][1]},
+     {kTable.v[2][3][0], kTable.v[2][3][1]}},
+    {{kTable.v[3][0][0], kTable.v[3][0][1]},
+     {kTable.v[3][1][0], kTable.v[3][1][1]},
+     {kTable.v[3][2][0], kTable.v[3][2][1]},
+     {kTable.v[3][3][0], kTable.v[3][3][1]}},
+};
+
+}  // namespace clip3
+
+using namespace clip3;
+
+namespace {
+
+[[noreturn]] void internal_error(const std::string& what) {
+  throw Error("clip3d: internal error: " + what);
+}
+
+const double kZero[3] = {0, 0, 0};
+
+}  // namespace
+
+bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
+                              ThreadScratch& s, Moments& r) const {
+  Star& st = s.star;
+  star(i, st);
+  const std::vector<std::uint32_t>& tets = st.tets;
+  const std::size_t m = tets.size();
+  std::vector<std::int8_t>& flag = s.flag;
+  flag.assign(m, -1);
+  // The crossings of the Voronoi edge dual to each facet of each tet (only between boundary
+  // cells; a facet shared by two tets of the star is looked up once).
+  std::vector<const EdgeCrossings*>& fx = s.fx;
+  fx.assign(4 * m, nullptr);
+  std::vector<std::uint8_t>& known = s.beyond;
+  known.assign(4 * m, 0);
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    std::uint32_t w[4];
+    int nb = 0;
+    for (int k = 0; k < 4; ++k) {
+      w[k] = dt.tet_vertex(t, k);
+      nb += w[k] != Delaunay3::kInfinite && is_boundary[w[k]] ? 1 : 0;
+    }
+    if (nb < 3) continue;
+    for (int f = 0; f < 4; ++f) {
+      if (known[4 * q + f]) continue;
+      const EdgeCrossings* x = nullptr;
+      const std::uint32_t a = w[f == 0 ? 1 : 0], b = w[f <= 1 ? 2 : 1], c = w[f <= 2 ? 3 : 2];
+      if (a != Delaunay3::kInfinite && b != Delaunay3::kInfinite && c != Delaunay3::kInfinite &&
+          is_boundary[a] && is_boundary[b] && is_boundary[c]) {
+        x = find_crossings(a, b, c);
+      }
+      fx[4 * q + f] = x;
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (st.contains(t2)) {
+        const std::size_t k2 =
+            4 * std::size_t{st.pos(t2)} + std::size_t(dt.tet_adjacent_facet(t, f));
+        fx[k2] = x;
+        known[k2] = 1;
+      }
+    }
+  }
+  std::vector<std::uint32_t>& queue = s.queue;
+  queue.clear();
+  const auto place = [&](std::size_t q, int v) {
+    if (flag[q] == -1) {
+      flag[q] = static_cast<std::int8_t>(v);
+      queue.push_back(static_cast<std::uint32_t>(q));
+    } else if (flag[q] != v) {
+      internal_error("Voronoi vertex of tet " + std::to_string(tets[q]) +
+                     " placed both inside and outside (cell " + std::to_string(i) + ")");
+    }
+  };
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) {
+      place(q, 0);
+      continue;
+    }
+    if (global_flag) {
+      place(q, global_flag[t]);
+      continue;
+    }
+    for (int f = 0; f < 4; ++f) {
+      const EdgeCrossings* x = fx[4 * q + f];
+      const std::uint32_t count = x ? x->count : 0;
+      if (infinite(dt.tet_adjacent(t, f))) {
+        place(q, static_cast<int>(count & 1));
+      } else if (count == 1) {
+        // The edge leaves t along (p_s1 - p_s0) x (p_s2 - p_s0) when (s0, s1, s2, opposite)
+        // is an even permutation of t's vertices; it leaves Ω there when sigma > 0.
+        int l0 = 0;
+        while (dt.tet_vertex(t, l0) != x->s[0]) ++l0;
+        const bool even = dt.tet_vertex(t, kFaceOther[l0][f][0]) == x->s[1];
+        place(q, (even ? x->sigma : -x->sigma) > 0 ? 1 : 0);
+      }
+    }
+  }
+  if (queue.empty()) return false;
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const std::uint32_t q = queue[h];
+    const std::uint32_t t = tets[q];
+    for (int f = 0; f < 4; ++f) {
+      if (dt.tet_vertex(t, f) == i) continue;
+      const EdgeCrossings* x = fx[4 * q + f];
+      const int parity = x ? static_cast<int>(x->count & 1) : 0;
+      place(st.pos(dt.tet_adjacent(t, f)), flag[q] ^ parity);
+    }
+  }
+  // The non-boundary sites of the star take the flag of their tets.
+  if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
+    s.site_mark.assign(n, 0);
+    s.site_gen = 0;
+  }
+  const std::uint32_t gen = ++s.site_gen;
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = dt.tet_vertex(t, k);
+      if (v == Delaunay3::kInfinite || is_boundary[v] || s.site_mark[v] == gen) continue;
+      s.site_mark[v] = gen;
+      s.first_layer.emplace_back(v, flag[q]);
+    }
+  }
+  if (linear_density || options.tet_clipping || fallback[i]) return true;
+
+  // The pieces of the Voronoi edges around i inside Ω.
+  const double* pi = site(i);
+  std::vector<Rel>& cu = s.cu;
+  std::vector<Rel>& half = s.half;
+  cu.resize(m);
+  half.resize(4 * m);
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    cu[q] = rel(circ + 3 * std::size_t{t}, pi);
+    for (int k = 0; k < 4; ++k) {
+      const double* pv = site(dt.tet_vertex(t, k));
+      const double h[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
+      half[4 * q + k] = rel(h, kZero);
+    }
+  }
+  PieceSums sums;
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    int li = 0;
+    while (dt.tet_vertex(t, li) != i) ++li;
+    for (int f = 0; f < 4; ++f) {
+      if (f == li) continue;
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      const bool infinite2 = infinite(t2);
+      if (!infinite2 && t2 < t) continue;
+      const std::uint32_t q2 = st.pos(t2);
+      const bool in1 = flag[q] != 0, in2 = flag[q2] != 0;
+      const EdgeCrossings* x = fx[4 * q + f];
+      const std::uint32_t count = x ? x->count : 0;
+      Rel u, w;
+      if (count == 0) {
+        if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
+        if (!in1) continue;
+        u = cu[q];
+        w = cu[q2];
+      } else if (count == 1) {
+        if (in1 == in2) internal_error("a Voronoi edge with one crossing keeps its side");
+        u = in1 ? cu[q] : rel(x->x, pi);
+        w = in1 ? rel(x->x, pi) : cu[q2];
+      } else {
+        internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
+                       std::to_string(count) + " times");
+      }
+      add_edge_piece(half[4 * q + std::size_t(kFaceOther[li][f][0])],
+                     half[4 * q + std::size_t(kFaceOther[li][f][1])], u, w, sums);
+    }
+  }
+  sums.add_to(r);
+  return true;
+}
+
+void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s,
+                           Moments& r) const {
+  Star& st = s.star;
+  star(i, st, circ);
+  const double* pi = site(i);
+  const std::vector<std::uint32_t>& tets = st.tets;
+  const std::size_t m = tets.size();
+  std::vector<Rel>& cu = s.cu;
+  cu.resize(m);
+  for (std::size_t q = 0; q < m; ++q) cu[q] = rel(circ + 3 * std::size_t{tets[q]}, pi);
+  PieceSums sums;
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    int li = -1;
+    Rel h[4];
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = dt.tet_vertex(t, k);
+      if (v == i) {
+        li = k;
+        continue;
+      }
+      if (v == Delaunay3::kInfinite) {
+        internal_error("inner cell " + std::to_string(i) + " is unbounded");
+      }
+      const double* pv = site(v);
+      const double d[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
+      h[k] = rel(d, kZero);
+    }
+    for (int f = 0; f < 4; ++f) {
+      if (f == li) continue;
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (t2 < t) continue;
+      add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[st.pos(t2)], sums);
+    }
+  }
+  sums.add_to(r);
+}
+
+void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {
+  const std::uint32_t slots = dt.nb_tet_slots();
+  flag.assign(slots, -1);
+  std::vector<std::uint32_t> queue;
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    if (!dt.is_free(t) && infinite(t)) {
+      flag[t] = 0;
+      queue.push_back(t);
+    }
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const std::uint32_t t = queue[h];
+    for (int f = 0; f < 4; ++f) {
+      std::uint32_t w[3];
+      int q = 0;
+      bool between_boundary_cells = true;
+      for (int k = 0; k < 4; ++k) {
+        if (k == f) continue;
+        w[q] = dt.tet_vertex(t, k);
+        between_boundary_cells =
+            between_boundary_cells && w[q] != Delaunay3::kInfinite && is_boundary[w[q]];
+        ++q;
+      }
+      const EdgeCrossings* x = between_boundary_cells ? find_crossings(w[0], w[1], w[2]) : nullptr;
+      const auto want =
+          static_cast<std::int8_t>(flag[t] ^ (x ? static_cast<int>(x->count & 1) : 0));
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (flag[t2] == -1) {
+        flag[t2] = want;
+        queue.push_back(t2);
+      } else if (flag[t2] != want) {
+        internal_error("the crossings of the Voronoi edges with the surface are inconsistent");
+      }
+    }
+  }
+}
+
+void Clip3Impl::decide_status(const std::vector<std::pair<std::uint32_t, std::int8_t>>& first_layer,
+                              ThreadScratch& s) {
+  status.assign(n, -1);
+  std::vector<std::uint32_t> queue;
+  for (const auto& [v, fl] : first_layer) {
+    if (status[v] == -1) {
+      status[v] = fl;
+      if (fl == 0) queue.push_back(v);
+    } else if (status[v] != fl) {
+      internal_error("site " + std::to_string(v) + " placed both inside and outside");
+    }
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const NeighborList nb = neighbors(queue[h], s);
+    for (std::uint32_t q = 0; q < nb.count; ++q) {
+      const std::uint32_t w = nb.id[q];
+      if (is_boundary[w]) continue;
+      if (status[w] == -1) {
+        status[w] = 0;
+        queue.push_back(w);
+      } else if (status[w] == 1) {
+        internal_error("neighbouring cells " + std::to_string(queue[h]) + " and " +
+                       std::to_string(w) + " placed outside and inside");
+      }
+    }
+  }
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (status[v] == -1 && !is_boundary[v] && dt.vertex_tet(v) != Delaunay3::kNoTet) status[v] = 1;
+  }
+}
+
+}  // namespace voroclip

@@ -1,0 +1,424 @@
+// Internals of the 3D clipped Voronoi diagram (clip3d.cpp describes the algorithm): the
+// shared state of one compute() and the helpers of its three source files,
+//   clip3d_kernel.cpp   exact symbolic clipping of a tet (or a triangle) by a cell, and the
+//                       tet-by-tet integration of a cell (sec. 4.2: the reference path);
+//   clip3d_surface.cpp  the restricted surface, triangle by triangle;
+//   clip3d_cells.cpp    inner and boundary cells from the Delaunay triangulation.
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "voroclip/clip.h"
+
+namespace voroclip {
+
+namespace clip3 {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+// A plane of a clip: facet f (0..3) of the current tet is -(f + 1); the bisector of the
+// cell's site and site k is k.
+using Plane = std::int32_t;
+inline bool is_facet(Plane p) { return p < 0; }
+inline int facet_of(Plane p) { return -p - 1; }
+inline Plane facet_plane(int f) { return -(f + 1); }
+
+// A vertex of a clip: the three planes that define it (any order).
+struct PVertex {
+  Plane p[3];
+};
+
+// A convex polyhedron (several faces) or polygon (one face). Face k lies on plane
+// face_plane[k] and has the vertices face_verts[face_begin[k] .. face_begin[k + 1]).
+// Faces are oriented consistently (adjacent faces run through a shared edge in opposite
+// directions): the tet's facets as in Domain3::kTetFacetVertex.
+struct Poly {
+  std::vector<PVertex> verts;
+  std::vector<Plane> face_plane;
+  std::vector<std::uint32_t> face_begin{0};
+  std::vector<std::uint32_t> face_verts;
+
+  void clear() {
+    verts.clear();
+    face_plane.clear();
+    face_begin.assign(1, 0);
+    face_verts.clear();
+  }
+  std::uint32_t nb_faces() const { return static_cast<std::uint32_t>(face_plane.size()); }
+  bool empty() const { return face_plane.empty(); }
+};
+
+// A vertex of a boundary triangle clipped by cell c: tag 0..2, corner `tag` of the triangle;
+// 3..5, the triangle edge opposite corner tag - 3 ∩ bisector(c, k); 6, the triangle's plane
+// ∩ bisector(c, k) ∩ bisector(c, l), k < l.
+// fk, fl: while the triangle is clipped by cell c, the rows of CornerValues of the
+// bisectors (c, k) and (c, l); fm: the row of FacetMinors of a point inside (tag 6)
+// (clip3d_surface.cpp).
+struct TriVertex {
+  std::int8_t tag;
+  std::uint32_t k, l;
+  std::uint32_t fk, fl, fm;
+};
+
+// F = |y - p_c|^2 - |y - p_j|^2 at the three corners of a triangle (bisector_value), each
+// within err of the exact value.
+struct CornerValues {
+  double f[3], err[3];
+};
+
+// A point of the triangle's plane on bisectors (c, k) and (c, l), from their CornerValues:
+// the 2 x 2 minors m[p] of the rows F_k, F_l (columns q, r after p), each within err[p], and
+// the sign of D = m[0] + m[1] + m[2] when decided (0 otherwise; clip3d_surface.cpp).
+struct FacetMinors {
+  double m[3], err[3];
+  int sign_d;
+};
+
+// A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
+// v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
+// bisector of the cell).
+struct TriPoly {
+  std::vector<TriVertex> v;
+  std::vector<Plane> e;
+  void clear() {
+    v.clear();
+    e.clear();
+  }
+  void push(const TriVertex& x, Plane edge) {
+    v.push_back(x);
+    e.push_back(edge);
+  }
+  std::size_t size() const { return v.size(); }
+};
+
+// Insertion sort of a few ids (std::sort on tiny arrays trips -Warray-bounds in GCC 12).
+template <class T>
+void small_sort(T* a, int n) {
+  for (int k = 1; k < n; ++k) {
+    for (int q = k; q > 0 && a[q - 1] > a[q]; --q) std::swap(a[q - 1], a[q]);
+  }
+}
+
+// The plane shared by vertices u and w (adjacent along an edge) other than `face`.
+Plane other_common_plane(const PVertex& u, const PVertex& w, Plane face);
+
+// Integrals over a region relative to a site x: volume, mass (only with a linear density),
+// energy ∫rho |y - x|^2 (rho = 1 for the constant density: the caller scales), first
+// moment ∫rho (y - x).
+struct Moments {
+  double volume = 0, mass = 0, energy = 0, moment[3] = {0, 0, 0};
+  void add(const Moments& o) {
+    volume += o.volume;
+    mass += o.mass;
+    energy += o.energy;
+    for (int c = 0; c < 3; ++c) moment[c] += o.moment[c];
+  }
+};
+
+// The signed tet (x, x + a, x + b, x + c) for vectors relative to x: volume
+// det(a, b, c) / 6, positive when the triangle (a, b, c) is counter-clockwise seen from
+// outside (its right-hand normal points away from x). Centroid (a + b + c) / 4 and
+// ∫|y - x|^2 = V / 10 (|a|^2 + |b|^2 + |c|^2 + a.b + a.c + b.c).
+inline void add_cone(const double* a, const double* b, const double* c, Moments& r) {
+  const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                     a[2] * (b[0] * c[1] - b[1] * c[0]);
+  const double vol = det / 6;
+  r.volume += vol;
+  for (int k = 0; k < 3; ++k) r.moment[k] += vol * (a[k] + b[k] + c[k]) / 4;
+  r.energy +=
+      vol / 10 *
+      ((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) + (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]) +
+       (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
+       (a[0] * c[0] + a[1] * c[1] + a[2] * c[2]) + (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]));
+}
+
+// A point relative to a site: y = (x - p_i) and |y|^2.
+struct Rel {
+  double y[3], yy;
+};
+inline Rel rel(const double* x, const double* pi) {
+  Rel r;
+  for (int k = 0; k < 3; ++k) r.y[k] = x[k] - pi[k];
+  r.yy = (r.y[0] * r.y[0] + r.y[1] * r.y[1]) + r.y[2] * r.y[2];
+  return r;
+}
+
+// Sums over the Voronoi edge pieces of a cell, scaled: volume 6 V, first moment 24 M,
+// energy 60 E (see add_edge_piece).
+struct PieceSums {
+  double v = 0, m[3] = {0, 0, 0}, e = 0;
+  void add_to(Moments& r) const {
+    r.volume += v * (1.0 / 6);
+    for (int k = 0; k < 3; ++k) r.moment[k] += m[k] * (1.0 / 24);
+    r.energy += e * (1.0 / 60);
+  }
+};
+
+// A piece [P, Q] of the Voronoi edge dual to Delaunay triangle (i, j, k), P -> Q running
+// counter-clockwise around p_j - p_i (so clockwise around p_k - p_i), with u = P - p_i,
+// w = Q - p_i, hj = (p_j - p_i) / 2, hk = (p_k - p_i) / 2 (Rel: with their squared norms).
+// It bounds the facets of cell i on bisector(i, j) and bisector(i, k), whose feet from p_i
+// are the midpoints, hj and hk: its share of the cones from p_i over them is
+//   cone(hj, u, w) - cone(hk, u, w)
+// (add_cone, outward: the facet on bisector(i, j) is counter-clockwise around its outward
+// normal p_j - p_i). With a = h . (u x w), s = u + w, q = |u|^2 + |w|^2 + u . w, a cone has
+// volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60.
+inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w, PieceSums& r) {
+  const double a0 = u.y[0], a1 = u.y[1], a2 = u.y[2];
+  const double b0 = w.y[0], b1 = w.y[1], b2 = w.y[2];
+  const double c0 = a1 * b2 - a2 * b1, c1 = a2 * b0 - a0 * b2, c2 = a0 * b1 - a1 * b0;
+  const double s0 = a0 + b0, s1 = a1 + b1, s2 = a2 + b2;
+  const double q = (u.yy + w.yy) + ((a0 * b0 + a1 * b1) + a2 * b2);
+  const double j0 = hj.y[0], j1 = hj.y[1], j2 = hj.y[2];
+  const double k0 = hk.y[0], k1 = hk.y[1], k2 = hk.y[2];
+  const double aj = (j0 * c0 + j1 * c1) + j2 * c2;
+  const double ak = (k0 * c0 + k1 * c1) + k2 * c2;
+  const double sj = (j0 * s0 + j1 * s1) + j2 * s2;
+  const double sk = (k0 * s0 + k1 * s1) + k2 * s2;
+  const double d = aj - ak;
+  r.v += d;
+  r.m[0] += (aj * j0 - ak * k0) + d * s0;
+  r.m[1] += (aj * j1 - ak * k1) + d * s1;
+  r.m[2] += (aj * j2 - ak * k2) + d * s2;
+  r.e += (aj * (hj.yy + sj) - ak * (hk.yy + sk)) + d * q;
+}
+
+// True when |v - p_c|^2 < |v - p_j|^2 certainly: v is strictly on c's side of
+// bisector(c, j), whatever the perturbation (which only breaks exact ties). Floating-point
+// filter: with a = v - p_c, b = v - p_j rounded (relative error u = 2^-53 each), the sums of
+// squares A, B carry a relative error below gamma_5 (three products, two sums of
+// non-negative terms) and A - B one more rounding, so |(A - B) - F| <= gamma_6 (A + B) /
+// (1 - gamma_5) < 6.01 u (A + B) for the exact F = |v - p_c|^2 - |v - p_j|^2; the bound is
+// taken as 8 u (A + B) (its own rounding included). Underflow: each product that underflows
+// errs by at most 2^-1074, covered by the 1e-300 term. Overflow and NaN make the
+// comparison fail (infinite bound, NaN value): the caller then asks the exact predicate.
+inline bool certainly_nearer(const double* v, const double* pc, const double* pj) {
+  const double a0 = v[0] - pc[0], a1 = v[1] - pc[1], a2 = v[2] - pc[2];
+  const double b0 = v[0] - pj[0], b1 = v[1] - pj[1], b2 = v[2] - pj[2];
+  const double A = (a0 * a0 + a1 * a1) + a2 * a2;
+  const double B = (b0 * b0 + b1 * b1) + b2 * b2;
+  return A - B < -(8.9e-16 * (A + B) + 1e-300);
+}
+
+// The same F = |v - p_c|^2 - |v - p_j|^2 as 2 r.e - |e|^2 with r = v - p_c and e = p_j - p_c
+// rounded once each (r shared by every neighbour of c, e by every point): the products and
+// sums add at most gamma_5 (2 sum |r_k e_k| + |e|^2) and the last subtraction u |F|, with
+// 2 |r_k e_k| <= r_k^2 + e_k^2, so |computed - F| <= gamma_7 (|r|^2 + 2 |e|^2) / (1 - gamma_3)
+// with rr, ee the computed squared norms: bound 1e-15 (rr + 2 ee) (> 7.2 u), plus 1e-300
+// for underflow. Returns F (rounded) and sets `bound`.
+inline double bisector_value(const double* r, double rr, const double* e, double ee,
+                             double& bound) {
+  bound = 1e-15 * (rr + 2 * ee) + 1e-300;
+  return 2 * ((r[0] * e[0] + r[1] * e[1]) + r[2] * e[2]) - ee;
+}
+
+// Tets around a vertex of the triangulation, breadth first through the facets that contain
+// it, from vertex_tet (the order is a function of the triangulation: deterministic).
+// mark[t] >= first iff t is in the current star, at position mark[t] - first; each
+// traversal starts where the previous one ended, so no clearing is needed (until the
+// counter nears 2^32).
+struct Star {
+  std::vector<std::uint32_t> tets;
+  std::vector<std::uint32_t> mark;
+  std::uint32_t first = 1, next = 1;
+  bool contains(std::uint32_t t) const { return mark[t] >= first; }
+  std::uint32_t pos(std::uint32_t t) const { return mark[t] - first; }
+};
+
+// Local numbering of the Voronoi edges around a tet's vertex: for vertex li of a positive
+// tet (Delaunay3) and a facet f != li, kFaceOther[li][f] = {lj, lk}, the other two vertices
+// of facet f, so that (li, lj, lk, f) is an even permutation of (0, 1, 2, 3). Then the
+// Voronoi edge dual to that facet, from this tet's circumcentre to the next tet's across
+// f, runs counter-clockwise around p_lj - p_li (clip3d_cells.cpp).
+extern const std::int8_t kFaceOther[4][4][2];
+
+}  // namespace clip3
+
+// The state of one ClippedVoronoi3::compute().
+struct Clip3Impl {
+  using Moments = clip3::Moments;
+  using Plane = clip3::Plane;
+  using PVertex = clip3::PVertex;
+  using Poly = clip3::Poly;
+  using TriPoly = clip3::TriPoly;
+  using Star = clip3::Star;
+
+  const Domain3& domain;
+  const Delaunay3& dt;
+  const Clip3Options& options;
+  ClippedVoronoi3& out;
+  Clip3Impl(const Domain3& d, const Delaunay3& t, const Clip3Options& o, ClippedVoronoi3& r)
+      : domain(d), dt(t), options(o), out(r) {}
+
+  std::uint32_t n = 0;
+  bool linear_density = false;
+  bool keep_surface = false;
+
+  const double* site(std::uint32_t i) const { return dt.point(i); }
+  bool infinite(std::uint32_t t) const {
+    return dt.tet_vertex(t, 0) == Delaunay3::kInfinite ||
+           dt.tet_vertex(t, 1) == Delaunay3::kInfinite ||
+           dt.tet_vertex(t, 2) == Delaunay3::kInfinite ||
+           dt.tet_vertex(t, 3) == Delaunay3::kInfinite;
+  }
+
+  // ---- Exact clipping kernel (clip3d_kernel.cpp).
+  struct Scratch {
+    Poly a, b;
+    std::vector<std::int8_t> sides;
+    std::vector<std::uint64_t> edge_keys;
+    std::vector<std::uint32_t> edge_new;
+    std::vector<std::uint32_t> chain_next;
+    std::vector<std::uint32_t> remap;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> cut_edges;
+    std::vector<std::uint32_t> nbrs;
+    std::vector<double> xyz;
+    std::vector<std::uint32_t> stamp;  // per domain tet: the last cell (+ 1) that queued it
+    std::vector<std::uint32_t> queue;
+  };
+  // Exact side of a vertex of a clip in tet t of cell i with respect to bisector(i, j):
+  // POSITIVE when on j's side (clipped away).
+  Sign side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::uint32_t j) const;
+  // Coordinates of a vertex, from its sorted global ids (bit-identical in every cell).
+  void coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const;
+  // Mesh edge (ma, mb) ∩ bisector(s0, s1), and the plane of triangle mesh[0..2] ∩
+  // bisectors (s0, s1), (s0, s2), from sorted ids (the same bits wherever they are met).
+  void edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
+                  double* x) const;
+  void facet_point(const std::uint32_t* mesh, const std::uint32_t* sites, double* x) const;
+  // The Voronoi vertex (circumcentre) of sites[0..3], sorted: the same bits for the fast
+  // path (every tet's circumcentre) and the tet-by-tet clipping.
+  void voronoi_point(const std::uint32_t* sites, double* x) const;
+  static void init_tet(Poly& p, int only_facet);
+  bool clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i, std::uint32_t j,
+            Scratch& s) const;
+  void clip_by_cell(std::uint32_t t, int only_facet, std::uint32_t i,
+                    const std::vector<std::uint32_t>& nbrs, Scratch& s) const;
+  // The output of a cell clipped tet by tet.
+  struct CellOut : Moments {
+    std::uint64_t pairs = 0;
+    std::vector<std::uint32_t> face_begin{0};
+    std::vector<std::uint32_t> face_piece;
+    std::vector<double> face_xyz;
+  };
+  void clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size_t nb_seeds, Scratch& s,
+                 CellOut& res,
+                 std::vector<std::pair<std::uint32_t, std::uint32_t>>* seeds_out) const;
+  static void add_tet(const double* o, const double* a, const double* b, const double* d,
+                      Moments& res);
+  void add_tet_linear(std::uint32_t t, const double* o, const double* a, const double* b,
+                      const double* d, Moments& res) const;
+  double density_at(std::uint32_t t, const double* x) const;
+
+  // A Voronoi edge crossing the surface: Delaunay triangle (s[0] < s[1] < s[2]), the
+  // boundary triangle, the point.
+  struct Crossing {
+    std::uint32_t s[3], tri;
+    double x[3];
+  };
+  // The crossings of one Voronoi edge: how many, the point when there is one, and sigma,
+  // the sign of n . N with n = (p_s1 - p_s0) x (p_s2 - p_s0) and N the outward normal of
+  // the boundary triangle crossed (voronoi_edge_direction3d): the edge, oriented along n,
+  // leaves the volume there when sigma > 0.
+  struct EdgeCrossings {
+    std::uint32_t s[3], count;
+    double x[3];
+    std::int8_t sigma;
+  };
+  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2, norm = |e| (rounded).
+  struct NbrGeo {
+    double e[3], ee, norm;
+  };
+  // ---- Per-thread scratch of the whole compute.
+  struct ThreadScratch {
+    Star star;
+    // Delaunay neighbours of a site (in star order), computed once per thread: the list of
+    // site c is nbr_pool[nbr_offset[c] + 1 ..], its length at nbr_pool[nbr_offset[c]];
+    // nbr_geo[k] is the NbrGeo of nbr_pool[k] relative to c.
+    std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark;
+    std::vector<NbrGeo> nbr_geo;
+    std::uint32_t site_gen = 0;
+    TriPoly a, b;
+    // Per polygon vertex, beyond the bisector (boundary cells: per star facet, its
+    // crossings looked up).
+    std::vector<std::uint8_t> beyond;
+    // Per domain vertex: its cell, when corner_stamp is the current chunk's (+ 1).
+    std::vector<std::uint32_t> corner_cell, corner_stamp;
+    std::uint32_t last_cell = clip3::kNone;  // the last cell met (a hint)
+    std::vector<clip3::CornerValues> corner_values;
+    std::vector<clip3::FacetMinors> facet_minors;
+    // The cells met by the current triangle (a cell clipped tet by tet: its seed tets).
+    std::vector<std::uint32_t> cells;
+    std::vector<double> xyz, rel;  // a polygon's vertices, absolute and relative to its site
+    std::vector<std::int8_t> flag;
+    std::vector<std::uint32_t> queue;
+    std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
+    std::vector<clip3::Rel> half;          // per star tet and local vertex: (p_v - p_site) / 2
+    std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
+    std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
+    Scratch clip;
+  };
+  // Fills s.tets with the tets around v, finite and infinite; with `prefetch`, asks for
+  // prefetch[3 t] of each tet t as it is found (the circumcentres, read next).
+  void star(std::uint32_t v, Star& s, const double* prefetch = nullptr) const;
+  // The Delaunay neighbours of site c (ids, and geometry relative to c), valid until the
+  // next call.
+  struct NeighborList {
+    const std::uint32_t* id;
+    const NbrGeo* geo;
+    std::uint32_t count;
+  };
+  NeighborList neighbors(std::uint32_t c, ThreadScratch& s) const;
+
+  // ---- Restricted surface (clip3d_surface.cpp).
+  std::vector<EdgeCrossings> crossings;       // sorted by s
+  std::vector<std::uint32_t> crossing_begin;  // per site a: crossings with s[0] == a
+  // The crossings of the Voronoi edge of sites a, b, c (any order; nullptr: none).
+  const EdgeCrossings* find_crossings(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  std::vector<std::uint8_t> is_boundary, fallback;  // per site
+  std::vector<std::uint32_t> boundary_cells;        // sorted
+  std::vector<std::uint32_t> boundary_slot;         // per site: index in boundary_cells
+  // Per boundary cell: its restricted polygons' triangles, in triangle order (CSR).
+  std::vector<std::uint32_t> cell_tri_begin, cell_tris;
+  std::vector<Moments> surface_moments;  // per boundary cell: the polygons' cones
+  std::vector<double> surface_area;      // per site
+  std::uint32_t descend(const double* p, std::uint32_t c, ThreadScratch& s) const;
+  struct SurfaceChunk;
+  // A boundary triangle: its index, corners (domain vertices, in the triangle's order).
+  struct Tri {
+    std::uint32_t b, mv[3];
+    const double* x[3];
+  };
+  Sign tri_side(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, std::uint32_t j) const;
+  void tri_coords(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c, double* x) const;
+  ClipVertex3 tri_symbolic(const Tri& tri, const clip3::TriVertex& v, std::uint32_t c) const;
+  // Triangle b as the `stamp`-th chunk sees it (ThreadScratch::corner_cell).
+  void clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
+                     SurfaceChunk& chunk) const;
+  void emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
+                    SurfaceChunk& chunk) const;
+  void surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts);
+
+  // ---- Cells from the triangulation (clip3d_cells.cpp).
+  std::vector<std::int8_t> status;  // per site: 1 inside, 0 outside, -1 not decided
+  // Boundary cell i: its Voronoi vertices placed inside or outside the volume (from its
+  // own crossings, or from `global_flag` when given) and, unless it is clipped tet by tet,
+  // its integrals added to r. Appends (site, 0/1) for the non-boundary sites of its star.
+  // False when no Voronoi vertex of its star could be placed from its own crossings.
+  bool boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
+                     ThreadScratch& s, Moments& r) const;
+  void inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s, Moments& r) const;
+  // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
+  // search from the infinite tets, flipping with the parity of the crossings.
+  void global_flags(std::vector<std::int8_t>& flag) const;
+  void decide_status(const std::vector<std::pair<std::uint32_t, std::int8_t>>& first_layer,
+                     ThreadScratch& s);
+
+  void run();
+};
+
+}  // namespace voroclip

@@ -1,0 +1,718 @@
+// The restricted surface of the 3D clipped Voronoi diagram (Yan et al. 2011, sec. 4.1),
+// triangle by triangle rather than by the paper's global propagation, so that triangles go
+// in parallel and the result, concatenated in triangle order, does not depend on the
+// thread count.
+//
+// 1. The cell of every boundary vertex of the mesh (the perturbed nearest site: the
+//    descent over Delaunay neighbours decides with bisector_side_vertex3d), in the order of
+//    a breadth-first walk over the surface, each from the previous one's cell; a chunk of
+//    vertices starts from an exact nearest-site query.
+// 2. Per boundary triangle: when its three corners lie in one cell, so does the triangle
+//    (cells are convex; under the perturbation the corners are strictly inside); else the
+//    cells of its corners, then every cell across a bisector edge of a polygon found, are
+//    clipped against the triangle (Sutherland-Hodgman on symbolic vertices: exact). A
+//    bisector is skipped without a predicate when the three corners are certainly on the
+//    cell's side of it (certainly_nearer).
+// 3. Per polygon of cell c, the divergence theorem's share of ∂(C_c ∩ Ω) that the surface
+//    knows (clip3d_cells.cpp has the rest): the cones from p_c over the polygon (outward:
+//    the triangle's orientation reversed) and, over each polygon edge on bisector(c, j), the
+//    cone over the triangle (foot of p_c on the bisector, edge) — the edge bounds the facet
+//    of c on bisector(c, j) inside the volume. A polygon vertex on two bisectors (c, k),
+//    (c, l) is where the Voronoi edge of c, k, l crosses the surface; the polygon of the
+//    smallest of the three records it.
+// 4. Per Voronoi edge, its crossings are counted; with one crossing,
+//    voronoi_edge_direction3d tells which way it leaves the volume. Cells with a Voronoi
+//    edge crossing twice or more are clipped tet by tet (the order of the crossings along
+//    the edge would be needed).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "clip3d_internal.h"
+
+namespace voroclip {
+
+using namespace clip3;
+
+namespace {
+
+constexpr std::uint32_t kTriangleChunk = 128;
+
+}  // namespace
+
+namespace {
+
+// A point X of triangle edge (a, b) on bisector(c, k): F_k affine along the edge, so
+//   F_j(X) = N / D,  N = F_k(a) F_j(b) - F_k(b) F_j(a),  D = F_k(a) - F_k(b)
+// (the contract of bisector_side_edge3d, with F for f: they differ by eps terms only, which
+// matter only when N or D is zero). With each value F~ within err of F,
+//   |F~_k F~_j - F_k F_j| <= |F~_k| e_j + e_k |F~_j| + e_k e_j,
+// the two products and the difference round within 2.0001 u (|F~_k(a) F~_j(b)| +
+// |F~_k(b) F~_j(a)|), and the bound itself is rounded up by a factor 1 + 1e-14. Values are
+// used only in [1e-150, 1e150] (errors) and below 1e150 (values): no product overflows,
+// and one that underflows errs by less than the 1e-300 added (the products of two errors
+// are >= 1e-300). Returns the sign of F_j(X) when that decides it, else 0.
+inline int edge_point_side(const CornerValues& k, const CornerValues& j, int a, int b) {
+  const double ka = k.f[a], kb = k.f[b], ja = j.f[a], jb = j.f[b];
+  const double eka = k.err[a], ekb = k.err[b], eja = j.err[a], ejb = j.err[b];
+  const double lo = std::min(std::min(eka, ekb), std::min(eja, ejb));
+  const double hi = std::max(std::max(std::fabs(ka) + eka, std::fabs(kb) + ekb),
+                             std::max(std::fabs(ja) + eja, std::fabs(jb) + ejb));
+  if (!(lo >= 1e-150 && hi <= 1e150)) return 0;
+  const double p1 = ka * jb, p2 = kb * ja;
+  const double n = p1 - p2, d = ka - kb;
+  const double bn = ((std::fabs(ka) * ejb + eka * std::fabs(jb) + eka * ejb) +
+                     (std::fabs(kb) * eja + ekb * std::fabs(ja) + ekb * eja) +
+                     2.0001 * 0x1p-53 * (std::fabs(p1) + std::fabs(p2)) + 1e-300) *
+                    (1 + 1e-14);
+  const double bd = (eka + ekb + 0x1p-53 * std::fabs(d)) * (1 + 1e-14);
+  if (!(std::fabs(n) > bn && std::fabs(d) > bd)) return 0;
+  return (n > 0) == (d > 0) ? 1 : -1;
+}
+
+// A point X of the triangle's plane on bisectors (c, k) and (c, l): with barycentric
+// coordinates from F_k(X) = F_l(X) = 0 (F affine), F_j(X) = N / D, N = det[F_j; F_k; F_l],
+// D = det[1; F_k; F_l] (rows: the values at the corners; the contract of
+// bisector_side_facet3d). Expanding along the first row, N = sum_p F_j[p] m_p and
+// D = sum_p m_p with the minors m_p = F_k[q] F_l[r] - F_k[r] F_l[q] ((p, q, r) cyclic).
+// A minor of values within e of the exact ones errs by at most
+//   |k_q| e + e |l_r| + e e + |k_r| e + e |l_q| + e e
+// plus 2.0001 u (|k_q l_r| + |k_r l_q|) of rounding (every bound is a sum of non-negative
+// terms, so its own rounding is relative); a dot product sum_p a_p m_p of values
+// within e_a, e_m errs by sum_p (|a_p| e_m + e_a |m_p| + e_a e_m) plus 3.0001 u
+// sum_p |a_p m_p|. Bounds are rounded up by 1 + 1e-14. Values are used only with errors in
+// [1e-100, 1e100] and magnitudes below 1e100, so no product overflows, and the 1e-300 added
+// covers those that underflow (products of errors stay above 1e-200).
+FacetMinors facet_minors(const CornerValues& k, const CornerValues& l) {
+  FacetMinors fm{};
+  double lo = 1e300, hi = 0;
+  for (const CornerValues* r : {&k, &l}) {
+    for (int p = 0; p < 3; ++p) {
+      lo = std::min(lo, r->err[p]);
+      hi = std::max(hi, std::fabs(r->f[p]) + r->err[p]);
+    }
+  }
+  if (!(lo >= 1e-100 && hi <= 1e100)) {
+    fm.sign_d = 0;
+    fm.err[0] = fm.err[1] = fm.err[2] = std::numeric_limits<double>::infinity();
+    return fm;
+  }
+  double sum_err = 0, sum_abs = 0;
+  for (int p = 0; p < 3; ++p) {
+    const int q = (p + 1) % 3, r = (p + 2) % 3;
+    const double a = k.f[q] * l.f[r], b = k.f[r] * l.f[q];
+    fm.m[p] = a - b;
+    const double spread =
+        (std::fabs(k.f[q]) * l.err[r] + k.err[q] * std::fabs(l.f[r]) + k.err[q] * l.err[r]) +
+        (std::fabs(k.f[r]) * l.err[q] + k.err[r] * std::fabs(l.f[q]) + k.err[r] * l.err[q]);
+    fm.err[p] = (spread + 2.0001 * 0x1p-53 * (std::fabs(a) + std::fabs(b)) + 1e-300) * (1 + 1e-14);
+    sum_err += fm.err[p];
+    sum_abs += std::fabs(fm.m[p]);
+  }
+  const double d = (fm.m[0] + fm.m[1]) + fm.m[2];
+  const double bd = (sum_err + 3.0001 * 0x1p-53 * sum_abs + 1e-300) * (1 + 1e-14);
+  fm.sign_d = std::fabs(d) > bd ? (d > 0 ? 1 : -1) : 0;
+  return fm;
+}
+
+// The sign of F_j at the facet point of `fm` when decided, else 0 (see facet_minors).
+inline int facet_point_side(const FacetMinors& fm, const CornerValues& j) {
+  if (fm.sign_d == 0) return 0;
+  double lo = 1e300, hi = 0;
+  for (int p = 0; p < 3; ++p) {
+    lo = std::min(lo, j.err[p]);
+    hi = std::max(hi, std::fabs(j.f[p]) + j.err[p]);
+  }
+  if (!(lo >= 1e-100 && hi <= 1e100)) return 0;
+  const double t0 = j.f[0] * fm.m[0], t1 = j.f[1] * fm.m[1], t2 = j.f[2] * fm.m[2];
+  const double n = (t0 + t1) + t2;
+  double spread = 0;
+  for (int p = 0; p < 3; ++p) {
+    spread += std::fabs(j.f[p]) * fm.err[p] + j.err[p] * std::fabs(fm.m[p]) + j.err[p] * fm.err[p];
+  }
+  const double bn =
+      (spread + 3.0001 * 0x1p-53 * ((std::fabs(t0) + std::fabs(t1)) + std::fabs(t2)) + 1e-300) *
+      (1 + 1e-14);
+  if (!(std::fabs(n) > bn)) return 0;
+  return (n > 0) == (fm.sign_d > 0) ? 1 : -1;
+}
+
+// The ends of the triangle edge opposite corner k.
+constexpr int kEdgeEnd[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+
+}  // namespace
+
+// Per chunk of triangles, its polygons in triangle order.
+struct Clip3Impl::SurfaceChunk {
+  std::vector<std::uint32_t> cell, tri;
+  std::vector<double> sums;  // per polygon: volume, moment (3), energy, area
+  std::vector<std::uint32_t> begin{0};
+  std::vector<ClipVertex3> verts;  // keep_surface
+  std::vector<double> xyz;         // keep_surface
+  std::vector<Crossing> crossings;
+};
+
+void Clip3Impl::star(std::uint32_t v, Star& s, const double* prefetch) const {
+  const std::uint32_t slots = dt.nb_tet_slots();
+  if (s.mark.size() != slots || s.next > 0xf0000000u) {
+    s.mark.assign(slots, 0);
+    s.next = 1;
+  }
+  s.first = s.next;
+  s.tets.clear();
+  const std::uint32_t t0 = dt.vertex_tet(v);
+  s.mark[t0] = s.first;
+  s.tets.push_back(t0);
+  for (std::size_t q = 0; q < s.tets.size(); ++q) {
+    const std::uint32_t t = s.tets[q];
+    for (int f = 0; f < 4; ++f) {
+      if (dt.tet_vertex(t, f) == v) continue;  // the facet opposite v does not contain v
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (s.mark[t2] < s.first) {
+        s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
+        s.tets.push_back(t2);
+        if (prefetch) __builtin_prefetch(prefetch + 3 * std::size_t{t2});
+      }
+    }
+  }
+  s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
+}
+
+Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) const {
+  if (s.nbr_offset.size() != n) s.nbr_offset.assign(n, kNone);
+  std::uint32_t off = s.nbr_offset[c];
+  if (off == kNone) {
+    if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
+      s.site_mark.assign(n, 0);
+      s.site_gen = 0;
+    }
+    const std::uint32_t gen = ++s.site_gen;
+    star(c, s.star);
+    off = static_cast<std::uint32_t>(s.nbr_pool.size());
+    s.nbr_pool.push_back(0);
+    s.nbr_geo.push_back(NbrGeo{});
+    const double* pc = site(c);
+    for (const std::uint32_t t : s.star.tets) {
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = dt.tet_vertex(t, k);
+        if (w == c || w == Delaunay3::kInfinite || s.site_mark[w] == gen) continue;
+        s.site_mark[w] = gen;
+        s.nbr_pool.push_back(w);
+        const double* pw = site(w);
+        NbrGeo g;
+        for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
+        g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
+        g.norm = std::sqrt(g.ee);
+        s.nbr_geo.push_back(g);
+      }
+    }
+    s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 1;
+    s.nbr_offset[c] = off;
+  }
+  return {s.nbr_pool.data() + off + 1, s.nbr_geo.data() + off + 1, s.nbr_pool[off]};
+}
+
+// The cell of point p (perturbed): descent from c. If p is not in cell c, a Delaunay
+// neighbour k has f_ck(p) > 0, and the power distance decreases at each step. The
+// neighbours are tried nearest first (largest F in floating point); one certainly farther
+// than c needs no predicate.
+std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch& s) const {
+  for (;;) {
+    const NeighborList nb = neighbors(c, s);
+    const double* pc = site(c);
+    const double r[3] = {p[0] - pc[0], p[1] - pc[1], p[2] - pc[2]};
+    const double rr = (r[0] * r[0] + r[1] * r[1]) + r[2] * r[2];
+    // The neighbour nearest to p in floating point first; the others not certainly
+    // farther than c only when it is not nearer (rare).
+    std::uint32_t best = kNone;
+    double best_f = 0;
+    for (std::uint32_t q = 0; q < nb.count; ++q) {
+      double bound;
+      const double f = bisector_value(r, rr, nb.geo[q].e, nb.geo[q].ee, bound);
+      if (f < -bound) continue;
+      if (best == kNone || f > best_f) {
+        best = q;
+        best_f = f;
+      }
+    }
+    if (best == kNone) return c;
+    std::uint32_t next = kNone;
+    if (bisector_side_vertex3d(pc, site(nb.id[best]), p, c, nb.id[best]) == Sign::positive) {
+      next = nb.id[best];
+    } else {
+      for (std::uint32_t q = 0; q < nb.count && next == kNone; ++q) {
+        double bound;
+        const double f = bisector_value(r, rr, nb.geo[q].e, nb.geo[q].ee, bound);
+        if (q == best || f < -bound) continue;
+        if (bisector_side_vertex3d(pc, site(nb.id[q]), p, c, nb.id[q]) == Sign::positive) {
+          next = nb.id[q];
+        }
+      }
+    }
+    if (next == kNone) return c;
+    c = next;
+  }
+}
+
+Sign Clip3Impl::tri_side(const Tri& tri, const TriVertex& v, std::uint32_t c,
+                         std::uint32_t j) const {
+  if (v.tag < 3) return bisector_side_vertex3d(site(c), site(j), tri.x[v.tag], c, j);
+  if (v.tag < 6) {
+    const int o = v.tag - 3;
+    return bisector_side_edge3d(site(c), site(v.k), site(j), tri.x[(o + 1) % 3], tri.x[(o + 2) % 3],
+                                c, v.k, j);
+  }
+  return bisector_side_facet3d(site(c), site(v.k), site(v.l), site(j), tri.x[0], tri.x[1], tri.x[2],
+                               c, v.k, v.l, j);
+}
+
+void Clip3Impl::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, double* x) const {
+  if (v.tag < 3) {
+    for (int q = 0; q < 3; ++q) x[q] = tri.x[v.tag][q];
+  } else if (v.tag < 6) {
+    const int o = v.tag - 3;
+    const std::uint32_t a = tri.mv[(o + 1) % 3], b = tri.mv[(o + 2) % 3];
+    edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
+  } else {
+    std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
+    small_sort(mesh, 3);
+    small_sort(sites, 3);
+    facet_point(mesh, sites, x);
+  }
+}
+
+ClipVertex3 Clip3Impl::tri_symbolic(const Tri& tri, const TriVertex& v, std::uint32_t c) const {
+  ClipVertex3 x{};
+  std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
+  int nm = 3, ns = 3;
+  if (v.tag < 3) {
+    x.kind = ClipVertex3::Kind::kMeshVertex;
+    mesh[0] = tri.mv[v.tag];
+    nm = 1;
+    ns = 0;
+  } else if (v.tag < 6) {
+    x.kind = ClipVertex3::Kind::kEdgeBisector;
+    const int o = v.tag - 3;
+    mesh[0] = tri.mv[(o + 1) % 3];
+    mesh[1] = tri.mv[(o + 2) % 3];
+    nm = 2;
+    ns = 2;
+  } else {
+    x.kind = ClipVertex3::Kind::kFacetBisectors;
+  }
+  small_sort(mesh, nm);
+  small_sort(sites, ns);
+  for (int k = 0; k < 3; ++k) {
+    x.mesh[k] = k < nm ? mesh[k] : ClipVertex3::kNone;
+    x.site[k] = k < ns ? sites[k] : ClipVertex3::kNone;
+  }
+  return x;
+}
+
+// The polygon of a triangle in cell c: integrals, crossings, geometry (see the top).
+void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
+                             SurfaceChunk& chunk) const {
+  const std::size_t m = p.size();
+  const double* pc = site(c);
+  s.xyz.resize(3 * m);
+  s.rel.resize(3 * m);
+  for (std::size_t k = 0; k < m; ++k) {
+    tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
+    for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
+  }
+  const auto x = [&](std::size_t k) { return &s.rel[3 * (k == m ? 0 : k)]; };
+  Moments r;
+  double area[3] = {0, 0, 0};
+  for (std::size_t k = 1; k + 1 < m; ++k) {
+    const double* o = x(0);
+    const double* u = x(k);
+    const double* w = x(k + 1);
+    const double a[3] = {u[0] - o[0], u[1] - o[1], u[2] - o[2]};
+    const double d[3] = {w[0] - o[0], w[1] - o[1], w[2] - o[2]};
+    area[0] += a[1] * d[2] - a[2] * d[1];
+    area[1] += a[2] * d[0] - a[0] * d[2];
+    area[2] += a[0] * d[1] - a[1] * d[0];
+    add_cone(o, w, u, r);  // reversed: outward
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    if (is_facet(p.e[k])) continue;
+    const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
+    const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
+    add_cone(h, x(k), x(k + 1), r);
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    const TriVertex& v = p.v[k];
+    if (v.tag != 6 || c > v.k) continue;
+    Crossing cr{};
+    cr.s[0] = c;
+    cr.s[1] = v.k;
+    cr.s[2] = v.l;
+    cr.tri = tri.b;
+    for (int q = 0; q < 3; ++q) cr.x[q] = s.xyz[3 * k + q];
+    chunk.crossings.push_back(cr);
+  }
+  chunk.cell.push_back(c);
+  chunk.tri.push_back(tri.b);
+  const double sums[6] = {
+      r.volume,    r.moment[0],
+      r.moment[1], r.moment[2],
+      r.energy,    0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2])};
+  chunk.sums.insert(chunk.sums.end(), sums, sums + 6);
+  if (keep_surface) {
+    for (std::size_t k = 0; k < m; ++k) {
+      chunk.verts.push_back(tri_symbolic(tri, p.v[k], c));
+      for (int q = 0; q < 3; ++q) chunk.xyz.push_back(s.xyz[3 * k + q]);
+    }
+    chunk.begin.push_back(static_cast<std::uint32_t>(chunk.verts.size()));
+  }
+}
+
+void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
+                              SurfaceChunk& chunk) const {
+  const std::uint32_t t = domain.boundary_tet(b);
+  const int f = domain.boundary_facet(b);
+  const int* lv = Domain3::kTetFacetVertex[f];
+  // Corner k is tet vertex lv[k]; the edge from corner k to k + 1 lies on the facet opposite
+  // corner k + 2.
+  Tri tri{};
+  tri.b = b;
+  // The cells of the corners that earlier triangles of this chunk found (kNone: unknown).
+  if (s.corner_cell.size() != domain.nb_vertices()) {
+    s.corner_cell.assign(domain.nb_vertices(), kNone);
+    s.corner_stamp.assign(domain.nb_vertices(), 0);
+  }
+  std::uint32_t corner[3];
+  for (int k = 0; k < 3; ++k) {
+    tri.mv[k] = domain.tet_vertex(t, lv[k]);
+    tri.x[k] = domain.vertex(tri.mv[k]);
+    corner[k] = s.corner_stamp[tri.mv[k]] == stamp ? s.corner_cell[tri.mv[k]] : kNone;
+  }
+  if (corner[0] == kNone && corner[1] == kNone && corner[2] == kNone) {
+    // From the last cell this thread met (nearby: the order follows the surface), or an
+    // exact nearest-site query; the descent's result does not depend on where it starts.
+    const std::uint32_t hint = s.last_cell != kNone ? s.last_cell : dt.nearest_vertex(tri.x[0]);
+    corner[0] = descend(tri.x[0], hint, s);
+  }
+  const auto init = [&](TriPoly& p) {
+    p.clear();
+    for (int k = 0; k < 3; ++k) {
+      p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone, kNone},
+             facet_plane(lv[(k + 2) % 3]));
+    }
+  };
+  init(s.a);
+  if (corner[0] == corner[1] && corner[1] == corner[2]) {
+    emit_polygon(tri, corner[0], s.a, s, chunk);
+    s.last_cell = corner[0];
+    return;
+  }
+  const auto record_corners = [&](std::uint32_t c, const TriPoly& p) {
+    for (const TriVertex& v : p.v) {
+      if (v.tag < 3) {
+        s.corner_cell[tri.mv[v.tag]] = c;
+        s.corner_stamp[tri.mv[v.tag]] = stamp;
+      }
+    }
+  };
+  // A ball around the triangle: centre g, radius R (the farthest corner).
+  double g[3], radius = 0;
+  for (int q = 0; q < 3; ++q) g[q] = (tri.x[0][q] + tri.x[1][q] + tri.x[2][q]) / 3;
+  for (int k = 0; k < 3; ++k) {
+    const double d[3] = {tri.x[k][0] - g[0], tri.x[k][1] - g[1], tri.x[k][2] - g[2]};
+    radius = std::max(radius, (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2]);
+  }
+  radius = std::sqrt(radius) * (1 + 1e-14);  // above the true distance despite rounding
+  s.cells.clear();
+  for (const std::uint32_t c : corner) {
+    if (c != kNone && std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) {
+      s.cells.push_back(c);
+    }
+  }
+  for (std::size_t q = 0; q < s.cells.size(); ++q) {
+    const std::uint32_t c = s.cells[q];
+    const double* pc = site(c);
+    const double rg[3] = {g[0] - pc[0], g[1] - pc[1], g[2] - pc[2]};
+    const double rrg = (rg[0] * rg[0] + rg[1] * rg[1]) + rg[2] * rg[2];
+    double r[3][3], rr[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int h = 0; h < 3; ++h) r[k][h] = tri.x[k][h] - pc[h];
+      rr[k] = (r[k][0] * r[k][0] + r[k][1] * r[k][1]) + r[k][2] * r[k][2];
+    }
+    init(s.a);
+    const NeighborList nb = neighbors(c, s);
+    s.corner_values.clear();
+    s.facet_minors.clear();
+    bool empty = false;
+    for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
+      const NbrGeo& ng = nb.geo[h];
+      // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the
+      // ball; below zero there, the bisector misses the triangle.
+      double bound;
+      const double fg = bisector_value(rg, rrg, ng.e, ng.ee, bound);
+      if (fg + 2 * radius * ng.norm * (1 + 1e-14) < -bound) continue;
+      // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
+      CornerValues fj;
+      int corner_side[3];
+      for (int k = 0; k < 3; ++k) {
+        fj.f[k] = bisector_value(r[k], rr[k], ng.e, ng.ee, fj.err[k]);
+        corner_side[k] = fj.f[k] < -fj.err[k] ? -1 : (fj.f[k] > fj.err[k] ? 1 : 0);
+      }
+      if (corner_side[0] < 0 && corner_side[1] < 0 && corner_side[2] < 0) continue;
+      const std::uint32_t j = nb.id[h];
+      // Sutherland-Hodgman on symbolic vertices. A corner's side, and that of a point of a
+      // triangle edge whose ends agree, comes from the filter when it decided (F is affine).
+      const TriPoly& in = s.a;
+      const std::size_t m = in.size();
+      s.beyond.resize(m);
+      bool any_beyond = false, any_kept = false;
+      for (std::size_t k = 0; k < m; ++k) {
+        const TriVertex& x = in.v[k];
+        int known = 0;
+        if (x.tag < 3) {
+          known = corner_side[x.tag];
+        } else if (x.tag < 6) {
+          const int ea = kEdgeEnd[x.tag - 3][0], eb = kEdgeEnd[x.tag - 3][1];
+          known = corner_side[ea] == corner_side[eb]
+                      ? corner_side[ea]
+                      : edge_point_side(s.corner_values[x.fk], fj, ea, eb);
+        } else {
+          known = facet_point_side(s.facet_minors[x.fm], fj);
+        }
+        const bool o = known != 0 ? known > 0 : tri_side(tri, in.v[k], c, j) == Sign::positive;
+        s.beyond[k] = o ? 1 : 0;
+        any_beyond = any_beyond || o;
+        any_kept = any_kept || !o;
+      }
+      if (!any_beyond) continue;
+      if (!any_kept) {
+        empty = true;
+        break;
+      }
+      // The crossing of edge k (plane e[k]) with bisector(c, j). The corner values of j
+      // join the table; those of a bisector edge's site come from the vertex it starts at.
+      const auto row = static_cast<std::uint32_t>(s.corner_values.size());
+      s.corner_values.push_back(fj);
+      TriPoly& res = s.b;
+      res.clear();
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t kn = k + 1 == m ? 0 : k + 1;
+        if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
+        if (s.beyond[k] != s.beyond[kn]) {
+          TriVertex x{6, j, kNone, row, kNone, kNone};
+          const Plane e = in.e[k];
+          if (is_facet(e)) {
+            int opposite = 0;
+            while (lv[opposite] != facet_of(e)) ++opposite;
+            x.tag = static_cast<std::int8_t>(3 + opposite);
+          } else {
+            // The edge from v[k] lies on bisector(c, e): v[k] is on it, and carries its row.
+            const TriVertex& from = in.v[k];
+            const auto ke = static_cast<std::uint32_t>(e);
+            const std::uint32_t row_e = from.k == ke ? from.fk : from.fl;
+            x.k = std::min(j, ke);
+            x.l = std::max(j, ke);
+            x.fk = x.k == j ? row : row_e;
+            x.fl = x.k == j ? row_e : row;
+            x.fm = static_cast<std::uint32_t>(s.facet_minors.size());
+            s.facet_minors.push_back(facet_minors(s.corner_values[x.fk], s.corner_values[x.fl]));
+          }
+          res.push(x, s.beyond[k] ? e : static_cast<Plane>(j));
+        }
+      }
+      std::swap(s.a, s.b);
+    }
+    if (empty) continue;  // (a corner's cell, or a cell across an edge, is never empty)
+    emit_polygon(tri, c, s.a, s, chunk);
+    record_corners(c, s.a);
+    s.last_cell = c;
+    for (const Plane e : s.a.e) {
+      if (is_facet(e)) continue;
+      const auto k = static_cast<std::uint32_t>(e);
+      if (std::find(s.cells.begin(), s.cells.end(), k) == s.cells.end()) s.cells.push_back(k);
+    }
+  }
+}
+
+const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::uint32_t b,
+                                                          std::uint32_t c) const {
+  std::uint32_t s[3] = {a, b, c};
+  small_sort(s, 3);
+  for (std::uint32_t e = crossing_begin[s[0]]; e < crossing_begin[s[0] + std::size_t{1}]; ++e) {
+    const EdgeCrossings& x = crossings[e];
+    if (x.s[1] == s[1] && x.s[2] == s[2]) return &x;
+  }
+  return nullptr;
+}
+
+void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
+  // Triangles in depth-first order over the surface, in chunks: a triangle takes the
+  // cells of its corners from the polygons of the chunk's triangles before it (exact facts,
+  // so the order changes nothing but the work).
+  const std::uint32_t nb = domain.nb_boundary_triangles();
+  std::vector<std::uint32_t> order;
+  order.reserve(nb);
+  {
+    std::vector<std::uint8_t> seen(nb, 0);
+    std::vector<std::uint32_t> stack;
+    for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
+      if (seen[b0]) continue;
+      stack.assign(1, b0);
+      while (!stack.empty()) {
+        const std::uint32_t b = stack.back();
+        stack.pop_back();
+        if (seen[b]) continue;
+        seen[b] = 1;
+        order.push_back(b);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t b2 = domain.boundary_adjacent(b, k);
+          if (b2 != Domain3::kNone && !seen[b2]) stack.push_back(b2);
+        }
+      }
+    }
+  }
+  const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
+  std::vector<SurfaceChunk> chunks(nb_chunks);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
+    ThreadScratch& s = ts.local();
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
+      for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
+        clip_triangle(order[h], k + 1, s, chunks[k]);
+      }
+    }
+  });
+
+  // Polygons per triangle (each triangle's are consecutive in its chunk), then per cell in
+  // triangle order.
+  std::vector<std::uint32_t> tri_chunk(nb), tri_first(nb), tri_count(nb, 0);
+  std::vector<std::uint32_t> count(std::size_t{n} + 1, 0);
+  std::size_t nb_polygons = 0;
+  for (std::uint32_t h = 0; h < nb_chunks; ++h) {
+    const SurfaceChunk& ch = chunks[h];
+    for (std::size_t p = 0; p < ch.cell.size(); ++p) {
+      const std::uint32_t b = ch.tri[p];
+      if (tri_count[b]++ == 0) {
+        tri_chunk[b] = h;
+        tri_first[b] = static_cast<std::uint32_t>(p);
+      }
+      ++count[ch.cell[p] + std::size_t{1}];
+    }
+    nb_polygons += ch.cell.size();
+  }
+  for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
+  is_boundary.assign(n, 0);
+  boundary_slot.assign(n, kNone);
+  boundary_cells.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (count[i + 1] > count[i]) {
+      is_boundary[i] = 1;
+      boundary_slot[i] = static_cast<std::uint32_t>(boundary_cells.size());
+      boundary_cells.push_back(i);
+    }
+  }
+  // Polygon p of chunk h goes to position pos (cell-major); sums per cell in that order.
+  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
+  std::vector<std::uint32_t> where_chunk(nb_polygons), where_index(nb_polygons);
+  cell_tris.resize(nb_polygons);
+  for (std::uint32_t b = 0; b < nb; ++b) {
+    const SurfaceChunk& ch = chunks[tri_chunk[b]];
+    for (std::uint32_t p = tri_first[b]; p < tri_first[b] + tri_count[b]; ++p) {
+      const std::uint32_t pos = cursor[ch.cell[p]]++;
+      where_chunk[pos] = tri_chunk[b];
+      where_index[pos] = p;
+      cell_tris[pos] = b;
+    }
+  }
+  cell_tri_begin.assign(boundary_cells.size() + 1, 0);
+  for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
+    cell_tri_begin[q + 1] = count[boundary_cells[q] + std::size_t{1}];
+  }
+  surface_area.assign(n, 0);
+  surface_moments.assign(boundary_cells.size(), Moments{});
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 256), [&](const auto& range) {
+        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+          Moments& r = surface_moments[q];
+          double area = 0;
+          for (std::uint32_t pos = cell_tri_begin[q]; pos < cell_tri_begin[q + 1]; ++pos) {
+            const double* v = &chunks[where_chunk[pos]].sums[6 * std::size_t{where_index[pos]}];
+            r.volume += v[0];
+            for (int c = 0; c < 3; ++c) r.moment[c] += v[1 + c];
+            r.energy += v[4];
+            area += v[5];
+          }
+          surface_area[boundary_cells[q]] = area;
+        }
+      });
+  if (keep_surface) {
+    ClippedVoronoi3::Polygons& sp = out.surface_;
+    sp.site_begin.assign(count.begin(), count.end());
+    sp.site.resize(nb_polygons);
+    sp.triangle.resize(nb_polygons);
+    sp.polygon_begin.assign(1, 0);
+    for (std::size_t pos = 0; pos < nb_polygons; ++pos) {
+      const SurfaceChunk& ch = chunks[where_chunk[pos]];
+      const std::uint32_t p = where_index[pos];
+      sp.site[pos] = ch.cell[p];
+      sp.triangle[pos] = ch.tri[p];
+      sp.vertices.insert(sp.vertices.end(), ch.verts.begin() + ch.begin[p],
+                         ch.verts.begin() + ch.begin[p + 1]);
+      sp.xyz.insert(sp.xyz.end(), ch.xyz.begin() + 3 * std::size_t{ch.begin[p]},
+                    ch.xyz.begin() + 3 * std::size_t{ch.begin[p + 1]});
+      sp.polygon_begin.push_back(static_cast<std::uint32_t>(sp.vertices.size()));
+    }
+  }
+
+  // Crossings per Voronoi edge.
+  std::vector<Crossing> all;
+  for (const SurfaceChunk& ch : chunks)
+    all.insert(all.end(), ch.crossings.begin(), ch.crossings.end());
+  std::sort(all.begin(), all.end(), [](const Crossing& x, const Crossing& y) {
+    if (x.s[0] != y.s[0]) return x.s[0] < y.s[0];
+    if (x.s[1] != y.s[1]) return x.s[1] < y.s[1];
+    if (x.s[2] != y.s[2]) return x.s[2] < y.s[2];
+    return x.tri < y.tri;
+  });
+  crossings.clear();
+  fallback.assign(n, 0);
+  for (std::size_t k = 0; k < all.size();) {
+    std::size_t e = k + 1;
+    while (e < all.size() && all[e].s[0] == all[k].s[0] && all[e].s[1] == all[k].s[1] &&
+           all[e].s[2] == all[k].s[2]) {
+      ++e;
+    }
+    EdgeCrossings x{};
+    for (int q = 0; q < 3; ++q) {
+      x.s[q] = all[k].s[q];
+      x.x[q] = all[k].x[q];
+    }
+    x.count = static_cast<std::uint32_t>(e - k);
+    if (x.count == 1) {
+      const std::uint32_t b = all[k].tri;
+      // Outward normal of the boundary triangle: its orientation reversed (Domain3).
+      const Sign d = voronoi_edge_direction3d(
+          site(x.s[0]), site(x.s[1]), site(x.s[2]), domain.vertex(domain.boundary_vertex(b, 0)),
+          domain.vertex(domain.boundary_vertex(b, 2)), domain.vertex(domain.boundary_vertex(b, 1)));
+      if (d == Sign::zero) {
+        throw Error("clip3d: internal error: the Voronoi edge of sites " + std::to_string(x.s[0]) +
+                    ", " + std::to_string(x.s[1]) + ", " + std::to_string(x.s[2]) +
+                    " crosses boundary triangle " + std::to_string(b) + " along its plane");
+      }
+      x.sigma = d == Sign::positive ? 1 : -1;
+    } else {
+      for (const std::uint32_t c : x.s) fallback[c] = 1;
+    }
+    crossings.push_back(x);
+    k = e;
+  }
+  crossing_begin.assign(std::size_t{n} + 1, 0);
+  for (const EdgeCrossings& x : crossings) ++crossing_begin[x.s[0] + std::size_t{1}];
+  for (std::uint32_t i = 0; i < n; ++i) crossing_begin[i + 1] += crossing_begin[i];
+}
+
+}  // namespace voroclip
