@@ -166,6 +166,40 @@ FeatureLines split_at_turns(const TriangleSurface& s, const FeatureLines& lines,
   return out;
 }
 
+// The feature lines at least as long as `ratio` times the local spacing of the sites at
+// their middle vertex, and the corners that end them: shorter creases (noise of a coarse
+// surface, details below the resolution) are treated as smooth surface.
+template <class Spacing>
+FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& lines, double ratio,
+                              const Spacing& spacing) {
+  FeatureLines out;
+  out.nb_feature_edges = 0;
+  for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+    const std::uint32_t b = lines.line_begin[l], e = lines.line_begin[l + 1];
+    double length = 0;
+    for (std::uint32_t i = b; i + 1 < e; ++i) {
+      const double* p = &s.xyz[3 * std::size_t{lines.line_vertices[i]}];
+      const double* q = &s.xyz[3 * std::size_t{lines.line_vertices[i + 1]}];
+      length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                          (p[2] - q[2]) * (p[2] - q[2]));
+    }
+    const double* middle = &s.xyz[3 * std::size_t{lines.line_vertices[b + (e - b) / 2]}];
+    if (length < ratio * spacing(middle)) continue;
+    out.line_vertices.insert(out.line_vertices.end(), lines.line_vertices.begin() + b,
+                             lines.line_vertices.begin() + e);
+    out.line_begin.push_back(static_cast<std::uint32_t>(out.line_vertices.size()));
+    out.line_closed.push_back(lines.line_closed[l]);
+    out.nb_feature_edges += e - b - 1;
+    if (lines.line_closed[l] == 0) {
+      out.corners.push_back(lines.line_vertices[b]);
+      out.corners.push_back(lines.line_vertices[e - 1]);
+    }
+  }
+  std::sort(out.corners.begin(), out.corners.end());
+  out.corners.erase(std::unique(out.corners.begin(), out.corners.end()), out.corners.end());
+  return out;
+}
+
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
 }
@@ -364,8 +398,11 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     const SurfaceTree surface_tree(surface);
     FeatureLines lines;
     if (options.features) {
-      lines = split_at_turns(surface, extract_feature_lines(surface, options.feature_angle_deg),
-                             options.feature_angle_deg);
+      lines = drop_short_lines(
+          surface,
+          split_at_turns(surface, extract_feature_lines(surface, options.feature_angle_deg),
+                         options.feature_angle_deg),
+          options.min_feature_length, local_spacing);
     }
     const FeatureTree line_tree(surface, lines);
     result.nb_feature_lines = lines.nb_lines();

@@ -380,8 +380,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   4. classification and snapping: the sites whose Voronoi cell meets the boundary
 //      surface move to their closest point on it; with features, the boundary edges whose
 //      triangles' normals differ by more than feature_angle_deg form feature lines
-//      (extract_feature_lines): the sites nearest to points along them move onto them,
-//      and each feature corner gets a fixed site (the nearest site, or a new one);
+//      (extract_feature_lines; cut where they turn sharply, the short ones dropped): the
+//      sites nearest to points along them move onto them, and each feature corner gets a
+//      fixed site (the nearest site, or a new one);
 //   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
 //      their line (eq. 3), corners are fixed;
 //   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
@@ -436,6 +437,11 @@ struct Mesh3Options {
   // (extract_feature_lines). features = false: the surface alone.
   bool features = true;
   double feature_angle_deg = kDefaultFeatureAngleDeg;
+  // Feature lines shorter than this times the local spacing of the sites are dropped (and
+  // the corners that end only them): creases of a coarse smooth surface, or details below
+  // the resolution, are meshed as smooth surface. Lines are also cut into two where they
+  // turn by more than feature_angle_deg, the point becoming a corner.
+  double min_feature_length = 1.5;
   // Initial sampling, and its seed (the lattice's offset, or the random draws).
   Mesh3Sampling sampling = Mesh3Sampling::kLattice;
   std::uint64_t seed = 1;
