@@ -132,6 +132,23 @@ void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh)
 /// .mesh (Medit), .msh (Gmsh 2.2), atomically.
 void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh);
 
+struct Mesh3dArgs {
+  std::string domain;  // tet mesh, any format read_tet_mesh reads
+  std::uint32_t vertices = 10000;
+  bool adaptive = false;
+  double feature_angle = 40;
+  bool no_features = false;
+  std::uint64_t seed = 1;
+  std::uint32_t unconstrained_iterations = 20, constrained_iterations = 30;
+  bool no_perturb = false;
+  double sliver_angle = 30;
+  std::string output;  // .mesh, .msh, .vtu; empty: no file
+  std::string msh_version = "4.1";
+};
+
+/// CVT tetrahedral meshing of a tet mesh's volume (mesh3d), with the quality report.
+void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options);
+
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
 void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);
 void run_predicate(const PredicateArgs& args, const GlobalOptions& options);

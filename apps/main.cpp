@@ -274,6 +274,56 @@ int main(int argc, char** argv) {
                    "100000; 10 per triangle when more)")
       ->type_name("N");
 
+  voroclip::cli::Mesh3dArgs mesh3d_args;
+  CLI::App* mesh3d = app.add_subcommand(
+      "mesh3d",
+      "Tetrahedral mesh of the volume of a tet mesh by centroidal Voronoi tessellation (Yan et "
+      "al. 2011, sec. 5.2): CVT, boundary and feature sites constrained, exact extraction, "
+      "sliver perturbation; progress per phase and the quality report");
+  mesh3d
+      ->add_option("DOMAIN", mesh3d_args.domain,
+                   "Tet mesh of the domain: Medit .mesh, TetGen .node/.ele, Gmsh .msh, legacy "
+                   ".vtk or .vtu")
+      ->required()
+      ->type_name("MESH");
+  mesh3d->add_option("--vertices", mesh3d_args.vertices, "Number of vertices (sites) wanted")
+      ->required()
+      ->type_name("N");
+  mesh3d->add_flag("--adaptive", mesh3d_args.adaptive,
+                   "Size the elements by the local feature size of the boundary (density "
+                   "h^-5) instead of uniformly");
+  mesh3d
+      ->add_option("--feature-angle", mesh3d_args.feature_angle,
+                   "Boundary edges whose triangles' normals differ by more than DEG degrees are "
+                   "sharp features (default 40)")
+      ->type_name("DEG");
+  mesh3d->add_flag("--no-features", mesh3d_args.no_features, "Do not keep sharp features");
+  mesh3d->add_option("--seed", mesh3d_args.seed, "Seed of the initial sampling (default 1)")
+      ->type_name("S");
+  mesh3d
+      ->add_option("--unconstrained-iterations", mesh3d_args.unconstrained_iterations,
+                   "L-BFGS iterations of the unconstrained CVT (default 20)")
+      ->type_name("N");
+  mesh3d
+      ->add_option("--constrained-iterations", mesh3d_args.constrained_iterations,
+                   "L-BFGS iterations of the constrained CVT (default 30)")
+      ->type_name("N");
+  mesh3d
+      ->add_option("--sliver-angle", mesh3d_args.sliver_angle,
+                   "Perturb the vertices of tets whose smallest dihedral angle is below DEG "
+                   "degrees (default 30)")
+      ->type_name("DEG");
+  mesh3d->add_flag("--no-perturb", mesh3d_args.no_perturb, "No sliver perturbation");
+  mesh3d
+      ->add_option("-o,--output", mesh3d_args.output,
+                   "Write the mesh: .mesh (Medit), .msh (Gmsh) or .vtu (VTK XML, with the "
+                   "smallest dihedral angle per tet)")
+      ->type_name("FILE");
+  mesh3d
+      ->add_option("--msh-version", mesh3d_args.msh_version,
+                   "Gmsh format of a .msh output: 4.1 (default) or 2.2")
+      ->type_name("V");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -301,6 +351,7 @@ int main(int argc, char** argv) {
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
     }
+    if (*mesh3d) voroclip::cli::run_mesh3d(mesh3d_args, global);
     if (*quality) {
       quality_args.samples_set = quality->get_option("--samples")->count() > 0;
       voroclip::cli::run_quality(quality_args, global);

@@ -125,3 +125,17 @@ for name, count, k, r, deg in [("edge N (deg 4)", 9, 13, 5, 4),
     assert slack > Fr(1, 2**60)
     print(f"{name:18s} k {k:2d}  K = {float(need):.6e} = {float(need/u):.4f} u"
           f"   store {stored:.2e}   slack {float(slack) * 100:.2f} %")
+
+# Circumcenter predicates (predicates/src/circumcenter3d.h), the same norm-product model:
+# P = n . (Nv - 2 D u) (deg 6), D (deg 3), and the circumcenter numerator Nv (deg 4) used
+# by the enclosure (a bound on |Nv~ - Nv|, not a sign decision: it carries the same
+# factors).
+for name, count, k, r, deg in [("circumcenter P (deg 6)", 36, 20, 8, 6),
+                               ("circumcenter D (deg 3)", 6, 8, 2, 3),
+                               ("circumcenter Nv (deg 4)", 6, 12, 5, 4)]:
+    need = count * gamma(k) * (1 + u) ** (r + 2) / (1 - u) ** deg
+    stored = round_up_3(float(need))
+    slack = (Fr(stored) - need) / need
+    assert slack > Fr(1, 2**60)
+    print(f"{name:18s} k {k:2d}  K = {float(need):.6e} = {float(need/u):.4f} u"
+          f"   store {stored:.2e}   slack {float(slack) * 100:.2f} %")

@@ -10,11 +10,16 @@
 //   2D CVT triangle meshing of polygons with holes (Yan et al. 2011, sec. 5.1) and its
 //      quality report. Sources: mesh/src/mesh2d.cpp, sizing2d.cpp, extract2d.cpp,
 //      quality2d.cpp.
+//   3D CVT tet meshing: TetExtractor3 (exact extraction of the Delaunay tets whose
+//      circumcenter lies in the domain, boundary filling, manifold repair),
+//      perturb_slivers3 (sliver perturbation), mesh3d (the pipeline of sec. 5.2).
+//      Sources: mesh/src/extract3d.cpp, mesh/src/slivers3d.cpp, mesh/src/mesh3d.cpp.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -468,5 +473,278 @@ std::string quality_json(const TriangleQuality2& q);
 // An SVG bar chart of the angle histograms (all angles, and per-triangle min and max),
 // with the summary figures; `title` is escaped.
 void write_quality_svg(std::ostream& out, const TriangleQuality2& q, const std::string& title);
+
+// =======================================================================================
+// 3D CVT tet meshing: extraction of the mesh from the Delaunay triangulation of the sites
+// (paper sec. 5.2, "Final mesh extraction"; mesh/src/extract3d.cpp).
+//
+// A Delaunay tet is kept when its circumcenter lies in the CLOSED domain: inside a tet of
+// the Domain3 or on the boundary surface (the tie rule: a circumcenter exactly on the
+// boundary counts as inside). The decision is exact: orient3d_circumcenter against the
+// facets of the domain tets that may contain the circumcenter, found by a grid over the
+// domain tets' bounding boxes queried with the proven error box of the floating-point
+// circumcenter (circumcenter3d_enclosure; when it has none, every domain tet is a
+// candidate). No epsilon anywhere.
+//
+// The kept tets can have a non-manifold boundary (tets meeting along an edge or at a
+// vertex only; it happens near concave parts of the boundary). With repair_manifold, each
+// such edge or vertex is fixed by a local rule (extract3d.cpp): around it, either every
+// kept component of its star but the one of largest volume is removed, or every non-kept
+// component but the largest (the one holding infinite tets, if any) is added, whichever
+// changes less volume; a tet changed once is not changed again. What that leaves after
+// max_repair_passes is fixed by removals only (every kept component but the largest; at a
+// vertex whose kept tets form one component around holes, all of them), which always ends
+// with a closed 2-manifold boundary.
+
+// Where the points of a triangulation lie on the domain's boundary: per point p, the
+// surface patches [begin[p], begin[p + 1]) of `patches` that hold it (none: not on the
+// surface). A patch is a region of the boundary surface bounded by feature lines (a smooth
+// surface is one patch); a point on a feature line is on the patches on both sides, a
+// feature corner on all the patches around it.
+struct SurfacePatches {
+  std::vector<std::uint32_t> begin;  // nb points + 1
+  std::vector<std::uint32_t> patches;
+};
+
+struct Extract3Options {
+  // When given, the extraction fills the boundary (extract3d.cpp): a boundary facet of the
+  // kept tets is a dent when one of its vertices is not on the surface, and crosses a
+  // crease when its vertices share no patch. The finite tet across a dent is added; at a
+  // crease, the tet across is added when its centroid is strictly inside the domain (the
+  // chamfer of a convex feature edge), and the kept tet is removed when its own centroid
+  // is strictly outside (a bridge over a concave edge). A tet changes at most once. In
+  // passes, until nothing changes (at most max_fill_passes). Sites on a curved or polyhedral
+  // surface make the circumcenters of the boundary layer's tets lie close to the surface, on either
+  // side: without this, a well-shaped tet whose circumcenter is just outside leaves an interior
+  // site on the boundary (a dent one layer deep), or cuts a sharp edge.
+  const SurfacePatches* surface = nullptr;
+  std::uint32_t max_fill_passes = 8;
+  bool repair_manifold = true;
+  // Passes of the first rule (each re-examines the boundary); it stops earlier when clean.
+  std::uint32_t max_repair_passes = 16;
+};
+
+struct Extract3Stats {
+  std::uint32_t nb_delaunay_tets = 0;          // finite tets of the triangulation
+  std::uint32_t nb_inside = 0;                 // with the circumcenter in the closed domain
+  std::uint32_t nb_on_boundary = 0;            // of those, exactly on the boundary (tie rule)
+  std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
+  std::uint32_t nb_filled = 0;                 // tets added across dents
+  std::uint32_t nb_creases = 0;                // tets added across creases
+  std::uint32_t nb_carved = 0;                 // tets removed at creases
+  std::uint32_t nb_nonmanifold_edges = 0;      // found by the repair (over all passes)
+  std::uint32_t nb_nonmanifold_vertices = 0;   // found by the repair (over all passes)
+  std::uint32_t nb_added = 0, nb_removed = 0;  // tets changed by the repair
+  std::uint32_t nb_repair_passes = 0;
+  std::uint32_t nb_kept = 0;  // tets returned
+  double seconds = 0;
+};
+
+// The exact location of circumcenters in a domain, and the extraction. Builds its grid
+// once (O(number of domain tets)); queries are const and thread-safe. The domain must
+// outlive it.
+class TetExtractor3 {
+ public:
+  explicit TetExtractor3(const Domain3& domain);
+  ~TetExtractor3();
+  TetExtractor3(TetExtractor3&&) noexcept;
+  TetExtractor3& operator=(TetExtractor3&&) = delete;
+
+  // Where the circumcenter of p0..p3 (not coplanar) lies: POSITIVE strictly inside the
+  // domain (in a domain tet or on a facet between two), ZERO on the boundary surface,
+  // NEGATIVE outside. Exact. Throws Error for coplanar points.
+  Sign circumcenter_side(const double* p0, const double* p1, const double* p2,
+                         const double* p3) const;
+  // Where point p lies, with the same convention (exact orient3d). Throws Error for a
+  // non-finite coordinate.
+  Sign point_side(const double* p) const;
+
+  // The kept tets of dt (4 input point indices each), each listed so that
+  // det(p1 - p0, p2 - p0, p3 - p0) > 0 (orient3d(p0, p1, p2, p3) < 0: the right-handed
+  // orientation of TetGen, Medit and the shared data), in the order of dt's tet slots.
+  // Parallel over the tets, one slot each: the same result for any thread count.
+  std::vector<std::uint32_t> extract(const Delaunay3& dt, const Extract3Options& options = {},
+                                     Extract3Stats* stats = nullptr) const;
+
+ private:
+  struct Grid;
+  // circumcenter_side, starting from tet `hint` (kNone: none; updated to a tet near the
+  // circumcenter); `unbounded` set when no error box exists.
+  Sign locate(const double* p0, const double* p1, const double* p2, const double* p3,
+              bool& unbounded, std::uint32_t& hint) const;
+  // The search of a point x given by `side` (side(a, b, c) = orient3d(a, b, c, x)), known
+  // to lie in the box [qlo, qhi] (centre: a floating-point approximation of it).
+  template <class SideOf>
+  Sign locate_in(const double* centre, const double* qlo, const double* qhi, bool unbounded,
+                 std::uint32_t& hint, const SideOf& side) const;
+  const Domain3* domain_;
+  std::unique_ptr<Grid> grid_;
+};
+
+// =======================================================================================
+// 3D CVT tet meshing: sliver removal by vertex perturbation (Tournois, Srinivasan & Alliez,
+// IMR 2009; mesh/src/slivers3d.cpp has the algorithm).
+
+struct Perturb3Options {
+  // Kept tets whose smallest dihedral angle is below this are slivers.
+  double target_dihedral_deg = 30;
+  std::uint32_t max_rounds = 20;
+  // Stop when a round removed no sliver and raised the smallest angle by less than this.
+  double min_progress_deg = 1;
+  // Seed of the pseudo-random directions.
+  std::uint64_t seed = 1;
+  // The options of every extraction (the surface patches must outlive the call).
+  Extract3Options extraction;
+  // Called before each round with the round, the number of slivers and the smallest
+  // dihedral angle; return false to stop.
+  std::function<bool(std::uint32_t, std::uint32_t, double)> progress;
+};
+
+struct Perturb3Stats {
+  std::uint32_t rounds = 0, moves = 0;
+  std::uint32_t initial_slivers = 0, final_slivers = 0;
+  double initial_min_dihedral_deg = 0, final_min_dihedral_deg = 0;
+  double seconds = 0;
+  bool cancelled = false;
+};
+
+// Moves the vertices of slivers of the mesh extracted from the sites' Delaunay
+// triangulation (sites updated in place). kinds: per site (or empty: all free); fixed
+// sites never move, surface and curve sites move within their constraint through
+// `project` (as in Cvt3Options; here it may be called from several threads at once, so
+// it must be thread-safe). `mesh` and `extraction`, when given, receive the tets that
+// extract() (default options) gives for the final sites, and its statistics.
+// Deterministic: the same result for any thread count.
+Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<double>& sites,
+                               const std::vector<SiteConstraint3::Kind>& kinds,
+                               const SiteProjector3& project, const Perturb3Options& options = {},
+                               std::vector<std::uint32_t>* mesh = nullptr,
+                               Extract3Stats* extraction = nullptr);
+
+// =======================================================================================
+// 3D CVT tet meshing: the pipeline (Yan et al. 2011, sec. 5.2; mesh/src/mesh3d.cpp).
+//
+//   1. sizing: uniform, or adaptive from the local feature size (SizingField3: density
+//      h^-5 on the domain's vertices);
+//   2. initial sampling: about nb_vertices sites on a body-centred cubic lattice strictly
+//      inside the domain (uniform sizing: the lattice is the best known CVT in space, so
+//      only the boundary layer has far to go), or drawn with the density (random_points3);
+//   3. unconstrained CVT (L-BFGS);
+//   4. classification and snapping: the sites whose Voronoi cell meets the boundary
+//      surface move to their closest point on it; with features, the boundary edges whose
+//      triangles' normals differ by more than feature_angle_deg form feature lines
+//      (extract_feature_lines; cut where they turn sharply, the short ones dropped): the
+//      sites nearest to points along them move onto them, and each feature corner gets a
+//      fixed site (the nearest site, or a new one);
+//   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
+//      their line (eq. 3), corners are fixed;
+//   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
+//      exact, manifold repair);
+//   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
+//      constraint; the mesh is extracted again;
+//   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
+//      the tets (right-handed), the quality (tet_quality) and the timing of each phase.
+// Deterministic for a given seed: the same mesh for any thread count.
+
+enum class Mesh3Phase : std::uint8_t {
+  kSizing,
+  kSampling,
+  kUnconstrained,
+  kSnapping,
+  kConstrained,
+  kExtraction,
+  kSlivers,
+  kQuality,
+};
+
+// "sizing", "sampling", "unconstrained", "snapping", "constrained", "extraction",
+// "slivers", "quality".
+const char* mesh3_phase_name(Mesh3Phase phase);
+
+// What the progress callback receives: at the start of each phase (iteration 0), after
+// every CVT iteration (energy, gradient norm), and before every perturbation round
+// (iteration = round, slivers and min_dihedral_deg set).
+struct Mesh3Progress {
+  Mesh3Phase phase = Mesh3Phase::kSizing;
+  std::uint32_t iteration = 0;
+  double energy = 0;
+  double gradient_norm = 0;
+  std::uint32_t slivers = 0;
+  double min_dihedral_deg = 0;
+  double seconds = 0;  // since the start of the pipeline
+};
+
+enum class Mesh3Sampling : std::uint8_t {
+  kLattice,  // body-centred cubic lattice (uniform sizing only; adaptive sizing draws)
+  kRandom,   // random_points3 with the density
+};
+
+struct Mesh3Options {
+  // Number of sites (about the number of vertices of the result: plus one site per
+  // feature corner without a site nearby, minus the sites no tet uses).
+  std::uint32_t nb_vertices = 10000;
+  // Density from the local feature size (SizingField3 with `sizing`) instead of uniform.
+  bool adaptive = false;
+  Sizing3Options sizing;
+  // Sharp features: an edge is sharp when its triangles' normals differ by more than this
+  // (extract_feature_lines). features = false: the surface alone.
+  bool features = true;
+  double feature_angle_deg = kDefaultFeatureAngleDeg;
+  // Feature lines shorter than this times the local spacing of the sites are dropped (and
+  // the corners that end only them): creases of a coarse smooth surface, or details below
+  // the resolution, are meshed as smooth surface. Lines are also cut into two where they
+  // turn by more than feature_angle_deg, the point becoming a corner.
+  double min_feature_length = 1.5;
+  // Initial sampling, and its seed (the lattice's offset, or the random draws).
+  Mesh3Sampling sampling = Mesh3Sampling::kLattice;
+  std::uint64_t seed = 1;
+  // L-BFGS iterations of the two CVT phases, and their stopping tolerance on |g| / |g_0|.
+  std::uint32_t unconstrained_iterations = 20;
+  std::uint32_t constrained_iterations = 30;
+  double gradient_tolerance = 1e-4;
+  // Sliver perturbation (perturb = false: none).
+  bool perturb = true;
+  Perturb3Options perturbation;
+  // Called as described at Mesh3Progress; return false to stop: the result then has
+  // cancelled == true and no tets.
+  std::function<bool(const Mesh3Progress&)> progress;
+};
+
+enum class Mesh3VertexKind : std::uint8_t {
+  kInterior,  // free in the volume
+  kSurface,   // on the boundary surface
+  kFeature,   // on a feature line
+  kCorner,    // at a feature corner (fixed)
+};
+
+struct Mesh3Result {
+  std::vector<double> xyz;             // vertices, x y z each
+  std::vector<Mesh3VertexKind> kinds;  // per vertex
+  // 4 vertex indices per tet, det(p1 - p0, p2 - p0, p3 - p0) > 0 (exactly).
+  std::vector<std::uint32_t> tets;
+  std::uint32_t nb_sites = 0;          // sites optimised (corners added included)
+  std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
+  std::uint32_t nb_boundary_sites = 0, nb_feature_sites = 0, nb_corner_sites = 0;
+  std::uint32_t nb_feature_lines = 0, nb_feature_corners = 0;
+  CvtResult unconstrained, constrained;
+  Extract3Stats extraction;
+  Perturb3Stats perturbation;
+  TetQuality quality;
+  // Wall-clock seconds per phase (Mesh3Phase order) and in all.
+  double seconds[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double total_seconds = 0;
+  bool cancelled = false;
+
+  std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
+  std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
+};
+
+// Meshes the volume of `domain` (mesh.h, "the pipeline"). Throws Error for invalid options
+// (fewer than 4 vertices, a feature angle outside [0, 180]) or a domain without boundary.
+Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
+
+// The boundary surface of a Domain3 as a TriangleSurface (its vertices, all of them, and
+// its boundary triangles oriented outward by the right-hand rule).
+TriangleSurface boundary_surface(const Domain3& domain);
 
 }  // namespace voroclip

@@ -1,0 +1,198 @@
+// voroclip mesh3d: CVT tetrahedral meshing of the volume of a tet mesh (mesh3d in
+// voroclip/mesh.h): progress per phase, the mesh as Medit, Gmsh or VTK XML, and the quality
+// report (Q1..Q4, Hausdorff distance of the boundary to the input's) in --stats json.
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t slash = path.find_last_of("/\\");
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+std::string sci(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4e", x);
+  return buf;
+}
+
+}  // namespace
+
+void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
+  const std::string ext = lower_extension(args.output);
+  if (!args.output.empty() && ext != ".mesh" && ext != ".msh" && ext != ".vtu") {
+    throw UsageError(
+        "-o: the output must end in .mesh (Medit), .msh (Gmsh) or .vtu (VTK XML), got '" +
+        args.output + "'");
+  }
+  if (args.msh_version != "2.2" && args.msh_version != "4.1") {
+    throw UsageError("--msh-version: expected 2.2 or 4.1, got '" + args.msh_version + "'");
+  }
+  if (args.vertices < 4) throw UsageError("--vertices: needs at least 4 vertices");
+  if (!(args.feature_angle >= 0 && args.feature_angle <= 180)) {
+    throw UsageError("--feature-angle: expected degrees in [0, 180], got " +
+                     format_double(args.feature_angle));
+  }
+  if (!(args.sliver_angle >= 0 && args.sliver_angle < 70.5)) {
+    throw UsageError("--sliver-angle: expected degrees in [0, 70.5), got " +
+                     format_double(args.sliver_angle));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const Domain3 domain(read_tet_mesh(args.domain));
+  const double t_read = seconds_since(start);
+
+  std::ostream* out = human_stream(options);
+  Mesh3Options o;
+  o.nb_vertices = args.vertices;
+  o.adaptive = args.adaptive;
+  o.features = !args.no_features;
+  o.feature_angle_deg = args.feature_angle;
+  o.seed = args.seed;
+  o.unconstrained_iterations = args.unconstrained_iterations;
+  o.constrained_iterations = args.constrained_iterations;
+  o.perturb = !args.no_perturb;
+  o.perturbation.target_dihedral_deg = args.sliver_angle;
+  if (out) {
+    o.progress = [out](const Mesh3Progress& p) {
+      if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
+        if (p.iteration == 0 && p.energy == 0) {
+          *out << mesh3_phase_name(p.phase) << " CVT\n";
+        } else {
+          *out << "  " << mesh3_phase_name(p.phase) << " iteration " << p.iteration << "  energy "
+               << sci(p.energy) << "  |g| " << sci(p.gradient_norm) << "  " << fixed(p.seconds, 2)
+               << " s\n";
+        }
+      } else if (p.phase == Mesh3Phase::kSlivers && (p.iteration > 0 || p.slivers > 0)) {
+        *out << "  slivers round " << p.iteration << ": " << p.slivers
+             << " tets below the target, smallest dihedral angle " << fixed(p.min_dihedral_deg, 2)
+             << " deg  " << fixed(p.seconds, 2) << " s\n";
+      } else if (p.iteration == 0) {
+        *out << mesh3_phase_name(p.phase) << "  " << fixed(p.seconds, 2) << " s\n";
+      }
+      return true;
+    };
+  }
+  const Mesh3Result r = mesh3d(domain, o);
+
+  TetMeshInput mesh;
+  mesh.source = args.output.empty() ? std::string("mesh3d") : args.output;
+  mesh.xyz = r.xyz;
+  mesh.tets = r.tets;
+  // The Hausdorff distance between the output's boundary and the input's.
+  const auto t_h = std::chrono::steady_clock::now();
+  const TriangleSurface reference = boundary_surface(domain);
+  const TriangleSurface boundary = tet_mesh_boundary(mesh);
+  const HausdorffDistance distance = hausdorff_distance(boundary, reference);
+  const double t_hausdorff = seconds_since(t_h);
+
+  if (!args.output.empty()) {
+    if (ext == ".vtu") {
+      // Per tet: its smallest dihedral angle; per vertex kind as a cell field is not
+      // possible, so the vertex kinds go with the statistics only.
+      std::vector<VtuCellField> fields(1);
+      fields[0].name = "q1_min_dihedral_deg";
+      fields[0].values.reserve(r.nb_tets());
+      for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+        const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+        fields[0].values.push_back(
+            tet_shape(&r.xyz[3 * std::size_t{v[0]}], &r.xyz[3 * std::size_t{v[1]}],
+                      &r.xyz[3 * std::size_t{v[2]}], &r.xyz[3 * std::size_t{v[3]}])
+                .q1_deg);
+      }
+      write_file_atomically(args.output, [&](std::ostream& os) {
+        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, r.tets, 4, true, fields);
+      });
+    } else if (ext == ".msh") {
+      write_tet_mesh(args.output, mesh,
+                     args.msh_version == "2.2" ? TetMeshFormat::kGmsh22 : TetMeshFormat::kGmsh41);
+    } else {
+      write_tet_mesh(args.output, mesh, TetMeshFormat::kMedit);
+    }
+  }
+
+  std::uint32_t counts[4] = {0, 0, 0, 0};
+  for (const Mesh3VertexKind k : r.kinds) ++counts[static_cast<int>(k)];
+  if (options.stats_json) {
+    std::ostringstream text;
+    write_quality_json(text, r.quality, &distance);
+    nlohmann::json j = nlohmann::json::parse(text.str());
+    j["domain"] = args.domain;
+    j["sites"] = r.nb_sites;
+    j["dropped_sites"] = r.nb_dropped_sites;
+    j["vertex_kinds"] = {{"interior", counts[0]},
+                         {"surface", counts[1]},
+                         {"feature", counts[2]},
+                         {"corner", counts[3]}};
+    j["feature_lines"] = r.nb_feature_lines;
+    j["feature_corners"] = r.nb_feature_corners;
+    j["cvt"] = {{"unconstrained",
+                 {{"iterations", r.unconstrained.iterations},
+                  {"evaluations", r.unconstrained.evaluations},
+                  {"energy", r.unconstrained.energy},
+                  {"gradient_norm", r.unconstrained.gradient_norm}}},
+                {"constrained",
+                 {{"iterations", r.constrained.iterations},
+                  {"evaluations", r.constrained.evaluations},
+                  {"energy", r.constrained.energy},
+                  {"gradient_norm", r.constrained.gradient_norm}}}};
+    j["extraction"] = {{"delaunay_tets", r.extraction.nb_delaunay_tets},
+                       {"inside", r.extraction.nb_inside},
+                       {"on_boundary", r.extraction.nb_on_boundary},
+                       {"nonmanifold_edges", r.extraction.nb_nonmanifold_edges},
+                       {"nonmanifold_vertices", r.extraction.nb_nonmanifold_vertices},
+                       {"added", r.extraction.nb_added},
+                       {"removed", r.extraction.nb_removed}};
+    j["perturbation"] = {{"rounds", r.perturbation.rounds},
+                         {"moves", r.perturbation.moves},
+                         {"initial_slivers", r.perturbation.initial_slivers},
+                         {"final_slivers", r.perturbation.final_slivers},
+                         {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg}};
+    nlohmann::json seconds = {{"read", t_read}};
+    for (int p = 0; p < 8; ++p)
+      seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];
+    seconds["meshing"] = r.total_seconds;
+    seconds["hausdorff"] = t_hausdorff;
+    seconds["total"] = seconds_since(start);
+    j["seconds"] = seconds;
+    std::cout << j.dump() << '\n';
+  }
+  if (out) {
+    *out << "Mesh: " << r.nb_vertices() << " vertices (" << counts[0] << " interior, " << counts[1]
+         << " surface, " << counts[2] << " feature, " << counts[3] << " corner), " << r.nb_tets()
+         << " tets in " << fixed(r.total_seconds, 2) << " s\n";
+    write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,
+                       &distance, domain.source());
+    if (!args.output.empty()) *out << "Written to " << args.output << '\n';
+  }
+}
+
+}  // namespace voroclip::cli

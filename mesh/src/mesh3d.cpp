@@ -1,0 +1,623 @@
+// The 3D CVT tet-meshing pipeline (Yan et al. 2011, sec. 5.2; the steps are listed in
+// mesh.h): sizing, sampling, unconstrained CVT, snapping of boundary, feature and corner
+// sites, constrained CVT, exact extraction, sliver perturbation, output and quality.
+//
+// Feature sites (step 4). Each feature line is sampled every eighth of the local spacing
+// of the sites (the spacing that n sites of density h^-3 have: (integral of h^-3 / n)^(1/3)
+// h(x), h the sizing field or 1), and at its end; the site nearest to a sample
+// (Delaunay3::nearest_vertex, exact) is the site whose Voronoi cell holds it, so the sites sampled
+// are those whose cells the line crosses, in order along it. A site met on several lines goes to
+// the line with the most samples in its cell (ties: the lower line). Corners come first: each takes
+// the site nearest to it unless that site already went to another corner, in which case a new site
+// is added at the corner. Surface sites are then the boundary sites (ClippedVoronoi3::
+// is_boundary) left. Every choice is a function of the sites, in index order.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "voroclip/mesh.h"
+
+namespace voroclip {
+
+namespace {
+
+using Kind = SiteConstraint3::Kind;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct Cancelled {};
+
+// Projection onto the boundary surface (closest point, pseudo-normal) or onto a site's
+// feature line (closest point, tangent). Const queries: thread-safe.
+struct Projection {
+  const SurfaceTree* surface = nullptr;
+  const FeatureTree* lines = nullptr;
+  const std::vector<std::uint32_t>* line_of = nullptr;  // per site (kCurve)
+
+  void operator()(std::uint32_t site, Kind kind, const double* p, double* q, double* d) const {
+    if (kind == Kind::kCurve) {
+      const FeatureTree::Closest c = lines->closest(p, (*line_of)[site]);
+      std::copy_n(c.point, 3, q);
+      std::copy_n(c.tangent, 3, d);
+    } else {
+      const SurfaceTree::Closest c = surface->closest(p);
+      std::copy_n(c.point, 3, q);
+      std::copy_n(c.normal, 3, d);
+    }
+  }
+};
+
+// Sites on a body-centred cubic lattice (the points a (i, j, k) + o and a (i + 1/2, j + 1/2,
+// k + 1/2) + o) strictly inside the domain (exact point location), about n of them: the
+// spacing starts at (2 V / n)^(1/3) and is corrected by the count's cube root until the
+// count is within 0.5 % of n (at most 6 times). The offset o is a function of the seed.
+// The BCC lattice is the best known CVT in space (its cells are truncated octahedra,
+// Du & Wang 2005), so only the sites near the boundary have far to go.
+std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& locator,
+                                  std::uint32_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  double offset[3];
+  for (double& o : offset) o = static_cast<double>(rng() >> 11) * 0x1p-53;
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  double a = std::cbrt(2 * domain.volume() / n);
+  std::vector<double> xyz;
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    xyz.clear();
+    std::int64_t first[3], last[3];
+    for (int c = 0; c < 3; ++c) {
+      first[c] = static_cast<std::int64_t>(std::floor(lo[c] / a - offset[c])) - 1;
+      last[c] = static_cast<std::int64_t>(std::ceil(hi[c] / a - offset[c])) + 1;
+    }
+    for (int shift = 0; shift < 2; ++shift) {
+      for (std::int64_t k = first[2]; k <= last[2]; ++k) {
+        for (std::int64_t j = first[1]; j <= last[1]; ++j) {
+          for (std::int64_t i = first[0]; i <= last[0]; ++i) {
+            const std::int64_t ijk[3] = {i, j, k};
+            double p[3];
+            for (int c = 0; c < 3; ++c) {
+              p[c] = a * (static_cast<double>(ijk[c]) + offset[c] + 0.5 * shift);
+            }
+            if (locator.point_side(p) == Sign::positive) xyz.insert(xyz.end(), p, p + 3);
+          }
+        }
+      }
+    }
+    const double count = static_cast<double>(xyz.size() / 3);
+    if (std::fabs(count - n) <= 0.005 * n) break;
+    a *= std::cbrt(std::max(count, 1.0) / n);
+  }
+  if (xyz.size() < 12) throw Error("mesh3d: the lattice has fewer than 4 points in the domain");
+  return xyz;
+}
+
+// Feature lines cut at the vertices where they turn by more than angle_deg (the angle
+// between consecutive segments), which become corners: where a crease folds back on
+// itself two feature edges meet, yet the point is a corner of the shape.
+FeatureLines split_at_turns(const TriangleSurface& s, const FeatureLines& lines, double angle_deg) {
+  const double cos_limit = std::cos(angle_deg * (3.14159265358979323846 / 180));
+  const auto turns = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    double u[3], v[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = s.xyz[3 * std::size_t{b} + static_cast<std::size_t>(k)] -
+             s.xyz[3 * std::size_t{a} + static_cast<std::size_t>(k)];
+      v[k] = s.xyz[3 * std::size_t{c} + static_cast<std::size_t>(k)] -
+             s.xyz[3 * std::size_t{b} + static_cast<std::size_t>(k)];
+    }
+    const double uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    return uv < cos_limit * std::sqrt(uu * vv);
+  };
+  FeatureLines out;
+  out.corners = lines.corners;
+  out.nb_feature_edges = lines.nb_feature_edges;
+  const auto emit = [&](const std::vector<std::uint32_t>& vs, bool closed) {
+    out.line_vertices.insert(out.line_vertices.end(), vs.begin(), vs.end());
+    out.line_begin.push_back(static_cast<std::uint32_t>(out.line_vertices.size()));
+    out.line_closed.push_back(closed ? 1 : 0);
+  };
+  std::vector<std::uint32_t> vs, piece;
+  for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+    vs.assign(lines.line_vertices.begin() + lines.line_begin[l],
+              lines.line_vertices.begin() + lines.line_begin[l + 1]);
+    const bool closed = lines.line_closed[l] != 0;
+    const std::size_t m = vs.size();
+    std::vector<std::size_t> cuts;  // positions of turning vertices
+    for (std::size_t i = 0; i < m; ++i) {
+      if (closed ? i + 1 == m : (i == 0 || i + 1 == m)) continue;
+      const std::uint32_t prev = closed && i == 0 ? vs[m - 2] : vs[i - (i > 0 ? 1 : 0)];
+      if (turns(prev, vs[i], vs[i + 1])) cuts.push_back(i);
+    }
+    if (cuts.empty()) {
+      emit(vs, closed);
+      continue;
+    }
+    for (const std::size_t c : cuts) out.corners.push_back(vs[c]);
+    if (closed) {
+      // Start at the first cut: an open line from cut to cut, all the way round.
+      std::vector<std::uint32_t> ring(vs.begin(), vs.end() - 1);
+      std::rotate(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(cuts[0]), ring.end());
+      ring.push_back(ring.front());
+      for (std::size_t& c : cuts) c = (c + (m - 1) - cuts[0]) % (m - 1);
+      cuts.push_back(m - 1);
+      vs = ring;
+    } else {
+      cuts.push_back(m - 1);
+      cuts.insert(cuts.begin(), 0);
+    }
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      if (cuts[k + 1] <= cuts[k]) continue;
+      piece.assign(vs.begin() + static_cast<std::ptrdiff_t>(cuts[k]),
+                   vs.begin() + static_cast<std::ptrdiff_t>(cuts[k + 1]) + 1);
+      emit(piece, false);
+    }
+  }
+  std::sort(out.corners.begin(), out.corners.end());
+  out.corners.erase(std::unique(out.corners.begin(), out.corners.end()), out.corners.end());
+  return out;
+}
+
+// The feature lines at least as long as `ratio` times the local spacing of the sites at
+// their middle vertex, and the corners that end them: shorter creases (noise of a coarse
+// surface, details below the resolution) are treated as smooth surface.
+template <class Spacing>
+FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& lines, double ratio,
+                              const Spacing& spacing) {
+  FeatureLines out;
+  out.nb_feature_edges = 0;
+  for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+    const std::uint32_t b = lines.line_begin[l], e = lines.line_begin[l + 1];
+    double length = 0;
+    for (std::uint32_t i = b; i + 1 < e; ++i) {
+      const double* p = &s.xyz[3 * std::size_t{lines.line_vertices[i]}];
+      const double* q = &s.xyz[3 * std::size_t{lines.line_vertices[i + 1]}];
+      length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                          (p[2] - q[2]) * (p[2] - q[2]));
+    }
+    const double* middle = &s.xyz[3 * std::size_t{lines.line_vertices[b + (e - b) / 2]}];
+    if (length < ratio * spacing(middle)) continue;
+    out.line_vertices.insert(out.line_vertices.end(), lines.line_vertices.begin() + b,
+                             lines.line_vertices.begin() + e);
+    out.line_begin.push_back(static_cast<std::uint32_t>(out.line_vertices.size()));
+    out.line_closed.push_back(lines.line_closed[l]);
+    out.nb_feature_edges += e - b - 1;
+    if (lines.line_closed[l] == 0) {
+      out.corners.push_back(lines.line_vertices[b]);
+      out.corners.push_back(lines.line_vertices[e - 1]);
+    }
+  }
+  std::sort(out.corners.begin(), out.corners.end());
+  out.corners.erase(std::unique(out.corners.begin(), out.corners.end()), out.corners.end());
+  return out;
+}
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
+}
+
+// The surface patches of the sites (SurfacePatches): the boundary triangles are grouped by a
+// flood fill across the edges that are not feature edges; a surface site is on the patch of
+// the triangle it projects onto, a feature site on the patches beside the segment it
+// projects onto, a corner on the patches around its vertex.
+SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
+                            const SurfaceTree& surface, const FeatureTree& line_tree,
+                            const std::vector<double>& sites, const std::vector<Kind>& kinds,
+                            const std::vector<std::uint32_t>& line_of,
+                            const std::vector<std::uint32_t>& corner_vertex) {
+  std::vector<std::uint64_t> features;
+  for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+    for (std::uint32_t i = lines.line_begin[l]; i + 1 < lines.line_begin[l + 1]; ++i) {
+      features.push_back(edge_key(lines.line_vertices[i], lines.line_vertices[i + 1]));
+    }
+  }
+  std::sort(features.begin(), features.end());
+  const auto is_feature = [&](std::uint64_t k) {
+    return std::binary_search(features.begin(), features.end(), k);
+  };
+  const std::uint32_t nb = domain.nb_boundary_triangles();
+  const auto edge_of = [&](std::uint32_t b, int e) {
+    return edge_key(domain.boundary_vertex(b, (e + 1) % 3), domain.boundary_vertex(b, (e + 2) % 3));
+  };
+  std::vector<std::uint32_t> patch(nb, SurfaceTree::kNone), queue;
+  std::uint32_t nb_patches = 0;
+  for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
+    if (patch[b0] != SurfaceTree::kNone) continue;
+    patch[b0] = nb_patches;
+    queue.assign(1, b0);
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t b = queue[q];
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t a = domain.boundary_adjacent(b, e);
+        if (patch[a] != SurfaceTree::kNone || is_feature(edge_of(b, e))) continue;
+        patch[a] = nb_patches;
+        queue.push_back(a);
+      }
+    }
+    ++nb_patches;
+  }
+  // (feature edge, patch) and (corner vertex, patch) pairs.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edge_patch, vertex_patch;
+  std::vector<std::uint32_t> corner_mark(domain.nb_vertices(), 0);
+  for (const std::uint32_t v : corner_vertex) {
+    if (v != SurfaceTree::kNone) corner_mark[v] = 1;
+  }
+  for (std::uint32_t b = 0; b < nb; ++b) {
+    for (int e = 0; e < 3; ++e) {
+      if (is_feature(edge_of(b, e))) edge_patch.emplace_back(edge_of(b, e), patch[b]);
+      const std::uint32_t v = domain.boundary_vertex(b, e);
+      if (corner_mark[v] != 0) vertex_patch.emplace_back(v, patch[b]);
+    }
+  }
+  std::sort(edge_patch.begin(), edge_patch.end());
+  edge_patch.erase(std::unique(edge_patch.begin(), edge_patch.end()), edge_patch.end());
+  std::sort(vertex_patch.begin(), vertex_patch.end());
+  vertex_patch.erase(std::unique(vertex_patch.begin(), vertex_patch.end()), vertex_patch.end());
+  const auto append_all = [](auto& pairs, auto key, std::vector<std::uint32_t>& out) {
+    auto it = std::lower_bound(pairs.begin(), pairs.end(),
+                               std::make_pair(std::uint64_t{key}, std::uint32_t{0}));
+    for (; it != pairs.end() && it->first == key; ++it) out.push_back(it->second);
+  };
+  SurfacePatches sp;
+  const auto n = static_cast<std::uint32_t>(kinds.size());
+  sp.begin.reserve(std::size_t{n} + 1);
+  sp.begin.push_back(0);
+  for (std::uint32_t s = 0; s < n; ++s) {
+    const double* p = &sites[3 * std::size_t{s}];
+    if (kinds[s] == Kind::kSurface) {
+      sp.patches.push_back(patch[surface.closest(p).triangle]);
+    } else if (kinds[s] == Kind::kCurve) {
+      const std::uint32_t l = line_of[s];
+      const FeatureTree::Closest c = line_tree.closest(p, l);
+      const std::uint32_t i = lines.line_begin[l] + c.segment;
+      append_all(edge_patch, edge_key(lines.line_vertices[i], lines.line_vertices[i + 1]),
+                 sp.patches);
+    } else if (kinds[s] == Kind::kFixed && corner_vertex[s] != SurfaceTree::kNone) {
+      append_all(vertex_patch, std::uint64_t{corner_vertex[s]}, sp.patches);
+    }
+    sp.begin.push_back(static_cast<std::uint32_t>(sp.patches.size()));
+  }
+  return sp;
+}
+
+}  // namespace
+
+const char* mesh3_phase_name(Mesh3Phase phase) {
+  switch (phase) {
+    case Mesh3Phase::kSizing:
+      return "sizing";
+    case Mesh3Phase::kSampling:
+      return "sampling";
+    case Mesh3Phase::kUnconstrained:
+      return "unconstrained";
+    case Mesh3Phase::kSnapping:
+      return "snapping";
+    case Mesh3Phase::kConstrained:
+      return "constrained";
+    case Mesh3Phase::kExtraction:
+      return "extraction";
+    case Mesh3Phase::kSlivers:
+      return "slivers";
+    case Mesh3Phase::kQuality:
+      return "quality";
+  }
+  return "?";
+}
+
+TriangleSurface boundary_surface(const Domain3& domain) {
+  TriangleSurface s;
+  s.source = domain.source() + " (boundary)";
+  s.xyz = domain.coords();
+  s.triangles.reserve(3 * std::size_t{domain.nb_boundary_triangles()});
+  for (std::uint32_t b = 0; b < domain.nb_boundary_triangles(); ++b) {
+    // Domain3's boundary triangles are clockwise seen from outside: reversed.
+    s.triangles.insert(
+        s.triangles.end(),
+        {domain.boundary_vertex(b, 0), domain.boundary_vertex(b, 2), domain.boundary_vertex(b, 1)});
+  }
+  s.triangle_line.assign(domain.nb_boundary_triangles(), 0);
+  return s;
+}
+
+Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
+  const Clock::time_point t_start = Clock::now();
+  if (options.nb_vertices < 4) {
+    throw Error("mesh3d: " + std::to_string(options.nb_vertices) + " vertices; need at least 4");
+  }
+  if (!(options.feature_angle_deg >= 0 && options.feature_angle_deg <= 180)) {
+    throw Error("mesh3d: feature angle " + std::to_string(options.feature_angle_deg) +
+                " degrees; expected a value in [0, 180]");
+  }
+  if (domain.nb_boundary_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
+  Mesh3Result result;
+  Mesh3Phase phase = Mesh3Phase::kSizing;
+  Clock::time_point t_phase = t_start;
+  // false when the caller asks to stop.
+  const auto notify = [&](Mesh3Progress p) {
+    p.phase = phase;
+    p.seconds = since(t_start);
+    return !options.progress || options.progress(p);
+  };
+  const auto report = [&](const Mesh3Progress& p) {
+    if (!notify(p)) throw Cancelled{};
+  };
+  const auto next_phase = [&](Mesh3Phase next) {
+    result.seconds[static_cast<int>(phase)] += since(t_phase);
+    t_phase = Clock::now();
+    phase = next;
+    report({});
+  };
+  const auto cvt_progress = [&](const CvtProgress& c) {
+    Mesh3Progress p;
+    p.iteration = c.iteration;
+    p.energy = c.energy;
+    p.gradient_norm = c.gradient_norm;
+    return notify(p);
+  };
+
+  try {
+    report({});
+    // 1. Sizing.
+    Clip3Options clip;
+    // The local spacing of the sites is about spacing_scale * h(x) (h = 1 when uniform):
+    // with n sites of density h^-3 in the volume, spacing_scale^3 = (integral of h^-3) / n.
+    std::unique_ptr<SizingField3> field;
+    double integral = domain.volume();
+    if (options.adaptive) {
+      field = std::make_unique<SizingField3>(domain, options.sizing);
+      clip.vertex_density = field->vertex_density(domain);
+      integral = 0;
+      for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+        double mean = 0, e[3][3];
+        const double* a = domain.vertex(domain.tet_vertex(t, 0));
+        for (int k = 0; k < 4; ++k)
+          mean += 0.25 * std::pow(field->size(domain.vertex(domain.tet_vertex(t, k))), -3);
+        for (int k = 0; k < 3; ++k) {
+          for (int c = 0; c < 3; ++c)
+            e[k][c] = domain.vertex(domain.tet_vertex(t, k + 1))[c] - a[c];
+        }
+        const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                           e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                           e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+        integral += std::fabs(det) / 6 * mean;
+      }
+    }
+    const auto local_spacing = [&](const double* x) {
+      const double scale = std::cbrt(integral / options.nb_vertices);
+      return field ? scale * field->size(x) : scale;
+    };
+    const TriangleSurface surface = boundary_surface(domain);
+    const SurfaceTree surface_tree(surface);
+    FeatureLines lines;
+    if (options.features) {
+      lines = drop_short_lines(
+          surface,
+          split_at_turns(surface, extract_feature_lines(surface, options.feature_angle_deg),
+                         options.feature_angle_deg),
+          options.min_feature_length, local_spacing);
+    }
+    const FeatureTree line_tree(surface, lines);
+    result.nb_feature_lines = lines.nb_lines();
+    result.nb_feature_corners = static_cast<std::uint32_t>(lines.corners.size());
+
+    // 2. Sampling.
+    next_phase(Mesh3Phase::kSampling);
+    const TetExtractor3 extractor(domain);
+    std::vector<double> sites =
+        options.sampling == Mesh3Sampling::kLattice && !options.adaptive
+            ? lattice_sites(domain, extractor, options.nb_vertices, options.seed)
+            : random_points3(domain, options.nb_vertices, options.seed,
+                             clip.vertex_density.empty() ? nullptr : &clip.vertex_density);
+
+    // 3. Unconstrained CVT.
+    next_phase(Mesh3Phase::kUnconstrained);
+    Cvt3Options cvt;
+    cvt.method = CvtMethod::kLbfgs;
+    cvt.max_iterations = options.unconstrained_iterations;
+    cvt.gradient_tolerance = options.gradient_tolerance;
+    cvt.clip = clip;
+    cvt.progress = cvt_progress;
+    result.unconstrained = optimize_cvt3(domain, sites, cvt);
+    if (result.unconstrained.cancelled) throw Cancelled{};
+
+    // 4. Classification and snapping.
+    next_phase(Mesh3Phase::kSnapping);
+    auto n = static_cast<std::uint32_t>(sites.size() / 3);
+    std::vector<Kind> kinds(n, Kind::kFree);
+    std::vector<std::uint32_t> line_of(n, SurfaceTree::kNone);
+    std::vector<std::uint32_t> corner_vertex(n, SurfaceTree::kNone);  // kFixed: its corner
+    {
+      Delaunay3 dt(sites.data(), n);
+      ClippedVoronoi3 cv;
+      Clip3Options o = clip;
+      cv.compute(domain, dt, o);
+      // Corners. (The sites move only after the last query: dt reads them.)
+      std::vector<double> added;
+      std::vector<std::uint32_t> added_corner;
+      for (const std::uint32_t c : lines.corners) {
+        const double* p = domain.vertex(c);
+        const std::uint32_t s = dt.nearest_vertex(p);
+        if (kinds[s] != Kind::kFixed) {
+          kinds[s] = Kind::kFixed;
+          corner_vertex[s] = c;
+        } else {
+          added.insert(added.end(), p, p + 3);
+          added_corner.push_back(c);
+        }
+      }
+      // Feature lines: the sites whose cells hold points along them.
+      if (lines.nb_lines() > 0) {
+        // Samples every eighth of the local spacing along each line, and its end.
+        std::vector<std::uint64_t> claims;  // (site, line) per sample
+        std::uint32_t hint = Delaunay3::kNoTet;
+        for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+          const double length = line_tree.length(l);
+          double arclength = 0;
+          for (bool last = false; !last;) {
+            last = arclength >= length;
+            double x[3];
+            line_tree.eval(l, std::min(arclength, length), x);
+            const std::uint32_t s = dt.nearest_vertex(x, hint);
+            hint = dt.vertex_tet(s);
+            if (kinds[s] != Kind::kFixed) claims.push_back(std::uint64_t{s} << 32 | l);
+            arclength += 0.125 * local_spacing(x);
+          }
+        }
+        std::sort(claims.begin(), claims.end());
+        for (std::size_t i = 0; i < claims.size();) {
+          const auto s = static_cast<std::uint32_t>(claims[i] >> 32);
+          std::uint32_t best_line = 0, best_count = 0;
+          std::size_t j = i;
+          while (j < claims.size() && (claims[j] >> 32) == s) {
+            std::size_t k = j;
+            while (k < claims.size() && claims[k] == claims[j]) ++k;
+            if (k - j > best_count) {
+              best_count = static_cast<std::uint32_t>(k - j);
+              best_line = static_cast<std::uint32_t>(claims[j] & 0xffffffffu);
+            }
+            j = k;
+          }
+          kinds[s] = Kind::kCurve;
+          line_of[s] = best_line;
+          i = j;
+        }
+      }
+      for (std::uint32_t s = 0; s < n; ++s) {
+        if (kinds[s] == Kind::kFree && cv.is_boundary(s)) kinds[s] = Kind::kSurface;
+      }
+      for (std::uint32_t v = 0; v < n; ++v) {
+        if (corner_vertex[v] != SurfaceTree::kNone) {
+          std::copy_n(domain.vertex(corner_vertex[v]), 3, &sites[3 * std::size_t{v}]);
+        }
+      }
+      // Corners without a site of their own get a new one.
+      sites.insert(sites.end(), added.begin(), added.end());
+      const auto extra = static_cast<std::uint32_t>(added.size() / 3);
+      kinds.insert(kinds.end(), extra, Kind::kFixed);
+      line_of.insert(line_of.end(), extra, SurfaceTree::kNone);
+      corner_vertex.insert(corner_vertex.end(), added_corner.begin(), added_corner.end());
+      n += extra;
+    }
+    const Projection project{&surface_tree, &line_tree, &line_of};
+    for (std::uint32_t s = 0; s < n; ++s) {
+      if (kinds[s] == Kind::kSurface || kinds[s] == Kind::kCurve) {
+        double q[3], d[3];
+        project(s, kinds[s], &sites[3 * std::size_t{s}], q, d);
+        std::copy_n(q, 3, &sites[3 * std::size_t{s}]);
+      }
+      result.nb_boundary_sites += kinds[s] == Kind::kSurface ? 1 : 0;
+      result.nb_feature_sites += kinds[s] == Kind::kCurve ? 1 : 0;
+      result.nb_corner_sites += kinds[s] == Kind::kFixed ? 1 : 0;
+    }
+    result.nb_sites = n;
+
+    // 5. Constrained CVT, in up to three stages (two thirds of the iterations, then the
+    // rest, then a few more): after a stage, free sites whose cells now reach the boundary
+    // (the boundary layer settles after the snapping) are snapped to the surface too, or
+    // they would become boundary vertices inside the volume.
+    next_phase(Mesh3Phase::kConstrained);
+    cvt.project = project;
+    const std::uint32_t total = options.constrained_iterations;
+    const std::uint32_t stages[3] = {total - total / 3, std::max<std::uint32_t>(total / 3, 1), 5};
+    for (int stage = 0; stage < 3; ++stage) {
+      cvt.max_iterations = stages[stage];
+      cvt.constraints = kinds;
+      const CvtResult r = optimize_cvt3(domain, sites, cvt);
+      if (r.cancelled) throw Cancelled{};
+      if (stage == 0) {
+        result.constrained = r;
+      } else {
+        result.constrained.iterations += r.iterations;
+        result.constrained.evaluations += r.evaluations;
+        result.constrained.energy = r.energy;
+        result.constrained.gradient_norm = r.gradient_norm;
+        result.constrained.seconds += r.seconds;
+        result.constrained.converged = r.converged;
+      }
+      if (stage == 2) break;
+      const Delaunay3 dt(sites.data(), n);
+      ClippedVoronoi3 cv;
+      cv.compute(domain, dt, clip);
+      ++result.constrained.evaluations;
+      std::uint32_t snapped = 0;
+      for (std::uint32_t v = 0; v < n; ++v) {
+        if (kinds[v] != Kind::kFree || !cv.is_boundary(v)) continue;
+        kinds[v] = Kind::kSurface;
+        double q[3], d[3];
+        project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);
+        std::copy_n(q, 3, &sites[3 * std::size_t{v}]);
+        ++snapped;
+      }
+      result.nb_boundary_sites += snapped;
+      if (snapped == 0) break;
+    }
+
+    // 6. Extraction; 7. slivers (the perturbation extracts as it goes and returns the
+    // final mesh).
+    next_phase(Mesh3Phase::kExtraction);
+    std::vector<std::uint32_t> tets;
+    const SurfacePatches patches =
+        site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of, corner_vertex);
+    Extract3Options eo;
+    eo.surface = &patches;
+    if (options.perturb) {
+      next_phase(Mesh3Phase::kSlivers);
+      Perturb3Options po = options.perturbation;
+      po.extraction = eo;
+      const auto user = po.progress;
+      po.progress = [&](std::uint32_t round, std::uint32_t slivers, double worst) {
+        Mesh3Progress p;
+        p.iteration = round;
+        p.slivers = slivers;
+        p.min_dihedral_deg = worst;
+        return notify(p) && (!user || user(round, slivers, worst));
+      };
+      result.perturbation =
+          perturb_slivers3(extractor, sites, kinds, project, po, &tets, &result.extraction);
+      if (result.perturbation.cancelled) throw Cancelled{};
+    } else {
+      const Delaunay3 dt(sites.data(), n);
+      tets = extractor.extract(dt, eo, &result.extraction);
+    }
+
+    // 8. Output: the used sites, renumbered in site order.
+    next_phase(Mesh3Phase::kQuality);
+    std::vector<std::uint32_t> index(n, SurfaceTree::kNone);
+    for (const std::uint32_t v : tets) index[v] = 0;
+    std::uint32_t nv = 0;
+    for (std::uint32_t s = 0; s < n; ++s) {
+      if (index[s] == SurfaceTree::kNone) {
+        ++result.nb_dropped_sites;
+        continue;
+      }
+      index[s] = nv++;
+      result.xyz.insert(result.xyz.end(), &sites[3 * std::size_t{s}],
+                        &sites[3 * std::size_t{s}] + 3);
+      result.kinds.push_back(kinds[s] == Kind::kSurface ? Mesh3VertexKind::kSurface
+                             : kinds[s] == Kind::kCurve ? Mesh3VertexKind::kFeature
+                             : kinds[s] == Kind::kFixed ? Mesh3VertexKind::kCorner
+                                                        : Mesh3VertexKind::kInterior);
+    }
+    result.tets.resize(tets.size());
+    for (std::size_t i = 0; i < tets.size(); ++i) result.tets[i] = index[tets[i]];
+    result.quality = tet_quality(result.xyz.data(), nv, result.tets.data(), result.nb_tets());
+    result.seconds[static_cast<int>(phase)] += since(t_phase);
+  } catch (const Cancelled&) {
+    result.cancelled = true;
+    result.xyz.clear();
+    result.kinds.clear();
+    result.tets.clear();
+  }
+  result.total_seconds = since(t_start);
+  return result;
+}
+
+}  // namespace voroclip

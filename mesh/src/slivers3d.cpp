@@ -1,0 +1,460 @@
+// Sliver removal by vertex perturbation (Tournois, Srinivasan & Alliez, "Perturbing slivers
+// in 3D Delaunay meshes", IMR 2009; Yan et al. 2011, sec. 5.2, ref. [36]).
+//
+// A sliver is a kept tet (TetExtractor3) whose smallest dihedral angle is below the target.
+// Each round:
+//   1. triangulate the sites, extract the mesh, measure every kept tet's smallest dihedral
+//      angle (the criterion: Q1);
+//   2. take the movable vertices of slivers, worst first (by the smallest Q1 of their kept
+//      tets, then index), and process them in waves: each wave takes an independent set of
+//      the vertices left (no two neighbours in the round's triangulation), chooses their
+//      moves in parallel, then moves them; a vertex all of whose slivers had a vertex moved
+//      in this round waits for the next round;
+//   3. the move of a vertex v is chosen on a local triangulation: the Delaunay
+//      triangulation of v and of its neighbours up to two rings (round's adjacency, current
+//      positions). Its score is the smallest Q1 of the local tets incident to v, and of
+//      those among v's first ring, that the extraction rule keeps (the exact location is
+//      done for tets with a constrained vertex; tets of interior sites are kept). Candidate
+//      positions x: along the gradient of the squared circumradius of v's worst tet (moving
+//      v there grows that tet's circumsphere until a neighbour enters it and the tet leaves
+//      the triangulation: Tournois et al.'s main perturbation), against it, along the
+//      gradient of its volume, and along pseudo-random directions; steps are fractions of
+//      the mean length of v's edges. A vertex on the surface or on a feature line moves
+//      within it (the candidate is projected by the caller's projector, as in the
+//      constrained CVT). The best candidate is taken when it beats the current position's
+//      score by kMinGain degrees.
+// The rounds stop when there is no sliver, when a round moves nothing, when a round
+// neither removes a sliver nor raises the smallest angle by min_progress_deg, or after
+// max_rounds. The local triangulation only chooses moves: the mesh is always extracted
+// from the global triangulation, exactly. The result does not depend on the thread count.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "voroclip/mesh.h"
+
+namespace voroclip {
+
+namespace {
+
+using Kind = SiteConstraint3::Kind;
+constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr double kMinGain = 0.01;  // degrees
+constexpr double kPi = 3.14159265358979323846;
+
+void sub3(const double* a, const double* b, double* o) {
+  for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
+}
+void cross3(const double* a, const double* b, double* o) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The perturbation's criterion, Q1 (tet_shape's q1_deg, without the other measures: it is
+// evaluated for every tet of every local triangulation).
+double min_dihedral_deg(const double* p0, const double* p1, const double* p2, const double* p3) {
+  // Face f is opposite vertex f; n[f] its normal pointing away from vertex f. The dihedral
+  // angle at the edge shared by faces f and g is pi - angle(n[f], n[g]).
+  const double* p[4] = {p0, p1, p2, p3};
+  double n[4][3], len[4];
+  for (int f = 0; f < 4; ++f) {
+    const double* a = p[(f + 1) % 4];
+    const double* b = p[(f + 2) % 4];
+    const double* c = p[(f + 3) % 4];
+    double u[3], v[3], w[3];
+    sub3(b, a, u);
+    sub3(c, a, v);
+    cross3(u, v, n[f]);
+    sub3(p[f], a, w);
+    if (dot3(n[f], w) > 0) {
+      for (double& x : n[f]) x = -x;
+    }
+    len[f] = std::sqrt(dot3(n[f], n[f]));
+  }
+  double worst = -1;  // the largest cosine of a dihedral angle
+  for (int f = 0; f < 4; ++f) {
+    for (int g = f + 1; g < 4; ++g) {
+      const double l = len[f] * len[g];
+      if (!(l > 0)) return 0;
+      worst = std::max(worst, -dot3(n[f], n[g]) / l);
+    }
+  }
+  return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / kPi;
+}
+
+// What one round knows of the global mesh.
+struct GlobalState {
+  Delaunay3 dt;
+  std::vector<std::uint32_t> tets;       // kept, 4 per tet
+  std::vector<double> q1;                // per kept tet
+  std::vector<std::uint32_t> vtx_begin;  // per site + 1: its kept tets
+  std::vector<std::uint32_t> vtx_tets;
+  std::vector<double> vertex_q1;  // per site: smallest Q1 of its kept tets (180: none)
+};
+
+// A deterministic pseudo-random unit vector from (a, b, c).
+void hashed_direction(std::uint64_t a, std::uint64_t b, std::uint64_t c, double* d) {
+  std::uint64_t h = a * 0x9e3779b97f4a7c15ull ^
+                    (b + 0x632be59bd9b4e019ull) * 0xbf58476d1ce4e5b9ull ^
+                    (c + 0x8cb92ba72f3d8dd7ull) * 0x94d049bb133111ebull;
+  for (;;) {
+    double len2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      h ^= h >> 31;
+      h *= 0xbf58476d1ce4e5b9ull;
+      h ^= h >> 29;
+      d[k] = static_cast<double>(h >> 11) * 0x1p-52 - 1;
+      len2 += d[k] * d[k];
+    }
+    if (len2 > 0.01 && len2 <= 1) {
+      const double inv = 1 / std::sqrt(len2);
+      for (int k = 0; k < 3; ++k) d[k] *= inv;
+      return;
+    }
+  }
+}
+
+class LocalScorer {
+ public:
+  LocalScorer(const TetExtractor3& extractor) : extractor_(extractor) {}
+
+  // Sets the neighbourhood of v: its first ring (ring1) and second ring in g's
+  // triangulation, at the sites' current positions. constrained(w): w is not free.
+  template <class Constrained>
+  void set_vertex(const GlobalState& g, const std::vector<double>& sites, std::uint32_t v,
+                  Constrained constrained) {
+    g.dt.vertex_neighbors(v, ring1_);
+    others_ = ring1_;
+    for (const std::uint32_t w : ring1_) {
+      g.dt.vertex_neighbors(w, scratch_);
+      for (const std::uint32_t x : scratch_) {
+        if (x != v) others_.push_back(x);
+      }
+    }
+    std::sort(others_.begin(), others_.end());
+    others_.erase(std::unique(others_.begin(), others_.end()), others_.end());
+    // Local point 0 is the moving vertex, then the others in order.
+    pts_.assign(3, 0.0);
+    in_ring1_.assign(1, 1);
+    constrained_.assign(1, constrained(v) ? 1 : 0);
+    for (const std::uint32_t w : others_) {
+      pts_.insert(pts_.end(), &sites[3 * std::size_t{w}], &sites[3 * std::size_t{w}] + 3);
+      in_ring1_.push_back(std::binary_search(ring1_.begin(), ring1_.end(), w) ? 1 : 0);
+      constrained_.push_back(constrained(w) ? 1 : 0);
+    }
+  }
+
+  // The smallest Q1 over the kept local tets at v's position x (180 when none). With
+  // `worst`, the other three vertices of the worst kept tet incident to v go there (9
+  // values; false returned in `found` when v has no kept tet).
+  double score(const double* x, double* worst = nullptr, bool* found = nullptr) {
+    std::copy_n(x, 3, pts_.begin());
+    const auto n = static_cast<std::uint32_t>(pts_.size() / 3);
+    if (found) *found = false;
+    if (n < 4) return 180;
+    try {
+      local_.build(pts_.data(), n);
+    } catch (const Error&) {
+      return 0;  // degenerate local set: never preferred
+    }
+    double lowest = 180, lowest_incident = 181;
+    for (std::uint32_t t = 0; t < local_.nb_tet_slots(); ++t) {
+      if (local_.is_free(t) || local_.is_infinite(t)) continue;
+      std::uint32_t w[4];
+      bool has0 = false, all_ring = true, constrained = false;
+      for (int k = 0; k < 4; ++k) {
+        w[k] = local_.tet_vertex(t, k);
+        has0 = has0 || w[k] == 0;
+        all_ring = all_ring && in_ring1_[w[k]] != 0;
+        constrained = constrained || constrained_[w[k]] != 0;
+      }
+      if (!has0 && !all_ring) continue;
+      const double* p[4] = {local_.point(w[0]), local_.point(w[1]), local_.point(w[2]),
+                            local_.point(w[3])};
+      // Tets among interior sites only have their circumcenter inside (near them): the
+      // exact location is for tets at the boundary.
+      if (constrained && extractor_.circumcenter_side(p[0], p[1], p[2], p[3]) == Sign::negative) {
+        continue;
+      }
+      const double q = min_dihedral_deg(p[0], p[1], p[2], p[3]);
+      lowest = std::min(lowest, q);
+      if (worst && has0 && q < lowest_incident) {
+        lowest_incident = q;
+        int j = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (w[k] != 0) std::copy_n(p[k], 3, worst + 3 * j++);
+        }
+        if (found) *found = true;
+      }
+    }
+    return lowest;
+  }
+
+  // The mean distance from v's position x to its first ring.
+  double mean_edge(const double* x) const {
+    double sum = 0;
+    std::uint32_t count = 0;
+    for (std::size_t i = 1; i < in_ring1_.size(); ++i) {
+      if (in_ring1_[i] == 0) continue;
+      double d[3];
+      sub3(&pts_[3 * i], x, d);
+      sum += std::sqrt(dot3(d, d));
+      ++count;
+    }
+    return count > 0 ? sum / count : 0;
+  }
+
+ private:
+  const TetExtractor3& extractor_;
+  std::vector<std::uint32_t> ring1_, others_, scratch_;
+  std::vector<double> pts_;
+  std::vector<std::uint8_t> in_ring1_, constrained_;
+  Delaunay3 local_;
+};
+
+void build_state(GlobalState& g, const TetExtractor3& extractor, const std::vector<double>& sites,
+                 const Extract3Options& options, Extract3Stats* extraction) {
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  g.dt.build(sites.data(), n);
+  g.tets = extractor.extract(g.dt, options, extraction);
+  const std::size_t nt = g.tets.size() / 4;
+  g.q1.resize(nt);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1024), [&](const auto& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+      const std::uint32_t* v = &g.tets[4 * t];
+      g.q1[t] = min_dihedral_deg(&sites[3 * std::size_t{v[0]}], &sites[3 * std::size_t{v[1]}],
+                                 &sites[3 * std::size_t{v[2]}], &sites[3 * std::size_t{v[3]}]);
+    }
+  });
+  g.vtx_begin.assign(n + 1, 0);
+  for (const std::uint32_t v : g.tets) ++g.vtx_begin[v + 1];
+  for (std::uint32_t v = 0; v < n; ++v) g.vtx_begin[v + 1] += g.vtx_begin[v];
+  g.vtx_tets.resize(g.tets.size());
+  std::vector<std::uint32_t> fill(g.vtx_begin.begin(), g.vtx_begin.end() - 1);
+  g.vertex_q1.assign(n, 180);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = g.tets[4 * t + static_cast<std::size_t>(k)];
+      g.vtx_tets[fill[v]++] = static_cast<std::uint32_t>(t);
+      g.vertex_q1[v] = std::min(g.vertex_q1[v], g.q1[t]);
+    }
+  }
+}
+
+}  // namespace
+
+Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<double>& sites,
+                               const std::vector<SiteConstraint3::Kind>& kinds,
+                               const SiteProjector3& project, const Perturb3Options& options,
+                               std::vector<std::uint32_t>* mesh, Extract3Stats* extraction) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  if (sites.size() % 3 != 0)
+    throw Error("perturb_slivers3: the site array's length is not a multiple of 3");
+  if (!kinds.empty() && kinds.size() != n) {
+    throw Error("perturb_slivers3: " + std::to_string(kinds.size()) + " constraints for " +
+                std::to_string(n) + " sites");
+  }
+  const auto kind = [&](std::uint32_t v) { return kinds.empty() ? Kind::kFree : kinds[v]; };
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if ((kind(v) == Kind::kSurface || kind(v) == Kind::kCurve) && !project) {
+      throw Error("perturb_slivers3: site " + std::to_string(v) +
+                  " is constrained to a surface or curve, but no projection is given");
+    }
+  }
+  // Chooses a new position for v (into out) from the local triangulation of its
+  // neighbourhood at the current positions; false when none is better.
+  const auto try_move = [&](const GlobalState& gs, const std::vector<double>& pos, std::uint32_t v,
+                            std::uint32_t round, LocalScorer& scorer, double* out) {
+    const double* x0 = &pos[3 * std::size_t{v}];
+    scorer.set_vertex(gs, pos, v, [&](std::uint32_t w) { return kind(w) != Kind::kFree; });
+    double q[9];
+    bool found = false;
+    const double base = scorer.score(x0, q, &found);
+    if (base >= options.target_dihedral_deg || !found) return false;
+    const double length = scorer.mean_edge(x0);
+    if (!(length > 0)) return false;
+    // Directions: the gradient of the worst tet's squared circumradius with respect to v,
+    // d R^2 / d v = 2 ((c - q0) . m / ((q0 - v) . m)) (c - v), c its circumcenter and m
+    // the normal of the face (q0, q1, q2) opposite v; its opposite; the gradient of its
+    // volume (m, away from the face); then pseudo-random ones.
+    double dirs[8][3];
+    int nd = 0;
+    {
+      double a[3], b[3], e[3], bc[3], ca[3], ab[3], m[3], u1[3], u2[3];
+      sub3(q, x0, a);
+      sub3(q + 3, x0, b);
+      sub3(q + 6, x0, e);
+      cross3(b, e, bc);
+      cross3(e, a, ca);
+      cross3(a, b, ab);
+      const double det = 2 * dot3(a, bc);
+      const double la = dot3(a, a), lb = dot3(b, b), lc = dot3(e, e);
+      double rel[3];  // c - v
+      for (int k = 0; k < 3; ++k) rel[k] = (la * bc[k] + lb * ca[k] + lc * ab[k]) / det;
+      sub3(q + 3, q, u1);
+      sub3(q + 6, q, u2);
+      cross3(u1, u2, m);
+      double cq[3];  // c - q0 = rel - a
+      for (int k = 0; k < 3; ++k) cq[k] = rel[k] - a[k];
+      const double factor = dot3(cq, m) / dot3(a, m);
+      double gr[3];
+      for (int k = 0; k < 3; ++k) gr[k] = factor * rel[k];
+      const double len = std::sqrt(dot3(gr, gr));
+      if (len > 0 && std::isfinite(len)) {
+        for (int k = 0; k < 3; ++k) {
+          dirs[nd][k] = gr[k] / len;
+          dirs[nd + 1][k] = -gr[k] / len;
+        }
+        nd += 2;
+      }
+      const double lm = std::sqrt(dot3(m, m));
+      if (lm > 0) {
+        // a = q0 - v: v is on the side of the face opposite to a's direction along m.
+        const double sgn = dot3(a, m) > 0 ? -1 / lm : 1 / lm;
+        for (int k = 0; k < 3; ++k) dirs[nd][k] = sgn * m[k];
+        ++nd;
+      }
+    }
+    while (nd < 8) {
+      hashed_direction(options.seed, v, round * 8u + static_cast<std::uint32_t>(nd), dirs[nd]);
+      ++nd;
+    }
+    double best = base + kMinGain;
+    bool improved = false;
+    static constexpr double kSteps[4] = {0.05, 0.1, 0.2, 0.35};
+    for (int d = 0; d < nd && best < options.target_dihedral_deg; ++d) {
+      for (const double step : kSteps) {
+        if (d >= 3 && step < 0.1) continue;  // random directions: the larger steps only
+        double x[3];
+        for (int k = 0; k < 3; ++k) x[k] = x0[k] + step * length * dirs[d][k];
+        const Kind kd = kind(v);
+        if (kd == Kind::kSurface || kd == Kind::kCurve) {
+          double pq[3], dir[3];
+          project(v, kd, x, pq, dir);
+          std::copy_n(pq, 3, x);
+        }
+        const double sc = scorer.score(x);
+        if (sc > best) {
+          best = sc;
+          std::copy_n(x, 3, out);
+          improved = true;
+        }
+      }
+    }
+    return improved;
+  };
+  Perturb3Stats stats;
+  GlobalState g;
+  std::vector<std::uint8_t> blocked(n), moved_now(n);
+  std::vector<std::uint32_t> candidates, chosen, left, neighbors;
+  std::vector<double> moved_to;
+  std::vector<std::uint8_t> moved;
+  for (std::uint32_t round = 0;; ++round) {
+    build_state(g, extractor, sites, options.extraction, extraction);
+    const std::size_t nt = g.q1.size();
+    std::uint32_t nb_slivers = 0;
+    double worst = 180;
+    for (std::size_t t = 0; t < nt; ++t) {
+      nb_slivers += g.q1[t] < options.target_dihedral_deg ? 1 : 0;
+      worst = std::min(worst, g.q1[t]);
+    }
+    const bool stalled = round > 0 && nb_slivers >= stats.final_slivers &&
+                         worst < stats.final_min_dihedral_deg + options.min_progress_deg;
+    if (round == 0) {
+      stats.initial_slivers = nb_slivers;
+      stats.initial_min_dihedral_deg = worst;
+    }
+    stats.final_slivers = nb_slivers;
+    stats.final_min_dihedral_deg = worst;
+    if (nb_slivers == 0 || round == options.max_rounds || stalled) break;
+    if (options.progress && !options.progress(round, nb_slivers, worst)) {
+      stats.cancelled = true;
+      break;
+    }
+    ++stats.rounds;
+
+    // Movable vertices of slivers, worst first, processed in waves: each wave takes an
+    // independent set of the vertices left (no two neighbours in this round's
+    // triangulation), moves them in parallel, then the next wave sees the new positions.
+    candidates.clear();
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (g.vertex_q1[v] < options.target_dihedral_deg && kind(v) != Kind::kFixed) {
+        candidates.push_back(v);
+      }
+    }
+    std::sort(candidates.begin(), candidates.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return g.vertex_q1[a] != g.vertex_q1[b] ? g.vertex_q1[a] < g.vertex_q1[b] : a < b;
+    });
+    std::uint32_t nb_moved = 0;
+    // A sliver with a vertex moved in this round has changed: its other vertices wait for
+    // the next round's triangulation unless another of their slivers is untouched.
+    const auto untouched_sliver = [&](std::uint32_t v) {
+      for (std::uint32_t e = g.vtx_begin[v]; e < g.vtx_begin[v + 1]; ++e) {
+        const std::uint32_t t = g.vtx_tets[e];
+        if (!(g.q1[t] < options.target_dihedral_deg)) continue;
+        bool touched = false;
+        for (int k = 0; k < 4; ++k) {
+          touched =
+              touched || moved_now[g.tets[4 * std::size_t{t} + static_cast<std::size_t>(k)]] != 0;
+        }
+        if (!touched) return true;
+      }
+      return false;
+    };
+    std::fill(moved_now.begin(), moved_now.end(), 0);
+    while (!candidates.empty()) {
+      chosen.clear();
+      left.clear();
+      for (const std::uint32_t v : candidates) {
+        if (!untouched_sliver(v)) continue;
+        if (blocked[v] != 0) {
+          left.push_back(v);
+          continue;
+        }
+        chosen.push_back(v);
+        blocked[v] = 1;
+        g.dt.vertex_neighbors(v, neighbors);
+        for (const std::uint32_t w : neighbors) blocked[w] = 1;
+      }
+      for (const std::uint32_t v : chosen) {
+        blocked[v] = 0;
+        g.dt.vertex_neighbors(v, neighbors);
+        for (const std::uint32_t w : neighbors) blocked[w] = 0;
+      }
+      candidates.swap(left);
+      moved_to.assign(3 * chosen.size(), 0);
+      moved.assign(chosen.size(), 0);
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, chosen.size(), 2), [&](const auto& range) {
+            LocalScorer scorer(extractor);
+            for (std::size_t c = range.begin(); c != range.end(); ++c) {
+              moved[c] = try_move(g, sites, chosen[c], round, scorer, &moved_to[3 * c]) ? 1 : 0;
+            }
+          });
+      for (std::size_t c = 0; c < chosen.size(); ++c) {
+        if (moved[c] == 0) continue;
+        std::copy_n(&moved_to[3 * c], 3, &sites[3 * std::size_t{chosen[c]}]);
+        moved_now[chosen[c]] = 1;
+        ++nb_moved;
+      }
+    }
+    stats.moves += nb_moved;
+    if (nb_moved == 0) break;
+  }
+  // Every exit follows a triangulation of the final sites (no move since): g holds the
+  // final mesh.
+  if (mesh) *mesh = std::move(g.tets);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace voroclip

@@ -1,0 +1,124 @@
+// Circumcenters of tetrahedra (predicates.h, "Circumcenters of tetrahedra"): the exact side
+// of a plane on which the circumcenter of four points lies, and a floating-point
+// circumcenter with a proven enclosure. Used by the 3D mesh extraction (mesh/src/
+// extract3d.cpp) to keep the Delaunay tets whose circumcenter lies in the domain.
+//
+// The predicate is a filter (circumcenter3d.h: the reduced polynomial, its derivation and
+// the error bound), then an exact stage on the coordinate differences to p0
+// (bisector_common.h: 128-bit integers, fixed-width integers, expansions, big integers).
+#include "circumcenter3d.h"
+
+#include <cmath>
+#include <string>
+
+#include "bisector_common.h"
+#include "exact.h"
+#include "voroclip/core.h"
+
+namespace voroclip {
+
+namespace detail {
+
+namespace {
+
+// Exactness bounds of the exact stage, for differences below 2^B (then |w| < 2^(B+1)):
+// |n_x| < 2^(2B+3), |d|^2 < 2^(2B+2), |(d x d)_x| < 2^(2B+1), |Nv_x| < 3 * 2^(4B+3),
+// |D| < 3 * 2^(3B+1), |2 D u_x| < 2^(4B+4), |t_x| < 2^(4B+6), |P| < 3 * 2^(6B+9) <
+// 2^(6B+11). 128-bit path: B = 19 (2^125). Expansion path: leaves below 2^(h+2) for
+// coordinates below 2^(h+1), headroom 11; fixed-width path within kWideMaxBits for leaves
+// of up to 81 bits. P (degree 6) and D (degree 3) are homogeneous: a power-of-two scaling
+// keeps their signs.
+constexpr int kIntegerBits = 19;
+constexpr int kDegree = 6;
+constexpr int kHeadroomBits = 11;
+
+// Returned when D == 0 (p0..p3 coplanar).
+constexpr int kCoplanar = 2;
+
+// d = {d_1, d_2, d_3, u_a, u_b, u_c}, differences to p0. Returns sign orient3d(a, b, c, x).
+struct SideFormula {
+  template <class C, class M>
+  int operator()(C& c, const M& d) const {
+    using Num = typename C::Num;
+    const auto cross = [&](const Num(&p)[3], const Num(&q)[3], Num(&out)[3]) {
+      out[0] = c.sub(c.mul(p[1], q[2]), c.mul(p[2], q[1]));
+      out[1] = c.sub(c.mul(p[2], q[0]), c.mul(p[0], q[2]));
+      out[2] = c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
+    };
+    Num c23[3], c31[3], c12[3];
+    cross(d[1], d[2], c23);
+    cross(d[2], d[0], c31);
+    cross(d[0], d[1], c12);
+    const Num det = dot<C, 3>(c, d[0], c23);
+    const int sign_det = C::sign(det);
+    if (sign_det == 0) return kCoplanar;
+    const Num l1 = dot<C, 3>(c, d[0], d[0]);
+    const Num l2 = dot<C, 3>(c, d[1], d[1]);
+    const Num l3 = dot<C, 3>(c, d[2], d[2]);
+    const auto& ua = d[3];
+    Num w1[3], w2[3], n[3], t[3];
+    for (int k = 0; k < 3; ++k) {
+      w1[k] = c.sub(d[4][k], ua[k]);
+      w2[k] = c.sub(d[5][k], ua[k]);
+    }
+    cross(w1, w2, n);
+    const Num det2 = c.add(det, det);
+    for (int k = 0; k < 3; ++k) {
+      const Num nv = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
+      t[k] = c.sub(nv, c.mul(det2, ua[k]));
+    }
+    return -C::sign(dot<C, 3>(c, n, t)) * sign_det;
+  }
+};
+
+}  // namespace
+
+Sign orient3d_circumcenter_exact(const double* a, const double* b, const double* c,
+                                 const double* p0, const double* p1, const double* p2,
+                                 const double* p3) {
+  const int s = exact_eval<6, 3, kIntegerBits, kDegree, kHeadroomBits, true>(
+      "orient3d_circumcenter", {p1, p2, p3, a, b, c, p0}, SideFormula{});
+  if (s == kCoplanar) {
+    throw Error(
+        "orient3d_circumcenter: the four points are coplanar: their circumcenter is not "
+        "defined");
+  }
+  return static_cast<Sign>(s);
+}
+
+}  // namespace detail
+
+Sign orient3d_circumcenter(const double* a, const double* b, const double* c, const double* p0,
+                           const double* p1, const double* p2, const double* p3) {
+  const int s = detail::circumcenter_side_filter(a, b, c, p0, p1, p2, p3);
+  if (s != 0) return static_cast<Sign>(s);
+  return detail::orient3d_circumcenter_exact(a, b, c, p0, p1, p2, p3);
+}
+
+bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
+                              const double* p3, double* center, double* halfwidth) {
+  const detail::CircumcenterApprox x = detail::circumcenter_approx(p0, p1, p2, p3);
+  const bool finite = std::isfinite(p0[0]) && std::isfinite(p0[1]) && std::isfinite(p0[2]);
+  if (!finite || !(x.lower >= detail::kCircumcenterLower) ||
+      !(x.upper <= detail::kCircumcenterUpper)) {
+    return false;
+  }
+  const double e_det = detail::kCircumcenterDetBound * x.pd;
+  const double abs_det = std::fabs(x.det);
+  const double delta = abs_det - e_det;
+  if (!(delta > 0)) return false;
+  const double e_num = detail::kCircumcenterNumBound * (x.pd * x.ps);
+  constexpr double kMu = 0x1p-53;
+  const double det2 = x.det + x.det;
+  for (int k = 0; k < 3; ++k) {
+    const double q = x.nv[k] / det2;
+    center[k] = p0[k] + q;
+    const double e = (e_num + std::fabs(x.nv[k]) * e_det / abs_det) / (delta + delta) +
+                     kMu * std::fabs(q) / (1 - kMu) + kMu * std::fabs(center[k]);
+    halfwidth[k] = 2 * e + 0x1p-1000;
+    if (!std::isfinite(center[k]) || !std::isfinite(halfwidth[k])) return false;
+  }
+  return true;
+}
+
+}  // namespace voroclip

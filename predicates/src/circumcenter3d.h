@@ -1,0 +1,120 @@
+// Internals of the circumcenter predicates (predicates.h, "Circumcenters of tetrahedra"):
+// the floating-point filter, inlined into circumcenter3d.cpp, and the exact stage. Exposed
+// here, not in the public header, so that the tests can check each stage on its own.
+//
+// Reduced form, in differences to p_0: d_k = p_k - p_0 (k = 1, 2, 3), u = a - p_0,
+// w1 = b - a, w2 = c - a, n = w1 x w2 (the normal of the facet, degree 2),
+//   D  = d_1 . (d_2 x d_3)                                           (degree 3)
+//   Nv = |d_1|^2 (d_2 x d_3) + |d_2|^2 (d_3 x d_1) + |d_3|^2 (d_1 x d_2) (degree 4)
+// The circumcenter is x = p_0 + Nv / (2 D) (the solution of 2 d_k . (x - p_0) = |d_k|^2),
+// and orient3d(a, b, c, x) = det[a - x; b - x; c - x] = -(x - a) . n, so
+//   sign orient3d(a, b, c, x) = -sign(P) * sign(D),   P = n . (Nv - 2 D u)  (degree 6).
+//
+// Filter bound (the norm-product model of bisector3d.h): mu = 2^-53, k counts the
+// roundings on a monomial's path (leaf difference 1, sum 1 + k(operand), product 1 + k(left)
+// + k(right); 2 D is exact), |computed - exact| <= gamma_k mag, mag the sum of |monomial|
+// at the exact leaves. With the L-infinity norms W1, W2, D1, D2, D3, U of the rounded leaf
+// vectors w1, w2, d_1, d_2, d_3, u:
+//   n_x                              k 4    mag <= 2 W1 W2
+//   |d_k|^2                          k 5    mag <= 3 Dk^2
+//   (d_2 x d_3)_x                    k 4    mag <= 2 D2 D3
+//   Nv_x = (l1 c23 + l2 c31) + l3 c12    k 12   mag <= 6 D1 D2 D3 (D1 + D2 + D3)
+//   D = (d1x c23x + d1y c23y) + d1z c23z k 8    mag <= 6 D1 D2 D3
+//   t_x = Nv_x - (2 D) u_x           k 13   mag <= 6 D1 D2 D3 (D1 + D2 + D3 + 2 U)
+//   P = (n_x t_x + n_y t_y) + n_z t_z    k 20   mag <= 36 W1 W2 D1 D2 D3 (D1 + D2 + D3 + 2 U)
+// The filter decides sign(value) when |value| > K * P~, P~ the norm product evaluated with
+// r roundings (P: r = 8, D: r = 2), K >= count * gamma_k * (1 + mu)^(r + 2) / (1 - mu)^deg:
+//   P 720 mu (stored 8.00e-14), D 48 mu (5.33e-15), each rounded up to 3 digits
+// (scripts/filter_bounds.py computes them and checks the slack).
+//
+// Range. As for the facet predicate of bisector3d.h (degree 6, the same shape of norm
+// product): the filter decides only when W1, W2, D1, D2, D3 lie in [2^-150, 2^150] and
+// U <= 2^150; then nothing overflows and underflow stays far inside the constants' slack.
+// Outside the range, and for NaN or infinite coordinates, the exact stage decides (or
+// throws).
+//
+// Enclosure of the circumcenter (circumcenter3d_enclosure). With the same bounds
+// eN = KN * D1 D2 D3 (D1 + D2 + D3) on |Nv~_x - Nv_x| (KN >= 6 gamma_12 (1 + mu)^7 /
+// (1 - mu)^4: 72 mu, stored 8.00e-15) and eD = KD * D1 D2 D3 on |D~ - D|, and
+// delta = |D~| - eD > 0 (else no enclosure: the tet is too flat for the bound):
+//   |Nv_x / (2 D) - Nv~_x / (2 D~)| <= (eN + |Nv~_x| eD / |D~|) / (2 delta)
+// (from Nv/D - Nv~/D~ = (Nv - Nv~)/D + Nv~ (D~ - D) / (D D~) and |D| >= delta), the
+// division adds mu |q~| / (1 - mu) and the sum p_0 + q~ adds mu |x~|. The half-width is
+// twice the sum of these terms (which covers the roundings of its own evaluation and of
+// x~ +- halfwidth), plus 2^-1000 for underflow.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "bisector3d.h"
+#include "voroclip/predicates.h"
+
+namespace voroclip::detail {
+
+inline constexpr double kCircumcenterSideBound = 8.00e-14;  // 720 mu, rounded up
+inline constexpr double kCircumcenterDetBound = 5.33e-15;   // 48 mu
+inline constexpr double kCircumcenterNumBound = 8.00e-15;   // 72 mu
+inline constexpr double kCircumcenterLower = 0x1p-150, kCircumcenterUpper = 0x1p+150;
+
+// The floating-point values of the reduced form (differences to p0) and their norms.
+struct CircumcenterApprox {
+  double nv[3];  // Nv
+  double det;    // D
+  double pd;     // D1 D2 D3 (rounded)
+  double ps;     // D1 + D2 + D3 (rounded)
+  double lower, upper;
+};
+
+inline CircumcenterApprox circumcenter_approx(const double* p0, const double* p1, const double* p2,
+                                              const double* p3) {
+  const Diff3 d1 = diff3(p1, p0), d2 = diff3(p2, p0), d3 = diff3(p3, p0);
+  const double c23[3] = {d2.y * d3.z - d2.z * d3.y, d2.z * d3.x - d2.x * d3.z,
+                         d2.x * d3.y - d2.y * d3.x};
+  const double c31[3] = {d3.y * d1.z - d3.z * d1.y, d3.z * d1.x - d3.x * d1.z,
+                         d3.x * d1.y - d3.y * d1.x};
+  const double c12[3] = {d1.y * d2.z - d1.z * d2.y, d1.z * d2.x - d1.x * d2.z,
+                         d1.x * d2.y - d1.y * d2.x};
+  const double l1 = dot3(d1, d1), l2 = dot3(d2, d2), l3 = dot3(d3, d3);
+  CircumcenterApprox r;
+  for (int t = 0; t < 3; ++t) r.nv[t] = (l1 * c23[t] + l2 * c31[t]) + l3 * c12[t];
+  r.det = (d1.x * c23[0] + d1.y * c23[1]) + d1.z * c23[2];
+  r.pd = (d1.norm * d2.norm) * d3.norm;
+  r.ps = (d1.norm + d2.norm) + d3.norm;
+  r.lower = std::min(std::min(d1.norm, d2.norm), d3.norm);
+  r.upper = std::max(std::max(d1.norm, d2.norm), d3.norm);
+  return r;
+}
+
+// sign orient3d(a, b, c, circumcenter(p0, p1, p2, p3)) when P and D are certainly non-zero:
+// +1 / -1; 0 when the exact stage must decide.
+inline int circumcenter_side_filter(const double* a, const double* b, const double* c,
+                                    const double* p0, const double* p1, const double* p2,
+                                    const double* p3) {
+  const CircumcenterApprox x = circumcenter_approx(p0, p1, p2, p3);
+  const Diff3 w1 = diff3(b, a), w2 = diff3(c, a), u = diff3(a, p0);
+  const double n[3] = {w1.y * w2.z - w1.z * w2.y, w1.z * w2.x - w1.x * w2.z,
+                       w1.x * w2.y - w1.y * w2.x};
+  const double d2 = x.det + x.det;
+  const double t[3] = {x.nv[0] - d2 * u.x, x.nv[1] - d2 * u.y, x.nv[2] - d2 * u.z};
+  const double p = (n[0] * t[0] + n[1] * t[1]) + n[2] * t[2];
+
+  const double lower = std::min(std::min(w1.norm, w2.norm), x.lower);
+  const double upper = std::max(std::max(std::max(w1.norm, w2.norm), x.upper), u.norm);
+  const double pp = (((w1.norm * w2.norm) * x.pd)) * (x.ps + 2 * u.norm);
+  if (lower >= kCircumcenterLower && upper <= kCircumcenterUpper &&
+      std::fabs(p) > kCircumcenterSideBound * pp &&
+      std::fabs(x.det) > kCircumcenterDetBound * x.pd) {
+    return -decided_sign(p) * decided_sign(x.det);
+  }
+  return 0;
+}
+
+// The exact stage, for every finite input; throws voroclip::Error for coplanar p0..p3 and
+// non-finite coordinates.
+Sign orient3d_circumcenter_exact(const double* a, const double* b, const double* c,
+                                 const double* p0, const double* p1, const double* p2,
+                                 const double* p3);
+
+}  // namespace voroclip::detail

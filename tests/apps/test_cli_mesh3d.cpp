@@ -1,0 +1,121 @@
+// The mesh3d command: statistics (the quality keys), the three output formats read
+// back, progress per phase, errors (one line, no partial file).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_run.h"
+#include "voroclip/core.h"
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+std::string temp_path(const std::string& suffix) {
+  char name[] = "test_cli_mesh3d_XXXXXX";
+  const int fd = mkstemp(name);
+  REQUIRE(fd >= 0);
+  close(fd);
+  std::remove(name);
+  return std::string(name) + suffix;
+}
+
+}  // namespace
+
+TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
+  const std::string domain = kData + "/tetmeshes/sphere.mesh";
+  const std::string out = temp_path(".mesh");
+  const Run run =
+      run_cli({"--stats", "json", "mesh3d", domain, "--vertices", "600",
+               "--unconstrained-iterations", "6", "--constrained-iterations", "9", "-o", out});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  for (const char* key :
+       {"tets", "vertices", "min_dihedral_deg", "mean_min_dihedral_deg", "max_dihedral_deg",
+        "min_q3", "mean_q3", "min_q4", "mean_q4", "hausdorff_rel"}) {
+    INFO(key);
+    CHECK(s.contains(key));
+  }
+  const voroclip::TetMeshInput mesh = voroclip::read_tet_mesh(out);
+  std::remove(out.c_str());
+  CHECK(s["tets"].get<std::uint32_t>() == mesh.nb_tets());
+  CHECK(s["vertices"].get<std::uint32_t>() == mesh.nb_vertices());
+  CHECK(mesh.nb_vertices() > 550);
+  CHECK(s["min_dihedral_deg"].get<double>() > 20);
+  CHECK(s["mean_min_dihedral_deg"].get<double>() > 50);
+  CHECK(s["min_q4"].get<double>() > 0.4);
+  CHECK(s["hausdorff_rel"].get<double>() < 0.01);
+  CHECK(s["inverted_tets"].get<int>() == 0);
+  CHECK(s["vertex_kinds"]["surface"].get<int>() > 0);
+  CHECK(s["seconds"]["constrained"].get<double>() > 0);
+  // Human text goes to stderr with --stats json: progress per phase, then the report.
+  CHECK(contains(run.err, "unconstrained CVT"));
+  CHECK(contains(run.err, "constrained iteration"));
+  CHECK(contains(run.err, "|g|"));
+  CHECK(contains(run.err, "slivers"));
+
+  for (const char* version : {"2.2", "4.1"}) {
+    const std::string msh = temp_path(".msh");
+    const Run w =
+        run_cli({"-q", "mesh3d", domain, "--vertices", "300", "--unconstrained-iterations", "4",
+                 "--constrained-iterations", "6", "--msh-version", version, "-o", msh});
+    CHECK(w.status == 0);
+    CHECK(w.out.empty());
+    const std::string text = slurp(msh);
+    CHECK(contains(text, std::string("$MeshFormat\n") + version));
+    CHECK(voroclip::read_tet_mesh(msh).nb_tets() > 0);
+    std::remove(msh.c_str());
+  }
+  const std::string vtu = temp_path(".vtu");
+  const Run w = run_cli({"-q", "mesh3d", domain, "--vertices", "300", "--unconstrained-iterations",
+                         "4", "--constrained-iterations", "6", "-o", vtu});
+  CHECK(w.status == 0);
+  CHECK(contains(slurp(vtu), "q1_min_dihedral_deg"));
+  CHECK(voroclip::read_tet_mesh(vtu).nb_tets() > 0);
+  std::remove(vtu.c_str());
+}
+
+TEST_CASE("mesh3d: errors name the problem, leave no file", "[apps]") {
+  const std::string domain = kData + "/tetmeshes/sphere.mesh";
+  const std::string out = temp_path(".mesh");
+  SECTION("no vertex count") {
+    const Run run = run_cli({"mesh3d", domain, "-o", out});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("an unknown output format") {
+    const std::string bad = temp_path(".xyz");
+    const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "-o", bad});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, ".xyz"));
+    CHECK_FALSE(exists(bad));
+  }
+  SECTION("a feature angle out of range") {
+    const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "--feature-angle", "200"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "feature-angle"));
+  }
+  SECTION("a bad Gmsh version") {
+    const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "--msh-version", "3"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  SECTION("a missing domain") {
+    const Run run =
+        run_cli({"mesh3d", kData + "/tetmeshes/no-such.mesh", "--vertices", "100", "-o", out});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "no-such.mesh"));
+  }
+  SECTION("too few vertices") {
+    const Run run = run_cli({"mesh3d", domain, "--vertices", "3", "-o", out});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+  }
+  CHECK_FALSE(exists(out));
+}

@@ -1,0 +1,360 @@
+// Tests of the 3D CVT meshing pipeline (voroclip/mesh.h, mesh3d): the output is a valid tet
+// mesh (right-handed tets, exactly; a closed 2-manifold boundary, checked by Domain3's
+// exact validation; every vertex used; every circumcenter in the domain, exactly),
+// constrained vertices lie on the surface, on feature lines and at corners exactly (up to
+// the rounding of the projection), features are preserved on CAD-like inputs (a box, a
+// cylinder, fandisk: feature-line samples lie on the output's boundary), the result is
+// bitwise the same for 1 and 2 threads, progress, cancellation and errors.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+
+using voroclip::Domain3;
+using voroclip::Mesh3Options;
+using voroclip::Mesh3Result;
+using voroclip::Mesh3VertexKind;
+using voroclip::Sign;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+// The box [0, 2] x [0, 3] x [0, 1], six tets around a diagonal.
+Domain3 box_domain() {
+  voroclip::TetMeshInput m;
+  m.source = "box";
+  for (int k = 0; k < 8; ++k) {
+    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 3.0 * ((k >> 1) & 1), 1.0 * ((k >> 2) & 1)});
+  }
+  const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
+  for (const auto& a : axes) {
+    m.tets.insert(m.tets.end(), {0u, static_cast<std::uint32_t>(a[0]),
+                                 static_cast<std::uint32_t>(a[0] + a[1]), 7u});
+  }
+  return Domain3(m);
+}
+
+// A cylinder of radius 1 and height 2 around the z axis: a regular k-gon prism cut into
+// `layers` slabs; each slab's wedges (axis edge, two rim edges) split into 3 tets, every
+// quad face along the diagonal from its smallest vertex (so that neighbours agree).
+Domain3 cylinder_domain(std::uint32_t k, std::uint32_t layers) {
+  voroclip::TetMeshInput m;
+  m.source = "cylinder";
+  const std::uint32_t per_layer = k + 1;  // axis point, then the rim
+  for (std::uint32_t l = 0; l <= layers; ++l) {
+    const double z = 2.0 * l / layers;
+    m.xyz.insert(m.xyz.end(), {0.0, 0.0, z});
+    for (std::uint32_t i = 0; i < k; ++i) {
+      const double t = 2 * M_PI * i / k;
+      m.xyz.insert(m.xyz.end(), {std::cos(t), std::sin(t), z});
+    }
+  }
+  for (std::uint32_t l = 0; l < layers; ++l) {
+    for (std::uint32_t i = 0; i < k; ++i) {
+      const std::uint32_t b[3] = {l * per_layer, l * per_layer + 1 + i,
+                                  l * per_layer + 1 + (i + 1) % k};
+      const std::uint32_t t[3] = {b[0] + per_layer, b[1] + per_layer, b[2] + per_layer};
+      // Rotate so that the smallest vertex is b[0] (or t[0], then swap bottom and top).
+      std::uint32_t lo[3], hi[3];
+      std::uint32_t r = 0, best = b[0];
+      for (std::uint32_t s = 0; s < 3; ++s) {
+        if (b[s] < best) best = b[s], r = s;
+        if (t[s] < best) best = t[s], r = s;
+      }
+      const bool top = best == t[r];
+      for (std::uint32_t s = 0; s < 3; ++s) {
+        lo[s] = top ? t[(r + s) % 3] : b[(r + s) % 3];
+        hi[s] = top ? b[(r + s) % 3] : t[(r + s) % 3];
+      }
+      // lo[0] is the smallest: quads (lo0, lo1, hi1, hi0) and (lo0, lo2, hi2, hi0) are cut
+      // from lo0; the third quad (lo1, lo2, hi2, hi1) from its smallest vertex.
+      m.tets.insert(m.tets.end(), {lo[0], hi[0], hi[1], hi[2]});
+      const std::uint32_t q = std::min({lo[1], lo[2], hi[1], hi[2]});
+      if (q == lo[1] || q == hi[2]) {
+        m.tets.insert(m.tets.end(), {lo[0], lo[1], lo[2], hi[2]});
+        m.tets.insert(m.tets.end(), {lo[0], lo[1], hi[2], hi[1]});
+      } else {
+        m.tets.insert(m.tets.end(), {lo[0], lo[1], lo[2], hi[1]});
+        m.tets.insert(m.tets.end(), {lo[0], hi[1], lo[2], hi[2]});
+      }
+    }
+  }
+  return Domain3(m);
+}
+
+// Every check of a valid output.
+void check_valid(const Domain3& domain, const Mesh3Result& r) {
+  REQUIRE(r.nb_tets() > 0);
+  REQUIRE(r.kinds.size() == r.nb_vertices());
+  // Right-handed, exactly.
+  std::size_t wrong = 0;
+  for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+    const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+    wrong += voroclip::orient3d(&r.xyz[3 * v[0]], &r.xyz[3 * v[1]], &r.xyz[3 * v[2]],
+                                &r.xyz[3 * v[3]]) != Sign::negative
+                 ? 1
+                 : 0;
+  }
+  CHECK(wrong == 0);
+  // Every vertex used.
+  std::vector<std::uint8_t> used(r.nb_vertices(), 0);
+  for (const std::uint32_t v : r.tets) used[v] = 1;
+  CHECK(std::count(used.begin(), used.end(), 0) == 0);
+  // Closed 2-manifold boundary, no zero-volume tet, no facet in three tets, no overlap:
+  // Domain3's exact validation.
+  voroclip::TetMeshInput m;
+  m.source = "mesh3d output";
+  m.xyz = r.xyz;
+  m.tets = r.tets;
+  CHECK_NOTHROW(Domain3(m));
+  // Every circumcenter in the closed domain, exactly (the tets added by the manifold repair
+  // are the exception, counted).
+  const voroclip::TetExtractor3 ex(domain);
+  std::uint32_t outside = 0;
+  for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+    const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+    outside += ex.circumcenter_side(&r.xyz[3 * v[0]], &r.xyz[3 * v[1]], &r.xyz[3 * v[2]],
+                                    &r.xyz[3 * v[3]]) == Sign::negative
+                   ? 1
+                   : 0;
+  }
+  CHECK(outside <= r.extraction.nb_added + r.extraction.nb_filled + r.extraction.nb_creases);
+}
+
+// Distances from samples along the feature lines of the domain's boundary to the output's
+// boundary surface: {max, mean}.
+std::pair<double, double> feature_distance(const Domain3& domain, const Mesh3Result& r,
+                                           double feature_angle) {
+  const voroclip::TriangleSurface surface = voroclip::boundary_surface(domain);
+  const voroclip::FeatureLines lines = voroclip::extract_feature_lines(surface, feature_angle);
+  const voroclip::FeatureTree tree(surface, lines);
+  voroclip::TetMeshInput m;
+  m.xyz = r.xyz;
+  m.tets = r.tets;
+  const voroclip::SurfaceTree out(voroclip::tet_mesh_boundary(m));
+  double max = 0, sum = 0;
+  std::size_t count = 0;
+  for (std::uint32_t l = 0; l < tree.nb_lines(); ++l) {
+    for (int i = 0; i <= 200; ++i) {
+      double x[3];
+      tree.eval(l, tree.length(l) * i / 200, x);
+      const double d = std::sqrt(out.closest(x).distance2);
+      max = std::max(max, d);
+      sum += d;
+      ++count;
+    }
+  }
+  return {max, count > 0 ? sum / static_cast<double>(count) : 0.0};
+}
+
+double diagonal(const Domain3& d) {
+  double s = 0;
+  for (int c = 0; c < 3; ++c)
+    s += (d.bbox_hi()[c] - d.bbox_lo()[c]) * (d.bbox_hi()[c] - d.bbox_lo()[c]);
+  return std::sqrt(s);
+}
+
+Mesh3Options small_options(std::uint32_t n) {
+  Mesh3Options o;
+  o.nb_vertices = n;
+  o.unconstrained_iterations = 8;
+  o.constrained_iterations = 12;
+  o.perturbation.max_rounds = 4;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surface",
+          "[mesh][exact]") {
+  const Domain3 box = box_domain();
+  const Mesh3Result r = voroclip::mesh3d(box, small_options(600));
+  check_valid(box, r);
+  CHECK(r.nb_feature_lines == 12);
+  CHECK(r.nb_feature_corners == 8);
+  const double size[3] = {2, 3, 1};
+  std::uint32_t corners = 0;
+  for (std::uint32_t v = 0; v < r.nb_vertices(); ++v) {
+    const double* p = &r.xyz[3 * v];
+    int on = 0;  // coordinates exactly on a face plane
+    for (int c = 0; c < 3; ++c) on += p[c] == 0 || p[c] == size[c] ? 1 : 0;
+    // The projections onto faces and edges are exact here (axis-aligned planes and lines).
+    switch (r.kinds[v]) {
+      case Mesh3VertexKind::kCorner:
+        CHECK(on == 3);
+        ++corners;
+        break;
+      case Mesh3VertexKind::kFeature:
+        CHECK(on == 2);
+        break;
+      case Mesh3VertexKind::kSurface:
+        CHECK(on >= 1);
+        break;
+      case Mesh3VertexKind::kInterior:
+        CHECK(on == 0);
+        break;
+    }
+  }
+  CHECK(corners == 8);
+  // The twelve edges are edges of the output: their samples are on its boundary.
+  const auto [max, mean] = feature_distance(box, r, voroclip::kDefaultFeatureAngleDeg);
+  CHECK(max <= 1e-12);
+  CHECK(mean <= 1e-13);
+  // The output fills the box.
+  double volume = 0;
+  for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+    const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+    volume +=
+        voroclip::tet_shape(&r.xyz[3 * v[0]], &r.xyz[3 * v[1]], &r.xyz[3 * v[2]], &r.xyz[3 * v[3]])
+            .volume;
+  }
+  CHECK(volume == Approx(6).epsilon(1e-9));
+  CHECK(r.quality.q1_deg.min > 10);
+}
+
+TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[mesh][exact]") {
+  const Domain3 cyl = cylinder_domain(32, 4);
+  const Mesh3Result r = voroclip::mesh3d(cyl, small_options(300));
+  INFO("seconds per phase: " << r.seconds[0] << " " << r.seconds[1] << " " << r.seconds[2] << " "
+                             << r.seconds[3] << " " << r.seconds[4] << " " << r.seconds[5] << " "
+                             << r.seconds[6] << " " << r.seconds[7]);
+  check_valid(cyl, r);
+  CHECK(r.nb_feature_lines == 2);  // the two rims, closed
+  CHECK(r.nb_feature_corners == 0);
+  CHECK(r.nb_feature_sites > 0);
+  // Rim vertices: exactly at z = 0 or 2, on the rim polygon (radius within rounding).
+  for (std::uint32_t v = 0; v < r.nb_vertices(); ++v) {
+    const double* p = &r.xyz[3 * v];
+    if (r.kinds[v] == Mesh3VertexKind::kFeature) {
+      CHECK((p[2] == 0 || p[2] == 2));
+      const double rho = std::hypot(p[0], p[1]);
+      CHECK(rho <= 1 + 1e-15);
+      CHECK(rho >= std::cos(M_PI / 32) - 1e-15);
+    }
+  }
+  // The rims lie on the output's boundary up to the chords between rim vertices (a chord
+  // of length L of the unit circle is L^2 / 8 from it); without features they are cut.
+  const auto [max, mean] = feature_distance(cyl, r, voroclip::kDefaultFeatureAngleDeg);
+  Mesh3Options o = small_options(300);
+  o.features = false;
+  o.perturb = false;
+  const Mesh3Result plain = voroclip::mesh3d(cyl, o);
+  check_valid(cyl, plain);
+  const auto [max_plain, mean_plain] =
+      feature_distance(cyl, plain, voroclip::kDefaultFeatureAngleDeg);
+  const double spacing = std::cbrt(cyl.volume() / 300);
+  INFO("rim samples to the output boundary: max "
+       << max << " mean " << mean << "; without features max " << max_plain << " mean "
+       << mean_plain << "; spacing " << spacing);
+  CHECK(max <= 0.15 * spacing);
+  CHECK(mean <= 0.08 * spacing);
+  CHECK(mean < 0.2 * mean_plain);
+}
+
+TEST_CASE("mesh3d on fandisk: crisp feature lines", "[mesh]") {
+  const Domain3 fandisk(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  Mesh3Options o = small_options(700);
+  o.unconstrained_iterations = 4;
+  o.constrained_iterations = 6;
+  const Mesh3Result with = voroclip::mesh3d(fandisk, o);
+  INFO("seconds per phase: " << with.seconds[0] << " " << with.seconds[1] << " " << with.seconds[2]
+                             << " " << with.seconds[3] << " " << with.seconds[4] << " "
+                             << with.seconds[5] << " " << with.seconds[6] << " "
+                             << with.seconds[7]);
+  check_valid(fandisk, with);
+  o.features = false;
+  o.perturb = false;
+  const Mesh3Result without = voroclip::mesh3d(fandisk, o);
+  check_valid(fandisk, without);
+  const double diag = diagonal(fandisk);
+  const auto [max_with, mean_with] =
+      feature_distance(fandisk, with, voroclip::kDefaultFeatureAngleDeg);
+  const auto [max_without, mean_without] =
+      feature_distance(fandisk, without, voroclip::kDefaultFeatureAngleDeg);
+  INFO("feature samples to the output boundary, relative to the diagonal: with features max "
+       << max_with / diag << " mean " << mean_with / diag << "; without max " << max_without / diag
+       << " mean " << mean_without / diag);
+  CHECK(with.nb_feature_corners > 0);
+  CHECK(with.nb_corner_sites >= with.nb_feature_corners);
+  CHECK(mean_with < 0.1 * mean_without);
+  CHECK(max_with < max_without);
+}
+
+TEST_CASE("mesh3d: the same mesh with 1 and 2 threads", "[mesh]") {
+  const Domain3 box = box_domain();
+  Mesh3Result one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = voroclip::mesh3d(box, small_options(400));
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = voroclip::mesh3d(box, small_options(400));
+  }
+  CHECK(one.xyz == two.xyz);
+  CHECK(one.tets == two.tets);
+  CHECK(one.kinds == two.kinds);
+}
+
+TEST_CASE("mesh3d: adaptive sizing, random sampling, no perturbation", "[mesh]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  Mesh3Options o = small_options(400);
+  o.unconstrained_iterations = 4;
+  o.constrained_iterations = 6;
+  o.adaptive = true;
+  o.perturb = false;
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  check_valid(d, r);
+  CHECK(r.perturbation.rounds == 0);
+  o.adaptive = false;
+  o.sampling = voroclip::Mesh3Sampling::kRandom;
+  check_valid(d, voroclip::mesh3d(d, o));
+}
+
+TEST_CASE("mesh3d: progress per phase, cancellation, errors", "[mesh]") {
+  const Domain3 box = box_domain();
+  Mesh3Options o = small_options(300);
+  std::vector<voroclip::Mesh3Phase> phases;
+  std::uint32_t cvt_reports = 0;
+  o.progress = [&](const voroclip::Mesh3Progress& p) {
+    if (phases.empty() || phases.back() != p.phase) phases.push_back(p.phase);
+    if (p.phase == voroclip::Mesh3Phase::kConstrained && p.iteration > 0) {
+      ++cvt_reports;
+      CHECK(p.energy > 0);
+      CHECK(p.gradient_norm >= 0);
+    }
+    return true;
+  };
+  const Mesh3Result r = voroclip::mesh3d(box, o);
+  CHECK_FALSE(r.cancelled);
+  CHECK(cvt_reports > 0);
+  const std::vector<voroclip::Mesh3Phase> expected = {
+      voroclip::Mesh3Phase::kSizing,        voroclip::Mesh3Phase::kSampling,
+      voroclip::Mesh3Phase::kUnconstrained, voroclip::Mesh3Phase::kSnapping,
+      voroclip::Mesh3Phase::kConstrained,   voroclip::Mesh3Phase::kExtraction,
+      voroclip::Mesh3Phase::kSlivers,       voroclip::Mesh3Phase::kQuality};
+  CHECK(phases == expected);
+  // Stop in the constrained CVT.
+  o.progress = [](const voroclip::Mesh3Progress& p) {
+    return p.phase != voroclip::Mesh3Phase::kConstrained;
+  };
+  const Mesh3Result c = voroclip::mesh3d(box, o);
+  CHECK(c.cancelled);
+  CHECK(c.tets.empty());
+  CHECK(c.xyz.empty());
+
+  Mesh3Options bad = small_options(3);
+  CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
+  bad = small_options(100);
+  bad.feature_angle_deg = 200;
+  CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
+}

@@ -1,0 +1,152 @@
+// Tests of the sliver perturbation (voroclip/mesh.h, perturb_slivers3): it raises the
+// smallest dihedral angle of the extracted mesh (measured with tet_shape), keeps fixed
+// sites, keeps constrained sites on their constraint, reports figures that match the mesh,
+// and does not depend on the thread count.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/cvt.h"
+#include "voroclip/mesh.h"
+
+using voroclip::Delaunay3;
+using voroclip::Domain3;
+using voroclip::TetExtractor3;
+using Kind = voroclip::SiteConstraint3::Kind;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+// Radial projection onto the unit sphere (sphere.mesh's boundary is a polyhedron inscribed
+// in it; the sites only need a surface to stay on).
+void on_unit_sphere(std::uint32_t, Kind, const double* p, double* q, double* d) {
+  const double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  for (int c = 0; c < 3; ++c) {
+    q[c] = p[c] / l;
+    d[c] = p[c] / l;
+  }
+}
+
+struct Setup {
+  Domain3 domain;
+  std::vector<double> sites;
+  std::vector<Kind> kinds;
+};
+
+// A short CVT in the sphere: sites whose boundary cells were pushed to the unit sphere,
+// every 7th inner site fixed. Slivers remain (few iterations).
+Setup make_setup() {
+  Setup s{Domain3(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh")), {}, {}};
+  const std::uint32_t n = 600;
+  s.sites = voroclip::random_points3(s.domain, n, 11);
+  voroclip::Cvt3Options o;
+  o.max_iterations = 8;
+  voroclip::optimize_cvt3(s.domain, s.sites, o);
+  const Delaunay3 dt(s.sites.data(), n);
+  voroclip::ClippedVoronoi3 cv;
+  cv.compute(s.domain, dt);
+  s.kinds.assign(n, Kind::kFree);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (cv.is_boundary(i)) {
+      s.kinds[i] = Kind::kSurface;
+      double q[3], d[3];
+      on_unit_sphere(i, Kind::kSurface, &s.sites[3 * i], q, d);
+      std::copy_n(q, 3, &s.sites[3 * i]);
+    } else if (i % 7 == 0) {
+      s.kinds[i] = Kind::kFixed;
+    }
+  }
+  return s;
+}
+
+double mesh_min_dihedral(const TetExtractor3& ex, const std::vector<double>& sites,
+                         std::uint32_t* below = nullptr, double target = 0) {
+  const Delaunay3 dt(sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+  const std::vector<std::uint32_t> tets = ex.extract(dt);
+  double worst = 180;
+  if (below) *below = 0;
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    const double q = voroclip::tet_shape(&sites[3 * tets[t]], &sites[3 * tets[t + 1]],
+                                         &sites[3 * tets[t + 2]], &sites[3 * tets[t + 3]])
+                         .q1_deg;
+    worst = std::min(worst, q);
+    if (below && q < target) ++*below;
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("perturb_slivers3 raises the smallest dihedral angle and keeps the constraints",
+          "[mesh]") {
+  Setup s = make_setup();
+  const TetExtractor3 ex(s.domain);
+  const std::vector<double> before = s.sites;
+  std::uint32_t slivers_before = 0;
+  const double worst_before = mesh_min_dihedral(ex, s.sites, &slivers_before, 25);
+  INFO("before: min " << worst_before << " deg, " << slivers_before << " tets below 25 deg");
+  REQUIRE(slivers_before > 0);
+  voroclip::Perturb3Options o;
+  o.target_dihedral_deg = 25;
+  const voroclip::Perturb3Stats st =
+      voroclip::perturb_slivers3(ex, s.sites, s.kinds, on_unit_sphere, o);
+  std::uint32_t slivers_after = 0;
+  const double worst_after = mesh_min_dihedral(ex, s.sites, &slivers_after, 25);
+  INFO("after: min " << worst_after << " deg, " << slivers_after << " below 25 deg; " << st.rounds
+                     << " rounds, " << st.moves << " moves");
+  // The statistics describe the meshes before and after.
+  // (The perturbation measures Q1 its own way; tet_shape's agrees to rounding.)
+  CHECK(st.initial_min_dihedral_deg == Approx(worst_before).epsilon(1e-9));
+  CHECK(st.initial_slivers == slivers_before);
+  CHECK(st.final_min_dihedral_deg == Approx(worst_after).epsilon(1e-9));
+  CHECK(st.final_slivers == slivers_after);
+  // Better, much better.
+  CHECK(worst_after > worst_before + 10);
+  CHECK(slivers_after * 4 < slivers_before);
+  CHECK(st.moves > 0);
+  for (std::uint32_t i = 0; i < s.kinds.size(); ++i) {
+    const double* p = &s.sites[3 * i];
+    if (s.kinds[i] == Kind::kFixed) {
+      CHECK(p[0] == before[3 * i]);
+      CHECK(p[1] == before[3 * i + 1]);
+      CHECK(p[2] == before[3 * i + 2]);
+    } else if (s.kinds[i] == Kind::kSurface) {
+      CHECK(std::fabs(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1) < 1e-15);
+    }
+  }
+}
+
+TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh]") {
+  const Setup s = make_setup();
+  const TetExtractor3 ex(s.domain);
+  std::vector<double> one = s.sites, two = s.sites;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    voroclip::perturb_slivers3(ex, one, s.kinds, on_unit_sphere);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    voroclip::perturb_slivers3(ex, two, s.kinds, on_unit_sphere);
+  }
+  CHECK(one == two);
+}
+
+TEST_CASE("perturb_slivers3: errors", "[mesh]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  const TetExtractor3 ex(d);
+  std::vector<double> sites = voroclip::random_points3(d, 50, 3);
+  std::vector<Kind> kinds(49, Kind::kFree);
+  CHECK_THROWS_AS(voroclip::perturb_slivers3(ex, sites, kinds, nullptr), voroclip::Error);
+  kinds.assign(50, Kind::kSurface);
+  CHECK_THROWS_AS(voroclip::perturb_slivers3(ex, sites, kinds, nullptr), voroclip::Error);
+  sites.pop_back();
+  CHECK_THROWS_AS(voroclip::perturb_slivers3(ex, sites, {}, nullptr), voroclip::Error);
+}

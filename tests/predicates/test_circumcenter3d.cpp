@@ -1,0 +1,422 @@
+// Tests of the circumcenter predicates (predicates.h, "Circumcenters of tetrahedra"):
+// orient3d_circumcenter and circumcenter3d_enclosure.
+//
+// The oracle works from the contract alone, in rationals (GMP): the circumcenter x of
+// p0..p3 solves 2 (p_k - p0) . (x - p0) = |p_k - p0|^2 (k = 1, 2, 3) by Cramer's rule, and
+// the answer is the sign of the 3 x 3 determinant det[a - x; b - x; c - x] (orient3d's
+// definition), not the implementation's reduced polynomial (circumcenter3d.h).
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <gmpxx.h>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "circumcenter3d.h"
+#include "exact_oracle.h"
+#include "voroclip/core.h"
+#include "voroclip/predicates.h"
+
+using namespace voroclip;
+using namespace voroclip::test;
+
+namespace {
+
+using P3 = std::array<double, 3>;
+using Q = mpq_class;
+using Q3 = std::array<Q, 3>;
+
+template <class T>
+T det3(const std::array<T, 3>& r0, const std::array<T, 3>& r1, const std::array<T, 3>& r2) {
+  return r0[0] * (r1[1] * r2[2] - r1[2] * r2[1]) - r0[1] * (r1[0] * r2[2] - r1[2] * r2[0]) +
+         r0[2] * (r1[0] * r2[1] - r1[1] * r2[0]);
+}
+
+// The exact circumcenter; false when the points are coplanar.
+bool exact_circumcenter(const std::array<P3, 4>& p, Q3& x) {
+  std::array<Q3, 3> rows;
+  Q3 rhs;
+  for (std::size_t k = 0; k < 3; ++k) {
+    Q s = 0;
+    for (std::size_t t = 0; t < 3; ++t) {
+      rows[k][t] = 2 * (Q(p[k + 1][t]) - Q(p[0][t]));
+      const Q d = Q(p[k + 1][t]) - Q(p[0][t]);
+      s += d * d;
+    }
+    rhs[k] = s;
+  }
+  const Q det = det3(rows[0], rows[1], rows[2]);
+  if (det == 0) return false;
+  for (std::size_t t = 0; t < 3; ++t) {
+    std::array<Q3, 3> m = rows;
+    for (std::size_t k = 0; k < 3; ++k) m[k][t] = rhs[k];
+    x[t] = Q(p[0][t]) + det3(m[0], m[1], m[2]) / det;
+  }
+  return true;
+}
+
+struct Case {
+  P3 a, b, c;
+  std::array<P3, 4> p;
+};
+
+std::string str(const P3& p) {
+  std::ostringstream s;
+  s << '(' << hex(p[0]) << ", " << hex(p[1]) << ", " << hex(p[2]) << ')';
+  return s.str();
+}
+
+std::string describe(const Case& k) {
+  return "a " + str(k.a) + " b " + str(k.b) + " c " + str(k.c) + " p0 " + str(k.p[0]) + " p1 " +
+         str(k.p[1]) + " p2 " + str(k.p[2]) + " p3 " + str(k.p[3]);
+}
+
+// 2: throws (coplanar p); else -1, 0, +1.
+int oracle(const Case& k) {
+  Q3 x;
+  if (!exact_circumcenter(k.p, x)) return 2;
+  Q3 ra, rb, rc;
+  for (std::size_t t = 0; t < 3; ++t) {
+    ra[t] = Q(k.a[t]) - x[t];
+    rb[t] = Q(k.b[t]) - x[t];
+    rc[t] = Q(k.c[t]) - x[t];
+  }
+  return sgn(det3(ra, rb, rc));
+}
+
+int run(const Case& k, bool exact_stage) {
+  try {
+    const Sign s =
+        exact_stage
+            ? detail::orient3d_circumcenter_exact(k.a.data(), k.b.data(), k.c.data(), k.p[0].data(),
+                                                  k.p[1].data(), k.p[2].data(), k.p[3].data())
+            : orient3d_circumcenter(k.a.data(), k.b.data(), k.c.data(), k.p[0].data(),
+                                    k.p[1].data(), k.p[2].data(), k.p[3].data());
+    return static_cast<int>(s);
+  } catch (const Error&) {
+    return 2;
+  }
+}
+
+int run_filter(const Case& k) {
+  return detail::circumcenter_side_filter(k.a.data(), k.b.data(), k.c.data(), k.p[0].data(),
+                                          k.p[1].data(), k.p[2].data(), k.p[3].data());
+}
+
+P3 random_point(Rng& rng) {
+  return {uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
+}
+P3 grid_point(Rng& rng, long long top) {
+  return {static_cast<double>(rand_int(rng, -top, top)),
+          static_cast<double>(rand_int(rng, -top, top)),
+          static_cast<double>(rand_int(rng, -top, top))};
+}
+P3 nudged(P3 p, Rng& rng, int ulps) {
+  for (double& x : p) x = nudge(x, static_cast<int>(rand_int(rng, -ulps, ulps)));
+  return p;
+}
+P3 scaled_point(const P3& p, int e) {
+  return {std::ldexp(p[0], e), std::ldexp(p[1], e), std::ldexp(p[2], e)};
+}
+P3 axpy(const P3& p, const P3& q, double s) {
+  return {p[0] + s * q[0], p[1] + s * q[1], p[2] + s * q[2]};
+}
+
+// The circumcenter in floating point (the usual formula, relative to p0).
+P3 float_circumcenter(const std::array<P3, 4>& p) {
+  double d[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int t = 0; t < 3; ++t)
+      d[k][t] = p[static_cast<std::size_t>(k + 1)][static_cast<std::size_t>(t)] -
+                p[0][static_cast<std::size_t>(t)];
+  const auto cross = [](const double* u, const double* v, double* o) {
+    o[0] = u[1] * v[2] - u[2] * v[1];
+    o[1] = u[2] * v[0] - u[0] * v[2];
+    o[2] = u[0] * v[1] - u[1] * v[0];
+  };
+  double c23[3], c31[3], c12[3];
+  cross(d[1], d[2], c23);
+  cross(d[2], d[0], c31);
+  cross(d[0], d[1], c12);
+  double l[3];
+  for (int k = 0; k < 3; ++k) l[k] = d[k][0] * d[k][0] + d[k][1] * d[k][1] + d[k][2] * d[k][2];
+  const double det = 2 * (d[0][0] * c23[0] + d[0][1] * c23[1] + d[0][2] * c23[2]);
+  P3 x;
+  for (std::size_t t = 0; t < 3; ++t)
+    x[t] = p[0][t] + (l[0] * c23[t] + l[1] * c31[t] + l[2] * c12[t]) / det;
+  return x;
+}
+
+enum class Family { random, grid, near, mixed, scaled };
+constexpr std::array<Family, 5> kFamilies = {Family::random, Family::grid, Family::near,
+                                             Family::mixed, Family::scaled};
+const char* name(Family f) {
+  switch (f) {
+    case Family::random:
+      return "random";
+    case Family::grid:
+      return "grid";
+    case Family::near:
+      return "near";
+    case Family::mixed:
+      return "mixed";
+    case Family::scaled:
+      return "scaled";
+  }
+  return "?";
+}
+
+Case make_case(Family fam, Rng& rng) {
+  Case k{};
+  switch (fam) {
+    case Family::random:
+      for (P3* q : {&k.a, &k.b, &k.c, &k.p[0], &k.p[1], &k.p[2], &k.p[3]}) *q = random_point(rng);
+      break;
+    case Family::grid: {
+      if (coin(rng)) {
+        // Small integers: coplanar sites and circumcenters on the plane occur often.
+        for (P3* q : {&k.a, &k.b, &k.c, &k.p[0], &k.p[1], &k.p[2], &k.p[3]})
+          *q = grid_point(rng, 2);
+      } else {
+        // Sites on a lattice sphere around an integer centre x, the plane through x (a
+        // is x itself or a lattice point beside it): the sign is exactly zero unless the
+        // sites are coplanar.
+        const P3 x = grid_point(rng, 3);
+        const auto& shell = sphere_points();
+        for (auto& q : k.p) {
+          const auto& v = shell[rng() % shell.size()];
+          q = {x[0] + static_cast<double>(v[0]), x[1] + static_cast<double>(v[1]),
+               x[2] + static_cast<double>(v[2])};
+        }
+        const P3 u = grid_point(rng, 3), w = grid_point(rng, 3);
+        const double s = static_cast<double>(rand_int(rng, -2, 2));
+        k.a = axpy(x, u, s);
+        k.b = axpy(x, u, s + 1);
+        k.c = axpy(x, w, 1);
+        if (coin(rng)) k.c = axpy(k.c, grid_point(rng, 1), 1);  // off the centre, usually
+      }
+      break;
+    }
+    case Family::near: {
+      // The plane passes at about 2^-m, m in [0, 60], from the circumcenter: from clearly
+      // decided by the filter down to within rounding of it.
+      for (auto& q : k.p) q = random_point(rng);
+      const P3 x = float_circumcenter(k.p);
+      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 0, 60)));
+      k.a = nudged(axpy(x, random_point(rng), h), rng, 2);
+      k.b = nudged(axpy(k.a, random_point(rng), 1), rng, 2);
+      k.c = nudged(axpy(k.a, random_point(rng), 1), rng, 2);
+      if (coin(rng)) k.a = nudged(x, rng, 1);
+      break;
+    }
+    case Family::mixed: {
+      static constexpr int kSpreads[4] = {20, 45, 70, 120};
+      const int spread = kSpreads[rng() % 4];
+      for (P3* q : {&k.a, &k.b, &k.c, &k.p[0], &k.p[1], &k.p[2], &k.p[3]}) {
+        if (rng() % 8 == 0) {
+          *q = {random_mixed_coordinate(rng), random_mixed_coordinate(rng),
+                random_mixed_coordinate(rng)};
+        } else {
+          *q = {random_wide(rng, -spread, spread), random_wide(rng, -spread, spread),
+                random_wide(rng, -spread, spread)};
+        }
+      }
+      break;
+    }
+    case Family::scaled: {
+      Case base = make_case(coin(rng) ? Family::grid : Family::near, rng);
+      const auto e = static_cast<int>(rand_int(rng, -900, 900));
+      for (P3* q : {&base.a, &base.b, &base.c, &base.p[0], &base.p[1], &base.p[2], &base.p[3]})
+        *q = scaled_point(*q, e);
+      return base;
+    }
+  }
+  return k;
+}
+
+}  // namespace
+
+TEST_CASE("orient3d_circumcenter: hand-derived cases", "[predicates][exact]") {
+  // The unit cube's corners 0, e_x, e_y, e_z: circumcenter (1/2, 1/2, 1/2).
+  const double p0[3] = {0, 0, 0}, p1[3] = {1, 0, 0}, p2[3] = {0, 1, 0}, p3[3] = {0, 0, 1};
+  // The plane z = 1/2 through (0, 0, 1/2), (1, 0, 1/2), (0, 1, 1/2): counter-clockwise
+  // seen from above, so a point below (z < 1/2) is positive: the centre is on it.
+  const double a[3] = {0, 0, 0.5}, b[3] = {1, 0, 0.5}, c[3] = {0, 1, 0.5};
+  CHECK(orient3d_circumcenter(a, b, c, p0, p1, p2, p3) == Sign::zero);
+  const double a2[3] = {0, 0, 0.25}, b2[3] = {1, 0, 0.25}, c2[3] = {0, 1, 0.25};
+  // Plane z = 1/4 (counter-clockwise from above): the centre at z = 1/2 is above: negative.
+  CHECK(orient3d_circumcenter(a2, b2, c2, p0, p1, p2, p3) == Sign::negative);
+  CHECK(orient3d_circumcenter(a2, c2, b2, p0, p1, p2, p3) == Sign::positive);
+  // Any order of the four sites: the same circumcenter.
+  CHECK(orient3d_circumcenter(a2, b2, c2, p3, p1, p0, p2) == Sign::negative);
+  // Agreement with orient3d on the explicit centre.
+  const double x[3] = {0.5, 0.5, 0.5};
+  CHECK(orient3d(a2, b2, c2, x) == Sign::negative);
+  // The enclosure holds the exact centre, tightly.
+  double centre[3], hw[3];
+  REQUIRE(circumcenter3d_enclosure(p0, p1, p2, p3, centre, hw));
+  for (int k = 0; k < 3; ++k) {
+    CHECK(std::fabs(centre[k] - 0.5) <= hw[k]);
+    CHECK(hw[k] < 1e-12);
+  }
+}
+
+TEST_CASE("orient3d_circumcenter agrees with the rational oracle on every family",
+          "[predicates][exact][degenerate]") {
+  const std::uint64_t seed = seed_for(0xc1c3d);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  for (const Family fam : kFamilies) {
+    INFO("family " << name(fam));
+    const std::size_t n = scaled(fam == Family::mixed ? 2000 : 8000);
+    std::size_t failures = 0, zeros = 0, throws = 0, undecided = 0;
+    for (std::size_t it = 0; it < n; ++it) {
+      const Case k = make_case(fam, rng);
+      const int want = oracle(k);
+      const int got = run(k, false), exact = run(k, true), filt = run_filter(k);
+      zeros += want == 0;
+      throws += want == 2;
+      undecided += filt == 0;
+      // The filter decides only when the answer is certain.
+      const bool ok = got == want && exact == want && (filt == 0 || filt == want);
+      if (!ok) {
+        ++failures;
+        if (failures <= 10) {
+          FAIL_CHECK(describe(k) << ": want " << want << " got " << got << " exact stage " << exact
+                                 << " filter " << filt);
+        }
+      }
+    }
+    INFO(zeros << " on the plane, " << throws << " coplanar, " << undecided
+               << " undecided by the filter, of " << n);
+    CHECK(failures == 0);
+    if (fam == Family::random) CHECK(undecided * 1000 <= n);
+    if (fam == Family::grid) {
+      // The family reaches exact ties and coplanar sites.
+      CHECK(zeros > n / 10);
+      CHECK(throws > n / 100);
+    }
+    if (fam == Family::near) {
+      // Both stages at work.
+      CHECK(undecided > n / 8);
+      CHECK(undecided < n - n / 8);
+    }
+  }
+}
+
+TEST_CASE("orient3d_circumcenter: scale invariance and symmetries", "[predicates][exact]") {
+  const std::uint64_t seed = seed_for(0xc1c3e);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  std::size_t failures = 0;
+  for (std::size_t it = 0; it < scaled(500); ++it) {
+    const Case k0 = make_case(it % 2 == 0 ? Family::near : Family::grid, rng);
+    const int s0 = run(k0, false);
+    // An odd permutation of (a, b, c) flips the sign; any permutation of the sites keeps it.
+    Case flipped = k0;
+    std::swap(flipped.a, flipped.b);
+    Case permuted = k0;
+    std::swap(permuted.p[0], permuted.p[3]);
+    std::swap(permuted.p[1], permuted.p[2]);
+    const int sf = run(flipped, false), sp = run(permuted, false);
+    if ((s0 == 2 ? sf != 2 : sf != -s0) || sp != s0) {
+      ++failures;
+      FAIL_CHECK(describe(k0) << ": " << s0 << " flipped " << sf << " permuted " << sp);
+    }
+    for (int e = -500; e <= 500; e += 50 + static_cast<int>(rng() % 7)) {
+      Case k = k0;
+      for (P3* q : {&k.a, &k.b, &k.c, &k.p[0], &k.p[1], &k.p[2], &k.p[3]}) *q = scaled_point(*q, e);
+      if (run(k, false) != s0) {
+        ++failures;
+        FAIL_CHECK("scale 2^" << e << ": " << describe(k0));
+      }
+    }
+  }
+  CHECK(failures == 0);
+}
+
+TEST_CASE("circumcenter3d_enclosure holds the exact circumcenter", "[predicates][exact]") {
+  const std::uint64_t seed = seed_for(0xc1c3f);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  std::size_t failures = 0, refused = 0, tight = 0, n_random = 0;
+  const std::size_t n = scaled(6000);
+  for (std::size_t it = 0; it < n; ++it) {
+    std::array<P3, 4> p;
+    const int kind = static_cast<int>(it % 4);
+    if (kind == 0) {
+      for (auto& q : p) q = random_point(rng);
+    } else if (kind == 1) {
+      // Flatter and flatter: p3 at height 2^-m above the plane of p0, p1, p2.
+      for (auto& q : p) q = random_point(rng);
+      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60)));
+      p[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
+              (p[0][2] + p[1][2] + p[2][2]) / 3};
+      const P3 u = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+      const P3 v = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+      const P3 nrm = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                      u[0] * v[1] - u[1] * v[0]};
+      p[3] = axpy(p[3], nrm, h);
+    } else if (kind == 2) {
+      // Mixed magnitudes, offset far from the origin.
+      const P3 o = {random_wide(rng, -30, 30), random_wide(rng, -30, 30),
+                    random_wide(rng, -30, 30)};
+      const int e = static_cast<int>(rand_int(rng, -40, 10));
+      for (auto& q : p) q = axpy(o, random_point(rng), std::ldexp(1.0, e));
+    } else {
+      const int e = static_cast<int>(rand_int(rng, -140, 140));
+      for (auto& q : p) q = scaled_point(random_point(rng), e);
+    }
+    double centre[3], hw[3];
+    Q3 x;
+    const bool exists = exact_circumcenter(p, x);
+    if (!circumcenter3d_enclosure(p[0].data(), p[1].data(), p[2].data(), p[3].data(), centre, hw)) {
+      ++refused;
+      continue;
+    }
+    if (!exists) {
+      ++failures;
+      FAIL_CHECK("an enclosure for coplanar points");
+      continue;
+    }
+    bool inside = true;
+    double radius = 0;
+    for (std::size_t t = 0; t < 3; ++t) {
+      inside = inside && abs(x[t] - Q(centre[t])) <= Q(hw[t]);
+      radius = std::max(radius, std::fabs(centre[t] - p[0][t]));
+    }
+    if (!inside) {
+      ++failures;
+      FAIL_CHECK("p0 " << str(p[0]) << " p1 " << str(p[1]) << " p2 " << str(p[2]) << " p3 "
+                       << str(p[3]) << ": the exact centre is outside the enclosure");
+    }
+    if (kind == 0) {
+      ++n_random;
+      tight += std::max({hw[0], hw[1], hw[2]}) < 1e-9 * radius;
+    }
+  }
+  INFO(refused << " refused of " << n);
+  CHECK(failures == 0);
+  // Refused only for very flat tets; tight for ordinary ones.
+  CHECK(refused < n / 8);
+  CHECK(tight * 100 >= n_random * 99);
+}
+
+TEST_CASE("orient3d_circumcenter and the enclosure: coplanar sites and non-finite input",
+          "[predicates][exact][degenerate]") {
+  const double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, xy[3] = {1, 1, 0};
+  const double z[3] = {0, 0, 1};
+  CHECK_THROWS_AS(orient3d_circumcenter(o, x, z, o, x, y, xy), Error);
+  double centre[3], hw[3];
+  CHECK_FALSE(circumcenter3d_enclosure(o, x, y, xy, centre, hw));
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double bad[3] = {nan, 0, 0}, huge[3] = {inf, 0, 0};
+  CHECK_THROWS_AS(orient3d_circumcenter(bad, x, z, o, x, y, z), Error);
+  CHECK_THROWS_AS(orient3d_circumcenter(o, x, z, o, x, huge, z), Error);
+  CHECK_FALSE(circumcenter3d_enclosure(o, x, huge, z, centre, hw));
+  CHECK_FALSE(circumcenter3d_enclosure(bad, x, y, z, centre, hw));
+}
