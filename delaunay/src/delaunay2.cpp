@@ -88,6 +88,7 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
                 std::to_string(n) + " point" + (n == 1 ? "" : "s"));
   }
   filter_ = StaticFilter::bounding(xy, n, 2);
+  detail::reserve_advised(duplicate_of_, n);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
   input_index_ = detail::brio_order(xy, n, 2);
@@ -149,6 +150,7 @@ std::uint32_t Delaunay2::new_triangle() {
 // Inserts the points input_index_[0], input_index_[1], ... (local ids 0, 1, ...).
 void Delaunay2::insert_all() {
   const auto m = static_cast<std::uint32_t>(input_index_.size());
+  detail::reserve_advised(coords_, 2 * static_cast<std::size_t>(m));
   coords_.resize(2 * static_cast<std::size_t>(m));
   for (std::uint32_t q = 0; q < m; ++q) {
     coords_[2 * static_cast<std::size_t>(q)] = pt(input_index_[q])[0];
@@ -405,8 +407,10 @@ void Delaunay2::canonicalize() {
   // in as (index << 2) below.
   constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
   std::vector<std::uint64_t>& keys = keys_;
+  detail::reserve_advised(keys, slots);
   keys.resize(slots);
   std::vector<std::uint32_t>& packed = scratch_c_;
+  detail::reserve_advised(packed, slots);
   packed.resize(slots);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 16384),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
@@ -436,6 +440,7 @@ void Delaunay2::canonicalize() {
   const std::uint32_t nb_finite = bucket_end[m];
   // placed_[i] = (r1 << 32) | slot, by bucket (bucket_end[r] moves from the start to the
   // end of bucket r).
+  detail::reserve_advised(placed_, nb_finite);
   placed_.resize(nb_finite);
   for (std::uint32_t t = 0; t < slots; ++t) {
     const std::uint64_t key = keys[t];
@@ -482,6 +487,8 @@ void Delaunay2::canonicalize() {
   }
   // The new arrays, in new order (sequential writes): each slot rotated, with input
   // indices and new neighbour codes.
+  detail::reserve_advised(tri_vertices_, 3 * static_cast<std::size_t>(total));
+  detail::reserve_advised(tri_neighbors_, 3 * static_cast<std::size_t>(total));
   tri_vertices_.resize(3 * static_cast<std::size_t>(total));
   tri_neighbors_.resize(3 * static_cast<std::size_t>(total));
   const auto write = [&](std::uint32_t i, std::uint32_t t) {
@@ -498,7 +505,14 @@ void Delaunay2::canonicalize() {
   };
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_finite, 16384),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      // The slots of consecutive triangles are scattered over rec_:
+                      // their records are fetched kAhead triangles early.
+                      constexpr std::uint32_t kAhead = 16;
                       for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        if (i + kAhead < nb_finite) {
+                          prefetch(vertices_of<true>(
+                              static_cast<std::uint32_t>(placed_[i + kAhead] & 0xffffffffu)));
+                        }
                         write(i, static_cast<std::uint32_t>(placed_[i] & 0xffffffffu));
                       }
                     });
@@ -506,6 +520,7 @@ void Delaunay2::canonicalize() {
     if (vertices_of<true>(t)[0] != kFreeVertex && keys[t] == kNoKey) write(packed[t] >> 2, t);
   }
   // The smallest finite triangle of each vertex: the last write of a descending pass.
+  detail::reserve_advised(vertex_triangle_, nb_points_);
   vertex_triangle_.assign(nb_points_, kNone);
   for (std::uint32_t i = nb_finite; i-- > 0;) {
     const std::uint32_t* v = &tri_vertices_[3 * static_cast<std::size_t>(i)];

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "voroclip/delaunay.h"
+
 namespace voroclip::detail {
 
 namespace {
@@ -156,6 +158,7 @@ void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
     for (int d = 0; d < 8; ++d)
       ++count[static_cast<std::size_t>(256 * d) + ((k.key >> (8 * d)) & 255u)];
   }
+  reserve_advised(tmp, n);
   tmp.resize(n);
   for (int d = 0; d < 8; ++d) {
     std::size_t* c = &count[static_cast<std::size_t>(256 * d)];
@@ -209,7 +212,9 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
     scale[a] = extent > 0 && std::isfinite(extent) ? cells / extent : 0.0;
     if (!std::isfinite(scale[a])) scale[a] = 0.0;
   }
-  std::vector<Keyed> keyed(count), tmp;
+  std::vector<Keyed> keyed, tmp;
+  reserve_advised(keyed, count);
+  keyed.resize(count);
   // Each key is a function of its point alone: parallel and deterministic.
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, count, 16384),
@@ -284,7 +289,9 @@ void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint
 
 std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
                                       std::vector<std::uint32_t>* round_starts) {
-  std::vector<std::uint32_t> order(n);
+  std::vector<std::uint32_t> order;
+  reserve_advised(order, n);
+  order.resize(n);
   if (round_starts != nullptr) round_starts->assign(1, n);
   if (n == 0) return order;
   // Level 0 is the last round (about n/2 points), level L the one before (n/2^(L+1)), up to

@@ -88,8 +88,29 @@ namespace voroclip {
 
 namespace detail {
 
+// Asks the kernel to back the whole 2 MiB pages inside [p, p + bytes) with transparent
+// huge pages when they are first touched (Linux madvise(MADV_HUGEPAGE); no effect
+// elsewhere, on pages already touched, or when the system disables it). For the large
+// arrays of one build: one page fault per 2 MiB instead of per 4 KiB. Never changes results.
+void advise_huge_pages(void* p, std::size_t bytes) noexcept;
+
+// Arrays at least this large get advise_huge_pages() when allocated.
+inline constexpr std::size_t kHugePageAdviceBytes = std::size_t{4} << 20;
+
+// Gives v room for n elements, advised for huge pages when large. The contents are lost
+// when it has to grow: for arrays rewritten completely by the caller.
+template <class Vector>
+void reserve_advised(Vector& v, std::size_t n) {
+  if (v.capacity() >= n) return;
+  Vector().swap(v);
+  v.reserve(n);
+  const std::size_t bytes = n * sizeof(typename Vector::value_type);
+  if (bytes >= kHugePageAdviceBytes) advise_huge_pages(v.data(), bytes);
+}
+
 // An allocator whose vector elements are left uninitialized by resize(): for arrays whose
 // every element is written before it is read, so that growing them touches no memory.
+// Large blocks are advised for huge pages.
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
   using value_type = T;
@@ -100,6 +121,11 @@ struct UninitializedAllocator : std::allocator<T> {
   UninitializedAllocator() = default;
   template <class U>
   explicit UninitializedAllocator(const UninitializedAllocator<U>&) {}
+  T* allocate(std::size_t n) {
+    T* p = std::allocator<T>::allocate(n);
+    if (n * sizeof(T) >= kHugePageAdviceBytes) advise_huge_pages(p, n * sizeof(T));
+    return p;
+  }
   template <class U>
   void construct(U* p) {
     ::new (static_cast<void*>(p)) U;
