@@ -401,11 +401,14 @@ void Delaunay2::canonicalize() {
     return v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
   };
   // Per slot: keys[t] = (largest rank r0 << 32) | rank of the vertex after it
-  // counter-clockwise, for a finite triangle (kNoKey otherwise); packed[t] = rotation: new
-  // vertex j is old vertex (j + rotation) mod 3, so that a finite triangle starts at its
-  // smallest input index and an infinite one ends with kInfinite. The new index is or-ed
-  // in as (index << 2) below.
+  // counter-clockwise, for a finite triangle (below kHullKey: ranks are below 2^31);
+  // kHullKey | a, for an infinite triangle (a, b, inf), a its first vertex's input index;
+  // kNoKey for a free slot. packed[t] = rotation: new vertex j is old vertex
+  // (j + rotation) mod 3, so that a finite triangle starts at its smallest input index and
+  // an infinite one ends with kInfinite. The new index is or-ed in as (index << 2) below.
   constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
+  constexpr std::uint64_t kHullKey = std::uint64_t{1} << 63;
+  static_assert(kMaxPoints <= (1u << 31), "ranks must leave the top bit of a key clear");
   std::vector<std::uint64_t>& keys = keys_;
   detail::reserve_advised(keys, slots);
   keys.resize(slots);
@@ -421,6 +424,7 @@ void Delaunay2::canonicalize() {
                         const int kinf = kinf_of(v);
                         if (kinf >= 0) {
                           packed[t] = static_cast<std::uint32_t>(kNext[kinf]);
+                          keys[t] = kHullKey | input_index_[v[kNext[kinf]]];
                           continue;
                         }
                         const std::uint32_t i0 = input_index_[v[0]], i1 = input_index_[v[1]],
@@ -433,8 +437,17 @@ void Delaunay2::canonicalize() {
   // Counting sort of the finite triangles by r0; bucket_end[r] ends bucket r.
   std::vector<std::uint32_t>& bucket_end = scratch_a_;
   bucket_end.assign(m + 1, 0);
+  // The same pass finds the infinite triangle whose first vertex has the smallest index.
+  std::uint32_t first_hull = kNone;
+  std::uint64_t first_hull_key = kNoKey;
   for (std::uint32_t t = 0; t < slots; ++t) {
-    if (keys[t] != kNoKey) ++bucket_end[(keys[t] >> 32) + 1];
+    const std::uint64_t key = keys[t];
+    if (key < kHullKey) {
+      ++bucket_end[(key >> 32) + 1];
+    } else if (key < first_hull_key) {
+      first_hull_key = key;
+      first_hull = t;
+    }
   }
   for (std::size_t r = 1; r <= m; ++r) bucket_end[r] += bucket_end[r - 1];
   const std::uint32_t nb_finite = bucket_end[m];
@@ -444,7 +457,7 @@ void Delaunay2::canonicalize() {
   placed_.resize(nb_finite);
   for (std::uint32_t t = 0; t < slots; ++t) {
     const std::uint64_t key = keys[t];
-    if (key != kNoKey) placed_[bucket_end[key >> 32]++] = (key << 32) | t;
+    if (key < kHullKey) placed_[bucket_end[key >> 32]++] = (key << 32) | t;
   }
   // Each bucket (about two triangles) by r1: insertion sort.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 16384),
@@ -468,22 +481,15 @@ void Delaunay2::canonicalize() {
   // Infinite triangles (a, b, inf) follow in hull order, the next one starting at b, from
   // the one whose a has the smallest input index (so hull_vertices() starts there).
   std::uint32_t total = nb_finite;
+  std::vector<std::uint32_t>& hull = stack_;
+  hull.clear();
   {
-    std::uint32_t first = kNone, smallest = kNone;
-    for (std::uint32_t t = 0; t < slots; ++t) {
-      const std::uint32_t* v = vertices_of<true>(t);
-      if (v[0] == kFreeVertex || keys[t] != kNoKey) continue;
-      const std::uint32_t a = input_index_[v[kNext[kinf_of(v)]]];
-      if (a < smallest) {
-        smallest = a;
-        first = t;
-      }
-    }
-    std::uint32_t t = first;
+    std::uint32_t t = first_hull;
     do {
+      hull.push_back(t);
       packed[t] |= total++ << 2;
       t = neighbor_of<true>(t, static_cast<int>(packed[t] & 3u)) / 3;  // across (b, inf)
-    } while (t != first);
+    } while (t != first_hull);
   }
   // The new arrays, in new order (sequential writes): each slot rotated, with input
   // indices and new neighbour codes.
@@ -516,9 +522,7 @@ void Delaunay2::canonicalize() {
                         write(i, static_cast<std::uint32_t>(placed_[i] & 0xffffffffu));
                       }
                     });
-  for (std::uint32_t t = 0; t < slots; ++t) {
-    if (vertices_of<true>(t)[0] != kFreeVertex && keys[t] == kNoKey) write(packed[t] >> 2, t);
-  }
+  for (const std::uint32_t t : hull) write(packed[t] >> 2, t);
   // The smallest finite triangle of each vertex: the last write of a descending pass.
   detail::reserve_advised(vertex_triangle_, nb_points_);
   vertex_triangle_.assign(nb_points_, kNone);
