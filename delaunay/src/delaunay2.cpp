@@ -110,13 +110,14 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
   canonicalize();
   if (!options_.keep_buffers) {
-    for (auto* buffer : {&scratch_a_, &scratch_c_, &starting_at_, &stack_, &cavity_, &free_}) {
+    for (auto* buffer : {&scratch_a_, &starting_at_, &stack_, &cavity_, &free_}) {
       std::vector<std::uint32_t>().swap(*buffer);
     }
     decltype(rec_)().swap(rec_);
-    std::vector<std::uint64_t>().swap(keys_);
-    std::vector<std::uint64_t>().swap(placed_);
-    std::vector<double>().swap(coords_);
+    decltype(scratch_c_)().swap(scratch_c_);
+    decltype(keys_)().swap(keys_);
+    decltype(placed_)().swap(placed_);
+    decltype(coords_)().swap(coords_);
     std::vector<BoundaryEdge>().swap(boundary_);
   }
   if (options_.check) {
@@ -409,10 +410,10 @@ void Delaunay2::canonicalize() {
   constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
   constexpr std::uint64_t kHullKey = std::uint64_t{1} << 63;
   static_assert(kMaxPoints <= (1u << 31), "ranks must leave the top bit of a key clear");
-  std::vector<std::uint64_t>& keys = keys_;
+  auto& keys = keys_;
   detail::reserve_advised(keys, slots);
   keys.resize(slots);
-  std::vector<std::uint32_t>& packed = scratch_c_;
+  auto& packed = scratch_c_;
   detail::reserve_advised(packed, slots);
   packed.resize(slots);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 16384),

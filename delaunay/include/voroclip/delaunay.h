@@ -311,10 +311,14 @@ class Delaunay2 {
   std::vector<std::uint32_t> cavity_;
   std::vector<BoundaryEdge> boundary_;
   std::vector<std::uint32_t> starting_at_;  // new triangle per boundary start vertex (+1 slot)
-  std::vector<double> coords_;
+  // Arrays written in full before they are read: left uninitialized when they grow.
+  template <class T>
+  using Uninitialized = std::vector<T, detail::UninitializedAllocator<T>>;
+  Uninitialized<double> coords_;
   std::vector<std::uint32_t> input_index_;
-  std::vector<std::uint32_t> scratch_a_, scratch_c_;
-  std::vector<std::uint64_t> keys_, placed_;
+  std::vector<std::uint32_t> scratch_a_;
+  Uninitialized<std::uint32_t> scratch_c_;
+  Uninitialized<std::uint64_t> keys_, placed_;
   std::vector<std::uint8_t> shift_;
 };
 
