@@ -218,9 +218,11 @@ void Delaunay2::insert_all() {
 }
 
 // kLocal: t holds local ids (construction), else input indices (checks). ip is the input
-// index of p, for the perturbation.
+// index of p, for the perturbation. Inlined: the cavity search calls it for every
+// neighbour (7% of the build's instructions were the call and its set-up).
 template <bool kLocal>
-bool Delaunay2::in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const {
+[[gnu::always_inline]] inline bool Delaunay2::in_conflict(std::uint32_t t, const double* p,
+                                                          std::uint32_t ip) const {
   const std::uint32_t* v = vertices_of<kLocal>(t);
   const auto point_of = [this](std::uint32_t w) { return kLocal ? local_pt(w) : pt(w); };
   const int kinf = v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
