@@ -133,8 +133,8 @@ void Delaunay2::clear_triangles() {
 }
 
 // A slot for a new triangle: a recycled one, else the next of rec_ (whose mark is reset:
-// rec_ keeps the stamps of the previous build).
-std::uint32_t Delaunay2::new_triangle() {
+// rec_ keeps the stamps of the previous build). Inlined: six calls per insertion.
+[[gnu::always_inline]] inline std::uint32_t Delaunay2::new_triangle() {
   if (!free_.empty()) {
     const std::uint32_t t = free_.back();
     free_.pop_back();
