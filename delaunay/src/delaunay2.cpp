@@ -19,6 +19,7 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -500,32 +501,42 @@ void Delaunay2::canonicalize() {
   detail::reserve_advised(tri_neighbors_, 3 * static_cast<std::size_t>(total));
   tri_vertices_.resize(3 * static_cast<std::size_t>(total));
   tri_neighbors_.resize(3 * static_cast<std::size_t>(total));
-  const auto write = [&](std::uint32_t i, std::uint32_t t) {
+  // kFinite: t has no infinite vertex. (x mod 3 for x < 6 by table: no division.)
+  constexpr std::uint32_t kMod3[6] = {0, 1, 2, 0, 1, 2};
+  const auto write = [&](std::uint32_t i, std::uint32_t t, auto finite) {
+    constexpr bool kFinite = decltype(finite)::value;
     const std::uint32_t* v = vertices_of<true>(t);
     const std::uint32_t s = packed[t] & 3u;
+    std::uint32_t* out_vertices = &tri_vertices_[3 * static_cast<std::size_t>(i)];
+    std::uint32_t* out_neighbors = &tri_neighbors_[3 * static_cast<std::size_t>(i)];
     for (std::uint32_t j = 0; j < 3; ++j) {
-      const std::uint32_t k = (j + s) % 3;
+      const std::uint32_t k = kMod3[j + s];
       const std::uint32_t code = v[4 + k];
-      const std::uint32_t other = packed[code / 3];
-      const std::size_t slot = 3 * static_cast<std::size_t>(i) + j;
-      tri_neighbors_[slot] = 3 * (other >> 2) + (code % 3 + 3 - (other & 3u)) % 3;
-      tri_vertices_[slot] = v[k] == kInfinite ? kInfinite : input_index_[v[k]];
+      const std::uint32_t nt = code / 3;
+      const std::uint32_t other = packed[nt];
+      out_neighbors[j] = 3 * (other >> 2) + kMod3[code - 3 * nt + 3 - (other & 3u)];
+      if constexpr (kFinite) {
+        out_vertices[j] = input_index_[v[k]];
+      } else {
+        out_vertices[j] = v[k] == kInfinite ? kInfinite : input_index_[v[k]];
+      }
     }
   };
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_finite, 16384),
-                    [&](const tbb::blocked_range<std::uint32_t>& range) {
-                      // The slots of consecutive triangles are scattered over rec_:
-                      // their records are fetched kAhead triangles early.
-                      constexpr std::uint32_t kAhead = 16;
-                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-                        if (i + kAhead < nb_finite) {
-                          prefetch(vertices_of<true>(
-                              static_cast<std::uint32_t>(placed_[i + kAhead] & 0xffffffffu)));
-                        }
-                        write(i, static_cast<std::uint32_t>(placed_[i] & 0xffffffffu));
-                      }
-                    });
-  for (const std::uint32_t t : hull) write(packed[t] >> 2, t);
+  tbb::parallel_for(
+      tbb::blocked_range<std::uint32_t>(0, nb_finite, 16384),
+      [&](const tbb::blocked_range<std::uint32_t>& range) {
+        // The slots of consecutive triangles are scattered over rec_:
+        // their records are fetched kAhead triangles early.
+        constexpr std::uint32_t kAhead = 16;
+        for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+          if (i + kAhead < nb_finite) {
+            prefetch(
+                vertices_of<true>(static_cast<std::uint32_t>(placed_[i + kAhead] & 0xffffffffu)));
+          }
+          write(i, static_cast<std::uint32_t>(placed_[i] & 0xffffffffu), std::true_type{});
+        }
+      });
+  for (const std::uint32_t t : hull) write(packed[t] >> 2, t, std::false_type{});
   // The smallest finite triangle of each vertex: the last write of a descending pass.
   detail::reserve_advised(vertex_triangle_, nb_points_);
   vertex_triangle_.assign(nb_points_, kNone);
