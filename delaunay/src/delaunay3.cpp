@@ -66,7 +66,12 @@ bool collinear(const double* a, const double* b, const double* c) {
 // Reserves room for exactly `size` elements (resize() alone may double the capacity).
 template <class T, class A>
 void reserve_exactly(std::vector<T, A>& v, std::size_t size) {
-  if (size > v.capacity()) v.reserve(size);
+  if (size > v.capacity()) {
+    v.reserve(size);
+    if (size * sizeof(T) >= detail::kHugePageAdviceBytes) {
+      detail::advise_huge_pages(v.data(), size * sizeof(T));
+    }
+  }
 }
 
 // A hint that the cache line at p will be read soon (no effect on results).

@@ -466,6 +466,25 @@ TEST_CASE("Delaunay2 rebuilds reuse the object", "[delaunay]") {
   }
 }
 
+// Arrays above detail::kHugePageAdviceBytes are reallocated (their contents dropped) and
+// advised for huge pages when a rebuild grows past their capacity.
+TEST_CASE("Delaunay2 rebuilds growing past the huge-page threshold", "[delaunay]") {
+  Delaunay2 d;
+  for (const std::uint32_t n : {3000u, 200000u, 5000u, 250000u}) {
+    const std::uint64_t seed = 40 + n;
+    INFO("n " << n << ", seed " << seed);
+    const std::vector<double> xy = random_points(n, seed);
+    d.build(xy.data(), n);
+    Delaunay2::Options lean;
+    lean.keep_buffers = false;
+    const Delaunay2 fresh(xy.data(), n, lean);
+    REQUIRE(d.nb_triangles() == fresh.nb_triangles());
+    REQUIRE(d.tri_vertices() == fresh.tri_vertices());
+    REQUIRE(d.tri_neighbors() == fresh.tri_neighbors());
+    require_valid(d);
+  }
+}
+
 TEST_CASE("Delaunay2 on a million points", "[delaunay][.slow]") {
   const std::vector<double> xy = random_points(1000000, 2026);
   const Delaunay2 d(xy.data(), 1000000);

@@ -72,6 +72,40 @@ TEST_CASE("brio_order is deterministic", "[delaunay]") {
   }
 }
 
+TEST_CASE("the 2D Hilbert state machine equals Skilling's transform", "[delaunay][exact]") {
+  using voroclip::detail::hilbert_index2;
+  using voroclip::detail::hilbert_index2_skilling;
+  // Every cell of the small grids (odd and even depths: the machine starts differently).
+  for (int bits = 1; bits <= 7; ++bits) {
+    CAPTURE(bits);
+    for (std::uint32_t x = 0; x < (1u << bits); ++x) {
+      for (std::uint32_t y = 0; y < (1u << bits); ++y) {
+        CAPTURE(x, y);
+        REQUIRE(hilbert_index2(x, y, bits) == hilbert_index2_skilling(x, y, bits));
+      }
+    }
+  }
+  // Random cells of the deeper ones, and the corners.
+  const std::uint64_t seed = 2026;
+  INFO("seed " << seed);
+  std::mt19937_64 rng(seed);
+  for (int bits = 8; bits <= 16; ++bits) {
+    CAPTURE(bits);
+    const std::uint32_t top = (1u << bits) - 1;
+    for (int i = 0; i < 20000; ++i) {
+      const auto x = static_cast<std::uint32_t>(rng()) & top;
+      const auto y = static_cast<std::uint32_t>(rng()) & top;
+      CAPTURE(x, y);
+      REQUIRE(hilbert_index2(x, y, bits) == hilbert_index2_skilling(x, y, bits));
+    }
+    for (const std::uint32_t x : {0u, top}) {
+      for (const std::uint32_t y : {0u, top}) {
+        REQUIRE(hilbert_index2(x, y, bits) == hilbert_index2_skilling(x, y, bits));
+      }
+    }
+  }
+}
+
 TEST_CASE("hilbert_sort visits a 2^k grid cell by cell", "[delaunay][exact]") {
   // On a 2^k grid every median split cuts exactly between two grid planes, so the order is
   // the Hilbert curve itself: consecutive points are grid neighbours (distance exactly 1).
