@@ -259,12 +259,8 @@ struct Clip3Impl {
   bool keep_surface = false;
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
-  bool infinite(std::uint32_t t) const {
-    return dt.tet_vertex(t, 0) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 1) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 2) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 3) == Delaunay3::kInfinite;
-  }
+  // (After a build an infinite tet has kInfinite as its vertex 3: Delaunay3.)
+  bool infinite(std::uint32_t t) const { return dt.is_infinite(t); }
 
   // ---- Exact clipping kernel (clip3d_kernel.cpp).
   struct Scratch {
