@@ -320,8 +320,8 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
         tets.push_back(t2);
         __builtin_prefetch(circ + 3 * std::size_t{t2});
       } else if (mk - st.first < q) {
-        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q],
-                       cu[mk - st.first], sums);
+        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[mk - st.first],
+                       sums);
       }
     }
   }
