@@ -119,7 +119,7 @@ void Clip3Impl::run() {
         // The sites are in input order, scattered over memory: ask for those of a tet a
         // few slots ahead.
         constexpr std::uint32_t kAhead = 8;
-        if (t + kAhead < range.end() && !infinite(t + kAhead)) {
+        if (t + kAhead < range.end() && !dt.is_free(t + kAhead) && !infinite(t + kAhead)) {
           for (int k = 0; k < 4; ++k) __builtin_prefetch(site(dt.tet_vertex(t + kAhead, k)));
         }
         if (dt.is_free(t) || infinite(t)) continue;

@@ -358,9 +358,8 @@ struct Clip3Impl {
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
   };
-  // Fills s.tets with the tets around v, finite and infinite; with `prefetch`, asks for
-  // prefetch[3 t] of each tet t as it is found (the circumcentres, read next).
-  void star(std::uint32_t v, Star& s, const double* prefetch = nullptr) const;
+  // Fills s.tets with the tets around v, finite and infinite.
+  void star(std::uint32_t v, Star& s) const;
   // The Delaunay neighbours of site c (ids, and geometry relative to c), valid until the
   // next call.
   struct NeighborList {
