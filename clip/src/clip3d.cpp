@@ -54,28 +54,74 @@ void Clip3Impl::run() {
   const auto t1 = Clock::now();
   out.seconds_[0] = std::chrono::duration<double>(t1 - t0).count();
 
-  // Sites in the order of a tet of theirs: tets are numbered roughly along the insertion
-  // curve, so neighbouring cells then read neighbouring memory.
-  const std::uint32_t slots = dt.nb_tet_slots();
-  // (A counting sort by vertex_tet / 8: as local, with an eighth of the buckets.)
-  const std::size_t nb_buckets = slots / 8 + 1;
-  const auto by_tet = [&](auto&& take, std::vector<std::uint32_t>& order) {
-    std::vector<std::uint32_t> bucket(nb_buckets + 1, 0);
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (take(i)) ++bucket[dt.vertex_tet(i) / 8 + std::size_t{1}];
+  // Cells in Morton order of their sites (10 bits per axis over the sites' bounding box):
+  // consecutive cells share most of their Delaunay tets, which then come from cache
+  // whatever the tets' slot numbering (the zoned Delaunay3 scatters neighbouring tets). A
+  // stable two-pass radix sort on the 30-bit keys; the order depends on the input alone.
+  std::vector<std::uint32_t> morton(n);
+  {
+    double lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) lo[c] = hi[c] = site(0)[c];
+    for (std::uint32_t i = 1; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], site(i)[c]);
+        hi[c] = std::max(hi[c], site(i)[c]);
+      }
     }
-    for (std::size_t t = 0; t < nb_buckets; ++t) bucket[t + 1] += bucket[t];
-    order.resize(bucket[nb_buckets]);
+    double scale[3];
+    for (int c = 0; c < 3; ++c) scale[c] = hi[c] > lo[c] ? 1023.999 / (hi[c] - lo[c]) : 0;
+    const auto spread = [](std::uint32_t x) {  // bit k of x to bit 3k
+      x = (x | (x << 16)) & 0x030000ffu;
+      x = (x | (x << 8)) & 0x0300f00fu;
+      x = (x | (x << 4)) & 0x030c30c3u;
+      return (x | (x << 2)) & 0x09249249u;
+    };
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
+      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+        std::uint32_t key = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double x = (site(i)[c] - lo[c]) * scale[c];
+          const auto q = x > 0 ? static_cast<std::uint32_t>(std::min(x, 1023.0)) : 0u;
+          key |= spread(q) << c;
+        }
+        morton[i] = key;
+      }
+    });
+  }
+  std::vector<std::uint32_t> sort_tmp;
+  const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
+    order.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
-      if (take(i)) order[bucket[dt.vertex_tet(i) / 8]++] = i;
+      if (take(i)) order.push_back(i);
+    }
+    sort_tmp.resize(order.size());
+    std::vector<std::uint32_t> count(std::size_t{1} << 15);
+    for (int shift = 0; shift < 30; shift += 15) {
+      std::fill(count.begin(), count.end(), 0u);
+      for (const std::uint32_t i : order) ++count[(morton[i] >> shift) & 0x7fffu];
+      std::uint32_t sum = 0;
+      for (std::uint32_t& c : count) {
+        const std::uint32_t k = c;
+        c = sum;
+        sum += k;
+      }
+      for (const std::uint32_t i : order) sort_tmp[count[(morton[i] >> shift) & 0x7fffu]++] = i;
+      order.swap(sort_tmp);
     }
   };
 
   // ---- Boundary cells. Circumcentres of the Delaunay tets first (inner cells use them too).
+  const std::uint32_t slots = dt.nb_tet_slots();
   std::vector<double> circ(linear_density ? 0 : 3 * std::size_t{slots});
   if (!linear_density) {
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 4096), [&](const auto& range) {
       for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+        // The sites are in input order, scattered over memory: ask for those of a tet a
+        // few slots ahead.
+        constexpr std::uint32_t kAhead = 8;
+        if (t + kAhead < range.end() && !dt.is_free(t + kAhead) && !infinite(t + kAhead)) {
+          for (int k = 0; k < 4; ++k) __builtin_prefetch(site(dt.tet_vertex(t + kAhead, k)));
+        }
         if (dt.is_free(t) || infinite(t)) continue;
         std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
                               dt.tet_vertex(t, 3)};
@@ -86,7 +132,7 @@ void Clip3Impl::run() {
   }
   const std::size_t nb_boundary = boundary_cells.size();
   std::vector<std::uint32_t> order;
-  by_tet([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
+  spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
   std::vector<Moments> boundary_moments(nb_boundary);
   std::vector<std::uint8_t> unplaced(nb_boundary, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 16), [&](const auto& range) {
@@ -194,7 +240,7 @@ void Clip3Impl::run() {
       for (const auto& v : next) pending.insert(pending.end(), v.begin(), v.end());
     }
   } else {
-    by_tet([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
+    spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
     inner_moments.resize(order.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
                       [&](const auto& range) {

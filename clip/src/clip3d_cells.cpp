@@ -274,17 +274,28 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
 
 void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s,
                            Moments& r) const {
+  // The star traversal and the pieces in one pass: a Voronoi edge (a facet around i shared
+  // by tets at star positions q2 < q) is taken when its later tet q is expanded, when both
+  // circumcentres are known (each is read when its tet is expanded, prefetched when found).
   Star& st = s.star;
-  star(i, st, circ);
-  const double* pi = site(i);
-  const std::vector<std::uint32_t>& tets = st.tets;
-  const std::size_t m = tets.size();
+  const std::uint32_t slots = dt.nb_tet_slots();
+  if (st.mark.size() != slots || st.next > 0xf0000000u) {
+    st.mark.assign(slots, 0);
+    st.next = 1;
+  }
+  st.first = st.next;
+  std::vector<std::uint32_t>& tets = st.tets;
   std::vector<Rel>& cu = s.cu;
-  cu.resize(m);
-  for (std::size_t q = 0; q < m; ++q) cu[q] = rel(circ + 3 * std::size_t{tets[q]}, pi);
+  tets.clear();
+  cu.clear();
+  const double* pi = site(i);
+  const std::uint32_t t0 = dt.vertex_tet(i);
+  st.mark[t0] = st.first;
+  tets.push_back(t0);
   PieceSums sums;
-  for (std::size_t q = 0; q < m; ++q) {
+  for (std::size_t q = 0; q < tets.size(); ++q) {
     const std::uint32_t t = tets[q];
+    cu.push_back(rel(circ + 3 * std::size_t{t}, pi));
     int li = -1;
     Rel h[4];
     for (int k = 0; k < 4; ++k) {
@@ -303,10 +314,18 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
     for (int f = 0; f < 4; ++f) {
       if (f == li) continue;
       const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      if (t2 < t) continue;
-      add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[st.pos(t2)], sums);
+      const std::uint32_t mk = st.mark[t2];
+      if (mk < st.first) {
+        st.mark[t2] = st.first + static_cast<std::uint32_t>(tets.size());
+        tets.push_back(t2);
+        __builtin_prefetch(circ + 3 * std::size_t{t2});
+      } else if (mk - st.first < q) {
+        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[mk - st.first],
+                       sums);
+      }
     }
   }
+  st.next = st.first + static_cast<std::uint32_t>(tets.size());
   sums.add_to(r);
 }
 

@@ -259,12 +259,8 @@ struct Clip3Impl {
   bool keep_surface = false;
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
-  bool infinite(std::uint32_t t) const {
-    return dt.tet_vertex(t, 0) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 1) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 2) == Delaunay3::kInfinite ||
-           dt.tet_vertex(t, 3) == Delaunay3::kInfinite;
-  }
+  // (After a build an infinite tet has kInfinite as its vertex 3: Delaunay3.)
+  bool infinite(std::uint32_t t) const { return dt.is_infinite(t); }
 
   // ---- Exact clipping kernel (clip3d_kernel.cpp).
   struct Scratch {
@@ -362,9 +358,8 @@ struct Clip3Impl {
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
   };
-  // Fills s.tets with the tets around v, finite and infinite; with `prefetch`, asks for
-  // prefetch[3 t] of each tet t as it is found (the circumcentres, read next).
-  void star(std::uint32_t v, Star& s, const double* prefetch = nullptr) const;
+  // Fills s.tets with the tets around v, finite and infinite.
+  void star(std::uint32_t v, Star& s) const;
   // The Delaunay neighbours of site c (ids, and geometry relative to c), valid until the
   // next call.
   struct NeighborList {

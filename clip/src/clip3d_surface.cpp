@@ -157,7 +157,7 @@ struct Clip3Impl::SurfaceChunk {
   std::vector<Crossing> crossings;
 };
 
-void Clip3Impl::star(std::uint32_t v, Star& s, const double* prefetch) const {
+void Clip3Impl::star(std::uint32_t v, Star& s) const {
   const std::uint32_t slots = dt.nb_tet_slots();
   if (s.mark.size() != slots || s.next > 0xf0000000u) {
     s.mark.assign(slots, 0);
@@ -176,7 +176,6 @@ void Clip3Impl::star(std::uint32_t v, Star& s, const double* prefetch) const {
       if (s.mark[t2] < s.first) {
         s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
         s.tets.push_back(t2);
-        if (prefetch) __builtin_prefetch(prefetch + 3 * std::size_t{t2});
       }
     }
   }
