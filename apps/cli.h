@@ -139,7 +139,7 @@ struct Mesh3dArgs {
   double feature_angle = 40;
   bool no_features = false;
   std::uint64_t seed = 1;
-  std::uint32_t unconstrained_iterations = 20, constrained_iterations = 30;
+  std::uint32_t unconstrained_iterations = 16, constrained_iterations = 30;
   bool no_perturb = false;
   double sliver_angle = 30;
   std::string output;  // .mesh, .msh, .vtu; empty: no file

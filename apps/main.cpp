@@ -302,7 +302,7 @@ int main(int argc, char** argv) {
       ->type_name("S");
   mesh3d
       ->add_option("--unconstrained-iterations", mesh3d_args.unconstrained_iterations,
-                   "L-BFGS iterations of the unconstrained CVT (default 20)")
+                   "L-BFGS iterations of the unconstrained CVT (default 16)")
       ->type_name("N");
   mesh3d
       ->add_option("--constrained-iterations", mesh3d_args.constrained_iterations,

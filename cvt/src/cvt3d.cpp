@@ -127,6 +127,14 @@ class Problem3 {
 
   std::uint32_t evaluations() const { return evaluations_; }
 
+  // 1 for the sites whose clipped cell meets the boundary, at the last evaluation.
+  void boundary_flags(std::vector<std::uint8_t>& out) const {
+    out.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
+      out[i] = cv_.is_boundary(static_cast<std::uint32_t>(i)) ? 1 : 0;
+    }
+  }
+
  private:
   // p <- P(p), and the constraint's direction there.
   void project(std::size_t i, double* p) {
@@ -244,16 +252,21 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
       LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
       Eigen::VectorXd best_z = z;
       double best_f = f;
+      double best_gnorm = result.gradient_norm;
+      // The last evaluation was at best_z: the diagram in `problem` is the best point's.
+      bool last_is_best = true;
       std::uint32_t accepted = 0;
       auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
         problem.place(x);
+        last_is_best = false;
         const double fx = problem.evaluate(&grad);
         if (fx < best_f) {
           best_f = fx;
           best_z = x;
-          const double gnorm = grad.norm();
-          report(++accepted, fx, gnorm);
-          if (gnorm <= target) throw Converged3{};
+          best_gnorm = grad.norm();
+          last_is_best = true;
+          report(++accepted, fx, best_gnorm);
+          if (best_gnorm <= target) throw Converged3{};
         }
         return fx;
       };
@@ -273,11 +286,17 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
       } catch (const std::logic_error&) {
       }
       problem.place(best_z);
-      f = problem.evaluate(&g);
-      result.energy = f;
-      result.gradient_norm = g.norm();
+      if (last_is_best) {
+        // place() projects z exactly as it did before that evaluation: same sites.
+        result.energy = best_f;
+        result.gradient_norm = best_gnorm;
+      } else {
+        result.energy = problem.evaluate(&g);
+        result.gradient_norm = g.norm();
+      }
       result.converged = result.converged || result.gradient_norm <= target;
     }
+    if (options.boundary_sites) problem.boundary_flags(*options.boundary_sites);
   } catch (const Cancelled3&) {
     result.cancelled = true;
   }

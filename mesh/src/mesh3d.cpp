@@ -425,6 +425,8 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     cvt.gradient_tolerance = options.gradient_tolerance;
     cvt.clip = clip;
     cvt.progress = cvt_progress;
+    std::vector<std::uint8_t> boundary;  // per site, from the CVT's last diagram
+    cvt.boundary_sites = &boundary;
     result.unconstrained = optimize_cvt3(domain, sites, cvt);
     if (result.unconstrained.cancelled) throw Cancelled{};
 
@@ -435,10 +437,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     std::vector<std::uint32_t> line_of(n, SurfaceTree::kNone);
     std::vector<std::uint32_t> corner_vertex(n, SurfaceTree::kNone);  // kFixed: its corner
     {
-      Delaunay3 dt(sites.data(), n);
-      ClippedVoronoi3 cv;
-      Clip3Options o = clip;
-      cv.compute(domain, dt, o);
+      const Delaunay3 dt(sites.data(), n);
       // Corners. (The sites move only after the last query: dt reads them.)
       std::vector<double> added;
       std::vector<std::uint32_t> added_corner;
@@ -491,7 +490,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         }
       }
       for (std::uint32_t s = 0; s < n; ++s) {
-        if (kinds[s] == Kind::kFree && cv.is_boundary(s)) kinds[s] = Kind::kSurface;
+        if (kinds[s] == Kind::kFree && boundary[s] != 0) kinds[s] = Kind::kSurface;
       }
       for (std::uint32_t v = 0; v < n; ++v) {
         if (corner_vertex[v] != SurfaceTree::kNone) {
@@ -543,13 +542,9 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         result.constrained.converged = r.converged;
       }
       if (stage == 2) break;
-      const Delaunay3 dt(sites.data(), n);
-      ClippedVoronoi3 cv;
-      cv.compute(domain, dt, clip);
-      ++result.constrained.evaluations;
       std::uint32_t snapped = 0;
       for (std::uint32_t v = 0; v < n; ++v) {
-        if (kinds[v] != Kind::kFree || !cv.is_boundary(v)) continue;
+        if (kinds[v] != Kind::kFree || boundary[v] == 0) continue;
         kinds[v] = Kind::kSurface;
         double q[3], d[3];
         project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);

@@ -231,6 +231,47 @@ TEST_CASE("cvt3d: cancel from the progress callback; identical with 1 and 2 thre
   REQUIRE(rc.iterations == 3);
 }
 
+TEST_CASE("cvt3d: the result's energy, |g| and boundary flags are those of the returned sites",
+          "[cvt][regression]") {
+  // The L-BFGS run does not re-evaluate its best point when that was its last evaluation,
+  // and the boundary flags come from the run's last diagram: both must describe the
+  // returned sites exactly, as a fresh diagram does.
+  const Domain3 d(
+      voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/sphere.mesh"));
+  for (const std::uint32_t iterations : {1u, 5u, 12u}) {
+    for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+      const std::uint64_t seed = 31 + iterations;
+      INFO("seed " << seed << ", iterations " << iterations << ", Lloyd "
+                   << (method == CvtMethod::kLloyd));
+      std::vector<double> sites = voroclip::random_points3(d, 300, seed);
+      std::vector<std::uint8_t> flags;
+      Cvt3Options o;
+      o.method = method;
+      o.max_iterations = iterations;
+      o.gradient_tolerance = 0;
+      o.boundary_sites = &flags;
+      const auto r = voroclip::optimize_cvt3(d, sites, o);
+      std::vector<double> g;
+      const double energy = voroclip::cvt_energy3(d, sites, {}, &g);
+      REQUIRE(r.energy == energy);
+      double g2 = 0;
+      for (const double x : g) g2 += x * x;
+      REQUIRE(std::fabs(r.gradient_norm - std::sqrt(g2)) <= 1e-12 * std::sqrt(g2));
+      const voroclip::Delaunay3 dt(sites.data(), 300);
+      voroclip::ClippedVoronoi3 cv;
+      cv.compute(d, dt, {});
+      REQUIRE(flags.size() == 300);
+      std::uint32_t nb_boundary = 0;
+      for (std::uint32_t i = 0; i < 300; ++i) {
+        REQUIRE(flags[i] == (cv.is_boundary(i) ? 1 : 0));
+        nb_boundary += flags[i];
+      }
+      REQUIRE(nb_boundary > 0);
+      REQUIRE(nb_boundary < 300);
+    }
+  }
+}
+
 TEST_CASE("random_points3: uniform and linear-density samples", "[cvt]") {
   const Domain3 d(kuhn_cube(2));
   const std::uint32_t n = 200000;

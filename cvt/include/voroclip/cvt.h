@@ -164,6 +164,10 @@ struct Cvt3Options {
   // `project`.
   std::vector<SiteConstraint3::Kind> constraints;
   SiteProjector3 project;
+  // When set (and not cancelled): one flag per site, 1 when its clipped cell at the
+  // returned sites meets the domain's boundary (ClippedVoronoi3::is_boundary), read from
+  // the last diagram computed, which saves the caller a diagram.
+  std::vector<std::uint8_t>* boundary_sites = nullptr;
 };
 
 using Cvt3Result = CvtResult;

@@ -699,7 +699,7 @@ struct Mesh3Options {
   Mesh3Sampling sampling = Mesh3Sampling::kLattice;
   std::uint64_t seed = 1;
   // L-BFGS iterations of the two CVT phases, and their stopping tolerance on |g| / |g_0|.
-  std::uint32_t unconstrained_iterations = 20;
+  std::uint32_t unconstrained_iterations = 16;
   std::uint32_t constrained_iterations = 30;
   double gradient_tolerance = 1e-4;
   // Sliver perturbation (perturb = false: none).
