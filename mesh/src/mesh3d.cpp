@@ -212,7 +212,8 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
                             const SurfaceTree& surface, const FeatureTree& line_tree,
                             const std::vector<double>& sites, const std::vector<Kind>& kinds,
                             const std::vector<std::uint32_t>& line_of,
-                            const std::vector<std::uint32_t>& corner_vertex) {
+                            const std::vector<std::uint32_t>& corner_vertex,
+                            std::vector<std::uint32_t>& triangle_patch) {
   std::vector<std::uint64_t> features;
   for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
     for (std::uint32_t i = lines.line_begin[l]; i + 1 < lines.line_begin[l + 1]; ++i) {
@@ -270,6 +271,7 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   const auto n = static_cast<std::uint32_t>(kinds.size());
   sp.begin.reserve(std::size_t{n} + 1);
   sp.begin.push_back(0);
+  triangle_patch = patch;
   for (std::uint32_t s = 0; s < n; ++s) {
     const double* p = &sites[3 * std::size_t{s}];
     if (kinds[s] == Kind::kSurface) {
@@ -559,8 +561,9 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     // final mesh).
     next_phase(Mesh3Phase::kExtraction);
     std::vector<std::uint32_t> tets;
-    const SurfacePatches patches =
-        site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of, corner_vertex);
+    std::vector<std::uint32_t> triangle_patch;
+    const SurfacePatches patches = site_patches(domain, lines, surface_tree, line_tree, sites,
+                                                kinds, line_of, corner_vertex, triangle_patch);
     Extract3Options eo;
     eo.surface = &patches;
     if (options.perturb) {
@@ -575,8 +578,19 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         p.min_dihedral_deg = worst;
         return notify(p) && (!user || user(round, slivers, worst));
       };
+      // A surface site moves within its own patch: across a feature line its patch (the
+      // crease rule of the extraction) would be stale, and the line could be cut. A
+      // candidate that projects onto another patch stays where the site is (the wave's moves
+      // are written after its candidates are scored, so sites[s] is the current position).
+      const SiteProjector3 on_own_patch = [&](std::uint32_t s, Kind k, const double* p, double* q,
+                                              double* d) {
+        project(s, k, p, q, d);
+        if (k != Kind::kSurface || patches.begin[s] == patches.begin[s + 1]) return;
+        if (triangle_patch[surface_tree.closest(q).triangle] != patches.patches[patches.begin[s]])
+          project(s, k, &sites[3 * std::size_t{s}], q, d);
+      };
       result.perturbation =
-          perturb_slivers3(extractor, sites, kinds, project, po, &tets, &result.extraction);
+          perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
       if (result.perturbation.cancelled) throw Cancelled{};
     } else {
       const Delaunay3 dt(sites.data(), n);

@@ -223,13 +223,7 @@ TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surfa
 
 TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[mesh][exact]") {
   const Domain3 cyl = cylinder_domain(32, 4);
-  // Without sliver perturbation, in both runs: it can cut a rim (a known defect: with the
-  // clip3d cells in Morton order, a rim sample ends 0.10 from the boundary after
-  // perturbation, against at most 0.15 * spacing = 0.041 before it; the local scoring does
-  // not see that a move takes a feature edge out of the boundary). fandisk runs with it.
-  Mesh3Options with_features = small_options(300);
-  with_features.perturb = false;
-  const Mesh3Result r = voroclip::mesh3d(cyl, with_features);
+  const Mesh3Result r = voroclip::mesh3d(cyl, small_options(300));
   INFO("seconds per phase: " << r.seconds[0] << " " << r.seconds[1] << " " << r.seconds[2] << " "
                              << r.seconds[3] << " " << r.seconds[4] << " " << r.seconds[5] << " "
                              << r.seconds[6] << " " << r.seconds[7]);
