@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <iostream>
@@ -63,6 +64,15 @@ std::string format_double(double x) {
   char buffer[64];
   const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, x);
   return std::string(buffer, r.ptr);
+}
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t slash = path.find_last_of("/\\");
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
 }
 
 }  // namespace voroclip::cli

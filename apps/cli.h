@@ -47,6 +47,10 @@ std::string format_double(double x);
 /// "positive", "negative" or "zero".
 const char* sign_name(Sign s);
 
+/// The extension of a file name in lower case, with its dot (".vtu"); "" when it has none
+/// (a dot in a directory name does not count).
+std::string lower_extension(const std::string& path);
+
 struct DemoArgs {
   std::string svg_path;  // empty: no picture
 };

@@ -18,15 +18,6 @@ namespace voroclip::cli {
 
 namespace {
 
-std::string extension(const std::string& path) {
-  const std::size_t slash = path.find_last_of("/\\");
-  const std::size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 bool is_surface_file(const std::string& ext) {
   return ext == ".obj" || ext == ".off" || ext == ".stl" || ext == ".ply";
 }
@@ -43,14 +34,14 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 void run_quality(const QualityArgs& args, const GlobalOptions& options) {
-  if (!args.histogram.empty() && extension(args.histogram) != ".svg") {
+  if (!args.histogram.empty() && lower_extension(args.histogram) != ".svg") {
     throw UsageError("--histogram: the picture must end in .svg, got '" + args.histogram + "'");
   }
-  if (!args.output.empty() && extension(args.output) != ".vtu") {
+  if (!args.output.empty() && lower_extension(args.output) != ".vtu") {
     throw UsageError("-o: the output must end in .vtu (the mesh with Q1..Q4 per tet), got '" +
                      args.output + "'");
   }
-  const std::string ref_ext = extension(args.surface);
+  const std::string ref_ext = lower_extension(args.surface);
   if (!args.surface.empty() && !is_surface_file(ref_ext) && !is_tet_mesh_file(ref_ext)) {
     throw UsageError("--surface: unknown format " +
                      (ref_ext.empty() ? std::string("(no extension)") : "'" + ref_ext + "'") +
