@@ -110,6 +110,31 @@ std::vector<std::uint32_t> kept_by_brute_force(const Domain3& d, const Delaunay3
   return kept;
 }
 
+// The facets of a tet set (4 vertex ids per tet) that belong to one tet only, each with
+// its vertex ids sorted.
+std::vector<std::array<std::uint32_t, 3>> boundary_facets(const std::vector<std::uint32_t>& tets) {
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> key;
+      int j = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (k != f) key[static_cast<std::size_t>(j++)] = tets[t + static_cast<std::size_t>(k)];
+      }
+      std::sort(key.begin(), key.end());
+      faces.push_back(key);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<std::array<std::uint32_t, 3>> once;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const bool twice =
+        (i + 1 < faces.size() && faces[i + 1] == faces[i]) || (i > 0 && faces[i - 1] == faces[i]);
+    if (!twice) once.push_back(faces[i]);
+  }
+  return once;
+}
+
 }  // namespace
 
 TEST_CASE("circumcenter_side: circumcenters on facets, edges, vertices and the boundary",
@@ -256,25 +281,9 @@ TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", 
   // Boundary facets of a tet set (4 per tet) with a vertex off the surface, and a finite
   // Delaunay tet across.
   const auto dents = [&](const std::vector<std::uint32_t>& tets) {
-    std::vector<std::array<std::uint32_t, 3>> faces;
-    for (std::size_t t = 0; t < tets.size(); t += 4) {
-      for (int f = 0; f < 4; ++f) {
-        std::array<std::uint32_t, 3> key;
-        int j = 0;
-        for (int k = 0; k < 4; ++k) {
-          if (k != f) key[static_cast<std::size_t>(j++)] = tets[t + static_cast<std::size_t>(k)];
-        }
-        std::sort(key.begin(), key.end());
-        faces.push_back(key);
-      }
-    }
-    std::sort(faces.begin(), faces.end());
     std::uint32_t count = 0;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      const bool twice =
-          (i + 1 < faces.size() && faces[i + 1] == faces[i]) || (i > 0 && faces[i - 1] == faces[i]);
-      if (twice) continue;
-      if (on_surface[faces[i][0]] && on_surface[faces[i][1]] && on_surface[faces[i][2]]) continue;
+    for (const std::array<std::uint32_t, 3>& face : boundary_facets(tets)) {
+      if (on_surface[face[0]] && on_surface[face[1]] && on_surface[face[2]]) continue;
       // Off-surface boundary facet: is there a finite Delaunay tet across (not kept)?
       std::uint32_t finite = 0;
       for (std::uint32_t s = 0; s < dt.nb_tet_slots(); ++s) {
@@ -282,7 +291,7 @@ TEST_CASE("extract: dent filling leaves only surface vertices on the boundary", 
         int hit = 0;
         for (int k = 0; k < 4; ++k) {
           const std::uint32_t w = dt.tet_vertex(s, k);
-          hit += w == faces[i][0] || w == faces[i][1] || w == faces[i][2] ? 1 : 0;
+          hit += w == face[0] || w == face[1] || w == face[2] ? 1 : 0;
         }
         finite += hit == 3 ? 1 : 0;
       }
@@ -354,29 +363,13 @@ TEST_CASE("extract: crease filling keeps the edges of a box", "[mesh]") {
   const Delaunay3 dt(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3));
   // A boundary facet lies in a face when its three vertices have the same coordinate 0 or 2.
   const auto off_faces = [&](const std::vector<std::uint32_t>& tets) {
-    std::vector<std::array<std::uint32_t, 3>> faces;
-    for (std::size_t t = 0; t < tets.size(); t += 4) {
-      for (int f = 0; f < 4; ++f) {
-        std::array<std::uint32_t, 3> key;
-        int j = 0;
-        for (int k = 0; k < 4; ++k) {
-          if (k != f) key[static_cast<std::size_t>(j++)] = tets[t + static_cast<std::size_t>(k)];
-        }
-        std::sort(key.begin(), key.end());
-        faces.push_back(key);
-      }
-    }
-    std::sort(faces.begin(), faces.end());
     std::uint32_t count = 0;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      const bool twice =
-          (i + 1 < faces.size() && faces[i + 1] == faces[i]) || (i > 0 && faces[i - 1] == faces[i]);
-      if (twice) continue;
+    for (const std::array<std::uint32_t, 3>& face : boundary_facets(tets)) {
       bool in_face = false;
       for (int c = 0; c < 3 && !in_face; ++c) {
         for (const double v : {0.0, 2.0}) {
           bool all = true;
-          for (const std::uint32_t w : faces[i])
+          for (const std::uint32_t w : face)
             all = all && xyz[3 * w + static_cast<std::size_t>(c)] == v;
           in_face = in_face || all;
         }
