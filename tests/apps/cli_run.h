@@ -82,4 +82,14 @@ bool contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;
 }
 
+// A fresh file name in the working directory ending in `suffix` (no file is left there).
+inline std::string temp_path(const std::string& suffix) {
+  char name[] = "test_cli_XXXXXX";
+  const int fd = mkstemp(name);
+  REQUIRE(fd >= 0);
+  close(fd);
+  std::remove(name);
+  return std::string(name) + suffix;
+}
+
 }  // namespace

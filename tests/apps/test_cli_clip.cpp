@@ -11,15 +11,6 @@ namespace {
 
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
 
-std::string temp_path(const std::string& suffix) {
-  char name[] = "test_cli_clip_XXXXXX";
-  const int fd = mkstemp(name);
-  REQUIRE(fd >= 0);
-  close(fd);
-  std::remove(name);
-  return std::string(name) + suffix;
-}
-
 }  // namespace
 
 TEST_CASE("clip2d: statistics and the three output formats", "[apps]") {

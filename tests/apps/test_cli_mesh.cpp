@@ -13,15 +13,6 @@ namespace {
 
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
 
-std::string temp_path(const std::string& suffix) {
-  char name[] = "test_cli_mesh_XXXXXX";
-  const int fd = mkstemp(name);
-  REQUIRE(fd >= 0);
-  close(fd);
-  std::remove(name);
-  return std::string(name) + suffix;
-}
-
 // The number after `keyword` on its own line (Medit sections), or -1.
 long medit_count(const std::string& text, const std::string& keyword) {
   std::istringstream in(text);

@@ -17,15 +17,6 @@ namespace {
 
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
 
-std::string quality_temp(const std::string& suffix) {
-  char name[] = "test_cli_quality_XXXXXX";
-  const int fd = mkstemp(name);
-  REQUIRE(fd >= 0);
-  close(fd);
-  std::remove(name);
-  return std::string(name) + suffix;
-}
-
 void write_text_file(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
@@ -68,7 +59,7 @@ TEST_CASE("quality: --stats json equals the library's figures", "[apps]") {
 }
 
 TEST_CASE("quality: a reference given as a tet mesh, the text report and the files", "[apps]") {
-  const std::string svg = quality_temp(".svg"), vtu = quality_temp(".vtu");
+  const std::string svg = temp_path(".svg"), vtu = temp_path(".vtu");
   const std::string mesh = kData + "/tetmeshes/sphere.mesh";
   const Run run = run_cli({"quality", mesh, "--surface", kData + "/tetmeshes/sphere-fine.mesh",
                            "--histogram", svg, "-o", vtu, "--samples", "20000"});
@@ -90,7 +81,7 @@ TEST_CASE("quality: a reference given as a tet mesh, the text report and the fil
 }
 
 TEST_CASE("quality: inverted and degenerate tets are reported, exit status 0", "[apps]") {
-  const std::string path = quality_temp(".mesh");
+  const std::string path = temp_path(".mesh");
   write_text_file(path,
                   "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
                   "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n"
@@ -110,7 +101,7 @@ TEST_CASE("quality: inverted and degenerate tets are reported, exit status 0", "
 }
 
 TEST_CASE("quality: errors name the file and line, leave no file", "[apps]") {
-  const std::string svg = quality_temp(".svg");
+  const std::string svg = temp_path(".svg");
   SECTION("a missing mesh") {
     const Run run = run_cli({"quality", "/nonexistent.mesh", "--histogram", svg});
     CHECK(run.status == 1);
@@ -118,7 +109,7 @@ TEST_CASE("quality: errors name the file and line, leave no file", "[apps]") {
     CHECK(contains(run.err, "/nonexistent.mesh: cannot open the file"));
   }
   SECTION("a bad line in the mesh") {
-    const std::string path = quality_temp(".mesh");
+    const std::string path = temp_path(".mesh");
     write_text_file(path,
                     "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n"
                     "0 0 0 0\n1 0 0 0\n0 1 x 0\n0 0 1 0\nTetrahedra\n1\n1 2 3 4 0\nEnd\n");
@@ -129,7 +120,7 @@ TEST_CASE("quality: errors name the file and line, leave no file", "[apps]") {
     std::remove(path.c_str());
   }
   SECTION("a bad reference surface: no partial picture") {
-    const std::string ref = quality_temp(".obj");
+    const std::string ref = temp_path(".obj");
     write_text_file(ref, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n");
     const Run run = run_cli(
         {"quality", kData + "/tetmeshes/sphere.mesh", "--surface", ref, "--histogram", svg});
