@@ -220,14 +220,10 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
   // The pieces of the Voronoi edges around i inside Ω.
   const double* pi = site(i);
   std::vector<Rel>& cu = s.cu;
-  std::vector<Foot>& half = s.half;
   cu.resize(m);
-  half.resize(4 * m);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    cu[q] = rel(circ + 3 * std::size_t{t}, pi);
-    for (int k = 0; k < 4; ++k) half[4 * q + k] = foot(site(dt.tet_vertex(t, k)), pi);
+    if (!infinite(t)) cu[q] = rel(circ + 3 * std::size_t{t}, pi);
   }
   PieceSums sums;
   for (std::size_t q = 0; q < m; ++q) {
@@ -258,8 +254,8 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
         internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
                        std::to_string(count) + " times");
       }
-      add_edge_piece(half[4 * q + std::size_t(kFaceOther[li][f][0])],
-                     half[4 * q + std::size_t(kFaceOther[li][f][1])], u, w, sums);
+      add_edge_piece(foot(site(dt.tet_vertex(t, kFaceOther[li][f][0])), pi),
+                     foot(site(dt.tet_vertex(t, kFaceOther[li][f][1])), pi), u, w, sums);
     }
   }
   sums.add_to(r);

@@ -366,7 +366,6 @@ struct Clip3Impl {
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
-    std::vector<clip3::Foot> half;         // per star tet and local vertex: its foot
     std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
