@@ -110,8 +110,6 @@ namespace {
   throw Error("clip3d: internal error: " + what);
 }
 
-const double kZero[3] = {0, 0, 0};
-
 }  // namespace
 
 bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
@@ -222,18 +220,10 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
   // The pieces of the Voronoi edges around i inside Ω.
   const double* pi = site(i);
   std::vector<Rel>& cu = s.cu;
-  std::vector<Rel>& half = s.half;
   cu.resize(m);
-  half.resize(4 * m);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    cu[q] = rel(circ + 3 * std::size_t{t}, pi);
-    for (int k = 0; k < 4; ++k) {
-      const double* pv = site(dt.tet_vertex(t, k));
-      const double h[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
-      half[4 * q + k] = rel(h, kZero);
-    }
+    if (!infinite(t)) cu[q] = rel(circ + 3 * std::size_t{t}, pi);
   }
   PieceSums sums;
   for (std::size_t q = 0; q < m; ++q) {
@@ -264,8 +254,8 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
         internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
                        std::to_string(count) + " times");
       }
-      add_edge_piece(half[4 * q + std::size_t(kFaceOther[li][f][0])],
-                     half[4 * q + std::size_t(kFaceOther[li][f][1])], u, w, sums);
+      add_edge_piece(foot(site(dt.tet_vertex(t, kFaceOther[li][f][0])), pi),
+                     foot(site(dt.tet_vertex(t, kFaceOther[li][f][1])), pi), u, w, sums);
     }
   }
   sums.add_to(r);
@@ -284,20 +274,28 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
     st.next = 1;
   }
   st.first = st.next;
+  // st.tets and s.cu serve as fixed buffers here (grown by doubling); nb_tets is the star's
+  // length so far.
   std::vector<std::uint32_t>& tets = st.tets;
   std::vector<Rel>& cu = s.cu;
-  tets.clear();
-  cu.clear();
+  if (tets.size() < 64) tets.resize(64);
+  if (cu.size() < tets.size()) cu.resize(tets.size());
+  std::uint32_t* tp = tets.data();
+  Rel* cp = cu.data();
+  std::uint32_t cap = static_cast<std::uint32_t>(std::min(tets.size(), cu.size()));
   const double* pi = site(i);
   const std::uint32_t t0 = dt.vertex_tet(i);
-  st.mark[t0] = st.first;
-  tets.push_back(t0);
+  const std::uint32_t first = st.first;
+  std::uint32_t* mark = st.mark.data();
+  mark[t0] = first;
+  tp[0] = t0;
+  std::uint32_t nb_tets = 1;
   PieceSums sums;
-  for (std::size_t q = 0; q < tets.size(); ++q) {
-    const std::uint32_t t = tets[q];
-    cu.push_back(rel(circ + 3 * std::size_t{t}, pi));
+  for (std::uint32_t q = 0; q < nb_tets; ++q) {
+    const std::uint32_t t = tp[q];
+    cp[q] = rel(circ + 3 * std::size_t{t}, pi);
     int li = -1;
-    Rel h[4];
+    Foot h[4];
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t v = dt.tet_vertex(t, k);
       if (v == i) {
@@ -307,25 +305,30 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
       if (v == Delaunay3::kInfinite) {
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
-      const double* pv = site(v);
-      const double d[3] = {0.5 * (pv[0] - pi[0]), 0.5 * (pv[1] - pi[1]), 0.5 * (pv[2] - pi[2])};
-      h[k] = rel(d, kZero);
+      h[k] = foot(site(v), pi);
+    }
+    if (nb_tets + 3 > cap) {
+      cap *= 2;
+      tets.resize(cap);
+      cu.resize(cap);
+      tp = tets.data();
+      cp = cu.data();
     }
     for (int f = 0; f < 4; ++f) {
       if (f == li) continue;
       const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      const std::uint32_t mk = st.mark[t2];
-      if (mk < st.first) {
-        st.mark[t2] = st.first + static_cast<std::uint32_t>(tets.size());
-        tets.push_back(t2);
+      const std::uint32_t mk = mark[t2];
+      if (mk < first) {
+        mark[t2] = first + nb_tets;
+        tp[nb_tets++] = t2;
         __builtin_prefetch(circ + 3 * std::size_t{t2});
-      } else if (mk - st.first < q) {
-        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cu[q], cu[mk - st.first],
+      } else if (mk - first < q) {
+        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cp[q], cp[mk - first],
                        sums);
       }
     }
   }
-  st.next = st.first + static_cast<std::uint32_t>(tets.size());
+  st.next = first + nb_tets;
   sums.add_to(r);
 }
 

@@ -158,16 +158,31 @@ struct PieceSums {
   }
 };
 
+// The foot of bisector(i, j) seen from p_i: h = (p_j - p_i) / 2 and hh3 = 3 |h|^2. Every
+// point y of the bisector has h . y = |h|^2 (add_edge_piece).
+struct Foot {
+  double y[3], hh3;
+};
+inline Foot foot(const double* pj, const double* pi) {
+  Foot f;
+  for (int k = 0; k < 3; ++k) f.y[k] = 0.5 * (pj[k] - pi[k]);
+  f.hh3 = 3 * ((f.y[0] * f.y[0] + f.y[1] * f.y[1]) + f.y[2] * f.y[2]);
+  return f;
+}
+
 // A piece [P, Q] of the Voronoi edge dual to Delaunay triangle (i, j, k), P -> Q running
 // counter-clockwise around p_j - p_i (so clockwise around p_k - p_i), with u = P - p_i,
-// w = Q - p_i, hj = (p_j - p_i) / 2, hk = (p_k - p_i) / 2 (Rel: with their squared norms).
-// It bounds the facets of cell i on bisector(i, j) and bisector(i, k), whose feet from p_i
-// are the midpoints, hj and hk: its share of the cones from p_i over them is
+// w = Q - p_i (Rel: with their squared norms) and the feet hj, hk of bisectors (i, j) and
+// (i, k). It bounds the facets of cell i on those bisectors: its share of the cones from
+// p_i over them is
 //   cone(hj, u, w) - cone(hk, u, w)
 // (add_cone, outward: the facet on bisector(i, j) is counter-clockwise around its outward
 // normal p_j - p_i). With a = h . (u x w), s = u + w, q = |u|^2 + |w|^2 + u . w, a cone has
-// volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60.
-inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel& w, PieceSums& r) {
+// volume a / 6, moment a (h + s) / 24 and energy a (|h|^2 + h . s + q) / 60, where
+// h . s = 2 |h|^2 since u and w lie on the bisector (the piece lies on both): energy
+// a (3 |h|^2 + q) / 60.
+inline void add_edge_piece(const Foot& hj, const Foot& hk, const Rel& u, const Rel& w,
+                           PieceSums& r) {
   const double a0 = u.y[0], a1 = u.y[1], a2 = u.y[2];
   const double b0 = w.y[0], b1 = w.y[1], b2 = w.y[2];
   const double c0 = a1 * b2 - a2 * b1, c1 = a2 * b0 - a0 * b2, c2 = a0 * b1 - a1 * b0;
@@ -177,14 +192,12 @@ inline void add_edge_piece(const Rel& hj, const Rel& hk, const Rel& u, const Rel
   const double k0 = hk.y[0], k1 = hk.y[1], k2 = hk.y[2];
   const double aj = (j0 * c0 + j1 * c1) + j2 * c2;
   const double ak = (k0 * c0 + k1 * c1) + k2 * c2;
-  const double sj = (j0 * s0 + j1 * s1) + j2 * s2;
-  const double sk = (k0 * s0 + k1 * s1) + k2 * s2;
   const double d = aj - ak;
   r.v += d;
   r.m[0] += (aj * j0 - ak * k0) + d * s0;
   r.m[1] += (aj * j1 - ak * k1) + d * s1;
   r.m[2] += (aj * j2 - ak * k2) + d * s2;
-  r.e += (aj * (hj.yy + sj) - ak * (hk.yy + sk)) + d * q;
+  r.e += (aj * hj.hh3 - ak * hk.hh3) + d * q;
 }
 
 // True when |v - p_c|^2 < |v - p_j|^2 certainly: v is strictly on c's side of
@@ -353,7 +366,6 @@ struct Clip3Impl {
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
-    std::vector<clip3::Rel> half;          // per star tet and local vertex: (p_v - p_site) / 2
     std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
