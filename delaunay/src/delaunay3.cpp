@@ -339,13 +339,16 @@ Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
     w[4] = 0;
     zone.free.push_back(cavity[i]);
   }
-  while (cavity.size() < nb_new) {
-    if (!zone.free.empty()) {
-      cavity.push_back(zone.free.back());
-      zone.free.pop_back();
-    } else {
-      cavity.push_back(zone.fresh++);
-    }
+  if (nb_new > nb_dead) {
+    // Indexed writes after one resize: push_back's growth path is not inlined.
+    cavity.resize(nb_new);
+    std::size_t i = nb_dead;
+    const std::size_t nb_free = std::min(zone.free.size(), nb_new - nb_dead);
+    const std::uint32_t* free_top = zone.free.data() + zone.free.size();
+    for (std::size_t k = 0; k < nb_free; ++k)
+      cavity[i++] = free_top[-1 - static_cast<std::ptrdiff_t>(k)];
+    zone.free.resize(zone.free.size() - nb_free);
+    for (; i < nb_new; ++i) cavity[i] = zone.fresh++;
   }
 
   const bool small = nb_new <= kSmallCavity;
