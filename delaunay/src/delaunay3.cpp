@@ -625,11 +625,7 @@ void split_zones(const std::vector<std::uint32_t>& points, ZoneT* zones, std::si
 // of the number of threads), so that the construction is the same for any thread count;
 // a power of two, so that 2, 4, 8 ... threads share the zones evenly.
 std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
-  // At least two zones from points_per_zone points on: zones of half that size still
-  // defer few points, and the round is not left to one thread.
-  const std::size_t wanted =
-      std::max<std::size_t>(nb_points / std::max<std::size_t>(per_zone, 1),
-                            nb_points >= std::max<std::size_t>(per_zone, 1) ? 2 : 1);
+  const std::size_t wanted = nb_points / std::max<std::size_t>(per_zone, 1);
   std::size_t zones = 1;
   while (2 * zones <= wanted && 2 * zones <= kMaxZones) zones *= 2;
   return zones;
