@@ -3,7 +3,9 @@
 // points on 1 and 2 threads; points per second, finite tets, the bytes the triangulation's
 // arrays hold per tet at the end (capacities) and at their peak during the build (the
 // construction's copies and scratch included), and the share of the points inserted in
-// parallel zones that were deferred to a later pass. Fixed seeds.
+// parallel zones that were deferred to a later pass; and 1M uniform points on 2 threads
+// with smaller zones (Options::points_per_zone 16384 and 8192: fewer points left to the
+// sequential early rounds, more deferred). Fixed seeds.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -44,10 +46,11 @@ std::vector<double> sphere_points(std::size_t n) {
   return xyz;
 }
 
-void run(benchmark::State& state, const std::vector<double>& xyz, std::size_t threads = 1) {
+void run(benchmark::State& state, const std::vector<double>& xyz, std::size_t threads = 1,
+         const voroclip::Delaunay3Options& options = {}) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
-  voroclip::Delaunay3 dt;
+  voroclip::Delaunay3 dt(options);
   for (auto _ : state) {
     dt.build(xyz.data(), n);
     benchmark::DoNotOptimize(dt.nb_finite_tets());
@@ -72,6 +75,12 @@ void BM_delaunay3_uniform_threads(benchmark::State& state) {
   run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
       static_cast<std::size_t>(state.range(1)));
 }
+void BM_delaunay3_uniform_zones(benchmark::State& state) {
+  voroclip::Delaunay3Options options;
+  options.points_per_zone = static_cast<std::uint32_t>(state.range(2));
+  run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
+      static_cast<std::size_t>(state.range(1)), options);
+}
 void BM_delaunay3_grid(benchmark::State& state) {
   run(state, grid_points(static_cast<int>(state.range(0))));
 }
@@ -89,6 +98,11 @@ BENCHMARK(BM_delaunay3_uniform)
 BENCHMARK(BM_delaunay3_uniform_threads)
     ->Args({1000000, 1})
     ->Args({1000000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_delaunay3_uniform_zones)
+    ->Args({1000000, 2, 16384})
+    ->Args({1000000, 2, 8192})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_delaunay3_grid)->Arg(100)->Unit(benchmark::kMillisecond);

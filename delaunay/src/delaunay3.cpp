@@ -161,6 +161,16 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
     for (std::size_t f = 0; f < 4; ++f) {
       prefetch(&tets_[8 * static_cast<std::size_t>((v[4 + f] & kCodeMask) / 4)]);
     }
+    // The vertices' differences to p, computed once for the facets tested: orient3d's
+    // filter stage on (a, b, c, p) translates to p with these same operations, so `det` is
+    // bit for bit its value and the filter's bound holds.
+    double dx[4], dy[4], dz[4];
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double* pk = point(v[k]);
+      dx[k] = pk[0] - p[0];
+      dy[k] = pk[1] - p[1];
+      dz[k] = pk[2] - p[2];
+    }
     std::uint32_t next_code = kNoTet;
     bool blocked = false;  // a facet p lies beyond leads out of the zone
     for (std::size_t i = 0; i < 4; ++i) {
@@ -168,8 +178,16 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
       const std::uint32_t code = v[4 + f] & kCodeMask;
       if (code / 4 == previous) continue;
       const int* fv = kFacetVertex[f];
-      if (orient3d(point(v[fv[0]]), point(v[fv[1]]), point(v[fv[2]]), p, filter_) ==
-          Sign::positive) {
+      const auto a = static_cast<std::size_t>(fv[0]), b = static_cast<std::size_t>(fv[1]),
+                 c = static_cast<std::size_t>(fv[2]);
+      const double det = dz[a] * (dx[b] * dy[c] - dx[c] * dy[b]) +
+                         dz[b] * (dx[c] * dy[a] - dx[a] * dy[c]) +
+                         dz[c] * (dx[a] * dy[b] - dx[b] * dy[a]);
+      const bool beyond =
+          std::fabs(det) > filter_.orient3d_bound()
+              ? det > 0
+              : orient3d(point(v[a]), point(v[b]), point(v[c]), p) == Sign::positive;
+      if (beyond) {
         if constexpr (kZoned) {
           // Any facet p lies beyond will do (the walk still terminates): take one whose tet
           // is in the zone.
@@ -339,13 +357,16 @@ Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
     w[4] = 0;
     zone.free.push_back(cavity[i]);
   }
-  while (cavity.size() < nb_new) {
-    if (!zone.free.empty()) {
-      cavity.push_back(zone.free.back());
-      zone.free.pop_back();
-    } else {
-      cavity.push_back(zone.fresh++);
-    }
+  if (nb_new > nb_dead) {
+    // Indexed writes after one resize: push_back's growth path is not inlined.
+    cavity.resize(nb_new);
+    std::size_t i = nb_dead;
+    const std::size_t nb_free = std::min(zone.free.size(), nb_new - nb_dead);
+    const std::uint32_t* free_top = zone.free.data() + zone.free.size();
+    for (std::size_t k = 0; k < nb_free; ++k)
+      cavity[i++] = free_top[-1 - static_cast<std::ptrdiff_t>(k)];
+    zone.free.resize(zone.free.size() - nb_free);
+    for (; i < nb_new; ++i) cavity[i] = zone.fresh++;
   }
 
   const bool small = nb_new <= kSmallCavity;

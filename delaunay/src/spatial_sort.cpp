@@ -207,6 +207,76 @@ inline std::uint64_t hilbert_key2(std::uint32_t x, std::uint32_t y, int b) {
   return key;
 }
 
+// The 3D Hilbert index as a finite-state machine, one level per table look-up: the same
+// index as hilbert_key<3> (tested cell by cell). Skilling's transform maps the bits below
+// each level by a signed permutation of the axes (the exchanges and inversions it applies
+// to all lower bits), and its final xor adds the parity of the Gray-coded last axis over
+// the levels above: a state is (permutation, inversion mask, parity), 6 x 8 x 2 of them.
+// transformed y[i] = raw[perm[i]] ^ mask bit i; the level's digit is Gray(y) ^ parity.
+struct HilbertTable3 {
+  std::uint16_t next[96 * 8];  // [state][x y z bits]: digit | next state << 3
+};
+
+constexpr int kAxisPermutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                         {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+
+constexpr HilbertTable3 make_hilbert_table3() {
+  HilbertTable3 table{};
+  for (unsigned state = 0; state < 96; ++state) {
+    const unsigned parity = state & 1u;
+    const unsigned mask = (state >> 1) & 7u;
+    const unsigned perm_index = state >> 4;
+    for (unsigned raw = 0; raw < 8; ++raw) {
+      int perm[3] = {0, 0, 0};
+      unsigned inverted[3] = {0, 0, 0}, y[3] = {0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        perm[i] = kAxisPermutations[perm_index][i];
+        inverted[i] = (mask >> i) & 1u;
+        y[i] = ((raw >> (2 - perm[i])) & 1u) ^ inverted[i];
+      }
+      // This level's operations on the lower bits, in Skilling's order.
+      for (int i = 0; i < 3; ++i) {
+        if (y[i] != 0) {
+          inverted[0] ^= 1u;
+        } else if (i != 0) {
+          const int p0 = perm[0];
+          perm[0] = perm[i];
+          perm[i] = p0;
+          const unsigned m0 = inverted[0];
+          inverted[0] = inverted[i];
+          inverted[i] = m0;
+        }
+      }
+      const unsigned g0 = y[0], g1 = y[1] ^ y[0], g2 = y[2] ^ y[1] ^ y[0];
+      const unsigned digit = ((g0 ^ parity) << 2) | ((g1 ^ parity) << 1) | (g2 ^ parity);
+      unsigned next_perm = 0;
+      for (unsigned k = 0; k < 6; ++k) {
+        if (kAxisPermutations[k][0] == perm[0] && kAxisPermutations[k][1] == perm[1]) {
+          next_perm = k;
+        }
+      }
+      const unsigned next =
+          next_perm << 4 | (inverted[0] | inverted[1] << 1 | inverted[2] << 2) << 1 | (parity ^ g2);
+      table.next[8 * state + raw] = static_cast<std::uint16_t>(digit | next << 3);
+    }
+  }
+  return table;
+}
+
+constexpr HilbertTable3 kHilbertTable3 = make_hilbert_table3();
+
+inline std::uint64_t hilbert_key3(std::uint32_t x, std::uint32_t y, std::uint32_t z, int b) {
+  unsigned state = 0;
+  std::uint64_t key = 0;
+  for (int level = b - 1; level >= 0; --level) {
+    const unsigned raw = ((x >> level) & 1u) << 2 | ((y >> level) & 1u) << 1 | ((z >> level) & 1u);
+    const unsigned e = kHilbertTable3.next[8 * state + raw];
+    key = key << 3 | (e & 7u);
+    state = e >> 3;
+  }
+  return key;
+}
+
 struct Keyed {
   std::uint64_t key;
   std::uint32_t index;
@@ -291,7 +361,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
           if constexpr (D == 2) {
             keyed[i] = {hilbert_key2(x[0], x[1], bits), first[i]};
           } else {
-            keyed[i] = {hilbert_key<D>(x, bits), first[i]};
+            keyed[i] = {hilbert_key3(x[0], x[1], x[2], bits), first[i]};
           }
         }
       });
@@ -352,6 +422,15 @@ std::uint64_t hilbert_index2(std::uint32_t x, std::uint32_t y, int bits) {
 std::uint64_t hilbert_index2_skilling(std::uint32_t x, std::uint32_t y, int bits) {
   std::uint32_t cell[2] = {x, y};
   return hilbert_key<2>(cell, bits);
+}
+
+std::uint64_t hilbert_index3(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits) {
+  return hilbert_key3(x, y, z, bits);
+}
+
+std::uint64_t hilbert_index3_skilling(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits) {
+  std::uint32_t cell[3] = {x, y, z};
+  return hilbert_key<3>(cell, bits);
 }
 
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last) {

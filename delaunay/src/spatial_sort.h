@@ -44,10 +44,12 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
 
 // The index of cell (x, y) (coordinates below 2^bits, 1 <= bits <= 16) along the Hilbert
 // curve through the 2^bits x 2^bits grid used by the 2D sort (a table-driven state
-// machine), and the same index by Skilling's transform (the 3D sort's method), which it
-// equals.
+// machine), and the same index by Skilling's transform, which it equals; the same for cell
+// (x, y, z) of the 3D sort's grid.
 std::uint64_t hilbert_index2(std::uint32_t x, std::uint32_t y, int bits);
 std::uint64_t hilbert_index2_skilling(std::uint32_t x, std::uint32_t y, int bits);
+std::uint64_t hilbert_index3(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits);
+std::uint64_t hilbert_index3_skilling(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits);
 
 // Sorts the point indices [first, last) along a Hilbert curve (one BRIO round).
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);

@@ -472,6 +472,22 @@ TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
   CHECK(all_arrays(one) == all_arrays(two));
 }
 
+TEST_CASE("Delaunay3 prefetch_tet leaves every record unchanged", "[delaunay]") {
+  const auto xyz = random_points(2000, 52);
+  const Delaunay3 dt(xyz.data(), 2000);
+  const auto records = [&dt] {
+    std::vector<std::uint32_t> r;
+    for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
+      for (int k = 0; k < 4; ++k) r.insert(r.end(), {dt.tet_vertex(t, k), dt.neighbor_code(t, k)});
+    }
+    return r;
+  };
+  const std::vector<std::uint32_t> before = records();
+  for (std::uint32_t t = dt.nb_tet_slots(); t-- > 0;) dt.prefetch_tet(t);
+  CHECK(records() == before);
+  require_valid(dt);
+}
+
 TEST_CASE("Delaunay3 vertex stars and circumcenters", "[delaunay]") {
   const auto xyz = random_points(3000, 51);
   const Delaunay3 dt(xyz.data(), 3000);

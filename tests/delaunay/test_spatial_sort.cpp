@@ -106,6 +106,46 @@ TEST_CASE("the 2D Hilbert state machine equals Skilling's transform", "[delaunay
   }
 }
 
+TEST_CASE("the 3D Hilbert state machine equals Skilling's transform", "[delaunay][exact]") {
+  using voroclip::detail::hilbert_index3;
+  using voroclip::detail::hilbert_index3_skilling;
+  // Every cell of the small grids.
+  for (int bits = 1; bits <= 5; ++bits) {
+    CAPTURE(bits);
+    const std::uint32_t side = 1u << bits;
+    for (std::uint32_t x = 0; x < side; ++x) {
+      for (std::uint32_t y = 0; y < side; ++y) {
+        for (std::uint32_t z = 0; z < side; ++z) {
+          CAPTURE(x, y, z);
+          REQUIRE(hilbert_index3(x, y, z, bits) == hilbert_index3_skilling(x, y, z, bits));
+        }
+      }
+    }
+  }
+  // Random cells of the deeper ones, and the corners.
+  const std::uint64_t seed = 2027;
+  INFO("seed " << seed);
+  std::mt19937_64 rng(seed);
+  for (int bits = 6; bits <= 16; ++bits) {
+    CAPTURE(bits);
+    const std::uint32_t top = (1u << bits) - 1;
+    for (int i = 0; i < 20000; ++i) {
+      const auto x = static_cast<std::uint32_t>(rng()) & top;
+      const auto y = static_cast<std::uint32_t>(rng()) & top;
+      const auto z = static_cast<std::uint32_t>(rng()) & top;
+      CAPTURE(x, y, z);
+      REQUIRE(hilbert_index3(x, y, z, bits) == hilbert_index3_skilling(x, y, z, bits));
+    }
+    for (const std::uint32_t x : {0u, top}) {
+      for (const std::uint32_t y : {0u, top}) {
+        for (const std::uint32_t z : {0u, top}) {
+          REQUIRE(hilbert_index3(x, y, z, bits) == hilbert_index3_skilling(x, y, z, bits));
+        }
+      }
+    }
+  }
+}
+
 TEST_CASE("hilbert_sort visits a 2^k grid cell by cell", "[delaunay][exact]") {
   // On a 2^k grid every median split cuts exactly between two grid planes, so the order is
   // the Hilbert curve itself: consecutive points are grid neighbours (distance exactly 1).
