@@ -81,18 +81,26 @@ struct FacetMinors {
 // A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
 // v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
 // bisector of the cell).
+// The arrays only grow (reset), so that a polygon's vertices are written without a
+// capacity check: the first n entries are the polygon.
 struct TriPoly {
   std::vector<TriVertex> v;
   std::vector<Plane> e;
-  void clear() {
-    v.clear();
-    e.clear();
+  std::size_t n = 0;
+  // Empty, with room for `cap` vertices.
+  void reset(std::size_t cap) {
+    if (v.size() < cap) {
+      v.resize(cap);
+      e.resize(cap);
+    }
+    n = 0;
   }
   void push(const TriVertex& x, Plane edge) {
-    v.push_back(x);
-    e.push_back(edge);
+    v[n] = x;
+    e[n] = edge;
+    ++n;
   }
-  std::size_t size() const { return v.size(); }
+  std::size_t size() const { return n; }
 };
 
 // Insertion sort of a few ids (std::sort on tiny arrays trips -Warray-bounds in GCC 12).

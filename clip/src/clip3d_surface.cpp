@@ -318,8 +318,10 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
                              SurfaceChunk& chunk) const {
   const std::size_t m = p.size();
   const double* pc = site(c);
-  s.xyz.resize(3 * m);
-  s.rel.resize(3 * m);
+  if (s.xyz.size() < 3 * m) {
+    s.xyz.resize(3 * m);
+    s.rel.resize(3 * m);
+  }
   for (std::size_t k = 0; k < m; ++k) {
     tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
     for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
@@ -386,6 +388,10 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     s.corner_stamp.assign(domain.nb_vertices(), 0);
   }
   std::uint32_t corner[3];
+  // corner_of_facet[f]: the corner that is tet vertex f (the triangle edge on facet f is
+  // opposite it).
+  int corner_of_facet[4] = {-1, -1, -1, -1};
+  for (int k = 0; k < 3; ++k) corner_of_facet[lv[k]] = k;
   for (int k = 0; k < 3; ++k) {
     tri.mv[k] = domain.tet_vertex(t, lv[k]);
     tri.x[k] = domain.vertex(tri.mv[k]);
@@ -398,7 +404,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     corner[0] = descend(tri.x[0], hint, s);
   }
   const auto init = [&](TriPoly& p) {
-    p.clear();
+    p.reset(3);
     for (int k = 0; k < 3; ++k) {
       p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone, kNone},
              facet_plane(lv[(k + 2) % 3]));
@@ -411,7 +417,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     return;
   }
   const auto record_corners = [&](std::uint32_t c, const TriPoly& p) {
-    for (const TriVertex& v : p.v) {
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const TriVertex& v = p.v[k];
       if (v.tag < 3) {
         s.corner_cell[tri.mv[v.tag]] = c;
         s.corner_stamp[tri.mv[v.tag]] = stamp;
@@ -467,7 +474,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
       // triangle edge whose ends agree, comes from the filter when it decided (F is affine).
       const TriPoly& in = s.a;
       const std::size_t m = in.size();
-      s.beyond.resize(m);
+      if (s.beyond.size() < m) s.beyond.resize(m);
       bool any_beyond = false, any_kept = false;
       for (std::size_t k = 0; k < m; ++k) {
         const TriVertex& x = in.v[k];
@@ -497,7 +504,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
       const auto row = static_cast<std::uint32_t>(s.corner_values.size());
       s.corner_values.push_back(fj);
       TriPoly& res = s.b;
-      res.clear();
+      res.reset(m + 1);  // a convex polygon cut by a line
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t kn = k + 1 == m ? 0 : k + 1;
         if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
@@ -505,9 +512,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
           TriVertex x{6, j, kNone, row, kNone, kNone};
           const Plane e = in.e[k];
           if (is_facet(e)) {
-            int opposite = 0;
-            while (lv[opposite] != facet_of(e)) ++opposite;
-            x.tag = static_cast<std::int8_t>(3 + opposite);
+            x.tag = static_cast<std::int8_t>(3 + corner_of_facet[facet_of(e)]);
           } else {
             // The edge from v[k] lies on bisector(c, e): v[k] is on it, and carries its row.
             const TriVertex& from = in.v[k];
@@ -529,7 +534,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     emit_polygon(tri, c, s.a, s, chunk);
     record_corners(c, s.a);
     s.last_cell = c;
-    for (const Plane e : s.a.e) {
+    for (std::size_t h = 0; h < s.a.size(); ++h) {
+      const Plane e = s.a.e[h];
       if (is_facet(e)) continue;
       const auto k = static_cast<std::uint32_t>(e);
       if (std::find(s.cells.begin(), s.cells.end(), k) == s.cells.end()) s.cells.push_back(k);
