@@ -346,9 +346,11 @@ struct Clip3Impl {
     double x[3];
     std::int8_t sigma;
   };
-  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2, norm = |e| (rounded).
+  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2 (rounded), reach = 2 |e| (1 + 1e-14)
+  // (above the exact 2 |e| despite rounding), ee_err = 2e-15 ee (bisector_value's bound,
+  // less its |r|^2 term).
   struct NbrGeo {
-    double e[3], ee, norm;
+    double e[3], ee, reach, ee_err;
   };
   // ---- Per-thread scratch of the whole compute.
   struct ThreadScratch {

@@ -206,7 +206,8 @@ Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) 
         NbrGeo g;
         for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
         g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
-        g.norm = std::sqrt(g.ee);
+        g.reach = 2 * std::sqrt(g.ee) * (1 + 1e-14);
+        g.ee_err = 2e-15 * g.ee;
         s.nbr_geo.push_back(g);
       }
     }
@@ -320,32 +321,60 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   const double* pc = site(c);
   if (s.xyz.size() < 3 * m) {
     s.xyz.resize(3 * m);
-    s.rel.resize(3 * m);
+    s.rel.resize(4 * m);
   }
+  // rel: per vertex y = x - p_c and |y|^2.
   for (std::size_t k = 0; k < m; ++k) {
     tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
-    for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
+    double* y = &s.rel[4 * k];
+    for (int q = 0; q < 3; ++q) y[q] = s.xyz[3 * k + q] - pc[q];
+    y[3] = (y[0] * y[0] + y[1] * y[1]) + y[2] * y[2];
   }
-  const auto x = [&](std::size_t k) { return &s.rel[3 * (k == m ? 0 : k)]; };
-  Moments r;
-  double area[3] = {0, 0, 0};
+  const auto x = [&](std::size_t k) { return &s.rel[4 * (k == m ? 0 : k)]; };
+  // Cones from p_c (add_cone's formulas) with det = 6 V accumulated, and, with
+  // s = a + b + c, the moment sum det s = 24 M and the energy sum
+  // det (|s|^2 + |a|^2 + |b|^2 + |c|^2) = 120 E (|a|^2 + |b|^2 + |c|^2 + a.b + a.c + b.c
+  // is half the bracket).
+  // Fan from o = y_0 over the polygon, reversed (outward): det(o, w, u) = -o . (a x d) for
+  // a = u - o, d = w - o, whose cross product also sums to twice the area vector.
+  double vol6 = 0, mom24[3] = {0, 0, 0}, en120 = 0, area[3] = {0, 0, 0};
+  const double* o = x(0);
   for (std::size_t k = 1; k + 1 < m; ++k) {
-    const double* o = x(0);
     const double* u = x(k);
     const double* w = x(k + 1);
     const double a[3] = {u[0] - o[0], u[1] - o[1], u[2] - o[2]};
     const double d[3] = {w[0] - o[0], w[1] - o[1], w[2] - o[2]};
-    area[0] += a[1] * d[2] - a[2] * d[1];
-    area[1] += a[2] * d[0] - a[0] * d[2];
-    area[2] += a[0] * d[1] - a[1] * d[0];
-    add_cone(o, w, u, r);  // reversed: outward
+    const double nv[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2],
+                          a[0] * d[1] - a[1] * d[0]};
+    for (int q = 0; q < 3; ++q) area[q] += nv[q];
+    const double det = -((o[0] * nv[0] + o[1] * nv[1]) + o[2] * nv[2]);
+    const double sv[3] = {(o[0] + u[0]) + w[0], (o[1] + u[1]) + w[1], (o[2] + u[2]) + w[2]};
+    vol6 += det;
+    for (int q = 0; q < 3; ++q) mom24[q] += det * sv[q];
+    en120 += det * (((sv[0] * sv[0] + sv[1] * sv[1]) + sv[2] * sv[2]) + ((o[3] + u[3]) + w[3]));
   }
+  // Over each edge on bisector(c, j), the cone over (h, u, w), h the foot: there
+  // h . u = h . w = |h|^2, so the bracket is 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w)
+  // (add_edge_piece).
   for (std::size_t k = 0; k < m; ++k) {
     if (is_facet(p.e[k])) continue;
     const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
     const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
-    add_cone(h, x(k), x(k + 1), r);
+    const double* u = x(k);
+    const double* w = x(k + 1);
+    const double nv[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                          u[0] * w[1] - u[1] * w[0]};
+    const double det = (h[0] * nv[0] + h[1] * nv[1]) + h[2] * nv[2];
+    const double hh3 = 3 * ((h[0] * h[0] + h[1] * h[1]) + h[2] * h[2]);
+    const double q2 = hh3 + ((u[3] + w[3]) + ((u[0] * w[0] + u[1] * w[1]) + u[2] * w[2]));
+    vol6 += det;
+    for (int q = 0; q < 3; ++q) mom24[q] += det * ((h[q] + u[q]) + w[q]);
+    en120 += 2 * det * q2;
   }
+  Moments r;
+  r.volume = vol6 * (1.0 / 6);
+  for (int q = 0; q < 3; ++q) r.moment[q] = mom24[q] * (1.0 / 24);
+  r.energy = en120 * (1.0 / 120);
   for (std::size_t k = 0; k < m; ++k) {
     const TriVertex& v = p.v[k];
     if (v.tag != 6 || c > v.k) continue;
@@ -453,14 +482,16 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     const NeighborList nb = neighbors(c, s);
     s.corner_values.clear();
     s.facet_minors.clear();
+    // bisector_value's bound at g is near + ee_err: each term rounded, the sum stays above
+    // the proven 7.2 u (|r|^2 + 2 |e|^2) with room for the roundings of the test below.
+    const double near = 1e-15 * rrg + 1e-300;
     bool empty = false;
-    for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
+    for (std::uint32_t h = 0; h < nb.count; ++h) {
       const NbrGeo& ng = nb.geo[h];
       // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the
       // ball; below zero there, the bisector misses the triangle.
-      double bound;
-      const double fg = bisector_value(rg, rrg, ng.e, ng.ee, bound);
-      if (fg + 2 * radius * ng.norm * (1 + 1e-14) < -bound) continue;
+      const double fg = 2 * ((rg[0] * ng.e[0] + rg[1] * ng.e[1]) + rg[2] * ng.e[2]) - ng.ee;
+      if (fg + radius * ng.reach < -(near + ng.ee_err)) continue;
       // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
       CornerValues fj;
       int corner_side[3];
