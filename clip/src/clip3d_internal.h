@@ -373,6 +373,15 @@ struct Clip3Impl {
     // The cells met by the current triangle (a cell clipped tet by tet: its seed tets).
     std::vector<std::uint32_t> cells;
     std::vector<double> xyz, rel;  // a polygon's vertices, absolute and relative to its site
+    // The points of the current triangle on bisectors met so far (each is a vertex of the
+    // polygons of two or three cells): tag, sorted sites (kNone past the tag's count),
+    // coordinates.
+    struct TriPoint {
+      std::int8_t tag;
+      std::uint32_t s[3];
+      double x[3];
+    };
+    std::vector<TriPoint> tri_points;
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site

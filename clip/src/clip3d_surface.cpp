@@ -276,7 +276,7 @@ void Clip3Impl::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, 
     for (int q = 0; q < 3; ++q) x[q] = tri.x[v.tag][q];
   } else if (v.tag < 6) {
     const int o = v.tag - 3;
-    const std::uint32_t a = tri.mv[(o + 1) % 3], b = tri.mv[(o + 2) % 3];
+    const std::uint32_t a = tri.mv[kEdgeEnd[o][0]], b = tri.mv[kEdgeEnd[o][1]];
     edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
   } else {
     std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
@@ -325,7 +325,26 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   }
   // rel: per vertex y = x - p_c and |y|^2.
   for (std::size_t k = 0; k < m; ++k) {
-    tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
+    const TriVertex& v = p.v[k];
+    double* xk = &s.xyz[3 * k];
+    if (v.tag < 3) {
+      for (int q = 0; q < 3; ++q) xk[q] = tri.x[v.tag][q];
+    } else {
+      std::uint32_t ids[3] = {c, v.k, v.tag == 6 ? v.l : kNone};
+      small_sort(ids, 3);
+      bool found = false;
+      for (const ThreadScratch::TriPoint& tp : s.tri_points) {
+        if (tp.tag == v.tag && tp.s[0] == ids[0] && tp.s[1] == ids[1] && tp.s[2] == ids[2]) {
+          for (int q = 0; q < 3; ++q) xk[q] = tp.x[q];
+          found = true;
+          break;
+        }
+      }
+      if (!found) {
+        tri_coords(tri, v, c, xk);
+        s.tri_points.push_back({v.tag, {ids[0], ids[1], ids[2]}, {xk[0], xk[1], xk[2]}});
+      }
+    }
     double* y = &s.rel[4 * k];
     for (int q = 0; q < 3; ++q) y[q] = s.xyz[3 * k + q] - pc[q];
     y[3] = (y[0] * y[0] + y[1] * y[1]) + y[2] * y[2];
@@ -463,6 +482,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   }
   radius = std::sqrt(radius) * (1 + 1e-14);  // above the true distance despite rounding
   s.cells.clear();
+  s.tri_points.clear();
   for (const std::uint32_t c : corner) {
     if (c != kNone && std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) {
       s.cells.push_back(c);
