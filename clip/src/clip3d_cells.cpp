@@ -226,6 +226,19 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
     if (!infinite(t)) cu[q] = rel(circ + 3 * std::size_t{t}, pi);
   }
   PieceSums sums;
+  // The feet met, direct-mapped by site id (as in inner_cell).
+  constexpr std::uint32_t kFootSlots = 64;
+  std::uint32_t foot_site[kFootSlots];
+  Foot foot_of[kFootSlots];
+  for (std::uint32_t& v : foot_site) v = kNone;
+  const auto foot_at = [&](std::uint32_t v) {
+    const std::uint32_t slot = v & (kFootSlots - 1);
+    if (foot_site[slot] != v) {
+      foot_site[slot] = v;
+      foot_of[slot] = foot(site(v), pi);
+    }
+    return foot_of[slot];
+  };
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (infinite(t)) continue;
@@ -254,8 +267,9 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
         internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
                        std::to_string(count) + " times");
       }
-      add_edge_piece(foot(site(dt.tet_vertex(t, kFaceOther[li][f][0])), pi),
-                     foot(site(dt.tet_vertex(t, kFaceOther[li][f][1])), pi), u, w, sums);
+      const Foot hj = foot_at(dt.tet_vertex(t, kFaceOther[li][f][0]));
+      const Foot hk = foot_at(dt.tet_vertex(t, kFaceOther[li][f][1]));
+      add_edge_piece(hj, hk, u, w, sums);
     }
   }
   sums.add_to(r);
@@ -291,6 +305,12 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
   tp[0] = t0;
   std::uint32_t nb_tets = 1;
   PieceSums sums;
+  // The feet of the neighbours met, direct-mapped by site id (each neighbour is in about
+  // six star tets; a slot holds the last one mapped to it).
+  constexpr std::uint32_t kFootSlots = 64;
+  std::uint32_t foot_site[kFootSlots];
+  Foot foot_of[kFootSlots];
+  for (std::uint32_t& v : foot_site) v = kNone;
   for (std::uint32_t q = 0; q < nb_tets; ++q) {
     const std::uint32_t t = tp[q];
     cp[q] = rel(circ + 3 * std::size_t{t}, pi);
@@ -305,7 +325,12 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
       if (v == Delaunay3::kInfinite) {
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
-      h[k] = foot(site(v), pi);
+      const std::uint32_t slot = v & (kFootSlots - 1);
+      if (foot_site[slot] != v) {
+        foot_site[slot] = v;
+        foot_of[slot] = foot(site(v), pi);
+      }
+      h[k] = foot_of[slot];
     }
     if (nb_tets + 3 > cap) {
       cap *= 2;

@@ -81,18 +81,26 @@ struct FacetMinors {
 // A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
 // v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
 // bisector of the cell).
+// The arrays only grow (reset), so that a polygon's vertices are written without a
+// capacity check: the first n entries are the polygon.
 struct TriPoly {
   std::vector<TriVertex> v;
   std::vector<Plane> e;
-  void clear() {
-    v.clear();
-    e.clear();
+  std::size_t n = 0;
+  // Empty, with room for `cap` vertices.
+  void reset(std::size_t cap) {
+    if (v.size() < cap) {
+      v.resize(cap);
+      e.resize(cap);
+    }
+    n = 0;
   }
   void push(const TriVertex& x, Plane edge) {
-    v.push_back(x);
-    e.push_back(edge);
+    v[n] = x;
+    e[n] = edge;
+    ++n;
   }
-  std::size_t size() const { return v.size(); }
+  std::size_t size() const { return n; }
 };
 
 // Insertion sort of a few ids (std::sort on tiny arrays trips -Warray-bounds in GCC 12).
@@ -338,9 +346,11 @@ struct Clip3Impl {
     double x[3];
     std::int8_t sigma;
   };
-  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2, norm = |e| (rounded).
+  // A neighbour j of site c: e = p_j - p_c, ee = |e|^2 (rounded), reach = 2 |e| (1 + 1e-14)
+  // (above the exact 2 |e| despite rounding), ee_err = 2e-15 ee (bisector_value's bound,
+  // less its |r|^2 term).
   struct NbrGeo {
-    double e[3], ee, norm;
+    double e[3], ee, reach, ee_err;
   };
   // ---- Per-thread scratch of the whole compute.
   struct ThreadScratch {
@@ -363,6 +373,15 @@ struct Clip3Impl {
     // The cells met by the current triangle (a cell clipped tet by tet: its seed tets).
     std::vector<std::uint32_t> cells;
     std::vector<double> xyz, rel;  // a polygon's vertices, absolute and relative to its site
+    // The points of the current triangle on bisectors met so far (each is a vertex of the
+    // polygons of two or three cells): tag, sorted sites (kNone past the tag's count),
+    // coordinates.
+    struct TriPoint {
+      std::int8_t tag;
+      std::uint32_t s[3];
+      double x[3];
+    };
+    std::vector<TriPoint> tri_points;
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site

@@ -206,7 +206,8 @@ Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) 
         NbrGeo g;
         for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
         g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
-        g.norm = std::sqrt(g.ee);
+        g.reach = 2 * std::sqrt(g.ee) * (1 + 1e-14);
+        g.ee_err = 2e-15 * g.ee;
         s.nbr_geo.push_back(g);
       }
     }
@@ -275,7 +276,7 @@ void Clip3Impl::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, 
     for (int q = 0; q < 3; ++q) x[q] = tri.x[v.tag][q];
   } else if (v.tag < 6) {
     const int o = v.tag - 3;
-    const std::uint32_t a = tri.mv[(o + 1) % 3], b = tri.mv[(o + 2) % 3];
+    const std::uint32_t a = tri.mv[kEdgeEnd[o][0]], b = tri.mv[kEdgeEnd[o][1]];
     edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
   } else {
     std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
@@ -318,32 +319,81 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
                              SurfaceChunk& chunk) const {
   const std::size_t m = p.size();
   const double* pc = site(c);
-  s.xyz.resize(3 * m);
-  s.rel.resize(3 * m);
-  for (std::size_t k = 0; k < m; ++k) {
-    tri_coords(tri, p.v[k], c, &s.xyz[3 * k]);
-    for (int q = 0; q < 3; ++q) s.rel[3 * k + q] = s.xyz[3 * k + q] - pc[q];
+  if (s.xyz.size() < 3 * m) {
+    s.xyz.resize(3 * m);
+    s.rel.resize(4 * m);
   }
-  const auto x = [&](std::size_t k) { return &s.rel[3 * (k == m ? 0 : k)]; };
-  Moments r;
-  double area[3] = {0, 0, 0};
+  // rel: per vertex y = x - p_c and |y|^2.
+  for (std::size_t k = 0; k < m; ++k) {
+    const TriVertex& v = p.v[k];
+    double* xk = &s.xyz[3 * k];
+    if (v.tag < 3) {
+      for (int q = 0; q < 3; ++q) xk[q] = tri.x[v.tag][q];
+    } else {
+      std::uint32_t ids[3] = {c, v.k, v.tag == 6 ? v.l : kNone};
+      small_sort(ids, 3);
+      bool found = false;
+      for (const ThreadScratch::TriPoint& tp : s.tri_points) {
+        if (tp.tag == v.tag && tp.s[0] == ids[0] && tp.s[1] == ids[1] && tp.s[2] == ids[2]) {
+          for (int q = 0; q < 3; ++q) xk[q] = tp.x[q];
+          found = true;
+          break;
+        }
+      }
+      if (!found) {
+        tri_coords(tri, v, c, xk);
+        s.tri_points.push_back({v.tag, {ids[0], ids[1], ids[2]}, {xk[0], xk[1], xk[2]}});
+      }
+    }
+    double* y = &s.rel[4 * k];
+    for (int q = 0; q < 3; ++q) y[q] = s.xyz[3 * k + q] - pc[q];
+    y[3] = (y[0] * y[0] + y[1] * y[1]) + y[2] * y[2];
+  }
+  const auto x = [&](std::size_t k) { return &s.rel[4 * (k == m ? 0 : k)]; };
+  // Cones from p_c (add_cone's formulas) with det = 6 V accumulated, and, with
+  // s = a + b + c, the moment sum det s = 24 M and the energy sum
+  // det (|s|^2 + |a|^2 + |b|^2 + |c|^2) = 120 E (|a|^2 + |b|^2 + |c|^2 + a.b + a.c + b.c
+  // is half the bracket).
+  // Fan from o = y_0 over the polygon, reversed (outward): det(o, w, u) = -o . (a x d) for
+  // a = u - o, d = w - o, whose cross product also sums to twice the area vector.
+  double vol6 = 0, mom24[3] = {0, 0, 0}, en120 = 0, area[3] = {0, 0, 0};
+  const double* o = x(0);
   for (std::size_t k = 1; k + 1 < m; ++k) {
-    const double* o = x(0);
     const double* u = x(k);
     const double* w = x(k + 1);
     const double a[3] = {u[0] - o[0], u[1] - o[1], u[2] - o[2]};
     const double d[3] = {w[0] - o[0], w[1] - o[1], w[2] - o[2]};
-    area[0] += a[1] * d[2] - a[2] * d[1];
-    area[1] += a[2] * d[0] - a[0] * d[2];
-    area[2] += a[0] * d[1] - a[1] * d[0];
-    add_cone(o, w, u, r);  // reversed: outward
+    const double nv[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2],
+                          a[0] * d[1] - a[1] * d[0]};
+    for (int q = 0; q < 3; ++q) area[q] += nv[q];
+    const double det = -((o[0] * nv[0] + o[1] * nv[1]) + o[2] * nv[2]);
+    const double sv[3] = {(o[0] + u[0]) + w[0], (o[1] + u[1]) + w[1], (o[2] + u[2]) + w[2]};
+    vol6 += det;
+    for (int q = 0; q < 3; ++q) mom24[q] += det * sv[q];
+    en120 += det * (((sv[0] * sv[0] + sv[1] * sv[1]) + sv[2] * sv[2]) + ((o[3] + u[3]) + w[3]));
   }
+  // Over each edge on bisector(c, j), the cone over (h, u, w), h the foot: there
+  // h . u = h . w = |h|^2, so the bracket is 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w)
+  // (add_edge_piece).
   for (std::size_t k = 0; k < m; ++k) {
     if (is_facet(p.e[k])) continue;
     const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
     const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
-    add_cone(h, x(k), x(k + 1), r);
+    const double* u = x(k);
+    const double* w = x(k + 1);
+    const double nv[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                          u[0] * w[1] - u[1] * w[0]};
+    const double det = (h[0] * nv[0] + h[1] * nv[1]) + h[2] * nv[2];
+    const double hh3 = 3 * ((h[0] * h[0] + h[1] * h[1]) + h[2] * h[2]);
+    const double q2 = hh3 + ((u[3] + w[3]) + ((u[0] * w[0] + u[1] * w[1]) + u[2] * w[2]));
+    vol6 += det;
+    for (int q = 0; q < 3; ++q) mom24[q] += det * ((h[q] + u[q]) + w[q]);
+    en120 += 2 * det * q2;
   }
+  Moments r;
+  r.volume = vol6 * (1.0 / 6);
+  for (int q = 0; q < 3; ++q) r.moment[q] = mom24[q] * (1.0 / 24);
+  r.energy = en120 * (1.0 / 120);
   for (std::size_t k = 0; k < m; ++k) {
     const TriVertex& v = p.v[k];
     if (v.tag != 6 || c > v.k) continue;
@@ -386,6 +436,10 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     s.corner_stamp.assign(domain.nb_vertices(), 0);
   }
   std::uint32_t corner[3];
+  // corner_of_facet[f]: the corner that is tet vertex f (the triangle edge on facet f is
+  // opposite it).
+  int corner_of_facet[4] = {-1, -1, -1, -1};
+  for (int k = 0; k < 3; ++k) corner_of_facet[lv[k]] = k;
   for (int k = 0; k < 3; ++k) {
     tri.mv[k] = domain.tet_vertex(t, lv[k]);
     tri.x[k] = domain.vertex(tri.mv[k]);
@@ -398,7 +452,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     corner[0] = descend(tri.x[0], hint, s);
   }
   const auto init = [&](TriPoly& p) {
-    p.clear();
+    p.reset(3);
     for (int k = 0; k < 3; ++k) {
       p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone, kNone},
              facet_plane(lv[(k + 2) % 3]));
@@ -411,7 +465,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     return;
   }
   const auto record_corners = [&](std::uint32_t c, const TriPoly& p) {
-    for (const TriVertex& v : p.v) {
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const TriVertex& v = p.v[k];
       if (v.tag < 3) {
         s.corner_cell[tri.mv[v.tag]] = c;
         s.corner_stamp[tri.mv[v.tag]] = stamp;
@@ -427,6 +482,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   }
   radius = std::sqrt(radius) * (1 + 1e-14);  // above the true distance despite rounding
   s.cells.clear();
+  s.tri_points.clear();
   for (const std::uint32_t c : corner) {
     if (c != kNone && std::find(s.cells.begin(), s.cells.end(), c) == s.cells.end()) {
       s.cells.push_back(c);
@@ -446,14 +502,16 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     const NeighborList nb = neighbors(c, s);
     s.corner_values.clear();
     s.facet_minors.clear();
+    // bisector_value's bound at g is near + ee_err: each term rounded, the sum stays above
+    // the proven 7.2 u (|r|^2 + 2 |e|^2) with room for the roundings of the test below.
+    const double near = 1e-15 * rrg + 1e-300;
     bool empty = false;
-    for (std::uint32_t h = 0; h < nb.count && !empty; ++h) {
+    for (std::uint32_t h = 0; h < nb.count; ++h) {
       const NbrGeo& ng = nb.geo[h];
       // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the
       // ball; below zero there, the bisector misses the triangle.
-      double bound;
-      const double fg = bisector_value(rg, rrg, ng.e, ng.ee, bound);
-      if (fg + 2 * radius * ng.norm * (1 + 1e-14) < -bound) continue;
+      const double fg = 2 * ((rg[0] * ng.e[0] + rg[1] * ng.e[1]) + rg[2] * ng.e[2]) - ng.ee;
+      if (fg + radius * ng.reach < -(near + ng.ee_err)) continue;
       // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
       CornerValues fj;
       int corner_side[3];
@@ -467,7 +525,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
       // triangle edge whose ends agree, comes from the filter when it decided (F is affine).
       const TriPoly& in = s.a;
       const std::size_t m = in.size();
-      s.beyond.resize(m);
+      if (s.beyond.size() < m) s.beyond.resize(m);
       bool any_beyond = false, any_kept = false;
       for (std::size_t k = 0; k < m; ++k) {
         const TriVertex& x = in.v[k];
@@ -497,7 +555,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
       const auto row = static_cast<std::uint32_t>(s.corner_values.size());
       s.corner_values.push_back(fj);
       TriPoly& res = s.b;
-      res.clear();
+      res.reset(m + 1);  // a convex polygon cut by a line
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t kn = k + 1 == m ? 0 : k + 1;
         if (!s.beyond[k]) res.push(in.v[k], in.e[k]);
@@ -505,9 +563,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
           TriVertex x{6, j, kNone, row, kNone, kNone};
           const Plane e = in.e[k];
           if (is_facet(e)) {
-            int opposite = 0;
-            while (lv[opposite] != facet_of(e)) ++opposite;
-            x.tag = static_cast<std::int8_t>(3 + opposite);
+            x.tag = static_cast<std::int8_t>(3 + corner_of_facet[facet_of(e)]);
           } else {
             // The edge from v[k] lies on bisector(c, e): v[k] is on it, and carries its row.
             const TriVertex& from = in.v[k];
@@ -529,7 +585,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     emit_polygon(tri, c, s.a, s, chunk);
     record_corners(c, s.a);
     s.last_cell = c;
-    for (const Plane e : s.a.e) {
+    for (std::size_t h = 0; h < s.a.size(); ++h) {
+      const Plane e = s.a.e[h];
       if (is_facet(e)) continue;
       const auto k = static_cast<std::uint32_t>(e);
       if (std::find(s.cells.begin(), s.cells.end(), k) == s.cells.end()) s.cells.push_back(k);

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -802,4 +803,33 @@ TEST_CASE("clip3d: restricted surface polygons and their symbolic vertices", "[c
     REQUIRE(std::fabs(poly_area[b] - tri_area[b]) <= 1e-10 * tri_area[b]);
   }
   REQUIRE(std::fabs(total - cv.total_surface_area()) <= 1e-12 * total);
+  // A point on bisectors has the same coordinates, bit for bit, in every polygon that has
+  // it: an edge point in the two cells' polygons of the two triangles on its edge (the
+  // surface is closed), a point of a triangle on two bisectors in its three cells' polygons.
+  std::map<std::array<std::uint32_t, 7>, std::pair<std::array<double, 3>, int>> seen;
+  for (std::size_t v = 0; v < s.vertices.size(); ++v) {
+    const voroclip::ClipVertex3& x = s.vertices[v];
+    if (x.kind == voroclip::ClipVertex3::Kind::kMeshVertex) continue;
+    const std::array<std::uint32_t, 7> key = {static_cast<std::uint32_t>(x.kind),
+                                              x.mesh[0],
+                                              x.mesh[1],
+                                              x.mesh[2],
+                                              x.site[0],
+                                              x.site[1],
+                                              x.site[2]};
+    const std::array<double, 3> xyz = {s.xyz[3 * v], s.xyz[3 * v + 1], s.xyz[3 * v + 2]};
+    auto it = seen.find(key);
+    if (it == seen.end()) {
+      seen.emplace(key, std::make_pair(xyz, 1));
+    } else {
+      REQUIRE(it->second.first == xyz);
+      ++it->second.second;
+    }
+  }
+  REQUIRE(!seen.empty());
+  for (const auto& [key, value] : seen) {
+    const bool edge =
+        key[0] == static_cast<std::uint32_t>(voroclip::ClipVertex3::Kind::kEdgeBisector);
+    REQUIRE(value.second == (edge ? 4 : 3));
+  }
 }
