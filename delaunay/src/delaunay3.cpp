@@ -34,6 +34,11 @@
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 
+// GCC and Clang on x86-64 compile an AVX2 copy of the insertion loop (insert_points_avx2).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define VOROCLIP_DELAUNAY3_AVX2 1
+#endif
+
 namespace voroclip {
 
 namespace {
@@ -50,6 +55,17 @@ constexpr double kSlotsPerPoint = 6.9;
 constexpr std::size_t kMaxZones = 64;
 // Zones of at least this many points that defer most of them turn zoning off.
 constexpr std::size_t kLargeZone = 16384;
+
+// The CPU can run the AVX2 copy of the insertion loop (see insert_points_avx2).
+bool cpu_has_avx2() {
+#if defined(VOROCLIP_DELAUNAY3_AVX2)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") &&
+         __builtin_cpu_supports("bmi2");
+#else
+  return false;
+#endif
+}
 
 bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
@@ -95,7 +111,7 @@ std::size_t capacity_bytes(const std::vector<T, A>& v) {
 
 // The common case inline (a finite tet, decided by the static filter); the rest in
 // in_conflict_rest, out of line so that the hot path needs few registers.
-inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
+[[gnu::always_inline]] inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
   const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   if (v[3] != kInfinite) {
     // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 (the same value).
@@ -142,7 +158,8 @@ bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
 // finite vertices are in the zone; returns false, leaving the triangulation untouched,
 // when p is beyond a facet of the current tet but every such facet leads out of the zone.
 template <bool kZoned>
-bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const {
+[[gnu::always_inline]] inline bool Delaunay3::walk(const Zone& zone, const double* p,
+                                                   std::uint32_t& t) const {
   std::uint32_t current = t;
   if (tets_[8 * static_cast<std::size_t>(current) + 3] == kInfinite) {
     const std::uint32_t code = tets_[8 * static_cast<std::size_t>(current) + 7] & kCodeMask;
@@ -283,7 +300,7 @@ void Delaunay3::unmark_cavity(const Zone& zone) {
 }
 
 template <bool kZoned>
-Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
+[[gnu::always_inline]] inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const double* pq = point(q);
   std::uint32_t start = zone.hint;
   if (!walk<kZoned>(zone, pq, start)) return Inserted::deferred;
@@ -532,10 +549,43 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
   return 0;
 }
 
+// The insertion loop, with insert, walk and in_conflict inlined into it, is compiled twice:
+// for the baseline ISA and, on x86-64, for AVX2 + BMI + BMI2 (VEX three-operand forms, no
+// register copies). Both copies perform the same IEEE operations in the same order (the
+// build has -ffp-contract=off and the target list has no FMA), so they build the same
+// triangulation; build() picks one from a run-time CPU check.
+template <bool kZoned>
+void Delaunay3::insert_points_baseline(Zone& zone, const std::uint32_t* first,
+                                       const std::uint32_t* last) {
+  for (; first != last; ++first) {
+    if (insert<kZoned>(zone, *first) == Inserted::deferred) zone.deferred.push_back(*first);
+  }
+}
+
+#if defined(VOROCLIP_DELAUNAY3_AVX2)
+template <bool kZoned>
+__attribute__((target("avx2,bmi,bmi2"))) void Delaunay3::insert_points_avx2(
+    Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
+  for (; first != last; ++first) {
+    if (insert<kZoned>(zone, *first) == Inserted::deferred) zone.deferred.push_back(*first);
+  }
+}
+#endif
+
+template <bool kZoned>
+void Delaunay3::insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
+#if defined(VOROCLIP_DELAUNAY3_AVX2)
+  if (avx2_) {
+    insert_points_avx2<kZoned>(zone, first, last);
+    return;
+  }
+#endif
+  insert_points_baseline<kZoned>(zone, first, last);
+}
+
 void Delaunay3::insert_sequentially(const std::uint32_t* first, const std::uint32_t* last) {
-  Zone& zone = zones_[0];
   stats_.sequential_points += static_cast<std::uint32_t>(last - first);
-  for (; first != last; ++first) insert<false>(zone, *first);
+  insert_points<false>(zones_[0], first, last);
 }
 
 // A start tet for the zone: the tet holding one of a few of its points (spread over its
@@ -716,9 +766,7 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
               z.deferred = z.points;
               continue;
             }
-            for (const std::uint32_t q : z.points) {
-              if (insert<true>(z, q) == Inserted::deferred) z.deferred.push_back(q);
-            }
+            insert_points<true>(z, z.points.data(), z.points.data() + z.points.size());
           }
         },
         tbb::simple_partitioner());
@@ -823,8 +871,10 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   }
   xyz_ = xyz;
   nb_points_ = n;
+  avx2_ = options_.use_avx2 && cpu_has_avx2();
   peak_bytes_ = 0;
   stats_ = {};
+  stats_.avx2 = avx2_;
   filter_ = StaticFilter::bounding(xyz, n, 3);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
