@@ -110,13 +110,23 @@ std::size_t capacity_bytes(const std::vector<T, A>& v) {
 // Predicates on the triangulation
 
 // The common case inline (a finite tet, decided by the static filter); the rest in
-// in_conflict_rest, out of line so that the hot path needs few registers.
+// in_conflict_rest, out of line so that the hot path needs few registers. kAvx2: only in
+// the AVX2 copy of the insertion loop.
+template <bool kAvx2>
 [[gnu::always_inline]] inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
   const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   if (v[3] != kInfinite) {
-    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 (the same value).
-    const double det =
-        detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 or AVX2 (the same value).
+    double det;
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+    if constexpr (kAvx2) {
+      det = detail::insphere_det_avx2(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    } else {
+      det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    }
+#else
+    det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+#endif
     if (std::fabs(det) > filter_.insphere_bound()) return det > 0;
   }
   return in_conflict_rest(t, q);
@@ -299,7 +309,7 @@ void Delaunay3::unmark_cavity(const Zone& zone) {
   }
 }
 
-template <bool kZoned>
+template <bool kZoned, bool kAvx2>
 [[gnu::always_inline]] inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const double* pq = point(q);
   std::uint32_t start = zone.hint;
@@ -341,7 +351,7 @@ template <bool kZoned>
       std::uint32_t& marks = tets_[8 * static_cast<std::size_t>(n) + 4];
       if ((marks & kInCavity) != 0) continue;
       if ((marks & kOutside) == 0) {
-        if (in_conflict(n, q)) {
+        if (in_conflict<kAvx2>(n, q)) {
           if constexpr (kZoned) {
             const std::uint32_t o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
             if (o != kInfinite && !zone.contains(point(o))) {
@@ -558,7 +568,9 @@ template <bool kZoned>
 void Delaunay3::insert_points_baseline(Zone& zone, const std::uint32_t* first,
                                        const std::uint32_t* last) {
   for (; first != last; ++first) {
-    if (insert<kZoned>(zone, *first) == Inserted::deferred) zone.deferred.push_back(*first);
+    if (insert<kZoned, false>(zone, *first) == Inserted::deferred) {
+      zone.deferred.push_back(*first);
+    }
   }
 }
 
@@ -567,7 +579,9 @@ template <bool kZoned>
 __attribute__((target("avx2,bmi,bmi2"))) void Delaunay3::insert_points_avx2(
     Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
   for (; first != last; ++first) {
-    if (insert<kZoned>(zone, *first) == Inserted::deferred) zone.deferred.push_back(*first);
+    if (insert<kZoned, true>(zone, *first) == Inserted::deferred) {
+      zone.deferred.push_back(*first);
+    }
   }
 }
 #endif
@@ -1223,7 +1237,7 @@ std::string Delaunay3::check_delaunay() const {
       const std::uint32_t n = tet_adjacent(t, f);
       const std::uint32_t opposite = tet_vertex(n, tet_adjacent_facet(t, f));
       if (opposite == kInfinite) continue;  // checked from the infinite tet's side
-      if (in_conflict(t, opposite)) {
+      if (in_conflict<false>(t, opposite)) {
         return "tet " + std::to_string(t) + " is in conflict with vertex " +
                std::to_string(opposite) + " of its neighbour " + std::to_string(n);
       }

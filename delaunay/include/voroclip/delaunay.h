@@ -611,12 +611,13 @@ class Delaunay3 {
   }
   // The index symbolic perturbation uses for vertex v: always the input index.
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
+  template <bool kAvx2>
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
   [[gnu::noinline]] bool in_conflict_rest(std::uint32_t t, std::uint32_t q) const;
   template <bool kZoned>
   bool walk(const Zone& zone, const double* p, std::uint32_t& t) const;
   std::uint32_t walk_query(const double* p, std::uint32_t t) const;
-  template <bool kZoned>
+  template <bool kZoned, bool kAvx2>
   Inserted insert(Zone& zone, std::uint32_t q);
   template <bool kZoned>
   bool take_slots(Zone& zone, std::size_t count);
