@@ -398,8 +398,9 @@ template <bool kZoned, bool kAvx2>
 
   const bool small = nb_new <= kSmallCavity;
   std::uint32_t nb_local = 1;
+  // The local id of a finite vertex (kInfinite has 0; after the rotation below only the
+  // third vertex of a facet can be kInfinite).
   const auto local = [this, &zone, &nb_local](std::uint32_t v) -> std::uint32_t {
-    if (v == kInfinite) return 0;
     const std::uint32_t l = local_id_[v];
     if (l < nb_local && zone.local_vertex[l] == v) return l;
     zone.local_vertex[nb_local] = v;
@@ -431,7 +432,7 @@ template <bool kZoned, bool kAvx2>
     if (small) {
       b.v[0] = local(x);
       b.v[1] = local(y);
-      b.v[2] = local(z);
+      b.v[2] = z == kInfinite ? 0 : local(z);
     }
     b.code = 4 * nt;
   }
