@@ -34,11 +34,6 @@
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 
-// GCC and Clang on x86-64 compile an AVX2 copy of the insertion loop (insert_points_avx2).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define VOROCLIP_DELAUNAY3_AVX2 1
-#endif
-
 namespace voroclip {
 
 namespace {
@@ -56,12 +51,11 @@ constexpr std::size_t kMaxZones = 64;
 // Zones of at least this many points that defer most of them turn zoning off.
 constexpr std::size_t kLargeZone = 16384;
 
-// The CPU can run the AVX2 copy of the insertion loop (see insert_points_avx2).
+// The CPU can run detail::insphere_det_avx2.
 bool cpu_has_avx2() {
-#if defined(VOROCLIP_DELAUNAY3_AVX2)
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") &&
-         __builtin_cpu_supports("bmi2");
+  return __builtin_cpu_supports("avx2");
 #else
   return false;
 #endif
@@ -110,10 +104,10 @@ std::size_t capacity_bytes(const std::vector<T, A>& v) {
 // Predicates on the triangulation
 
 // The common case inline (a finite tet, decided by the static filter); the rest in
-// in_conflict_rest, out of line so that the hot path needs few registers. kAvx2: only in
-// the AVX2 copy of the insertion loop.
+// in_conflict_rest, out of line so that the hot path needs few registers. kAvx2: the
+// determinant by insphere_det_avx2 (a call: it is compiled for AVX2, this code is not).
 template <bool kAvx2>
-[[gnu::always_inline]] inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
+inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
   const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   if (v[3] != kInfinite) {
     // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 or AVX2 (the same value).
@@ -168,8 +162,7 @@ bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
 // finite vertices are in the zone; returns false, leaving the triangulation untouched,
 // when p is beyond a facet of the current tet but every such facet leads out of the zone.
 template <bool kZoned>
-[[gnu::always_inline]] inline bool Delaunay3::walk(const Zone& zone, const double* p,
-                                                   std::uint32_t& t) const {
+bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const {
   std::uint32_t current = t;
   if (tets_[8 * static_cast<std::size_t>(current) + 3] == kInfinite) {
     const std::uint32_t code = tets_[8 * static_cast<std::size_t>(current) + 7] & kCodeMask;
@@ -310,7 +303,7 @@ void Delaunay3::unmark_cavity(const Zone& zone) {
 }
 
 template <bool kZoned, bool kAvx2>
-[[gnu::always_inline]] inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
+inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const double* pq = point(q);
   std::uint32_t start = zone.hint;
   if (!walk<kZoned>(zone, pq, start)) return Inserted::deferred;
@@ -560,42 +553,26 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
   return 0;
 }
 
-// The insertion loop, with insert, walk and in_conflict inlined into it, is compiled twice:
-// for the baseline ISA and, on x86-64, for AVX2 + BMI + BMI2 (VEX three-operand forms, no
-// register copies). Both copies perform the same IEEE operations in the same order (the
-// build has -ffp-contract=off and the target list has no FMA), so they build the same
-// triangulation; build() picks one from a run-time CPU check.
-template <bool kZoned>
-void Delaunay3::insert_points_baseline(Zone& zone, const std::uint32_t* first,
-                                       const std::uint32_t* last) {
-  for (; first != last; ++first) {
-    if (insert<kZoned, false>(zone, *first) == Inserted::deferred) {
-      zone.deferred.push_back(*first);
-    }
-  }
-}
-
-#if defined(VOROCLIP_DELAUNAY3_AVX2)
-template <bool kZoned>
-__attribute__((target("avx2,bmi,bmi2"))) void Delaunay3::insert_points_avx2(
-    Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
-  for (; first != last; ++first) {
-    if (insert<kZoned, true>(zone, *first) == Inserted::deferred) {
-      zone.deferred.push_back(*first);
-    }
-  }
-}
-#endif
-
+// The points in order; the deferred ones are appended to zone.deferred. The AVX2
+// insphere determinant is bit for bit the SSE2 one, so either choice builds the same
+// triangulation. (Measured: compiling all of insert for AVX2, inlined into this loop,
+// runs fewer instructions but is slower than this baseline code calling the AVX2
+// determinant; see bench/RESULTS.md.)
 template <bool kZoned>
 void Delaunay3::insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
-#if defined(VOROCLIP_DELAUNAY3_AVX2)
   if (avx2_) {
-    insert_points_avx2<kZoned>(zone, first, last);
-    return;
+    for (; first != last; ++first) {
+      if (insert<kZoned, true>(zone, *first) == Inserted::deferred) {
+        zone.deferred.push_back(*first);
+      }
+    }
+  } else {
+    for (; first != last; ++first) {
+      if (insert<kZoned, false>(zone, *first) == Inserted::deferred) {
+        zone.deferred.push_back(*first);
+      }
+    }
   }
-#endif
-  insert_points_baseline<kZoned>(zone, first, last);
 }
 
 void Delaunay3::insert_sequentially(const std::uint32_t* first, const std::uint32_t* last) {
