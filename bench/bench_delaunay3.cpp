@@ -5,8 +5,9 @@
 // construction's copies and scratch included), and the share of the points inserted in
 // parallel zones that were deferred to a later pass; and 1M uniform points on 2 threads
 // with smaller zones (Options::points_per_zone 16384 and 8192: fewer points left to the
-// sequential early rounds, more deferred); uniform points on one thread with the baseline
-// insertion code (Options::use_avx2 = false) against the AVX2 copy. Fixed seeds.
+// sequential early rounds, more deferred); uniform points on one thread with the SSE2
+// insphere determinant only (Options::use_avx2 = false), against the default (AVX2 when the
+// CPU has it) in BM_delaunay3_uniform. Fixed seeds.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
