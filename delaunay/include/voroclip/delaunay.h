@@ -433,7 +433,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // operations (no FMA, no contraction), so the result is the same to the last bit.
 //
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
-// uniform points in about 2.1 s of CPU time on one thread, 0.53 of CGAL's
+// uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
 // Delaunay_triangulation_3 in the same run, 35 bytes per tet at the end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
