@@ -51,6 +51,16 @@ constexpr std::size_t kMaxZones = 64;
 // Zones of at least this many points that defer most of them turn zoning off.
 constexpr std::size_t kLargeZone = 16384;
 
+// The CPU can run detail::insphere_det_avx2.
+bool cpu_has_avx2() {
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
 bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
@@ -94,13 +104,23 @@ std::size_t capacity_bytes(const std::vector<T, A>& v) {
 // Predicates on the triangulation
 
 // The common case inline (a finite tet, decided by the static filter); the rest in
-// in_conflict_rest, out of line so that the hot path needs few registers.
+// in_conflict_rest, out of line so that the hot path needs few registers. kAvx2: the
+// determinant by insphere_det_avx2 (a call: it is compiled for AVX2, this code is not).
+template <bool kAvx2>
 inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
   const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
   if (v[3] != kInfinite) {
-    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 (the same value).
-    const double det =
-        detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 or AVX2 (the same value).
+    double det;
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+    if constexpr (kAvx2) {
+      det = detail::insphere_det_avx2(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    } else {
+      det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    }
+#else
+    det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+#endif
     if (std::fabs(det) > filter_.insphere_bound()) return det > 0;
   }
   return in_conflict_rest(t, q);
@@ -282,8 +302,8 @@ void Delaunay3::unmark_cavity(const Zone& zone) {
   }
 }
 
-template <bool kZoned>
-Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
+template <bool kZoned, bool kAvx2>
+inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const double* pq = point(q);
   std::uint32_t start = zone.hint;
   if (!walk<kZoned>(zone, pq, start)) return Inserted::deferred;
@@ -324,7 +344,7 @@ Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
       std::uint32_t& marks = tets_[8 * static_cast<std::size_t>(n) + 4];
       if ((marks & kInCavity) != 0) continue;
       if ((marks & kOutside) == 0) {
-        if (in_conflict(n, q)) {
+        if (in_conflict<kAvx2>(n, q)) {
           if constexpr (kZoned) {
             const std::uint32_t o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
             if (o != kInfinite && !zone.contains(point(o))) {
@@ -371,8 +391,9 @@ Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
 
   const bool small = nb_new <= kSmallCavity;
   std::uint32_t nb_local = 1;
+  // The local id of a finite vertex (kInfinite has 0; after the rotation below only the
+  // third vertex of a facet can be kInfinite).
   const auto local = [this, &zone, &nb_local](std::uint32_t v) -> std::uint32_t {
-    if (v == kInfinite) return 0;
     const std::uint32_t l = local_id_[v];
     if (l < nb_local && zone.local_vertex[l] == v) return l;
     zone.local_vertex[nb_local] = v;
@@ -404,7 +425,7 @@ Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
     if (small) {
       b.v[0] = local(x);
       b.v[1] = local(y);
-      b.v[2] = local(z);
+      b.v[2] = z == kInfinite ? 0 : local(z);
     }
     b.code = 4 * nt;
   }
@@ -532,10 +553,31 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
   return 0;
 }
 
+// The points in order; the deferred ones are appended to zone.deferred. The AVX2
+// insphere determinant is bit for bit the SSE2 one, so either choice builds the same
+// triangulation. (Measured: compiling all of insert for AVX2, inlined into this loop,
+// runs fewer instructions but is slower than this baseline code calling the AVX2
+// determinant; see bench/RESULTS.md.)
+template <bool kZoned>
+void Delaunay3::insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
+  if (avx2_) {
+    for (; first != last; ++first) {
+      if (insert<kZoned, true>(zone, *first) == Inserted::deferred) {
+        zone.deferred.push_back(*first);
+      }
+    }
+  } else {
+    for (; first != last; ++first) {
+      if (insert<kZoned, false>(zone, *first) == Inserted::deferred) {
+        zone.deferred.push_back(*first);
+      }
+    }
+  }
+}
+
 void Delaunay3::insert_sequentially(const std::uint32_t* first, const std::uint32_t* last) {
-  Zone& zone = zones_[0];
   stats_.sequential_points += static_cast<std::uint32_t>(last - first);
-  for (; first != last; ++first) insert<false>(zone, *first);
+  insert_points<false>(zones_[0], first, last);
 }
 
 // A start tet for the zone: the tet holding one of a few of its points (spread over its
@@ -716,9 +758,7 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
               z.deferred = z.points;
               continue;
             }
-            for (const std::uint32_t q : z.points) {
-              if (insert<true>(z, q) == Inserted::deferred) z.deferred.push_back(q);
-            }
+            insert_points<true>(z, z.points.data(), z.points.data() + z.points.size());
           }
         },
         tbb::simple_partitioner());
@@ -823,8 +863,10 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   }
   xyz_ = xyz;
   nb_points_ = n;
+  avx2_ = options_.use_avx2 && cpu_has_avx2();
   peak_bytes_ = 0;
   stats_ = {};
+  stats_.avx2 = avx2_;
   filter_ = StaticFilter::bounding(xyz, n, 3);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
@@ -1173,7 +1215,7 @@ std::string Delaunay3::check_delaunay() const {
       const std::uint32_t n = tet_adjacent(t, f);
       const std::uint32_t opposite = tet_vertex(n, tet_adjacent_facet(t, f));
       if (opposite == kInfinite) continue;  // checked from the infinite tet's side
-      if (in_conflict(t, opposite)) {
+      if (in_conflict<false>(t, opposite)) {
         return "tet " + std::to_string(t) + " is in conflict with vertex " +
                std::to_string(opposite) + " of its neighbour " + std::to_string(n);
       }

@@ -462,6 +462,44 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
   }
 }
 
+TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same arrays",
+          "[delaunay][parallel][exact]") {
+  bool cpu_avx2 = false;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  cpu_avx2 = __builtin_cpu_supports("avx2");
+#endif
+  if (!cpu_avx2) WARN("no AVX2 on this CPU: only the SSE2 insphere determinant runs");
+  Delaunay3::Options baseline;
+  baseline.points_per_zone = 512;
+  baseline.use_avx2 = false;
+  Delaunay3::Options avx2 = baseline;
+  avx2.use_avx2 = true;
+  for (const auto& [name, xyz] : parallel_inputs()) {
+    INFO(name);
+    const Delaunay3 reference = build_with_threads(xyz, 1, baseline);
+    require_valid(reference);
+    CHECK_FALSE(reference.stats().avx2);
+    CHECK(reference.stats().zoned_passes >= 4);
+    const auto arrays = all_arrays(reference);
+    for (const std::size_t threads : {1u, 2u}) {
+      INFO(threads << " threads");
+      const Delaunay3 dt = build_with_threads(xyz, threads, avx2);
+      CHECK(dt.stats().avx2 == cpu_avx2);
+      CHECK(all_arrays(dt) == arrays);
+    }
+  }
+  // Default zones on 150k points: BRIO rounds of 2^16 points and more go through zones.
+  const auto xyz = random_points(150000, 64);
+  Delaunay3::Options plain;
+  plain.use_avx2 = false;
+  const Delaunay3 reference = build_with_threads(xyz, 2, plain);
+  CHECK(reference.stats().zoned_passes > 0);
+  const Delaunay3 dt = build_with_threads(xyz, 2, {});
+  CHECK(dt.stats().avx2 == cpu_avx2);
+  CHECK(all_arrays(dt) == all_arrays(reference));
+}
+
 TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
           "[delaunay][parallel][.slow]") {
   const auto xyz = random_points(300000, 41);

@@ -1,5 +1,5 @@
-// The SSE2 insphere determinant of Delaunay3 is bit for bit the scalar one of the static
-// filter (detail::insphere_approx), on which the filter's error bound is proven.
+// The SSE2 and AVX2 insphere determinants of Delaunay3 are bit for bit the scalar one of
+// the static filter (detail::insphere_approx), on which the filter's error bound is proven.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -17,6 +17,13 @@ std::uint64_t bits(double x) {
   return b;
 }
 
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+bool cpu_has_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+#endif
+
 }  // namespace
 
 TEST_CASE("insphere_det is bit for bit insphere_approx's determinant", "[delaunay][exact]") {
@@ -25,6 +32,10 @@ TEST_CASE("insphere_det is bit for bit insphere_approx's determinant", "[delauna
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_int_distribution<int> exponent(-60, 60);
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+  const bool avx2 = cpu_has_avx2();
+  if (!avx2) WARN("no AVX2 on this CPU: insphere_det_avx2 is not tested");
+#endif
   double p[5][3];
   for (int trial = 0; trial < 200000; ++trial) {
     // Mixed magnitudes, near-cospherical sets (small perturbations of one sphere), and
@@ -53,9 +64,24 @@ TEST_CASE("insphere_det is bit for bit insphere_approx's determinant", "[delauna
       INFO("trial " << trial << ": " << simd << " vs " << scalar);
       REQUIRE(bits(simd) == bits(scalar));
     }
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+    if (avx2) {
+      const double wide = voroclip::detail::insphere_det_avx2(p[0], p[1], p[2], p[3], p[4]);
+      if (bits(wide) != bits(scalar)) {
+        INFO("trial " << trial << ": AVX2 " << wide << " vs " << scalar);
+        REQUIRE(bits(wide) == bits(scalar));
+      }
+    }
+#endif
   }
   // Cube corners: exactly cospherical, det exactly 0 both ways.
   const double corners[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
   CHECK(voroclip::detail::insphere_det(corners[0], corners[1], corners[2], corners[3],
                                        corners[4]) == 0.0);
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+  if (avx2) {
+    CHECK(voroclip::detail::insphere_det_avx2(corners[0], corners[1], corners[2], corners[3],
+                                              corners[4]) == 0.0);
+  }
+#endif
 }

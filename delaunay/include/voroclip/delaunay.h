@@ -427,8 +427,13 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // into a sorted order was measured at 0.35 s for 1M points with a second 32-byte-per-tet
 // array, or 1.3 s permuted in place.)
 //
+// Instruction sets. The library is built for portable x86-64 (SSE2). The insphere
+// determinant of the conflict test also has a four-lane AVX2 version, which build() uses
+// when the CPU has AVX2 (Options::use_avx2, Stats::avx2). Both perform the same IEEE
+// operations (no FMA, no contraction), so the result is the same to the last bit.
+//
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
-// uniform points in about 2.1 s of CPU time on one thread, 0.53 of CGAL's
+// uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
 // Delaunay_triangulation_3 in the same run, 35 bytes per tet at the end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
@@ -446,6 +451,10 @@ struct Delaunay3Options {
   // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
   // (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
+  // On x86-64 CPUs with AVX2 (checked at run time), compute the conflict test's insphere
+  // determinant with AVX2: the same operations, so the same triangulation to the last
+  // bit, in fewer instructions. false: always the SSE2 code.
+  bool use_avx2 = true;
 };
 
 class Delaunay3 {
@@ -542,6 +551,7 @@ class Delaunay3 {
     std::uint32_t zoned_points = 0;       // points attempted in a zone
     std::uint32_t deferred_points = 0;    // of those, deferred (the cavity left the zone)
     std::uint32_t sequential_points = 0;  // points inserted sequentially
+    bool avx2 = false;                    // AVX2 insphere determinant (Options::use_avx2)
   };
   const Stats& stats() const { return stats_; }
 
@@ -606,17 +616,20 @@ class Delaunay3 {
   }
   // The index symbolic perturbation uses for vertex v: always the input index.
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
+  template <bool kAvx2>
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
   [[gnu::noinline]] bool in_conflict_rest(std::uint32_t t, std::uint32_t q) const;
   template <bool kZoned>
   bool walk(const Zone& zone, const double* p, std::uint32_t& t) const;
   std::uint32_t walk_query(const double* p, std::uint32_t t) const;
-  template <bool kZoned>
+  template <bool kZoned, bool kAvx2>
   Inserted insert(Zone& zone, std::uint32_t q);
   template <bool kZoned>
   bool take_slots(Zone& zone, std::size_t count);
   void glue_large_cavity(Zone& zone, std::uint32_t q);
   void unmark_cavity(const Zone& zone);
+  template <bool kZoned>
+  void insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last);
   void insert_sequentially(const std::uint32_t* first, const std::uint32_t* last);
   void insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones);
   bool start_zone(Zone& zone);
@@ -656,6 +669,7 @@ class Delaunay3 {
   std::vector<Zone> zones_;                        // zones_[0] inserts sequentially
   std::uint32_t initial_[4] = {0, 0, 0, 0};        // ranks of the first tet's vertices
   bool zoning_off_ = false;  // a zoned pass deferred most of its points: no more zones
+  bool avx2_ = false;        // this build uses insphere_det_avx2
 };
 
 }  // namespace voroclip
