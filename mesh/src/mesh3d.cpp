@@ -570,13 +570,18 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     }
     const FeatureTree line_tree(surface, lines);
     const std::vector<std::uint32_t> triangle_patch = triangle_patches(domain, lines);
+    // The smooth surface's patches are bounded by every edge sharper than feature_angle_deg,
+    // and pinned there, kept feature line or not: a crease too short to keep (or
+    // features = false) is not rounded by the interpolant, which would bulge the large flat
+    // triangles beside it.
     std::unique_ptr<PhongSurface> smooth;
     if (options.smooth_surface) {
+      const FeatureLines sharp = extract_feature_lines(surface, options.feature_angle_deg);
       std::vector<std::uint8_t> pinned(surface.nb_vertices(), 0);
-      for (const std::uint32_t v : lines.line_vertices) pinned[v] = 1;
-      for (const std::uint32_t v : lines.corners) pinned[v] = 1;
-      smooth =
-          std::make_unique<PhongSurface>(surface, triangle_patch, pinned, options.smooth_shape);
+      for (const std::uint32_t v : sharp.line_vertices) pinned[v] = 1;
+      for (const std::uint32_t v : sharp.corners) pinned[v] = 1;
+      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(domain, sharp), pinned,
+                                              options.smooth_shape);
     }
     result.nb_feature_lines = lines.nb_lines();
     result.nb_feature_corners = static_cast<std::uint32_t>(lines.corners.size());

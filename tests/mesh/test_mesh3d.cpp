@@ -242,14 +242,11 @@ TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[m
     }
   }
   // The rims lie on the output's boundary up to the chords between rim vertices (a chord
-  // of length L of the unit circle is L^2 / 8 from it); without features they are cut
-  // (surface vertices on the flat boundary: without features the smooth placement, one
-  // patch, rounds the rims instead, which hides part of the cut).
+  // of length L of the unit circle is L^2 / 8 from it); without features they are cut.
   const auto [max, mean] = feature_distance(cyl, r, voroclip::kDefaultFeatureAngleDeg);
   Mesh3Options o = small_options(300);
   o.features = false;
   o.perturb = false;
-  o.smooth_surface = false;
   const Mesh3Result plain = voroclip::mesh3d(cyl, o);
   check_valid(cyl, plain);
   const auto [max_plain, mean_plain] =

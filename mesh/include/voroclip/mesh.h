@@ -751,17 +751,20 @@ struct Mesh3Options {
   std::uint32_t unconstrained_iterations = 16;
   std::uint32_t constrained_iterations = 30;
   double gradient_tolerance = 1e-4;
-  // Where the surface sites lie (Mesh3VertexKind::kSurface): smooth_surface = true, on the
-  // Phong tessellation (PhongSurface, shape smooth_shape) of the domain's boundary, its
-  // patches bounded by the feature lines (none when features = false): a site is lifted
-  // from its closest point on the boundary triangles to the smooth surface over it, in the
-  // constrained CVT (its normal there the interpolated one) and in the sliver perturbation.
-  // false: on the boundary triangles themselves (closest point). Feature sites stay on
-  // the feature lines (polylines of boundary edges), corners on the domain's vertices. On
-  // a curved boundary the smooth placement puts the vertices off the flat boundary, outside
-  // the input domain where it is convex (by at most the facets' sag), which brings the
-  // output's boundary closer to the surface that the input's facets approximate (and
-  // to its vertices); on planar patches both are the same.
+  // Where the surface sites lie (Mesh3VertexKind::kSurface). smooth_surface = true: on the
+  // Phong tessellation (PhongSurface, shape smooth_shape; 1/2 reproduces quadrics to second
+  // order) of the domain's boundary, its patches bounded by, and pinned along, every
+  // boundary edge sharper than feature_angle_deg (kept as a feature line or not, and also
+  // when features = false), so that no crease is rounded. A site is placed at the lift of
+  // its closest point on the boundary triangles, in the snapping, in the constrained CVT
+  // (its direction there the interpolated normal) and in the sliver perturbation. false: on
+  // the boundary triangles themselves (their closest point). Either way feature sites stay
+  // on the feature lines (polylines of boundary edges) and corners on the domain's vertices.
+  // "On the surface" then means on the smooth surface that the input's facets approximate:
+  // where the boundary is curved, the vertices lie off the input's triangles (outside the
+  // input domain where it is convex, by less than the facets' sag), which brings the
+  // output's boundary nearer that surface and the input's vertices (Hausdorff distance);
+  // on planar patches both placements are the same point.
   bool smooth_surface = true;
   double smooth_shape = 0.5;
   // Sliver perturbation (perturb = false: none).
