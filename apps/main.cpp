@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
   mesh3d
       ->add_option("--smooth-shape", mesh3d_args.smooth_shape,
                    "Shape factor of the Phong interpolant of the boundary, in [0, 1] "
-                   "(default 0.5; 0: the triangles)")
+                   "(default 0.75; 0: the triangles)")
       ->type_name("F");
   mesh3d
       ->add_option("-o,--output", mesh3d_args.output,

@@ -219,11 +219,14 @@ TEST_CASE(
     "[mesh]") {
   const Domain3 d = ball(2);
   Mesh3Options o = small_options(500);
+  o.smooth_shape = 0.5;  // the shape that reproduces a sphere (the default 3/4 overshoots)
   const Mesh3Result smooth = voroclip::mesh3d(d, o);
+  o.smooth_shape = 0.75;
+  const Mesh3Result overshoot = voroclip::mesh3d(d, o);
   o.smooth_surface = false;
   const Mesh3Result flat = voroclip::mesh3d(d, o);
   CHECK(smooth.nb_feature_lines == 0);
-  for (const Mesh3Result* r : {&smooth, &flat}) {
+  for (const Mesh3Result* r : {&smooth, &overshoot, &flat}) {
     REQUIRE(r->nb_tets() > 0);
     // Right-handed, exactly; a closed 2-manifold boundary (Domain3's validation).
     std::size_t wrong = 0;
@@ -250,6 +253,19 @@ TEST_CASE(
   CHECK(f[2] > 100);
   CHECK(s[1] < 0.05 * f[1]);
   CHECK(s[0] < 0.2 * f[0]);
+  // 3/4: the surface vertices lie outside the sphere by about half the facets' sag, and
+  // nearer it than the flat ones (which are inside by up to the sag).
+  std::uint32_t outside = 0, surface = 0;
+  for (std::uint32_t v = 0; v < overshoot.nb_vertices(); ++v) {
+    if (overshoot.kinds[v] != Mesh3VertexKind::kSurface) continue;
+    ++surface;
+    outside += radius(&overshoot.xyz[3 * std::size_t{v}]) > 1 ? 1 : 0;
+  }
+  const auto o3 = sphere_deviation(overshoot);
+  INFO("3/4: max " << o3[0] << " mean " << o3[1] << "; " << outside << " of " << surface
+                   << " outside");
+  CHECK(outside > surface / 2);
+  CHECK(o3[1] < 0.6 * f[1]);
 }
 
 TEST_CASE("mesh3d with smooth placement: the same mesh with 1 and 2 threads", "[mesh]") {

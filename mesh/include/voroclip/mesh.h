@@ -684,11 +684,11 @@ struct Mesh3Progress {
 // the blend of the projections of x onto the corners' tangent planes (shape = 0: the flat
 // triangle). shape = 1/2 reproduces a quadric to second order: for a curve y = k t^2 / 2
 // sampled at two points with their exact normals, the lift of the chord's point at
-// fraction s is the curve's point up to O(k^2 L^3), the chord's gap k L^2 s (1 - s) / 2
-// being closed exactly to leading order, and on a sphere the facets' midpoints and centroids
-// land on it to leading order; Boubekeur and Alexa's 3/4 overshoots there by half the
-// facets' sag. The lifted surface is continuous across
-// the edges inside a patch, passes through every vertex of the input (x = p_k gives x* = p_k
+// fraction s is the curve's point up to terms of higher order in the slope k L (the chord's gap k
+// L^2 s (1 - s) / 2 closed exactly to leading order), and on a sphere the facets' midpoints and
+// centroids land on it to leading order; Boubekeur and Alexa's 3/4 overshoots there by half the
+// facets' sag (mesh3d's default, see Mesh3Options::smooth_shape). The lifted surface is continuous
+// across the edges inside a patch, passes through every vertex of the input (x = p_k gives x* = p_k
 // exactly: its own term is zero, the others have weight zero), and is flat where a patch is
 // planar (every corner normal is the face's normal). On a sphere sampled by a triangle mesh
 // it removes most of the gap between the facets and the sphere (the facets' sag).
@@ -752,21 +752,25 @@ struct Mesh3Options {
   std::uint32_t constrained_iterations = 30;
   double gradient_tolerance = 1e-4;
   // Where the surface sites lie (Mesh3VertexKind::kSurface). smooth_surface = true: on the
-  // Phong tessellation (PhongSurface, shape smooth_shape; 1/2 reproduces quadrics to second
-  // order) of the domain's boundary, its patches bounded by, and pinned along, every
-  // boundary edge sharper than feature_angle_deg (kept as a feature line or not, and also
-  // when features = false), so that no crease is rounded. A site is placed at the lift of
-  // its closest point on the boundary triangles, in the snapping, in the constrained CVT
-  // (its direction there the interpolated normal) and in the sliver perturbation. false: on
-  // the boundary triangles themselves (their closest point). Either way feature sites stay
-  // on the feature lines (polylines of boundary edges) and corners on the domain's vertices.
+  // Phong tessellation (PhongSurface, shape smooth_shape) of the domain's boundary, its patches
+  // bounded by, and pinned along, every boundary edge sharper than feature_angle_deg (kept as a
+  // feature line or not, and also when features = false), so that no crease is rounded. A site is
+  // placed at the lift of its closest point on the boundary triangles, in the snapping, in the
+  // constrained CVT (its direction there the interpolated normal) and in the sliver perturbation.
+  // false: on the boundary triangles themselves (their closest point). Either way feature sites
+  // stay on the feature lines (polylines of boundary edges) and corners on the domain's vertices.
   // "On the surface" then means on the smooth surface that the input's facets approximate:
   // where the boundary is curved, the vertices lie off the input's triangles (outside the
-  // input domain where it is convex, by less than the facets' sag), which brings the
-  // output's boundary nearer that surface and the input's vertices (Hausdorff distance);
-  // on planar patches both placements are the same point.
+  // input domain where it is convex, by about 2 smooth_shape times the facets' sag), which
+  // brings the output's boundary nearer that surface and the input's vertices (Hausdorff
+  // distance); on planar patches both placements are the same point. smooth_shape 1/2
+  // reproduces a quadric; the default 3/4 puts a convex part half a facet sag outside it,
+  // which offsets the inward sag of the output's own, larger triangles: on sphere-fine with
+  // 25k vertices (bench/RESULTS.md) the two-sided Hausdorff distance is 0.043-0.044 % of
+  // the diagonal with 3/4, 0.046-0.050 % with 1/2, 0.053 % flat (seeds 1-3); 1 gives 0.041 %
+  // but a worse smallest dihedral angle.
   bool smooth_surface = true;
-  double smooth_shape = 0.5;
+  double smooth_shape = 0.75;
   // Sliver perturbation (perturb = false: none).
   bool perturb = true;
   Perturb3Options perturbation;
