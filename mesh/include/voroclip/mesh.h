@@ -631,7 +631,8 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      only the boundary layer has far to go), or drawn with the density (random_points3);
 //   3. unconstrained CVT (L-BFGS);
 //   4. classification and snapping: the sites whose Voronoi cell meets the boundary
-//      surface move to their closest point on it; with features, the boundary edges whose
+//      surface move to their closest point on it (lifted onto its smooth interpolant with
+//      smooth_surface: PhongSurface); with features, the boundary edges whose
 //      triangles' normals differ by more than feature_angle_deg form feature lines
 //      (extract_feature_lines; cut where they turn sharply, the short ones dropped): the
 //      sites nearest to points along them move onto them, and each feature corner gets a
