@@ -359,4 +359,7 @@ TEST_CASE("mesh3d: progress per phase, cancellation, errors", "[mesh]") {
   bad = small_options(100);
   bad.feature_angle_deg = 200;
   CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
+  bad = small_options(100);
+  bad.smooth_shape = 1.5;
+  CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
 }
