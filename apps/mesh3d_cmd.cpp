@@ -57,6 +57,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw UsageError("--sliver-angle: expected degrees in [0, 70.5), got " +
                      format_double(args.sliver_angle));
   }
+  if (!(args.smooth_shape >= 0 && args.smooth_shape <= 1)) {
+    throw UsageError("--smooth-shape: expected a value in [0, 1], got " +
+                     format_double(args.smooth_shape));
+  }
   const auto start = std::chrono::steady_clock::now();
   const Domain3 domain(read_tet_mesh(args.domain));
   const double t_read = seconds_since(start);
@@ -71,6 +75,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.unconstrained_iterations = args.unconstrained_iterations;
   o.constrained_iterations = args.constrained_iterations;
   o.perturb = !args.no_perturb;
+  o.smooth_surface = !args.flat_surface;
+  o.smooth_shape = args.smooth_shape;
   o.perturbation.target_dihedral_deg = args.sliver_angle;
   if (out) {
     o.progress = [out](const Mesh3Progress& p) {
@@ -145,6 +151,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"corner", counts[3]}};
     j["feature_lines"] = r.nb_feature_lines;
     j["feature_corners"] = r.nb_feature_corners;
+    j["surface"] = args.flat_surface ? "flat" : "smooth";
     j["cvt"] = {{"unconstrained",
                  {{"iterations", r.unconstrained.iterations},
                   {"evaluations", r.unconstrained.evaluations},

@@ -41,12 +41,15 @@ struct Projection {
   const SurfaceTree* surface = nullptr;
   const FeatureTree* lines = nullptr;
   const std::vector<std::uint32_t>* line_of = nullptr;  // per site (kCurve)
+  const PhongSurface* smooth = nullptr;                 // kSurface sites: lifted onto it when set
 
   void operator()(std::uint32_t site, Kind kind, const double* p, double* q, double* d) const {
     if (kind == Kind::kCurve) {
       const FeatureTree::Closest c = lines->closest(p, (*line_of)[site]);
       std::copy_n(c.point, 3, q);
       std::copy_n(c.tangent, 3, d);
+    } else if (smooth) {
+      smooth->project(*surface, p, q, d);
     } else {
       const SurfaceTree::Closest c = surface->closest(p);
       std::copy_n(c.point, 3, q);
@@ -204,16 +207,7 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
 }
 
-// The surface patches of the sites (SurfacePatches): the boundary triangles are grouped by a
-// flood fill across the edges that are not feature edges; a surface site is on the patch of
-// the triangle it projects onto, a feature site on the patches beside the segment it
-// projects onto, a corner on the patches around its vertex.
-SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
-                            const SurfaceTree& surface, const FeatureTree& line_tree,
-                            const std::vector<double>& sites, const std::vector<Kind>& kinds,
-                            const std::vector<std::uint32_t>& line_of,
-                            const std::vector<std::uint32_t>& corner_vertex,
-                            std::vector<std::uint32_t>& triangle_patch) {
+std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines) {
   std::vector<std::uint64_t> features;
   for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
     for (std::uint32_t i = lines.line_begin[l]; i + 1 < lines.line_begin[l + 1]; ++i) {
@@ -221,13 +215,14 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
     }
   }
   std::sort(features.begin(), features.end());
-  const auto is_feature = [&](std::uint64_t k) {
-    return std::binary_search(features.begin(), features.end(), k);
-  };
+  return features;
+}
+
+// The patch of each boundary triangle: the triangles grouped by a flood fill across the
+// edges that are not feature edges, numbered in the order of their first triangle.
+std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const FeatureLines& lines) {
+  const std::vector<std::uint64_t> features = sorted_feature_edges(lines);
   const std::uint32_t nb = domain.nb_boundary_triangles();
-  const auto edge_of = [&](std::uint32_t b, int e) {
-    return edge_key(domain.boundary_vertex(b, (e + 1) % 3), domain.boundary_vertex(b, (e + 2) % 3));
-  };
   std::vector<std::uint32_t> patch(nb, SurfaceTree::kNone), queue;
   std::uint32_t nb_patches = 0;
   for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
@@ -238,13 +233,38 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
       const std::uint32_t b = queue[q];
       for (int e = 0; e < 3; ++e) {
         const std::uint32_t a = domain.boundary_adjacent(b, e);
-        if (patch[a] != SurfaceTree::kNone || is_feature(edge_of(b, e))) continue;
+        const std::uint64_t key = edge_key(domain.boundary_vertex(b, (e + 1) % 3),
+                                           domain.boundary_vertex(b, (e + 2) % 3));
+        if (patch[a] != SurfaceTree::kNone ||
+            std::binary_search(features.begin(), features.end(), key))
+          continue;
         patch[a] = nb_patches;
         queue.push_back(a);
       }
     }
     ++nb_patches;
   }
+  return patch;
+}
+
+// The surface patches of the sites (SurfacePatches), `patch` the patch of each boundary
+// triangle: a surface site is on the patch of the triangle it projects onto, a feature site
+// on the patches beside the segment it projects onto, a corner on the patches around its
+// vertex.
+SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
+                            const SurfaceTree& surface, const FeatureTree& line_tree,
+                            const std::vector<double>& sites, const std::vector<Kind>& kinds,
+                            const std::vector<std::uint32_t>& line_of,
+                            const std::vector<std::uint32_t>& corner_vertex,
+                            const std::vector<std::uint32_t>& patch) {
+  const std::vector<std::uint64_t> features = sorted_feature_edges(lines);
+  const auto is_feature = [&](std::uint64_t k) {
+    return std::binary_search(features.begin(), features.end(), k);
+  };
+  const std::uint32_t nb = domain.nb_boundary_triangles();
+  const auto edge_of = [&](std::uint32_t b, int e) {
+    return edge_key(domain.boundary_vertex(b, (e + 1) % 3), domain.boundary_vertex(b, (e + 2) % 3));
+  };
   // (feature edge, patch) and (corner vertex, patch) pairs.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edge_patch, vertex_patch;
   std::vector<std::uint32_t> corner_mark(domain.nb_vertices(), 0);
@@ -271,7 +291,6 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   const auto n = static_cast<std::uint32_t>(kinds.size());
   sp.begin.reserve(std::size_t{n} + 1);
   sp.begin.push_back(0);
-  triangle_patch = patch;
   for (std::uint32_t s = 0; s < n; ++s) {
     const double* p = &sites[3 * std::size_t{s}];
     if (kinds[s] == Kind::kSurface) {
@@ -291,6 +310,145 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
 }
 
 }  // namespace
+
+PhongSurface::PhongSurface(const TriangleSurface& surface,
+                           const std::vector<std::uint32_t>& triangle_patch,
+                           const std::vector<std::uint8_t>& pinned, double shape)
+    : shape_(shape) {
+  const std::uint32_t nt = surface.nb_triangles();
+  if (!triangle_patch.empty() && triangle_patch.size() != nt) {
+    throw Error("PhongSurface: " + std::to_string(triangle_patch.size()) + " patch ids for " +
+                std::to_string(nt) + " triangles of " + surface.source);
+  }
+  if (!pinned.empty() && pinned.size() != surface.nb_vertices()) {
+    throw Error("PhongSurface: " + std::to_string(pinned.size()) + " pinned flags for " +
+                std::to_string(surface.nb_vertices()) + " vertices of " + surface.source);
+  }
+  if (!(shape >= 0 && shape <= 1)) {
+    throw Error("PhongSurface: shape factor " + std::to_string(shape) + "; expected [0, 1]");
+  }
+  const auto patch_of = [&](std::uint32_t t) {
+    return triangle_patch.empty() ? 0u : triangle_patch[t];
+  };
+  corners_.resize(9 * std::size_t{nt});
+  face_normal_.assign(3 * std::size_t{nt}, 0.0);
+  corner_normal_.assign(9 * std::size_t{nt}, 0.0);
+  corner_shape_.assign(3 * std::size_t{nt}, shape);
+  // One slot per (vertex, patch) met at a corner: the angle-weighted sum of face normals.
+  std::vector<std::uint64_t> keys(3 * std::size_t{nt});
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = surface.triangles[3 * std::size_t{t} + static_cast<std::size_t>(k)];
+      if (v >= surface.nb_vertices()) {
+        throw Error("PhongSurface: triangle " + std::to_string(t) + " of " + surface.source +
+                    " has vertex " + std::to_string(v) + " out of range");
+      }
+      std::copy_n(&surface.xyz[3 * std::size_t{v}], 3,
+                  &corners_[9 * std::size_t{t} + 3 * static_cast<std::size_t>(k)]);
+      keys[3 * std::size_t{t} + static_cast<std::size_t>(k)] = std::uint64_t{v} << 32 | patch_of(t);
+      if (!pinned.empty() && pinned[v] != 0) {
+        corner_shape_[3 * std::size_t{t} + static_cast<std::size_t>(k)] = 0;
+      }
+    }
+  }
+  std::vector<std::uint64_t> slots = keys;
+  std::sort(slots.begin(), slots.end());
+  slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+  std::vector<double> sum(3 * slots.size(), 0.0);
+  std::vector<std::uint32_t> slot_of(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    slot_of[i] = static_cast<std::uint32_t>(std::lower_bound(slots.begin(), slots.end(), keys[i]) -
+                                            slots.begin());
+  }
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const double* c = &corners_[9 * std::size_t{t}];
+    double e1[3], e2[3], n[3];
+    for (int a = 0; a < 3; ++a) {
+      e1[a] = c[3 + a] - c[a];
+      e2[a] = c[6 + a] - c[a];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    double* fn = &face_normal_[3 * std::size_t{t}];
+    for (int a = 0; a < 3; ++a) fn[a] = n[a] / len;
+    for (int k = 0; k < 3; ++k) {
+      const double* p = c + 3 * k;
+      const double* q = c + 3 * ((k + 1) % 3);
+      const double* r = c + 3 * ((k + 2) % 3);
+      double u[3], w[3], x[3];
+      for (int a = 0; a < 3; ++a) {
+        u[a] = q[a] - p[a];
+        w[a] = r[a] - p[a];
+      }
+      x[0] = u[1] * w[2] - u[2] * w[1];
+      x[1] = u[2] * w[0] - u[0] * w[2];
+      x[2] = u[0] * w[1] - u[1] * w[0];
+      const double angle = std::atan2(std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]),
+                                      u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+      double* sl = &sum[3 * std::size_t{slot_of[3 * std::size_t{t} + static_cast<std::size_t>(k)]}];
+      for (int a = 0; a < 3; ++a) sl[a] += angle * fn[a];
+    }
+  }
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const double* sl = &sum[3 * std::size_t{slot_of[i]}];
+    const double len = std::sqrt(sl[0] * sl[0] + sl[1] * sl[1] + sl[2] * sl[2]);
+    if (!(len > 0)) continue;
+    for (int a = 0; a < 3; ++a) corner_normal_[3 * i + static_cast<std::size_t>(a)] = sl[a] / len;
+  }
+}
+
+void PhongSurface::lift(std::uint32_t t, const double* x, double* q, double* normal) const {
+  const double* c = &corners_[9 * std::size_t{t}];
+  const double* fn = &face_normal_[3 * std::size_t{t}];
+  std::copy_n(x, 3, q);
+  std::copy_n(fn, 3, normal);
+  // Barycentric coordinates from the sub-triangles (x - p_k differences: at x = p_k the two
+  // sub-triangles that have x and p_k as corners are exactly zero).
+  double d[3][3];
+  for (int k = 0; k < 3; ++k) {
+    for (int a = 0; a < 3; ++a) d[k][a] = c[3 * k + a] - x[a];
+  }
+  double u[3], total = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double* e = d[(k + 1) % 3];
+    const double* f = d[(k + 2) % 3];
+    u[k] = (e[1] * f[2] - e[2] * f[1]) * fn[0] + (e[2] * f[0] - e[0] * f[2]) * fn[1] +
+           (e[0] * f[1] - e[1] * f[0]) * fn[2];
+    total += u[k];
+  }
+  if (!(total > 0)) return;  // degenerate triangle: flat
+  double shift[3] = {0, 0, 0}, m[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    const double w = std::max(u[k], 0.0) / total;
+    const double* nk = corner_normal(t, k);
+    const double h = corner_shape_[3 * std::size_t{t} + static_cast<std::size_t>(k)] * w *
+                     (d[k][0] * nk[0] + d[k][1] * nk[1] + d[k][2] * nk[2]);
+    for (int a = 0; a < 3; ++a) {
+      shift[a] += h * nk[a];
+      m[a] += w * nk[a];
+    }
+  }
+  for (int a = 0; a < 3; ++a) q[a] = x[a] + shift[a];
+  const double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  if (len > 0) {
+    for (int a = 0; a < 3; ++a) normal[a] = m[a] / len;
+  }
+}
+
+void PhongSurface::project(const SurfaceTree& tree, const double* p, double* q,
+                           double* normal) const {
+  const SurfaceTree::Closest c = tree.closest(p);
+  if (c.triangle == SurfaceTree::kNone) {
+    std::copy_n(c.point, 3, q);
+    std::copy_n(c.normal, 3, normal);
+    return;
+  }
+  lift(c.triangle, c.point, q, normal);
+  if (normal[0] == 0 && normal[1] == 0 && normal[2] == 0) std::copy_n(c.normal, 3, normal);
+}
 
 const char* mesh3_phase_name(Mesh3Phase phase) {
   switch (phase) {
@@ -337,6 +495,10 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
   if (!(options.feature_angle_deg >= 0 && options.feature_angle_deg <= 180)) {
     throw Error("mesh3d: feature angle " + std::to_string(options.feature_angle_deg) +
                 " degrees; expected a value in [0, 180]");
+  }
+  if (!(options.smooth_shape >= 0 && options.smooth_shape <= 1)) {
+    throw Error("mesh3d: smooth_shape " + std::to_string(options.smooth_shape) +
+                "; expected a value in [0, 1]");
   }
   if (domain.nb_boundary_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
   Mesh3Result result;
@@ -407,6 +569,20 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
           options.min_feature_length, local_spacing);
     }
     const FeatureTree line_tree(surface, lines);
+    const std::vector<std::uint32_t> triangle_patch = triangle_patches(domain, lines);
+    // The smooth surface's patches are bounded by every edge sharper than feature_angle_deg,
+    // and pinned there, kept feature line or not: a crease too short to keep (or
+    // features = false) is not rounded by the interpolant, which would bulge the large flat
+    // triangles beside it.
+    std::unique_ptr<PhongSurface> smooth;
+    if (options.smooth_surface) {
+      const FeatureLines sharp = extract_feature_lines(surface, options.feature_angle_deg);
+      std::vector<std::uint8_t> pinned(surface.nb_vertices(), 0);
+      for (const std::uint32_t v : sharp.line_vertices) pinned[v] = 1;
+      for (const std::uint32_t v : sharp.corners) pinned[v] = 1;
+      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(domain, sharp), pinned,
+                                              options.smooth_shape);
+    }
     result.nb_feature_lines = lines.nb_lines();
     result.nb_feature_corners = static_cast<std::uint32_t>(lines.corners.size());
 
@@ -507,7 +683,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
       corner_vertex.insert(corner_vertex.end(), added_corner.begin(), added_corner.end());
       n += extra;
     }
-    const Projection project{&surface_tree, &line_tree, &line_of};
+    const Projection project{&surface_tree, &line_tree, &line_of, smooth.get()};
     for (std::uint32_t s = 0; s < n; ++s) {
       if (kinds[s] == Kind::kSurface || kinds[s] == Kind::kCurve) {
         double q[3], d[3];
@@ -561,7 +737,6 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     // final mesh).
     next_phase(Mesh3Phase::kExtraction);
     std::vector<std::uint32_t> tets;
-    std::vector<std::uint32_t> triangle_patch;
     const SurfacePatches patches = site_patches(domain, lines, surface_tree, line_tree, sites,
                                                 kinds, line_of, corner_vertex, triangle_patch);
     Extract3Options eo;

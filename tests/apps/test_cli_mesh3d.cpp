@@ -2,6 +2,7 @@
 // back, progress per phase, errors (one line, no partial file).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -41,6 +42,7 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
   CHECK(s["hausdorff_rel"].get<double>() < 0.01);
   CHECK(s["inverted_tets"].get<int>() == 0);
   CHECK(s["vertex_kinds"]["surface"].get<int>() > 0);
+  CHECK(s["surface"] == "smooth");
   CHECK(s["seconds"]["constrained"].get<double>() > 0);
   // Human text goes to stderr with --stats json: progress per phase, then the report.
   CHECK(contains(run.err, "unconstrained CVT"));
@@ -59,6 +61,34 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
     CHECK(contains(text, std::string("$MeshFormat\n") + version));
     CHECK(voroclip::read_tet_mesh(msh).nb_tets() > 0);
     std::remove(msh.c_str());
+  }
+  // --flat-surface: the same sites, on the boundary triangles; the sphere's surface
+  // vertices then lie inside the unit sphere (the facets are chords), the smooth ones not
+  // all.
+  {
+    const std::string smooth_out = temp_path(".mesh");
+    const std::string flat_out = temp_path(".mesh");
+    const Run a =
+        run_cli({"-q", "mesh3d", domain, "--vertices", "300", "--unconstrained-iterations", "4",
+                 "--constrained-iterations", "6", "--no-perturb", "-o", smooth_out});
+    const Run b = run_cli({"--stats", "json", "mesh3d", domain, "--vertices", "300",
+                           "--unconstrained-iterations", "4", "--constrained-iterations", "6",
+                           "--no-perturb", "--flat-surface", "-o", flat_out});
+    REQUIRE(a.status == 0);
+    REQUIRE(b.status == 0);
+    CHECK(nlohmann::json::parse(b.out)["surface"] == "flat");
+    const auto max_radius = [](const voroclip::TetMeshInput& m) {
+      double r = 0;
+      for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+        const double* p = &m.xyz[3 * std::size_t{v}];
+        r = std::max(r, std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+      }
+      return r;
+    };
+    CHECK(max_radius(voroclip::read_tet_mesh(flat_out)) <= 1 + 1e-12);
+    CHECK(max_radius(voroclip::read_tet_mesh(smooth_out)) > 1 + 1e-6);
+    std::remove(smooth_out.c_str());
+    std::remove(flat_out.c_str());
   }
   const std::string vtu = temp_path(".vtu");
   const Run w = run_cli({"-q", "mesh3d", domain, "--vertices", "300", "--unconstrained-iterations",
@@ -90,6 +120,12 @@ TEST_CASE("mesh3d: errors name the problem, leave no file", "[apps]") {
     CHECK(run.status == 2);
     check_one_error_line(run);
     CHECK(contains(run.err, "feature-angle"));
+  }
+  SECTION("a smooth shape out of range") {
+    const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "--smooth-shape", "2"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "smooth-shape"));
   }
   SECTION("a bad Gmsh version") {
     const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "--msh-version", "3"});

@@ -255,7 +255,9 @@ TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[m
   INFO("rim samples to the output boundary: max "
        << max << " mean " << mean << "; without features max " << max_plain << " mean "
        << mean_plain << "; spacing " << spacing);
-  CHECK(max <= 0.15 * spacing);
+  // (0.0354 with flat placement, 0.0417 with the default smooth one, whose side vertices
+  // next to the rims lie up to 1.5 facet sags outside the 32-gon.)
+  CHECK(max <= 0.16 * spacing);
   CHECK(mean <= 0.08 * spacing);
   CHECK(mean < 0.2 * mean_plain);
 }
@@ -356,5 +358,8 @@ TEST_CASE("mesh3d: progress per phase, cancellation, errors", "[mesh]") {
   CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
   bad = small_options(100);
   bad.feature_angle_deg = 200;
+  CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
+  bad = small_options(100);
+  bad.smooth_shape = 1.5;
   CHECK_THROWS_AS(voroclip::mesh3d(box, bad), voroclip::Error);
 }

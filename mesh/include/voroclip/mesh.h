@@ -631,7 +631,8 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      only the boundary layer has far to go), or drawn with the density (random_points3);
 //   3. unconstrained CVT (L-BFGS);
 //   4. classification and snapping: the sites whose Voronoi cell meets the boundary
-//      surface move to their closest point on it; with features, the boundary edges whose
+//      surface move to their closest point on it (lifted onto its smooth interpolant with
+//      smooth_surface: PhongSurface); with features, the boundary edges whose
 //      triangles' normals differ by more than feature_angle_deg form feature lines
 //      (extract_feature_lines; cut where they turn sharply, the short ones dropped): the
 //      sites nearest to points along them move onto them, and each feature corner gets a
@@ -674,6 +675,55 @@ struct Mesh3Progress {
   double seconds = 0;  // since the start of the pipeline
 };
 
+// A smooth surface over a triangle surface: Phong tessellation (Boubekeur and Alexa,
+// "Phong tessellation", SIGGRAPH Asia 2008), patch by patch. Each corner of a triangle
+// has the unit normal of its vertex within the triangle's patch (the angle-weighted mean of
+// the normals of the patch's triangles around the vertex; patches are regions bounded by
+// feature lines, so the surface is not smoothed across a crease). The point x of triangle
+// t with barycentric coordinates u_k over its corners p_k is lifted to
+//   x* = x + sum_k shape_k u_k ((p_k - x) . n_k) n_k   (shape_k = shape, 0 if p_k is pinned),
+// the blend of the projections of x onto the corners' tangent planes (shape = 0: the flat
+// triangle). shape = 1/2 reproduces a quadric to second order: for a curve y = k t^2 / 2
+// sampled at two points with their exact normals, the lift of the chord's point at
+// fraction s is the curve's point up to terms of higher order in the slope k L (the chord's gap k
+// L^2 s (1 - s) / 2 closed exactly to leading order), and on a sphere the facets' midpoints and
+// centroids land on it to leading order; Boubekeur and Alexa's 3/4 overshoots there by half the
+// facets' sag (mesh3d's default, see Mesh3Options::smooth_shape). The lifted surface is continuous
+// across the edges inside a patch, passes through every vertex of the input (x = p_k gives x* = p_k
+// exactly: its own term is zero, the others have weight zero), and is flat where a patch is
+// planar (every corner normal is the face's normal). On a sphere sampled by a triangle mesh
+// it removes most of the gap between the facets and the sphere (the facets' sag).
+class PhongSurface {
+ public:
+  // triangle_patch: one patch id per triangle of `surface` (empty: one patch); pinned: one
+  // flag per vertex of `surface` (empty: none), a pinned vertex's term has shape 0, so
+  // that the lift is the identity on an edge between pinned vertices (feature lines stay
+  // where they are, and the patches on both sides meet there); shape in [0, 1]. Throws Error
+  // for a triangle_patch or pinned of the wrong size or a shape outside [0, 1].
+  PhongSurface(const TriangleSurface& surface, const std::vector<std::uint32_t>& triangle_patch,
+               const std::vector<std::uint8_t>& pinned = {}, double shape = 0.5);
+
+  // The lifted point of the point x of triangle t (x in t's plane, inside t or on its
+  // boundary) to q, and to `normal` the unit interpolated normal there (the normalised
+  // sum_k u_k n_k; t's own normal where that sum vanishes, zero for a degenerate t).
+  void lift(std::uint32_t t, const double* x, double* q, double* normal) const;
+  // The lifted point of the closest point of the flat surface (`tree`, built from the same
+  // surface) to p. Thread-safe.
+  void project(const SurfaceTree& tree, const double* p, double* q, double* normal) const;
+  // The unit normal of corner k (0..2) of triangle t.
+  const double* corner_normal(std::uint32_t t, int k) const {
+    return &corner_normal_[9 * std::size_t{t} + 3 * static_cast<std::size_t>(k)];
+  }
+  double shape() const { return shape_; }
+
+ private:
+  std::vector<double> corners_;        // 9 per triangle: its corners' coordinates
+  std::vector<double> corner_normal_;  // 9 per triangle
+  std::vector<double> face_normal_;    // 3 per triangle, unit (zero if degenerate)
+  std::vector<double> corner_shape_;   // 3 per triangle: shape, or 0 at a pinned vertex
+  double shape_ = 0.5;
+};
+
 enum class Mesh3Sampling : std::uint8_t {
   kLattice,  // body-centred cubic lattice (uniform sizing only; adaptive sizing draws)
   kRandom,   // random_points3 with the density
@@ -702,6 +752,26 @@ struct Mesh3Options {
   std::uint32_t unconstrained_iterations = 16;
   std::uint32_t constrained_iterations = 30;
   double gradient_tolerance = 1e-4;
+  // Where the surface sites lie (Mesh3VertexKind::kSurface). smooth_surface = true: on the
+  // Phong tessellation (PhongSurface, shape smooth_shape) of the domain's boundary, its patches
+  // bounded by, and pinned along, every boundary edge sharper than feature_angle_deg (kept as a
+  // feature line or not, and also when features = false), so that no crease is rounded. A site is
+  // placed at the lift of its closest point on the boundary triangles, in the snapping, in the
+  // constrained CVT (its direction there the interpolated normal) and in the sliver perturbation.
+  // false: on the boundary triangles themselves (their closest point). Either way feature sites
+  // stay on the feature lines (polylines of boundary edges) and corners on the domain's vertices.
+  // "On the surface" then means on the smooth surface that the input's facets approximate:
+  // where the boundary is curved, the vertices lie off the input's triangles (outside the
+  // input domain where it is convex, by about 2 smooth_shape times the facets' sag), which
+  // brings the output's boundary nearer that surface and the input's vertices (Hausdorff
+  // distance); on planar patches both placements are the same point. smooth_shape 1/2
+  // reproduces a quadric; the default 3/4 puts a convex part half a facet sag outside it,
+  // which offsets the inward sag of the output's own, larger triangles: on sphere-fine with
+  // 25k vertices (bench/RESULTS.md) the two-sided Hausdorff distance is 0.043-0.044 % of
+  // the diagonal with 3/4, 0.046-0.050 % with 1/2, 0.053 % flat (seeds 1-3); 1 gives 0.041 %
+  // but a worse smallest dihedral angle.
+  bool smooth_surface = true;
+  double smooth_shape = 0.75;
   // Sliver perturbation (perturb = false: none).
   bool perturb = true;
   Perturb3Options perturbation;
@@ -740,7 +810,8 @@ struct Mesh3Result {
 };
 
 // Meshes the volume of `domain` (mesh.h, "the pipeline"). Throws Error for invalid options
-// (fewer than 4 vertices, a feature angle outside [0, 180]) or a domain without boundary.
+// (fewer than 4 vertices, a feature angle outside [0, 180], a smooth_shape outside
+// [0, 1]) or a domain without boundary.
 Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
 
 // The boundary surface of a Domain3 as a TriangleSurface (its vertices, all of them, and
