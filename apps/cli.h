@@ -145,7 +145,7 @@ struct Mesh3dArgs {
   std::uint64_t seed = 1;
   std::uint32_t unconstrained_iterations = 16, constrained_iterations = 30;
   bool no_perturb = false;
-  bool flat_surface = false;
+  bool smooth_surface = false;
   double smooth_shape = 0.75;
   double sliver_angle = 30;
   std::string output;  // .mesh, .msh, .vtu; empty: no file

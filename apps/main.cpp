@@ -314,12 +314,12 @@ int main(int argc, char** argv) {
                    "degrees (default 30)")
       ->type_name("DEG");
   mesh3d->add_flag("--no-perturb", mesh3d_args.no_perturb, "No sliver perturbation");
-  mesh3d->add_flag("--flat-surface", mesh3d_args.flat_surface,
-                   "Surface vertices on the input's boundary triangles, not on their smooth "
-                   "(Phong) interpolant");
+  mesh3d->add_flag("--smooth-surface", mesh3d_args.smooth_surface,
+                   "Surface vertices on the smooth (Phong) interpolant of the input's boundary "
+                   "triangles, not on the triangles themselves");
   mesh3d
       ->add_option("--smooth-shape", mesh3d_args.smooth_shape,
-                   "Shape factor of the Phong interpolant of the boundary, in [0, 1] "
+                   "Shape factor of the Phong interpolant (--smooth-surface), in [0, 1] "
                    "(default 0.75; 0: the triangles)")
       ->type_name("F");
   mesh3d

@@ -75,7 +75,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.unconstrained_iterations = args.unconstrained_iterations;
   o.constrained_iterations = args.constrained_iterations;
   o.perturb = !args.no_perturb;
-  o.smooth_surface = !args.flat_surface;
+  o.smooth_surface = args.smooth_surface;
   o.smooth_shape = args.smooth_shape;
   o.perturbation.target_dihedral_deg = args.sliver_angle;
   if (out) {
@@ -151,7 +151,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"corner", counts[3]}};
     j["feature_lines"] = r.nb_feature_lines;
     j["feature_corners"] = r.nb_feature_corners;
-    j["surface"] = args.flat_surface ? "flat" : "smooth";
+    j["surface"] = args.smooth_surface ? "smooth" : "flat";
     j["cvt"] = {{"unconstrained",
                  {{"iterations", r.unconstrained.iterations},
                   {"evaluations", r.unconstrained.evaluations},

@@ -42,7 +42,7 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
   CHECK(s["hausdorff_rel"].get<double>() < 0.01);
   CHECK(s["inverted_tets"].get<int>() == 0);
   CHECK(s["vertex_kinds"]["surface"].get<int>() > 0);
-  CHECK(s["surface"] == "smooth");
+  CHECK(s["surface"] == "flat");
   CHECK(s["seconds"]["constrained"].get<double>() > 0);
   // Human text goes to stderr with --stats json: progress per phase, then the report.
   CHECK(contains(run.err, "unconstrained CVT"));
@@ -62,18 +62,18 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
     CHECK(voroclip::read_tet_mesh(msh).nb_tets() > 0);
     std::remove(msh.c_str());
   }
-  // --flat-surface: the same sites, on the boundary triangles; the sphere's surface
-  // vertices then lie inside the unit sphere (the facets are chords), the smooth ones not
-  // all.
+  // By default the surface vertices lie on the boundary triangles: the sphere's surface
+  // vertices then lie inside the unit sphere (the facets are chords); with --smooth-surface
+  // not all of them.
   {
     const std::string smooth_out = temp_path(".mesh");
     const std::string flat_out = temp_path(".mesh");
-    const Run a =
-        run_cli({"-q", "mesh3d", domain, "--vertices", "300", "--unconstrained-iterations", "4",
-                 "--constrained-iterations", "6", "--no-perturb", "-o", smooth_out});
+    const Run a = run_cli({"-q", "mesh3d", domain, "--vertices", "300",
+                           "--unconstrained-iterations", "4", "--constrained-iterations", "6",
+                           "--no-perturb", "--smooth-surface", "-o", smooth_out});
     const Run b = run_cli({"--stats", "json", "mesh3d", domain, "--vertices", "300",
                            "--unconstrained-iterations", "4", "--constrained-iterations", "6",
-                           "--no-perturb", "--flat-surface", "-o", flat_out});
+                           "--no-perturb", "-o", flat_out});
     REQUIRE(a.status == 0);
     REQUIRE(b.status == 0);
     CHECK(nlohmann::json::parse(b.out)["surface"] == "flat");

@@ -255,9 +255,9 @@ TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[m
   INFO("rim samples to the output boundary: max "
        << max << " mean " << mean << "; without features max " << max_plain << " mean "
        << mean_plain << "; spacing " << spacing);
-  // (0.0354 with flat placement, 0.0417 with the default smooth one, whose side vertices
-  // next to the rims lie up to 1.5 facet sags outside the 32-gon.)
-  CHECK(max <= 0.16 * spacing);
+  // (0.0354 with the default flat placement, 0.0417 with smooth_surface, whose side
+  // vertices next to the rims lie up to 1.5 facet sags outside the 32-gon.)
+  CHECK(max <= 0.15 * spacing);
   CHECK(mean <= 0.08 * spacing);
   CHECK(mean < 0.2 * mean_plain);
 }

@@ -91,6 +91,7 @@ double radius(const double* p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[
 Mesh3Options small_options(std::uint32_t n) {
   Mesh3Options o;
   o.nb_vertices = n;
+  o.smooth_surface = true;
   o.unconstrained_iterations = 8;
   o.constrained_iterations = 12;
   o.perturbation.max_rounds = 4;
