@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh_test_shapes.h"
 #include "voroclip/mesh.h"
 
 using voroclip::HausdorffDistance;
@@ -33,46 +34,6 @@ TriangleSurface cube(double a) {
   }
   s.triangles = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
-  return s;
-}
-
-// An icosahedron subdivided `level` times, vertices on the sphere of radius r.
-TriangleSurface icosphere(int level, double r) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<std::array<double, 3>> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                          {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                          {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<std::uint32_t, 3>> f = {
-      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  const auto unit = [](std::array<double, 3> p) {
-    const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    return std::array<double, 3>{p[0] / n, p[1] / n, p[2] / n};
-  };
-  for (auto& p : v) p = unit(p);
-  for (int l = 0; l < level; ++l) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
-    const auto middle = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back(
-          unit({(v[a][0] + v[b][0]) / 2, (v[a][1] + v[b][1]) / 2, (v[a][2] + v[b][2]) / 2}));
-      return mid[key] = static_cast<std::uint32_t>(v.size() - 1);
-    };
-    std::vector<std::array<std::uint32_t, 3>> g;
-    for (const auto& tri : f) {
-      const std::uint32_t a = middle(tri[0], tri[1]), b = middle(tri[1], tri[2]),
-                          c = middle(tri[2], tri[0]);
-      g.insert(g.end(), {{tri[0], a, c}, {tri[1], b, a}, {tri[2], c, b}, {a, b, c}});
-    }
-    f = std::move(g);
-  }
-  TriangleSurface s;
-  s.source = "icosphere";
-  for (const auto& p : v) s.xyz.insert(s.xyz.end(), {r * p[0], r * p[1], r * p[2]});
-  for (const auto& tri : f) s.triangles.insert(s.triangles.end(), tri.begin(), tri.end());
   return s;
 }
 
@@ -146,7 +107,8 @@ TEST_CASE("hausdorff_distance: concentric cubes", "[mesh][hausdorff]") {
 
 TEST_CASE("hausdorff_distance: concentric icospheres, within the chord errors",
           "[mesh][hausdorff]") {
-  const TriangleSurface inner = icosphere(3, 1.0), outer = icosphere(4, 1.2);
+  const TriangleSurface inner = voroclip_test::icosphere(3, 1.0),
+                        outer = voroclip_test::icosphere(4, 1.2);
   const HausdorffDistance d = voroclip::hausdorff_distance(inner, outer);
   // Each polyhedron lies between its sphere and the sphere shrunk by its chord error.
   const double e1 = chord_error(inner, 1.0), e2 = chord_error(outer, 1.2);

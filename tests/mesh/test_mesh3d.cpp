@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_test_shapes.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -292,19 +293,9 @@ TEST_CASE("mesh3d on fandisk: crisp feature lines", "[mesh]") {
 }
 
 TEST_CASE("mesh3d: the same mesh with 1 and 2 threads", "[mesh]") {
-  const Domain3 box = box_domain();
-  Mesh3Result one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = voroclip::mesh3d(box, small_options(400));
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = voroclip::mesh3d(box, small_options(400));
-  }
-  CHECK(one.xyz == two.xyz);
-  CHECK(one.tets == two.tets);
-  CHECK(one.kinds == two.kinds);
+  const Mesh3Result one =
+      voroclip_test::check_same_mesh3d_with_1_and_2_threads(box_domain(), small_options(400));
+  CHECK(one.nb_tets() > 0);
 }
 
 TEST_CASE("mesh3d: adaptive sizing, random sampling, no perturbation", "[mesh]") {

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh_test_shapes.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -28,42 +29,9 @@ using voroclip::Sign;
 
 namespace {
 
-// The icosahedron subdivided `levels` times, its vertices on the unit sphere (outward
-// triangles by the right-hand rule).
+// The icosphere with every triangle on feature line 0 (none).
 voroclip::TriangleSurface icosphere(int levels) {
-  voroclip::TriangleSurface s;
-  s.source = "icosphere";
-  const double g = (1 + std::sqrt(5.0)) / 2;
-  const double v[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
-                           {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
-                           {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-  const auto add = [&](const double* p) {
-    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    s.xyz.insert(s.xyz.end(), {p[0] / r, p[1] / r, p[2] / r});
-    return static_cast<std::uint32_t>(s.xyz.size() / 3 - 1);
-  };
-  for (const auto& p : v) add(p);
-  s.triangles = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
-                 4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
-                 6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> middle;
-    const auto mid = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto it = middle.find(key);
-      if (it != middle.end()) return it->second;
-      double p[3];
-      for (int c = 0; c < 3; ++c) p[c] = s.xyz[3 * a + c] + s.xyz[3 * b + c];
-      return middle[key] = add(p);
-    };
-    std::vector<std::uint32_t> next;
-    for (std::size_t t = 0; t < s.triangles.size(); t += 3) {
-      const std::uint32_t a = s.triangles[t], b = s.triangles[t + 1], c = s.triangles[t + 2];
-      const std::uint32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-      next.insert(next.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
-    }
-    s.triangles = next;
-  }
+  voroclip::TriangleSurface s = voroclip_test::icosphere(levels);
   s.triangle_line.assign(s.nb_triangles(), 0);
   return s;
 }
@@ -270,18 +238,7 @@ TEST_CASE(
 }
 
 TEST_CASE("mesh3d with smooth placement: the same mesh with 1 and 2 threads", "[mesh]") {
-  const Domain3 d = ball(2);
-  Mesh3Result one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = voroclip::mesh3d(d, small_options(300));
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = voroclip::mesh3d(d, small_options(300));
-  }
-  CHECK(one.xyz == two.xyz);
-  CHECK(one.tets == two.tets);
-  CHECK(one.kinds == two.kinds);
+  const Mesh3Result one =
+      voroclip_test::check_same_mesh3d_with_1_and_2_threads(ball(2), small_options(300));
   CHECK(std::count(one.kinds.begin(), one.kinds.end(), Mesh3VertexKind::kSurface) > 50);
 }
