@@ -226,19 +226,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
     if (!infinite(t)) cu[q] = rel(circ + 3 * std::size_t{t}, pi);
   }
   PieceSums sums;
-  // The feet met, direct-mapped by site id (as in inner_cell).
-  constexpr std::uint32_t kFootSlots = 64;
-  std::uint32_t foot_site[kFootSlots];
-  Foot foot_of[kFootSlots];
-  for (std::uint32_t& v : foot_site) v = kNone;
-  const auto foot_at = [&](std::uint32_t v) {
-    const std::uint32_t slot = v & (kFootSlots - 1);
-    if (foot_site[slot] != v) {
-      foot_site[slot] = v;
-      foot_of[slot] = foot(site(v), pi);
-    }
-    return foot_of[slot];
-  };
+  FootCache feet;
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (infinite(t)) continue;
@@ -267,8 +255,10 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
         internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
                        std::to_string(count) + " times");
       }
-      const Foot hj = foot_at(dt.tet_vertex(t, kFaceOther[li][f][0]));
-      const Foot hk = foot_at(dt.tet_vertex(t, kFaceOther[li][f][1]));
+      const std::uint32_t vj = dt.tet_vertex(t, kFaceOther[li][f][0]);
+      const std::uint32_t vk = dt.tet_vertex(t, kFaceOther[li][f][1]);
+      const Foot hj = feet.get(vj, site(vj), pi);
+      const Foot hk = feet.get(vk, site(vk), pi);
       add_edge_piece(hj, hk, u, w, sums);
     }
   }
@@ -305,12 +295,7 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
   tp[0] = t0;
   std::uint32_t nb_tets = 1;
   PieceSums sums;
-  // The feet of the neighbours met, direct-mapped by site id (each neighbour is in about
-  // six star tets; a slot holds the last one mapped to it).
-  constexpr std::uint32_t kFootSlots = 64;
-  std::uint32_t foot_site[kFootSlots];
-  Foot foot_of[kFootSlots];
-  for (std::uint32_t& v : foot_site) v = kNone;
+  FootCache feet;
   for (std::uint32_t q = 0; q < nb_tets; ++q) {
     const std::uint32_t t = tp[q];
     cp[q] = rel(circ + 3 * std::size_t{t}, pi);
@@ -325,12 +310,7 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
       if (v == Delaunay3::kInfinite) {
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
-      const std::uint32_t slot = v & (kFootSlots - 1);
-      if (foot_site[slot] != v) {
-        foot_site[slot] = v;
-        foot_of[slot] = foot(site(v), pi);
-      }
-      h[k] = foot_of[slot];
+      h[k] = feet.get(v, site(v), pi);
     }
     if (nb_tets + 3 > cap) {
       cap *= 2;

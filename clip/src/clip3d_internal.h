@@ -178,6 +178,29 @@ inline Foot foot(const double* pj, const double* pi) {
   return f;
 }
 
+// The feet of a cell's neighbours, direct-mapped by site id (a neighbour is in about six
+// star tets of the cell; a slot holds the last site mapped to it). Per cell, on the stack.
+class FootCache {
+ public:
+  static constexpr std::uint32_t kSlots = 64;
+  FootCache() {
+    for (std::uint32_t& s : site_) s = kNone;
+  }
+  // The foot of site v (at pv) seen from pi.
+  const Foot& get(std::uint32_t v, const double* pv, const double* pi) {
+    const std::uint32_t slot = v & (kSlots - 1);
+    if (site_[slot] != v) {
+      site_[slot] = v;
+      foot_[slot] = foot(pv, pi);
+    }
+    return foot_[slot];
+  }
+
+ private:
+  std::uint32_t site_[kSlots];
+  Foot foot_[kSlots];
+};
+
 // A piece [P, Q] of the Voronoi edge dual to Delaunay triangle (i, j, k), P -> Q running
 // counter-clockwise around p_j - p_i (so clockwise around p_k - p_i), with u = P - p_i,
 // w = Q - p_i (Rel: with their squared norms) and the feet hj, hk of bisectors (i, j) and
