@@ -45,7 +45,8 @@ namespace {
 
 using Kind = SiteConstraint3::Kind;
 constexpr std::uint32_t kNone = 0xffffffffu;
-constexpr double kMinGain = 0.01;  // degrees
+constexpr double kMinGain = 0.01;               // degrees
+constexpr std::size_t kMaxNeighbourhood = 256;  // sites (LocalScorer::set_vertex)
 constexpr double kPi = 3.14159265358979323846;
 
 void sub3(const double* a, const double* b, double* o) {
@@ -127,16 +128,47 @@ class LocalScorer {
   LocalScorer(const TetExtractor3& extractor) : extractor_(extractor) {}
 
   // Sets the neighbourhood of v: its first ring (ring1) and second ring in g's
-  // triangulation, at the sites' current positions. constrained(w): w is not free.
+  // triangulation, at the sites' current positions. constrained(w): w is not free. A second
+  // ring of more than kMaxNeighbourhood sites is cut down to the sites within twice the
+  // longest edge of v's kept tets: a boundary site sees across the outside, and where the
+  // surface sites of a near-planar patch are lifted slightly off its triangles (the smooth
+  // surface on a planar face that is not exactly planar in the input) it sees most of the
+  // patch, hundreds of sites far from the kept tets near v, the ones scored, and each local
+  // triangulation costs that much more. Smaller neighbourhoods are left whole: cut, their
+  // convex hull brings flat tets whose circumcenters are far and imprecise, which are
+  // expensive to locate.
   template <class Constrained>
   void set_vertex(const GlobalState& g, const std::vector<double>& sites, std::uint32_t v,
                   Constrained constrained) {
     g.dt.vertex_neighbors(v, ring1_);
-    others_ = ring1_;
-    for (const std::uint32_t w : ring1_) {
-      g.dt.vertex_neighbors(w, scratch_);
-      for (const std::uint32_t x : scratch_) {
-        if (x != v) others_.push_back(x);
+    const auto second_ring = [&](auto keep) {
+      others_ = ring1_;
+      for (const std::uint32_t w : ring1_) {
+        g.dt.vertex_neighbors(w, scratch_);
+        for (const std::uint32_t y : scratch_) {
+          if (y != v && keep(y)) others_.push_back(y);
+        }
+      }
+    };
+    second_ring([](std::uint32_t) { return true; });
+    if (others_.size() > kMaxNeighbourhood) {
+      const double* x = &sites[3 * std::size_t{v}];
+      const auto dist2 = [&](std::uint32_t w) {
+        double d[3];
+        sub3(&sites[3 * std::size_t{w}], x, d);
+        return dot3(d, d);
+      };
+      double reach2 = 0;
+      for (std::uint32_t e = g.vtx_begin[v]; e < g.vtx_begin[v + 1]; ++e) {
+        const std::uint32_t* t = &g.tets[4 * std::size_t{g.vtx_tets[e]}];
+        for (int k = 0; k < 4; ++k) reach2 = std::max(reach2, dist2(t[k]));
+      }
+      if (reach2 > 0) {
+        const auto near = [&](std::uint32_t w) { return dist2(w) <= 4 * reach2; };
+        ring1_.erase(
+            std::remove_if(ring1_.begin(), ring1_.end(), [&](std::uint32_t w) { return !near(w); }),
+            ring1_.end());
+        second_ring(near);
       }
     }
     std::sort(others_.begin(), others_.end());
@@ -179,14 +211,17 @@ class LocalScorer {
       if (!has0 && !all_ring) continue;
       const double* p[4] = {local_.point(w[0]), local_.point(w[1]), local_.point(w[2]),
                             local_.point(w[3])};
-      // Tets among interior sites only have their circumcenter inside (near them): the
-      // exact location is for tets at the boundary.
+      // Only a tet that would lower `lowest` or `lowest_incident` needs to know whether it
+      // is kept. Tets among interior sites only have their circumcenter inside (near them):
+      // the exact location is for tets at the boundary.
+      const double q = min_dihedral_deg(p[0], p[1], p[2], p[3]);
+      const bool incident = worst && has0 && q < lowest_incident;
+      if (q >= lowest && !incident) continue;
       if (constrained && extractor_.circumcenter_side(p[0], p[1], p[2], p[3]) == Sign::negative) {
         continue;
       }
-      const double q = min_dihedral_deg(p[0], p[1], p[2], p[3]);
       lowest = std::min(lowest, q);
-      if (worst && has0 && q < lowest_incident) {
+      if (incident) {
         lowest_incident = q;
         int j = 0;
         for (int k = 0; k < 4; ++k) {
