@@ -182,6 +182,77 @@ TEST_CASE("PhongSurface: the identity on planar patches, not across an unbroken 
   CHECK_THROWS_AS(PhongSurface(s, {}, {}, -0.1), voroclip::Error);
 }
 
+TEST_CASE("PhongSurface: an exactly planar region keeps its plane where it blends into a curve",
+          "[mesh][exact]") {
+  // z = 0 for x <= 1, then z = (x - 1)^2 (tangent at x = 1): a 9 x 5 grid, one patch, no
+  // crease. The vertices with x < 1 inside the grid are flat (every triangle around them
+  // is exactly in z = 0), so every triangle in z = 0 is in one planar region.
+  voroclip::TriangleSurface s;
+  s.source = "plane blending into a parabolic cylinder";
+  const int nx = 9, ny = 5;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const double x = 0.25 * i, z = x > 1 ? (x - 1) * (x - 1) : 0.0;
+      s.xyz.insert(s.xyz.end(), {x, 0.25 * j, z});
+    }
+  }
+  for (int j = 0; j + 1 < ny; ++j) {
+    for (int i = 0; i + 1 < nx; ++i) {
+      const auto a = static_cast<std::uint32_t>(j * nx + i);
+      s.triangles.insert(s.triangles.end(), {a, a + 1, a + nx + 1, a, a + nx + 1, a + nx});
+    }
+  }
+  const PhongSurface phong(s, {}, {}, 0.75);
+  std::uint32_t planar = 0, curved_moved = 0;
+  for (std::uint32_t t = 0; t < s.nb_triangles(); ++t) {
+    const std::uint32_t* v = &s.triangles[3 * std::size_t{t}];
+    bool in_plane = true;
+    for (int k = 0; k < 3; ++k) in_plane = in_plane && s.xyz[3 * v[k] + 2] == 0;
+    for (int k = 0; k < 3; ++k) {
+      // At the junction x = 1 every corner normal is the plane's (0, 0, 1), exactly: the
+      // curved triangles there leave the plane tangentially.
+      if (s.xyz[3 * v[k]] == 1 || in_plane) {
+        const double* n = phong.corner_normal(t, k);
+        CHECK(n[0] == 0);
+        CHECK(n[1] == 0);
+        CHECK(n[2] == 1);
+      }
+    }
+    double x[3];
+    for (int c = 0; c < 3; ++c) {
+      x[c] = (s.xyz[3 * v[0] + c] + 2 * s.xyz[3 * v[1] + c] + 4 * s.xyz[3 * v[2] + c]) / 7;
+    }
+    double q[3], n[3];
+    phong.lift(t, x, q, n);
+    if (in_plane) {
+      // Including the triangles with a corner on the junction, whose corner normals an
+      // average over the blend would tilt, lifting their points off the plane.
+      ++planar;
+      CHECK(std::equal(q, q + 3, x));
+    } else {
+      curved_moved += std::equal(q, q + 3, x) ? 0 : 1;
+    }
+  }
+  CHECK(planar == 32);
+  CHECK(curved_moved == 32);  // the curved half is still smoothed
+  // The same grid with one vertex of the plane raised off it by 2^-40: no vertex around it
+  // is flat any more, so the corner normals near it are averages again and the triangles
+  // around it are lifted.
+  voroclip::TriangleSurface bumped = s;
+  bumped.xyz[3 * (2 * nx + 2) + 2] = 0x1p-40;
+  const PhongSurface phong_bumped(bumped, {}, {}, 0.75);
+  // Cell (i, j) = (1, 2): its first triangle has the raised vertex (2, 2) as a corner.
+  const std::uint32_t t = 2 * (2 * (nx - 1) + 1);
+  const std::uint32_t* v = &bumped.triangles[3 * std::size_t{t}];
+  double x[3];
+  for (int c = 0; c < 3; ++c) {
+    x[c] = (bumped.xyz[3 * v[0] + c] + bumped.xyz[3 * v[1] + c] + bumped.xyz[3 * v[2] + c]) / 3;
+  }
+  double q[3], n[3];
+  phong_bumped.lift(t, x, q, n);
+  CHECK_FALSE(std::equal(q, q + 3, x));
+}
+
 TEST_CASE(
     "mesh3d on an icosphere ball: smooth placement puts the surface vertices nearer "
     "the sphere",

@@ -693,6 +693,15 @@ struct Mesh3Progress {
 // exactly: its own term is zero, the others have weight zero), and is flat where a patch is
 // planar (every corner normal is the face's normal). On a sphere sampled by a triangle mesh
 // it removes most of the gap between the facets and the sphere (the facets' sag).
+// Planar regions keep their plane. A vertex is flat when its star is closed, in one patch
+// and exactly coplanar (orient3d, exact); a planar region is a set of triangles reached from
+// the stars of flat vertices across edges inside the patch to exactly coplanar neighbours.
+// Every corner of a region's triangle, and every corner at a vertex where the patch meets
+// exactly one region, has the region's normal: a planar face that blends tangentially into
+// a curved one (CAD models) stays exactly in its plane, and the curved side leaves it
+// tangentially, instead of both bulging by the averaged normals at the junction (a site
+// lifted off an exactly planar face sees the whole face across the outside). Faces planar
+// only up to the rounding of their coordinates are smoothed like curved ones.
 class PhongSurface {
  public:
   // triangle_patch: one patch id per triangle of `surface` (empty: one patch); pinned: one
