@@ -778,13 +778,12 @@ struct Mesh3Options {
   // which offsets the inward sag of the output's own, larger triangles: on sphere-fine with
   // 25k vertices (bench/RESULTS.md) the two-sided Hausdorff distance is 0.043-0.044 % of
   // the diagonal with 3/4, 0.046-0.050 % with 1/2, 0.053 % flat (seeds 1-3); 1 gives 0.041 %
-  // but a worse smallest dihedral angle. Off by default: where a planar region meets a curved
-  // one without a sharp edge (fandisk's blends), the corner normals of the planar triangles
-  // next to it are tilted and their lift rises slightly off the plane (2.4e-7 measured on
-  // fandisk's z = 0 face): such a site lies outside the other sites' hull and sees the whole
-  // coplanar face, so its Delaunay vertex has thousands of neighbours, the sliver phase slows
-  // 20x (fandisk 30k: 26.9 s against 1.8 s flat) and near-flat boundary tets survive (fandisk
-  // 100k: smallest dihedral angle 0.01 degrees). Use it on smooth, curved boundaries.
+  // but a worse smallest dihedral angle. Exactly planar faces stay planar (PhongSurface).
+  // Off by default: on a coarsely tessellated curved boundary the lift moves the surface
+  // sites noticeably outside the domain whose tets the extraction keeps, which leaves more
+  // and worse slivers (bunny, 6.6k triangles, 30k vertices: smallest dihedral angle 0.17
+  // degrees against 29 flat) and, at 100k vertices, a sliver phase 7x slower. Use it on
+  // finely tessellated curved boundaries (sphere-fine: 20k triangles).
   bool smooth_surface = false;
   double smooth_shape = 0.75;
   // Sliver perturbation (perturb = false: none).
