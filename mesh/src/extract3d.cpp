@@ -191,8 +191,26 @@ Sign TetExtractor3::locate(const double* p0, const double* p1, const double* p2,
       if (qhi[c] < g.lo[c] || qlo[c] > g.hi[c]) return Sign::negative;
     }
   } else {
-    // No error box: every domain tet is a candidate. (The predicate throws for coplanar
-    // sites.)
+    // No error box (the tet is too close to flat; the predicate throws for coplanar sites).
+    // Such a circumcenter is usually far: first its exact side of the six planes of the
+    // domain's bounding box (six exact tests instead of four per domain tet), then every
+    // domain tet is a candidate.
+    for (int c = 0; c < 3; ++c) {
+      for (int upper = 0; upper < 2; ++upper) {
+        const double x = upper != 0 ? g.hi[c] : g.lo[c];
+        double a[3] = {0, 0, 0}, b[3], d[3], away[3];
+        a[c] = x;
+        std::copy_n(a, 3, b);
+        std::copy_n(a, 3, d);
+        std::copy_n(a, 3, away);
+        b[(c + 1) % 3] = 1;
+        d[(c + 2) % 3] = 1;
+        away[c] = upper != 0 ? x + std::fabs(x) + 1 : x - std::fabs(x) - 1;  // strictly outside
+        if (orient3d_circumcenter(a, b, d, p0, p1, p2, p3) == orient3d(a, b, d, away)) {
+          return Sign::negative;
+        }
+      }
+    }
     unbounded = true;
     for (int c = 0; c < 3; ++c) {
       qlo[c] = g.lo[c];

@@ -163,6 +163,41 @@ TEST_CASE("circumcenter_side: circumcenters on facets, edges, vertices and the b
   CHECK_THROWS_AS(ex.circumcenter_side(q[0], q[1], q[2], q[3]), voroclip::Error);
 }
 
+TEST_CASE("circumcenter_side: nearly flat tets, no floating-point enclosure",
+          "[mesh][exact][degenerate]") {
+  const Domain3 cube = cube_domain();
+  const TetExtractor3 ex(cube);
+  const double lift = 0x1p-60;
+  struct Case {
+    double p[4][3];
+    Sign expected;
+  };
+  const Case cases[] = {
+      // Three corners of the bottom face and a point lifted just above it: the circumcenter
+      // is far below the cube (the six bounding-box planes decide).
+      {{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, lift}}, Sign::negative},
+      // The same at the top face: far above.
+      {{{0, 0, 2}, {2, 0, 2}, {0, 2, 2}, {0.5, 0.5, 2 - 0x1p-52}}, Sign::negative},
+      // Four points of the circle of radius 3/4 about (1, 1, 1) in z = 1, one lifted by
+      // 2^-52: the circumcenter is (1, 1, 1 + 2^-53), inside the cube, so the search goes
+      // on past the bounding box to the domain's tets.
+      {{{1.75, 1, 1}, {0.25, 1, 1}, {1, 1.75, 1}, {1, 0.25, 1 + 0x1p-52}}, Sign::positive},
+      // The same circle in the bottom face z = 0, the point lifted up: the circumcenter is
+      // (1, 1, 2^-61), just inside.
+      {{{1.75, 1, 0}, {0.25, 1, 0}, {1, 1.75, 0}, {1, 0.25, lift}}, Sign::positive},
+      // ... and lifted down: (1, 1, -2^-61), just below the bounding box's plane z = 0.
+      {{{1.75, 1, 0}, {0.25, 1, 0}, {1, 1.75, 0}, {1, 0.25, -lift}}, Sign::negative},
+  };
+  for (const Case& c : cases) {
+    const std::array<const double*, 4> p = {c.p[0], c.p[1], c.p[2], c.p[3]};
+    double centre[3], halfwidth[3];
+    // The tet is too flat for the enclosure: the path under test.
+    REQUIRE_FALSE(voroclip::circumcenter3d_enclosure(p[0], p[1], p[2], p[3], centre, halfwidth));
+    CHECK(ex.circumcenter_side(p[0], p[1], p[2], p[3]) == c.expected);
+    CHECK(brute_force_side(cube, p) == c.expected);
+  }
+}
+
 TEST_CASE("point_side: exact point location in the domain", "[mesh][exact][degenerate]") {
   const Domain3 cube = cube_domain();
   const TetExtractor3 ex(cube);
