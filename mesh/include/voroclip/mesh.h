@@ -782,7 +782,7 @@ struct Mesh3Options {
   // Off by default: on a coarsely tessellated curved boundary the lift moves the surface
   // sites noticeably outside the domain whose tets the extraction keeps, which leaves more
   // and worse slivers (bunny, 6.6k triangles, 30k vertices: smallest dihedral angle 0.17
-  // degrees against 29 flat) and, at 100k vertices, a sliver phase 7x slower. Use it on
+  // degrees against 29 flat) and, at 100k vertices, a sliver phase 4x longer. Use it on
   // finely tessellated curved boundaries (sphere-fine: 20k triangles).
   bool smooth_surface = false;
   double smooth_shape = 0.75;
