@@ -436,7 +436,7 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
-  // only rounds of 2^16 points or more do).
+  // only rounds of 57344 points or more do).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;
@@ -489,7 +489,7 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
       CHECK(all_arrays(dt) == arrays);
     }
   }
-  // Default zones on 150k points: BRIO rounds of 2^16 points and more go through zones.
+  // Default zones on 150k points: BRIO rounds of 57344 points and more go through zones.
   const auto xyz = random_points(150000, 64);
   Delaunay3::Options plain;
   plain.use_avx2 = false;

@@ -408,7 +408,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 2 * points_per_zone points (Options) is split by count
+// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options) is split by count
 // into zones (kd bisection along the longest axis), each inserted by its own TBB task along
 // the Hilbert curve of its box. A task only touches tets having a facet whose finite
 // vertices all lie in its zone, which no other task can touch (two facets of a tet share
@@ -449,9 +449,9 @@ struct Delaunay3Options {
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
   // Parallel insertion: a BRIO round of n points is split into as many zones as the
-  // largest power of two <= n / points_per_zone (at most 64; a round of fewer than
-  // 2 * points_per_zone points is inserted sequentially), the points it defers into zones
-  // of points_per_zone / 8. Fewer points per zone give more parallelism and more points
+  // largest power of two <= n / points_per_zone (at most 64), but two from 7/4 *
+  // points_per_zone on (a smaller round is inserted sequentially), the points it defers
+  // into zones of points_per_zone / 8. Fewer points per zone give more parallelism and more points
   // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
   // (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
