@@ -97,6 +97,12 @@ inline void prefetch(const void* p) {
 #endif
 }
 
+// More than one thread may run this build's tasks (the arena's and the global limit).
+bool several_threads() {
+  return tbb::this_task_arena::max_concurrency() > 1 &&
+         tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1;
+}
+
 // Writes one word in every 4 KiB page of [first, last), in parallel: the kernel zeroes a
 // page (or a whole huge page) on its first touch, on the touching thread. Values are left
 // arbitrary (every slot is written before it is read).
@@ -903,9 +909,7 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     slot_limit_ =
         std::min(size, kPrefixSlotsPerPoint * std::size_t{round_starts[first_zoned]} + 64);
     std::uint32_t* const base = tets_.data();
-    const bool prefault =
-        tbb::this_task_arena::max_concurrency() > 1 &&
-        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1;
+    const bool prefault = several_threads();
     zones_[0].fresh_end =
         static_cast<std::uint32_t>(std::min<std::size_t>(zones_[0].fresh_end, slot_limit_));
     tbb::parallel_invoke(
@@ -1090,16 +1094,40 @@ void Delaunay3::finish() {
                         if (w[3] != kInfinite) w[3] = input_id_[w[3]];
                       }
                     });
+  // Slots [first, last) downwards: vertex_tet[v] ends as the smallest finite tet of the
+  // range incident to v. Returns the number of finite tets in the range. (Measured:
+  // renumbering in the same loop is slower on one thread, 47 -> 62 ms at 10^6 points.)
+  const auto scan = [this](std::uint32_t first, std::uint32_t last, std::uint32_t* vertex_tet) {
+    std::uint32_t nb_finite = 0;
+    for (std::uint32_t t = last; t-- > first;) {
+      const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+      if (w[3] == kInfinite) continue;
+      ++nb_finite;
+      for (std::size_t k = 0; k < 4; ++k) vertex_tet[w[k]] = t;
+    }
+    return nb_finite;
+  };
+  vertex_tet_.assign(nb_points_, kNoTet);
+  if (several_threads()) {
+    // The two halves concurrently, the upper one into a scratch array; a vertex's smallest
+    // tet is in the lower half if it has one there: the same result as one pass.
+    std::vector<std::uint32_t> upper(nb_points_, kNoTet);
+    const std::uint32_t half = live / 2;
+    std::uint32_t nb_lower = 0, nb_upper = 0;
+    tbb::parallel_invoke([&] { nb_lower = scan(0, half, vertex_tet_.data()); },
+                         [&] { nb_upper = scan(half, live, upper.data()); });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_points_, 65536),
+                      [this, &upper](const tbb::blocked_range<std::uint32_t>& range) {
+                        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                          if (vertex_tet_[v] == kNoTet) vertex_tet_[v] = upper[v];
+                        }
+                      });
+    nb_finite_tets_ = nb_lower + nb_upper;
+  } else {
+    nb_finite_tets_ = scan(0, live, vertex_tet_.data());
+  }
   pts_ = xyz_;
   sos_ids_ = nullptr;
-  vertex_tet_.assign(nb_points_, kNoTet);
-  nb_finite_tets_ = 0;
-  for (std::uint32_t t = live; t-- > 0;) {
-    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
-    if (w[3] == kInfinite) continue;
-    ++nb_finite_tets_;
-    for (std::size_t k = 0; k < 4; ++k) vertex_tet_[w[k]] = t;
-  }
 }
 
 // ---------------------------------------------------------------------------------------
