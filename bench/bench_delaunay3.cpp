@@ -7,7 +7,8 @@
 // with smaller zones (Options::points_per_zone 16384 and 8192: fewer points left to the
 // sequential early rounds, more deferred); uniform points on one thread with the SSE2
 // insphere determinant only (Options::use_avx2 = false), against the default (AVX2 when the
-// CPU has it) in BM_delaunay3_uniform. Fixed seeds.
+// CPU has it) in BM_delaunay3_uniform, and the same on 2 threads against
+// BM_delaunay3_uniform_threads/1000000/2. Fixed seeds.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -88,6 +89,12 @@ void BM_delaunay3_uniform_baseline(benchmark::State& state) {
   options.use_avx2 = false;
   run(state, uniform_points(static_cast<std::size_t>(state.range(0))), 1, options);
 }
+void BM_delaunay3_uniform_threads_baseline(benchmark::State& state) {
+  voroclip::Delaunay3Options options;
+  options.use_avx2 = false;
+  run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
+      static_cast<std::size_t>(state.range(1)), options);
+}
 void BM_delaunay3_grid(benchmark::State& state) {
   run(state, grid_points(static_cast<int>(state.range(0))));
 }
@@ -113,6 +120,10 @@ BENCHMARK(BM_delaunay3_uniform_zones)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_delaunay3_uniform_baseline)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_delaunay3_uniform_threads_baseline)
+    ->Args({1000000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_delaunay3_grid)->Arg(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_delaunay3_sphere)->Arg(1000000)->Unit(benchmark::kMillisecond);
 

@@ -18,6 +18,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -46,6 +47,9 @@ constexpr std::size_t kSmallCavity = 58;
 constexpr std::uint32_t kTableSide = 32;
 // Fresh slots given to a zone per point it inserts (uniform points need about 6.75).
 constexpr double kSlotsPerPoint = 6.9;
+// Slots per point the sequential rounds before the first zoned one may use (see
+// triangulate).
+constexpr std::size_t kPrefixSlotsPerPoint = 8;
 // A set of points is split into at most this many zones.
 constexpr std::size_t kMaxZones = 64;
 // Zones of at least this many points that defer most of them turn zoning off.
@@ -91,6 +95,28 @@ inline void prefetch(const void* p) {
 #else
   static_cast<void>(p);
 #endif
+}
+
+// More than one thread may run this build's tasks (the arena's and the global limit).
+bool several_threads() {
+  return tbb::this_task_arena::max_concurrency() > 1 &&
+         tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1;
+}
+
+// Writes one word in every 4 KiB page of [first, last), in parallel: the kernel zeroes a
+// page (or a whole huge page) on its first touch, on the touching thread. Values are left
+// arbitrary (every slot is written before it is read).
+void touch_pages(std::uint32_t* first, std::uint32_t* last) {
+  constexpr std::size_t kPageWords = 4096 / sizeof(std::uint32_t);
+  constexpr std::size_t kChunkWords = (std::size_t{1} << 21) / sizeof(std::uint32_t);
+  const auto size = static_cast<std::size_t>(last - first);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (size + kChunkWords - 1) / kChunkWords, 1),
+                    [first, size](const tbb::blocked_range<std::size_t>& chunks) {
+                      const std::size_t end = std::min(size, chunks.end() * kChunkWords);
+                      for (std::size_t i = chunks.begin() * kChunkWords; i < end; i += kPageWords) {
+                        first[i] = 0;
+                      }
+                    });
 }
 
 template <class T, class A>
@@ -289,8 +315,10 @@ bool Delaunay3::take_slots(Zone& zone, std::size_t count) {
   if constexpr (kZoned) {
     return false;
   } else {
-    grow_slots(static_cast<std::size_t>(zone.fresh) + count);
-    zone.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
+    const std::size_t slots = static_cast<std::size_t>(zone.fresh) + count;
+    if (slots > slot_limit_) return false;
+    grow_slots(slots);
+    zone.fresh_end = static_cast<std::uint32_t>(std::min(tets_.size() / 8, slot_limit_));
     return true;
   }
 }
@@ -665,11 +693,16 @@ void split_zones(const std::vector<std::uint32_t>& points, ZoneT* zones, std::si
 
 // The number of zones a set of points is split into: a function of its size alone (never
 // of the number of threads), so that the construction is the same for any thread count;
-// a power of two, so that 2, 4, 8 ... threads share the zones evenly.
+// a power of two, so that 2, 4, 8 ... threads share the zones evenly. Two zones from
+// 7/4 per_zone points on: the BRIO round of 1M / 16 points (62.5k < 2^16) then runs on
+// two threads instead of one (measured: +0.9% instructions on one thread at 1M, -2.9% on
+// the critical path on two).
 std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
-  const std::size_t wanted = nb_points / std::max<std::size_t>(per_zone, 1);
+  per_zone = std::max<std::size_t>(per_zone, 1);
+  const std::size_t wanted = nb_points / per_zone;
   std::size_t zones = 1;
   while (2 * zones <= wanted && 2 * zones <= kMaxZones) zones *= 2;
+  if (zones == 1 && 4 * nb_points >= 7 * per_zone) zones = 2;
   return zones;
 }
 
@@ -678,10 +711,28 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
 // Inserts `points` (ranks in insertion order) by nb_zones tasks, each in its zone; a
 // second pass, with zones in the skew frame, takes the points the first deferred, and the
 // rest is inserted sequentially. See "Threads" in the header.
-void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones) {
+// Splits `points` into the boxes of zones[0, nb_zones) in `frame`, each zone's points along
+// the Hilbert curve of its box (the round's curve leaves and re-enters a box: consecutive
+// points of a zone would be far apart there). A function of the points alone: the first
+// pass's zones of a round can be computed ahead (triangulate).
+void Delaunay3::split_into_zones(const std::vector<std::uint32_t>& points, std::size_t nb_zones,
+                                 int frame, Zone* zones) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double everywhere_lo[3] = {-kInf, -kInf, -kInf}, everywhere_hi[3] = {kInf, kInf, kInf};
   std::vector<double> scratch;
+  split_zones(
+      points, zones, nb_zones, everywhere_lo, everywhere_hi, frame,
+      [this](std::uint32_t v) { return point(v); }, scratch);
+  tbb::parallel_for(std::size_t{0}, nb_zones, [this, zones](std::size_t k) {
+    std::vector<std::uint32_t>& p = zones[k].points;
+    detail::hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
+  });
+}
+
+void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones,
+                                   std::vector<Zone>* plan) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double everywhere_lo[3] = {-kInf, -kInf, -kInf}, everywhere_hi[3] = {kInf, kInf, kInf};
   for (int frame = 0; frame < 2 && nb_zones > 1; ++frame) {
     if (zones_.size() < nb_zones) zones_.resize(nb_zones);
     Zone& first = zones_[0];
@@ -693,9 +744,19 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     std::vector<std::uint32_t> free_slots;
     free_slots.swap(first.free);
     const std::uint32_t hint = first.hint;
-    split_zones(
-        points, zones_.data(), nb_zones, everywhere_lo, everywhere_hi, frame,
-        [this](std::uint32_t v) { return point(v); }, scratch);
+    const bool planned = frame == 0 && plan != nullptr && plan->size() == nb_zones;
+    if (planned) {
+      for (std::size_t k = 0; k < nb_zones; ++k) {
+        Zone& z = zones_[k];
+        Zone& from = (*plan)[k];
+        z.frame = from.frame;
+        std::copy_n(from.lo, 3, z.lo);
+        std::copy_n(from.hi, 3, z.hi);
+        z.points.swap(from.points);
+      }
+    } else {
+      split_into_zones(points, nb_zones, frame, zones_.data());
+    }
     // Slots: each zone needs about kSlotsPerPoint per point. It gets a share of the free
     // slots proportional to that, then a fresh range after the used slots for the rest
     // (shrunk to the array's capacity when that is nearly enough: growing copies the
@@ -740,12 +801,6 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     grow_slots(next);
     const auto end_slots = static_cast<std::uint32_t>(next);
     first.hint = hint;
-    // Each zone's points along the Hilbert curve of its own box: the round's curve leaves
-    // and re-enters a box, and consecutive points of a zone would be far apart there.
-    tbb::parallel_for(std::size_t{0}, nb_zones, [this](std::size_t k) {
-      std::vector<std::uint32_t>& p = zones_[k].points;
-      detail::hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
-    });
     std::vector<char> started(nb_zones, 0);
     for (std::size_t k = 0; k < nb_zones; ++k) started[k] = start_zone(zones_[k]) ? 1 : 0;
     nb_slots_ = end_slots;  // the walks' step limit reads it
@@ -816,30 +871,92 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     seq.edge_map.resize(kTableSide * kTableSide);
     seq.local_vertex.assign(kTableSide, kInfinite);  // local id 0 is kInfinite
     seq.free.clear();
+    seq.deferred.clear();
     nb_slots_ = 0;
     seq.hint = initial_tetrahedron();
     seq.fresh = nb_slots_;
     seq.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
   }
   std::vector<std::uint32_t> points;
-  zoning_off_ = false;
-  for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
+  const auto round_points = [this, &round_starts, &points](std::size_t r) {
     points.clear();
     for (std::uint32_t q = round_starts[r]; q < round_starts[r + 1]; ++q) {
       if (q != initial_[0] && q != initial_[1] && q != initial_[2] && q != initial_[3]) {
         points.push_back(q);
       }
     }
+  };
+  zoning_off_ = false;
+  zone_plans_.clear();
+  const std::size_t nb_rounds = round_starts.size() - 1;
+  std::size_t r = 0;
+  // The sequential rounds before the first zoned one (the "prefix") leave the other threads
+  // idle. Meanwhile they split the later rounds into their first pass's zones (a function
+  // of the points alone) and fault in the pages of the tet array the zones will fill (the
+  // kernel zeroes a page on the thread that first touches it; on a VM whose host reclaims
+  // freed memory, about 0.4 GB/s). The prefix is confined to the slots below slot_limit_ (a
+  // point that needs more is deferred to after the prefix), so that no slot is touched by
+  // both; the limit depends on the input alone and the pages' contents on nothing, so the
+  // result is the same for any number of threads.
+  std::size_t first_zoned = 0;
+  while (first_zoned < nb_rounds &&
+         zone_count(round_starts[first_zoned + 1] - round_starts[first_zoned],
+                    options_.points_per_zone) == 1) {
+    ++first_zoned;
+  }
+  if (first_zoned < nb_rounds) {
+    const std::size_t size = tets_.size() / 8;
+    slot_limit_ =
+        std::min(size, kPrefixSlotsPerPoint * std::size_t{round_starts[first_zoned]} + 64);
+    std::uint32_t* const base = tets_.data();
+    const bool prefault = several_threads();
+    zones_[0].fresh_end =
+        static_cast<std::uint32_t>(std::min<std::size_t>(zones_[0].fresh_end, slot_limit_));
+    tbb::parallel_invoke(
+        [this, &round_points, &points, first_zoned, &r] {
+          for (; r < first_zoned; ++r) {
+            round_points(r);
+            insert_sequentially(points.data(), points.data() + points.size());
+            nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
+          }
+        },
+        [base, size, prefault, this, &round_starts, first_zoned, nb_rounds] {
+          zone_plans_.resize(nb_rounds);
+          tbb::parallel_for(first_zoned, nb_rounds, [this, &round_starts](std::size_t pr) {
+            std::vector<std::uint32_t> planned;
+            for (std::uint32_t q = round_starts[pr]; q < round_starts[pr + 1]; ++q) {
+              if (q != initial_[0] && q != initial_[1] && q != initial_[2] && q != initial_[3]) {
+                planned.push_back(q);
+              }
+            }
+            const std::size_t nb_zones = zone_count(planned.size(), options_.points_per_zone);
+            if (nb_zones == 1) return;
+            zone_plans_[pr].resize(nb_zones);
+            split_into_zones(planned, nb_zones, 0, zone_plans_[pr].data());
+          });
+          if (prefault) touch_pages(base + 8 * slot_limit_, base + 8 * size);
+        });
+    slot_limit_ = kMaxTets;
+    std::vector<std::uint32_t> deferred;
+    deferred.swap(zones_[0].deferred);
+    stats_.limited_points = static_cast<std::uint32_t>(deferred.size());
+    insert_sequentially(deferred.data(), deferred.data() + deferred.size());
+    nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
+  }
+  for (; r < nb_rounds; ++r) {
+    round_points(r);
     const std::size_t nb_zones =
         zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone);
     if (nb_zones > 1) {
       nb_slots_ = zones_[0].fresh;
-      insert_in_parallel(points, nb_zones);
+      insert_in_parallel(points, nb_zones, r < zone_plans_.size() ? &zone_plans_[r] : nullptr);
+      if (r < zone_plans_.size()) std::vector<Zone>().swap(zone_plans_[r]);
     } else {
       insert_sequentially(points.data(), points.data() + points.size());
     }
     nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
   }
+  zone_plans_.clear();
 }
 
 void Delaunay3::note_memory() { peak_bytes_ = std::max(peak_bytes_, memory_bytes()); }
@@ -967,7 +1084,6 @@ void Delaunay3::finish() {
       back = (back & ~kCodeMask) | (4 * hole + f);
     }
   }
-  free.clear();
   nb_slots_ = live;
   tets_.resize(8 * static_cast<std::size_t>(live));
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, live, 16384),
@@ -978,16 +1094,40 @@ void Delaunay3::finish() {
                         if (w[3] != kInfinite) w[3] = input_id_[w[3]];
                       }
                     });
+  // Slots [first, last) downwards: vertex_tet[v] ends as the smallest finite tet of the
+  // range incident to v. Returns the number of finite tets in the range. (Measured:
+  // renumbering in the same loop is slower on one thread, 47 -> 62 ms at 10^6 points.)
+  const auto scan = [this](std::uint32_t first, std::uint32_t last, std::uint32_t* vertex_tet) {
+    std::uint32_t nb_finite = 0;
+    for (std::uint32_t t = last; t-- > first;) {
+      const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+      if (w[3] == kInfinite) continue;
+      ++nb_finite;
+      for (std::size_t k = 0; k < 4; ++k) vertex_tet[w[k]] = t;
+    }
+    return nb_finite;
+  };
+  vertex_tet_.assign(nb_points_, kNoTet);
+  if (several_threads()) {
+    // The two halves concurrently, the upper one into a scratch array; a vertex's smallest
+    // tet is in the lower half if it has one there: the same result as one pass.
+    std::vector<std::uint32_t> upper(nb_points_, kNoTet);
+    const std::uint32_t half = live / 2;
+    std::uint32_t nb_lower = 0, nb_upper = 0;
+    tbb::parallel_invoke([&] { nb_lower = scan(0, half, vertex_tet_.data()); },
+                         [&] { nb_upper = scan(half, live, upper.data()); });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_points_, 65536),
+                      [this, &upper](const tbb::blocked_range<std::uint32_t>& range) {
+                        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                          if (vertex_tet_[v] == kNoTet) vertex_tet_[v] = upper[v];
+                        }
+                      });
+    nb_finite_tets_ = nb_lower + nb_upper;
+  } else {
+    nb_finite_tets_ = scan(0, live, vertex_tet_.data());
+  }
   pts_ = xyz_;
   sos_ids_ = nullptr;
-  vertex_tet_.assign(nb_points_, kNoTet);
-  nb_finite_tets_ = 0;
-  for (std::uint32_t t = live; t-- > 0;) {
-    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
-    if (w[3] == kInfinite) continue;
-    ++nb_finite_tets_;
-    for (std::size_t k = 0; k < 4; ++k) vertex_tet_[w[k]] = t;
-  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1100,6 +1240,9 @@ std::size_t Delaunay3::memory_bytes() const {
                       capacity_bytes(duplicate_of_) + capacity_bytes(duplicate_internal_) +
                       capacity_bytes(sorted_xyz_) + capacity_bytes(input_id_) +
                       capacity_bytes(local_id_);
+  for (const std::vector<Zone>& plan : zone_plans_) {
+    for (const Zone& z : plan) bytes += capacity_bytes(z.points);
+  }
   for (const Zone& z : zones_) {
     bytes += capacity_bytes(z.cavity) + capacity_bytes(z.boundary) + capacity_bytes(z.free) +
              capacity_bytes(z.edge_map) + capacity_bytes(z.local_vertex) + capacity_bytes(z.edges) +

@@ -436,7 +436,7 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
-  // only rounds of 2^16 points or more do).
+  // only rounds of 57344 points or more do).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;
@@ -489,7 +489,7 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
       CHECK(all_arrays(dt) == arrays);
     }
   }
-  // Default zones on 150k points: BRIO rounds of 2^16 points and more go through zones.
+  // Default zones on 150k points: BRIO rounds of 57344 points and more go through zones.
   const auto xyz = random_points(150000, 64);
   Delaunay3::Options plain;
   plain.use_avx2 = false;
@@ -498,6 +498,42 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   const Delaunay3 dt = build_with_threads(xyz, 2, {});
   CHECK(dt.stats().avx2 == cpu_avx2);
   CHECK(all_arrays(dt) == all_arrays(reference));
+}
+
+TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same arrays",
+          "[delaunay][parallel][degenerate]") {
+  // Points near the moment curve (t, t^2, t^3): Theta(n^2) tets, far more than the 8 slots
+  // per point the sequential rounds before the first zoned one may use while the other
+  // threads fault in the rest of the tet array; the points that need more are inserted after.
+  const std::uint64_t seed = 71;
+  INFO("seed " << seed);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> xyz;
+  for (int i = 0; i < 300; ++i) {
+    const double t = u(rng);
+    xyz.insert(xyz.end(), {t, t * t, t * t * t});
+  }
+  Delaunay3::Options zoned;
+  zoned.points_per_zone = 64;  // only the last BRIO round (about 150 points) is zoned
+  Delaunay3::Options sequential;
+  sequential.points_per_zone = 0xffffffffu;
+  const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+  require_valid(one);
+  CHECK(one.stats().zoned_passes > 0);
+  CHECK(one.stats().limited_points > 0);
+  CHECK(one.nb_finite_tets() > 16 * 300);
+  const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+  require_valid(reference);
+  CHECK(reference.stats().limited_points == 0);
+  CHECK(finite_tets(one) == finite_tets(reference));
+  const auto arrays = all_arrays(one);
+  for (const std::size_t threads : {2u, 4u}) {
+    INFO(threads << " threads");
+    const Delaunay3 dt = build_with_threads(xyz, threads, zoned);
+    CHECK(dt.stats().limited_points == one.stats().limited_points);
+    CHECK(all_arrays(dt) == arrays);
+  }
 }
 
 TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",

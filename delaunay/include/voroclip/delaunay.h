@@ -408,7 +408,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 2 * points_per_zone points (Options) is split by count
+// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options) is split by count
 // into zones (kd bisection along the longest axis), each inserted by its own TBB task along
 // the Hilbert curve of its box. A task only touches tets having a facet whose finite
 // vertices all lie in its zone, which no other task can touch (two facets of a tet share
@@ -423,7 +423,11 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // number of zones, their boxes, their slots and their points depend on the input alone,
 // never on the number of threads, and a zone's work depends on its own tets only: every
 // array of the result (tet slots, neighbour codes, vertex_tet, duplicate_of) is identical
-// to the last bit for any number of threads, without a renumbering pass. (A renumbering
+// to the last bit for any number of threads, without a renumbering pass. While the rounds
+// before the first zoned one are inserted sequentially, the other threads compute the
+// later rounds' first-pass zones ahead and fault in the pages of the tet array the zones
+// will fill; those rounds use at most 8 slots per point (a point needing more is deferred
+// to their end, Stats::limited_points), so that no slot is touched by both. (A renumbering
 // into a sorted order was measured at 0.35 s for 1M points with a second 32-byte-per-tet
 // array, or 1.3 s permuted in place.)
 //
@@ -434,7 +438,8 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 //
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
 // uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
-// Delaunay_triangulation_3 in the same run, 35 bytes per tet at the end, 39 at the peak.
+// Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads, 35 bytes per
+// tet at the end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
 // mixed (free slots left by the construction are filled with the last live records).
@@ -445,9 +450,9 @@ struct Delaunay3Options {
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
   // Parallel insertion: a BRIO round of n points is split into as many zones as the
-  // largest power of two <= n / points_per_zone (at most 64; a round of fewer than
-  // 2 * points_per_zone points is inserted sequentially), the points it defers into zones
-  // of points_per_zone / 8. Fewer points per zone give more parallelism and more points
+  // largest power of two <= n / points_per_zone (at most 64), but two from 7/4 *
+  // points_per_zone on (a smaller round is inserted sequentially), the points it defers
+  // into zones of points_per_zone / 8. Fewer points per zone give more parallelism and more points
   // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
   // (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
@@ -551,6 +556,7 @@ class Delaunay3 {
     std::uint32_t zoned_points = 0;       // points attempted in a zone
     std::uint32_t deferred_points = 0;    // of those, deferred (the cavity left the zone)
     std::uint32_t sequential_points = 0;  // points inserted sequentially
+    std::uint32_t limited_points = 0;     // of those, deferred by the slot limit (Threads)
     bool avx2 = false;                    // AVX2 insphere determinant (Options::use_avx2)
   };
   const Stats& stats() const { return stats_; }
@@ -631,7 +637,10 @@ class Delaunay3 {
   template <bool kZoned>
   void insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last);
   void insert_sequentially(const std::uint32_t* first, const std::uint32_t* last);
-  void insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones);
+  void split_into_zones(const std::vector<std::uint32_t>& points, std::size_t nb_zones, int frame,
+                        Zone* zones) const;
+  void insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones,
+                          std::vector<Zone>* plan);
   bool start_zone(Zone& zone);
   void grow_slots(std::size_t slots);
   std::uint32_t initial_tetrahedron();
@@ -667,9 +676,12 @@ class Delaunay3 {
   std::vector<std::uint32_t> duplicate_internal_;  // during construction, by rank
   std::vector<std::uint8_t> local_id_;             // per rank: scratch of the gluing
   std::vector<Zone> zones_;                        // zones_[0] inserts sequentially
+  std::vector<std::vector<Zone>> zone_plans_;      // per round: its first pass's zones, ahead
   std::uint32_t initial_[4] = {0, 0, 0, 0};        // ranks of the first tet's vertices
   bool zoning_off_ = false;  // a zoned pass deferred most of its points: no more zones
-  bool avx2_ = false;        // this build uses insphere_det_avx2
+  // Sequential insertion uses no slot at or above it (a point that would is deferred).
+  std::size_t slot_limit_ = kMaxTets;
+  bool avx2_ = false;  // this build uses insphere_det_avx2
 };
 
 }  // namespace voroclip
