@@ -309,8 +309,6 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   return sp;
 }
 
-}  // namespace
-
 // Exactly collinear: every coordinate-plane projection of (a, b, c) is.
 bool collinear3(const double* a, const double* b, const double* c) {
   for (int skip = 0; skip < 3; ++skip) {
@@ -323,11 +321,10 @@ bool collinear3(const double* a, const double* b, const double* c) {
 
 // The planar regions of a triangle surface (see PhongSurface): a vertex is flat when each
 // of its edges has two triangles and every triangle around it is in one patch and exactly
-// coplanar with the others (orient3d, exact);
-// the triangles around flat vertices seed the regions, which grow across edges inside a
-// patch to every exactly coplanar neighbour. Returns one region id per triangle (kNoRegion
-// outside) and the unit normal of each region (the normalised sum of its triangles' cross
-// products).
+// coplanar with the others (orient3d, exact); the triangles around flat vertices seed the
+// regions, which grow across edges inside a patch to every exactly coplanar neighbour. Returns one
+// region id per triangle (kNoRegion outside) and the unit normal of each region (the normalised sum
+// of its triangles' cross products).
 constexpr std::uint32_t kNoRegion = 0xffffffffu;
 
 std::uint32_t planar_regions(const TriangleSurface& surface,
@@ -447,6 +444,8 @@ std::uint32_t planar_regions(const TriangleSurface& surface,
   }
   return nb_regions;
 }
+
+}  // namespace
 
 PhongSurface::PhongSurface(const TriangleSurface& surface,
                            const std::vector<std::uint32_t>& triangle_patch,
