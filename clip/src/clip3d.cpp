@@ -245,7 +245,16 @@ void Clip3Impl::run() {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
                       [&](const auto& range) {
                         ThreadScratch& s = ts.local();
+                        // The cells' sites are scattered over memory (input order): their
+                        // first tet and site a few cells ahead, that tet's record after.
+                        constexpr std::size_t kAhead = 8;
                         for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                          if (q + 2 * kAhead < order.size()) {
+                            dt.prefetch_vertex(order[q + 2 * kAhead]);
+                          }
+                          if (q + kAhead < order.size()) {
+                            dt.prefetch_tet(dt.vertex_tet(order[q + kAhead]));
+                          }
                           inner_slot[order[q]] = static_cast<std::uint32_t>(q);
                           inner_cell(order[q], circ.data(), s, inner_moments[q]);
                         }

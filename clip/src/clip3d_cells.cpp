@@ -133,6 +133,9 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
     for (int k = 0; k < 4; ++k) {
       w[k] = dt.tet_vertex(t, k);
       nb += w[k] != Delaunay3::kInfinite && is_boundary[w[k]] ? 1 : 0;
+      // The tet across the facet opposite i is outside the star; the placement below reads
+      // its record (is it infinite?).
+      if (w[k] == i) dt.prefetch_tet(dt.tet_adjacent(t, k));
     }
     if (nb < 3) continue;
     for (int f = 0; f < 4; ++f) {
@@ -270,7 +273,8 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
                            Moments& r) const {
   // The star traversal and the pieces in one pass: a Voronoi edge (a facet around i shared
   // by tets at star positions q2 < q) is taken when its later tet q is expanded, when both
-  // circumcentres are known (each is read when its tet is expanded, prefetched when found).
+  // circumcentres are known (each is read when its tet is expanded; its record and circumcentre
+  // are prefetched when it is found).
   Star& st = s.star;
   const std::uint32_t slots = dt.nb_tet_slots();
   if (st.mark.size() != slots || st.next > 0xf0000000u) {
@@ -326,6 +330,7 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
       if (mk < first) {
         mark[t2] = first + nb_tets;
         tp[nb_tets++] = t2;
+        dt.prefetch_tet(t2);
         __builtin_prefetch(circ + 3 * std::size_t{t2});
       } else if (mk - first < q) {
         add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cp[q], cp[mk - first],

@@ -176,6 +176,7 @@ void Clip3Impl::star(std::uint32_t v, Star& s) const {
       if (s.mark[t2] < s.first) {
         s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
         s.tets.push_back(t2);
+        dt.prefetch_tet(t2);
       }
     }
   }
@@ -423,7 +424,6 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
 
 void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
                               SurfaceChunk& chunk) const {
-  const std::uint32_t t = domain.boundary_tet(b);
   const int f = domain.boundary_facet(b);
   const int* lv = Domain3::kTetFacetVertex[f];
   // Corner k is tet vertex lv[k]; the edge from corner k to k + 1 lies on the facet opposite
@@ -441,7 +441,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   int corner_of_facet[4] = {-1, -1, -1, -1};
   for (int k = 0; k < 3; ++k) corner_of_facet[lv[k]] = k;
   for (int k = 0; k < 3; ++k) {
-    tri.mv[k] = domain.tet_vertex(t, lv[k]);
+    tri.mv[k] = domain.boundary_vertex(b, k);  // tet vertex lv[k], without reading the tet
     tri.x[k] = domain.vertex(tri.mv[k]);
     corner[k] = s.corner_stamp[tri.mv[k]] == stamp ? s.corner_cell[tri.mv[k]] : kNone;
   }
