@@ -69,14 +69,6 @@ bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-// Exactly collinear: every axis-aligned projection of the triangle has zero area.
-bool collinear(const double* a, const double* b, const double* c) {
-  const double ayz[2] = {a[1], a[2]}, byz[2] = {b[1], b[2]}, cyz[2] = {c[1], c[2]};
-  const double azx[2] = {a[2], a[0]}, bzx[2] = {b[2], b[0]}, czx[2] = {c[2], c[0]};
-  return orient2d(a, b, c) == Sign::zero && orient2d(ayz, byz, cyz) == Sign::zero &&
-         orient2d(azx, bzx, czx) == Sign::zero;
-}
-
 // Reserves room for exactly `size` elements (resize() alone may double the capacity).
 template <class T, class A>
 void reserve_exactly(std::vector<T, A>& v, std::size_t size) {
@@ -528,7 +520,7 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
   }
   if (i == m) throw Error("Delaunay3: all points coincide; need 4 affinely independent points");
   chosen[1] = i;
-  for (++i; i < m && collinear(point(chosen[0]), point(chosen[1]), point(i)); ++i) {
+  for (++i; i < m && collinear3d(point(chosen[0]), point(chosen[1]), point(i)); ++i) {
   }
   if (i == m)
     throw Error("Delaunay3: all points are collinear; need 4 affinely independent points");

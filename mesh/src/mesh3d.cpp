@@ -309,16 +309,6 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   return sp;
 }
 
-// Exactly collinear: every coordinate-plane projection of (a, b, c) is.
-bool collinear3(const double* a, const double* b, const double* c) {
-  for (int skip = 0; skip < 3; ++skip) {
-    const int i = skip == 0 ? 1 : 0, j = skip == 2 ? 1 : 2;
-    const double pa[2] = {a[i], a[j]}, pb[2] = {b[i], b[j]}, pc[2] = {c[i], c[j]};
-    if (orient2d(pa, pb, pc) != Sign::zero) return false;
-  }
-  return true;
-}
-
 // The planar regions of a triangle surface (see PhongSurface): a vertex is flat when each
 // of its edges has two triangles and every triangle around it is in one patch and exactly
 // coplanar with the others (orient3d, exact); the triangles around flat vertices seed the
@@ -396,7 +386,7 @@ std::uint32_t planar_regions(const TriangleSurface& surface,
     std::uint32_t ref = kNoRegion;
     for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
       const std::uint32_t t = around[i];
-      if (!collinear3(corner(t, 0), corner(t, 1), corner(t, 2))) {
+      if (!collinear3d(corner(t, 0), corner(t, 1), corner(t, 2))) {
         ref = t;
         break;
       }

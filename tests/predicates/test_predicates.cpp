@@ -362,6 +362,39 @@ TEST_CASE("the exact stage alone is exact on every family", "[predicates][exact]
   }
 }
 
+TEST_CASE("collinear3d: points on a line exactly, and one ulp off it",
+          "[predicates][exact][degenerate]") {
+  // a, b = a + m d and c = a + k d with integer coordinates below 2^24 times a power of two:
+  // every value is exact, so the three are exactly collinear. Moving one coordinate of c by
+  // one ulp adds a multiple of a unit axis, not parallel to d (every component of d is
+  // non-zero): no longer collinear. b = a (a duplicate) is collinear with any c.
+  Rng rng(seed_for(1100));
+  const std::size_t n = scaled(2000);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rand_int(rng, -400, 400)));
+    double a[3], d[3], b[3], c[3];
+    const auto m = static_cast<double>(rand_int(rng, 1, 64) * (coin(rng) ? 1 : -1));
+    const auto k = static_cast<double>(rand_int(rng, -64, 64));
+    for (int j = 0; j < 3; ++j) {
+      a[j] = static_cast<double>(rand_int(rng, -(1 << 16), 1 << 16)) * scale;
+      d[j] = static_cast<double>(rand_int(rng, 1, 1 << 10) * (coin(rng) ? 1 : -1)) * scale;
+      b[j] = a[j] + m * d[j];
+      c[j] = a[j] + k * d[j];
+    }
+    INFO("case " << i << ": a " << hex(a[0]) << " " << hex(a[1]) << " " << hex(a[2]) << ", d "
+                 << hex(d[0]) << " " << hex(d[1]) << " " << hex(d[2]) << ", m " << m << ", k "
+                 << k);
+    CHECK(collinear3d(a, b, c));
+    CHECK(collinear3d(c, a, b));
+    CHECK(collinear3d(a, a, c));
+    const auto axis = static_cast<int>(rand_int(rng, 0, 2));
+    double off[3] = {c[0], c[1], c[2]};
+    off[axis] = nudge(off[axis], coin(rng) ? 1 : -1);
+    CHECK_FALSE(collinear3d(a, b, off));
+    CHECK_FALSE(collinear3d(off, b, a));
+  }
+}
+
 TEST_CASE("NaN and infinite coordinates throw voroclip::Error", "[predicates]") {
   const double specials[] = {std::numeric_limits<double>::quiet_NaN(),
                              std::numeric_limits<double>::infinity(),

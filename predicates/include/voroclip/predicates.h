@@ -310,6 +310,15 @@ inline Sign insphere(const double* a, const double* b, const double* c, const do
   return s != 0 ? static_cast<Sign>(s) : detail::insphere_exact(a, b, c, d, e);
 }
 
+// Three points of 3D space exactly on one line (or coincident): every axis-aligned
+// projection of the triangle has zero area. Exact.
+inline bool collinear3d(const double* a, const double* b, const double* c) {
+  const double ayz[2] = {a[1], a[2]}, byz[2] = {b[1], b[2]}, cyz[2] = {c[1], c[2]};
+  const double azx[2] = {a[2], a[0]}, bzx[2] = {b[2], b[0]}, czx[2] = {c[2], c[0]};
+  return orient2d(a, b, c) == Sign::zero && orient2d(ayz, byz, cyz) == Sign::zero &&
+         orient2d(azx, bzx, czx) == Sign::zero;
+}
+
 // sign(|p - q|^2 - |p - r|^2): negative when q is strictly closer to p than r, positive
 // when r is, zero when p is equidistant (on the bisector of q and r). Exact, filtered.
 inline Sign compare_distance2d(const double* p, const double* q, const double* r) {
