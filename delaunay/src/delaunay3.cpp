@@ -869,15 +869,17 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     seq.fresh = nb_slots_;
     seq.fresh_end = static_cast<std::uint32_t>(tets_.size() / 8);
   }
-  std::vector<std::uint32_t> points;
-  const auto round_points = [this, &round_starts, &points](std::size_t r) {
-    points.clear();
+  // The ranks of BRIO round r, without the first tet's vertices (read only: the planning
+  // tasks call it concurrently, each with its own `out`).
+  const auto round_points = [this, &round_starts](std::size_t r, std::vector<std::uint32_t>& out) {
+    out.clear();
     for (std::uint32_t q = round_starts[r]; q < round_starts[r + 1]; ++q) {
       if (q != initial_[0] && q != initial_[1] && q != initial_[2] && q != initial_[3]) {
-        points.push_back(q);
+        out.push_back(q);
       }
     }
   };
+  std::vector<std::uint32_t> points;
   zoning_off_ = false;
   zone_plans_.clear();
   const std::size_t nb_rounds = round_starts.size() - 1;
@@ -907,20 +909,16 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     tbb::parallel_invoke(
         [this, &round_points, &points, first_zoned, &r] {
           for (; r < first_zoned; ++r) {
-            round_points(r);
+            round_points(r, points);
             insert_sequentially(points.data(), points.data() + points.size());
             nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
           }
         },
-        [base, size, prefault, this, &round_starts, first_zoned, nb_rounds] {
+        [base, size, prefault, this, &round_points, first_zoned, nb_rounds] {
           zone_plans_.resize(nb_rounds);
-          tbb::parallel_for(first_zoned, nb_rounds, [this, &round_starts](std::size_t pr) {
+          tbb::parallel_for(first_zoned, nb_rounds, [this, &round_points](std::size_t pr) {
             std::vector<std::uint32_t> planned;
-            for (std::uint32_t q = round_starts[pr]; q < round_starts[pr + 1]; ++q) {
-              if (q != initial_[0] && q != initial_[1] && q != initial_[2] && q != initial_[3]) {
-                planned.push_back(q);
-              }
-            }
+            round_points(pr, planned);
             const std::size_t nb_zones = zone_count(planned.size(), options_.points_per_zone);
             if (nb_zones == 1) return;
             zone_plans_[pr].resize(nb_zones);
@@ -936,7 +934,7 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
     nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
   }
   for (; r < nb_rounds; ++r) {
-    round_points(r);
+    round_points(r, points);
     const std::size_t nb_zones =
         zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone);
     if (nb_zones > 1) {
