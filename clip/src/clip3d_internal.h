@@ -388,6 +388,9 @@ struct Clip3Impl {
     // Per polygon vertex, beyond the bisector (boundary cells: per star facet, its
     // crossings looked up).
     std::vector<std::uint8_t> beyond;
+    // clip_triangle: the neighbours past the filters, and their corner values.
+    std::vector<std::uint32_t> candidates;
+    std::vector<clip3::CornerValues> candidate_values;
     // Per domain vertex: its cell, when corner_stamp is the current chunk's (+ 1).
     std::vector<std::uint32_t> corner_cell, corner_stamp;
     std::uint32_t last_cell = clip3::kNone;  // the last cell met (a hint)

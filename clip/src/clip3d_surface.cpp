@@ -506,20 +506,43 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     // the proven 7.2 u (|r|^2 + 2 |e|^2) with room for the roundings of the test below.
     const double near = 1e-15 * rrg + 1e-300;
     bool empty = false;
+    // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the ball;
+    // below zero there, the bisector misses the triangle. The neighbours that pass, listed
+    // without branching (whether one passes is hard to predict).
+    if (s.candidates.size() < nb.count) s.candidates.resize(nb.count);
+    std::uint32_t* cand = s.candidates.data();
+    std::uint32_t nb_cand = 0;
     for (std::uint32_t h = 0; h < nb.count; ++h) {
       const NbrGeo& ng = nb.geo[h];
-      // F = |y - p_c|^2 - |y - p_j|^2 is affine: F(y) <= F(g) + 2 R |p_j - p_c| on the
-      // ball; below zero there, the bisector misses the triangle.
       const double fg = 2 * ((rg[0] * ng.e[0] + rg[1] * ng.e[1]) + rg[2] * ng.e[2]) - ng.ee;
-      if (fg + radius * ng.reach < -(near + ng.ee_err)) continue;
-      // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
-      CornerValues fj;
-      int corner_side[3];
+      cand[nb_cand] = h;
+      nb_cand += (fg + radius * ng.reach < -(near + ng.ee_err)) ? 0 : 1;
+    }
+    // Then those with a corner not certainly nearer c, with their corner values (the list
+    // compacted in place, again without branching).
+    if (s.candidate_values.size() < nb_cand) s.candidate_values.resize(nb_cand);
+    CornerValues* cand_fj = s.candidate_values.data();
+    std::uint32_t nb_kept = 0;
+    for (std::uint32_t z = 0; z < nb_cand; ++z) {
+      const std::uint32_t h = cand[z];
+      const NbrGeo& ng = nb.geo[h];
+      CornerValues& fj = cand_fj[nb_kept];
+      bool all_nearer = true;
       for (int k = 0; k < 3; ++k) {
         fj.f[k] = bisector_value(r[k], rr[k], ng.e, ng.ee, fj.err[k]);
+        all_nearer = all_nearer & (fj.f[k] < -fj.err[k]);
+      }
+      cand[nb_kept] = h;
+      nb_kept += all_nearer ? 0 : 1;
+    }
+    for (std::uint32_t z = 0; z < nb_kept; ++z) {
+      const std::uint32_t h = cand[z];
+      // The corners: -1 certainly nearer c, +1 certainly nearer j, 0 undecided.
+      const CornerValues& fj = cand_fj[z];
+      int corner_side[3];
+      for (int k = 0; k < 3; ++k) {
         corner_side[k] = fj.f[k] < -fj.err[k] ? -1 : (fj.f[k] > fj.err[k] ? 1 : 0);
       }
-      if (corner_side[0] < 0 && corner_side[1] < 0 && corner_side[2] < 0) continue;
       const std::uint32_t j = nb.id[h];
       // Sutherland-Hodgman on symbolic vertices. A corner's side, and that of a point of a
       // triangle edge whose ends agree, comes from the filter when it decided (F is affine).
