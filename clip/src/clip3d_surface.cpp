@@ -633,27 +633,7 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   // cells of its corners from the polygons of the chunk's triangles before it (exact facts,
   // so the order changes nothing but the work).
   const std::uint32_t nb = domain.nb_boundary_triangles();
-  std::vector<std::uint32_t> order;
-  order.reserve(nb);
-  {
-    std::vector<std::uint8_t> seen(nb, 0);
-    std::vector<std::uint32_t> stack;
-    for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
-      if (seen[b0]) continue;
-      stack.assign(1, b0);
-      while (!stack.empty()) {
-        const std::uint32_t b = stack.back();
-        stack.pop_back();
-        if (seen[b]) continue;
-        seen[b] = 1;
-        order.push_back(b);
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t b2 = domain.boundary_adjacent(b, k);
-          if (b2 != Domain3::kNone && !seen[b2]) stack.push_back(b2);
-        }
-      }
-    }
-  }
+  const std::vector<std::uint32_t>& order = domain.surface_order();
   const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
   std::vector<SurfaceChunk> chunks(nb_chunks);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {

@@ -427,6 +427,29 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
     error.raise();
   }
 
+  // ---- 7. The boundary triangles depth first over the surface (clip3d's traversal order).
+  {
+    surface_order_.clear();
+    surface_order_.reserve(nb);
+    std::vector<std::uint8_t> seen(nb, 0);
+    std::vector<std::uint32_t> stack;
+    for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
+      if (seen[b0]) continue;
+      stack.assign(1, b0);
+      while (!stack.empty()) {
+        const std::uint32_t b = stack.back();
+        stack.pop_back();
+        if (seen[b]) continue;
+        seen[b] = 1;
+        surface_order_.push_back(b);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t b2 = boundary_adjacent(b, k);
+          if (b2 != kNone && !seen[b2]) stack.push_back(b2);
+        }
+      }
+    }
+  }
+
   source_tet_.resize(nt);
   for (std::uint32_t t = 0; t < nt; ++t) source_tet_[t] = t;
 }

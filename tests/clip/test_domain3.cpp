@@ -117,6 +117,34 @@ std::string check_domain3(const Domain3& d) {
       }
     }
   }
+  // surface_order: every boundary triangle once; each one adjacent to a triangle before it,
+  // or, once the component listed so far is complete (no listed triangle has an unlisted
+  // neighbour), the lowest-numbered triangle not listed yet.
+  const std::vector<std::uint32_t>& order = d.surface_order();
+  const std::uint32_t nb = d.nb_boundary_triangles();
+  if (order.size() != nb) return "surface_order has the wrong length";
+  std::vector<char> listed(nb, 0);
+  std::uint32_t lowest = 0;    // the lowest-numbered triangle not listed yet
+  std::size_t open_edges = 0;  // edges of listed triangles to unlisted ones
+  for (const std::uint32_t b : order) {
+    if (b >= nb || listed[b]) return "surface_order is not a permutation";
+    bool after_neighbour = false;
+    for (int e = 0; e < 3; ++e) {
+      after_neighbour = after_neighbour || listed[d.boundary_adjacent(b, e)];
+    }
+    if (!after_neighbour && (b != lowest || open_edges != 0)) {
+      return "surface_order: triangle " + std::to_string(b) + " does not continue the surface";
+    }
+    listed[b] = 1;
+    for (int e = 0; e < 3; ++e) {
+      if (listed[d.boundary_adjacent(b, e)] && d.boundary_adjacent(b, e) != b) {
+        --open_edges;
+      } else {
+        ++open_edges;
+      }
+    }
+    while (lowest < nb && listed[lowest]) ++lowest;
+  }
   return "";
 }
 

@@ -321,6 +321,10 @@ class Domain3 {
     assert(b < nb_boundary_triangles() && e >= 0 && e < 3);
     return boundary_adjacent_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(e)];
   }
+  // Every boundary triangle once, depth first over the surface (from the lowest-numbered
+  // triangle of each connected component, across edges in the order 0, 1, 2 pushed on a
+  // stack): consecutive triangles are mostly adjacent.
+  const std::vector<std::uint32_t>& surface_order() const { return surface_order_; }
   // Where tet t came from in the input (its index there), for messages.
   std::uint32_t source_tet(std::uint32_t t) const { return source_tet_[t]; }
 
@@ -341,6 +345,7 @@ class Domain3 {
   std::vector<std::int8_t> boundary_facet_;
   std::vector<std::uint32_t> boundary_adjacent_;
   std::vector<std::uint32_t> source_tet_;
+  std::vector<std::uint32_t> surface_order_;
   // Tet t's boundary triangles are [tet_boundary_begin_[t], tet_boundary_begin_[t + 1]).
   std::vector<std::uint32_t> tet_boundary_begin_;
   double volume_ = 0;
