@@ -29,7 +29,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -111,34 +110,8 @@ void Clip3Impl::run() {
     }
   };
 
-  // ---- Boundary cells. Circumcentres of the Delaunay tets first (inner cells use them too).
-  const std::uint32_t slots = dt.nb_tet_slots();
-  // Left uninitialized (every entry is written below): its pages are first touched, and
-  // zeroed by the kernel, in the parallel loop, not by a memset on one thread (at 10^6
-  // sites, 156 MB). Not advised for huge pages: measured slower here (bench/RESULTS.md).
-  const std::unique_ptr<double[]> circ_buffer(
-      new double[linear_density ? 0 : 3 * std::size_t{slots}]);
-  double* const circ = circ_buffer.get();
-  if (!linear_density) {
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, slots, 4096), [&](const auto& range) {
-      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-        // The sites are in input order, scattered over memory: ask for those of a tet a
-        // few slots ahead.
-        constexpr std::uint32_t kAhead = 8;
-        if (t + kAhead < range.end() && !dt.is_free(t + kAhead) && !infinite(t + kAhead)) {
-          for (int k = 0; k < 4; ++k) __builtin_prefetch(site(dt.tet_vertex(t + kAhead, k)));
-        }
-        if (dt.is_free(t) || infinite(t)) {
-          std::fill_n(&circ[3 * std::size_t{t}], 3, 0.0);
-          continue;
-        }
-        std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                              dt.tet_vertex(t, 3)};
-        small_sort(v, 4);
-        voronoi_point(v, &circ[3 * std::size_t{t}]);
-      }
-    });
-  }
+  // ---- Boundary cells (their circumcentres, like those of the inner cells, through the
+  // per-thread caches: ThreadScratch::circ).
   const std::size_t nb_boundary = boundary_cells.size();
   std::vector<std::uint32_t> order;
   spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
@@ -149,7 +122,7 @@ void Clip3Impl::run() {
     for (std::size_t h = range.begin(); h != range.end(); ++h) {
       const std::uint32_t q = boundary_slot[order[h]];
       Moments r = surface_moments[q];
-      if (boundary_cell(order[h], circ, nullptr, s, r)) {
+      if (boundary_cell(order[h], nullptr, s, r)) {
         boundary_moments[q] = r;
       } else {
         unplaced[q] = 1;
@@ -163,7 +136,7 @@ void Clip3Impl::run() {
     for (std::size_t q = 0; q < nb_boundary; ++q) {
       if (!unplaced[q]) continue;
       Moments r = surface_moments[q];
-      boundary_cell(boundary_cells[q], circ, flag.data(), s, r);
+      boundary_cell(boundary_cells[q], flag.data(), s, r);
       boundary_moments[q] = r;
     }
   }
@@ -265,7 +238,7 @@ void Clip3Impl::run() {
                             dt.prefetch_tet(dt.vertex_tet(order[q + kAhead]));
                           }
                           inner_slot[order[q]] = static_cast<std::uint32_t>(q);
-                          inner_cell(order[q], circ, s, inner_moments[q]);
+                          inner_cell(order[q], s, inner_moments[q]);
                         }
                       });
   }

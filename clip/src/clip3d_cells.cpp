@@ -112,8 +112,8 @@ namespace {
 
 }  // namespace
 
-bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::int8_t* global_flag,
-                              ThreadScratch& s, Moments& r) const {
+bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
+                              Moments& r) const {
   Star& st = s.star;
   star(i, st);
   const std::vector<std::uint32_t>& tets = st.tets;
@@ -226,7 +226,10 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
   cu.resize(m);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (!infinite(t)) cu[q] = rel(circ + 3 * std::size_t{t}, pi);
+    if (infinite(t)) continue;
+    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
+    cu[q] = rel(circumcentre(t, v, s.circ), pi);
   }
   PieceSums sums;
   FootCache feet;
@@ -269,12 +272,11 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const double* circ, const std::in
   return true;
 }
 
-void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s,
-                           Moments& r) const {
+void Clip3Impl::inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const {
   // The star traversal and the pieces in one pass: a Voronoi edge (a facet around i shared
   // by tets at star positions q2 < q) is taken when its later tet q is expanded, when both
-  // circumcentres are known (each is read when its tet is expanded; its record and circumcentre
-  // are prefetched when it is found).
+  // circumcentres are known (each is found when its tet is expanded; its record and cache
+  // entry are prefetched when it is found).
   Star& st = s.star;
   const std::uint32_t slots = dt.nb_tet_slots();
   if (st.mark.size() != slots || st.next > 0xf0000000u) {
@@ -302,20 +304,21 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
   FootCache feet;
   for (std::uint32_t q = 0; q < nb_tets; ++q) {
     const std::uint32_t t = tp[q];
-    cp[q] = rel(circ + 3 * std::size_t{t}, pi);
+    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
     int li = -1;
     Foot h[4];
     for (int k = 0; k < 4; ++k) {
-      const std::uint32_t v = dt.tet_vertex(t, k);
-      if (v == i) {
+      if (v[k] == i) {
         li = k;
         continue;
       }
-      if (v == Delaunay3::kInfinite) {
+      if (v[k] == Delaunay3::kInfinite) {
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
-      h[k] = feet.get(v, site(v), pi);
+      h[k] = feet.get(v[k], site(v[k]), pi);
     }
+    cp[q] = rel(circumcentre(t, v, s.circ), pi);
     if (nb_tets + 3 > cap) {
       cap *= 2;
       tets.resize(cap);
@@ -331,7 +334,7 @@ void Clip3Impl::inner_cell(std::uint32_t i, const double* circ, ThreadScratch& s
         mark[t2] = first + nb_tets;
         tp[nb_tets++] = t2;
         dt.prefetch_tet(t2);
-        __builtin_prefetch(circ + 3 * std::size_t{t2});
+        s.circ.prefetch(t2);
       } else if (mk - first < q) {
         add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cp[q], cp[mk - first],
                        sums);
