@@ -516,8 +516,8 @@ struct Clip3Impl {
   // own crossings, or from `global_flag` when given) and, unless it is clipped tet by tet,
   // its integrals added to r. Appends (site, 0/1) for the non-boundary sites of its star.
   // False when no Voronoi vertex of its star could be placed from its own crossings.
-  bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag,
-                     ThreadScratch& s, Moments& r) const;
+  bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
+                     Moments& r) const;
   void inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
