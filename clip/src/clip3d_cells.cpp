@@ -304,6 +304,15 @@ void Clip3Impl::inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const 
   FootCache feet;
   for (std::uint32_t q = 0; q < nb_tets; ++q) {
     const std::uint32_t t = tp[q];
+    // The sites of the next tet in the queue (its record was prefetched when it was found).
+    if (q + 1 < nb_tets) {
+      const std::uint32_t tn = tp[q + 1];
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = dt.tet_vertex(tn, k);
+        if (w != Delaunay3::kInfinite) __builtin_prefetch(site(w));
+        __builtin_prefetch(mark + dt.tet_adjacent(tn, k));
+      }
+    }
     const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
                                 dt.tet_vertex(t, 3)};
     int li = -1;
