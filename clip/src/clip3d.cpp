@@ -176,8 +176,31 @@ void Clip3Impl::run() {
     first_layer.insert(first_layer.end(), s.first_layer.begin(), s.first_layer.end());
   }
   decide_status(first_layer, ts.local());
-  std::vector<std::uint32_t> inner_slot(n, kNone);
-  std::vector<Moments> inner_moments;
+  // A cell's output from its integrals (r: none for a cell outside the volume).
+  const auto write_cell = [&](std::uint32_t i, const Moments* r) {
+    ClippedVoronoi3::Cell& cell = out.cells_[i];
+    const double* p = site(i);
+    cell.volume = r ? r->volume : 0;
+    if (linear_density) {
+      cell.mass = r ? r->mass : 0;
+      cell.energy = r ? r->energy : 0;
+    } else {
+      cell.mass = options.density * cell.volume;
+      cell.energy = r ? options.density * r->energy : 0;
+    }
+    const double m = linear_density ? cell.mass : cell.volume;
+    for (int c = 0; c < 3; ++c) {
+      cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
+    }
+    cell.surface_area = surface_area[i];
+    cell.boundary = is_boundary[i];
+  };
+  out.cells_.resize(n);  // every entry is written below (Cell leaves its fields alone)
+  // Inner cells write their outputs as they go (constant density); the other cells after.
+  const auto written_inner = [&](std::uint32_t i) {
+    return !linear_density && !is_boundary[i] && status[i] == 1;
+  };
+  std::vector<std::uint32_t> inner_slot(linear_density ? n : 0, kNone);
   std::vector<CellOut> inner_out;
   if (linear_density) {
     // Layer after layer from the boundary cells, each seeded by the faces the previous one
@@ -222,8 +245,7 @@ void Clip3Impl::run() {
       for (const auto& v : next) pending.insert(pending.end(), v.begin(), v.end());
     }
   } else {
-    spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
-    inner_moments.resize(order.size());
+    spatial(written_inner, order);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
                       [&](const auto& range) {
                         ThreadScratch& s = ts.local();
@@ -237,38 +259,23 @@ void Clip3Impl::run() {
                           if (q + kAhead < order.size()) {
                             dt.prefetch_tet(dt.vertex_tet(order[q + kAhead]));
                           }
-                          inner_slot[order[q]] = static_cast<std::uint32_t>(q);
-                          inner_cell(order[q], s, inner_moments[q]);
+                          Moments r;
+                          inner_cell(order[q], s, r);
+                          write_cell(order[q], &r);
                         }
                       });
   }
 
-  out.cells_.assign(n, ClippedVoronoi3::Cell{});
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
     for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+      if (written_inner(i)) continue;
       const Moments* r = nullptr;
       if (is_boundary[i]) {
         r = &boundary_moments[boundary_slot[i]];
-      } else if (inner_slot[i] != kNone) {
-        r = linear_density ? static_cast<const Moments*>(&inner_out[inner_slot[i]])
-                           : &inner_moments[inner_slot[i]];
+      } else if (linear_density && inner_slot[i] != kNone) {
+        r = &inner_out[inner_slot[i]];
       }
-      ClippedVoronoi3::Cell& cell = out.cells_[i];
-      const double* p = site(i);
-      cell.volume = r ? r->volume : 0;
-      if (linear_density) {
-        cell.mass = r ? r->mass : 0;
-        cell.energy = r ? r->energy : 0;
-      } else {
-        cell.mass = options.density * cell.volume;
-        cell.energy = r ? options.density * r->energy : 0;
-      }
-      const double m = linear_density ? cell.mass : cell.volume;
-      for (int c = 0; c < 3; ++c) {
-        cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
-      }
-      cell.surface_area = surface_area[i];
-      cell.boundary = is_boundary[i];
+      write_cell(i, r);
     }
   });
   const auto t3 = Clock::now();

@@ -463,6 +463,9 @@ class ClippedVoronoi3 {
  private:
   friend struct Clip3Impl;
   struct Cell {
+    // Left uninitialized: compute() writes every field of every cell, in parallel loops
+    // (which also first-touch the pages), not in a serial fill beforehand.
+    Cell() {}  // NOLINT(modernize-use-equals-default): `= default` would zero in resize()
     double volume, mass, energy, centroid[3], surface_area;
     std::uint32_t boundary;
   };
