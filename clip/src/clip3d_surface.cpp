@@ -26,6 +26,7 @@
 //    the edge would be needed).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -731,43 +732,54 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   std::vector<Crossing> all;
   for (const SurfaceChunk& ch : chunks)
     all.insert(all.end(), ch.crossings.begin(), ch.crossings.end());
-  std::sort(all.begin(), all.end(), [](const Crossing& x, const Crossing& y) {
+  // The keys are distinct (a Voronoi edge meets a triangle's plane once, and the cell of
+  // the smallest site has one polygon in the triangle): any sort gives the same order.
+  tbb::parallel_sort(all.begin(), all.end(), [](const Crossing& x, const Crossing& y) {
     if (x.s[0] != y.s[0]) return x.s[0] < y.s[0];
     if (x.s[1] != y.s[1]) return x.s[1] < y.s[1];
     if (x.s[2] != y.s[2]) return x.s[2] < y.s[2];
     return x.tri < y.tri;
   });
-  crossings.clear();
+  std::vector<std::uint32_t> group_begin;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    if (k == 0 || all[k].s[0] != all[k - 1].s[0] || all[k].s[1] != all[k - 1].s[1] ||
+        all[k].s[2] != all[k - 1].s[2]) {
+      group_begin.push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  group_begin.push_back(static_cast<std::uint32_t>(all.size()));
+  crossings.resize(group_begin.size() - 1);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, crossings.size(), 1024), [&](const auto& range) {
+        for (std::size_t g = range.begin(); g != range.end(); ++g) {
+          const Crossing& first = all[group_begin[g]];
+          EdgeCrossings& x = crossings[g];
+          x = EdgeCrossings{};
+          for (int q = 0; q < 3; ++q) {
+            x.s[q] = first.s[q];
+            x.x[q] = first.x[q];
+          }
+          x.count = group_begin[g + 1] - group_begin[g];
+          if (x.count != 1) continue;
+          const std::uint32_t b = first.tri;
+          // Outward normal of the boundary triangle: its orientation reversed (Domain3).
+          const Sign d = voronoi_edge_direction3d(site(x.s[0]), site(x.s[1]), site(x.s[2]),
+                                                  domain.vertex(domain.boundary_vertex(b, 0)),
+                                                  domain.vertex(domain.boundary_vertex(b, 2)),
+                                                  domain.vertex(domain.boundary_vertex(b, 1)));
+          if (d == Sign::zero) {
+            throw Error("clip3d: internal error: the Voronoi edge of sites " +
+                        std::to_string(x.s[0]) + ", " + std::to_string(x.s[1]) + ", " +
+                        std::to_string(x.s[2]) + " crosses boundary triangle " + std::to_string(b) +
+                        " along its plane");
+          }
+          x.sigma = d == Sign::positive ? 1 : -1;
+        }
+      });
   fallback.assign(n, 0);
-  for (std::size_t k = 0; k < all.size();) {
-    std::size_t e = k + 1;
-    while (e < all.size() && all[e].s[0] == all[k].s[0] && all[e].s[1] == all[k].s[1] &&
-           all[e].s[2] == all[k].s[2]) {
-      ++e;
-    }
-    EdgeCrossings x{};
-    for (int q = 0; q < 3; ++q) {
-      x.s[q] = all[k].s[q];
-      x.x[q] = all[k].x[q];
-    }
-    x.count = static_cast<std::uint32_t>(e - k);
-    if (x.count == 1) {
-      const std::uint32_t b = all[k].tri;
-      // Outward normal of the boundary triangle: its orientation reversed (Domain3).
-      const Sign d = voronoi_edge_direction3d(
-          site(x.s[0]), site(x.s[1]), site(x.s[2]), domain.vertex(domain.boundary_vertex(b, 0)),
-          domain.vertex(domain.boundary_vertex(b, 2)), domain.vertex(domain.boundary_vertex(b, 1)));
-      if (d == Sign::zero) {
-        throw Error("clip3d: internal error: the Voronoi edge of sites " + std::to_string(x.s[0]) +
-                    ", " + std::to_string(x.s[1]) + ", " + std::to_string(x.s[2]) +
-                    " crosses boundary triangle " + std::to_string(b) + " along its plane");
-      }
-      x.sigma = d == Sign::positive ? 1 : -1;
-    } else {
-      for (const std::uint32_t c : x.s) fallback[c] = 1;
-    }
-    crossings.push_back(x);
-    k = e;
+  for (const EdgeCrossings& x : crossings) {
+    if (x.count == 1) continue;
+    for (const std::uint32_t c : x.s) fallback[c] = 1;
   }
   crossing_begin.assign(std::size_t{n} + 1, 0);
   for (const EdgeCrossings& x : crossings) ++crossing_begin[x.s[0] + std::size_t{1}];
