@@ -289,16 +289,11 @@ class CircumcentreCache {
   };
   static constexpr std::uint32_t kSlots = std::uint32_t{1} << 15;  // 1 MB
   // The entry for tet t (its x is valid when entry.tet == t).
-  Entry& entry(std::uint32_t t) {
-    if (entries_.empty()) entries_.assign(kSlots, Entry{kNone, {0, 0, 0}});
-    return entries_[t & (kSlots - 1)];
-  }
-  void prefetch(std::uint32_t t) const {
-    if (!entries_.empty()) __builtin_prefetch(&entries_[t & (kSlots - 1)]);
-  }
+  Entry& entry(std::uint32_t t) { return entries_[t & (kSlots - 1)]; }
+  void prefetch(std::uint32_t t) const { __builtin_prefetch(&entries_[t & (kSlots - 1)]); }
 
  private:
-  std::vector<Entry> entries_;
+  std::vector<Entry> entries_ = std::vector<Entry>(kSlots, Entry{kNone, {0, 0, 0}});
 };
 
 // Tets around a vertex of the triangulation, breadth first through the facets that contain
