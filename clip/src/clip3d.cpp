@@ -315,6 +315,7 @@ void Clip3Impl::run() {
 
 void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
                               const Clip3Options& options) {
+  cells_.clear();  // keeps the capacity: a repeated compute resizes without allocating
   if (domain.nb_tets() == 0) throw Error("clip3d: the domain has no tetrahedra");
   if (dt.nb_points() == 0) throw Error("clip3d: no sites");
   if (!(options.density > 0) || !std::isfinite(options.density)) {
@@ -332,7 +333,13 @@ void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
     }
   }
   Clip3Impl impl(domain, dt, options, *this);
-  impl.run();
+  try {
+    impl.run();
+  } catch (...) {
+    // The cells may be partly written (their fields are left uninitialized until then).
+    cells_.clear();
+    throw;
+  }
 }
 
 }  // namespace voroclip

@@ -528,6 +528,37 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
   REQUIRE(one.surface_polygons().triangle == two.surface_polygons().triangle);
 }
 
+// The output cells are not zeroed before a compute writes them: a compute on an object
+// that already holds a larger result must write every cell, and one that throws must leave
+// no stale or unwritten cells behind.
+TEST_CASE("clip3d: repeated computes on one object, and a failed one", "[clip]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
+  const std::vector<double> many = sample_volume(d, 4000, 21);
+  const std::vector<double> few = sample_volume(d, 1500, 22);
+  const Delaunay3 dt_many(many.data(), 4000), dt_few(few.data(), 1500);
+  const ClippedVoronoi3 fresh = clip(d, dt_few, false);
+  ClippedVoronoi3 cv;
+  cv.compute(d, dt_many);
+  REQUIRE(cv.nb_sites() == 4000);
+  voroclip::Clip3Options bad;
+  bad.density = -1;
+  CHECK_THROWS_AS(cv.compute(d, dt_many, bad), voroclip::Error);
+  CHECK(cv.nb_sites() == 0);
+  cv.compute(d, dt_many);
+  cv.compute(d, dt_few);  // smaller than the result it replaces
+  REQUIRE(cv.nb_sites() == 1500);
+  for (std::uint32_t i = 0; i < 1500; ++i) {
+    INFO("site " << i);
+    REQUIRE(cv.volume(i) == fresh.volume(i));
+    REQUIRE(cv.mass(i) == fresh.mass(i));
+    REQUIRE(cv.energy(i) == fresh.energy(i));
+    REQUIRE(cv.surface_area(i) == fresh.surface_area(i));
+    REQUIRE(cv.is_boundary(i) == fresh.is_boundary(i));
+    for (int c = 0; c < 3; ++c) REQUIRE(cv.centroid(i)[c] == fresh.centroid(i)[c]);
+  }
+  CHECK(cv.total_volume() == fresh.total_volume());
+}
+
 TEST_CASE("clip3d: density linear per tet", "[clip]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   const std::vector<double> sites = sample_volume(d, 3000, 8);

@@ -410,6 +410,7 @@ struct Clip3Options {
 
 class ClippedVoronoi3 {
  public:
+  // Throws voroclip::Error on bad input; the result is then empty (nb_sites() == 0).
   void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
 
   std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
