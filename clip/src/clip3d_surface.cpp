@@ -642,6 +642,15 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
       for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
+        // In this order the triangles are scattered over the domain's arrays (tet order):
+        // the corners' indices eight triangles ahead, their coordinates three ahead.
+        if (h + 8 < nb) {
+          __builtin_prefetch(domain.boundary_triangle(order[h + 8]));
+        }
+        if (h + 3 < nb) {
+          const std::uint32_t* v = domain.boundary_triangle(order[h + 3]);
+          for (int q = 0; q < 3; ++q) __builtin_prefetch(domain.vertex(v[q]));
+        }
         clip_triangle(order[h], k + 1, s, chunks[k]);
       }
     }

@@ -315,6 +315,11 @@ class Domain3 {
     assert(b < nb_boundary_triangles() && k >= 0 && k < 3);
     return boundary_vertices_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)];
   }
+  // The three vertices of boundary triangle b, in place (boundary_vertex(b, 0..2)).
+  const std::uint32_t* boundary_triangle(std::uint32_t b) const {
+    assert(b < nb_boundary_triangles());
+    return boundary_vertices_.data() + 3 * static_cast<std::size_t>(b);
+  }
   std::uint32_t boundary_tet(std::uint32_t b) const { return boundary_tet_[b]; }
   int boundary_facet(std::uint32_t b) const { return boundary_facet_[b]; }
   std::uint32_t boundary_adjacent(std::uint32_t b, int e) const {
