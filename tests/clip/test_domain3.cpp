@@ -97,7 +97,8 @@ std::string check_domain3(const Domain3& d) {
     }
     const Tri tri = facet(d, t, f);
     for (int k = 0; k < 3; ++k) {
-      if (d.boundary_vertex(b, k) != tri[static_cast<std::size_t>(k)]) {
+      if (d.boundary_vertex(b, k) != tri[static_cast<std::size_t>(k)] ||
+          d.boundary_triangle(b)[k] != tri[static_cast<std::size_t>(k)]) {
         return "boundary triangle " + std::to_string(b) + " is not its facet";
       }
     }
