@@ -366,8 +366,8 @@ struct Clip3Impl {
   void edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
                   double* x) const;
   void facet_point(const std::uint32_t* mesh, const std::uint32_t* sites, double* x) const;
-  // The Voronoi vertex (circumcentre) of sites[0..3], sorted: the same bits for the fast
-  // path (every tet's circumcentre) and the tet-by-tet clipping.
+  // The Voronoi vertex (circumcentre) of sites[0..3], sorted: the same bits for the cells
+  // (through circumcentre() below) and the tet-by-tet clipping.
   void voronoi_point(const std::uint32_t* sites, double* x) const;
   // The circumcentre of finite tet t with vertices v[0..3] (as stored), through the cache:
   // voronoi_point's bits.
