@@ -30,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clip3d_internal.h"
@@ -37,6 +38,62 @@
 namespace voroclip {
 
 using namespace clip3;
+
+namespace {
+
+// Morton keys of n points (x y z each): 10 bits per axis over their bounding box.
+void morton_keys(const double* xyz, std::uint32_t n, std::vector<std::uint32_t>& key) {
+  key.resize(n);
+  double lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = xyz[c];
+  for (std::uint32_t i = 1; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], xyz[3 * std::size_t{i} + c]);
+      hi[c] = std::max(hi[c], xyz[3 * std::size_t{i} + c]);
+    }
+  }
+  double scale[3];
+  for (int c = 0; c < 3; ++c) scale[c] = hi[c] > lo[c] ? 1023.999 / (hi[c] - lo[c]) : 0;
+  const auto spread = [](std::uint32_t x) {  // bit k of x to bit 3k
+    x = (x | (x << 16)) & 0x030000ffu;
+    x = (x | (x << 8)) & 0x0300f00fu;
+    x = (x | (x << 4)) & 0x030c30c3u;
+    return (x | (x << 2)) & 0x09249249u;
+  };
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
+    for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+      std::uint32_t k = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double x = (xyz[3 * std::size_t{i} + c] - lo[c]) * scale[c];
+        const auto q = x > 0 ? static_cast<std::uint32_t>(std::min(x, 1023.0)) : 0u;
+        k |= spread(q) << c;
+      }
+      key[i] = k;
+    }
+  });
+}
+
+// Sorts the indices in `order` by key[index], stably (two 15-bit radix passes over the
+// 30-bit keys).
+void sort_by_key(const std::vector<std::uint32_t>& key, std::vector<std::uint32_t>& order,
+                 std::vector<std::uint32_t>& tmp) {
+  tmp.resize(order.size());
+  std::vector<std::uint32_t> count(std::size_t{1} << 15);
+  for (int shift = 0; shift < 30; shift += 15) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (const std::uint32_t i : order) ++count[(key[i] >> shift) & 0x7fffu];
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : count) {
+      const std::uint32_t k = c;
+      c = sum;
+      sum += k;
+    }
+    for (const std::uint32_t i : order) tmp[count[(key[i] >> shift) & 0x7fffu]++] = i;
+    order.swap(tmp);
+  }
+}
+
+}  // namespace
 
 void Clip3Impl::run() {
   using Clock = std::chrono::steady_clock;
@@ -54,60 +111,18 @@ void Clip3Impl::run() {
   const auto t1 = Clock::now();
   out.seconds_[0] = std::chrono::duration<double>(t1 - t0).count();
 
-  // Cells in Morton order of their sites (10 bits per axis over the sites' bounding box):
-  // consecutive cells share most of their Delaunay tets, which then come from cache
-  // whatever the tets' slot numbering (the zoned Delaunay3 scatters neighbouring tets). A
-  // stable two-pass radix sort on the 30-bit keys; the order depends on the input alone.
-  std::vector<std::uint32_t> morton(n);
-  {
-    double lo[3], hi[3];
-    for (int c = 0; c < 3; ++c) lo[c] = hi[c] = site(0)[c];
-    for (std::uint32_t i = 1; i < n; ++i) {
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], site(i)[c]);
-        hi[c] = std::max(hi[c], site(i)[c]);
-      }
-    }
-    double scale[3];
-    for (int c = 0; c < 3; ++c) scale[c] = hi[c] > lo[c] ? 1023.999 / (hi[c] - lo[c]) : 0;
-    const auto spread = [](std::uint32_t x) {  // bit k of x to bit 3k
-      x = (x | (x << 16)) & 0x030000ffu;
-      x = (x | (x << 8)) & 0x0300f00fu;
-      x = (x | (x << 4)) & 0x030c30c3u;
-      return (x | (x << 2)) & 0x09249249u;
-    };
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
-      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-        std::uint32_t key = 0;
-        for (int c = 0; c < 3; ++c) {
-          const double x = (site(i)[c] - lo[c]) * scale[c];
-          const auto q = x > 0 ? static_cast<std::uint32_t>(std::min(x, 1023.0)) : 0u;
-          key |= spread(q) << c;
-        }
-        morton[i] = key;
-      }
-    });
-  }
+  // Cells in Morton order of their sites: consecutive cells share most of their Delaunay
+  // tets, which then come from cache whatever the tets' slot numbering (the zoned Delaunay3
+  // scatters neighbouring tets). The order depends on the input alone.
+  std::vector<std::uint32_t> morton;
+  morton_keys(site(0), n, morton);
   std::vector<std::uint32_t> sort_tmp;
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
       if (take(i)) order.push_back(i);
     }
-    sort_tmp.resize(order.size());
-    std::vector<std::uint32_t> count(std::size_t{1} << 15);
-    for (int shift = 0; shift < 30; shift += 15) {
-      std::fill(count.begin(), count.end(), 0u);
-      for (const std::uint32_t i : order) ++count[(morton[i] >> shift) & 0x7fffu];
-      std::uint32_t sum = 0;
-      for (std::uint32_t& c : count) {
-        const std::uint32_t k = c;
-        c = sum;
-        sum += k;
-      }
-      for (const std::uint32_t i : order) sort_tmp[count[(morton[i] >> shift) & 0x7fffu]++] = i;
-      order.swap(sort_tmp);
-    }
+    sort_by_key(morton, order, sort_tmp);
   };
 
   // ---- Boundary cells (their circumcentres, like those of the inner cells, through the
@@ -178,7 +193,7 @@ void Clip3Impl::run() {
   decide_status(first_layer, ts.local());
   // A cell's output from its integrals (r: none for a cell outside the volume).
   const auto write_cell = [&](std::uint32_t i, const Moments* r) {
-    ClippedVoronoi3::Cell& cell = out.cells_[i];
+    ClippedVoronoi3::Cell& cell = out.cells_[input_index ? input_index[i] : i];
     const double* p = site(i);
     cell.volume = r ? r->volume : 0;
     if (linear_density) {
@@ -249,8 +264,9 @@ void Clip3Impl::run() {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
                       [&](const auto& range) {
                         ThreadScratch& s = ts.local();
-                        // The cells' sites are scattered over memory (input order): their
-                        // first tet and site a few cells ahead, that tet's record after.
+                        // The cells' sites may be scattered over memory (compute(domain,
+                        // dt) with sites in input order): their first tet and site a few
+                        // cells ahead, that tet's record after.
                         constexpr std::size_t kAhead = 8;
                         for (std::size_t q = range.begin(); q != range.end(); ++q) {
                           if (q + 2 * kAhead < order.size()) {
@@ -315,6 +331,89 @@ void Clip3Impl::run() {
 
 void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
                               const Clip3Options& options) {
+  compute_impl(domain, dt, options, nullptr);
+}
+
+void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::uint32_t n,
+                              const Clip3Options& options) {
+  cells_.clear();
+  seconds_delaunay_ = 0;
+  if (n == 0) throw Error("clip3d: no sites");
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::uint32_t i = 0; i < n; ++i) {  // named by input index (the sort renumbers)
+    const double* p = sites + 3 * std::size_t{i};
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      throw Error("clip3d: site " + std::to_string(i) + " has a non-finite coordinate (" +
+                  std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                  ")");
+    }
+  }
+  std::vector<std::uint32_t> key, tmp;
+  morton_keys(sites, n, key);
+  site_order_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) site_order_[i] = i;
+  sort_by_key(key, site_order_, tmp);
+  sorted_sites_.resize(3 * std::size_t{n});
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      const double* p = sites + 3 * std::size_t{site_order_[k]};
+      double* q = sorted_sites_.data() + 3 * std::size_t{k};
+      q[0] = p[0];
+      q[1] = p[1];
+      q[2] = p[2];
+    }
+  });
+  dt_.set_options(options.delaunay);
+  dt_.build(sorted_sites_.data(), n);
+  seconds_delaunay_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  compute_impl(domain, dt_, options, site_order_.data());
+  to_input_indices(site_order_.data());
+}
+
+void ClippedVoronoi3::to_input_indices(const std::uint32_t* input_index) {
+  const auto n = static_cast<std::uint32_t>(cells_.size());
+  // Symbolic vertices: their sites mapped, each list sorted again.
+  const auto map_vertex = [&](ClipVertex3& v) {
+    int ns = 0;
+    while (ns < 3 && v.site[ns] != ClipVertex3::kNone) {
+      v.site[ns] = input_index[v.site[ns]];
+      ++ns;
+    }
+    std::sort(v.site, v.site + ns);
+  };
+  for (std::uint32_t& c : faces_.site) c = input_index[c];
+  if (surface_.site_begin.empty()) return;
+  // The restricted surface: per cell, its polygons, cells in input order.
+  Polygons s;
+  s.polygon_begin.assign(1, 0);
+  s.site_begin.assign(1, 0);
+  std::vector<std::uint32_t> rank(n);
+  for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;
+  s.site.reserve(surface_.site.size());
+  s.triangle.reserve(surface_.triangle.size());
+  s.vertices.reserve(surface_.vertices.size());
+  s.xyz.reserve(surface_.xyz.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t k = rank[i];
+    for (std::uint32_t p = surface_.site_begin[k]; p < surface_.site_begin[k + 1]; ++p) {
+      s.site.push_back(i);
+      s.triangle.push_back(surface_.triangle[p]);
+      const std::uint32_t b = surface_.polygon_begin[p], e = surface_.polygon_begin[p + 1];
+      for (std::uint32_t v = b; v < e; ++v) {
+        s.vertices.push_back(surface_.vertices[v]);
+        map_vertex(s.vertices.back());
+      }
+      s.xyz.insert(s.xyz.end(), surface_.xyz.begin() + 3 * std::size_t{b},
+                   surface_.xyz.begin() + 3 * std::size_t{e});
+      s.polygon_begin.push_back(static_cast<std::uint32_t>(s.vertices.size()));
+    }
+    s.site_begin.push_back(static_cast<std::uint32_t>(s.site.size()));
+  }
+  surface_ = std::move(s);
+}
+
+void ClippedVoronoi3::compute_impl(const Domain3& domain, const Delaunay3& dt,
+                                   const Clip3Options& options, const std::uint32_t* input_index) {
   cells_.clear();  // keeps the capacity: a repeated compute resizes without allocating
   if (domain.nb_tets() == 0) throw Error("clip3d: the domain has no tetrahedra");
   if (dt.nb_points() == 0) throw Error("clip3d: no sites");
@@ -333,6 +432,7 @@ void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
     }
   }
   Clip3Impl impl(domain, dt, options, *this);
+  impl.input_index = input_index;
   try {
     impl.run();
   } catch (...) {

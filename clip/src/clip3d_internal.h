@@ -337,6 +337,8 @@ struct Clip3Impl {
   std::uint32_t n = 0;
   bool linear_density = false;
   bool keep_surface = false;
+  // Where cell i goes in the output (compute(domain, sites, n)), or nullptr: cell i.
+  const std::uint32_t* input_index = nullptr;
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
   // (After a build an infinite tet has kInfinite as its vertex 3: Delaunay3.)

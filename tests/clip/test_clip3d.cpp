@@ -559,6 +559,154 @@ TEST_CASE("clip3d: repeated computes on one object, and a failed one", "[clip]")
   CHECK(cv.total_volume() == fresh.total_volume());
 }
 
+// compute(domain, sites, n) triangulates the sites in Morton order and reports in input
+// order. Against the order's definition (10 bits per axis over the sites' box, stable),
+// against compute(domain, dt) on the sorted copy (bit for bit, after mapping the indices:
+// the same triangulation and the same arithmetic), and against compute(domain, dt) on the
+// input order (the same cells up to rounding: the perturbation only decides measure zero).
+TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input order", "[clip]") {
+  const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
+  std::vector<double> sites = sample_volume(d, 3000, 51);
+  sites.insert(sites.end(), sites.begin() + 300, sites.begin() + 360);  // 20 duplicates
+  std::mt19937_64 rng(52);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (int k = 0; k < 3 * 40; ++k) sites.push_back(u(rng) + d.bbox_lo()[k % 3] - 0.05);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  voroclip::Clip3Options o;
+  o.keep_surface = true;
+  ClippedVoronoi3 cv;
+  cv.compute(d, sites.data(), n, o);
+  REQUIRE(cv.nb_sites() == n);
+  REQUIRE(std::fabs(cv.total_volume() - d.volume()) <= 1e-12 * d.volume());
+  REQUIRE(cv.seconds_delaunay() > 0);
+
+  // The order: a permutation, non-decreasing in the Morton key, stable.
+  const std::vector<std::uint32_t>& order = cv.site_order();
+  REQUIRE(order.size() == n);
+  double lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = sites[c];
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], sites[3 * i + c]);
+      hi[c] = std::max(hi[c], sites[3 * i + c]);
+    }
+  }
+  const auto key = [&](std::uint32_t i) {
+    std::uint32_t k = 0;
+    for (int b = 9; b >= 0; --b) {
+      for (int c = 2; c >= 0; --c) {
+        const auto q = static_cast<std::uint32_t>(
+            std::min(1023.0, (sites[3 * i + c] - lo[c]) * (1023.999 / (hi[c] - lo[c]))));
+        k = (k << 1) | ((q >> b) & 1u);
+      }
+    }
+    return k;
+  };
+  std::vector<std::uint32_t> rank(n, n);
+  for (std::uint32_t k = 0; k < n; ++k) {
+    REQUIRE(order[k] < n);
+    REQUIRE(rank[order[k]] == n);
+    rank[order[k]] = k;
+    if (k > 0) {
+      INFO("rank " << k);
+      REQUIRE(key(order[k - 1]) <= key(order[k]));
+      if (key(order[k - 1]) == key(order[k])) REQUIRE(order[k - 1] < order[k]);
+    }
+  }
+  REQUIRE(cv.delaunay().nb_points() == n);
+  REQUIRE(cv.delaunay().nb_unique_points() == n - 20);
+
+  // The same computation on the sorted copy, by hand.
+  std::vector<double> sorted(sites.size());
+  for (std::uint32_t k = 0; k < n; ++k) {
+    for (int c = 0; c < 3; ++c) sorted[3 * k + c] = sites[3 * order[k] + c];
+  }
+  const Delaunay3 dts(sorted.data(), n);
+  ClippedVoronoi3 ref;
+  ref.compute(d, dts, o);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t k = rank[i];
+    INFO("site " << i << ", rank " << k);
+    REQUIRE(cv.volume(i) == ref.volume(k));
+    REQUIRE(cv.energy(i) == ref.energy(k));
+    REQUIRE(cv.surface_area(i) == ref.surface_area(k));
+    REQUIRE(cv.is_boundary(i) == ref.is_boundary(k));
+    for (int c = 0; c < 3; ++c) REQUIRE(cv.centroid(i)[c] == ref.centroid(k)[c]);
+  }
+  REQUIRE(cv.total_volume() != 0);
+  // Restricted surface: cell i's polygons are rank[i]'s, with their sites mapped.
+  const ClippedVoronoi3::Polygons& s = cv.surface_polygons();
+  const ClippedVoronoi3::Polygons& r = ref.surface_polygons();
+  REQUIRE(s.site_begin.size() == n + 1);
+  REQUIRE(s.site.size() == r.site.size());
+  REQUIRE(s.vertices.size() == r.vertices.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t k = rank[i];
+    REQUIRE(s.site_begin[i + 1] - s.site_begin[i] == r.site_begin[k + 1] - r.site_begin[k]);
+    for (std::uint32_t a = s.site_begin[i], b = r.site_begin[k]; a < s.site_begin[i + 1];
+         ++a, ++b) {
+      REQUIRE(s.site[a] == i);
+      REQUIRE(s.triangle[a] == r.triangle[b]);
+      REQUIRE(s.polygon_begin[a + 1] - s.polygon_begin[a] ==
+              r.polygon_begin[b + 1] - r.polygon_begin[b]);
+      for (std::uint32_t v = s.polygon_begin[a], w = r.polygon_begin[b]; v < s.polygon_begin[a + 1];
+           ++v, ++w) {
+        voroclip::ClipVertex3 x = r.vertices[w];
+        for (std::uint32_t& e : x.site) {
+          if (e != voroclip::ClipVertex3::kNone) e = order[e];
+        }
+        std::sort(std::begin(x.site), std::end(x.site));  // kNone sorts last
+        REQUIRE(s.vertices[v] == x);
+        for (int c = 0; c < 3; ++c) REQUIRE(s.xyz[3 * v + c] == r.xyz[3 * w + c]);
+      }
+    }
+  }
+  // Cell pieces (keep_geometry): the same faces, sites mapped.
+  voroclip::Clip3Options g;
+  g.keep_geometry = true;
+  ClippedVoronoi3 cvg, refg;
+  cvg.compute(d, sites.data(), n, g);
+  refg.compute(d, dts, g);
+  REQUIRE(cvg.cell_faces().xyz == refg.cell_faces().xyz);
+  REQUIRE(cvg.cell_faces().piece == refg.cell_faces().piece);
+  REQUIRE(cvg.cell_faces().site.size() == refg.cell_faces().site.size());
+  for (std::size_t f = 0; f < refg.cell_faces().site.size(); ++f) {
+    REQUIRE(cvg.cell_faces().site[f] == order[refg.cell_faces().site[f]]);
+  }
+
+  // The input order's triangulation: the same cells up to rounding; duplicates empty, the
+  // first in input order holding the cell.
+  const Delaunay3 dti(sites.data(), n);
+  const ClippedVoronoi3 in = clip(d, dti, false);
+  const double vunit = d.volume() / (n - 20);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    INFO("site " << i);
+    REQUIRE(cv.is_boundary(i) == in.is_boundary(i));
+    REQUIRE(std::fabs(cv.volume(i) - in.volume(i)) <= 1e-12 * vunit);
+    if (i >= 3000 && i < 3020) REQUIRE(cv.volume(i) == 0);
+  }
+  for (std::uint32_t i = 100; i < 120; ++i) REQUIRE(cv.volume(i) > 0);
+
+  // 1 and 2 threads, and errors.
+  ClippedVoronoi3 one;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one.compute(d, sites.data(), n, o);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    REQUIRE(one.volume(i) == cv.volume(i));
+    REQUIRE(one.energy(i) == cv.energy(i));
+    for (int c = 0; c < 3; ++c) REQUIRE(one.centroid(i)[c] == cv.centroid(i)[c]);
+  }
+  REQUIRE(one.surface_polygons().xyz == cv.surface_polygons().xyz);
+  REQUIRE(one.surface_polygons().vertices == cv.surface_polygons().vertices);
+  std::vector<double> bad = sites;
+  bad[3 * 17 + 1] = NAN;
+  CHECK_THROWS_WITH(one.compute(d, bad.data(), n), Catch::Contains("site 17 has a non-finite"));
+  CHECK(one.nb_sites() == 0);
+  CHECK_THROWS_AS(one.compute(d, sites.data(), 0), voroclip::Error);
+}
+
 TEST_CASE("clip3d: density linear per tet", "[clip]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   const std::vector<double> sites = sample_volume(d, 3000, 8);

@@ -411,12 +411,32 @@ struct Clip3Options {
   // Integrate every boundary cell by the tet-by-tet clipping (sec. 4.2), the reference the
   // default path is tested against: several times slower.
   bool tet_clipping = false;
+  // For compute(domain, sites, n): the options of the Delaunay triangulation it builds.
+  Delaunay3Options delaunay;
 };
 
 class ClippedVoronoi3 {
  public:
   // Throws voroclip::Error on bad input; the result is then empty (nb_sites() == 0).
   void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
+  // The same for n sites (x y z each), faster: the Delaunay triangulation is built here, of
+  // a copy of the sites in Morton order (a stable sort: equal keys keep their input order),
+  // so that the sites of neighbouring cells are neighbours in memory; with the sites in
+  // input order each cell reads its neighbours from all over the array (sphere-fine, 10^6
+  // uniform sites: clipping 1.27-1.29 s -> 1.07-1.10 s on two threads). Cells, polygons
+  // and symbolic vertices are reported with input indices, polygons grouped by cell in
+  // input order as above. The symbolic perturbation ranks sites in that spatial order, so
+  // where it decides (a degenerate input) the result is that of compute(domain, dt) on the
+  // sorted sites, which differs from the input order's only in measure zero; the sums then
+  // differ from those in the last bits. Duplicates: the first in input order gets the cell.
+  void compute(const Domain3& domain, const double* sites, std::uint32_t n,
+               const Clip3Options& options = {});
+  // After compute(domain, sites, n): its triangulation, of the sites in spatial order (its
+  // vertex k is input site site_order()[k]), and the seconds spent on the sort, the copy
+  // and the triangulation.
+  const Delaunay3& delaunay() const { return dt_; }
+  const std::vector<std::uint32_t>& site_order() const { return site_order_; }
+  double seconds_delaunay() const { return seconds_delaunay_; }
 
   std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
   double volume(std::uint32_t i) const { return cells_[i].volume; }
@@ -481,6 +501,14 @@ class ClippedVoronoi3 {
   double seconds_[3] = {0, 0, 0};
   std::uint64_t nb_pairs_ = 0;
   Polygons surface_, faces_;
+  // compute(domain, sites, n): the sorted copy, its order and its triangulation.
+  std::vector<double> sorted_sites_;
+  std::vector<std::uint32_t> site_order_;
+  Delaunay3 dt_;
+  double seconds_delaunay_ = 0;
+  void compute_impl(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options,
+                    const std::uint32_t* input_index);
+  void to_input_indices(const std::uint32_t* input_index);
 };
 
 }  // namespace voroclip

@@ -484,6 +484,9 @@ class Delaunay3 {
   // Throws voroclip::Error for non-finite coordinates or fewer than 4 affinely
   // independent points.
   void build(const double* xyz, std::uint32_t n);
+  // The options of the next build() (the current triangulation is left as it is).
+  const Options& options() const { return options_; }
+  void set_options(const Options& options) { options_ = options; }
 
   std::uint32_t nb_points() const { return nb_points_; }
   std::uint32_t nb_unique_points() const { return nb_unique_; }
