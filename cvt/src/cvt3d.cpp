@@ -85,8 +85,8 @@ class Problem3 {
 
   // Energy at the current sites; gradient with respect to the variables.
   double evaluate(Eigen::VectorXd* grad) {
-    dt_.build(sites_.data(), static_cast<std::uint32_t>(n_));
-    cv_.compute(domain_, dt_, clip_options_);
+    // (The triangulation of the sites in spatial order: ClippedVoronoi3 sorts them.)
+    cv_.compute(domain_, sites_.data(), static_cast<std::uint32_t>(n_), clip_options_);
     ++evaluations_;
     if (grad) {
       grad->resize(static_cast<Eigen::Index>(nb_variables()));
@@ -158,7 +158,6 @@ class Problem3 {
   std::vector<std::size_t> offset_;
   std::vector<double> direction_;  // per site: unit normal (surface) or tangent (curve)
   Clip3Options clip_options_;
-  Delaunay3 dt_;
   ClippedVoronoi3 cv_;
   std::uint32_t evaluations_ = 0;
 };
@@ -185,11 +184,10 @@ double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
                    const Clip3Options& options, std::vector<double>* gradient) {
   if (sites.size() % 3 != 0) throw Error("cvt3d: the site array's length is not a multiple of 3");
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
-  const Delaunay3 dt(sites.data(), n);
   ClippedVoronoi3 cv;
   Clip3Options o = options;
   o.keep_geometry = false;
-  cv.compute(domain, dt, o);
+  cv.compute(domain, sites.data(), n, o);
   if (gradient) {
     gradient->resize(sites.size());
     for (std::uint32_t i = 0; i < n; ++i) {
