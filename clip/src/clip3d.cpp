@@ -191,9 +191,15 @@ void Clip3Impl::run() {
     first_layer.insert(first_layer.end(), s.first_layer.begin(), s.first_layer.end());
   }
   decide_status(first_layer, ts.local());
+  // Every entry is written below (Cell leaves its fields alone). Under input_index the
+  // cells go in this order first, then in input order by a gather (to_input_indices):
+  // writing them straight to their input slots, in random order, cost 0.13 s of CPU at
+  // 10^6 sites (the stores' cache misses).
+  std::vector<ClippedVoronoi3::Cell>& cells = input_index ? out.ranked_cells_ : out.cells_;
+  cells.resize(n);
   // A cell's output from its integrals (r: none for a cell outside the volume).
   const auto write_cell = [&](std::uint32_t i, const Moments* r) {
-    ClippedVoronoi3::Cell& cell = out.cells_[input_index ? input_index[i] : i];
+    ClippedVoronoi3::Cell& cell = cells[i];
     const double* p = site(i);
     cell.volume = r ? r->volume : 0;
     if (linear_density) {
@@ -210,7 +216,6 @@ void Clip3Impl::run() {
     cell.surface_area = surface_area[i];
     cell.boundary = is_boundary[i];
   };
-  out.cells_.resize(n);  // every entry is written below (Cell leaves its fields alone)
   // Inner cells write their outputs as they go (constant density); the other cells after.
   const auto written_inner = [&](std::uint32_t i) {
     return !linear_density && !is_boundary[i] && status[i] == 1;
@@ -299,13 +304,7 @@ void Clip3Impl::run() {
 
   out.nb_boundary_ = static_cast<std::uint32_t>(nb_boundary);
   out.nb_fallback_ = nb_fallback;
-  out.total_volume_ = out.total_mass_ = out.total_energy_ = out.total_surface_area_ = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    out.total_volume_ += out.cells_[i].volume;
-    out.total_mass_ += out.cells_[i].mass;
-    out.total_energy_ += out.cells_[i].energy;
-    out.total_surface_area_ += out.cells_[i].surface_area;
-  }
+  if (!input_index) out.sum_totals();
   out.nb_pairs_ = 0;
   for (const CellOut& c : clip_out) out.nb_pairs_ += c.pairs;
   for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
@@ -370,8 +369,25 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   to_input_indices(site_order_.data());
 }
 
+void ClippedVoronoi3::sum_totals() {
+  total_volume_ = total_mass_ = total_energy_ = total_surface_area_ = 0;
+  for (const Cell& c : cells_) {
+    total_volume_ += c.volume;
+    total_mass_ += c.mass;
+    total_energy_ += c.energy;
+    total_surface_area_ += c.surface_area;
+  }
+}
+
 void ClippedVoronoi3::to_input_indices(const std::uint32_t* input_index) {
-  const auto n = static_cast<std::uint32_t>(cells_.size());
+  const auto n = static_cast<std::uint32_t>(ranked_cells_.size());
+  std::vector<std::uint32_t> rank(n);
+  for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;
+  cells_.resize(n);  // written below
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 4096), [&](const auto& range) {
+    for (std::uint32_t i = range.begin(); i != range.end(); ++i) cells_[i] = ranked_cells_[rank[i]];
+  });
+  sum_totals();
   // Symbolic vertices: their sites mapped, each list sorted again.
   const auto map_vertex = [&](ClipVertex3& v) {
     int ns = 0;
@@ -387,8 +403,6 @@ void ClippedVoronoi3::to_input_indices(const std::uint32_t* input_index) {
   Polygons s;
   s.polygon_begin.assign(1, 0);
   s.site_begin.assign(1, 0);
-  std::vector<std::uint32_t> rank(n);
-  for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;
   s.site.reserve(surface_.site.size());
   s.triangle.reserve(surface_.triangle.size());
   s.vertices.reserve(surface_.vertices.size());

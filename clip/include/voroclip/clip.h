@@ -501,7 +501,9 @@ class ClippedVoronoi3 {
   double seconds_[3] = {0, 0, 0};
   std::uint64_t nb_pairs_ = 0;
   Polygons surface_, faces_;
-  // compute(domain, sites, n): the sorted copy, its order and its triangulation.
+  // compute(domain, sites, n): the sorted copy, its order and its triangulation, and the
+  // cells in that order (then gathered into cells_).
+  std::vector<Cell> ranked_cells_;
   std::vector<double> sorted_sites_;
   std::vector<std::uint32_t> site_order_;
   Delaunay3 dt_;
@@ -509,6 +511,7 @@ class ClippedVoronoi3 {
   void compute_impl(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options,
                     const std::uint32_t* input_index);
   void to_input_indices(const std::uint32_t* input_index);
+  void sum_totals();
 };
 
 }  // namespace voroclip
