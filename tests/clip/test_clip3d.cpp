@@ -158,6 +158,18 @@ ClippedVoronoi3 clip(const Domain3& d, const Delaunay3& dt, bool geometry = true
   return cv;
 }
 
+// The same cells to the last bit: volume, energy, surface area, centroid.
+void require_same_cells(const ClippedVoronoi3& a, const ClippedVoronoi3& b) {
+  REQUIRE(a.nb_sites() == b.nb_sites());
+  for (std::uint32_t i = 0; i < a.nb_sites(); ++i) {
+    INFO("site " << i);
+    REQUIRE(a.volume(i) == b.volume(i));
+    REQUIRE(a.energy(i) == b.energy(i));
+    REQUIRE(a.surface_area(i) == b.surface_area(i));
+    for (int c = 0; c < 3; ++c) REQUIRE(a.centroid(i)[c] == b.centroid(i)[c]);
+  }
+}
+
 // Volumes sum to the domain's; random points in the pieces of their nearest site's cell.
 void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3& cv,
                    std::uint32_t nb_probes, std::uint64_t seed) {
@@ -491,12 +503,7 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
     two.compute(d, dt, o);
   }
-  for (std::uint32_t i = 0; i < one.nb_sites(); ++i) {
-    REQUIRE(one.volume(i) == two.volume(i));
-    REQUIRE(one.energy(i) == two.energy(i));
-    REQUIRE(one.surface_area(i) == two.surface_area(i));
-    for (int c = 0; c < 3; ++c) REQUIRE(one.centroid(i)[c] == two.centroid(i)[c]);
-  }
+  require_same_cells(one, two);
   REQUIRE(one.cell_faces().xyz == two.cell_faces().xyz);
   REQUIRE(one.surface_polygons().xyz == two.surface_polygons().xyz);
   // The default path alone, with the restricted surface's symbolic vertices; sites outside
@@ -517,12 +524,7 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
     two.compute(d, dt2, s);
   }
   REQUIRE(std::fabs(one.total_volume() - d.volume()) <= 1e-12 * d.volume());
-  for (std::uint32_t i = 0; i < one.nb_sites(); ++i) {
-    REQUIRE(one.volume(i) == two.volume(i));
-    REQUIRE(one.energy(i) == two.energy(i));
-    REQUIRE(one.surface_area(i) == two.surface_area(i));
-    for (int c = 0; c < 3; ++c) REQUIRE(one.centroid(i)[c] == two.centroid(i)[c]);
-  }
+  require_same_cells(one, two);
   REQUIRE(one.surface_polygons().xyz == two.surface_polygons().xyz);
   REQUIRE(one.surface_polygons().vertices == two.surface_polygons().vertices);
   REQUIRE(one.surface_polygons().triangle == two.surface_polygons().triangle);
@@ -693,11 +695,7 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
     one.compute(d, sites.data(), n, o);
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    REQUIRE(one.volume(i) == cv.volume(i));
-    REQUIRE(one.energy(i) == cv.energy(i));
-    for (int c = 0; c < 3; ++c) REQUIRE(one.centroid(i)[c] == cv.centroid(i)[c]);
-  }
+  require_same_cells(one, cv);
   REQUIRE(one.surface_polygons().xyz == cv.surface_polygons().xyz);
   REQUIRE(one.surface_polygons().vertices == cv.surface_polygons().vertices);
   std::vector<double> bad = sites;
