@@ -113,16 +113,18 @@ void Clip3Impl::run() {
 
   // Cells in Morton order of their sites: consecutive cells share most of their Delaunay
   // tets, which then come from cache whatever the tets' slot numbering (the zoned Delaunay3
-  // scatters neighbouring tets). The order depends on the input alone.
+  // scatters neighbouring tets). The order depends on the input alone. Under input_index
+  // the sites are already in that order (compute(domain, sites, n) sorted them by the same
+  // keys, over the same bounding box): index order is Morton order.
   std::vector<std::uint32_t> morton;
-  morton_keys(site(0), n, morton);
+  if (!input_index) morton_keys(site(0), n, morton);
   std::vector<std::uint32_t> sort_tmp;
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
       if (take(i)) order.push_back(i);
     }
-    sort_by_key(morton, order, sort_tmp);
+    if (!input_index) sort_by_key(morton, order, sort_tmp);
   };
 
   // ---- Boundary cells (their circumcentres, like those of the inner cells, through the
@@ -366,7 +368,7 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   dt_.build(sorted_sites_.data(), n);
   seconds_delaunay_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   compute_impl(domain, dt_, options, site_order_.data());
-  to_input_indices(site_order_.data());
+  to_input_indices();
 }
 
 void ClippedVoronoi3::sum_totals() {
@@ -379,7 +381,8 @@ void ClippedVoronoi3::sum_totals() {
   }
 }
 
-void ClippedVoronoi3::to_input_indices(const std::uint32_t* input_index) {
+void ClippedVoronoi3::to_input_indices() {
+  const std::uint32_t* input_index = site_order_.data();
   const auto n = static_cast<std::uint32_t>(ranked_cells_.size());
   std::vector<std::uint32_t> rank(n);
   for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;

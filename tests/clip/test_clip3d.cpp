@@ -635,7 +635,16 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
     REQUIRE(cv.is_boundary(i) == ref.is_boundary(k));
     for (int c = 0; c < 3; ++c) REQUIRE(cv.centroid(i)[c] == ref.centroid(k)[c]);
   }
-  REQUIRE(cv.total_volume() != 0);
+  // Totals: sums over the cells in input order.
+  double volume = 0, energy = 0, area = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    volume += cv.volume(i);
+    energy += cv.energy(i);
+    area += cv.surface_area(i);
+  }
+  REQUIRE(cv.total_volume() == volume);
+  REQUIRE(cv.total_energy() == energy);
+  REQUIRE(cv.total_surface_area() == area);
   // Restricted surface: cell i's polygons are rank[i]'s, with their sites mapped.
   const ClippedVoronoi3::Polygons& s = cv.surface_polygons();
   const ClippedVoronoi3::Polygons& r = ref.surface_polygons();

@@ -510,7 +510,8 @@ class ClippedVoronoi3 {
   double seconds_delaunay_ = 0;
   void compute_impl(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options,
                     const std::uint32_t* input_index);
-  void to_input_indices(const std::uint32_t* input_index);
+  // ranked_cells_, the polygons' sites and the grouping of surface_ to input indices.
+  void to_input_indices();
   void sum_totals();
 };
 
