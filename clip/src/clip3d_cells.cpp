@@ -115,7 +115,7 @@ namespace {
 bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
                               Moments& r) const {
   Star& st = s.star;
-  star(i, st);
+  pooled_star(i, s);
   const std::vector<std::uint32_t>& tets = st.tets;
   const std::size_t m = tets.size();
   std::vector<std::int8_t>& flag = s.flag;

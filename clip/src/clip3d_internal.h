@@ -435,6 +435,10 @@ struct Clip3Impl {
     std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark;
     std::vector<NbrGeo> nbr_geo;
     std::uint32_t site_gen = 0;
+    // The stars neighbors() traversed, kept for boundary_cell: the star of site c is
+    // star_pool[star_offset[c] + 1 ..], its length at star_pool[star_offset[c]] (kNone:
+    // not traversed by this thread).
+    std::vector<std::uint32_t> star_offset, star_pool;
     TriPoly a, b;
     // Per polygon vertex, beyond the bisector (boundary cells: per star facet, its
     // crossings looked up).
@@ -469,6 +473,9 @@ struct Clip3Impl {
   };
   // Fills s.tets with the tets around v, finite and infinite.
   void star(std::uint32_t v, Star& s) const;
+  // The same star in s.star: from s's pool when neighbors() traversed it on this thread
+  // (the marks set again), else traversed.
+  void pooled_star(std::uint32_t v, ThreadScratch& s) const;
   // The Delaunay neighbours of site c (ids, and geometry relative to c), valid until the
   // next call.
   struct NeighborList {

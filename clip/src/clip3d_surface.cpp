@@ -184,6 +184,26 @@ void Clip3Impl::star(std::uint32_t v, Star& s) const {
   s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
 }
 
+void Clip3Impl::pooled_star(std::uint32_t v, ThreadScratch& s) const {
+  const std::uint32_t off = s.star_offset.size() == n ? s.star_offset[v] : kNone;
+  if (off == kNone) {
+    star(v, s.star);
+    return;
+  }
+  Star& st = s.star;
+  const std::uint32_t slots = dt.nb_tet_slots();
+  if (st.mark.size() != slots || st.next > 0xf0000000u) {
+    st.mark.assign(slots, 0);
+    st.next = 1;
+  }
+  st.first = st.next;
+  const std::uint32_t* tets = s.star_pool.data() + off + 1;
+  const std::uint32_t m = tets[-1];
+  st.tets.assign(tets, tets + m);
+  for (std::uint32_t q = 0; q < m; ++q) st.mark[tets[q]] = st.first + q;
+  st.next = st.first + m;
+}
+
 Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) const {
   if (s.nbr_offset.size() != n) s.nbr_offset.assign(n, kNone);
   std::uint32_t off = s.nbr_offset[c];
@@ -194,6 +214,10 @@ Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) 
     }
     const std::uint32_t gen = ++s.site_gen;
     star(c, s.star);
+    if (s.star_offset.size() != n) s.star_offset.assign(n, kNone);
+    s.star_offset[c] = static_cast<std::uint32_t>(s.star_pool.size());
+    s.star_pool.push_back(static_cast<std::uint32_t>(s.star.tets.size()));
+    s.star_pool.insert(s.star_pool.end(), s.star.tets.begin(), s.star.tets.end());
     off = static_cast<std::uint32_t>(s.nbr_pool.size());
     s.nbr_pool.push_back(0);
     s.nbr_geo.push_back(NbrGeo{});
