@@ -279,10 +279,7 @@ void Clip3Impl::inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const 
   // entry are prefetched when it is found).
   Star& st = s.star;
   const std::uint32_t slots = dt.nb_tet_slots();
-  if (st.mark.size() != slots || st.next > 0xf0000000u) {
-    st.mark.assign(slots, 0);
-    st.next = 1;
-  }
+  st.reset_if_needed(slots);
   st.first = st.next;
   // st.tets and s.cu serve as fixed buffers here (grown by doubling); nb_tets is the star's
   // length so far.

@@ -307,6 +307,12 @@ struct Star {
   std::uint32_t first = 1, next = 1;
   bool contains(std::uint32_t t) const { return mark[t] >= first; }
   std::uint32_t pos(std::uint32_t t) const { return mark[t] - first; }
+  // Makes mark one entry per tet slot, cleared, when it is not (or the counter nears 2^32).
+  void reset_if_needed(std::uint32_t slots) {
+    if (mark.size() == slots && next <= 0xf0000000u) return;
+    mark.assign(slots, 0);
+    next = 1;
+  }
 };
 
 // Local numbering of the Voronoi edges around a tet's vertex: for vertex li of a positive
@@ -430,15 +436,13 @@ struct Clip3Impl {
   struct ThreadScratch {
     Star star;
     // Delaunay neighbours of a site (in star order), computed once per thread: the list of
-    // site c is nbr_pool[nbr_offset[c] + 1 ..], its length at nbr_pool[nbr_offset[c]];
-    // nbr_geo[k] is the NbrGeo of nbr_pool[k] relative to c.
-    std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark;
+    // site c is nbr_pool[nbr_offset[c] + 2 ..], its length at nbr_pool[nbr_offset[c]];
+    // nbr_geo[k] is the NbrGeo of nbr_pool[k] relative to c. The star traversed to find
+    // them is kept for boundary_cell: star_pool[o + 1 ..], its length at star_pool[o], for
+    // o = nbr_pool[nbr_offset[c] + 1].
+    std::vector<std::uint32_t> nbr_offset, nbr_pool, site_mark, star_pool;
     std::vector<NbrGeo> nbr_geo;
     std::uint32_t site_gen = 0;
-    // The stars neighbors() traversed, kept for boundary_cell: the star of site c is
-    // star_pool[star_offset[c] + 1 ..], its length at star_pool[star_offset[c]] (kNone:
-    // not traversed by this thread).
-    std::vector<std::uint32_t> star_offset, star_pool;
     TriPoly a, b;
     // Per polygon vertex, beyond the bisector (boundary cells: per star facet, its
     // crossings looked up).

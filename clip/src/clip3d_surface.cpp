@@ -160,10 +160,7 @@ struct Clip3Impl::SurfaceChunk {
 
 void Clip3Impl::star(std::uint32_t v, Star& s) const {
   const std::uint32_t slots = dt.nb_tet_slots();
-  if (s.mark.size() != slots || s.next > 0xf0000000u) {
-    s.mark.assign(slots, 0);
-    s.next = 1;
-  }
+  s.reset_if_needed(slots);
   s.first = s.next;
   s.tets.clear();
   const std::uint32_t t0 = dt.vertex_tet(v);
@@ -185,17 +182,14 @@ void Clip3Impl::star(std::uint32_t v, Star& s) const {
 }
 
 void Clip3Impl::pooled_star(std::uint32_t v, ThreadScratch& s) const {
-  const std::uint32_t off = s.star_offset.size() == n ? s.star_offset[v] : kNone;
-  if (off == kNone) {
+  if (s.nbr_offset.size() != n || s.nbr_offset[v] == kNone) {
     star(v, s.star);
     return;
   }
+  const std::uint32_t off = s.nbr_pool[s.nbr_offset[v] + 1];
   Star& st = s.star;
   const std::uint32_t slots = dt.nb_tet_slots();
-  if (st.mark.size() != slots || st.next > 0xf0000000u) {
-    st.mark.assign(slots, 0);
-    st.next = 1;
-  }
+  st.reset_if_needed(slots);
   st.first = st.next;
   const std::uint32_t* tets = s.star_pool.data() + off + 1;
   const std::uint32_t m = tets[-1];
@@ -214,13 +208,13 @@ Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) 
     }
     const std::uint32_t gen = ++s.site_gen;
     star(c, s.star);
-    if (s.star_offset.size() != n) s.star_offset.assign(n, kNone);
-    s.star_offset[c] = static_cast<std::uint32_t>(s.star_pool.size());
-    s.star_pool.push_back(static_cast<std::uint32_t>(s.star.tets.size()));
-    s.star_pool.insert(s.star_pool.end(), s.star.tets.begin(), s.star.tets.end());
     off = static_cast<std::uint32_t>(s.nbr_pool.size());
     s.nbr_pool.push_back(0);
+    s.nbr_pool.push_back(static_cast<std::uint32_t>(s.star_pool.size()));
     s.nbr_geo.push_back(NbrGeo{});
+    s.nbr_geo.push_back(NbrGeo{});
+    s.star_pool.push_back(static_cast<std::uint32_t>(s.star.tets.size()));
+    s.star_pool.insert(s.star_pool.end(), s.star.tets.begin(), s.star.tets.end());
     const double* pc = site(c);
     for (const std::uint32_t t : s.star.tets) {
       for (int k = 0; k < 4; ++k) {
@@ -237,10 +231,10 @@ Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) 
         s.nbr_geo.push_back(g);
       }
     }
-    s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 1;
+    s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 2;
     s.nbr_offset[c] = off;
   }
-  return {s.nbr_pool.data() + off + 1, s.nbr_geo.data() + off + 1, s.nbr_pool[off]};
+  return {s.nbr_pool.data() + off + 2, s.nbr_geo.data() + off + 2, s.nbr_pool[off]};
 }
 
 // The cell of point p (perturbed): descent from c. If p is not in cell c, a Delaunay
