@@ -126,8 +126,14 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   fx.assign(4 * m, nullptr);
   std::vector<std::uint8_t>& known = s.beyond;
   known.assign(4 * m, 0);
+  constexpr std::size_t kAhead = 4;
+  for (std::size_t q = 0; q < kAhead && q < m; ++q) dt.prefetch_tet(tets[q]);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
+    // A pooled star's records are not in cache (its traversal was long ago): the records a
+    // few tets ahead, and the circumcentres' cache entries (read below).
+    if (q + kAhead < m) dt.prefetch_tet(tets[q + kAhead]);
+    s.circ.prefetch(t);
     std::uint32_t w[4];
     int nb = 0;
     for (int k = 0; k < 4; ++k) {
