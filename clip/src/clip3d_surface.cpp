@@ -362,7 +362,14 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
       }
       if (!found) {
         tri_coords(tri, v, c, xk);
-        s.tri_points.push_back({v.tag, {ids[0], ids[1], ids[2]}, {xk[0], xk[1], xk[2]}});
+        // Field by field into the new entry: a temporary's mixed-width stores copied by
+        // 16-byte loads stalled on store forwarding (perf annotate).
+        ThreadScratch::TriPoint& tp = s.tri_points.emplace_back();
+        tp.tag = v.tag;
+        for (int q = 0; q < 3; ++q) {
+          tp.s[q] = ids[q];
+          tp.x[q] = xk[q];
+        }
       }
     }
     double* y = &s.rel[4 * k];
@@ -427,11 +434,14 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   }
   chunk.cell.push_back(c);
   chunk.tri.push_back(tri.b);
-  const double sums[6] = {
-      r.volume,    r.moment[0],
-      r.moment[1], r.moment[2],
-      r.energy,    0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2])};
-  chunk.sums.insert(chunk.sums.end(), sums, sums + 6);
+  // Written in place (a local array copied by 16-byte loads stalled on store forwarding).
+  const std::size_t at = chunk.sums.size();
+  chunk.sums.resize(at + 6);
+  double* sums = chunk.sums.data() + at;
+  sums[0] = r.volume;
+  for (int q = 0; q < 3; ++q) sums[1 + q] = r.moment[q];
+  sums[4] = r.energy;
+  sums[5] = 0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
   if (keep_surface) {
     for (std::size_t k = 0; k < m; ++k) {
       chunk.verts.push_back(tri_symbolic(tri, p.v[k], c));
