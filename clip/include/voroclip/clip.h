@@ -504,7 +504,8 @@ class ClippedVoronoi3 {
   // compute(domain, sites, n): the sorted copy, its order and its triangulation, and the
   // cells in that order (then gathered into cells_).
   std::vector<Cell> ranked_cells_;
-  std::vector<double> sorted_sites_;
+  // Not zeroed by resize(): the parallel copy writes (and first touches) it.
+  std::vector<double, detail::UninitializedAllocator<double>> sorted_sites_;
   std::vector<std::uint32_t> site_order_;
   Delaunay3 dt_;
   double seconds_delaunay_ = 0;
