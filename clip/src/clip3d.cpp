@@ -384,11 +384,13 @@ void ClippedVoronoi3::sum_totals() {
 void ClippedVoronoi3::to_input_indices() {
   const std::uint32_t* input_index = site_order_.data();
   const auto n = static_cast<std::uint32_t>(ranked_cells_.size());
-  std::vector<std::uint32_t> rank(n);
-  for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;
-  cells_.resize(n);  // written below
+  // Scattered to their input slots in parallel (every slot written once: input_index is a
+  // permutation).
+  cells_.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 4096), [&](const auto& range) {
-    for (std::uint32_t i = range.begin(); i != range.end(); ++i) cells_[i] = ranked_cells_[rank[i]];
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      cells_[input_index[k]] = ranked_cells_[k];
+    }
   });
   sum_totals();
   // Symbolic vertices: their sites mapped, each list sorted again.
@@ -402,6 +404,8 @@ void ClippedVoronoi3::to_input_indices() {
   };
   for (std::uint32_t& c : faces_.site) c = input_index[c];
   if (surface_.site_begin.empty()) return;
+  std::vector<std::uint32_t> rank(n);
+  for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;
   // The restricted surface: per cell, its polygons, cells in input order.
   Polygons s;
   s.polygon_begin.assign(1, 0);
