@@ -965,6 +965,7 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   nb_finite_tets_ = 0;
   nb_unique_ = 0;
   vertex_tet_.clear();
+  const detail::HugePageAdvice advice(several_threads());  // (see HugePageAdvice)
   if (n < 4) {
     throw Error("Delaunay3: " + std::to_string(n) + " points; need 4 affinely independent points");
   }

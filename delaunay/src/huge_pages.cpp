@@ -9,7 +9,18 @@
 
 namespace voroclip::detail {
 
+namespace {
+thread_local bool t_advice_enabled = true;
+}  // namespace
+
+HugePageAdvice::HugePageAdvice(bool enabled) noexcept : previous_(t_advice_enabled) {
+  t_advice_enabled = enabled;
+}
+
+HugePageAdvice::~HugePageAdvice() { t_advice_enabled = previous_; }
+
 void advise_huge_pages(void* p, std::size_t bytes) noexcept {
+  if (!t_advice_enabled) return;
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   // Only whole huge pages: the advice on a partial one would split the mapping for nothing.
   constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;

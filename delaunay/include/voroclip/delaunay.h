@@ -94,6 +94,23 @@ namespace detail {
 // arrays of one build: one page fault per 2 MiB instead of per 4 KiB. Never changes results.
 void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 
+// While one lives with enabled == false, advise_huge_pages() does nothing on the thread that
+// made it (restored when it goes). Delaunay3::build() on one thread uses it: its page faults
+// are then on the critical path, and fresh huge pages measured slower to fault in than 4 KiB
+// pages on the 2-core VM (1M points, one thread: 2.35-2.59 s advised, 2.19-2.26 s not); on
+// several threads the other thread faults the pages in ahead of the zones, and the huge
+// pages spare the cells' traversals TLB misses (bench/RESULTS.md).
+class HugePageAdvice {
+ public:
+  explicit HugePageAdvice(bool enabled) noexcept;
+  ~HugePageAdvice();
+  HugePageAdvice(const HugePageAdvice&) = delete;
+  HugePageAdvice& operator=(const HugePageAdvice&) = delete;
+
+ private:
+  bool previous_;
+};
+
 // Arrays at least this large get advise_huge_pages() when allocated.
 inline constexpr std::size_t kHugePageAdviceBytes = std::size_t{4} << 20;
 
