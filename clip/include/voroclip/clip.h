@@ -502,7 +502,7 @@ class ClippedVoronoi3 {
   std::uint64_t nb_pairs_ = 0;
   Polygons surface_, faces_;
   // compute(domain, sites, n): the sorted copy, its order and its triangulation, and the
-  // cells in that order (then gathered into cells_).
+  // cells in that order (then scattered to their input slots in cells_).
   std::vector<Cell> ranked_cells_;
   // Not zeroed by resize(): the parallel copy writes (and first touches) it.
   std::vector<double, detail::UninitializedAllocator<double>> sorted_sites_;
