@@ -215,18 +215,27 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
     s.site_gen = 0;
   }
   const std::uint32_t gen = ++s.site_gen;
-  for (std::size_t q = 0; q < m; ++q) {
-    const std::uint32_t t = tets[q];
+  const auto report = [&](std::size_t q, const std::uint32_t* v) {
     for (int k = 0; k < 4; ++k) {
-      const std::uint32_t v = dt.tet_vertex(t, k);
-      if (v == Delaunay3::kInfinite || is_boundary[v] || s.site_mark[v] == gen) continue;
-      s.site_mark[v] = gen;
-      s.first_layer.emplace_back(v, flag[q]);
+      if (v[k] == Delaunay3::kInfinite || is_boundary[v[k]] || s.site_mark[v[k]] == gen) continue;
+      s.site_mark[v[k]] = gen;
+      s.first_layer.emplace_back(v[k], flag[q]);
     }
+  };
+  if (linear_density || options.tet_clipping || fallback[i]) {
+    for (std::size_t q = 0; q < m; ++q) {
+      const std::uint32_t t = tets[q];
+      const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                  dt.tet_vertex(t, 3)};
+      report(q, v);
+    }
+    return true;
   }
-  if (linear_density || options.tet_clipping || fallback[i]) return true;
 
-  // The pieces of the Voronoi edges around i inside Ω.
+  // The pieces of the Voronoi edges around i inside Ω. The circumcentres first, and with
+  // them the first-layer reports (every vertex of the star is in one of its finite tets:
+  // at most two tets around an edge are infinite; all tets of a non-boundary site carry
+  // the same flag, so which one reports it does not matter).
   const double* pi = site(i);
   std::vector<Rel>& cu = s.cu;
   cu.resize(m);
@@ -235,6 +244,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
     if (infinite(t)) continue;
     const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
                                 dt.tet_vertex(t, 3)};
+    report(q, v);
     cu[q] = rel(circumcentre(t, v, s.circ), pi);
   }
   PieceSums sums;
