@@ -4,11 +4,12 @@
 // by cutting a box with the planes of nearby particles (container with walls, blocks
 // chosen by its pre_container); voroclip triangulates the sites (Delaunay3) and clips
 // against the cube given as a tet mesh (a k x k x k grid of cubes, 6 tets each). Prints
-// the best wall and CPU time of a few interleaved runs, the cells per second per core (all
-// of voro++'s time; voroclip's total and its clipping alone, as bench_table1's column),
-// voroclip on two threads, and checks that both found n cells whose volumes sum to 1 and
-// agree (issue 5: "voro++ clips about 89k cells/s per core in a box"; target >= 500k cells/s
-// per core of clipping).
+// the best wall and CPU time of a few interleaved runs and the cells per second per core
+// from the wall times on one thread (all of voro++'s time; voroclip's total and its
+// clipping alone, as bench_table1's column: the phases are timed by the wall clock, so run
+// it on a quiet machine), voroclip on two threads, and checks that both found n cells whose volumes
+// sum to 1 and agree (issue 5: "voro++ clips about 89k cells/s per core in a box"; target >= 500k
+// cells/s per core of clipping).
 //   compare_voropp [n = 100000] [runs = 3] [k = 8]
 #include <tbb/global_control.h>
 #include <voro++/voro++.hh>
@@ -150,15 +151,15 @@ int main(int argc, char** argv) {
   std::printf("sites                  %u in the unit cube (%u tets), best of %d, wall / CPU\n", n,
               domain.nb_tets(), runs);
   std::printf("voro++                 %.3f / %.3f s  %7.0fk cells/s  (one thread)\n", best[0].wall,
-              best[0].cpu, n / best[0].cpu / 1000);
+              best[0].cpu, n / best[0].wall / 1000);
   std::printf("voroclip, total        %.3f / %.3f s  %7.0fk cells/s  (one thread)\n", best[1].wall,
-              best[1].cpu, n / best[1].cpu / 1000);
+              best[1].cpu, n / best[1].wall / 1000);
   std::printf(
       "voroclip, clipping     %.3f s          %7.0fk cells/s  (one thread, %u boundary "
       "cells)\n",
       best_clip, n / best_clip / 1000, ours.nb_boundary_sites());
   std::printf("ratio voroclip / voro++ cells/s: total %.2f, clipping %.2f\n",
-              best[0].cpu / best[1].cpu, best[0].cpu / best_clip);
+              best[0].wall / best[1].wall, best[0].wall / best_clip);
   std::printf("voroclip, two threads  %.3f / %.3f s  (clipping %.3f s, %.0fk cells/s per core)\n",
               best[2].wall, best[2].cpu, best_clip2, n / best_clip2 / 2 / 1000);
   std::printf("volume sums            voro++ %.15f (%u cells), voroclip %.15f (%u cells)\n",
