@@ -6,9 +6,10 @@
 // parallel zones that were deferred to a later pass; and 1M uniform points on 2 threads
 // with smaller zones (Options::points_per_zone 16384 and 8192: fewer points left to the
 // sequential early rounds, more deferred); uniform points on one thread with the SSE2
-// insphere determinant only (Options::use_avx2 = false), against the default (AVX2 when the
-// CPU has it) in BM_delaunay3_uniform, and the same on 2 threads against
-// BM_delaunay3_uniform_threads/1000000/2. Fixed seeds.
+// insphere determinant (Options::InsphereSimd::sse2, "_baseline") and with the AVX2 one
+// (InsphereSimd::avx2, "_avx2", the SSE2 one on a CPU without AVX2), against the default
+// (automatic: AVX2 when the CPU has it, but not on AMD Zen 1) in BM_delaunay3_uniform, and
+// the same on 2 threads against BM_delaunay3_uniform_threads/1000000/2. Fixed seeds.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -84,16 +85,18 @@ void BM_delaunay3_uniform_zones(benchmark::State& state) {
   run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
       static_cast<std::size_t>(state.range(1)), options);
 }
-void BM_delaunay3_uniform_baseline(benchmark::State& state) {
+// Uniform points (range(0)) on range(1) threads with the given insphere determinant.
+void uniform_simd(benchmark::State& state, voroclip::Delaunay3Options::InsphereSimd simd) {
   voroclip::Delaunay3Options options;
-  options.use_avx2 = false;
-  run(state, uniform_points(static_cast<std::size_t>(state.range(0))), 1, options);
-}
-void BM_delaunay3_uniform_threads_baseline(benchmark::State& state) {
-  voroclip::Delaunay3Options options;
-  options.use_avx2 = false;
+  options.insphere_simd = simd;
   run(state, uniform_points(static_cast<std::size_t>(state.range(0))),
       static_cast<std::size_t>(state.range(1)), options);
+}
+void BM_delaunay3_uniform_baseline(benchmark::State& state) {
+  uniform_simd(state, voroclip::Delaunay3Options::InsphereSimd::sse2);
+}
+void BM_delaunay3_uniform_avx2(benchmark::State& state) {
+  uniform_simd(state, voroclip::Delaunay3Options::InsphereSimd::avx2);
 }
 void BM_delaunay3_grid(benchmark::State& state) {
   run(state, grid_points(static_cast<int>(state.range(0))));
@@ -119,8 +122,15 @@ BENCHMARK(BM_delaunay3_uniform_zones)
     ->Args({1000000, 2, 8192})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_delaunay3_uniform_baseline)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_delaunay3_uniform_threads_baseline)
+BENCHMARK(BM_delaunay3_uniform_baseline)
+    ->Args({100000, 1})
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_delaunay3_uniform_avx2)
+    ->Args({100000, 1})
+    ->Args({1000000, 1})
     ->Args({1000000, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -470,11 +470,12 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   cpu_avx2 = __builtin_cpu_supports("avx2");
 #endif
   if (!cpu_avx2) WARN("no AVX2 on this CPU: only the SSE2 insphere determinant runs");
+  using Simd = Delaunay3::Options::InsphereSimd;
   Delaunay3::Options baseline;
   baseline.points_per_zone = 512;
-  baseline.use_avx2 = false;
+  baseline.insphere_simd = Simd::sse2;
   Delaunay3::Options avx2 = baseline;
-  avx2.use_avx2 = true;
+  avx2.insphere_simd = Simd::avx2;
   for (const auto& [name, xyz] : parallel_inputs()) {
     INFO(name);
     const Delaunay3 reference = build_with_threads(xyz, 1, baseline);
@@ -492,11 +493,22 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   // Default zones on 150k points: BRIO rounds of 57344 points and more go through zones.
   const auto xyz = random_points(150000, 64);
   Delaunay3::Options plain;
-  plain.use_avx2 = false;
+  plain.insphere_simd = Simd::sse2;
   const Delaunay3 reference = build_with_threads(xyz, 2, plain);
   CHECK(reference.stats().zoned_passes > 0);
+  Delaunay3::Options wide;
+  wide.insphere_simd = Simd::avx2;
+  const Delaunay3 forced = build_with_threads(xyz, 2, wide);
+  CHECK(forced.stats().avx2 == cpu_avx2);
+  CHECK(all_arrays(forced) == all_arrays(reference));
+  // The default (automatic) takes AVX2 where the CPU has it, except on AMD Zen 1.
+  bool zen1 = false;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  zen1 = __builtin_cpu_is("znver1");
+#endif
+  CHECK(Delaunay3::automatic_uses_avx2() == (cpu_avx2 && !zen1));
   const Delaunay3 dt = build_with_threads(xyz, 2, {});
-  CHECK(dt.stats().avx2 == cpu_avx2);
+  CHECK(dt.stats().avx2 == Delaunay3::automatic_uses_avx2());
   CHECK(all_arrays(dt) == all_arrays(reference));
 }
 

@@ -450,8 +450,9 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 //
 // Instruction sets. The library is built for portable x86-64 (SSE2). The insphere
 // determinant of the conflict test also has a four-lane AVX2 version, which build() uses
-// when the CPU has AVX2 (Options::use_avx2, Stats::avx2). Both perform the same IEEE
-// operations (no FMA, no contraction), so the result is the same to the last bit.
+// when the CPU has AVX2, except on AMD Zen 1, where it is slower (Options::insphere_simd,
+// Stats::avx2). Both perform the same IEEE operations (no FMA, no contraction), so the
+// result is the same to the last bit.
 //
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
 // uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
@@ -475,10 +476,19 @@ struct Delaunay3Options {
   // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
   // (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
-  // On x86-64 CPUs with AVX2 (checked at run time), compute the conflict test's insphere
-  // determinant with AVX2: the same operations, so the same triangulation to the last
-  // bit, in fewer instructions. false: always the SSE2 code.
-  bool use_avx2 = true;
+  // Which code computes the conflict test's insphere determinant: the same operations
+  // either way, so the same triangulation to the last bit; only the speed differs.
+  enum class InsphereSimd : std::uint8_t {
+    // AVX2 on x86-64 CPUs that have it (checked at run time) and where it pays: not on
+    // AMD Zen 1 ("znver1"), which splits 256-bit operations into two 128-bit halves and
+    // runs the lane permutations in several micro-ops (there SSE2 was 1-2.5 % faster on
+    // one thread, and no different on two; bench/RESULTS.md).
+    // Delaunay3::automatic_uses_avx2() tells the choice.
+    automatic,
+    sse2,  // always the SSE2 code
+    avx2,  // AVX2 whenever the CPU has it
+  };
+  InsphereSimd insphere_simd = InsphereSimd::automatic;
 };
 
 class Delaunay3 {
@@ -587,9 +597,11 @@ class Delaunay3 {
     std::uint32_t deferred_points = 0;    // of those, deferred (the cavity left the zone)
     std::uint32_t sequential_points = 0;  // points inserted sequentially
     std::uint32_t limited_points = 0;     // of those, deferred by the slot limit (Threads)
-    bool avx2 = false;                    // AVX2 insphere determinant (Options::use_avx2)
+    bool avx2 = false;                    // AVX2 insphere determinant (Options::insphere_simd)
   };
   const Stats& stats() const { return stats_; }
+  // Whether Options::InsphereSimd::automatic uses the AVX2 determinant on this CPU.
+  static bool automatic_uses_avx2();
 
   // Exact checks, used by the tests on every result. Return an empty string when valid,
   // else a description of the first defect found. check_topology also verifies the
