@@ -987,6 +987,7 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   }
   xyz_ = xyz;
   nb_points_ = n;
+  avx2_ = false;  // (also for a value outside the enumeration)
   switch (options_.insphere_simd) {
     case Options::InsphereSimd::automatic:
       avx2_ = automatic_uses_avx2();
