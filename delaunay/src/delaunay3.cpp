@@ -65,20 +65,6 @@ bool cpu_has_avx2() {
 #endif
 }
 
-// AMD Zen 1 (family 17h, "znver1"): 256-bit operations run as two 128-bit halves and
-// vpermpd as several micro-ops. On a 2.0 GHz EPYC of that kind the inlined SSE2
-// determinant was faster on one thread in 15 of 15 alternated pairs (1.3-2.5 % at 10^5
-// and 10^6 points); on two threads the order of the runs, not the code, decided 13 of 16
-// pairs (bench/RESULTS.md).
-bool cpu_is_zen1() {
-#if defined(VOROCLIP_INSPHERE_DET_AVX2)
-  __builtin_cpu_init();
-  return __builtin_cpu_is("znver1");
-#else
-  return false;
-#endif
-}
-
 bool same_point(const double* a, const double* b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
@@ -963,7 +949,18 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
   zone_plans_.clear();
 }
 
-bool Delaunay3::automatic_uses_avx2() { return cpu_has_avx2() && !cpu_is_zen1(); }
+// AVX2 where the CPU has it, but not on AMD Zen 1 (family 17h, "znver1"): 256-bit
+// operations run there as two 128-bit halves and vpermpd as several micro-ops. On a
+// 2.0 GHz EPYC of that kind the inlined SSE2 determinant was faster on one thread in 15 of
+// 15 alternated pairs (1.3-2.5 % at 10^5 and 10^6 points); on two threads the order of the
+// runs, not the code, decided 13 of 16 pairs (bench/RESULTS.md).
+bool Delaunay3::automatic_uses_avx2() {
+#if defined(VOROCLIP_INSPHERE_DET_AVX2)
+  return cpu_has_avx2() && !__builtin_cpu_is("znver1");
+#else
+  return false;
+#endif
+}
 
 void Delaunay3::note_memory() { peak_bytes_ = std::max(peak_bytes_, memory_bytes()); }
 
@@ -987,18 +984,10 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   }
   xyz_ = xyz;
   nb_points_ = n;
-  avx2_ = false;  // (also for a value outside the enumeration)
-  switch (options_.insphere_simd) {
-    case Options::InsphereSimd::automatic:
-      avx2_ = automatic_uses_avx2();
-      break;
-    case Options::InsphereSimd::sse2:
-      avx2_ = false;
-      break;
-    case Options::InsphereSimd::avx2:
-      avx2_ = cpu_has_avx2();
-      break;
-  }
+  using Simd = Options::InsphereSimd;
+  avx2_ = options_.insphere_simd == Simd::avx2
+              ? cpu_has_avx2()
+              : options_.insphere_simd == Simd::automatic && automatic_uses_avx2();
   peak_bytes_ = 0;
   stats_ = {};
   stats_.avx2 = avx2_;
