@@ -406,7 +406,10 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
     for (std::size_t k = 0; k < nb_free; ++k)
       cavity[i++] = free_top[-1 - static_cast<std::ptrdiff_t>(k)];
     zone.free.resize(zone.free.size() - nb_free);
-    for (; i < nb_new; ++i) cavity[i] = zone.fresh++;
+    // From a local copy: through zone.fresh the loop stored and reloaded it each time.
+    std::uint32_t fresh = zone.fresh;
+    for (; i < nb_new; ++i) cavity[i] = fresh++;
+    zone.fresh = fresh;
   }
 
   const bool small = nb_new <= kSmallCavity;
