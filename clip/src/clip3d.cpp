@@ -73,24 +73,33 @@ void morton_keys(const double* xyz, std::uint32_t n, std::vector<std::uint32_t>&
   });
 }
 
-// Sorts the indices in `order` by key[index], stably (two 15-bit radix passes over the
-// 30-bit keys).
+// Sorts the indices in `order` by key[index] (keys below 2^30), stably: the pairs
+// (key, index) by three 10-bit LSD radix passes, each reading its input in order and
+// writing 1024 streams. (Two 15-bit passes over the indices alone, with key[] read at
+// random and 32768 streams written, took 0.13 s at 10^6 sites on the 2.0 GHz EPYC host,
+// the largest sequential step of compute(domain, sites, n) on two threads.)
 void sort_by_key(const std::vector<std::uint32_t>& key, std::vector<std::uint32_t>& order,
-                 std::vector<std::uint32_t>& tmp) {
-  tmp.resize(order.size());
-  std::vector<std::uint32_t> count(std::size_t{1} << 15);
-  for (int shift = 0; shift < 30; shift += 15) {
-    std::fill(count.begin(), count.end(), 0u);
-    for (const std::uint32_t i : order) ++count[(key[i] >> shift) & 0x7fffu];
+                 std::vector<std::uint64_t>& pairs) {
+  const std::size_t m = order.size();
+  pairs.resize(2 * m);
+  std::uint64_t* a = pairs.data();
+  std::uint64_t* b = a + m;
+  for (std::size_t k = 0; k < m; ++k) a[k] = std::uint64_t{key[order[k]]} << 32 | order[k];
+  constexpr std::size_t kBuckets = 1024;
+  std::uint32_t count[kBuckets];
+  for (int shift = 32; shift < 62; shift += 10) {
+    std::fill_n(count, kBuckets, 0u);
+    for (std::size_t k = 0; k < m; ++k) ++count[(a[k] >> shift) & (kBuckets - 1)];
     std::uint32_t sum = 0;
     for (std::uint32_t& c : count) {
-      const std::uint32_t k = c;
+      const std::uint32_t here = c;
       c = sum;
-      sum += k;
+      sum += here;
     }
-    for (const std::uint32_t i : order) tmp[count[(key[i] >> shift) & 0x7fffu]++] = i;
-    order.swap(tmp);
+    for (std::size_t k = 0; k < m; ++k) b[count[(a[k] >> shift) & (kBuckets - 1)]++] = a[k];
+    std::swap(a, b);
   }
+  for (std::size_t k = 0; k < m; ++k) order[k] = static_cast<std::uint32_t>(a[k]);
 }
 
 }  // namespace
@@ -118,7 +127,7 @@ void Clip3Impl::run() {
   // keys, over the same bounding box): index order is Morton order.
   std::vector<std::uint32_t> morton;
   if (!input_index) morton_keys(site(0), n, morton);
-  std::vector<std::uint32_t> sort_tmp;
+  std::vector<std::uint64_t> sort_tmp;
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -349,7 +358,8 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
                   ")");
     }
   }
-  std::vector<std::uint32_t> key, tmp;
+  std::vector<std::uint32_t> key;
+  std::vector<std::uint64_t> tmp;
   morton_keys(sites, n, key);
   site_order_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) site_order_[i] = i;
