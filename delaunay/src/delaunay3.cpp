@@ -689,16 +689,34 @@ void split_zones(const std::vector<std::uint32_t>& points, ZoneT* zones, std::si
 // The number of zones a set of points is split into: a function of its size alone (never
 // of the number of threads), so that the construction is the same for any thread count;
 // a power of two, so that 2, 4, 8 ... threads share the zones evenly. Two zones from
-// 7/4 per_zone points on: the BRIO round of 1M / 16 points (62.5k < 2^16) then runs on
-// two threads instead of one (measured: +0.9% instructions on one thread at 1M, -2.9% on
-// the critical path on two).
-std::size_t zone_count(std::size_t nb_points, std::size_t per_zone) {
+// two_from points on (a function of per_zone: see the callers).
+std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t two_from) {
   per_zone = std::max<std::size_t>(per_zone, 1);
   const std::size_t wanted = nb_points / per_zone;
   std::size_t zones = 1;
   while (2 * zones <= wanted && 2 * zones <= kMaxZones) zones *= 2;
-  if (zones == 1 && 4 * nb_points >= 7 * per_zone) zones = 2;
+  if (zones == 1 && nb_points >= std::max<std::size_t>(two_from, 2)) zones = 2;
   return zones;
+}
+
+// Where a BRIO round's first pass takes two zones: from 7/4 per_zone points on (57344 by
+// default; the round of 1M / 16 points then runs on two threads), or from 7/16 per_zone
+// points on (14336) in a build with no round that large. A build that has such rounds keeps
+// its smaller ones in the sequential prefix (triangulate), which the other threads spend
+// splitting the later rounds into zones and faulting in the tet array: zoning rounds 8 and 9
+// of 1M points too was slower on two threads (median of five runs 2.249 s against 2.175 s,
+// on the 2.0 GHz EPYC host). One with none gets its largest
+// rounds in parallel: rocker-arm with 3 10^4 sites (last round about 15k points) on two
+// threads, Delaunay 0.097 -> 0.078 s; 10^5 uniform points 0.310 -> 0.227 s on two threads,
+// but 0.309 -> 0.345 s on one (the points the zones defer). A function of the round sizes
+// alone.
+std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
+                                std::size_t per_zone) {
+  const std::size_t large = (7 * per_zone + 3) / 4;
+  for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
+    if (round_starts[r + 1] - round_starts[r] >= large) return large;
+  }
+  return (7 * per_zone + 15) / 16;
 }
 
 }  // namespace
@@ -848,7 +866,8 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     points.swap(deferred);
     // The points deferred lie near the first pass's zone boundaries, which the skew frame's
     // boundaries cross: fewer points per zone suffice.
-    nb_zones = zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone / 8);
+    const std::size_t second = options_.points_per_zone / 8;
+    nb_zones = zoning_off_ ? 1 : zone_count(points.size(), second, (7 * second + 3) / 4);
   }
   insert_sequentially(points.data(), points.data() + points.size());
 }
@@ -895,10 +914,12 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
   // point that needs more is deferred to after the prefix), so that no slot is touched by
   // both; the limit depends on the input alone and the pages' contents on nothing, so the
   // result is the same for any number of threads.
+  const std::size_t per_zone = options_.points_per_zone;
+  const std::size_t two_from = first_pass_two_from(round_starts, per_zone);
   std::size_t first_zoned = 0;
   while (first_zoned < nb_rounds &&
-         zone_count(round_starts[first_zoned + 1] - round_starts[first_zoned],
-                    options_.points_per_zone) == 1) {
+         zone_count(round_starts[first_zoned + 1] - round_starts[first_zoned], per_zone,
+                    two_from) == 1) {
     ++first_zoned;
   }
   if (first_zoned < nb_rounds) {
@@ -917,12 +938,12 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
             nb_slots_ = std::max(nb_slots_, zones_[0].fresh);
           }
         },
-        [base, size, prefault, this, &round_points, first_zoned, nb_rounds] {
+        [base, size, prefault, this, &round_points, first_zoned, nb_rounds, per_zone, two_from] {
           zone_plans_.resize(nb_rounds);
-          tbb::parallel_for(first_zoned, nb_rounds, [this, &round_points](std::size_t pr) {
+          tbb::parallel_for(first_zoned, nb_rounds, [&](std::size_t pr) {
             std::vector<std::uint32_t> planned;
             round_points(pr, planned);
-            const std::size_t nb_zones = zone_count(planned.size(), options_.points_per_zone);
+            const std::size_t nb_zones = zone_count(planned.size(), per_zone, two_from);
             if (nb_zones == 1) return;
             zone_plans_[pr].resize(nb_zones);
             split_into_zones(planned, nb_zones, 0, zone_plans_[pr].data());
@@ -938,8 +959,7 @@ void Delaunay3::triangulate(const std::vector<std::uint32_t>& round_starts) {
   }
   for (; r < nb_rounds; ++r) {
     round_points(r, points);
-    const std::size_t nb_zones =
-        zoning_off_ ? 1 : zone_count(points.size(), options_.points_per_zone);
+    const std::size_t nb_zones = zoning_off_ ? 1 : zone_count(points.size(), per_zone, two_from);
     if (nb_zones > 1) {
       nb_slots_ = zones_[0].fresh;
       insert_in_parallel(points, nb_zones, r < zone_plans_.size() ? &zone_plans_[r] : nullptr);

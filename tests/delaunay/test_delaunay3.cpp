@@ -436,7 +436,7 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
-  // only rounds of 57344 points or more do).
+  // only rounds of 57344 points or more do, or of 14336 in a build with no such round).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;
@@ -527,7 +527,9 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
     xyz.insert(xyz.end(), {t, t * t, t * t * t});
   }
   Delaunay3::Options zoned;
-  zoned.points_per_zone = 64;  // only the last BRIO round (about 150 points) is zoned
+  // No round reaches 7/4 * 256 points, so two zones from 7/16 * 256 = 112 points on: only
+  // the last BRIO round (about 150 points) is zoned.
+  zoned.points_per_zone = 256;
   Delaunay3::Options sequential;
   sequential.points_per_zone = 0xffffffffu;
   const Delaunay3 one = build_with_threads(xyz, 1, zoned);
@@ -546,6 +548,21 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
     CHECK(dt.stats().limited_points == one.stats().limited_points);
     CHECK(all_arrays(dt) == arrays);
   }
+}
+
+TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
+          "[delaunay][parallel]") {
+  // 30k points: the last BRIO round (about 15k) is at least 7/16 * 32768 = 14336 points,
+  // so it goes through two zones; the rounds before it are sequential.
+  const auto xyz = random_points(30000, 43);
+  const Delaunay3 one = build_with_threads(xyz, 1, {});
+  require_valid(one);
+  CHECK(one.stats().zoned_passes > 0);
+  CHECK(one.stats().zoned_points > 12000);
+  CHECK(one.stats().zoned_points < 18000);
+  CHECK(one.stats().deferred_points > 0);
+  const Delaunay3 two = build_with_threads(xyz, 2, {});
+  CHECK(all_arrays(two) == all_arrays(one));
 }
 
 TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",

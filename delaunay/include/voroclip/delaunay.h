@@ -425,7 +425,8 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options) is split by count
+// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; 7/16 in a build
+// with no round that large) is split by count
 // into zones (kd bisection along the longest axis), each inserted by its own TBB task along
 // the Hilbert curve of its box. A task only touches tets having a facet whose finite
 // vertices all lie in its zone, which no other task can touch (two facets of a tet share
@@ -471,10 +472,11 @@ struct Delaunay3Options {
   bool check = false;
   // Parallel insertion: a BRIO round of n points is split into as many zones as the
   // largest power of two <= n / points_per_zone (at most 64), but two from 7/4 *
-  // points_per_zone on (a smaller round is inserted sequentially), the points it defers
-  // into zones of points_per_zone / 8. Fewer points per zone give more parallelism and more points
-  // deferred at zone boundaries. The tet set never depends on it; the slot numbering does
-  // (but never on the number of threads).
+  // points_per_zone on (from 7/16 * points_per_zone in a build with no round that large; a
+  // smaller round is inserted sequentially), the points it defers into zones of
+  // points_per_zone / 8 (two from 7/4 of that on). Fewer points per zone give more
+  // parallelism and more points deferred at zone boundaries. The tet set never depends on
+  // it; the slot numbering does (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
   // Which code computes the conflict test's insphere determinant: the same operations
   // either way, so the same triangulation to the last bit; only the speed differs.
