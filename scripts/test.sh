@@ -45,7 +45,11 @@ cmake --build build/test -j2
 ctest --test-dir build/test --output-on-failure -j2
 
 stage "4/4 ASan+UBSan build (build/asan) and ctest without the install test"
+# -O1 -g1 (line tables, enough for the sanitizers' stack traces): test_clip3d.cpp compiles
+# in 27 s instead of 71 s with RelWithDebInfo's -O2 -g (2.0 GHz EPYC host), and this stage's
+# build was 18 of the suite's 30 minutes there.
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   -DVOROCLIP_SANITIZE=address,undefined -DVOROCLIP_WITH_CGAL_TESTS=OFF \
   -DVOROCLIP_BUILD_BENCH=OFF -DVOROCLIP_WERROR=ON
 cmake --build build/asan -j2
