@@ -701,15 +701,14 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
 
 // Where a BRIO round's first pass takes two zones: from 7/4 per_zone points on (57344 by
 // default; the round of 1M / 16 points then runs on two threads), or from 7/16 per_zone
-// points on (14336) in a build with no round that large. A build that has such rounds keeps
-// its smaller ones in the sequential prefix (triangulate), which the other threads spend
-// splitting the later rounds into zones and faulting in the tet array: zoning rounds 8 and 9
-// of 1M points too was slower on two threads (median of five runs 2.249 s against 2.175 s,
-// on the 2.0 GHz EPYC host). One with none gets its largest
-// rounds in parallel: rocker-arm with 3 10^4 sites (last round about 15k points) on two
-// threads, Delaunay 0.097 -> 0.078 s; 10^5 uniform points 0.310 -> 0.227 s on two threads,
-// but 0.309 -> 0.345 s on one (the points the zones defer). A function of the round sizes
-// alone.
+// points on (14336) in a build with no round that large. A build with such a round keeps
+// its smaller ones in the sequential prefix (triangulate), during which the other threads
+// split the later rounds into zones and fault in the tet array; zoning rounds 8 and 9 of
+// 1M points too was slower on two threads (median of five runs 2.249 s against 2.175 s on
+// the 2.0 GHz EPYC host). A build with none gets its largest rounds in parallel: rocker-arm
+// with 3 10^4 sites (last round about 15k points) on two threads, Delaunay 0.097 -> 0.078 s;
+// 10^5 uniform points 0.310 -> 0.227 s on two threads, but 0.309 -> 0.345 s on one (the
+// points the zones defer). A function of the round sizes alone.
 std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
                                 std::size_t per_zone) {
   const std::size_t large = (7 * per_zone + 3) / 4;

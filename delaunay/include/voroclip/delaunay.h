@@ -425,16 +425,15 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; 7/16 in a build
-// with no round that large) is split by count
-// into zones (kd bisection along the longest axis), each inserted by its own TBB task along
-// the Hilbert curve of its box. A task only touches tets having a facet whose finite
-// vertices all lie in its zone, which no other task can touch (two facets of a tet share
-// an edge), so the tasks need no locks: a point whose walk or cavity would reach a vertex
-// outside the zone is deferred, leaving the triangulation untouched. The deferred points
-// get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x), whose faces
-// cross the first pass's), and what remains is inserted sequentially. Zones of many points
-// that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
+// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; 7/16 in a
+// build with no round that large) is split by count into zones (kd bisection along the
+// longest axis), each inserted by its own TBB task along the Hilbert curve of its box. A task only
+// touches tets having a facet whose finite vertices all lie in its zone, which no other task can
+// touch (two facets of a tet share an edge), so the tasks need no locks: a point whose walk or
+// cavity would reach a vertex outside the zone is deferred, leaving the triangulation untouched.
+// The deferred points get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x),
+// whose faces cross the first pass's), and what remains is inserted sequentially. Zones of many
+// points that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
 // for the rest of the build. This is HXT's scheme (Marot, Pellerin & Remacle, "One
 // machine, one minute, three billion tetrahedra", IJNME 2019) with boxes instead of Hilbert
 // ranges as zones. Each zone owns a range of fresh slots and a share of the free ones. The
@@ -460,7 +459,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads (a 2.6 GHz
 // Xeon); 3.3-3.4 s, 0.59-0.60 of CGAL, and 1.8-1.95 s on two threads on a 2.0 GHz Zen 1
 // EPYC, where the zones cost 10-12 % on one thread. 10^5 points on that EPYC: 0.23 s on two
-// threads, 0.34 s (0.52 of CGAL) on one. 35 bytes per tet at the end, 39 at the peak.
+// threads, 0.345 s (0.52 of CGAL) on one. 35 bytes per tet at the end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
 // mixed (free slots left by the construction are filled with the last live records).
