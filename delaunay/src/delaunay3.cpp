@@ -1115,45 +1115,49 @@ void Delaunay3::finish() {
   }
   nb_slots_ = live;
   tets_.resize(8 * static_cast<std::size_t>(live));
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, live, 16384),
-                    [this](const tbb::blocked_range<std::uint32_t>& range) {
-                      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-                        std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
-                        for (std::size_t k = 0; k < 3; ++k) w[k] = input_id_[w[k]];
-                        if (w[3] != kInfinite) w[3] = input_id_[w[3]];
-                      }
-                    });
-  // Slots [first, last) downwards: vertex_tet[v] ends as the smallest finite tet of the
-  // range incident to v. Returns the number of finite tets in the range. (Measured:
-  // renumbering in the same loop is slower on one thread, 47 -> 62 ms at 10^6 points.)
-  const auto scan = [this](std::uint32_t first, std::uint32_t last, std::uint32_t* vertex_tet) {
+  // Slots [first, last) downwards, ranks to input indices on the way: at_rank[r] ends as
+  // the smallest finite tet of the range incident to rank r. Returns the number of finite
+  // tets in the range. Indexed by rank, the writes follow the insertion order (nearby slots
+  // hold nearby ranks); indexed by input index, after the renumbering, they scatter. At
+  // 10^6 uniform points on one thread, renumbering then scanning by input index took
+  // 0.052 + 0.105 s; this loop and the scatter to input indices take about 0.08 s.
+  const auto scan = [this](std::uint32_t first, std::uint32_t last, std::uint32_t* at_rank) {
     std::uint32_t nb_finite = 0;
     for (std::uint32_t t = last; t-- > first;) {
-      const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
-      if (w[3] == kInfinite) continue;
+      std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+      if (w[3] == kInfinite) {
+        for (std::size_t k = 0; k < 3; ++k) w[k] = input_id_[w[k]];
+        continue;
+      }
       ++nb_finite;
-      for (std::size_t k = 0; k < 4; ++k) vertex_tet[w[k]] = t;
+      for (std::size_t k = 0; k < 4; ++k) {
+        at_rank[w[k]] = t;
+        w[k] = input_id_[w[k]];
+      }
     }
     return nb_finite;
   };
+  const auto m = static_cast<std::uint32_t>(input_id_.size());
+  std::vector<std::uint32_t> at_rank(m, kNoTet);
   vertex_tet_.assign(nb_points_, kNoTet);
   if (several_threads()) {
-    // The two halves concurrently, the upper one into a scratch array; a vertex's smallest
+    // The two halves concurrently, the upper one into a second array; a vertex's smallest
     // tet is in the lower half if it has one there: the same result as one pass.
-    std::vector<std::uint32_t> upper(nb_points_, kNoTet);
+    std::vector<std::uint32_t> upper(m, kNoTet);
     const std::uint32_t half = live / 2;
     std::uint32_t nb_lower = 0, nb_upper = 0;
-    tbb::parallel_invoke([&] { nb_lower = scan(0, half, vertex_tet_.data()); },
+    tbb::parallel_invoke([&] { nb_lower = scan(0, half, at_rank.data()); },
                          [&] { nb_upper = scan(half, live, upper.data()); });
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_points_, 65536),
-                      [this, &upper](const tbb::blocked_range<std::uint32_t>& range) {
-                        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
-                          if (vertex_tet_[v] == kNoTet) vertex_tet_[v] = upper[v];
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, m, 65536),
+                      [this, &at_rank, &upper](const tbb::blocked_range<std::uint32_t>& range) {
+                        for (std::uint32_t r = range.begin(); r != range.end(); ++r) {
+                          vertex_tet_[input_id_[r]] = at_rank[r] != kNoTet ? at_rank[r] : upper[r];
                         }
                       });
     nb_finite_tets_ = nb_lower + nb_upper;
   } else {
-    nb_finite_tets_ = scan(0, live, vertex_tet_.data());
+    nb_finite_tets_ = scan(0, live, at_rank.data());
+    for (std::uint32_t r = 0; r < m; ++r) vertex_tet_[input_id_[r]] = at_rank[r];
   }
   pts_ = xyz_;
   sos_ids_ = nullptr;

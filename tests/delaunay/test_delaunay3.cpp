@@ -432,6 +432,22 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
   return inputs;
 }
 
+// vertex_tet's contract by brute force: for every point, the smallest-numbered finite tet
+// incident to it, or kNoTet for a duplicate (not a vertex).
+void check_vertex_tets(const Delaunay3& dt) {
+  std::vector<std::uint32_t> smallest(dt.nb_points(), Delaunay3::kNoTet);
+  for (std::uint32_t t = dt.nb_tet_slots(); t-- > 0;) {
+    if (dt.is_infinite(t)) continue;
+    for (int k = 0; k < 4; ++k) smallest[dt.tet_vertex(t, k)] = t;
+  }
+  std::size_t wrong = 0;
+  for (std::uint32_t v = 0; v < dt.nb_points(); ++v) {
+    const bool vertex = dt.duplicate_of(v) == v;
+    wrong += dt.vertex_tet(v) != smallest[v] || (smallest[v] == Delaunay3::kNoTet) == vertex;
+  }
+  CHECK(wrong == 0);
+}
+
 }  // namespace
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
@@ -445,6 +461,7 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
     INFO(name);
     const Delaunay3 one = build_with_threads(xyz, 1, zoned);
     require_valid(one);
+    check_vertex_tets(one);
     CHECK(one.stats().zoned_passes >= 4);
     CHECK(one.stats().zoned_points > one.stats().sequential_points);
     CHECK(one.stats().deferred_points > 0);
@@ -457,6 +474,7 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
     for (const std::size_t threads : {2u, 4u}) {
       INFO(threads << " threads");
       const Delaunay3 dt = build_with_threads(xyz, threads, zoned);
+      check_vertex_tets(dt);
       CHECK(all_arrays(dt) == arrays);
     }
   }
