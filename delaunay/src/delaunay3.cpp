@@ -700,22 +700,30 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
 }
 
 // Where a BRIO round's first pass takes two zones: from 7/4 per_zone points on (57344 by
-// default; the round of 1M / 16 points then runs on two threads), or from 7/16 per_zone
-// points on (14336) in a build with no round that large. A build with such a round keeps
-// its smaller ones in the sequential prefix (triangulate), during which the other threads
+// default; the round of 1M / 16 points then runs on two threads), or from 7/64 per_zone
+// points on (3584) in a build with no round that large but one of 7/16 per_zone (14336) or
+// more; a build with neither is sequential. A build with a round of 57344 keeps its
+// smaller ones in the sequential prefix (triangulate), during which the other threads
 // split the later rounds into zones and fault in the tet array; zoning rounds 8 and 9 of
 // 1M points too was slower on two threads (median of five runs 2.249 s against 2.175 s on
-// the 2.0 GHz EPYC host). A build with none gets its largest rounds in parallel: rocker-arm
-// with 3 10^4 sites (last round about 15k points) on two threads, Delaunay 0.097 -> 0.078 s;
-// 10^5 uniform points 0.310 -> 0.227 s on two threads, but 0.309 -> 0.345 s on one (the
-// points the zones defer). A function of the round sizes alone.
+// the 2.0 GHz EPYC host). A mid-size build gets all but its smallest rounds in parallel:
+// with 3 10^4 points (rounds of about 15k, 7.5k and 3.7k points in zones) rocker-arm's
+// Delaunay phase takes 0.060-0.065 s on two threads instead of 0.074-0.076 s with only the
+// 15k round in zones (0.097 s with none); 10^5 uniform points 0.198-0.200 s instead of
+// 0.219-0.226 s. The price is the points the zones defer, on one thread: 10^5 points
+// 0.331 -> 0.335-0.338 s, rocker-arm's phase 0.098-0.100 -> 0.102-0.105 s. Builds of 10^4
+// points (largest round about 5k) stay sequential: zoning their 5k round took their
+// one-thread time from 0.029 to 0.031 s. A function of the round sizes alone.
 std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
                                 std::size_t per_zone) {
   const std::size_t large = (7 * per_zone + 3) / 4;
+  const std::size_t mid = (7 * per_zone + 15) / 16;
+  std::size_t largest = 0;
   for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
-    if (round_starts[r + 1] - round_starts[r] >= large) return large;
+    largest = std::max<std::size_t>(largest, round_starts[r + 1] - round_starts[r]);
   }
-  return (7 * per_zone + 15) / 16;
+  if (largest >= large) return large;
+  return largest >= mid ? (7 * per_zone + 63) / 64 : mid;
 }
 
 }  // namespace

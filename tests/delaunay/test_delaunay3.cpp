@@ -452,7 +452,8 @@ void check_vertex_tets(const Delaunay3& dt) {
 
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
-  // only rounds of 57344 points or more do, or of 14336 in a build with no such round).
+  // only rounds of 57344 points or more do, or in a build with no such round but one of
+  // 14336, those of 3584 or more).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;
@@ -545,9 +546,9 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
     xyz.insert(xyz.end(), {t, t * t, t * t * t});
   }
   Delaunay3::Options zoned;
-  // No round reaches 7/4 * 256 points, so two zones from 7/16 * 256 = 112 points on: only
-  // the last BRIO round (about 150 points) is zoned.
-  zoned.points_per_zone = 256;
+  // The last BRIO round (about 150 points) reaches 7/4 * 64 = 112 points: it is zoned, and
+  // the rounds before it are the sequential prefix, under the slot limit.
+  zoned.points_per_zone = 64;
   Delaunay3::Options sequential;
   sequential.points_per_zone = 0xffffffffu;
   const Delaunay3 one = build_with_threads(xyz, 1, zoned);
@@ -571,13 +572,14 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
 TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
           "[delaunay][parallel]") {
   // 30k points: the last BRIO round (about 15k) is at least 7/16 * 32768 = 14336 points,
-  // so it goes through two zones; the rounds before it are sequential.
+  // so the rounds of 7/64 * 32768 = 3584 points or more (about 15k, 7.5k and 3.7k) go
+  // through two zones each; the smaller ones (about 3.7k points in all) are sequential.
   const auto xyz = random_points(30000, 43);
   const Delaunay3 one = build_with_threads(xyz, 1, {});
   require_valid(one);
-  CHECK(one.stats().zoned_passes > 0);
-  CHECK(one.stats().zoned_points > 12000);
-  CHECK(one.stats().zoned_points < 18000);
+  CHECK(one.stats().zoned_passes >= 3);
+  CHECK(one.stats().zoned_points > 24000);
+  CHECK(one.stats().zoned_points < 28000);
   CHECK(one.stats().deferred_points > 0);
   const Delaunay3 two = build_with_threads(xyz, 2, {});
   CHECK(all_arrays(two) == all_arrays(one));

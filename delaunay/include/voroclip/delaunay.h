@@ -425,12 +425,13 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; 7/16 in a
-// build with no round that large) is split by count into zones (kd bisection along the
-// longest axis), each inserted by its own TBB task along the Hilbert curve of its box. A task only
-// touches tets having a facet whose finite vertices all lie in its zone, which no other task can
-// touch (two facets of a tet share an edge), so the tasks need no locks: a point whose walk or
-// cavity would reach a vertex outside the zone is deferred, leaving the triangulation untouched.
+// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; in a build with
+// no round that large, 7/64 if a round reaches 7/16, else none) is split by count into
+// zones (kd bisection along the longest axis), each inserted by its own TBB task along the
+// Hilbert curve of its box. A task only touches tets having a facet whose finite vertices
+// all lie in its zone, which no other task can touch (two facets of a tet share an edge),
+// so the tasks need no locks: a point whose walk or cavity would reach a vertex outside the
+// zone is deferred, leaving the triangulation untouched.
 // The deferred points get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x),
 // whose faces cross the first pass's), and what remains is inserted sequentially. Zones of many
 // points that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
@@ -469,13 +470,13 @@ struct Delaunay3Options {
   // Run check_topology() and check_delaunay() at the end of every build and throw
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
-  // Parallel insertion: a BRIO round of n points is split into as many zones as the
-  // largest power of two <= n / points_per_zone (at most 64), but two from 7/4 *
-  // points_per_zone on (from 7/16 * points_per_zone in a build with no round that large; a
-  // smaller round is inserted sequentially), the points it defers into zones of
-  // points_per_zone / 8 (two from 7/4 of that on). Fewer points per zone give more
-  // parallelism and more points deferred at zone boundaries. The tet set never depends on
-  // it; the slot numbering does (but never on the number of threads).
+  // Parallel insertion: a BRIO round of n points is split into as many zones as the largest
+  // power of two <= n / points_per_zone (at most 64), but two from 7/4 * points_per_zone on
+  // (in a build with no round that large, from 7/64 * points_per_zone if a round reaches
+  // 7/16 of it, else never; a smaller round is inserted sequentially), the points it defers
+  // into zones of points_per_zone / 8 (two from 7/4 of that on). Fewer points per zone give
+  // more parallelism and more points deferred at zone boundaries. The tet set never depends
+  // on it; the slot numbering does (but never on the number of threads).
   std::uint32_t points_per_zone = 32768;
   // Which code computes the conflict test's insphere determinant: the same operations
   // either way, so the same triangulation to the last bit; only the speed differs.
