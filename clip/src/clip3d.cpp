@@ -17,9 +17,10 @@
 // 3. Other cells are wholly inside or outside; boundary cells decide their neighbours,
 //    which spread it (clip3d_cells.cpp). Inner cells are the cones from the site over their
 //    Voronoi facets, from the circumcentres of the Delaunay tets: per Delaunay facet around
-//    the site, one Voronoi edge, two triangles (clip3d_internal.h, add_edge_piece). Under a
-//    non-constant density inner cells are clipped tet by tet, layer after layer from the
-//    boundary cells.
+//    the site, one Voronoi edge, two triangles (clip3d_internal.h, add_edge_piece). They go
+//    in fixed chunks of consecutive cells in Morton order, each chunk's tets taken once
+//    (inner_chunk). Under a non-constant density inner cells are clipped tet by tet, layer
+//    after layer from the boundary cells.
 // Every loop writes per-triangle or per-cell slots and every reduction runs in index
 // order: the result does not depend on the thread count.
 #include <tbb/blocked_range.h>
@@ -40,6 +41,8 @@ namespace voroclip {
 using namespace clip3;
 
 namespace {
+
+constexpr std::size_t kInnerChunk = 1024;  // inner cells per chunk (run)
 
 // Morton keys of n points (x y z each): 10 bits per axis over their bounding box.
 void morton_keys(const double* xyz, std::uint32_t n, std::vector<std::uint32_t>& key) {
@@ -277,25 +280,23 @@ void Clip3Impl::run() {
     }
   } else {
     spatial(written_inner, order);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 256),
-                      [&](const auto& range) {
-                        ThreadScratch& s = ts.local();
-                        // The cells' sites may be scattered over memory (compute(domain,
-                        // dt) with sites in input order): their first tet and site a few
-                        // cells ahead, that tet's record after.
-                        constexpr std::size_t kAhead = 8;
-                        for (std::size_t q = range.begin(); q != range.end(); ++q) {
-                          if (q + 2 * kAhead < order.size()) {
-                            dt.prefetch_vertex(order[q + 2 * kAhead]);
-                          }
-                          if (q + kAhead < order.size()) {
-                            dt.prefetch_tet(dt.vertex_tet(order[q + kAhead]));
-                          }
-                          Moments r;
-                          inner_cell(order[q], s, r);
-                          write_cell(order[q], &r);
-                        }
-                      });
+    // Chunks of kInnerChunk cells: fixed (the sums' order is a function of the chunk), each
+    // chunk's tets taken once instead of once per vertex. Against one star per cell
+    // (measured on the 2.0 GHz EPYC host, sphere-fine): inner cells 0.0214 -> 0.017 s at
+    // 10^4 sites on one thread, 0.131 -> 0.101 s at 10^5 on two; 1024 cells (about 10^4
+    // tets) did better than 512 or 2048 overall, 8192 overflow the 512 KiB L2.
+    const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
+      ThreadScratch& s = ts.local();
+      s.chunk_out.resize(kInnerChunk);
+      for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        const std::size_t begin = h * kInnerChunk;
+        const std::size_t end = std::min(order.size(), begin + kInnerChunk);
+        inner_chunk(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
+                    s.chunk_out.data());
+        for (std::size_t q = begin; q < end; ++q) write_cell(order[q], &s.chunk_out[q - begin]);
+      }
+    });
   }
 
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {

@@ -288,83 +288,107 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   return true;
 }
 
-void Clip3Impl::inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const {
-  // The star traversal and the pieces in one pass: a Voronoi edge (a facet around i shared
-  // by tets at star positions q2 < q) is taken when its later tet q is expanded, when both
-  // circumcentres are known (each is found when its tet is expanded; its record and cache
-  // entry are prefetched when it is found).
+void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
+                            Moments* result) const {
+  // The tets with a vertex in the chunk, breadth first from each cell's vertex_tet through
+  // the facets that have one (every star is connected through such facets), each taken
+  // once: its circumcentre, relative to each chunk vertex. A Voronoi edge (a facet with a
+  // chunk vertex, between tets at positions q2 < q) is taken when tet q is expanded, for
+  // each chunk vertex of the facet. The order is a function of the chunk alone.
   Star& st = s.star;
-  const std::uint32_t slots = dt.nb_tet_slots();
-  st.reset_if_needed(slots);
+  st.reset_if_needed(dt.nb_tet_slots());
   st.first = st.next;
-  // st.tets and s.cu serve as fixed buffers here (grown by doubling); nb_tets is the star's
-  // length so far.
-  std::vector<std::uint32_t>& tets = st.tets;
-  std::vector<Rel>& cu = s.cu;
-  if (tets.size() < 64) tets.resize(64);
-  if (cu.size() < tets.size()) cu.resize(tets.size());
-  std::uint32_t* tp = tets.data();
-  Rel* cp = cu.data();
-  std::uint32_t cap = static_cast<std::uint32_t>(std::min(tets.size(), cu.size()));
-  const double* pi = site(i);
-  const std::uint32_t t0 = dt.vertex_tet(i);
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
-  mark[t0] = first;
-  tp[0] = t0;
-  std::uint32_t nb_tets = 1;
-  PieceSums sums;
-  FootCache feet;
-  for (std::uint32_t q = 0; q < nb_tets; ++q) {
-    const std::uint32_t t = tp[q];
-    // The sites of the next tet in the queue (its record was prefetched when it was found).
-    if (q + 1 < nb_tets) {
-      const std::uint32_t tn = tp[q + 1];
-      for (int k = 0; k < 4; ++k) {
-        const std::uint32_t w = dt.tet_vertex(tn, k);
-        if (w != Delaunay3::kInfinite) __builtin_prefetch(site(w));
-        __builtin_prefetch(mark + dt.tet_adjacent(tn, k));
+  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
+  std::uint32_t* slot = s.chunk_slot.data();
+  for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
+  s.chunk_sums.assign(count, PieceSums{});
+  PieceSums* sums = s.chunk_sums.data();
+  // st.tets, s.chunk_c and s.chunk_rel serve as fixed buffers (grown by doubling).
+  std::vector<std::uint32_t>& tets = st.tets;
+  if (tets.size() < 64) tets.resize(64);
+  std::uint32_t cap = static_cast<std::uint32_t>(tets.size());
+  if (s.chunk_c.size() < cap) s.chunk_c.resize(cap);
+  if (s.chunk_rel.size() < 4 * std::size_t{cap}) s.chunk_rel.resize(4 * std::size_t{cap});
+  std::uint32_t* tp = tets.data();
+  std::array<double, 3>* cc = s.chunk_c.data();
+  Rel* cr = s.chunk_rel.data();
+  std::uint32_t nb_tets = 0;
+  const auto room_for = [&](std::uint32_t extra) {
+    if (nb_tets + extra <= cap) return;
+    cap *= 2;
+    tets.resize(cap);
+    s.chunk_c.resize(cap);
+    s.chunk_rel.resize(4 * std::size_t{cap});
+    tp = tets.data();
+    cc = s.chunk_c.data();
+    cr = s.chunk_rel.data();
+  };
+  for (std::uint32_t seed = 0; seed < count; ++seed) {
+    const std::uint32_t t0 = dt.vertex_tet(cells[seed]);
+    if (mark[t0] >= first) continue;
+    room_for(1);
+    mark[t0] = first + nb_tets;
+    tp[nb_tets++] = t0;
+    for (std::uint32_t q = nb_tets - 1; q < nb_tets; ++q) {
+      const std::uint32_t t = tp[q];
+      // The sites of the next tet in the queue (its record was prefetched when it was found).
+      if (q + 1 < nb_tets) {
+        const std::uint32_t tn = tp[q + 1];
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t w = dt.tet_vertex(tn, k);
+          if (w != Delaunay3::kInfinite) __builtin_prefetch(site(w));
+          __builtin_prefetch(mark + dt.tet_adjacent(tn, k));
+        }
       }
-    }
-    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
-    int li = -1;
-    Foot h[4];
-    for (int k = 0; k < 4; ++k) {
-      if (v[k] == i) {
-        li = k;
-        continue;
-      }
-      if (v[k] == Delaunay3::kInfinite) {
+      const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                  dt.tet_vertex(t, 3)};
+      if (v[3] == Delaunay3::kInfinite) {  // (an infinite tet has kInfinite as vertex 3)
+        const std::uint32_t i = slot[v[0]] != 0 ? v[0] : slot[v[1]] != 0 ? v[1] : v[2];
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
       }
-      h[k] = feet.get(v[k], site(v[k]), pi);
-    }
-    cp[q] = rel(circumcentre(t, v, s.circ), pi);
-    if (nb_tets + 3 > cap) {
-      cap *= 2;
-      tets.resize(cap);
-      cu.resize(cap);
-      tp = tets.data();
-      cp = cu.data();
-    }
-    for (int f = 0; f < 4; ++f) {
-      if (f == li) continue;
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      const std::uint32_t mk = mark[t2];
-      if (mk < first) {
-        mark[t2] = first + nb_tets;
-        tp[nb_tets++] = t2;
-        dt.prefetch_tet(t2);
-        s.circ.prefetch(t2);
-      } else if (mk - first < q) {
-        add_edge_piece(h[kFaceOther[li][f][0]], h[kFaceOther[li][f][1]], cp[q], cp[mk - first],
-                       sums);
+      std::uint32_t in[4];
+      unsigned in_mask = 0;
+      for (int k = 0; k < 4; ++k) {
+        in[k] = slot[v[k]];
+        in_mask |= in[k] != 0 ? 1u << k : 0u;
+      }
+      const double* c = circumcentre(t, v, s.circ);
+      cc[q] = {c[0], c[1], c[2]};
+      for (int k = 0; k < 4; ++k) {
+        if (in[k] != 0) cr[4 * std::size_t{q} + k] = rel(c, site(v[k]));
+      }
+      room_for(4);
+      for (int f = 0; f < 4; ++f) {
+        const unsigned facet_mask = in_mask & ~(1u << f);  // the facet's chunk vertices
+        if (facet_mask == 0) continue;
+        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        const std::uint32_t mk = mark[t2];
+        if (mk < first) {
+          mark[t2] = first + nb_tets;
+          tp[nb_tets++] = t2;
+          dt.prefetch_tet(t2);
+          s.circ.prefetch(t2);
+        } else if (mk - first < q) {
+          const double* c2 = cc[mk - first].data();
+          for (int k = 0; k < 4; ++k) {
+            if ((facet_mask >> k & 1u) == 0) continue;
+            const double* px = site(v[k]);
+            const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
+            add_edge_piece(foot(site(vj), px), foot(site(vk), px), cr[4 * std::size_t{q} + k],
+                           rel(c2, px), sums[in[k] - 1]);
+          }
+        }
       }
     }
   }
   st.next = first + nb_tets;
-  sums.add_to(r);
+  for (std::uint32_t k = 0; k < count; ++k) {
+    slot[cells[k]] = 0;
+    result[k] = Moments{};
+    sums[k].add_to(result[k]);
+  }
 }
 
 void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {

@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -470,7 +471,15 @@ struct Clip3Impl {
     std::vector<std::int8_t> flag;
     std::vector<std::uint32_t> queue;
     clip3::CircumcentreCache circ;
-    std::vector<clip3::Rel> cu;            // per star tet: its circumcentre relative to the site
+    std::vector<clip3::Rel> cu;  // per star tet: its circumcentre relative to the site
+    // inner_chunk: per site, its position in the chunk + 1 (0: not in it); per tet of the
+    // chunk, its circumcentre and that relative to each chunk vertex; per cell, its sums
+    // and its moments.
+    std::vector<std::uint32_t> chunk_slot;
+    std::vector<std::array<double, 3>> chunk_c;
+    std::vector<clip3::Rel> chunk_rel;
+    std::vector<clip3::PieceSums> chunk_sums;
+    std::vector<clip3::Moments> chunk_out;
     std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
@@ -526,7 +535,10 @@ struct Clip3Impl {
   // False when no Voronoi vertex of its star could be placed from its own crossings.
   bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
                      Moments& r) const;
-  void inner_cell(std::uint32_t i, ThreadScratch& s, Moments& r) const;
+  // The inner cells cells[0, count) (consecutive in Morton order) at once: result[k] for
+  // cells[k] (clip3d_cells.cpp).
+  void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
+                   Moments* result) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
   void global_flags(std::vector<std::int8_t>& flag) const;
