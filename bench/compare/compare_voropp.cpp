@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
   voropp.centroids.assign(3 * static_cast<std::size_t>(n), 0.0);
   voroclip::ClippedVoronoi3 ours, ours2;
   double best_clip = 1e300, best_clip2 = 1e300;
+  double best_split[3] = {0, 0, 0};  // surface, boundary cells, inner cells of best_clip
   const auto on_threads = [](std::size_t threads, auto&& f) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     f();
@@ -133,7 +134,12 @@ int main(int argc, char** argv) {
       runs, {[&] { run_voropp(xyz, n, voropp); },
              [&] {
                on_threads(1, [&] { ours.compute(domain, xyz.data(), n); });
-               best_clip = std::min(best_clip, clipping(ours));
+               if (clipping(ours) < best_clip) {
+                 best_clip = clipping(ours);
+                 best_split[0] = ours.seconds_surface();
+                 best_split[1] = ours.seconds_boundary_cells();
+                 best_split[2] = ours.seconds_inner_cells();
+               }
              },
              [&] {
                on_threads(2, [&] { ours2.compute(domain, xyz.data(), n); });
@@ -158,6 +164,8 @@ int main(int argc, char** argv) {
       "voroclip, clipping     %.3f s          %7.0fk cells/s  (one thread, %u boundary "
       "cells)\n",
       best_clip, n / best_clip / 1000, ours.nb_boundary_sites());
+  std::printf("  surface / boundary cells / inner cells  %.3f / %.3f / %.3f s\n", best_split[0],
+              best_split[1], best_split[2]);
   std::printf("ratio voroclip / voro++ cells/s: total %.2f, clipping %.2f\n",
               best[0].wall / best[1].wall, best[0].wall / best_clip);
   std::printf("voroclip, two threads  %.3f / %.3f s  (clipping %.3f s, %.0fk cells/s per core)\n",
