@@ -7,10 +7,11 @@
 //    triangles. Cells with a non-empty restricted polygon are the boundary cells. Each
 //    polygon gives its cell the cones over itself and over its edges on bisectors, and its
 //    vertices where a Voronoi edge crosses the surface.
-// 2. Boundary cells (clip3d_cells.cpp), in parallel: their Voronoi vertices are placed
-//    inside or outside the volume from the crossings (exact, combinatorial), and the
-//    pieces of their Voronoi edges inside the volume complete the boundary of cell ∩ volume,
-//    whose cones from the site give volume, centroid and energy. A cell with a Voronoi
+// 2. Boundary cells (clip3d_cells.cpp), in parallel, by chunks of consecutive cells in
+//    Morton order (boundary_chunk): their Voronoi vertices are placed inside or outside the
+//    volume from the crossings (exact, combinatorial), and the pieces of their Voronoi edges
+//    inside the volume complete the boundary of cell ∩ volume, whose cones from the site
+//    give volume, centroid and energy. A cell with a Voronoi
 //    edge that crosses the surface more than once is clipped tet by tet (sec. 4.2;
 //    clip3d_kernel.cpp), as is every boundary cell under tet_clipping or a non-constant
 //    density, and, for the exported pieces, under keep_geometry.
@@ -42,7 +43,8 @@ using namespace clip3;
 
 namespace {
 
-constexpr std::size_t kInnerChunk = 1024;  // inner cells per chunk (run)
+constexpr std::size_t kInnerChunk = 1024;    // inner cells per chunk (run)
+constexpr std::size_t kBoundaryChunk = 512;  // boundary cells per chunk (run)
 
 // Morton keys of n points (x y z each): 10 bits per axis over their bounding box.
 void morton_keys(const double* xyz, std::uint32_t n, std::vector<std::uint32_t>& key) {
@@ -146,18 +148,47 @@ void Clip3Impl::run() {
   spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
   std::vector<Moments> boundary_moments(nb_boundary);
   std::vector<std::uint8_t> unplaced(nb_boundary, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 16), [&](const auto& range) {
-    ThreadScratch& s = ts.local();
-    for (std::size_t h = range.begin(); h != range.end(); ++h) {
-      const std::uint32_t q = boundary_slot[order[h]];
-      Moments r = surface_moments[q];
-      if (boundary_cell(order[h], nullptr, s, r)) {
-        boundary_moments[q] = r;
-      } else {
-        unplaced[q] = 1;
-      }
+  const auto one_cell = [&](std::uint32_t i, ThreadScratch& s) {
+    const std::uint32_t q = boundary_slot[i];
+    Moments r = surface_moments[q];
+    if (boundary_cell(i, nullptr, s, r)) {
+      boundary_moments[q] = r;
+    } else {
+      unplaced[q] = 1;
     }
-  });
+  };
+  if (linear_density || options.tet_clipping) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 16), [&](const auto& range) {
+      ThreadScratch& s = ts.local();
+      for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        one_cell(order[h], s);
+      }
+    });
+  } else {
+    // In chunks as the inner cells (below); a chunk whose Voronoi vertices cannot all be
+    // placed goes cell by cell (as every cell goes under a non-constant density or
+    // tet_clipping, whose boundary cells need no pieces).
+    const std::size_t nb_chunks = (order.size() + kBoundaryChunk - 1) / kBoundaryChunk;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
+      ThreadScratch& s = ts.local();
+      s.chunk_out.resize(std::max(s.chunk_out.size(), kBoundaryChunk));
+      for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        const std::size_t begin = h * kBoundaryChunk;
+        const std::size_t end = std::min(order.size(), begin + kBoundaryChunk);
+        for (std::size_t k = begin; k < end; ++k) {
+          s.chunk_out[k - begin] = surface_moments[boundary_slot[order[k]]];
+        }
+        if (boundary_chunk(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
+                           s.chunk_out.data())) {
+          for (std::size_t k = begin; k < end; ++k) {
+            boundary_moments[boundary_slot[order[k]]] = s.chunk_out[k - begin];
+          }
+        } else {
+          for (std::size_t k = begin; k < end; ++k) one_cell(order[k], s);
+        }
+      }
+    });
+  }
   if (std::find(unplaced.begin(), unplaced.end(), 1) != unplaced.end()) {
     std::vector<std::int8_t> flag;
     global_flags(flag);

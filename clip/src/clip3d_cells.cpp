@@ -288,6 +288,207 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   return true;
 }
 
+bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
+                               Moments* result) const {
+  // As inner_chunk, over the tets with a chunk vertex (infinite ones included), each taken
+  // once; then their Voronoi vertices placed inside or outside as in boundary_cell (from
+  // infinite tets and single crossings, then across facets with the parity of their
+  // crossings), and each Voronoi edge's piece inside the volume given to the chunk
+  // vertices of its facet. False, with nothing reported, when a tet cannot be placed.
+  Star& st = s.star;
+  st.reset_if_needed(dt.nb_tet_slots());
+  st.first = st.next;
+  const std::uint32_t first = st.first;
+  std::uint32_t* mark = st.mark.data();
+  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
+  std::uint32_t* slot = s.chunk_slot.data();
+  for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
+  std::vector<std::uint32_t>& tets = st.tets;
+  tets.clear();
+  for (std::uint32_t seed = 0; seed < count; ++seed) {
+    const std::uint32_t t0 = dt.vertex_tet(cells[seed]);
+    if (mark[t0] >= first) continue;
+    mark[t0] = first + static_cast<std::uint32_t>(tets.size());
+    tets.push_back(t0);
+    for (std::size_t q = tets.size() - 1; q < tets.size(); ++q) {
+      const std::uint32_t t = tets[q];
+      for (int f = 0; f < 4; ++f) {
+        bool facet_in = false;
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t w = dt.tet_vertex(t, k);
+          facet_in = facet_in || (k != f && w != Delaunay3::kInfinite && slot[w] != 0);
+        }
+        if (!facet_in) continue;
+        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        if (mark[t2] >= first) continue;
+        mark[t2] = first + static_cast<std::uint32_t>(tets.size());
+        tets.push_back(t2);
+        dt.prefetch_tet(t2);
+      }
+    }
+  }
+  const std::size_t m = tets.size();
+  st.next = first + static_cast<std::uint32_t>(m);
+  const auto clear_slots = [&] {
+    for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = 0;
+  };
+  // The crossings of each facet with a chunk vertex whose three vertices are boundary
+  // sites (looked up once per facet), and the placement.
+  std::vector<std::int8_t>& flag = s.flag;
+  flag.assign(m, -1);
+  std::vector<const EdgeCrossings*>& fx = s.fx;
+  fx.assign(4 * m, nullptr);
+  std::vector<std::uint8_t>& known = s.beyond;
+  known.assign(4 * m, 0);
+  std::vector<std::uint32_t>& queue = s.queue;
+  queue.clear();
+  const auto place = [&](std::size_t q, int v) {
+    if (flag[q] == -1) {
+      flag[q] = static_cast<std::int8_t>(v);
+      queue.push_back(static_cast<std::uint32_t>(q));
+    } else if (flag[q] != v) {
+      clear_slots();
+      internal_error("Voronoi vertex of tet " + std::to_string(tets[q]) +
+                     " placed both inside and outside (cells from " + std::to_string(cells[0]) +
+                     ")");
+    }
+  };
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    const std::uint32_t w[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
+    if (w[3] == Delaunay3::kInfinite) {
+      place(q, 0);
+      continue;
+    }
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t a = w[f == 0 ? 1 : 0], b = w[f <= 1 ? 2 : 1], c = w[f <= 2 ? 3 : 2];
+      if (!known[4 * q + f]) {
+        const EdgeCrossings* x = nullptr;
+        if (is_boundary[a] && is_boundary[b] && is_boundary[c]) x = find_crossings(a, b, c);
+        fx[4 * q + f] = x;
+        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        if (mark[t2] >= first) {
+          const std::size_t k2 = 4 * std::size_t{mark[t2] - first} +
+                                 static_cast<std::size_t>(dt.tet_adjacent_facet(t, f));
+          fx[k2] = x;
+          known[k2] = 1;
+        }
+      }
+      const EdgeCrossings* x = fx[4 * q + f];
+      const std::uint32_t nb_cross = x ? x->count : 0;
+      if (infinite(dt.tet_adjacent(t, f))) {
+        place(q, static_cast<int>(nb_cross & 1));
+      } else if (nb_cross == 1) {
+        int l0 = 0;
+        while (w[l0] != x->s[0]) ++l0;
+        const bool even = w[kFaceOther[l0][f][0]] == x->s[1];
+        place(q, (even ? x->sigma : -x->sigma) > 0 ? 1 : 0);
+      }
+    }
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const std::uint32_t q = queue[h];
+    const std::uint32_t t = tets[q];
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (mark[t2] < first) continue;  // (a facet with no chunk vertex)
+      const EdgeCrossings* x = fx[4 * q + f];
+      const int parity = x ? static_cast<int>(x->count & 1) : 0;
+      place(mark[t2] - first, flag[q] ^ parity);
+    }
+  }
+  if (queue.size() != m) {
+    clear_slots();
+    return false;
+  }
+  // The non-boundary sites of the tets take their flags.
+  if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
+    s.site_mark.assign(n, 0);
+    s.site_gen = 0;
+  }
+  const std::uint32_t gen = ++s.site_gen;
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = dt.tet_vertex(t, k);
+      if (is_boundary[v] || s.site_mark[v] == gen) continue;
+      s.site_mark[v] = gen;
+      s.first_layer.emplace_back(v, flag[q]);
+    }
+  }
+  // The pieces, each Voronoi edge from its finite tet of larger position (or its only one).
+  s.chunk_sums.assign(count, PieceSums{});
+  PieceSums* sums = s.chunk_sums.data();
+  if (s.chunk_c.size() < m) s.chunk_c.resize(m);
+  std::array<double, 3>* cc = s.chunk_c.data();
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
+    const double* c = circumcentre(t, v, s.circ);
+    cc[q] = {c[0], c[1], c[2]};
+  }
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = tets[q];
+    if (infinite(t)) continue;
+    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
+    unsigned in_mask = 0;
+    for (int k = 0; k < 4; ++k) {
+      in_mask |= slot[v[k]] != 0 && fallback[v[k]] == 0 ? 1u << k : 0u;
+    }
+    for (int f = 0; f < 4; ++f) {
+      const unsigned facet_mask = in_mask & ~(1u << f);
+      if (facet_mask == 0) continue;
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      const bool infinite2 = infinite(t2);
+      const std::size_t q2 = mark[t2] - first;
+      if (!infinite2 && q2 > q) continue;
+      const bool in1 = flag[q] != 0, in2 = flag[q2] != 0;
+      const EdgeCrossings* x = fx[4 * q + f];
+      const std::uint32_t nb_cross = x ? x->count : 0;
+      const double* u = nullptr;
+      const double* w = nullptr;
+      if (nb_cross == 0) {
+        if (in1 != in2) {
+          clear_slots();
+          internal_error("a Voronoi edge with no crossing changes side");
+        }
+        if (!in1) continue;
+        u = cc[q].data();
+        w = cc[q2].data();
+      } else if (nb_cross == 1) {
+        if (in1 == in2) {
+          clear_slots();
+          internal_error("a Voronoi edge with one crossing keeps its side");
+        }
+        u = in1 ? cc[q].data() : x->x;
+        w = in1 ? x->x : cc[q2].data();
+      } else {
+        clear_slots();
+        internal_error("boundary cell " + std::to_string(v[__builtin_ctz(facet_mask)]) +
+                       " has a Voronoi edge crossing the surface " + std::to_string(nb_cross) +
+                       " times");
+      }
+      for (int k = 0; k < 4; ++k) {
+        if ((facet_mask >> k & 1u) == 0) continue;
+        const double* px = site(v[k]);
+        const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
+        add_edge_piece(foot(site(vj), px), foot(site(vk), px), rel(u, px), rel(w, px),
+                       sums[slot[v[k]] - 1]);
+      }
+    }
+  }
+  for (std::uint32_t k = 0; k < count; ++k) {
+    slot[cells[k]] = 0;
+    sums[k].add_to(result[k]);
+  }
+  return true;
+}
+
 void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                             Moments* result) const {
   // The tets with a vertex in the chunk, breadth first from each cell's vertex_tet through

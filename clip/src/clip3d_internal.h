@@ -535,6 +535,11 @@ struct Clip3Impl {
   // False when no Voronoi vertex of its star could be placed from its own crossings.
   bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
                      Moments& r) const;
+  // The boundary cells cells[0, count) (consecutive in Morton order, none clipped tet by
+  // tet for its integrals) at once: result[k] (holding cells[k]'s surface share) gets the
+  // rest. False when a Voronoi vertex could not be placed (then nothing is changed).
+  bool boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
+                      Moments* result) const;
   // The inner cells cells[0, count) (consecutive in Morton order) at once: result[k] for
   // cells[k] (clip3d_cells.cpp).
   void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,

@@ -896,6 +896,35 @@ TEST_CASE("clip3d: a surface component inside one cell (no Voronoi edge crosses 
   REQUIRE(std::fabs(cvb.volume(0) - (8 + 288 - 2.0 / 3)) <= 1e-12);
 }
 
+TEST_CASE("clip3d: a boundary cell with nothing to place its Voronoi vertices from",
+          "[clip][degenerate]") {
+  // The domain: the cube [-0.1, 0.1]^3 around the site at the origin; 300 other sites in
+  // [-1, 1]^3, none within 0.4 of the origin, so the cube lies in the origin's cell (its
+  // points are within 0.18 of the origin and beyond 0.22 of every other site). The only
+  // boundary cell has no infinite tet and no crossing around it: its chunk, and then the
+  // cell alone, cannot place its Voronoi vertices, and the search from the infinite tets
+  // does (global_flags).
+  std::vector<double> sites = {0, 0, 0};
+  std::mt19937_64 rng(91);
+  std::uniform_real_distribution<double> u(-1, 1);
+  while (sites.size() < 3 * 301) {
+    const double p[3] = {u(rng), u(rng), u(rng)};
+    if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] > 0.4 * 0.4) sites.insert(sites.end(), p, p + 3);
+  }
+  const Delaunay3 dt(sites.data(), 301);
+  const double h[3] = {0.1, 0.1, 0.1}, lo[3] = {-0.1, -0.1, -0.1};
+  const Domain3 cube(box_mesh(2, 2, 2, h, lo));
+  ClippedVoronoi3 cv;
+  cv.compute(cube, dt);
+  REQUIRE(cv.nb_boundary_sites() == 1);
+  REQUIRE(cv.is_boundary(0));
+  REQUIRE(std::fabs(cv.volume(0) - 0.008) <= 1e-15);
+  REQUIRE(std::fabs(cv.energy(0) - 8e-5) <= 1e-17);  // ∫ |x|^2 over [-0.1, 0.1]^3
+  for (int c = 0; c < 3; ++c) REQUIRE(std::fabs(cv.centroid(0)[c]) <= 1e-15);
+  for (std::uint32_t i = 1; i < 301; ++i) REQUIRE(cv.volume(i) == 0);
+  check_against_tet_clipping(cube, dt, "a cube inside one cell");
+}
+
 TEST_CASE("clip3d: restricted surface polygons and their symbolic vertices", "[clip]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   const std::vector<double> sites = sample_volume(d, 1500, 41);
