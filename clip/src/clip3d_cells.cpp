@@ -332,8 +332,9 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
   const auto clear_slots = [&] {
     for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = 0;
   };
-  // The crossings of each facet with a chunk vertex whose three vertices are boundary
-  // sites (looked up once per facet), and the placement.
+  // The crossings of each facet of a finite tet whose three vertices are boundary sites
+  // (looked up once per facet: the parity crosses facets with no chunk vertex too), and
+  // the placement.
   std::vector<std::int8_t>& flag = s.flag;
   flag.assign(m, -1);
   std::vector<const EdgeCrossings*>& fx = s.fx;
