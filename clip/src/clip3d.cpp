@@ -11,10 +11,10 @@
 //    Morton order (boundary_chunk): their Voronoi vertices are placed inside or outside the
 //    volume from the crossings (exact, combinatorial), and the pieces of their Voronoi edges
 //    inside the volume complete the boundary of cell ∩ volume, whose cones from the site
-//    give volume, centroid and energy. A cell with a Voronoi
-//    edge that crosses the surface more than once is clipped tet by tet (sec. 4.2;
-//    clip3d_kernel.cpp), as is every boundary cell under tet_clipping or a non-constant
-//    density, and, for the exported pieces, under keep_geometry.
+//    give volume, centroid and energy. A cell with a Voronoi edge that crosses the surface
+//    more than once is clipped tet by tet (sec. 4.2; clip3d_kernel.cpp), as is every
+//    boundary cell under tet_clipping or a non-constant density, and, for the exported
+//    pieces, under keep_geometry.
 // 3. Other cells are wholly inside or outside; boundary cells decide their neighbours,
 //    which spread it (clip3d_cells.cpp). Inner cells are the cones from the site over their
 //    Voronoi facets, from the circumcentres of the Delaunay tets: per Delaunay facet around

@@ -288,6 +288,17 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   return true;
 }
 
+std::uint32_t* Clip3Impl::start_chunk(const std::uint32_t* cells, std::uint32_t count,
+                                      ThreadScratch& s) const {
+  Star& st = s.star;
+  st.reset_if_needed(dt.nb_tet_slots());
+  st.first = st.next;
+  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
+  std::uint32_t* slot = s.chunk_slot.data();
+  for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
+  return slot;
+}
+
 bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                                Moments* result) const {
   // As inner_chunk, over the tets with a chunk vertex (infinite ones included), each taken
@@ -295,14 +306,10 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
   // infinite tets and single crossings, then across facets with the parity of their
   // crossings), and each Voronoi edge's piece inside the volume given to the chunk
   // vertices of its facet. False, with nothing reported, when a tet cannot be placed.
+  std::uint32_t* slot = start_chunk(cells, count, s);
   Star& st = s.star;
-  st.reset_if_needed(dt.nb_tet_slots());
-  st.first = st.next;
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
-  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
-  std::uint32_t* slot = s.chunk_slot.data();
-  for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
   std::vector<std::uint32_t>& tets = st.tets;
   tets.clear();
   for (std::uint32_t seed = 0; seed < count; ++seed) {
@@ -497,14 +504,10 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
   // once: its circumcentre, relative to each chunk vertex. A Voronoi edge (a facet with a
   // chunk vertex, between tets at positions q2 < q) is taken when tet q is expanded, for
   // each chunk vertex of the facet. The order is a function of the chunk alone.
+  std::uint32_t* slot = start_chunk(cells, count, s);
   Star& st = s.star;
-  st.reset_if_needed(dt.nb_tet_slots());
-  st.first = st.next;
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
-  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
-  std::uint32_t* slot = s.chunk_slot.data();
-  for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
   s.chunk_sums.assign(count, PieceSums{});
   PieceSums* sums = s.chunk_sums.data();
   // st.tets, s.chunk_c and s.chunk_rel serve as fixed buffers (grown by doubling).

@@ -535,6 +535,10 @@ struct Clip3Impl {
   // False when no Voronoi vertex of its star could be placed from its own crossings.
   bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
                      Moments& r) const;
+  // A chunk's start: a new range of marks in s.star, and s.chunk_slot[c] = k + 1 for
+  // c = cells[k] (the chunk functions clear it). Returns s.chunk_slot's data.
+  std::uint32_t* start_chunk(const std::uint32_t* cells, std::uint32_t count,
+                             ThreadScratch& s) const;
   // The boundary cells cells[0, count) (consecutive in Morton order, none clipped tet by
   // tet for its integrals) at once: result[k] (holding cells[k]'s surface share) gets the
   // rest. False when a Voronoi vertex could not be placed (then nothing is changed).
