@@ -319,13 +319,13 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
     tets.push_back(t0);
     for (std::size_t q = tets.size() - 1; q < tets.size(); ++q) {
       const std::uint32_t t = tets[q];
+      unsigned in_mask = 0;  // the tet's chunk vertices
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = dt.tet_vertex(t, k);
+        in_mask |= w != Delaunay3::kInfinite && slot[w] != 0 ? 1u << k : 0u;
+      }
       for (int f = 0; f < 4; ++f) {
-        bool facet_in = false;
-        for (int k = 0; k < 4; ++k) {
-          const std::uint32_t w = dt.tet_vertex(t, k);
-          facet_in = facet_in || (k != f && w != Delaunay3::kInfinite && slot[w] != 0);
-        }
-        if (!facet_in) continue;
+        if ((in_mask & ~(1u << f)) == 0) continue;  // no chunk vertex on this facet
         const std::uint32_t t2 = dt.tet_adjacent(t, f);
         if (mark[t2] >= first) continue;
         mark[t2] = first + static_cast<std::uint32_t>(tets.size());

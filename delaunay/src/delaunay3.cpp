@@ -1152,6 +1152,8 @@ void Delaunay3::finish() {
     // The two halves concurrently, the upper one into a second array; a vertex's smallest
     // tet is in the lower half if it has one there: the same result as one pass.
     std::vector<std::uint32_t> upper(m, kNoTet);
+    peak_bytes_ = std::max(peak_bytes_, memory_bytes() + capacity_bytes(at_rank) +
+                                            capacity_bytes(upper));  // (the scratch arrays too)
     const std::uint32_t half = live / 2;
     std::uint32_t nb_lower = 0, nb_upper = 0;
     tbb::parallel_invoke([&] { nb_lower = scan(0, half, at_rank.data()); },
@@ -1164,6 +1166,7 @@ void Delaunay3::finish() {
                       });
     nb_finite_tets_ = nb_lower + nb_upper;
   } else {
+    peak_bytes_ = std::max(peak_bytes_, memory_bytes() + capacity_bytes(at_rank));
     nb_finite_tets_ = scan(0, live, at_rank.data());
     for (std::uint32_t r = 0; r < m; ++r) vertex_tet_[input_id_[r]] = at_rank[r];
   }

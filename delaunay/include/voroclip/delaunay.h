@@ -556,14 +556,6 @@ class Delaunay3 {
     __builtin_prefetch(tets_.data() + 8 * static_cast<std::size_t>(t));
 #endif
   }
-  // A hint that vertex_tet(v) and point(v) will be read soon (no effect on results).
-  void prefetch_vertex(std::uint32_t v) const {
-    assert(v < nb_points_);
-#if defined(__GNUC__)
-    __builtin_prefetch(vertex_tet_.data() + v);
-    __builtin_prefetch(pts_ + 3 * static_cast<std::size_t>(v));
-#endif
-  }
   // The smallest-numbered finite tet incident to vertex v (kNoTet for duplicates).
   std::uint32_t vertex_tet(std::uint32_t v) const {
     assert(v < nb_points_);
