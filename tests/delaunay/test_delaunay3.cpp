@@ -404,6 +404,20 @@ Delaunay3 build_with_threads(const std::vector<double>& xyz, std::size_t threads
   return dt;
 }
 
+// x = u^3, y = u^2 (u uniform in [0, 1)), z standard normal: the halves of the bounding
+// box hold very different numbers of points.
+std::vector<double> skewed_points(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> xyz;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = u(rng), b = u(rng);
+    xyz.insert(xyz.end(), {a * a * a, b * b, g(rng)});
+  }
+  return xyz;
+}
+
 // Inputs for the parallel construction: uniform, a grid (cospherical everywhere, symbolic
 // perturbation decides), points on a sphere (all on the hull), duplicates.
 std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
@@ -429,6 +443,7 @@ std::vector<std::pair<std::string, std::vector<double>>> parallel_inputs() {
     std::copy_n(&duplicated[3 * i], 3, &duplicated[3 * j]);
   }
   inputs.emplace_back("duplicates", duplicated);
+  inputs.emplace_back("skewed", skewed_points(20000, 64));
   return inputs;
 }
 
@@ -478,6 +493,37 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
       check_vertex_tets(dt);
       CHECK(all_arrays(dt) == arrays);
     }
+  }
+}
+
+TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they are balanced",
+          "[delaunay][parallel]") {
+  // Uniform points: the halves, quarters and octants of each round's box hold about equal
+  // numbers of points, and the first passes take them as zones. Skewed points: never
+  // (the kd split at quantiles instead). Either way the arrays are the same for 1 and 2
+  // threads and the tets those of the sequential build.
+  Delaunay3::Options zoned;
+  zoned.points_per_zone = 512;
+  Delaunay3::Options sequential;
+  sequential.points_per_zone = 0xffffffffu;
+  for (const bool uniform : {true, false}) {
+    INFO((uniform ? "uniform" : "skewed"));
+    const auto xyz = uniform ? random_points(30000, 65) : skewed_points(30000, 66);
+    const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+    require_valid(one);
+    const Delaunay3::Stats& stats = one.stats();
+    INFO("zoned passes " << stats.zoned_passes << ", along the curve " << stats.curve_zoned_passes);
+    CHECK(stats.zoned_passes >= 4);
+    if (uniform) {
+      // Every round with 2, 4 or 8 first-pass zones (rounds of about 1.9k to 7.5k points).
+      CHECK(stats.curve_zoned_passes >= 3);
+    } else {
+      CHECK(stats.curve_zoned_passes == 0);
+    }
+    const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+    CHECK(finite_tets(one) == finite_tets(reference));
+    const Delaunay3 two = build_with_threads(xyz, 2, zoned);
+    CHECK(all_arrays(two) == all_arrays(one));
   }
 }
 

@@ -426,12 +426,16 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // alive and unchanged while the triangulation is used (until the next build()).
 //
 // Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; in a build with
-// no round that large, 7/64 if a round reaches 7/16, else none) is split by count into
-// zones (kd bisection along the longest axis), each inserted by its own TBB task along the
-// Hilbert curve of its box. A task only touches tets having a facet whose finite vertices
-// all lie in its zone, which no other task can touch (two facets of a tet share an edge),
-// so the tasks need no locks: a point whose walk or cavity would reach a vertex outside the
-// zone is deferred, leaving the triangulation untouched.
+// no round that large, 7/64 if a round reaches 7/16, else none) is split into zones, each
+// inserted by its own TBB task along a Hilbert curve of its box: 2, 4 or 8 zones are the
+// halves, quarters or octants of the round's box that its own Hilbert curve visits one
+// after the other, taken in the round's order, when they hold about equal numbers of
+// points (Stats::curve_zoned_passes); otherwise, and for more zones, a kd bisection by
+// count along the longest axis, each zone sorted along the curve of its box. A task only
+// touches tets having a facet whose finite vertices all lie in its zone, which no other
+// task can touch (two facets of a tet share an edge), so the tasks need no locks: a point
+// whose walk or cavity would reach a vertex outside the zone is deferred, leaving the
+// triangulation untouched.
 // The deferred points get a second pass with zones in a skew frame (boxes in (x + y, y + z, z + x),
 // whose faces cross the first pass's), and what remains is inserted sequentially. Zones of many
 // points that defer most of them (points on a sphere: their tets cross the ball) turn zoning off
@@ -587,12 +591,13 @@ class Delaunay3 {
   std::size_t peak_memory_bytes() const { return peak_bytes_; }
   // How the last build inserted its points (all counts of insertion attempts).
   struct Stats {
-    std::uint32_t zoned_passes = 0;       // parallel passes (each over several zones)
-    std::uint32_t zoned_points = 0;       // points attempted in a zone
-    std::uint32_t deferred_points = 0;    // of those, deferred (the cavity left the zone)
-    std::uint32_t sequential_points = 0;  // points inserted sequentially
-    std::uint32_t limited_points = 0;     // of those, deferred by the slot limit (Threads)
-    bool avx2 = false;                    // AVX2 insphere determinant (Options::insphere_simd)
+    std::uint32_t zoned_passes = 0;        // parallel passes (each over several zones)
+    std::uint32_t curve_zoned_passes = 0;  // of those, zones along the round's Hilbert curve
+    std::uint32_t zoned_points = 0;        // points attempted in a zone
+    std::uint32_t deferred_points = 0;     // of those, deferred (the cavity left the zone)
+    std::uint32_t sequential_points = 0;   // points inserted sequentially
+    std::uint32_t limited_points = 0;      // of those, deferred by the slot limit (Threads)
+    bool avx2 = false;                     // AVX2 insphere determinant (Options::insphere_simd)
   };
   const Stats& stats() const { return stats_; }
   // Whether Options::InsphereSimd::automatic uses the AVX2 determinant on this CPU.
@@ -621,6 +626,7 @@ class Delaunay3 {
     // zone need only be a function of the coordinates, so that zones are disjoint).
     int frame = 0;
     double lo[3], hi[3];
+    bool along_curve = false;  // a half, quarter or octant of the round's box (split_along_curve)
     std::uint32_t hint = kNoTet;
     std::vector<std::uint32_t> cavity;
     std::vector<BoundaryFacet> boundary;
@@ -676,6 +682,8 @@ class Delaunay3 {
   void insert_sequentially(const std::uint32_t* first, const std::uint32_t* last);
   void split_into_zones(const std::vector<std::uint32_t>& points, std::size_t nb_zones, int frame,
                         Zone* zones) const;
+  bool split_along_curve(const std::vector<std::uint32_t>& points, std::size_t nb_zones,
+                         Zone* zones) const;
   void insert_in_parallel(std::vector<std::uint32_t>& points, std::size_t nb_zones,
                           std::vector<Zone>* plan);
   bool start_zone(Zone& zone);
