@@ -730,14 +730,16 @@ std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
 }  // namespace
 
 // The first level of a round's Hilbert curve: a BRIO round comes in the order of the
-// Hilbert curve over its bounding box (brio_order), which visits the box's halves, quarters
-// and octants about its midpoint one after the other (on the first axis, then the first
-// two, then all three: the curve's first level). Two, four or eight zones made of those
-// boxes (unbounded on their outer sides) get their points in the round's order, already
-// along a Hilbert curve of each zone: no split and no sort, where split_zones and a sort
-// per zone took about 0.1 s of the one-thread time at 10^6 uniform points. Only when the
-// zones are balanced (every one within half the mean count of it): otherwise, false and
-// nothing done (the kd split adapts to any distribution). A function of the points alone.
+// Hilbert curve over its bounding box (brio_order), which visits the box's halves,
+// quarters and octants about its midpoint one after the other (halves across the longest
+// axis, quarters across the two longest, then octants: hilbert_axes3). Two, four or eight
+// zones made of those boxes (unbounded on their outer sides) get their points in the
+// round's order, already along a Hilbert curve of each zone: no split and no sort, where
+// split_zones and a sort per zone took about 0.1 s of the one-thread time at 10^6 uniform
+// points. Only when the zones are balanced (every one within 2 % of the mean count: with
+// two zones on two threads the larger sets the pace, and 3.7k-15k points of rocker-arm's
+// sites split 10 % apart made its two-thread build 4 % slower); otherwise false, nothing
+// done (the kd split by count adapts to any distribution). A function of the points alone.
 bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std::size_t nb_zones,
                                   Zone* zones) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -753,11 +755,13 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
     }
   }
   for (int a = 0; a < 3; ++a) mid[a] = lo[a] + 0.5 * (hi[a] - lo[a]);
+  int order[3];  // the curve's axes (hilbert_sort's, from the same box)
+  detail::hilbert_axes3(lo, hi, order);
   // The zone of a point: the curve's first digit (the octant's rank along the curve) with
   // the unsplit axes' bits dropped; the test is Zone::contains's, on the same planes.
-  const auto zone_of = [&mid, axes](const double* p) {
+  const auto zone_of = [&mid, &order, axes](const double* p) {
     std::uint32_t bit[3] = {0, 0, 0};
-    for (int a = 0; a < axes; ++a) bit[a] = p[a] >= mid[a] ? 1u : 0u;
+    for (int i = 0; i < axes; ++i) bit[i] = p[order[i]] >= mid[order[i]] ? 1u : 0u;
     const auto digit =
         static_cast<std::uint32_t>(detail::hilbert_index3(bit[0], bit[1], bit[2], 1));
     return digit >> (3 - axes);
@@ -766,7 +770,9 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
   for (const std::uint32_t v : points) ++count[zone_of(point(v))];
   const std::size_t mean = points.size() / nb_zones;
   for (std::size_t k = 0; k < nb_zones; ++k) {
-    if (2 * std::size_t{count[k]} < mean || 2 * std::size_t{count[k]} > 3 * mean) return false;
+    if (50 * std::size_t{count[k]} < 49 * mean || 50 * std::size_t{count[k]} > 51 * mean) {
+      return false;
+    }
   }
   // Each zone's box: the octants of its digits, which share their bits on the split axes.
   for (std::uint32_t octant = 0; octant < 8; ++octant) {
@@ -778,8 +784,11 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
     z.frame = 0;
     z.along_curve = true;
     for (int a = 0; a < 3; ++a) {
-      z.lo[a] = a < axes && bit[a] != 0 ? mid[a] : -kInf;
-      z.hi[a] = a < axes && bit[a] == 0 ? mid[a] : kInf;
+      z.lo[a] = -kInf;
+      z.hi[a] = kInf;
+    }
+    for (int i = 0; i < axes; ++i) {
+      (bit[i] != 0 ? z.lo : z.hi)[order[i]] = mid[order[i]];
     }
   }
   for (std::size_t k = 0; k < nb_zones; ++k) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 #include "voroclip/delaunay.h"
 
@@ -344,6 +345,8 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
     scale[a] = extent > 0 && std::isfinite(extent) ? cells / extent : 0.0;
     if (!std::isfinite(scale[a])) scale[a] = 0.0;
   }
+  int axes[3] = {0, 1, 2};
+  if constexpr (D == 3) hilbert_axes3(lo, hi, axes);
   std::vector<Keyed> keyed, tmp;
   reserve_advised(keyed, count);
   keyed.resize(count);
@@ -361,7 +364,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
           if constexpr (D == 2) {
             keyed[i] = {hilbert_key2(x[0], x[1], bits), first[i]};
           } else {
-            keyed[i] = {hilbert_key3(x[0], x[1], x[2], bits), first[i]};
+            keyed[i] = {hilbert_key3(x[axes[0]], x[axes[1]], x[axes[2]], bits), first[i]};
           }
         }
       });
@@ -431,6 +434,19 @@ std::uint64_t hilbert_index3(std::uint32_t x, std::uint32_t y, std::uint32_t z, 
 std::uint64_t hilbert_index3_skilling(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits) {
   std::uint32_t cell[3] = {x, y, z};
   return hilbert_key<3>(cell, bits);
+}
+
+void hilbert_axes3(const double* lo, const double* hi, int axes[3]) {
+  const double extent[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+  axes[0] = 0;
+  axes[1] = 1;
+  axes[2] = 2;
+  // Insertion sort of three by decreasing extent, stable (ties keep the index order).
+  for (int i = 1; i < 3; ++i) {
+    for (int k = i; k > 0 && extent[axes[k]] > extent[axes[k - 1]]; --k) {
+      std::swap(axes[k], axes[k - 1]);
+    }
+  }
 }
 
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last) {

@@ -54,4 +54,10 @@ std::uint64_t hilbert_index3_skilling(std::uint32_t x, std::uint32_t y, std::uin
 // Sorts the point indices [first, last) along a Hilbert curve (one BRIO round).
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
 
+// The axes of a 3D box (lo, hi) by decreasing extent, ties by index: the 3D curve over the
+// box takes its coordinates in this order (hilbert_index3's x is axes[0]), so that its
+// first level splits the longest axis first (the halves, then quarters and octants that
+// Delaunay3's zones may take have the smallest interfaces).
+void hilbert_axes3(const double* lo, const double* hi, int axes[3]);
+
 }  // namespace voroclip::detail
