@@ -757,14 +757,19 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
   for (int a = 0; a < 3; ++a) mid[a] = lo[a] + 0.5 * (hi[a] - lo[a]);
   int order[3];  // the curve's axes (hilbert_sort's, from the same box)
   detail::hilbert_axes3(lo, hi, order);
-  // The zone of a point: the curve's first digit (the octant's rank along the curve) with
-  // the unsplit axes' bits dropped; the test is Zone::contains's, on the same planes.
-  const auto zone_of = [&mid, &order, axes](const double* p) {
-    std::uint32_t bit[3] = {0, 0, 0};
-    for (int i = 0; i < axes; ++i) bit[i] = p[order[i]] >= mid[order[i]] ? 1u : 0u;
-    const auto digit =
-        static_cast<std::uint32_t>(detail::hilbert_index3(bit[0], bit[1], bit[2], 1));
-    return digit >> (3 - axes);
+  // The zone of each octant (its bits on the curve's axes, order[0] first): the curve's
+  // first digit (the octant's rank along the curve) without the unsplit axes' bits, which
+  // do not change it. A point's octant is Zone::contains's test, on the same planes.
+  std::uint32_t zone_of_octant[8];
+  for (std::uint32_t octant = 0; octant < 8; ++octant) {
+    const auto digit = static_cast<std::uint32_t>(
+        detail::hilbert_index3(octant >> 2 & 1u, octant >> 1 & 1u, octant & 1u, 1));
+    zone_of_octant[octant] = digit >> (3 - axes);
+  }
+  const auto zone_of = [&](const double* p) {
+    std::uint32_t octant = 0;
+    for (int i = 0; i < axes; ++i) octant |= (p[order[i]] >= mid[order[i]] ? 4u : 0u) >> i;
+    return zone_of_octant[octant];
   };
   std::uint32_t count[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   for (const std::uint32_t v : points) ++count[zone_of(point(v))];
@@ -774,13 +779,9 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
       return false;
     }
   }
-  // Each zone's box: the octants of its digits, which share their bits on the split axes.
-  for (std::uint32_t octant = 0; octant < 8; ++octant) {
-    if ((octant & ((1u << (3 - axes)) - 1)) != 0) continue;  // one octant per zone suffices
-    const std::uint32_t bit[3] = {octant >> 2 & 1u, octant >> 1 & 1u, octant & 1u};
-    const auto digit =
-        static_cast<std::uint32_t>(detail::hilbert_index3(bit[0], bit[1], bit[2], 1));
-    Zone& z = zones[digit >> (3 - axes)];
+  // Each zone's box, from one of its octants (the one whose unsplit bits are 0).
+  for (std::uint32_t octant = 0; octant < 8; octant += 1u << (3 - axes)) {
+    Zone& z = zones[zone_of_octant[octant]];
     z.frame = 0;
     z.along_curve = true;
     for (int a = 0; a < 3; ++a) {
@@ -788,7 +789,7 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
       z.hi[a] = kInf;
     }
     for (int i = 0; i < axes; ++i) {
-      (bit[i] != 0 ? z.lo : z.hi)[order[i]] = mid[order[i]];
+      (((octant << i) & 4u) != 0 ? z.lo : z.hi)[order[i]] = mid[order[i]];
     }
   }
   for (std::size_t k = 0; k < nb_zones; ++k) {
@@ -813,9 +814,9 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
 // pass's zones of a round can be computed ahead (triangulate).
 void Delaunay3::split_into_zones(const std::vector<std::uint32_t>& points, std::size_t nb_zones,
                                  int frame, Zone* zones) const {
+  if (frame == 0 && split_along_curve(points, nb_zones, zones)) return;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double everywhere_lo[3] = {-kInf, -kInf, -kInf}, everywhere_hi[3] = {kInf, kInf, kInf};
-  if (frame == 0 && split_along_curve(points, nb_zones, zones)) return;
   std::vector<double> scratch;
   split_zones(
       points, zones, nb_zones, everywhere_lo, everywhere_hi, frame,

@@ -463,7 +463,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
 // Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads (a 2.6 GHz
 // Xeon); 3.2-3.7 s, 0.54 of CGAL, and 1.9-2.1 s on two threads on a 2.0 GHz Zen 1 EPYC
-// (the host's speed varies), where the zones cost about 6 % on one thread. 10^5 points on
+// (the host's speed varies), where the zones cost about 11 % on one thread. 10^5 points on
 // that EPYC: 0.18 s on two threads, 0.29 s (0.52 of CGAL) on one. 35 bytes per tet at the
 // end, 39 at the peak.
 //
