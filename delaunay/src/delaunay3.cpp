@@ -700,9 +700,9 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
   return zones;
 }
 
-// Where a BRIO round's first pass takes two zones: from 7/4 per_zone points on (57344 by
-// default; the round of 1M / 16 points then runs on two threads), or from 7/64 per_zone
-// points on (3584) in a build with no round that large but one of 7/16 per_zone (14336) or
+// Where a BRIO round's first pass takes two zones: from 7/16 per_zone points on (57344 by
+// default; the round of 1M / 16 points then runs on two threads), or from 7/256 per_zone
+// points on (3584) in a build with no round that large but one of 7/64 per_zone (14336) or
 // more; a build with neither is sequential. A build with a round of 57344 keeps its
 // smaller ones in the sequential prefix (triangulate), during which the other threads
 // split the later rounds into zones and fault in the tet array; zoning rounds 8 and 9 of
@@ -717,14 +717,14 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
 // one-thread time from 0.029 to 0.031 s. A function of the round sizes alone.
 std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
                                 std::size_t per_zone) {
-  const std::size_t large = (7 * per_zone + 3) / 4;
-  const std::size_t mid = (7 * per_zone + 15) / 16;
+  const std::size_t large = (7 * per_zone + 15) / 16;
+  const std::size_t mid = (7 * per_zone + 63) / 64;
   std::size_t largest = 0;
   for (std::size_t r = 0; r + 1 < round_starts.size(); ++r) {
     largest = std::max<std::size_t>(largest, round_starts[r + 1] - round_starts[r]);
   }
   if (largest >= large) return large;
-  return largest >= mid ? (7 * per_zone + 63) / 64 : mid;
+  return largest >= mid ? (7 * per_zone + 255) / 256 : mid;
 }
 
 }  // namespace
@@ -954,7 +954,7 @@ void Delaunay3::insert_in_parallel(std::vector<std::uint32_t>& points, std::size
     points.swap(deferred);
     // The points deferred lie near the first pass's zone boundaries, which the skew frame's
     // boundaries cross: fewer points per zone suffice.
-    const std::size_t second = options_.points_per_zone / 8;
+    const std::size_t second = options_.points_per_zone / 32;
     nb_zones = zoning_off_ ? 1 : zone_count(points.size(), second, (7 * second + 3) / 4);
   }
   insert_sequentially(points.data(), points.data() + points.size());

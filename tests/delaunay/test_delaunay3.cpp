@@ -498,11 +498,11 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
 TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they are balanced",
           "[delaunay][parallel]") {
   // 200k uniform points, zones of 8192: the rounds of about 100k, 50k and 25k points take
-  // 8, 4 and 2 first-pass zones of about 12.5k points, and their box's octants, quarters
-  // and halves hold equal counts to within 2 % (binomial deviations of about 1 %): the
-  // passes take them as zones. Skewed points: never (the kd split by count instead).
-  // Either way the arrays are the same for 1 and 2 threads and the tets those of the
-  // sequential build.
+  // 8, 4 and 2 first-pass zones of about 12.5k points (and those of 12.5k and 6.2k two),
+  // and their box's octants, quarters and halves hold equal counts to within 2 % (binomial
+  // deviations of about 1 %): the passes take them as zones. Skewed points: never (the kd split by
+  // count instead). Either way the arrays are the same for 1 and 2 threads and the tets those of
+  // the sequential build.
   Delaunay3::Options zoned;
   zoned.points_per_zone = 8192;
   Delaunay3::Options sequential;
@@ -592,9 +592,9 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
     xyz.insert(xyz.end(), {t, t * t, t * t * t});
   }
   Delaunay3::Options zoned;
-  // The last BRIO round (about 150 points) reaches 7/4 * 64 = 112 points: it is zoned, and
+  // The last BRIO round (about 150 points) reaches 7/16 * 256 = 112 points: it is zoned, and
   // the rounds before it are the sequential prefix, under the slot limit.
-  zoned.points_per_zone = 64;
+  zoned.points_per_zone = 256;
   Delaunay3::Options sequential;
   sequential.points_per_zone = 0xffffffffu;
   const Delaunay3 one = build_with_threads(xyz, 1, zoned);
@@ -617,8 +617,8 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
 
 TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
           "[delaunay][parallel]") {
-  // 30k points: the last BRIO round (about 15k) is at least 7/16 * 32768 = 14336 points,
-  // so the rounds of 7/64 * 32768 = 3584 points or more (about 15k, 7.5k and 3.7k) go
+  // 30k points: the last BRIO round (about 15k) is at least 7/64 * 131072 = 14336 points,
+  // so the rounds of 7/256 * 131072 = 3584 points or more (about 15k, 7.5k and 3.7k) go
   // through two zones each; the smaller ones (about 3.7k points in all) are sequential.
   const auto xyz = random_points(30000, 43);
   const Delaunay3 one = build_with_threads(xyz, 1, {});

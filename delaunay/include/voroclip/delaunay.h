@@ -425,8 +425,8 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // memory locality), but the finished triangulation reads the caller's array: it must stay
 // alive and unchanged while the triangulation is used (until the next build()).
 //
-// Threads. A BRIO round of at least 7/4 * points_per_zone points (Options; in a build with
-// no round that large, 7/64 if a round reaches 7/16, else none) is split into zones, each
+// Threads. A BRIO round of at least 7/16 * points_per_zone points (Options; in a build with
+// no round that large, 7/256 if a round reaches 7/64, else none) is split into zones, each
 // inserted by its own TBB task along a Hilbert curve of its box: 2, 4 or 8 zones are the
 // halves, quarters or octants of the round's box that its own Hilbert curve visits one
 // after the other, taken in the round's order, when they hold about equal numbers of
@@ -462,8 +462,8 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
 // uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
 // Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads (a 2.6 GHz
-// Xeon); 3.2-3.7 s, 0.54 of CGAL, and 1.9-2.1 s on two threads on a 2.0 GHz Zen 1 EPYC
-// (the host's speed varies), where the zones cost about 11 % on one thread. 10^5 points on
+// Xeon); 3.2-3.4 s, 0.53-0.54 of CGAL, and 1.85-1.95 s on two threads on a 2.0 GHz Zen 1
+// EPYC (the host's speed varies), where the zones cost about 8 % on one thread. 10^5 points on
 // that EPYC: 0.18 s on two threads, 0.29 s (0.52 of CGAL) on one. 35 bytes per tet at the
 // end, 39 at the peak.
 //
@@ -476,13 +476,16 @@ struct Delaunay3Options {
   // voroclip::Error if either finds a defect (slow: for debugging and the CLI's --check).
   bool check = false;
   // Parallel insertion: a BRIO round of n points is split into as many zones as the largest
-  // power of two <= n / points_per_zone (at most 64), but two from 7/4 * points_per_zone on
-  // (in a build with no round that large, from 7/64 * points_per_zone if a round reaches
-  // 7/16 of it, else never; a smaller round is inserted sequentially), the points it defers
-  // into zones of points_per_zone / 8 (two from 7/4 of that on). Fewer points per zone give
+  // power of two <= n / points_per_zone (at most 64), but two from 7/16 * points_per_zone on
+  // (in a build with no round that large, from 7/256 * points_per_zone if a round reaches
+  // 7/64 of it, else never; a smaller round is inserted sequentially), the points it defers
+  // into zones of points_per_zone / 32 (two from 7/4 of that on). Fewer points per zone give
   // more parallelism and more points deferred at zone boundaries. The tet set never depends
-  // on it; the slot numbering does (but never on the number of threads).
-  std::uint32_t points_per_zone = 32768;
+  // on it; the slot numbering does (but never on the number of threads). The default makes
+  // every zoned round of 1M uniform points two zones, the fastest on two cores (about 4 %
+  // faster than 32768, which splits the last rounds into 8 and 4 zones: bench/RESULTS.md);
+  // with more cores, a smaller value gives more zones to share.
+  std::uint32_t points_per_zone = 131072;
   // Which code computes the conflict test's insphere determinant: the same operations
   // either way, so the same triangulation to the last bit; only the speed differs.
   enum class InsphereSimd : std::uint8_t {
