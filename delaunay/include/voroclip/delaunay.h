@@ -482,7 +482,7 @@ struct Delaunay3Options {
   // into zones of points_per_zone / 32 (two from 7/4 of that on). Fewer points per zone give
   // more parallelism and more points deferred at zone boundaries. The tet set never depends
   // on it; the slot numbering does (but never on the number of threads). The default makes
-  // every zoned round of 1M uniform points two zones, the fastest on two cores (about 4 %
+  // every zoned round of 1M uniform points two zones, the fastest on two cores (3-5 %
   // faster than 32768, which splits the last rounds into 8 and 4 zones: bench/RESULTS.md);
   // with more cores, a smaller value gives more zones to share.
   std::uint32_t points_per_zone = 131072;
