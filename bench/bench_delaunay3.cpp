@@ -5,7 +5,7 @@
 // construction's copies and scratch included), and the share of the points inserted in
 // parallel zones that were deferred to a later pass; and 1M uniform points on 2 threads
 // with smaller zones (Options::points_per_zone 65536 and 32768 against the default 131072:
-// 4 and 8 zones in the last rounds instead of 2, more points deferred); uniform points on one
+// 4 and 8 zones in the last round instead of 2, more points deferred); uniform points on one
 // thread with the SSE2 insphere determinant (Options::InsphereSimd::sse2, "_baseline") and with the
 // AVX2 one (InsphereSimd::avx2, "_avx2", the SSE2 one on a CPU without AVX2), against the default
 // (automatic: AVX2 when the CPU has it, but not on AMD Zen 1) in BM_delaunay3_uniform, and

@@ -464,7 +464,7 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads (a 2.6 GHz
 // Xeon); 3.2-3.4 s, 0.53-0.54 of CGAL, and 1.85-1.95 s on two threads on a 2.0 GHz Zen 1
 // EPYC (the host's speed varies), where the zones cost about 8 % on one thread. 10^5 points on
-// that EPYC: 0.18 s on two threads, 0.29 s (0.52 of CGAL) on one. 35 bytes per tet at the
+// that EPYC: 0.18-0.20 s on two threads, 0.29-0.33 s (0.52 of CGAL) on one. 35 bytes per tet at the
 // end, 39 at the peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
