@@ -185,7 +185,7 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
   if (tets_[8 * static_cast<std::size_t>(current) + 3] == kInfinite) {
     const std::uint32_t code = tets_[8 * static_cast<std::size_t>(current) + 7] & kCodeMask;
     if constexpr (kZoned) {
-      if (!zone.contains(point(tets_[8 * static_cast<std::size_t>(code / 4) + code % 4]))) {
+      if (!zone.inside(point(tets_[8 * static_cast<std::size_t>(code / 4) + code % 4]))) {
         return false;
       }
     }
@@ -230,7 +230,7 @@ bool Delaunay3::walk(const Zone& zone, const double* p, std::uint32_t& t) const 
           // Any facet p lies beyond will do (the walk still terminates): take one whose tet
           // is in the zone.
           const std::uint32_t o = tets_[8 * static_cast<std::size_t>(code / 4) + code % 4];
-          if (o != kInfinite && !zone.contains(point(o))) {
+          if (o != kInfinite && !zone.inside(point(o))) {
             blocked = true;
             continue;
           }
@@ -367,7 +367,7 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
         if (in_conflict<kAvx2>(n, q)) {
           if constexpr (kZoned) {
             const std::uint32_t o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
-            if (o != kInfinite && !zone.contains(point(o))) {
+            if (o != kInfinite && !zone.inside(point(o))) {
               unmark_cavity(zone);
               return Inserted::deferred;
             }
@@ -583,6 +583,7 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
 // determinant; see bench/RESULTS.md.)
 template <bool kZoned>
 void Delaunay3::insert_points(Zone& zone, const std::uint32_t* first, const std::uint32_t* last) {
+  if constexpr (kZoned) zone.prepare_inside();
   if (avx2_) {
     for (; first != last; ++first) {
       if (insert<kZoned, true>(zone, *first) == Inserted::deferred) {
