@@ -364,9 +364,13 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
       std::uint32_t& marks = tets_[8 * static_cast<std::size_t>(n) + 4];
       if ((marks & kInCavity) != 0) continue;
       if ((marks & kOutside) == 0) {
+        // The zone test's vertex (opposite the facet crossed) is read before the conflict
+        // test, and the boundary facet's code again from the record: held across the
+        // test, the code was spilled to the stack (callgrind: 0.9 % fewer instructions).
+        std::uint32_t o = 0;
+        if constexpr (kZoned) o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
         if (in_conflict<kAvx2>(n, q)) {
           if constexpr (kZoned) {
-            const std::uint32_t o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
             if (o != kInfinite && !zone.inside(point(o))) {
               unmark_cavity(zone);
               return Inserted::deferred;
@@ -380,7 +384,7 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
         marks |= kOutside;
       }
       const int* fv = kFacetVertex[f];
-      boundary.push_back({code, {w[fv[0]], w[fv[1]], w[fv[2]]}});
+      boundary.push_back({w[4 + f] & kCodeMask, {w[fv[0]], w[fv[1]], w[fv[2]]}});
     }
   }
 
