@@ -124,24 +124,35 @@ std::size_t capacity_bytes(const std::vector<T, A>& v) {
 // The common case inline (a finite tet, decided by the static filter); the rest in
 // in_conflict_rest, out of line so that the hot path needs few registers. kAvx2: the
 // determinant by insphere_det_avx2 (a call: it is compiled for AVX2, this code is not).
+// v: t's record; pts, pq: the points and q's coordinates (passed by the cavity search,
+// which holds them in registers).
 template <bool kAvx2>
-inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
-  const std::uint32_t* v = &tets_[8 * static_cast<std::size_t>(t)];
+inline bool Delaunay3::in_conflict(const std::uint32_t* v, std::uint32_t t, std::uint32_t q,
+                                   const double* pts, const double* pq) const {
   if (v[3] != kInfinite) {
     // insphere(a, b, c, d, q, filter_)'s first stage, in SSE2 or AVX2 (the same value).
+    const double* a = pts + 3 * static_cast<std::size_t>(v[0]);
+    const double* b = pts + 3 * static_cast<std::size_t>(v[1]);
+    const double* c = pts + 3 * static_cast<std::size_t>(v[2]);
+    const double* d = pts + 3 * static_cast<std::size_t>(v[3]);
     double det;
 #if defined(VOROCLIP_INSPHERE_DET_AVX2)
     if constexpr (kAvx2) {
-      det = detail::insphere_det_avx2(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+      det = detail::insphere_det_avx2(a, b, c, d, pq);
     } else {
-      det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+      det = detail::insphere_det(a, b, c, d, pq);
     }
 #else
-    det = detail::insphere_det(point(v[0]), point(v[1]), point(v[2]), point(v[3]), point(q));
+    det = detail::insphere_det(a, b, c, d, pq);
 #endif
     if (std::fabs(det) > filter_.insphere_bound()) return det > 0;
   }
   return in_conflict_rest(t, q);
+}
+
+template <bool kAvx2>
+inline bool Delaunay3::in_conflict(std::uint32_t t, std::uint32_t q) const {
+  return in_conflict<kAvx2>(&tets_[8 * static_cast<std::size_t>(t)], t, q, pts_, point(q));
 }
 
 bool Delaunay3::in_conflict_rest(std::uint32_t t, std::uint32_t q) const {
@@ -345,33 +356,40 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   std::vector<BoundaryFacet>& boundary = zone.boundary;
   cavity.clear();
   boundary.clear();
+  // The records and points through local pointers (reloaded after take_slots, which may
+  // move the array): the stores of cavity's end, a std::uint32_t* like tets_'s start, made
+  // the compiler reload that after each push, and the stores to local_id_ (bytes, which may
+  // alias anything) every array's address after each of them.
+  std::uint32_t* tets = tets_.data();
+  const double* const pts = pts_;
   // A tet's neighbours are read when it is taken from the queue, a few tets after it entered:
   // their records are prefetched as it enters (they are scattered over the array).
-  const auto prefetch_neighbors = [this](std::uint32_t t) {
-    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(t)];
+  const auto prefetch_neighbors = [tets](std::uint32_t t) {
+    const std::uint32_t* w = &tets[8 * static_cast<std::size_t>(t)];
     for (std::size_t f = 0; f < 4; ++f) {
-      prefetch(&tets_[8 * static_cast<std::size_t>((w[4 + f] & kCodeMask) / 4)]);
+      prefetch(&tets[8 * static_cast<std::size_t>((w[4 + f] & kCodeMask) / 4)]);
     }
   };
-  tets_[8 * static_cast<std::size_t>(start) + 4] |= kInCavity;
+  tets[8 * static_cast<std::size_t>(start) + 4] |= kInCavity;
   prefetch_neighbors(start);
   cavity.push_back(start);
   for (std::size_t i = 0; i < cavity.size(); ++i) {
-    const std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(cavity[i])];
+    const std::uint32_t* w = &tets[8 * static_cast<std::size_t>(cavity[i])];
     for (std::size_t f = 0; f < 4; ++f) {
       const std::uint32_t code = w[4 + f] & kCodeMask;
       const std::uint32_t n = code / 4;
-      std::uint32_t& marks = tets_[8 * static_cast<std::size_t>(n) + 4];
+      std::uint32_t* const record = &tets[8 * static_cast<std::size_t>(n)];
+      std::uint32_t& marks = record[4];
       if ((marks & kInCavity) != 0) continue;
       if ((marks & kOutside) == 0) {
         // The zone test's vertex (opposite the facet crossed) is read before the conflict
         // test, and the boundary facet's code again from the record: held across the
         // test, the code was spilled to the stack (callgrind: 0.9 % fewer instructions).
         std::uint32_t o = 0;
-        if constexpr (kZoned) o = tets_[8 * static_cast<std::size_t>(n) + code % 4];
-        if (in_conflict<kAvx2>(n, q)) {
+        if constexpr (kZoned) o = record[code % 4];
+        if (in_conflict<kAvx2>(record, n, q, pts, pq)) {
           if constexpr (kZoned) {
-            if (o != kInfinite && !zone.inside(point(o))) {
+            if (o != kInfinite && !zone.inside(pts + 3 * static_cast<std::size_t>(o))) {
               unmark_cavity(zone);
               return Inserted::deferred;
             }
@@ -417,19 +435,25 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   }
 
   const bool small = nb_new <= kSmallCavity;
+  tets = tets_.data();
+  std::uint32_t* const table = zone.edge_map.data();
+  std::uint8_t* const local_id = local_id_.data();
+  std::uint32_t* const local_vertex = zone.local_vertex.data();
+  BoundaryFacet* const facets = boundary.data();
+  const std::uint32_t* const slots = cavity.data();
   std::uint32_t nb_local = 1;
   // The local id of a finite vertex (kInfinite has 0; after the rotation below only the
   // third vertex of a facet can be kInfinite).
-  const auto local = [this, &zone, &nb_local](std::uint32_t v) -> std::uint32_t {
-    const std::uint32_t l = local_id_[v];
-    if (l < nb_local && zone.local_vertex[l] == v) return l;
-    zone.local_vertex[nb_local] = v;
-    local_id_[v] = static_cast<std::uint8_t>(nb_local);
+  const auto local = [local_id, local_vertex, &nb_local](std::uint32_t v) -> std::uint32_t {
+    const std::uint32_t l = local_id[v];
+    if (l < nb_local && local_vertex[l] == v) return l;
+    local_vertex[nb_local] = v;
+    local_id[v] = static_cast<std::uint8_t>(nb_local);
     return nb_local++;
   };
   for (std::size_t i = 0; i < nb_new; ++i) {
-    BoundaryFacet& b = boundary[i];
-    const std::uint32_t nt = cavity[i];
+    BoundaryFacet& b = facets[i];
+    const std::uint32_t nt = slots[i];
     std::uint32_t x = b.v[0], y = b.v[1], z = b.v[2];
     if (x == kInfinite) {  // (y, z, x): an even permutation keeps the orientation
       x = y;
@@ -440,35 +464,33 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
       x = z;
       z = kInfinite;
     }
-    std::uint32_t* w = &tets_[8 * static_cast<std::size_t>(nt)];
+    std::uint32_t* w = &tets[8 * static_cast<std::size_t>(nt)];
     w[0] = q;
     w[1] = x;
     w[2] = y;
     w[3] = z;
     w[4] = b.code;
-    std::uint32_t* outside = &tets_[8 * static_cast<std::size_t>(b.code / 4)];
+    std::uint32_t* outside = &tets[8 * static_cast<std::size_t>(b.code / 4)];
     outside[4] &= kCodeMask;
     outside[4 + b.code % 4] = (outside[4 + b.code % 4] & ~kCodeMask) | (4 * nt);
     if (small) {
-      b.v[0] = local(x);
-      b.v[1] = local(y);
-      b.v[2] = z == kInfinite ? 0 : local(z);
+      const std::uint32_t lx = local(x), ly = local(y), lz = z == kInfinite ? 0 : local(z);
+      b.v[0] = lx;
+      b.v[1] = ly;
+      b.v[2] = lz;
+      // Table entry (u, v): the facet through q and the directed boundary edge u -> v.
+      table[lx * kTableSide + ly] = 4 * nt + 3;
+      table[ly * kTableSide + lz] = 4 * nt + 1;
+      table[lz * kTableSide + lx] = 4 * nt + 2;
     }
     b.code = 4 * nt;
   }
   if (small) {
-    // Table entry (u, v): the facet through q and the directed boundary edge u -> v.
-    std::uint32_t* table = zone.edge_map.data();
-    for (const BoundaryFacet& b : boundary) {
-      table[b.v[0] * kTableSide + b.v[1]] = b.code + 3;
-      table[b.v[1] * kTableSide + b.v[2]] = b.code + 1;
-      table[b.v[2] * kTableSide + b.v[0]] = b.code + 2;
-    }
-    for (const BoundaryFacet& b : boundary) {
-      std::uint32_t* w = &tets_[2 * static_cast<std::size_t>(b.code) + 4];
-      w[1] = table[b.v[2] * kTableSide + b.v[1]];
-      w[2] = table[b.v[0] * kTableSide + b.v[2]];
-      w[3] = table[b.v[1] * kTableSide + b.v[0]];
+    for (const BoundaryFacet* b = facets; b != facets + nb_new; ++b) {
+      std::uint32_t* w = &tets[2 * static_cast<std::size_t>(b->code) + 4];
+      w[1] = table[b->v[2] * kTableSide + b->v[1]];
+      w[2] = table[b->v[0] * kTableSide + b->v[2]];
+      w[3] = table[b->v[1] * kTableSide + b->v[0]];
     }
   } else {
     glue_large_cavity(zone, q);

@@ -696,6 +696,9 @@ class Delaunay3 {
   std::uint32_t sos_id(std::uint32_t v) const { return sos_ids_ ? sos_ids_[v] : v; }
   template <bool kAvx2>
   bool in_conflict(std::uint32_t t, std::uint32_t q) const;
+  template <bool kAvx2>
+  bool in_conflict(const std::uint32_t* v, std::uint32_t t, std::uint32_t q, const double* pts,
+                   const double* pq) const;
   [[gnu::noinline]] bool in_conflict_rest(std::uint32_t t, std::uint32_t q) const;
   template <bool kZoned>
   bool walk(const Zone& zone, const double* p, std::uint32_t& t) const;
