@@ -443,10 +443,11 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
   const std::uint32_t* const slots = cavity.data();
   std::uint32_t nb_local = 1;
   // The local id of a finite vertex (kInfinite has 0; after the rotation below only the
-  // third vertex of a facet can be kInfinite).
+  // third vertex of a facet can be kInfinite). local_id_ is 0 for every vertex between
+  // insertions: the ids given here are reset below.
   const auto local = [local_id, local_vertex, &nb_local](std::uint32_t v) -> std::uint32_t {
     const std::uint32_t l = local_id[v];
-    if (l < nb_local && local_vertex[l] == v) return l;
+    if (l != 0) return l;
     local_vertex[nb_local] = v;
     local_id[v] = static_cast<std::uint8_t>(nb_local);
     return nb_local++;
@@ -492,6 +493,7 @@ inline Delaunay3::Inserted Delaunay3::insert(Zone& zone, std::uint32_t q) {
       w[2] = table[b->v[0] * kTableSide + b->v[2]];
       w[3] = table[b->v[1] * kTableSide + b->v[0]];
     }
+    for (std::uint32_t l = 1; l < nb_local; ++l) local_id[local_vertex[l]] = 0;
   } else {
     glue_large_cavity(zone, q);
   }

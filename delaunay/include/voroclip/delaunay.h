@@ -751,7 +751,7 @@ class Delaunay3 {
   std::vector<std::uint32_t> vertex_tet_;
   std::vector<std::uint32_t> duplicate_of_;
   std::vector<std::uint32_t> duplicate_internal_;  // during construction, by rank
-  std::vector<std::uint8_t> local_id_;             // per rank: scratch of the gluing
+  std::vector<std::uint8_t> local_id_;             // per rank: gluing ids, 0 between insertions
   std::vector<Zone> zones_;                        // zones_[0] inserts sequentially
   std::vector<std::vector<Zone>> zone_plans_;      // per round: its first pass's zones, ahead
   std::uint32_t initial_[4] = {0, 0, 0, 0};        // ranks of the first tet's vertices
