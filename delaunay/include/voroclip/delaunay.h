@@ -463,10 +463,10 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
 // Speed (bench/bench_delaunay3, bench/compare/compare_delaunay3; bench/RESULTS.md): 1M
 // uniform points in about 2.0-2.1 s of CPU time on one thread, 0.51 of CGAL's
 // Delaunay_triangulation_3 in the same run, about 1.15-1.2 s on two threads (a 2.6 GHz
-// Xeon); 3.2-3.4 s, 0.53-0.54 of CGAL, and 1.85-1.95 s on two threads on a 2.0 GHz Zen 1
-// EPYC (the host's speed varies), where the zones cost about 8 % on one thread. 10^5 points on
-// that EPYC: 0.18-0.20 s on two threads, 0.29-0.33 s (0.52 of CGAL) on one. 35 bytes per tet at the
-// end, 39 at the peak.
+// Xeon); 3.4 s, 0.48-0.49 of CGAL, and 1.9-2.5 s on two threads on a 2.0 GHz Zen 1 EPYC
+// (the host's speed varies, its second core's most). 10^5 points on that EPYC: 0.32 s
+// (0.47 of CGAL) on one thread, 0.20-0.23 s on two. 35 bytes per tet at the end, 39 at the
+// peak.
 //
 // Slots after a build. Slots [0, nb_tet_slots()) all hold live tets, finite and infinite
 // mixed (free slots left by the construction are filled with the last live records).
