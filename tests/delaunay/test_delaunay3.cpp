@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -639,6 +640,53 @@ TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
   CHECK(one.stats().zoned_passes > 0);
   require_valid(two);
   CHECK(all_arrays(one) == all_arrays(two));
+}
+
+TEST_CASE("Delaunay3 zone boxes: the one-axis test answers as the box test", "[delaunay]") {
+  // Every pattern of bounds per axis (none, lower, upper, both) in both frames, with
+  // points on the bounds, next to them and at random: inside() must equal contains(), and
+  // the one-axis path is taken exactly for frame-0 boxes bounded on at most one axis (the
+  // two zones of a first pass).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> u(-2, 2);
+  std::size_t compared = 0, slabs = 0;
+  for (int frame = 0; frame < 2; ++frame) {
+    for (int pattern = 0; pattern < 64; ++pattern) {
+      voroclip::detail::ZoneBox box;
+      box.frame = frame;
+      int bounded = 0;
+      for (int a = 0; a < 3; ++a) {
+        const int kind = pattern >> (2 * a) & 3;
+        const double m = u(rng), w = std::fabs(u(rng)) + 0.25;
+        box.lo[a] = (kind & 1) != 0 ? m - w : -kInf;
+        box.hi[a] = (kind & 2) != 0 ? m + w : kInf;
+        bounded += kind != 0 ? 1 : 0;
+      }
+      box.prepare_inside();
+      const bool slab = frame == 0 && bounded <= 1;
+      CHECK((box.slab_axis >= 0) == slab);
+      slabs += slab ? 1 : 0;
+      std::vector<std::array<double, 3>> pts;
+      for (int k = 0; k < 200; ++k) pts.push_back({u(rng), u(rng), u(rng)});
+      for (int a = 0; a < 3; ++a) {
+        for (const double b : {box.lo[a], box.hi[a]}) {
+          if (std::isinf(b)) continue;
+          for (const double x : {b, std::nextafter(b, -kInf), std::nextafter(b, kInf)}) {
+            std::array<double, 3> p = {u(rng), u(rng), u(rng)};
+            p[static_cast<std::size_t>(a)] = x;
+            pts.push_back(p);
+          }
+        }
+      }
+      for (const auto& p : pts) {
+        CHECK(box.inside(p.data()) == box.contains(p.data()));
+        ++compared;
+      }
+    }
+  }
+  CHECK(slabs == 10);  // frame 0: the pattern with no bound and 3 axes x 3 one-axis patterns
+  CHECK(compared > 25000);
 }
 
 TEST_CASE("Delaunay3 prefetch_tet leaves every record unchanged", "[delaunay]") {

@@ -377,6 +377,59 @@ inline std::uint32_t Delaunay2::vertex_triangle(std::uint32_t v) const {
   return vertex_triangle_[v];
 }
 
+namespace detail {
+
+// The box of one of Delaunay3's zones (see "Threads" below): the points whose coordinates
+// in `frame` lie in [lo, hi), half-open on every axis; bounds may be infinite. Frame 0 is
+// (x, y, z), frame 1 (x + y, y + z, z + x) (floating point: a zone need only be a function
+// of the coordinates, so that zones are disjoint).
+struct ZoneBox {
+  int frame = 0;
+  double lo[3], hi[3];
+  static void frame_coordinates(int frame, const double* p, double* u) {
+    if (frame == 0) {
+      u[0] = p[0];
+      u[1] = p[1];
+      u[2] = p[2];
+    } else {
+      u[0] = p[0] + p[1];
+      u[1] = p[1] + p[2];
+      u[2] = p[2] + p[0];
+    }
+  }
+  bool contains(const double* p) const {
+    double u[3];
+    frame_coordinates(frame, p, u);
+    return u[0] >= lo[0] && u[0] < hi[0] && u[1] >= lo[1] && u[1] < hi[1] && u[2] >= lo[2] &&
+           u[2] < hi[2];
+  }
+  // contains() for the zoned insertion, which tests about 18 vertices per point: a box of
+  // frame 0 bounded on one axis only (a half of a round: two zones) compares that one
+  // coordinate, the same answer for finite coordinates (the other bounds are infinite).
+  // slab_axis is set from the box by prepare_inside(), after the box and before the tests.
+  int slab_axis = -1;
+  void prepare_inside() {
+    slab_axis = -1;
+    if (frame != 0) return;
+    int bounded = 0, axis = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (std::isinf(lo[a]) && std::isinf(hi[a])) continue;
+      ++bounded;
+      axis = a;
+    }
+    if (bounded <= 1) slab_axis = axis;
+  }
+  bool inside(const double* p) const {
+    if (slab_axis >= 0) {
+      const double x = p[slab_axis];
+      return x >= lo[slab_axis] && x < hi[slab_axis];
+    }
+    return contains(p);
+  }
+};
+
+}  // namespace detail
+
 // ---------------------------------------------------------------------------------------
 // Delaunay3: the 3D Delaunay triangulation by Bowyer–Watson insertion (Bowyer 1981,
 // Watson 1981) in BRIO order (Amenta, Choi & Rote 2003), with exact predicates and
@@ -624,12 +677,8 @@ class Delaunay3 {
     std::uint32_t code;  // 4t + f of the tet outside the cavity and its facet on the boundary
     std::uint32_t v[3];  // the facet as listed in the cavity tet behind it (kFacetVertex)
   };
-  struct Zone {
-    // The zone: points whose coordinates in `frame` lie in the box [lo, hi), half-open on
-    // every axis. Frame 0 is (x, y, z), frame 1 (x + y, y + z, z + x) (floating point: a
-    // zone need only be a function of the coordinates, so that zones are disjoint).
-    int frame = 0;
-    double lo[3], hi[3];
+  // A zone: its box (detail::ZoneBox) and the state of the task inserting in it.
+  struct Zone : detail::ZoneBox {
     bool along_curve = false;  // a half, quarter or octant of the round's box (split_along_curve)
     std::uint32_t hint = kNoTet;
     std::vector<std::uint32_t> cavity;
@@ -643,48 +692,6 @@ class Delaunay3 {
     std::vector<std::uint64_t> sorted_edges;  // and the keys sorted
     std::vector<std::uint32_t> points;        // points to insert in this zone
     std::vector<std::uint32_t> deferred;      // points whose cavity left the box
-    static void frame_coordinates(int frame, const double* p, double* u) {
-      if (frame == 0) {
-        u[0] = p[0];
-        u[1] = p[1];
-        u[2] = p[2];
-      } else {
-        u[0] = p[0] + p[1];
-        u[1] = p[1] + p[2];
-        u[2] = p[2] + p[0];
-      }
-    }
-    bool contains(const double* p) const {
-      double u[3];
-      frame_coordinates(frame, p, u);
-      return u[0] >= lo[0] && u[0] < hi[0] && u[1] >= lo[1] && u[1] < hi[1] && u[2] >= lo[2] &&
-             u[2] < hi[2];
-    }
-    // contains() for the zoned insertion, which tests about 18 vertices per point: a box of
-    // frame 0 bounded on one axis only (a half of a round: two zones) compares that one
-    // coordinate, the same answer (the other bounds are infinite and coordinates finite).
-    // slab_axis is set from the box by prepare_inside() before a zone's insertions.
-    int slab_axis = -1;
-    void prepare_inside() {
-      slab_axis = -1;
-      if (frame != 0) return;
-      int bounded = 0, axis = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (std::isinf(lo[a]) && std::isinf(hi[a])) continue;
-        ++bounded;
-        axis = a;
-      }
-      if (bounded <= 1) slab_axis = axis;
-    }
-    bool inside(const double* p) const {
-      if (slab_axis >= 0) {
-        const double x = p[slab_axis];
-        const bool in = x >= lo[slab_axis] && x < hi[slab_axis];
-        assert(in == contains(p));
-        return in;
-      }
-      return contains(p);
-    }
   };
   enum class Inserted { yes, duplicate, deferred };
 
