@@ -650,7 +650,7 @@ TEST_CASE("Delaunay3 zone boxes: the one-axis test answers as the box test", "[d
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::mt19937_64 rng(47);
   std::uniform_real_distribution<double> u(-2, 2);
-  std::size_t compared = 0, slabs = 0;
+  std::size_t slabs = 0;
   for (int frame = 0; frame < 2; ++frame) {
     for (int pattern = 0; pattern < 64; ++pattern) {
       voroclip::detail::ZoneBox box;
@@ -666,7 +666,7 @@ TEST_CASE("Delaunay3 zone boxes: the one-axis test answers as the box test", "[d
       box.prepare_inside();
       const bool slab = frame == 0 && bounded <= 1;
       CHECK((box.slab_axis >= 0) == slab);
-      slabs += slab ? 1 : 0;
+      slabs += box.slab_axis >= 0 ? 1 : 0;
       std::vector<std::array<double, 3>> pts;
       for (int k = 0; k < 200; ++k) pts.push_back({u(rng), u(rng), u(rng)});
       for (int a = 0; a < 3; ++a) {
@@ -679,14 +679,11 @@ TEST_CASE("Delaunay3 zone boxes: the one-axis test answers as the box test", "[d
           }
         }
       }
-      for (const auto& p : pts) {
-        CHECK(box.inside(p.data()) == box.contains(p.data()));
-        ++compared;
-      }
+      for (const auto& p : pts) CHECK(box.inside(p.data()) == box.contains(p.data()));
     }
   }
-  CHECK(slabs == 10);  // frame 0: the pattern with no bound and 3 axes x 3 one-axis patterns
-  CHECK(compared > 25000);
+  // Frame 0: the pattern with no bound and 3 axes x 3 one-axis patterns.
+  CHECK(slabs == 10);
 }
 
 TEST_CASE("Delaunay3 prefetch_tet leaves every record unchanged", "[delaunay]") {
