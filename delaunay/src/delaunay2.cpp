@@ -14,15 +14,19 @@
 // any point is acyclic (Edelsbrunner 1990), so no triangle is visited twice; a step limit
 // with a linear scan guards the invariant anyway.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <string>
 #include <type_traits>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "nearest.h"
 #include "spatial_sort.h"
@@ -35,6 +39,8 @@ namespace {
 
 constexpr int kNext[3] = {1, 2, 0};
 constexpr int kPrev[3] = {2, 0, 1};
+// The most strips a round is split into (Options::zones).
+constexpr std::uint32_t kMaxZones = 64;
 
 bool same_point(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1]; }
 
@@ -89,37 +95,39 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
                 std::to_string(n) + " point" + (n == 1 ? "" : "s"));
   }
   filter_ = StaticFilter::bounding(xy, n, 2);
+  stats_ = Stats();
   detail::reserve_advised(duplicate_of_, n);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
-  input_index_ = detail::brio_order(xy, n, 2);
-  relabeled_ = false;
-  insert_all();
+  std::vector<std::uint32_t> round_starts;
+  input_index_ = detail::brio_order(xy, n, 2, &round_starts);
+  seq_.relabeled = false;
+  insert_all(&round_starts);
   // Union-find with the smallest index as root: duplicate_of_[i] <= i, so one ascending
   // pass compresses every path.
   for (std::uint32_t i = 0; i < n; ++i) duplicate_of_[i] = duplicate_of_[duplicate_of_[i]];
-  if (relabeled_) {
+  if (seq_.relabeled) {
     // A vertex was inserted before a smaller-index twin: its perturbation used the wrong
-    // index. Rebuild from the distinct points (only for some duplicated input).
+    // index. Rebuild from the distinct points (only for some duplicated input), in one
+    // sequence (the rounds' bounds moved).
     input_index_.erase(std::remove_if(input_index_.begin(), input_index_.end(),
                                       [this](std::uint32_t i) { return duplicate_of_[i] != i; }),
                        input_index_.end());
     clear_triangles();
-    relabeled_ = false;
-    insert_all();
+    seq_.relabeled = false;
+    insert_all(nullptr);
   }
   for (std::uint32_t i = 0; i < n; ++i) nb_unique_ += duplicate_of_[i] == i ? 1u : 0u;
   canonicalize();
   if (!options_.keep_buffers) {
-    for (auto* buffer : {&scratch_a_, &starting_at_, &stack_, &cavity_, &free_}) {
-      std::vector<std::uint32_t>().swap(*buffer);
-    }
+    for (auto* buffer : {&scratch_a_, &starting_at_}) std::vector<std::uint32_t>().swap(*buffer);
+    seq_ = Zone();
+    decltype(zones_)().swap(zones_);
     decltype(rec_)().swap(rec_);
     decltype(scratch_c_)().swap(scratch_c_);
     decltype(keys_)().swap(keys_);
     decltype(placed_)().swap(placed_);
     decltype(coords_)().swap(coords_);
-    std::vector<BoundaryEdge>().swap(boundary_);
   }
   if (options_.check) {
     std::string defect = check_topology();
@@ -130,27 +138,36 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
 
 void Delaunay2::clear_triangles() {
   rec_slots_ = 0;
-  free_.clear();
+  seq_.free.clear();
 }
 
-// A slot for a new triangle: a recycled one, else the next of rec_ (whose mark is reset:
-// rec_ keeps the stamps of the previous build). Inlined: six calls per insertion.
-[[gnu::always_inline]] inline std::uint32_t Delaunay2::new_triangle() {
-  if (!free_.empty()) {
-    const std::uint32_t t = free_.back();
-    free_.pop_back();
+// A slot for a new triangle: a recycled one, else a fresh one (whose mark is reset: rec_
+// keeps the stamps of the previous build): the next of rec_, or for a strip the next of
+// its range (which has room for all its points: insert_in_strips). Inlined: six calls per
+// insertion.
+template <bool kZoned>
+[[gnu::always_inline]] inline std::uint32_t Delaunay2::new_triangle(Zone& zone) {
+  if (!zone.free.empty()) {
+    const std::uint32_t t = zone.free.back();
+    zone.free.pop_back();
     return t;
   }
-  const std::uint32_t t = rec_slots_++;
-  if (8 * static_cast<std::size_t>(rec_slots_) > rec_.size()) {
-    rec_.resize(rec_.size() + rec_.size() / 8 + 64);
+  std::uint32_t t;
+  if constexpr (kZoned) {
+    t = zone.fresh++;
+  } else {
+    t = rec_slots_++;
+    if (8 * static_cast<std::size_t>(rec_slots_) > rec_.size()) {
+      rec_.resize(rec_.size() + rec_.size() / 8 + 64);
+    }
   }
   rec_[8 * static_cast<std::size_t>(t) + 3] = 0;
   return t;
 }
 
-// Inserts the points input_index_[0], input_index_[1], ... (local ids 0, 1, ...).
-void Delaunay2::insert_all() {
+// Inserts the points input_index_[0], input_index_[1], ... (local ids 0, 1, ...), round
+// by round (round_starts: see detail::brio_order; null: all in one sequence).
+void Delaunay2::insert_all(const std::vector<std::uint32_t>* round_starts) {
   const auto m = static_cast<std::uint32_t>(input_index_.size());
   detail::reserve_advised(coords_, 2 * static_cast<std::size_t>(m));
   coords_.resize(2 * static_cast<std::size_t>(m));
@@ -158,7 +175,8 @@ void Delaunay2::insert_all() {
     coords_[2 * static_cast<std::size_t>(q)] = pt(input_index_[q])[0];
     coords_[2 * static_cast<std::size_t>(q) + 1] = pt(input_index_[q])[1];
   }
-  starting_at_.resize(static_cast<std::size_t>(m) + 1);
+  starting_at_.resize(static_cast<std::size_t>(m) + 1 + kMaxZones);
+  seq_.infinite_slot = m;
   // About 2m triangles in all (finite and infinite). resize() rather than reserve(): a
   // rebuild on as many points touches nothing here.
   const std::size_t expected = 8 * (2 * static_cast<std::size_t>(m) + 16);
@@ -188,7 +206,7 @@ void Delaunay2::insert_all() {
   // The finite triangle and, across each of its edges k, the infinite triangle
   // (v_{k+2}, v_{k+1}, inf); adjacency by matching reversed edges.
   std::uint32_t t[4];
-  for (auto& s : t) s = new_triangle();
+  for (auto& s : t) s = new_triangle<false>(seq_);
   for (int i = 0; i < 3; ++i) rec_[8 * t[0] + static_cast<std::uint32_t>(i)] = v[i];
   for (int k = 0; k < 3; ++k) {
     std::uint32_t* w = &rec_[8 * t[k + 1]];
@@ -211,11 +229,183 @@ void Delaunay2::insert_all() {
       }
     }
   }
-  hint_ = t[0];
-  stamp_ = 0;
-  for (std::uint32_t q = 1; q < m; ++q) {
-    if (q != b && q != c) insert(q);
+  seq_.hint = t[0];
+  seq_.stamp = 0;
+  zoning_off_ = false;
+  const std::uint32_t nb_rounds =
+      round_starts == nullptr ? 1 : static_cast<std::uint32_t>(round_starts->size() - 1);
+  for (std::uint32_t r = 0; r < nb_rounds; ++r) {
+    const std::uint32_t first = round_starts == nullptr ? 0 : (*round_starts)[r];
+    const std::uint32_t last = round_starts == nullptr ? m : (*round_starts)[r + 1];
+    const std::uint32_t nb_zones = round_starts == nullptr ? 1 : zone_count(last - first);
+    if (nb_zones > 1) {
+      insert_in_strips(first, last, nb_zones, b, c);
+      continue;
+    }
+    for (std::uint32_t q = std::max(first, 1u); q < last; ++q) {
+      if (q != b && q != c) insert<false>(seq_, q);
+    }
   }
+}
+
+// The number of strips for a round of `round_size` points (Options::zoned_round, zones).
+std::uint32_t Delaunay2::zone_count(std::uint32_t round_size) const {
+  if (zoning_off_ || round_size < std::max(options_.zoned_round, 2u)) return 1;
+  if (options_.zones != 0) return std::min(options_.zones, kMaxZones);
+  const std::size_t threads = std::min<std::size_t>(
+      static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return static_cast<std::uint32_t>(std::min<std::size_t>(threads, 8));
+}
+
+void Delaunay2::insert_sequentially(const std::uint32_t* first, const std::uint32_t* last) {
+  for (; first != last; ++first) insert<false>(seq_, *first);
+}
+
+// Inserts the local ids [first, last) but 0, b and c (the first triangle's) in nb_zones
+// strips (see "Threads" in the header), then the points they defer, sequentially.
+void Delaunay2::insert_in_strips(std::uint32_t first, std::uint32_t last, std::uint32_t nb_zones,
+                                 std::uint32_t skip_b, std::uint32_t skip_c) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Across the longest axis of the round's box, at quantiles of a sample of its points
+  // (every 16th: the strips need only be about equal).
+  double lo[2] = {kInf, kInf}, hi[2] = {-kInf, -kInf};
+  for (std::uint32_t q = first; q < last; ++q) {
+    const double* p = local_pt(q);
+    for (int a = 0; a < 2; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+  const int axis = hi[0] - lo[0] >= hi[1] - lo[1] ? 0 : 1;
+  std::vector<double> sample;
+  sample.reserve((last - first) / 16 + 1);
+  for (std::uint32_t q = first; q < last; q += 16) sample.push_back(local_pt(q)[axis]);
+  std::vector<double> split(nb_zones - 1);
+  for (std::uint32_t k = 1; k < nb_zones; ++k) {
+    const auto at = static_cast<std::ptrdiff_t>(sample.size() * k / nb_zones);
+    std::nth_element(sample.begin(), sample.begin() + at, sample.end());
+    split[k - 1] = sample[static_cast<std::size_t>(at)];
+  }
+  std::sort(split.begin(), split.end());  // (already sorted but for equal quantiles)
+  if (zones_.size() < nb_zones) zones_.resize(nb_zones);
+  for (std::uint32_t k = 0; k < nb_zones; ++k) {
+    Zone& z = zones_[k];
+    z.axis = axis;
+    z.lo = k == 0 ? -kInf : split[k - 1];
+    z.hi = k + 1 == nb_zones ? kInf : split[k];
+    z.points.clear();
+    z.run_start.clear();
+    z.run_hint.clear();
+    z.deferred.clear();
+    z.free.clear();
+    z.relabeled = false;
+    z.infinite_slot = input_index_.size() + 1 + k;
+  }
+  // A strip's points come in the round's order, along its Hilbert curve, which may leave
+  // the strip and come back far away: each such return (more than kGap points of other
+  // strips in between) starts a run, whose first point gets a start triangle below.
+  constexpr std::uint32_t kGap = 64;
+  for (std::uint32_t q = std::max(first, 1u); q < last; ++q) {
+    if (q == skip_b || q == skip_c) continue;
+    const double x = local_pt(q)[axis];
+    Zone& z = zones_[static_cast<std::size_t>(std::upper_bound(split.begin(), split.end(), x) -
+                                              split.begin())];
+    if (z.points.empty() || q - z.points.back() > kGap) {
+      z.run_start.push_back(static_cast<std::uint32_t>(z.points.size()));
+    }
+    z.points.push_back(q);
+  }
+  // Stamps: each insertion attempt takes two, from the zone's own range. Slots: each
+  // insertion makes two more triangles than its cavity frees (whose slots it reuses
+  // first), so two fresh slots per point suffice (the construction's estimate of 2m
+  // slots in all still holds).
+  std::uint32_t stamp = seq_.stamp;
+  std::size_t slots = rec_slots_;
+  for (std::uint32_t k = 0; k < nb_zones; ++k) {
+    Zone& z = zones_[k];
+    z.stamp = stamp;
+    stamp += 2 * static_cast<std::uint32_t>(z.points.size());
+    z.fresh = static_cast<std::uint32_t>(slots);
+    slots += 2 * z.points.size();
+    z.fresh_end = static_cast<std::uint32_t>(slots);
+  }
+  if (8 * slots > rec_.size()) rec_.resize(8 * slots + rec_.size() / 8);
+  rec_slots_ = static_cast<std::uint32_t>(slots);  // the walks' step limit reads it
+  // A start for each run: the triangle holding one of its first points (the 1st, 2nd,
+  // 4th, 8th, ...: a run begins where the curve enters the strip, on its boundary), found
+  // by a sequential walk, whose finite vertices are all in the strip. run_start then
+  // becomes that point's position (the points before it go on from the strip's last
+  // triangle, if any), or kNone when there is none. It is still a triangle all in the
+  // strip when the point's turn comes: only the strip's own insertions may change it, and
+  // each reuses the slots of its cavity, which are all in the strip.
+  for (std::uint32_t k = 0; k < nb_zones; ++k) {
+    Zone& z = zones_[k];
+    for (std::size_t r = 0; r < z.run_start.size(); ++r) {
+      const std::uint32_t end = r + 1 < z.run_start.size()
+                                    ? z.run_start[r + 1]
+                                    : static_cast<std::uint32_t>(z.points.size());
+      const std::uint32_t begin = z.run_start[r];
+      z.run_start[r] = kNone;
+      z.run_hint.push_back(kNone);
+      for (std::uint32_t step = 1, i = begin; i < end; i = begin + step, step *= 2) {
+        const std::uint32_t t = walk<true>(local_pt(z.points[i]), seq_.hint);
+        seq_.hint = t;
+        const std::uint32_t* v = vertices_of<true>(t);
+        if (std::all_of(v, v + 3, [&z, this](std::uint32_t w) {
+              return w == kInfinite || z.inside(local_pt(w));
+            })) {
+          z.run_start[r] = i;
+          z.run_hint[r] = t;
+          break;
+        }
+      }
+    }
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::uint32_t>(0, nb_zones, 1),
+      [this](const tbb::blocked_range<std::uint32_t>& range) {
+        for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+          Zone& z = zones_[k];
+          z.started = false;
+          std::size_t run = 0;
+          for (std::size_t i = 0; i < z.points.size(); ++i) {
+            while (run < z.run_start.size() && z.run_start[run] == kNone) ++run;
+            if (run < z.run_start.size() && z.run_start[run] == i) {
+              z.hint = z.run_hint[run++];
+              z.started = true;
+            }
+            if (!z.started || !insert<true>(z, z.points[i])) z.deferred.push_back(z.points[i]);
+          }
+        }
+      },
+      tbb::simple_partitioner());
+  // Unused slots become free ones of the sequential insertion.
+  std::vector<std::uint32_t> deferred;
+  for (std::uint32_t k = 0; k < nb_zones; ++k) {
+    Zone& z = zones_[k];
+    for (std::uint32_t t = z.fresh; t < z.fresh_end; ++t) {
+      rec_[8 * static_cast<std::size_t>(t)] = kFreeVertex;
+      rec_[8 * static_cast<std::size_t>(t) + 3] = 0;
+      seq_.free.push_back(t);
+    }
+    for (const std::uint32_t t : z.free) {
+      rec_[8 * static_cast<std::size_t>(t)] = kFreeVertex;
+      seq_.free.push_back(t);
+    }
+    if (z.started) seq_.hint = z.hint;
+    seq_.relabeled = seq_.relabeled || z.relabeled;
+    deferred.insert(deferred.end(), z.deferred.begin(), z.deferred.end());
+    stats_.zoned_points += static_cast<std::uint32_t>(z.points.size());
+  }
+  seq_.stamp = stamp;
+  ++stats_.zoned_passes;
+  stats_.deferred_points += static_cast<std::uint32_t>(deferred.size());
+  // Strips that deferred most of their points: cavities span them (points on a circle:
+  // their triangles cross the disk). The rest of the build is sequential.
+  if (2 * deferred.size() > last - first) zoning_off_ = true;
+  std::sort(deferred.begin(), deferred.end());  // back to insertion order
+  insert_sequentially(deferred.data(), deferred.data() + deferred.size());
 }
 
 // kLocal: t holds local ids (construction), else input indices (checks). ip is the input
@@ -251,14 +441,24 @@ template <bool kLocal>
 
 // kLocal: during construction (local ids, p inside the filter's box); otherwise a query
 // on the finished triangulation, with plain predicates since p may lie outside the box.
+// With a zone (construction only), t has all its finite vertices in the zone and so has
+// every triangle the walk enters: a step across an edge is allowed only when the vertex
+// beyond it is in the zone. kNone when p lies beyond edges of a triangle that all lead
+// out of the zone (or after the step limit, since other tasks may be inserting).
 template <bool kLocal>
-std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
+std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t, const Zone* zone) const {
   const auto orient = [this, p](std::uint32_t a, std::uint32_t b) {
     if constexpr (kLocal) {
       return orient2d(local_pt(a), local_pt(b), p, filter_);
     } else {
       return orient2d(pt(a), pt(b), p);
     }
+  };
+  // Whether the triangle across code 3t' + k' (which shares an edge in the zone) is all in it.
+  const auto reaches = [this, zone](std::uint32_t code) {
+    if (!kLocal || zone == nullptr) return true;
+    const std::uint32_t o = vertices_of<kLocal>(code / 3)[code % 3];
+    return o == kInfinite || zone->inside(local_pt(o));
   };
   const std::uint32_t slots = kLocal ? rec_slots_ : nb_slots_;
   const std::size_t limit = static_cast<std::size_t>(slots) + 8;
@@ -269,8 +469,10 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
     const int kinf = v[0] == kInfinite ? 0 : v[1] == kInfinite ? 1 : v[2] == kInfinite ? 2 : -1;
     if (kinf >= 0) {
       if (orient(v[kNext[kinf]], v[kPrev[kinf]]) == Sign::positive) return t;
+      const std::uint32_t code = neighbor_of<kLocal>(t, kinf);
+      if (!reaches(code)) return kNone;
       previous = t;
-      t = neighbor_of<kLocal>(t, kinf) / 3;
+      t = code / 3;
       continue;
     }
     if constexpr (kLocal) {
@@ -281,19 +483,25 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
     state ^= state >> 17;
     state ^= state << 5;
     const auto k0 = static_cast<int>(state % 3);
-    bool moved = false;
+    bool moved = false, blocked = false;
     for (int j = 0; j < 3 && !moved; ++j) {
       const int k = (k0 + j) % 3;
-      const std::uint32_t next = neighbor_of<kLocal>(t, k) / 3;
+      const std::uint32_t code = neighbor_of<kLocal>(t, k);
+      const std::uint32_t next = code / 3;
       if (next == previous) continue;
       if (orient(v[kNext[k]], v[kPrev[k]]) == Sign::negative) {
+        if (!reaches(code)) {
+          blocked = true;
+          continue;
+        }
         previous = t;
         t = next;
         moved = true;
       }
     }
-    if (!moved) return t;
+    if (!moved) return blocked ? kNone : t;
   }
+  if (kLocal && zone != nullptr) return kNone;
   // Unreachable in a valid triangulation (see the file comment): scan every triangle.
   for (std::uint32_t s = 0; s < slots; ++s) {
     const std::uint32_t* v = vertices_of<kLocal>(s);
@@ -309,10 +517,14 @@ std::uint32_t Delaunay2::walk(const double* p, std::uint32_t t) const {
   throw Error("Delaunay2: point location failed (corrupted triangulation)");
 }
 
-void Delaunay2::insert(std::uint32_t q) {
+// Inserts local id q; false (the triangulation untouched) when a strip's walk or cavity
+// would leave it.
+template <bool kZoned>
+bool Delaunay2::insert(Zone& zone, std::uint32_t q) {
   const double* p = local_pt(q);
   const std::uint32_t ip = input_index_[q];
-  const std::uint32_t start = walk<true>(p, hint_);
+  const std::uint32_t start = walk<true>(p, zone.hint, kZoned ? &zone : nullptr);
+  if (kZoned && start == kNone) return false;
   const std::uint32_t* sv = vertices_of<true>(start);
   if (sv[0] != kInfinite && sv[1] != kInfinite && sv[2] != kInfinite) {
     for (int k = 0; k < 3; ++k) {
@@ -322,11 +534,11 @@ void Delaunay2::insert(std::uint32_t q) {
       while (duplicate_of_[root] != root) root = duplicate_of_[root];
       if (ip < root) {
         duplicate_of_[root] = ip;
-        relabeled_ = true;
+        zone.relabeled = true;
       } else {
         duplicate_of_[ip] = root;
       }
-      return;
+      return true;
     }
   }
   // A triangle's neighbours are read when it is taken from the stack: their records are
@@ -334,44 +546,61 @@ void Delaunay2::insert(std::uint32_t q) {
   const auto prefetch_neighbors = [this](std::uint32_t t) {
     for (int k = 0; k < 3; ++k) prefetch(vertices_of<true>(neighbor_of<true>(t, k) / 3));
   };
-  stamp_ += 2;  // stamp_: in the cavity; stamp_ + 1: tested, not in conflict
-  const std::uint32_t rejected = stamp_ + 1;
-  stack_.clear();
-  cavity_.clear();
-  boundary_.clear();
-  rec_[8 * static_cast<std::size_t>(start) + 3] = stamp_;
+  zone.stamp += 2;  // stamp: in the cavity; stamp + 1: tested, not in conflict
+  const std::uint32_t stamp = zone.stamp;
+  const std::uint32_t rejected = stamp + 1;
+  std::vector<std::uint32_t>& stack = zone.stack;
+  std::vector<std::uint32_t>& cavity = zone.cavity;
+  std::vector<BoundaryEdge>& boundary = zone.boundary;
+  stack.clear();
+  cavity.clear();
+  boundary.clear();
+  rec_[8 * static_cast<std::size_t>(start) + 3] = stamp;
   prefetch_neighbors(start);
-  stack_.push_back(start);
-  while (!stack_.empty()) {
-    const std::uint32_t c = stack_.back();
-    stack_.pop_back();
-    cavity_.push_back(c);
+  stack.push_back(start);
+  while (!stack.empty()) {
+    const std::uint32_t c = stack.back();
+    stack.pop_back();
+    cavity.push_back(c);
     const std::uint32_t* v = vertices_of<true>(c);
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t code = v[4 + k];
       const std::uint32_t nt = code / 3;
+      if constexpr (kZoned) {
+        // A triangle with a vertex outside the strip: its mark may be another task's.
+        const std::uint32_t o = rec_[8 * static_cast<std::size_t>(nt) + (code - 3 * nt)];
+        if (o != kInfinite && !zone.inside(local_pt(o))) {
+          if (in_conflict<true>(nt, p, ip)) return false;
+          boundary.push_back({v[kNext[k]], v[kPrev[k]], code});
+          continue;
+        }
+      }
       std::uint32_t& mark = rec_[8 * static_cast<std::size_t>(nt) + 3];
-      if (mark == stamp_) continue;
+      if (mark == stamp) continue;
       if (mark != rejected && in_conflict<true>(nt, p, ip)) {
-        mark = stamp_;
+        mark = stamp;
         prefetch_neighbors(nt);
-        stack_.push_back(nt);
+        stack.push_back(nt);
         continue;
       }
       mark = rejected;
-      boundary_.push_back({v[kNext[k]], v[kPrev[k]], code});
+      boundary.push_back({v[kNext[k]], v[kPrev[k]], code});
     }
   }
-  for (const std::uint32_t c : cavity_) free_.push_back(c);
-  const auto infinite_slot_index = static_cast<std::size_t>(input_index_.size());
-  const auto slot_of = [infinite_slot_index](std::uint32_t v) {
-    return v == kInfinite ? infinite_slot_index : static_cast<std::size_t>(v);
+  // A strip's range holds two fresh slots per point (insert_in_strips) and each insertion
+  // takes two more than its cavity frees: room for every point.
+  assert(!kZoned ||
+         zone.free.size() + cavity.size() + (zone.fresh_end - zone.fresh) >= boundary.size());
+  for (const std::uint32_t c : cavity) zone.free.push_back(c);
+  const std::size_t infinite_slot = zone.infinite_slot;
+  const auto slot_of = [infinite_slot](std::uint32_t v) {
+    return v == kInfinite ? infinite_slot : static_cast<std::size_t>(v);
   };
   // The star of p: (p, u, w) for each boundary edge (u, w), its edge 0 glued to the
   // triangle outside; edge 1 (w, p) is edge 2 of the new triangle starting at w.
-  stack_.clear();
-  for (const BoundaryEdge& e : boundary_) {
-    const std::uint32_t t = new_triangle();
+  stack.clear();
+  for (const BoundaryEdge& e : boundary) {
+    const std::uint32_t t = new_triangle<kZoned>(zone);
     std::uint32_t* v = &rec_[8 * static_cast<std::size_t>(t)];
     v[0] = q;
     v[1] = e.u;
@@ -379,15 +608,16 @@ void Delaunay2::insert(std::uint32_t q) {
     v[4] = e.outside;
     rec_[8 * static_cast<std::size_t>(e.outside / 3) + 4 + e.outside % 3] = 3 * t;
     starting_at_[slot_of(e.u)] = t;
-    stack_.push_back(t);
+    stack.push_back(t);
   }
-  for (const std::uint32_t t : stack_) {
+  for (const std::uint32_t t : stack) {
     std::uint32_t* v = &rec_[8 * static_cast<std::size_t>(t)];
     const std::uint32_t next = starting_at_[slot_of(v[2])];
     v[5] = 3 * next + 2;
     rec_[8 * static_cast<std::size_t>(next) + 6] = 3 * t + 1;
   }
-  hint_ = stack_.back();
+  zone.hint = stack.back();
+  return true;
 }
 
 // Renumbers the triangles in the canonical order described in the header, drops free
@@ -485,7 +715,7 @@ void Delaunay2::canonicalize() {
   // Infinite triangles (a, b, inf) follow in hull order, the next one starting at b, from
   // the one whose a has the smallest input index (so hull_vertices() starts there).
   std::uint32_t total = nb_finite;
-  std::vector<std::uint32_t>& hull = stack_;
+  std::vector<std::uint32_t>& hull = seq_.stack;
   hull.clear();
   {
     std::uint32_t t = first_hull;
@@ -547,9 +777,9 @@ void Delaunay2::canonicalize() {
     vertex_triangle_[v[2]] = i;
   }
   nb_slots_ = total;
-  free_.clear();
-  stamp_ = 0;
-  hint_ = 0;
+  seq_.free.clear();
+  seq_.stamp = 0;
+  seq_.hint = 0;
   nb_finite_ = nb_finite;
 }
 

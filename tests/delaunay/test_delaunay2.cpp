@@ -2,6 +2,8 @@
 // check_topology() and check_delaunay() (exact, with the symbolic perturbation); counts are
 // checked against the exact formula 2n' - b - 2 (n' distinct points, b on the hull).
 #include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -15,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "spatial_sort.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 #include "voroclip/predicates.h"
@@ -482,6 +485,135 @@ TEST_CASE("Delaunay2 rebuilds growing past the huge-page threshold", "[delaunay]
     REQUIRE(d.tri_vertices() == fresh.tri_vertices());
     REQUIRE(d.tri_neighbors() == fresh.tri_neighbors());
     require_valid(d);
+  }
+}
+
+// Builds with at most `threads` threads (an arena of that many slots, so that a 2-core
+// machine still runs 4 threads).
+Delaunay2 build_with_threads(const std::vector<double>& xy, std::size_t threads,
+                             const Delaunay2::Options& options) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  tbb::task_arena arena(static_cast<int>(threads));
+  Delaunay2 d(options);
+  arena.execute([&] { d.build(xy.data(), static_cast<std::uint32_t>(xy.size() / 2)); });
+  return d;
+}
+
+// Every array of the result, with duplicate_of() and vertex_triangle().
+std::vector<std::uint32_t> all_arrays(const Delaunay2& d) {
+  std::vector<std::uint32_t> out = d.tri_vertices();
+  out.insert(out.end(), d.tri_neighbors().begin(), d.tri_neighbors().end());
+  for (std::uint32_t v = 0; v < d.nb_points(); ++v) {
+    out.push_back(d.duplicate_of(v));
+    out.push_back(d.vertex_triangle(v));
+  }
+  return out;
+}
+
+TEST_CASE("Delaunay2 strips: the same arrays for any strips and threads", "[delaunay][threads]") {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  struct Input {
+    const char* name;
+    std::vector<double> xy;
+  };
+  std::vector<Input> inputs;
+  inputs.push_back({"uniform", random_points(20000, 78)});
+  {
+    // A 100 x 100 integer grid, every point twice, in random order (duplicates whose
+    // smaller index may come second; cocircular quadruples everywhere).
+    std::vector<std::array<double, 2>> grid;
+    for (int copy = 0; copy < 2; ++copy) {
+      for (int i = 0; i < 100; ++i) {
+        for (int j = 0; j < 100; ++j) grid.push_back({double(i), double(j)});
+      }
+    }
+    std::shuffle(grid.begin(), grid.end(), rng);
+    Input in{"grid twice", {}};
+    for (const auto& p : grid) in.xy.insert(in.xy.end(), {p[0], p[1]});
+    inputs.push_back(in);
+  }
+  {
+    Input in{"skewed", {}};
+    for (int i = 0; i < 20000; ++i) {
+      const double a = u(rng), b = u(rng);
+      in.xy.insert(in.xy.end(), {a * a * a, 2 * b * b});
+    }
+    inputs.push_back(in);
+  }
+  {
+    // Twins whose larger index comes in an earlier round: the smaller one, inserted in a
+    // strip of the last round, finds its vertex there (and the triangulation is rebuilt
+    // with the smaller index).
+    Input in{"twins across rounds", random_points(20000, 80)};
+    std::vector<std::uint32_t> rounds;
+    const std::vector<std::uint32_t> order =
+        voroclip::detail::brio_order(in.xy.data(), 20000, 2, &rounds);
+    REQUIRE(rounds.size() >= 3);
+    const std::size_t last = rounds.size() - 2;  // the last round is [rounds[last], 20000)
+    int twins = 0;
+    for (std::uint32_t i = rounds[last]; i < 20000 && twins < 20; i += 97) {
+      const std::uint32_t small = order[i];
+      const std::uint32_t large = order[rounds[last - 1] + static_cast<std::uint32_t>(twins)];
+      if (small >= large) continue;
+      in.xy[2 * small] = in.xy[2 * large];
+      in.xy[2 * small + 1] = in.xy[2 * large + 1];
+      ++twins;
+    }
+    REQUIRE(twins == 20);
+    inputs.push_back(in);
+  }
+  {
+    // Every triangle crosses the disk: the strips defer most points, and zoning stops.
+    Input in{"circle", {}};
+    for (int i = 0; i < 20000; ++i) {
+      const double a = 6.283185307179586 * u(rng);
+      in.xy.insert(in.xy.end(), {std::cos(a), std::sin(a)});
+    }
+    inputs.push_back(in);
+  }
+  for (const Input& in : inputs) {
+    INFO(in.name);
+    Delaunay2::Options sequential;
+    sequential.zones = 1;
+    const Delaunay2 reference(in.xy.data(), static_cast<std::uint32_t>(in.xy.size() / 2),
+                              sequential);
+    require_valid(reference);
+    REQUIRE(reference.stats().zoned_passes == 0);
+    const std::vector<std::uint32_t> expected = all_arrays(reference);
+    std::uint32_t deferred = 0;
+    for (const std::uint32_t zones : {2u, 3u, 7u}) {
+      for (const std::size_t threads : {1u, 2u}) {
+        INFO("zones " << zones << ", threads " << threads);
+        Delaunay2::Options options;
+        options.zones = zones;
+        options.zoned_round = 1024;
+        options.check = true;
+        const Delaunay2 d = build_with_threads(in.xy, threads, options);
+        REQUIRE(all_arrays(d) == expected);
+        const Delaunay2::Stats& stats = d.stats();
+        REQUIRE(stats.zoned_passes > 0);
+        REQUIRE(stats.deferred_points <= stats.zoned_points);
+        if (std::string(in.name) == "circle") {
+          REQUIRE(stats.zoned_passes == 1);
+          REQUIRE(2 * stats.deferred_points > stats.zoned_points);
+        } else {
+          REQUIRE(stats.zoned_passes >= 4);
+          REQUIRE(2 * stats.deferred_points < stats.zoned_points);
+        }
+        deferred += stats.deferred_points;
+      }
+    }
+    REQUIRE(deferred > 0);
+  }
+  // The default: strips by the number of threads, from rounds of 32768 points on.
+  const std::vector<double> xy = random_points(100000, 79);
+  const std::vector<std::uint32_t> expected = all_arrays(Delaunay2(xy.data(), 100000));
+  for (const std::size_t threads : {1u, 2u, 4u}) {
+    INFO("threads " << threads);
+    const Delaunay2 d = build_with_threads(xy, threads, {});
+    REQUIRE(all_arrays(d) == expected);
+    REQUIRE(d.stats().zoned_passes == (threads == 1 ? 0u : 1u));
   }
 }
 

@@ -64,8 +64,18 @@
 // passed to the constructor or build() must stay alive and unchanged while the
 // triangulation is used (until the next build()).
 //
-// Threads. Insertion runs on the calling thread; the spatial sort and the renumbering use
-// TBB parallel loops over disjoint ranges. The result is identical for any thread count.
+// Threads. The spatial sort and the renumbering use TBB parallel loops over disjoint
+// ranges. With several threads, a large BRIO round (Options::zoned_round) is split into
+// strips across the longest axis of its box, at quantiles of its points, and each strip's
+// points are inserted by their own task in the round's order: a task only touches
+// triangles having an edge with both endpoints in its strip, which no other task can
+// touch (two edges of a triangle share a vertex), so the tasks need no locks. A point
+// whose walk or cavity would reach a triangle with a vertex outside the strip is deferred,
+// leaving the triangulation untouched; the deferred points are inserted sequentially after
+// the round. Each task takes new slots from its own range and stamps from its own range
+// of values. The triangulation is unique (the perturbation), and the renumbering below
+// does not depend on the insertion history, so the result is identical for any thread
+// count and any number of strips.
 //
 // Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2; bench/RESULTS.md): 1M
 // uniform points in about 0.45 s of CPU time for a first build, 0.44 s for a rebuild, on
@@ -165,6 +175,14 @@ struct Delaunay2Options {
   // false they are freed at the end of each build, leaving about 60 bytes per point (the
   // triangle arrays, 24 bytes per triangle, and the per-point maps).
   bool keep_buffers = true;
+  // Parallel insertion (see "Threads" above): a BRIO round of at least this many points is
+  // split into strips inserted by concurrent tasks, when more than one thread is available
+  // or `zones` asks for it. The triangulation never depends on it.
+  std::uint32_t zoned_round = 32768;
+  // The number of strips of a zoned round: 0 for the number of threads TBB may use (at
+  // most 8; a single thread inserts everything sequentially), else that many (2 to 64)
+  // whatever the thread count (tests).
+  std::uint32_t zones = 0;
 };
 
 class Delaunay2 {
@@ -253,6 +271,14 @@ class Delaunay2 {
   // Delaunay everywhere, hence globally.
   std::string check_delaunay() const;
 
+  // How the last build inserted its points (counts of insertion attempts; see "Threads").
+  struct Stats {
+    std::uint32_t zoned_passes = 0;     // rounds split into strips
+    std::uint32_t zoned_points = 0;     // points attempted in a strip
+    std::uint32_t deferred_points = 0;  // of those, deferred to the sequential insertion
+  };
+  const Stats& stats() const { return stats_; }
+
  private:
   static constexpr std::uint32_t kFreeVertex = 0xfffffffeu;
 
@@ -286,14 +312,44 @@ class Delaunay2 {
       return tri_neighbors_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
     }
   }
+  // Per-insertion and per-build scratch, reused.
+  struct BoundaryEdge {
+    std::uint32_t u, w;     // the edge, counter-clockwise as seen from the new point
+    std::uint32_t outside;  // code 3t' + k' of the triangle beyond it
+  };
+  // The state of one inserting task: the sequential insertion's (everywhere), or one strip
+  // of a zoned round, lo <= p[axis] < hi (bounds may be infinite).
+  struct Zone {
+    int axis = 0;
+    double lo = 0, hi = 0;
+    bool inside(const double* p) const { return p[axis] >= lo && p[axis] < hi; }
+    std::vector<std::uint32_t> points, deferred;  // local ids, in insertion order
+    // Runs of points (see insert_in_strips): where each begins in `points`, and its start.
+    std::vector<std::uint32_t> run_start, run_hint;
+    std::vector<std::uint32_t> stack, cavity, free;
+    std::vector<BoundaryEdge> boundary;
+    std::uint32_t hint = 0;   // a live triangle to walk from (all its finite vertices inside)
+    std::uint32_t stamp = 0;  // the last stamp used (each insertion takes two)
+    std::uint32_t fresh = 0, fresh_end = 0;  // unused slots [fresh, fresh_end) (strips)
+    std::size_t infinite_slot = 0;           // starting_at_'s entry for the infinite vertex
+    bool relabeled = false;                  // see build()
+    bool started = false;                    // hint is valid
+  };
   template <bool kLocal>
   bool in_conflict(std::uint32_t t, const double* p, std::uint32_t ip) const;
+  // kLocal: construction (zone: the strip to stay in, or null); false: a query.
   template <bool kLocal>
-  std::uint32_t walk(const double* p, std::uint32_t t) const;
-  std::uint32_t new_triangle();
+  std::uint32_t walk(const double* p, std::uint32_t t, const Zone* zone = nullptr) const;
+  template <bool kZoned>
+  std::uint32_t new_triangle(Zone& zone);
   void clear_triangles();
-  void insert_all();
-  void insert(std::uint32_t q);
+  void insert_all(const std::vector<std::uint32_t>* round_starts);
+  template <bool kZoned>
+  bool insert(Zone& zone, std::uint32_t q);
+  void insert_sequentially(const std::uint32_t* first, const std::uint32_t* last);
+  std::uint32_t zone_count(std::uint32_t round_size) const;
+  void insert_in_strips(std::uint32_t first, std::uint32_t last, std::uint32_t nb_zones,
+                        std::uint32_t skip_b, std::uint32_t skip_c);
   void canonicalize();
   std::uint32_t next_ccw(std::uint32_t t, std::uint32_t v) const;
 
@@ -313,22 +369,15 @@ class Delaunay2 {
   // Slots [0, rec_slots_) are in use; free ones have rec_[8t] == kFreeVertex.
   std::vector<std::uint32_t, detail::UninitializedAllocator<std::uint32_t>> rec_;
   std::uint32_t rec_slots_ = 0;
-  std::vector<std::uint32_t> free_;
   std::vector<std::uint32_t> vertex_triangle_;
   std::vector<std::uint32_t> duplicate_of_;
-  std::uint32_t stamp_ = 0;
-  std::uint32_t hint_ = 0;
-  bool relabeled_ = false;
-
-  // Per-insertion and per-build scratch, reused.
-  struct BoundaryEdge {
-    std::uint32_t u, w;     // the edge, counter-clockwise as seen from the new point
-    std::uint32_t outside;  // code 3t' + k' of the triangle beyond it
-  };
-  std::vector<std::uint32_t> stack_;
-  std::vector<std::uint32_t> cavity_;
-  std::vector<BoundaryEdge> boundary_;
-  std::vector<std::uint32_t> starting_at_;  // new triangle per boundary start vertex (+1 slot)
+  Zone seq_;                 // the sequential insertion (its free list: the free slots)
+  std::vector<Zone> zones_;  // the strips of a zoned round
+  Stats stats_;
+  bool zoning_off_ = false;  // a zoned round deferred most of its points
+  // The new triangle per boundary start vertex (local id; the infinite vertex: one entry
+  // per zone, after them).
+  std::vector<std::uint32_t> starting_at_;
   // Arrays written in full before they are read: left uninitialized when they grow.
   template <class T>
   using Uninitialized = std::vector<T, detail::UninitializedAllocator<T>>;
