@@ -72,10 +72,11 @@
 // touch (two edges of a triangle share a vertex), so the tasks need no locks. A point
 // whose walk or cavity would reach a triangle with a vertex outside the strip is deferred,
 // leaving the triangulation untouched; the deferred points are inserted sequentially after
-// the round. Each task takes new slots from its own range and stamps from its own range
-// of values. The triangulation is unique (the perturbation), and the renumbering below
-// does not depend on the insertion history, so the result is identical for any thread
-// count and any number of strips.
+// the round (a round whose strips defer more than half of its points, as points on a
+// circle do, ends the strips for the rest of the build). Each task takes new slots from
+// its own range and stamps from its own range of values. The triangulation is unique
+// (the perturbation), and the renumbering below does not depend on the insertion
+// history, so the result is identical for any thread count and any number of strips.
 //
 // Speed (bench/bench_delaunay2, bench/compare/compare_delaunay2; bench/RESULTS.md): 1M
 // uniform points in 0.50-0.62 s for a first build on two threads (0.47-0.51 s for a
