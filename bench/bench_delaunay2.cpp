@@ -1,11 +1,13 @@
 // Delaunay2 construction speed (issue 3): uniform random points in the unit square over a
 // size sweep, an integer grid and points on a circle (every point on the hull, most
-// incircle tests near-degenerate), plus the BRIO spatial sort alone (2D and 3D, whose
-// target is 1M points well under 0.3 s). "points_per_second" is the figure to quote.
+// incircle tests near-degenerate), one thread against two (the strips: "zoned" and
+// "deferred" are fractions of the points), plus the BRIO spatial sort alone (2D and 3D,
+// whose target is 1M points well under 0.3 s). "points_per_second" is the figure to quote.
 // Target: 1M uniform points in at most 0.8x the time of CGAL's Delaunay_triangulation_2
 // measured in the same run (bench/compare/compare_delaunay2).
 
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdint>
@@ -57,6 +59,24 @@ void BM_delaunay2_uniform_fresh(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A fresh object each time on range(1) threads: one thread inserts sequentially, more
+// insert the large rounds in strips (the same triangulation).
+void BM_delaunay2_uniform_threads(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(1)));
+  const std::vector<double> xy = uniform_points(n, 2);
+  voroclip::Delaunay2::Stats stats;
+  for (auto _ : state) {
+    const voroclip::Delaunay2 d(xy.data(), n);
+    benchmark::DoNotOptimize(d.nb_triangles());
+    stats = d.stats();
+  }
+  state.counters["points_per_second"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["zoned"] = static_cast<double>(stats.zoned_points) / n;
+  state.counters["deferred"] = static_cast<double>(stats.deferred_points) / n;
+}
 void BM_delaunay2_grid(benchmark::State& state) {
   const auto side = static_cast<int>(state.range(0));
   std::vector<double> xy;
@@ -99,6 +119,11 @@ BENCHMARK(BM_delaunay2_uniform)
     ->Complexity(benchmark::oNLogN)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_delaunay2_uniform_fresh)->Arg(1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_delaunay2_uniform_threads)
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_delaunay2_grid)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_delaunay2_circle)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_brio_order)->Args({1000000, 2})->Args({1000000, 3})->Unit(benchmark::kMillisecond);
