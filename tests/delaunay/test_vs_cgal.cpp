@@ -3,6 +3,7 @@
 // is unique, so the two must agree triangle for triangle; on degenerate input they may
 // choose different diagonals but have the same number of triangles.
 #include <catch2/catch.hpp>
+#include <tbb/global_control.h>
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -62,6 +63,28 @@ TEST_CASE("Delaunay2 equals CGAL on random points", "[delaunay][cgal]") {
     std::vector<double> xy(2 * 10000);
     for (double& x : xy) x = u(rng);
     const voroclip::Delaunay2 d(xy.data(), 10000);
+    REQUIRE(d.check_topology().empty());
+    REQUIRE(d.check_delaunay().empty());
+    REQUIRE(our_triangles(d) == cgal_triangles(xy));
+  }
+}
+
+TEST_CASE("Delaunay2 built in strips equals CGAL", "[delaunay][cgal][parallel]") {
+  // Small rounds in strips, the strips' tasks on two threads: most points go through them
+  // and some are deferred at strip boundaries; the result must still be CGAL's.
+  voroclip::Delaunay2::Options options;
+  options.zones = 3;
+  options.zoned_round = 1024;
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  for (const std::uint64_t seed : {606u, 707u}) {
+    CAPTURE(seed);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> xy(2 * 20000);
+    for (double& x : xy) x = u(rng);
+    const voroclip::Delaunay2 d(xy.data(), 20000, options);
+    REQUIRE(d.stats().zoned_points > 15000);
+    REQUIRE(d.stats().deferred_points > 0);
     REQUIRE(d.check_topology().empty());
     REQUIRE(d.check_delaunay().empty());
     REQUIRE(our_triangles(d) == cgal_triangles(xy));
