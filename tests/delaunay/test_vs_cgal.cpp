@@ -30,6 +30,15 @@ using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
 using CgalDelaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 using Triangle = std::array<std::uint32_t, 3>;
 
+// count coordinates uniform in [-1, 1).
+std::vector<double> uniform_coordinates(std::size_t count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> c(count);
+  for (double& x : c) x = u(rng);
+  return c;
+}
+
 std::set<Triangle> cgal_triangles(const std::vector<double>& xy) {
   std::vector<std::pair<Kernel::Point_2, std::uint32_t>> points;
   for (std::uint32_t i = 0; 2 * i < xy.size(); ++i) {
@@ -58,10 +67,7 @@ std::set<Triangle> our_triangles(const voroclip::Delaunay2& d) {
 TEST_CASE("Delaunay2 equals CGAL on random points", "[delaunay][cgal]") {
   for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     CAPTURE(seed);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<double> xy(2 * 10000);
-    for (double& x : xy) x = u(rng);
+    const std::vector<double> xy = uniform_coordinates(2 * 10000, seed);
     const voroclip::Delaunay2 d(xy.data(), 10000);
     REQUIRE(d.check_topology().empty());
     REQUIRE(d.check_delaunay().empty());
@@ -78,10 +84,7 @@ TEST_CASE("Delaunay2 built in strips equals CGAL", "[delaunay][cgal][parallel]")
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
   for (const std::uint64_t seed : {606u, 707u}) {
     CAPTURE(seed);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<double> xy(2 * 20000);
-    for (double& x : xy) x = u(rng);
+    const std::vector<double> xy = uniform_coordinates(2 * 20000, seed);
     const voroclip::Delaunay2 d(xy.data(), 20000, options);
     REQUIRE(d.stats().zoned_points > 15000);
     REQUIRE(d.stats().deferred_points > 0);
@@ -137,10 +140,7 @@ std::vector<Tet> cgal_tets(const std::vector<double>& xyz) {
 TEST_CASE("Delaunay3 equals CGAL on random points", "[delaunay][cgal]") {
   for (const std::uint64_t seed : {101u, 202u, 303u}) {
     INFO("seed " << seed);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<double> xyz(3 * 10000);
-    for (double& x : xyz) x = u(rng);
+    const std::vector<double> xyz = uniform_coordinates(3 * 10000, seed);
     const voroclip::Delaunay3 dt(xyz.data(), 10000);
     REQUIRE(dt.check_topology().empty());
     REQUIRE(dt.check_delaunay().empty());
@@ -155,10 +155,7 @@ TEST_CASE("Delaunay3 built in parallel zones equals CGAL", "[delaunay][cgal][par
   options.points_per_zone = 256;
   for (const std::uint64_t seed : {404u, 505u}) {
     INFO("seed " << seed);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<double> xyz(3 * 10000);
-    for (double& x : xyz) x = u(rng);
+    const std::vector<double> xyz = uniform_coordinates(3 * 10000, seed);
     const voroclip::Delaunay3 dt(xyz.data(), 10000, options);
     REQUIRE(dt.stats().zoned_points > 5000);
     REQUIRE(dt.check_topology().empty());
