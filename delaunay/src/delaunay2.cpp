@@ -285,9 +285,8 @@ void Delaunay2::insert_in_strips(std::uint32_t first, std::uint32_t last, std::u
   for (std::uint32_t k = 1; k < nb_zones; ++k) {
     const auto at = static_cast<std::ptrdiff_t>(sample.size() * k / nb_zones);
     std::nth_element(sample.begin(), sample.begin() + at, sample.end());
-    split[k - 1] = sample[static_cast<std::size_t>(at)];
+    split[k - 1] = sample[static_cast<std::size_t>(at)];  // (ascending in k)
   }
-  std::sort(split.begin(), split.end());  // (already sorted but for equal quantiles)
   if (zones_.size() < nb_zones) zones_.resize(nb_zones);
   for (std::uint32_t k = 0; k < nb_zones; ++k) {
     Zone& z = zones_[k];
@@ -298,7 +297,6 @@ void Delaunay2::insert_in_strips(std::uint32_t first, std::uint32_t last, std::u
     z.run_start.clear();
     z.run_hint.clear();
     z.deferred.clear();
-    z.free.clear();
     z.relabeled = false;
     z.infinite_slot = input_index_.size() + 1 + k;
   }
@@ -389,10 +387,8 @@ void Delaunay2::insert_in_strips(std::uint32_t first, std::uint32_t last, std::u
       rec_[8 * static_cast<std::size_t>(t) + 3] = 0;
       seq_.free.push_back(t);
     }
-    for (const std::uint32_t t : z.free) {
-      rec_[8 * static_cast<std::size_t>(t)] = kFreeVertex;
-      seq_.free.push_back(t);
-    }
+    // (Each insertion reuses every slot its cavity frees: a strip's free list ends empty.)
+    assert(z.free.empty());
     if (z.started) seq_.hint = z.hint;
     seq_.relabeled = seq_.relabeled || z.relabeled;
     deferred.insert(deferred.end(), z.deferred.begin(), z.deferred.end());

@@ -15,13 +15,11 @@
 #include <utility>
 #include <vector>
 
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
-
 #include "tet_set.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 #include "voroclip/predicates.h"
+#include "with_threads.h"
 
 using voroclip::Delaunay3;
 using voroclip::Sign;
@@ -394,17 +392,6 @@ std::vector<std::uint32_t> all_arrays(const Delaunay3& dt) {
   return out;
 }
 
-// Builds with at most `threads` threads (an arena of that many slots, so that a 2-core
-// machine still runs 4 threads).
-Delaunay3 build_with_threads(const std::vector<double>& xyz, std::size_t threads,
-                             const Delaunay3::Options& options) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  tbb::task_arena arena(static_cast<int>(threads));
-  Delaunay3 dt(options);
-  arena.execute([&] { dt.build(xyz.data(), static_cast<std::uint32_t>(xyz.size() / 3)); });
-  return dt;
-}
-
 // (a^3, 2 b^3, 3 c^3) for a, b, c uniform in [0, 1): across any axis, the halves of the
 // bounding box hold about 79 % and 21 % of the points.
 std::vector<double> skewed_points(std::size_t n, std::uint64_t seed) {
@@ -475,21 +462,21 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
   sequential.points_per_zone = 0xffffffffu;
   for (const auto& [name, xyz] : parallel_inputs()) {
     INFO(name);
-    const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+    const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, zoned);
     require_valid(one);
     check_vertex_tets(one);
     CHECK(one.stats().zoned_passes >= 4);
     CHECK(one.stats().zoned_points > one.stats().sequential_points);
     CHECK(one.stats().deferred_points > 0);
     // The perturbed Delaunay triangulation is unique: the zones change the slots, not the set.
-    const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+    const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, sequential);
     require_valid(reference);
     CHECK(reference.stats().zoned_passes == 0);
     CHECK(finite_tets(one) == finite_tets(reference));
     const auto arrays = all_arrays(one);
     for (const std::size_t threads : {2u, 4u}) {
       INFO(threads << " threads");
-      const Delaunay3 dt = build_with_threads(xyz, threads, zoned);
+      const Delaunay3 dt = voroclip::test::build_with_threads<Delaunay3>(xyz, threads, zoned);
       check_vertex_tets(dt);
       CHECK(all_arrays(dt) == arrays);
     }
@@ -511,7 +498,7 @@ TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they 
   for (const bool uniform : {true, false}) {
     INFO((uniform ? "uniform" : "skewed"));
     const auto xyz = uniform ? random_points(200000, 65) : skewed_points(200000, 66);
-    const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+    const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, zoned);
     require_valid(one);
     const Delaunay3::Stats& stats = one.stats();
     INFO("zoned passes " << stats.zoned_passes << ", along the curve " << stats.curve_zoned_passes);
@@ -521,9 +508,9 @@ TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they 
     } else {
       CHECK(stats.curve_zoned_passes == 0);
     }
-    const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+    const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, sequential);
     CHECK(finite_tets(one) == finite_tets(reference));
-    const Delaunay3 two = build_with_threads(xyz, 2, zoned);
+    const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, zoned);
     CHECK(all_arrays(two) == all_arrays(one));
   }
 }
@@ -544,14 +531,14 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   avx2.insphere_simd = Simd::avx2;
   for (const auto& [name, xyz] : parallel_inputs()) {
     INFO(name);
-    const Delaunay3 reference = build_with_threads(xyz, 1, baseline);
+    const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, baseline);
     require_valid(reference);
     CHECK_FALSE(reference.stats().avx2);
     CHECK(reference.stats().zoned_passes >= 4);
     const auto arrays = all_arrays(reference);
     for (const std::size_t threads : {1u, 2u}) {
       INFO(threads << " threads");
-      const Delaunay3 dt = build_with_threads(xyz, threads, avx2);
+      const Delaunay3 dt = voroclip::test::build_with_threads<Delaunay3>(xyz, threads, avx2);
       CHECK(dt.stats().avx2 == cpu_avx2);
       CHECK(all_arrays(dt) == arrays);
     }
@@ -560,11 +547,11 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   const auto xyz = random_points(150000, 64);
   Delaunay3::Options plain;
   plain.insphere_simd = Simd::sse2;
-  const Delaunay3 reference = build_with_threads(xyz, 2, plain);
+  const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, plain);
   CHECK(reference.stats().zoned_passes > 0);
   Delaunay3::Options wide;
   wide.insphere_simd = Simd::avx2;
-  const Delaunay3 forced = build_with_threads(xyz, 2, wide);
+  const Delaunay3 forced = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, wide);
   CHECK(forced.stats().avx2 == cpu_avx2);
   CHECK(all_arrays(forced) == all_arrays(reference));
   // The default (automatic) takes AVX2 where the CPU has it, except on AMD Zen 1.
@@ -573,7 +560,7 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
   zen1 = __builtin_cpu_is("znver1");
 #endif
   CHECK(Delaunay3::automatic_uses_avx2() == (cpu_avx2 && !zen1));
-  const Delaunay3 dt = build_with_threads(xyz, 2, {});
+  const Delaunay3 dt = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, {});
   CHECK(dt.stats().avx2 == Delaunay3::automatic_uses_avx2());
   CHECK(all_arrays(dt) == all_arrays(reference));
 }
@@ -598,19 +585,19 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
   zoned.points_per_zone = 256;
   Delaunay3::Options sequential;
   sequential.points_per_zone = 0xffffffffu;
-  const Delaunay3 one = build_with_threads(xyz, 1, zoned);
+  const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, zoned);
   require_valid(one);
   CHECK(one.stats().zoned_passes > 0);
   CHECK(one.stats().limited_points > 0);
   CHECK(one.nb_finite_tets() > 16 * 300);
-  const Delaunay3 reference = build_with_threads(xyz, 1, sequential);
+  const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, sequential);
   require_valid(reference);
   CHECK(reference.stats().limited_points == 0);
   CHECK(finite_tets(one) == finite_tets(reference));
   const auto arrays = all_arrays(one);
   for (const std::size_t threads : {2u, 4u}) {
     INFO(threads << " threads");
-    const Delaunay3 dt = build_with_threads(xyz, threads, zoned);
+    const Delaunay3 dt = voroclip::test::build_with_threads<Delaunay3>(xyz, threads, zoned);
     CHECK(dt.stats().limited_points == one.stats().limited_points);
     CHECK(all_arrays(dt) == arrays);
   }
@@ -622,21 +609,21 @@ TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
   // so the rounds of 7/256 * 131072 = 3584 points or more (about 15k, 7.5k and 3.7k) go
   // through two zones each; the smaller ones (about 3.7k points in all) are sequential.
   const auto xyz = random_points(30000, 43);
-  const Delaunay3 one = build_with_threads(xyz, 1, {});
+  const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, {});
   require_valid(one);
   CHECK(one.stats().zoned_passes >= 3);
   CHECK(one.stats().zoned_points > 24000);
   CHECK(one.stats().zoned_points < 28000);
   CHECK(one.stats().deferred_points > 0);
-  const Delaunay3 two = build_with_threads(xyz, 2, {});
+  const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, {});
   CHECK(all_arrays(two) == all_arrays(one));
 }
 
 TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
           "[delaunay][parallel][.slow]") {
   const auto xyz = random_points(300000, 41);
-  const Delaunay3 one = build_with_threads(xyz, 1, {});
-  const Delaunay3 two = build_with_threads(xyz, 2, {});
+  const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, {});
+  const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, {});
   CHECK(one.stats().zoned_passes > 0);
   require_valid(two);
   CHECK(all_arrays(one) == all_arrays(two));
