@@ -8,7 +8,7 @@
 //    polygon gives its cell the cones over itself and over its edges on bisectors, and its
 //    vertices where a Voronoi edge crosses the surface.
 // 2. Boundary cells (clip3d_cells.cpp), in parallel, by chunks of consecutive cells in
-//    Morton order (boundary_chunk): their Voronoi vertices are placed inside or outside the
+//    Hilbert order (boundary_chunk): their Voronoi vertices are placed inside or outside the
 //    volume from the crossings (exact, combinatorial), and the pieces of their Voronoi edges
 //    inside the volume complete the boundary of cell ∩ volume, whose cones from the site
 //    give volume, centroid and energy. A cell with a Voronoi edge that crosses the surface
@@ -19,7 +19,7 @@
 //    which spread it (clip3d_cells.cpp). Inner cells are the cones from the site over their
 //    Voronoi facets, from the circumcentres of the Delaunay tets: per Delaunay facet around
 //    the site, one Voronoi edge, two triangles (clip3d_internal.h, add_edge_piece). They go
-//    in fixed chunks of consecutive cells in Morton order, each chunk's tets taken once
+//    in fixed chunks of consecutive cells in Hilbert order, each chunk's tets taken once
 //    (inner_chunk). Under a non-constant density inner cells are clipped tet by tet, layer
 //    after layer from the boundary cells.
 // Every loop writes per-triangle or per-cell slots and every reduction runs in index
@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,67 +46,6 @@ namespace {
 
 constexpr std::size_t kInnerChunk = 1024;    // inner cells per chunk (run)
 constexpr std::size_t kBoundaryChunk = 512;  // boundary cells per chunk (run)
-
-// Morton keys of n points (x y z each): 10 bits per axis over their bounding box.
-void morton_keys(const double* xyz, std::uint32_t n, std::vector<std::uint32_t>& key) {
-  key.resize(n);
-  double lo[3], hi[3];
-  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = xyz[c];
-  for (std::uint32_t i = 1; i < n; ++i) {
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], xyz[3 * std::size_t{i} + c]);
-      hi[c] = std::max(hi[c], xyz[3 * std::size_t{i} + c]);
-    }
-  }
-  double scale[3];
-  for (int c = 0; c < 3; ++c) scale[c] = hi[c] > lo[c] ? 1023.999 / (hi[c] - lo[c]) : 0;
-  const auto spread = [](std::uint32_t x) {  // bit k of x to bit 3k
-    x = (x | (x << 16)) & 0x030000ffu;
-    x = (x | (x << 8)) & 0x0300f00fu;
-    x = (x | (x << 4)) & 0x030c30c3u;
-    return (x | (x << 2)) & 0x09249249u;
-  };
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
-    for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-      std::uint32_t k = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double x = (xyz[3 * std::size_t{i} + c] - lo[c]) * scale[c];
-        const auto q = x > 0 ? static_cast<std::uint32_t>(std::min(x, 1023.0)) : 0u;
-        k |= spread(q) << c;
-      }
-      key[i] = k;
-    }
-  });
-}
-
-// Sorts the indices in `order` by key[index] (keys below 2^30), stably: the pairs
-// (key, index) by three 10-bit LSD radix passes, each reading its input in order and
-// writing 1024 streams. (Two 15-bit passes over the indices alone, with key[] read at
-// random and 32768 streams written, took 0.13 s at 10^6 sites on the 2.0 GHz EPYC host,
-// the largest sequential step of compute(domain, sites, n) on two threads.)
-void sort_by_key(const std::vector<std::uint32_t>& key, std::vector<std::uint32_t>& order,
-                 std::vector<std::uint64_t>& pairs) {
-  const std::size_t m = order.size();
-  pairs.resize(2 * m);
-  std::uint64_t* a = pairs.data();
-  std::uint64_t* b = a + m;
-  for (std::size_t k = 0; k < m; ++k) a[k] = std::uint64_t{key[order[k]]} << 32 | order[k];
-  constexpr std::size_t kBuckets = 1024;
-  std::uint32_t count[kBuckets];
-  for (int shift = 32; shift < 62; shift += 10) {
-    std::fill_n(count, kBuckets, 0u);
-    for (std::size_t k = 0; k < m; ++k) ++count[(a[k] >> shift) & (kBuckets - 1)];
-    std::uint32_t sum = 0;
-    for (std::uint32_t& c : count) {
-      const std::uint32_t here = c;
-      c = sum;
-      sum += here;
-    }
-    for (std::size_t k = 0; k < m; ++k) b[count[(a[k] >> shift) & (kBuckets - 1)]++] = a[k];
-    std::swap(a, b);
-  }
-  for (std::size_t k = 0; k < m; ++k) order[k] = static_cast<std::uint32_t>(a[k]);
-}
 
 }  // namespace
 
@@ -125,20 +65,23 @@ void Clip3Impl::run() {
   const auto t1 = Clock::now();
   out.seconds_[0] = std::chrono::duration<double>(t1 - t0).count();
 
-  // Cells in Morton order of their sites: consecutive cells share most of their Delaunay
-  // tets, which then come from cache whatever the tets' slot numbering (the zoned Delaunay3
-  // scatters neighbouring tets). The order depends on the input alone. Under input_index
-  // the sites are already in that order (compute(domain, sites, n) sorted them by the same
-  // keys, over the same bounding box): index order is Morton order.
-  std::vector<std::uint32_t> morton;
-  if (!input_index) morton_keys(site(0), n, morton);
-  std::vector<std::uint64_t> sort_tmp;
+  // Cells in the order of their sites along a Hilbert curve: consecutive cells share most
+  // of their Delaunay tets, which then come from cache whatever the tets' slot numbering
+  // (the zoned Delaunay3 scatters neighbouring tets). The order depends on the input alone.
+  // Under input_index the sites are numbered along it already (compute(domain, sites, n)
+  // sorted them): index order is that order, and the same as here for sites in that order.
+  std::vector<std::uint32_t> curve;
+  if (!input_index) {
+    curve.resize(n);
+    std::iota(curve.begin(), curve.end(), 0u);
+    detail::hilbert_sort(site(0), 3, curve.data(), curve.data() + n);
+  }
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
-    for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const std::uint32_t i = input_index ? k : curve[k];
       if (take(i)) order.push_back(i);
     }
-    if (!input_index) sort_by_key(morton, order, sort_tmp);
   };
 
   // ---- Boundary cells (their circumcentres, like those of the inner cells, through the
@@ -382,20 +325,19 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   seconds_delaunay_ = 0;
   if (n == 0) throw Error("clip3d: no sites");
   const auto t0 = std::chrono::steady_clock::now();
-  for (std::uint32_t i = 0; i < n; ++i) {  // named by input index (the sort renumbers)
-    const double* p = sites + 3 * std::size_t{i};
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      throw Error("clip3d: site " + std::to_string(i) + " has a non-finite coordinate (" +
-                  std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
-                  ")");
-    }
+  double lo[3], hi[3];
+  const std::uint32_t bad = detail::finite_bounding_box(sites, n, 3, lo, hi);
+  if (bad < n) {  // named by input index (the sort renumbers)
+    const double* p = sites + 3 * std::size_t{bad};
+    throw Error("clip3d: site " + std::to_string(bad) + " has a non-finite coordinate (" +
+                std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                ")");
   }
-  std::vector<std::uint32_t> key;
-  std::vector<std::uint64_t> tmp;
-  morton_keys(sites, n, key);
+  // The sites along a Hilbert curve: the cells' order (Clip3Impl::run) and, presorted, the
+  // Delaunay's BRIO rounds (which then need no sort of their own).
   site_order_.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) site_order_[i] = i;
-  sort_by_key(key, site_order_, tmp);
+  std::iota(site_order_.begin(), site_order_.end(), 0u);
+  detail::hilbert_sort(sites, 3, site_order_.data(), site_order_.data() + n);
   sorted_sites_.resize(3 * std::size_t{n});
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
@@ -406,7 +348,9 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
       q[2] = p[2];
     }
   });
-  dt_.set_options(options.delaunay);
+  Delaunay3Options delaunay = options.delaunay;
+  delaunay.presorted = true;
+  dt_.set_options(delaunay);
   dt_.build(sorted_sites_.data(), n);
   seconds_delaunay_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   compute_impl(domain, dt_, options, site_order_.data());

@@ -278,7 +278,7 @@ inline double bisector_value(const double* r, double rr, const double* e, double
 }
 
 // Circumcentres of the Delaunay tets one thread's cells have met, direct-mapped by tet
-// slot. Cells go in Morton order of their sites, so a tet's four cells mostly come close
+// slot. Cells go in Hilbert order of their sites, so a tet's four cells mostly come close
 // together and its circumcentre is computed about once, from sites the cells read anyway:
 // this replaced a pass over all tets into a 24-byte-per-tet array (156 MB at 10^6 sites)
 // whose random reads of the sites cost more than the cells themselves.
@@ -539,12 +539,12 @@ struct Clip3Impl {
   // c = cells[k] (the chunk functions clear it). Returns s.chunk_slot's data.
   std::uint32_t* start_chunk(const std::uint32_t* cells, std::uint32_t count,
                              ThreadScratch& s) const;
-  // The boundary cells cells[0, count) (consecutive in Morton order, none clipped tet by
+  // The boundary cells cells[0, count) (consecutive in Hilbert order, none clipped tet by
   // tet for its integrals) at once: result[k] (holding cells[k]'s surface share) gets the
   // rest. False when a Voronoi vertex could not be placed (then nothing is changed).
   bool boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                       Moments* result) const;
-  // The inner cells cells[0, count) (consecutive in Morton order) at once: result[k] for
+  // The inner cells cells[0, count) (consecutive in Hilbert order) at once: result[k] for
   // cells[k] (clip3d_cells.cpp).
   void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                    Moments* result) const;

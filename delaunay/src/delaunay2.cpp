@@ -75,14 +75,14 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
     throw Error("Delaunay2: " + std::to_string(n) + " points exceed the limit of " +
                 std::to_string(kMaxPoints));
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const double* p = xy + 2 * static_cast<std::size_t>(i);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1])) {
-      std::ostringstream message;
-      message << "Delaunay2: point " << i << " has a non-finite coordinate (" << p[0] << ", "
-              << p[1] << ")";
-      throw Error(message.str());
-    }
+  double lo[2], hi[2];
+  const std::uint32_t bad = detail::finite_bounding_box(xy, n, 2, lo, hi);
+  if (bad < n) {
+    const double* p = xy + 2 * static_cast<std::size_t>(bad);
+    std::ostringstream message;
+    message << "Delaunay2: point " << bad << " has a non-finite coordinate (" << p[0] << ", "
+            << p[1] << ")";
+    throw Error(message.str());
   }
   xy_ = xy;
   nb_points_ = n;
@@ -94,7 +94,7 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
     throw Error("Delaunay2: at least 3 affinely independent points are needed, got " +
                 std::to_string(n) + " point" + (n == 1 ? "" : "s"));
   }
-  filter_ = StaticFilter::bounding(xy, n, 2);
+  filter_ = StaticFilter(lo, hi, 2);
   stats_ = Stats();
   detail::reserve_advised(duplicate_of_, n);
   duplicate_of_.resize(n);

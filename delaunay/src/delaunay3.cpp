@@ -774,13 +774,19 @@ bool Delaunay3::split_along_curve(const std::vector<std::uint32_t>& points, std:
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const int axes = nb_zones == 2 ? 1 : nb_zones == 4 ? 2 : nb_zones == 8 ? 3 : 0;
   if (axes == 0 || points.empty()) return false;
+  // The box of the curve: the round's, or under `presorted` the box of all the points.
   double lo[3], hi[3], mid[3];
-  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = point(points[0])[a];
-  for (const std::uint32_t v : points) {
-    const double* p = point(v);
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
+  if (options_.presorted) {
+    std::copy_n(box_lo_, 3, lo);
+    std::copy_n(box_hi_, 3, hi);
+  } else {
+    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = point(points[0])[a];
+    for (const std::uint32_t v : points) {
+      const double* p = point(v);
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
     }
   }
   for (int a = 0; a < 3; ++a) mid[a] = lo[a] + 0.5 * (hi[a] - lo[a]);
@@ -1105,14 +1111,13 @@ bool Delaunay3::automatic_uses_avx2() {
 void Delaunay3::note_memory() { peak_bytes_ = std::max(peak_bytes_, memory_bytes()); }
 
 void Delaunay3::build(const double* xyz, std::uint32_t n) {
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const double* p = xyz + 3 * static_cast<std::size_t>(i);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      std::ostringstream message;
-      message << "Delaunay3: point " << i << " has a non-finite coordinate (" << p[0] << ", "
-              << p[1] << ", " << p[2] << ")";
-      throw Error(message.str());
-    }
+  const std::uint32_t bad = detail::finite_bounding_box(xyz, n, 3, box_lo_, box_hi_);
+  if (bad < n) {
+    const double* p = xyz + 3 * static_cast<std::size_t>(bad);
+    std::ostringstream message;
+    message << "Delaunay3: point " << bad << " has a non-finite coordinate (" << p[0] << ", "
+            << p[1] << ", " << p[2] << ")";
+    throw Error(message.str());
   }
   nb_slots_ = 0;
   nb_finite_tets_ = 0;
@@ -1131,12 +1136,12 @@ void Delaunay3::build(const double* xyz, std::uint32_t n) {
   peak_bytes_ = 0;
   stats_ = {};
   stats_.avx2 = avx2_;
-  filter_ = StaticFilter::bounding(xyz, n, 3);
+  filter_ = StaticFilter(box_lo_, box_hi_, 3);
   duplicate_of_.resize(n);
   std::iota(duplicate_of_.begin(), duplicate_of_.end(), 0u);
 
   std::vector<std::uint32_t> round_starts;
-  input_id_ = detail::brio_order(xyz, n, 3, &round_starts);
+  input_id_ = detail::brio_order(xyz, n, 3, &round_starts, options_.presorted);
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
       // Duplicates whose smallest index was not the one inserted first: build again

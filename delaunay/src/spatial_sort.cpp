@@ -22,7 +22,41 @@ template <int D>
 struct Item {
   double c[D];
   std::uint32_t index;
+  std::uint32_t rank;  // the position before the recursion (in its padding: no extra bytes)
 };
+
+// After the recursion over run[0, size): points with equal coordinates back in the order
+// of their ranks, each group on the positions it took (nth_element does not keep the
+// order of equal elements, and a caller may want the first of a group of duplicates
+// first: ClippedVoronoi3 gives a duplicated site's cell to its first copy in input order).
+template <int D>
+void keep_order_of_duplicates(std::vector<Item<D>>& run, std::vector<std::uint32_t>& by_point,
+                              std::vector<std::uint32_t>& places) {
+  const auto size = static_cast<std::uint32_t>(run.size());
+  by_point.resize(size);
+  for (std::uint32_t k = 0; k < size; ++k) by_point[k] = k;
+  const auto less = [&run](std::uint32_t a, std::uint32_t b) {
+    for (int d = 0; d < D; ++d) {
+      if (run[a].c[d] != run[b].c[d]) return run[a].c[d] < run[b].c[d];
+    }
+    return run[a].rank < run[b].rank;
+  };
+  std::sort(by_point.begin(), by_point.end(), less);
+  for (std::uint32_t g = 0; g < size;) {
+    std::uint32_t h = g + 1;
+    while (h < size && std::equal(run[by_point[g]].c, run[by_point[g]].c + D, run[by_point[h]].c)) {
+      ++h;
+    }
+    if (h - g > 1) {
+      places.assign(by_point.begin() + g, by_point.begin() + h);
+      std::sort(places.begin(), places.end());
+      std::vector<Item<D>> group;
+      for (std::uint32_t k = g; k < h; ++k) group.push_back(run[by_point[k]]);
+      for (std::uint32_t k = 0; k < h - g; ++k) run[places[k]] = group[k];
+    }
+    g = h;
+  }
+}
 
 // Splits [first, last) at its middle so that the lower half precedes along `axis`, in
 // increasing coordinate order when `up`, decreasing otherwise; returns the middle.
@@ -284,25 +318,73 @@ struct Keyed {
 };
 
 // Stable LSD radix sort by key, 8 bits per pass; passes whose digit is constant are skipped.
+// Large arrays go in fixed blocks of kRadixBlock elements (so the same result for any
+// number of threads): per pass, each block's counts in parallel, then each block scatters
+// from its own offsets (bucket by bucket, blocks in order: stable).
+constexpr std::size_t kRadixBlock = std::size_t{1} << 16;
+
 void radix_sort(std::vector<Keyed>& a, std::vector<Keyed>& tmp) {
   const std::size_t n = a.size();
-  std::vector<std::size_t> count(8 * 256, 0);
-  for (const Keyed& k : a) {
-    for (int d = 0; d < 8; ++d)
-      ++count[static_cast<std::size_t>(256 * d) + ((k.key >> (8 * d)) & 255u)];
-  }
   reserve_advised(tmp, n);
   tmp.resize(n);
-  for (int d = 0; d < 8; ++d) {
-    std::size_t* c = &count[static_cast<std::size_t>(256 * d)];
-    if (*std::max_element(c, c + 256) == n) continue;
-    std::size_t sum = 0;
-    for (int i = 0; i < 256; ++i) {
-      const std::size_t x = c[i];
-      c[i] = sum;
-      sum += x;
+  const std::size_t nb_blocks = (n + kRadixBlock - 1) / kRadixBlock;
+  if (nb_blocks <= 2) {
+    std::vector<std::size_t> count(8 * 256, 0);
+    for (const Keyed& k : a) {
+      for (int d = 0; d < 8; ++d)
+        ++count[static_cast<std::size_t>(256 * d) + ((k.key >> (8 * d)) & 255u)];
     }
-    for (const Keyed& k : a) tmp[c[(k.key >> (8 * d)) & 255u]++] = k;
+    for (int d = 0; d < 8; ++d) {
+      std::size_t* c = &count[static_cast<std::size_t>(256 * d)];
+      if (*std::max_element(c, c + 256) == n) continue;
+      std::size_t sum = 0;
+      for (int i = 0; i < 256; ++i) {
+        const std::size_t x = c[i];
+        c[i] = sum;
+        sum += x;
+      }
+      for (const Keyed& k : a) tmp[c[(k.key >> (8 * d)) & 255u]++] = k;
+      a.swap(tmp);
+    }
+    return;
+  }
+  // Which digits vary: the bits where some key differs from the first.
+  const std::uint64_t first = a[0].key;
+  std::vector<std::uint64_t> differ(nb_blocks, 0);
+  tbb::parallel_for(std::size_t{0}, nb_blocks, [&](std::size_t b) {
+    std::uint64_t x = 0;
+    for (std::size_t i = b * kRadixBlock; i < std::min(n, (b + 1) * kRadixBlock); ++i) {
+      x |= a[i].key ^ first;
+    }
+    differ[b] = x;
+  });
+  std::uint64_t varying = 0;
+  for (const std::uint64_t x : differ) varying |= x;
+  std::vector<std::size_t> offset(nb_blocks * 256);
+  for (int d = 0; d < 8; ++d) {
+    const int shift = 8 * d;
+    if (((varying >> shift) & 255u) == 0) continue;
+    tbb::parallel_for(std::size_t{0}, nb_blocks, [&](std::size_t b) {
+      std::size_t* c = &offset[b * 256];
+      std::fill_n(c, 256, std::size_t{0});
+      for (std::size_t i = b * kRadixBlock; i < std::min(n, (b + 1) * kRadixBlock); ++i) {
+        ++c[(a[i].key >> shift) & 255u];
+      }
+    });
+    std::size_t sum = 0;
+    for (std::size_t bucket = 0; bucket < 256; ++bucket) {
+      for (std::size_t b = 0; b < nb_blocks; ++b) {
+        const std::size_t x = offset[b * 256 + bucket];
+        offset[b * 256 + bucket] = sum;
+        sum += x;
+      }
+    }
+    tbb::parallel_for(std::size_t{0}, nb_blocks, [&](std::size_t b) {
+      std::size_t* c = &offset[b * 256];
+      for (std::size_t i = b * kRadixBlock; i < std::min(n, (b + 1) * kRadixBlock); ++i) {
+        tmp[c[(a[i].key >> shift) & 255u]++] = a[i];
+      }
+    });
     a.swap(tmp);
   }
 }
@@ -371,6 +453,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
   radix_sort(keyed, tmp);  // stable: equal keys keep the order of [first, last)
   for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
   std::vector<Item<D>> run;
+  std::vector<std::uint32_t> by_point, places;
   for (std::size_t i = 0; i < count;) {
     std::size_t j = i + 1;
     while (j < count && keyed[j].key == keyed[i].key) ++j;
@@ -379,12 +462,14 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
       for (std::size_t k = i; k < j; ++k) {
         std::copy_n(at(keyed[k].index), D, run[k - i].c);
         run[k - i].index = keyed[k].index;
+        run[k - i].rank = static_cast<std::uint32_t>(k - i);
       }
       if constexpr (D == 2) {
         hilbert_2(run.data(), run.data() + run.size(), 0, 3u);
       } else {
         hilbert_3(run.data(), run.data() + run.size(), 0, 7u);
       }
+      keep_order_of_duplicates(run, by_point, places);
       for (std::size_t k = i; k < j; ++k) first[k] = run[k - i].index;
     }
     i = j;
@@ -457,8 +542,49 @@ void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint
   }
 }
 
+std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
+                                  double* hi) {
+  struct Block {
+    std::uint32_t bad;
+    double lo[3], hi[3];
+  };
+  constexpr std::uint32_t kBlock = 65536;
+  const std::uint32_t nb_blocks = (n + kBlock - 1) / kBlock;
+  const auto d = static_cast<std::size_t>(dim);
+  std::vector<Block> blocks(nb_blocks);
+  tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
+    Block& k = blocks[b];
+    const std::uint32_t end = std::min(n, (b + 1) * kBlock);
+    k.bad = n;
+    for (std::size_t a = 0; a < d; ++a)
+      k.lo[a] = k.hi[a] = coords[d * (std::size_t{b} * kBlock) + a];
+    for (std::uint32_t i = b * kBlock; i < end; ++i) {
+      const double* p = coords + d * i;
+      bool finite = true;
+      for (std::size_t a = 0; a < d; ++a) {
+        finite = finite && std::isfinite(p[a]);
+        k.lo[a] = std::min(k.lo[a], p[a]);
+        k.hi[a] = std::max(k.hi[a], p[a]);
+      }
+      if (!finite) {
+        k.bad = i;
+        return;
+      }
+    }
+  });
+  for (std::size_t a = 0; a < d && n > 0; ++a) lo[a] = hi[a] = coords[a];
+  for (const Block& k : blocks) {
+    if (k.bad != n) return k.bad;
+    for (std::size_t a = 0; a < d; ++a) {
+      lo[a] = std::min(lo[a], k.lo[a]);
+      hi[a] = std::max(hi[a], k.hi[a]);
+    }
+  }
+  return n;
+}
+
 std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
-                                      std::vector<std::uint32_t>* round_starts) {
+                                      std::vector<std::uint32_t>* round_starts, bool presorted) {
   std::vector<std::uint32_t> order;
   reserve_advised(order, n);
   order.resize(n);
@@ -468,31 +594,52 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
   // max_level which takes everything deeper (about n/2^max_level >= kBrioMinRound points).
   int max_level = 0;
   while ((static_cast<std::uint64_t>(n) >> (max_level + 1)) >= kBrioMinRound) ++max_level;
-  std::vector<std::uint8_t> level(n);
-  std::vector<std::uint32_t> start(static_cast<std::size_t>(max_level) + 2, 0);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const int l = std::min(trailing_ones(mix(i)), max_level);
-    level[i] = static_cast<std::uint8_t>(l);
-    ++start[static_cast<std::size_t>(max_level - l) + 1];
-  }
-  // Counting sort by round (round r = max_level - level), stable in the index.
-  for (std::size_t r = 1; r < start.size(); ++r) start[r] += start[r - 1];
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t i = 0; i < n; ++i)
-      order[fill[static_cast<std::size_t>(max_level - level[i])]++] = i;
-  }
-  // The rounds are disjoint: sort them concurrently, then chain them in order.
-  const std::size_t nb_rounds = start.size() - 1;
-  tbb::parallel_for(std::size_t{0}, nb_rounds, [&](std::size_t r) {
-    std::uint32_t* first = order.data() + start[r];
-    std::uint32_t* last = order.data() + start[r + 1];
-    if (dim == 2) {
-      hilbert_sort_range<2>(coords, first, last);
-    } else {
-      hilbert_sort_range<3>(coords, first, last);
+  // Counting sort by round (round r = max_level - level), stable in the index: the levels
+  // and the counts of fixed blocks of indices in parallel (the same result for any number
+  // of threads), then each block's points scattered from its own offsets.
+  const auto nb_levels = static_cast<std::size_t>(max_level) + 1;
+  std::vector<std::uint8_t> round_of(n);
+  constexpr std::uint32_t kBlock = 65536;
+  const std::uint32_t nb_blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::uint32_t> offset(std::size_t{nb_blocks} * nb_levels, 0);
+  tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
+    std::uint32_t* count = &offset[std::size_t{b} * nb_levels];
+    for (std::uint32_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      const auto r =
+          static_cast<std::size_t>(max_level - std::min(trailing_ones(mix(i)), max_level));
+      round_of[i] = static_cast<std::uint8_t>(r);
+      ++count[r];
     }
   });
+  std::vector<std::uint32_t> start(nb_levels + 1, 0);
+  for (std::size_t r = 0; r < nb_levels; ++r) {
+    std::uint32_t at = start[r];
+    for (std::uint32_t b = 0; b < nb_blocks; ++b) {
+      const std::uint32_t here = offset[std::size_t{b} * nb_levels + r];
+      offset[std::size_t{b} * nb_levels + r] = at;
+      at += here;
+    }
+    start[r + 1] = at;
+  }
+  tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
+    std::uint32_t* fill = &offset[std::size_t{b} * nb_levels];
+    for (std::uint32_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      order[fill[round_of[i]]++] = i;
+    }
+  });
+  // The rounds are disjoint: sort them concurrently, then chain them in order.
+  const std::size_t nb_rounds = start.size() - 1;
+  if (!presorted) {
+    tbb::parallel_for(std::size_t{0}, nb_rounds, [&](std::size_t r) {
+      std::uint32_t* first = order.data() + start[r];
+      std::uint32_t* last = order.data() + start[r + 1];
+      if (dim == 2) {
+        hilbert_sort_range<2>(coords, first, last);
+      } else {
+        hilbert_sort_range<3>(coords, first, last);
+      }
+    });
+  }
   // Start each round at the end nearer to where the previous one ended.
   for (std::size_t r = 1; r < nb_rounds; ++r) {
     std::uint32_t* first = order.data() + start[r];

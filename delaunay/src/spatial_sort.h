@@ -24,11 +24,14 @@
 // order with the sub-curves rotated and reflected), which adapts to any distribution;
 // splitting by count keeps its depth at log2(n), so the whole sort is O(n log n) at worst.
 // On a 2^k grid spanning its box both orders are exactly the Hilbert curve. The order is
-// a fixed function of the coordinates and of the order of [first, last).
+// a fixed function of the coordinates and of the order of [first, last), and points with
+// equal coordinates keep their order of [first, last) among themselves.
 #pragma once
 
 #include <cstdint>
 #include <vector>
+
+#include "voroclip/delaunay.h"  // detail::hilbert_sort, detail::finite_bounding_box
 
 namespace voroclip::detail {
 
@@ -39,8 +42,12 @@ inline constexpr std::uint32_t kBrioMinRound = 64;
 // coordinates (dim = 2 or 3 doubles per point). Coordinates must be finite. With
 // `round_starts`, it receives the position in the order where each round begins, followed
 // by n (so round r is [round_starts[r], round_starts[r + 1])).
+// With `presorted`, the points are taken to be in a spatial order already (as
+// hilbert_sort leaves them): each round keeps their order (a subsequence of a curve is a
+// curve through the subset), reversed as above, instead of being sorted again.
 std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
-                                      std::vector<std::uint32_t>* round_starts = nullptr);
+                                      std::vector<std::uint32_t>* round_starts = nullptr,
+                                      bool presorted = false);
 
 // The index of cell (x, y) (coordinates below 2^bits, 1 <= bits <= 16) along the Hilbert
 // curve through the 2^bits x 2^bits grid used by the 2D sort (a table-driven state
@@ -50,9 +57,6 @@ std::uint64_t hilbert_index2(std::uint32_t x, std::uint32_t y, int bits);
 std::uint64_t hilbert_index2_skilling(std::uint32_t x, std::uint32_t y, int bits);
 std::uint64_t hilbert_index3(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits);
 std::uint64_t hilbert_index3_skilling(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits);
-
-// Sorts the point indices [first, last) along a Hilbert curve (one BRIO round).
-void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
 
 // The axes of a 3D box (lo, hi) by decreasing extent, ties by index: the 3D curve over the
 // box takes its coordinates in this order (hilbert_index3's x is axes[0]), so that its

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -513,6 +514,51 @@ TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they 
     const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, zoned);
     CHECK(all_arrays(two) == all_arrays(one));
   }
+}
+
+// The points in the order detail::hilbert_sort gives them.
+std::vector<double> hilbert_sorted(const std::vector<double>& xyz) {
+  const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  voroclip::detail::hilbert_sort(xyz.data(), 3, order.data(), order.data() + n);
+  std::vector<double> sorted;
+  for (const std::uint32_t i : order) sorted.insert(sorted.end(), &xyz[3 * i], &xyz[3 * i] + 3);
+  return sorted;
+}
+
+TEST_CASE("Delaunay3 on presorted points: the same tets, the same arrays on 1 and 2 threads",
+          "[delaunay][parallel]") {
+  Delaunay3::Options zoned;
+  zoned.points_per_zone = 512;
+  Delaunay3::Options presorted = zoned;
+  presorted.presorted = true;
+  Delaunay3::Options sequential;
+  sequential.points_per_zone = 0xffffffffu;
+  for (const auto& [name, input] : parallel_inputs()) {
+    INFO(name);
+    const std::vector<double> xyz = hilbert_sorted(input);
+    const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, presorted);
+    require_valid(one);
+    check_vertex_tets(one);
+    CHECK(one.stats().zoned_passes >= 4);
+    const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, sequential);
+    CHECK(finite_tets(one) == finite_tets(reference));
+    const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, presorted);
+    CHECK(all_arrays(two) == all_arrays(one));
+    // Not in a spatial order: slower, still the same tets.
+    const Delaunay3 unsorted = voroclip::test::build_with_threads<Delaunay3>(input, 2, presorted);
+    require_valid(unsorted);
+    CHECK(finite_tets(unsorted) ==
+          finite_tets(voroclip::test::build_with_threads<Delaunay3>(input, 1, sequential)));
+  }
+  // Uniform points: every first pass takes the zones along the curve, from the box of all
+  // the points (as without presorted, from each round's box: see the test above).
+  Delaunay3::Options large = presorted;
+  large.points_per_zone = 8192;
+  const Delaunay3 uniform = voroclip::test::build_with_threads<Delaunay3>(
+      hilbert_sorted(random_points(200000, 65)), 2, large);
+  CHECK(uniform.stats().curve_zoned_passes == 5);
 }
 
 TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same arrays",

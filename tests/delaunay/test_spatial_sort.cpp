@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -185,6 +186,125 @@ TEST_CASE("hilbert_sort visits a 2^k grid cell by cell", "[delaunay][exact]") {
       CAPTURE(i);
       REQUIRE(distance(c, 3, order[i - 1], order[i]) == 1.0);
     }
+  }
+}
+
+TEST_CASE("hilbert_sort of a large grid: the blocked radix sort", "[delaunay][exact]") {
+  // 64^3 = 262144 points (more than two radix blocks), shuffled: the keys are sorted in
+  // parallel blocks, and the order must still be the curve cell by cell.
+  std::vector<double> c;
+  for (int i = 0; i < 64; ++i) {
+    for (int j = 0; j < 64; ++j) {
+      for (int k = 0; k < 64; ++k) {
+        c.push_back(k);
+        c.push_back(j);
+        c.push_back(i);
+      }
+    }
+  }
+  const std::uint32_t n = 64 * 64 * 64;
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(8));
+  hilbert_sort(c.data(), 3, order.data(), order.data() + n);
+  REQUIRE(is_permutation_of_range(order, n));
+  std::size_t unit_steps = 0;
+  for (std::size_t i = 1; i < n; ++i) unit_steps += distance(c, 3, order[i - 1], order[i]) == 1.0;
+  REQUIRE(unit_steps == n - 1);
+}
+
+TEST_CASE("hilbert_sort keeps duplicates in their order", "[delaunay][degenerate]") {
+  // 40 distinct points in a cluster far smaller than the box (one grid cell: the median
+  // recursion orders them), each 25 times, in random order; two far corners make the box.
+  const std::uint32_t distinct = 40, copies = 25, n = distinct * copies + 2;
+  const std::vector<double> base = random_points(distinct, 3, 9);
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin() + 2, order.end(), std::mt19937_64(10));
+  std::vector<double> c(3 * static_cast<std::size_t>(n));
+  std::fill_n(c.begin(), 3, -1.0);
+  std::fill_n(c.begin() + 3, 3, 1.0);
+  std::vector<std::uint32_t> group(n, distinct);
+  for (std::uint32_t k = 2; k < n; ++k) {
+    group[order[k]] = k % distinct;
+    for (int a = 0; a < 3; ++a)
+      c[3 * std::size_t{order[k]} + a] = 1e-9 * base[3 * (k % distinct) + a];
+  }
+  // The range in a shuffled order: each group's copies must come out in that order.
+  std::vector<std::uint32_t> range = order;
+  std::shuffle(range.begin(), range.end(), std::mt19937_64(11));
+  std::vector<std::uint32_t> position(n);
+  for (std::uint32_t k = 0; k < n; ++k) position[range[k]] = k;
+  hilbert_sort(c.data(), 3, range.data(), range.data() + n);
+  REQUIRE(is_permutation_of_range(range, n));
+  std::vector<std::uint32_t> last(distinct + 1, 0);
+  std::vector<char> seen(distinct + 1, 0);
+  std::size_t out_of_order = 0;
+  for (const std::uint32_t i : range) {
+    const std::uint32_t g = group[i];
+    if (g < distinct && seen[g] && position[i] < last[g]) ++out_of_order;
+    seen[g] = 1;
+    last[g] = position[i];
+  }
+  REQUIRE(out_of_order == 0);
+}
+
+TEST_CASE("brio_order of presorted points keeps their order in each round", "[delaunay]") {
+  for (const int dim : {2, 3}) {
+    const std::uint32_t n = 100000;
+    const std::vector<double> c = random_points(n, dim, 12);
+    std::vector<std::uint32_t> rounds, rounds_presorted;
+    const std::vector<std::uint32_t> sorted = brio_order(c.data(), n, dim, &rounds);
+    const std::vector<std::uint32_t> kept = brio_order(c.data(), n, dim, &rounds_presorted, true);
+    REQUIRE(is_permutation_of_range(kept, n));
+    REQUIRE(rounds == rounds_presorted);  // the same rounds, only their order differs
+    std::size_t reversed = 0;
+    for (std::size_t r = 0; r + 1 < rounds.size(); ++r) {
+      const auto first = kept.begin() + rounds[r], last = kept.begin() + rounds[r + 1];
+      std::vector<std::uint32_t> a(first, last),
+          b(sorted.begin() + rounds[r], sorted.begin() + rounds[r + 1]);
+      // Each round: the input order, or its reverse (when that starts nearer the previous
+      // round's end), of the same points as the sorted round.
+      const bool ascending = std::is_sorted(a.begin(), a.end());
+      const bool descending = std::is_sorted(a.rbegin(), a.rend());
+      REQUIRE((ascending || descending));
+      reversed += !ascending;
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      REQUIRE(a == b);
+    }
+    CAPTURE(dim, reversed);
+    REQUIRE(rounds.size() > 10);
+  }
+}
+
+TEST_CASE("finite_bounding_box: the first non-finite point, else the box", "[delaunay]") {
+  using voroclip::detail::finite_bounding_box;
+  const std::uint32_t n = 300000;  // several blocks
+  for (const int dim : {2, 3}) {
+    std::vector<double> c = random_points(n, dim, 13);
+    const auto d = static_cast<std::size_t>(dim);
+    c[d * 123456 + 1] = 7.5;
+    c[d * 250001] = -2.25;
+    double lo[3], hi[3];
+    REQUIRE(finite_bounding_box(c.data(), n, dim, lo, hi) == n);
+    for (std::size_t a = 0; a < d; ++a) {
+      double l = c[a], h = c[a];
+      for (std::uint32_t i = 0; i < n; ++i) {
+        l = std::min(l, c[d * i + a]);
+        h = std::max(h, c[d * i + a]);
+      }
+      REQUIRE(lo[a] == l);
+      REQUIRE(hi[a] == h);
+    }
+    REQUIRE(lo[0] == -2.25);
+    REQUIRE(hi[1] == 7.5);
+    c[d * 280000 + d - 1] = std::numeric_limits<double>::infinity();
+    REQUIRE(finite_bounding_box(c.data(), n, dim, lo, hi) == 280000);
+    c[d * 70000] = std::nan("");
+    REQUIRE(finite_bounding_box(c.data(), n, dim, lo, hi) == 70000);
+    c[d * 69999 + 1] = -std::numeric_limits<double>::infinity();
+    REQUIRE(finite_bounding_box(c.data(), n, dim, lo, hi) == 69999);
   }
 }
 

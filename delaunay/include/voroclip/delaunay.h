@@ -125,6 +125,20 @@ class HugePageAdvice {
   bool previous_;
 };
 
+// Sorts the point indices [first, last) along a Hilbert curve over the bounding box of
+// those points (packed coordinates, dim = 2 or 3 doubles each; see "Spatial sort" in
+// delaunay/src/spatial_sort.h): the order of each BRIO round, and of the points for
+// Delaunay3Options::presorted. Parallel; a fixed function of the coordinates and of the
+// order of [first, last).
+void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
+
+// The smallest index of a point (packed coordinates, dim = 2 or 3 doubles each) with a
+// non-finite coordinate, or n if there is none; then lo and hi (dim values each) receive
+// the points' bounding box. Parallel over fixed blocks: the same answer for any number of
+// threads.
+std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
+                                  double* hi);
+
 // Arrays at least this large get advise_huge_pages() when allocated.
 inline constexpr std::size_t kHugePageAdviceBytes = std::size_t{4} << 20;
 
@@ -605,6 +619,13 @@ struct Delaunay3Options {
     avx2,  // AVX2 whenever the CPU has it
   };
   InsphereSimd insphere_simd = InsphereSimd::automatic;
+  // The points come in a spatial order already, as detail::hilbert_sort leaves them: each
+  // BRIO round keeps their order instead of being sorted along its own curve, and the
+  // zones along the curve take the halves, quarters and octants of the points' bounding
+  // box (the box of that sort). For a caller that sorts its points anyway
+  // (ClippedVoronoi3::compute numbers its sites so). The tet set never depends on it; the
+  // slot numbering does. Any order is correct, only slower when it is not spatial.
+  bool presorted = false;
 };
 
 class Delaunay3 {
@@ -801,6 +822,7 @@ class Delaunay3 {
   std::uint32_t nb_finite_tets_ = 0;
   std::uint32_t nb_slots_ = 0;
   StaticFilter filter_;
+  double box_lo_[3] = {0, 0, 0}, box_hi_[3] = {0, 0, 0};  // the points' bounding box
   std::size_t peak_bytes_ = 0;
   Stats stats_;
 
