@@ -549,12 +549,12 @@ std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim
     double lo[3], hi[3];
   };
   constexpr std::uint32_t kBlock = 65536;
-  const std::uint32_t nb_blocks = (n + kBlock - 1) / kBlock;
+  const std::uint32_t nb_blocks = n / kBlock + (n % kBlock != 0 ? 1 : 0);
   const auto d = static_cast<std::size_t>(dim);
   std::vector<Block> blocks(nb_blocks);
   tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
     Block& k = blocks[b];
-    const std::uint32_t end = std::min(n, (b + 1) * kBlock);
+    const auto end = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, (b + 1ull) * kBlock));
     k.bad = n;
     for (std::size_t a = 0; a < d; ++a)
       k.lo[a] = k.hi[a] = coords[d * (std::size_t{b} * kBlock) + a];
@@ -600,11 +600,12 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
   const auto nb_levels = static_cast<std::size_t>(max_level) + 1;
   std::vector<std::uint8_t> round_of(n);
   constexpr std::uint32_t kBlock = 65536;
-  const std::uint32_t nb_blocks = (n + kBlock - 1) / kBlock;
+  const std::uint32_t nb_blocks = n / kBlock + (n % kBlock != 0 ? 1 : 0);
   std::vector<std::uint32_t> offset(std::size_t{nb_blocks} * nb_levels, 0);
   tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
     std::uint32_t* count = &offset[std::size_t{b} * nb_levels];
-    for (std::uint32_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+    const auto end = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, (b + 1ull) * kBlock));
+    for (std::uint32_t i = b * kBlock; i < end; ++i) {
       const auto r =
           static_cast<std::size_t>(max_level - std::min(trailing_ones(mix(i)), max_level));
       round_of[i] = static_cast<std::uint8_t>(r);
@@ -623,7 +624,8 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
   }
   tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
     std::uint32_t* fill = &offset[std::size_t{b} * nb_levels];
-    for (std::uint32_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+    const auto end = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, (b + 1ull) * kBlock));
+    for (std::uint32_t i = b * kBlock; i < end; ++i) {
       order[fill[round_of[i]]++] = i;
     }
   });
