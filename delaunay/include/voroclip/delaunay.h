@@ -129,7 +129,7 @@ class HugePageAdvice {
 // those points (packed coordinates, dim = 2 or 3 doubles each; see "Spatial sort" in
 // delaunay/src/spatial_sort.h): the order of each BRIO round, and of the points for
 // Delaunay3Options::presorted. Parallel; a fixed function of the coordinates and of the
-// order of [first, last).
+// order of [first, last), which points with equal coordinates keep among themselves.
 void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
 
 // The smallest index of a point (packed coordinates, dim = 2 or 3 doubles each) with a
