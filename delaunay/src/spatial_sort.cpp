@@ -31,7 +31,7 @@ struct Item {
 // first: ClippedVoronoi3 gives a duplicated site's cell to its first copy in input order).
 template <int D>
 void keep_order_of_duplicates(std::vector<Item<D>>& run, std::vector<std::uint32_t>& by_point,
-                              std::vector<std::uint32_t>& places) {
+                              std::vector<std::uint32_t>& places, std::vector<Item<D>>& group) {
   const auto size = static_cast<std::uint32_t>(run.size());
   by_point.resize(size);
   for (std::uint32_t k = 0; k < size; ++k) by_point[k] = k;
@@ -50,7 +50,7 @@ void keep_order_of_duplicates(std::vector<Item<D>>& run, std::vector<std::uint32
     if (h - g > 1) {
       places.assign(by_point.begin() + g, by_point.begin() + h);
       std::sort(places.begin(), places.end());
-      std::vector<Item<D>> group;
+      group.clear();
       for (std::uint32_t k = g; k < h; ++k) group.push_back(run[by_point[k]]);
       for (std::uint32_t k = 0; k < h - g; ++k) run[places[k]] = group[k];
     }
@@ -452,7 +452,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
       });
   radix_sort(keyed, tmp);  // stable: equal keys keep the order of [first, last)
   for (std::size_t i = 0; i < count; ++i) first[i] = keyed[i].index;
-  std::vector<Item<D>> run;
+  std::vector<Item<D>> run, group;
   std::vector<std::uint32_t> by_point, places;
   for (std::size_t i = 0; i < count;) {
     std::size_t j = i + 1;
@@ -469,7 +469,7 @@ void hilbert_sort_range(const double* coords, std::uint32_t* first, std::uint32_
       } else {
         hilbert_3(run.data(), run.data() + run.size(), 0, 7u);
       }
-      keep_order_of_duplicates(run, by_point, places);
+      keep_order_of_duplicates(run, by_point, places, group);
       for (std::size_t k = i; k < j; ++k) first[k] = run[k - i].index;
     }
     i = j;
