@@ -1,5 +1,6 @@
 // voroclip clip3d: the Voronoi diagram of sites clipped to the volume of a tet mesh;
-// pieces (VTK), the restricted surface (OBJ, coloured by cell) and per-cell JSON out.
+// every cell's faces (VTK), the restricted surface (OBJ, coloured by cell) and per-cell
+// JSON out.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -86,54 +87,54 @@ void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv) {
   }
 }
 
-// The boundary cells' pieces as VTK XML polygons (their faces, each shrunk towards its
-// piece's centre by 10 % so that cells stand apart), with site_id.
-void write_pieces_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
+// Every cell's boundary as VTK XML polygons: the faces of cell_faces() other than those
+// inside the volume (kInterior), each shrunk towards its cell's centroid by 10 % so that
+// cells stand apart, with site_id and across (the site on the other side, -1 for the
+// domain's surface).
+void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
   const ClippedVoronoi3::Polygons& f = cv.cell_faces();
-  const std::size_t nf = f.site.size();
-  // Piece centres: the mean of their face vertices.
-  std::vector<double> centre;
-  std::vector<std::uint32_t> count;
-  for (std::size_t k = 0; k < nf; ++k) {
-    const std::uint32_t p = f.piece[k];
-    if (centre.size() < 3 * (std::size_t{p} + 1)) {
-      centre.resize(3 * (std::size_t{p} + 1), 0);
-      count.resize(std::size_t{p} + 1, 0);
-    }
-    for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
-      for (int c = 0; c < 3; ++c)
-        centre[3 * p + static_cast<std::size_t>(c)] += f.xyz[3 * v + static_cast<std::size_t>(c)];
-      ++count[p];
-    }
+  std::vector<std::uint32_t> kept;
+  std::size_t nv = 0;
+  for (std::size_t k = 0; k < f.site.size(); ++k) {
+    if (f.across[k] == ClippedVoronoi3::kInterior) continue;
+    kept.push_back(static_cast<std::uint32_t>(k));
+    nv += f.polygon_begin[k + 1] - f.polygon_begin[k];
   }
-  for (std::size_t p = 0; p < count.size(); ++p) {
-    for (int c = 0; c < 3; ++c)
-      centre[3 * p + static_cast<std::size_t>(c)] /= std::max<std::uint32_t>(count[p], 1);
-  }
-  const std::uint32_t nv = nf == 0 ? 0 : f.polygon_begin[nf];
   out << std::setprecision(17);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
          "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << nv << "\" NumberOfCells=\"" << nf << "\">\n<Points>\n<DataArray type=\"Float64\" "
+      << nv << "\" NumberOfCells=\"" << kept.size() << "\">\n<Points>\n<DataArray type=\"Float64\" "
       << "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) {
-    const double* c = &centre[3 * std::size_t{f.piece[k]}];
+  for (const std::uint32_t k : kept) {
+    const double* c = cv.centroid(f.site[k]);
     for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
       for (int q = 0; q < 3; ++q)
-        out << c[q] + 0.9 * (f.xyz[3 * v + static_cast<std::size_t>(q)] - c[q])
+        out << c[q] + 0.9 * (f.xyz[3 * std::size_t{v} + static_cast<std::size_t>(q)] - c[q])
             << (q < 2 ? ' ' : '\n');
     }
   }
   out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
          "format=\"ascii\">\n";
-  for (std::uint32_t v = 0; v < nv; ++v) out << v << '\n';
+  for (std::size_t v = 0; v < nv; ++v) out << v << '\n';
   out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << f.polygon_begin[k + 1] << '\n';
+  std::size_t offset = 0;
+  for (const std::uint32_t k : kept) {
+    offset += f.polygon_begin[k + 1] - f.polygon_begin[k];
+    out << offset << '\n';
+  }
   out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << "7\n";
+  for (std::size_t k = 0; k < kept.size(); ++k) out << "7\n";
   out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
          "Name=\"site_id\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << f.site[k] << '\n';
+  for (const std::uint32_t k : kept) out << f.site[k] << '\n';
+  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"across\" format=\"ascii\">\n";
+  for (const std::uint32_t k : kept) {
+    if (f.across[k] == ClippedVoronoi3::kSurface) {
+      out << "-1\n";
+    } else {
+      out << f.across[k] << '\n';
+    }
+  }
   out << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
 }
 
@@ -159,7 +160,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() && !has_suffix(args.output, ".vtu") &&
       !has_suffix(args.output, ".obj") && !has_suffix(args.output, ".json")) {
     throw UsageError(
-        "-o: the output must end in .vtu (cell pieces), .obj (restricted "
+        "-o: the output must end in .vtu (cell faces), .obj (restricted "
         "surface) or .json (per cell), got '" +
         args.output + "'");
   }
@@ -186,7 +187,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
       if (has_suffix(args.output, ".obj")) {
         write_surface_obj(out, cv);
       } else if (has_suffix(args.output, ".vtu")) {
-        write_pieces_vtu(out, cv);
+        write_cells_vtu(out, cv);
       } else {
         write_cells_json(out, sites, cv);
       }

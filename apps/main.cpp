@@ -239,7 +239,8 @@ int main(int argc, char** argv) {
   clip3d->add_option("--seed", clip3d_args.seed, "Seed of --random (default 1)")->type_name("S");
   clip3d
       ->add_option("-o,--output", clip3d_args.output,
-                   "Write .vtu (boundary cells' pieces, faces shrunk, site_id), .obj (the "
+                   "Write .vtu (every cell's faces, shrunk towards its centroid, with site_id "
+                   "and across: the neighbouring site, -1 on the surface), .obj (the "
                    "restricted surface coloured by cell) or .json (per cell: site, volume, "
                    "centroid, boundary)")
       ->type_name("FILE");

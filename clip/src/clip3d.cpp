@@ -295,9 +295,17 @@ void Clip3Impl::run() {
   for (const CellOut& c : clip_out) out.nb_pairs_ += c.pairs;
   for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
   if (options.keep_geometry) {
+    // The inner cells' Voronoi facets, cells in Hilbert order of their sites.
+    spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
+    std::vector<CellOut> facets(order.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const auto& range) {
+      ThreadScratch& s = ts.local();
+      for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        voronoi_facets(order[h], s, facets[h]);
+      }
+    });
     std::uint32_t pieces = 0;
-    for (std::size_t h = 0; h < clipped.size(); ++h) {
-      const CellOut& c = clip_out[h];
+    const auto append = [&](std::uint32_t site, const CellOut& c) {
       const auto base = static_cast<std::uint32_t>(out.faces_.xyz.size() / 3);
       out.faces_.xyz.insert(out.faces_.xyz.end(), c.face_xyz.begin(), c.face_xyz.end());
       std::uint32_t last = kNone;
@@ -306,11 +314,16 @@ void Clip3Impl::run() {
           last = c.face_piece[f - 1];
           ++pieces;
         }
-        out.faces_.site.push_back(boundary_cells[clipped[h]]);
+        out.faces_.site.push_back(site);
         out.faces_.piece.push_back(pieces - 1);
+        out.faces_.across.push_back(c.face_across[f - 1]);
         out.faces_.polygon_begin.push_back(base + c.face_begin[f]);
       }
+    };
+    for (std::size_t h = 0; h < clipped.size(); ++h) {
+      append(boundary_cells[clipped[h]], clip_out[h]);
     }
+    for (std::size_t h = 0; h < order.size(); ++h) append(order[h], facets[h]);
   }
 }
 
@@ -389,6 +402,9 @@ void ClippedVoronoi3::to_input_indices() {
     std::sort(v.site, v.site + ns);
   };
   for (std::uint32_t& c : faces_.site) c = input_index[c];
+  for (std::uint32_t& c : faces_.across) {
+    if (c != kSurface && c != kInterior) c = input_index[c];
+  }
   if (surface_.site_begin.empty()) return;
   std::vector<std::uint32_t> rank(n);
   for (std::uint32_t k = 0; k < n; ++k) rank[input_index[k]] = k;

@@ -38,6 +38,7 @@
 // other cell is inside.
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clip3d_internal.h"
@@ -593,6 +594,56 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
     slot[cells[k]] = 0;
     result[k] = Moments{};
     sums[k].add_to(result[k]);
+  }
+}
+
+void Clip3Impl::voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) const {
+  // Per Delaunay edge (c, j), the circumcentres of the tets around it, taken from the first
+  // star tet with that edge: crossing the facet f with kFaceOther[ic][f][0] == ij goes
+  // counter-clockwise around p_j - p_c (kFaceOther), that is, outwards; the ring is then
+  // reversed. edge_done marks every (tet, vertex) a ring has used.
+  Star& st = s.star;
+  star(c, st);
+  const std::size_t m = st.tets.size();
+  s.edge_done.assign(4 * m, 0);
+  const auto local = [&](std::uint32_t t, std::uint32_t v) {
+    int k = 0;
+    while (dt.tet_vertex(t, k) != v) ++k;  // v is a vertex of t
+    return k;
+  };
+  for (std::size_t q = 0; q < m; ++q) {
+    const std::uint32_t t = st.tets[q];
+    if (dt.is_infinite(t)) internal_error("inner cell " + std::to_string(c) + " is unbounded");
+    const int ic = local(t, c);
+    for (int ij = 0; ij < 4; ++ij) {
+      if (ij == ic || s.edge_done[4 * q + static_cast<std::size_t>(ij)] != 0) continue;
+      const std::uint32_t j = dt.tet_vertex(t, ij);
+      const std::size_t first = res.face_xyz.size();
+      std::uint32_t u = t;
+      int uc = ic, uj = ij;
+      do {
+        const std::uint32_t v[4] = {dt.tet_vertex(u, 0), dt.tet_vertex(u, 1), dt.tet_vertex(u, 2),
+                                    dt.tet_vertex(u, 3)};
+        if (v[3] == Delaunay3::kInfinite) {
+          internal_error("inner cell " + std::to_string(c) + " is unbounded");
+        }
+        s.edge_done[4 * std::size_t{st.pos(u)} + static_cast<std::size_t>(uj)] = 1;
+        const double* x = circumcentre(u, v, s.circ);
+        res.face_xyz.insert(res.face_xyz.end(), x, x + 3);
+        int f = 0;
+        while (f == uc || f == uj || kFaceOther[uc][f][0] != uj) ++f;
+        u = dt.tet_adjacent(u, f);
+        uc = local(u, c);
+        uj = local(u, j);
+      } while (u != t);
+      // Reversed, point by point: inwards.
+      for (std::size_t a = first, b = res.face_xyz.size() - 3; a < b; a += 3, b -= 3) {
+        for (std::size_t k = 0; k < 3; ++k) std::swap(res.face_xyz[a + k], res.face_xyz[b + k]);
+      }
+      res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
+      res.face_piece.push_back(0);
+      res.face_across.push_back(j);
+    }
   }
 }
 

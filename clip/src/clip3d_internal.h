@@ -401,6 +401,7 @@ struct Clip3Impl {
     std::uint64_t pairs = 0;
     std::vector<std::uint32_t> face_begin{0};
     std::vector<std::uint32_t> face_piece;
+    std::vector<std::uint32_t> face_across;  // as ClippedVoronoi3::Polygons::across
     std::vector<double> face_xyz;
   };
   void clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size_t nb_seeds, Scratch& s,
@@ -483,6 +484,7 @@ struct Clip3Impl {
     std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
     Scratch clip;
+    std::vector<std::uint8_t> edge_done;  // voronoi_facets: per star tet and vertex
   };
   // Fills s.tets with the tets around v, finite and infinite.
   void star(std::uint32_t v, Star& s) const;
@@ -548,6 +550,9 @@ struct Clip3Impl {
   // cells[k] (clip3d_cells.cpp).
   void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                    Moments* result) const;
+  // The Voronoi facets of inner cell c (keep_geometry), appended to res as one piece
+  // (piece 0), facing inwards (clip3d_cells.cpp).
+  void voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
   void global_flags(std::vector<std::int8_t>& flag) const;

@@ -338,11 +338,16 @@ void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size
     for (std::size_t v = 0; v < p.verts.size(); ++v) coords(p.verts[v], t, c, &s.xyz[3 * v]);
     for (std::uint32_t f = 0; f < p.nb_faces(); ++f) {
       const Plane plane = p.face_plane[f];
+      std::uint32_t across = ClippedVoronoi3::kSurface;
       if (is_facet(plane)) {
         const std::uint32_t t2 = domain.tet_adjacent(t, facet_of(plane));
-        if (t2 != Domain3::kNone) push(t2);
-      } else if (seeds_out) {
-        seeds_out->emplace_back(static_cast<std::uint32_t>(plane), t);
+        if (t2 != Domain3::kNone) {
+          push(t2);
+          across = ClippedVoronoi3::kInterior;
+        }
+      } else {
+        across = static_cast<std::uint32_t>(plane);
+        if (seeds_out) seeds_out->emplace_back(across, t);
       }
       // Fan from the face's first vertex, apex the site: signed tets.
       const std::uint32_t fb = p.face_begin[f], fe = p.face_begin[f + 1];
@@ -363,6 +368,7 @@ void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size
         }
         res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
         res.face_piece.push_back(static_cast<std::uint32_t>(h));
+        res.face_across.push_back(across);
       }
     }
   }

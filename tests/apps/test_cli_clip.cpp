@@ -3,7 +3,10 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_run.h"
 
@@ -110,6 +113,31 @@ TEST_CASE("clip3d: statistics, outputs and errors", "[apps]") {
     CHECK(!text.empty());
     if (std::string(ext) == ".json") CHECK(nlohmann::json::parse(text)["cells"].size() == 200);
     if (std::string(ext) == ".obj") CHECK(text.find("\nf ") != std::string::npos);
+    if (std::string(ext) == ".vtu") {
+      // Every cell has faces (200 sites inside the volume): site_id takes all 200 values;
+      // across is -1 on the surface, another site on a bisector.
+      const auto array = [&](const std::string& name) {
+        const std::string open = "Name=\"" + name + "\" format=\"ascii\">\n";
+        const std::size_t b = text.find(open);
+        REQUIRE(b != std::string::npos);
+        std::istringstream in(text.substr(b + open.size(), text.find("</DataArray>", b) - b));
+        std::vector<long long> values;
+        for (long long x; in >> x;) values.push_back(x);
+        return values;
+      };
+      const std::vector<long long> site = array("site_id"), across = array("across");
+      REQUIRE(site.size() == across.size());
+      CHECK(std::set<long long>(site.begin(), site.end()).size() == 200);
+      std::size_t on_surface = 0;
+      for (std::size_t k = 0; k < site.size(); ++k) {
+        CHECK(across[k] >= -1);
+        CHECK(across[k] < 200);
+        CHECK(across[k] != site[k]);
+        on_surface += across[k] == -1 ? 1 : 0;
+      }
+      CHECK(on_surface > 0);
+      CHECK(on_surface < site.size());
+    }
   }
   const std::string out = temp_path(".vtu");
   const Run bad = run_cli({"clip3d", "/nonexistent.mesh", "--random", "10", "-o", out});

@@ -171,6 +171,82 @@ void require_same_cells(const ClippedVoronoi3& a, const ClippedVoronoi3& b) {
   }
 }
 
+// The cells' faces (keep_geometry): every cell with a volume has faces, an inner cell
+// one piece; the faces other than kInterior ones close each cell: the signed volume they
+// bound (inward faces, fans from the site) is the cell's volume, the faces on the surface
+// have the cell's restricted surface area; a face on a bisector has
+// its points equidistant from the two sites (up to the rounding of the constructed
+// points) and the site across is a Delaunay neighbour.
+void check_cell_faces(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3& cv) {
+  const ClippedVoronoi3::Polygons& f = cv.cell_faces();
+  const std::uint32_t n = cv.nb_sites();
+  REQUIRE(f.across.size() == f.site.size());
+  REQUIRE(f.piece.size() == f.site.size());
+  const double scale = std::cbrt(d.volume() / n);  // an average cell's size
+  std::vector<double> bounded(n, 0), surface(n, 0);
+  std::vector<std::uint32_t> pieces(n, 0), nb_faces(n, 0);
+  std::vector<std::uint32_t> nbrs;
+  for (std::size_t k = 0; k < f.site.size(); ++k) {
+    const std::uint32_t i = f.site[k];
+    if (k == 0 || f.piece[k] != f.piece[k - 1]) ++pieces[i];
+    ++nb_faces[i];
+    const std::uint32_t b = f.polygon_begin[k], e = f.polygon_begin[k + 1];
+    REQUIRE(e - b >= 3);
+    if (f.across[k] == ClippedVoronoi3::kInterior) continue;
+    const double* pi = dt.point(i);
+    const auto rel = [&](std::uint32_t v, double* y) {
+      for (int c = 0; c < 3; ++c) y[c] = f.xyz[3 * std::size_t{v} + c] - pi[c];
+    };
+    double a[3], u[3], w[3];
+    rel(b, a);
+    for (std::uint32_t v = b + 1; v + 1 < e; ++v) {
+      rel(v, u);
+      rel(v + 1, w);
+      bounded[i] -= (a[0] * (u[1] * w[2] - u[2] * w[1]) - a[1] * (u[0] * w[2] - u[2] * w[0]) +
+                     a[2] * (u[0] * w[1] - u[1] * w[0])) /
+                    6;
+    }
+    if (f.across[k] == ClippedVoronoi3::kSurface) {
+      double nrm[3] = {0, 0, 0};  // twice the area vector
+      for (std::uint32_t v = b + 1; v + 1 < e; ++v) {
+        rel(v, u);
+        rel(v + 1, w);
+        const double p[3] = {u[0] - a[0], u[1] - a[1], u[2] - a[2]};
+        const double q[3] = {w[0] - a[0], w[1] - a[1], w[2] - a[2]};
+        nrm[0] += p[1] * q[2] - p[2] * q[1];
+        nrm[1] += p[2] * q[0] - p[0] * q[2];
+        nrm[2] += p[0] * q[1] - p[1] * q[0];
+      }
+      surface[i] += 0.5 * std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+      continue;
+    }
+    const std::uint32_t j = f.across[k];
+    INFO("cell " << i << ", face " << k << " on bisector(" << i << ", " << j << ")");
+    dt.vertex_neighbors(i, nbrs);
+    REQUIRE(std::binary_search(nbrs.begin(), nbrs.end(), j));
+    const double* pj = dt.point(j);
+    for (std::uint32_t v = b; v < e; ++v) {
+      const double* x = &f.xyz[3 * std::size_t{v}];
+      double di = 0, dj = 0;
+      for (int c = 0; c < 3; ++c) {
+        di += (x[c] - pi[c]) * (x[c] - pi[c]);
+        dj += (x[c] - pj[c]) * (x[c] - pj[c]);
+      }
+      REQUIRE(std::fabs(di - dj) <= 1e-7 * (di + dj + scale * scale));
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    INFO("cell " << i << (cv.is_boundary(i) ? " (boundary)" : " (inner)") << ", volume "
+                 << cv.volume(i) << ", bounded by its faces " << bounded[i]);
+    if (cv.volume(i) > 0) REQUIRE(nb_faces[i] >= 4);
+    if (!cv.is_boundary(i) && cv.volume(i) > 0) REQUIRE(pieces[i] == 1);
+    REQUIRE(std::fabs(bounded[i] - cv.volume(i)) <= 1e-10 * scale * scale * scale);
+    // The faces on the surface: the restricted surface's area (pieces of faces on
+    // interior tet facets would add theirs).
+    REQUIRE(std::fabs(surface[i] - cv.surface_area(i)) <= 1e-10 * scale * scale);
+  }
+}
+
 // Volumes sum to the domain's; random points in the pieces of their nearest site's cell.
 void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3& cv,
                    std::uint32_t nb_probes, std::uint64_t seed) {
@@ -188,8 +264,9 @@ void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3&
     if (dt.duplicate_of(i) != i) REQUIRE(cv.volume(i) == 0);
   }
   REQUIRE(boundary == cv.nb_boundary_sites());
-  // Pieces of boundary cells: planes of their faces (inward: kTetFacetVertex order).
+  // Pieces of the cells: planes of their faces (inward: kTetFacetVertex order).
   const ClippedVoronoi3::Polygons& f = cv.cell_faces();
+  check_cell_faces(d, dt, cv);
   std::vector<std::uint32_t> piece_first(1, 0);
   for (std::size_t k = 1; k < f.piece.size(); ++k) {
     if (f.piece[k] != f.piece[k - 1]) piece_first.push_back(static_cast<std::uint32_t>(k));
@@ -236,10 +313,7 @@ void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3&
     const double* x = &probes[3 * std::size_t{q}];
     const std::uint32_t s = dt.nearest_vertex(x);
     INFO("probe " << q << " nearest site " << s);
-    if (!cv.is_boundary(s)) {
-      REQUIRE(cv.volume(s) > 0);
-      continue;
-    }
+    REQUIRE(cv.volume(s) > 0);
     bool found = false;
     for (const std::uint32_t p : cell_pieces[s]) found = found || in_piece(p, x);
     REQUIRE(found);
@@ -655,7 +729,7 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
       }
     }
   }
-  // Cell pieces (keep_geometry): the same faces, sites mapped.
+  // Cell faces (keep_geometry; inner cells included): the same faces, sites mapped.
   voroclip::Clip3Options g;
   g.keep_geometry = true;
   ClippedVoronoi3 cvg, refg;
@@ -666,6 +740,9 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
   REQUIRE(cvg.cell_faces().site.size() == refg.cell_faces().site.size());
   for (std::size_t f = 0; f < refg.cell_faces().site.size(); ++f) {
     REQUIRE(cvg.cell_faces().site[f] == order[refg.cell_faces().site[f]]);
+    const std::uint32_t across = refg.cell_faces().across[f];
+    REQUIRE(cvg.cell_faces().across[f] ==
+            (across >= ClippedVoronoi3::kInterior ? across : order[across]));
   }
 
   // The input order's triangulation: the same cells up to rounding; duplicates empty, the

@@ -404,8 +404,8 @@ struct Clip3Options {
   // Keep the restricted surface polygons (surface_polygons(): per cell, symbolic vertices
   // and coordinates). They are computed anyway: this only stores them.
   bool keep_surface = false;
-  // Keep the restricted surface and the faces of the boundary cells' pieces (cell_faces()),
-  // for export and tests. The pieces come from the tet-by-tet clipping (slow); the cell
+  // Keep the restricted surface and the faces of every cell (cell_faces()), for export and
+  // tests. The boundary cells' pieces come from the tet-by-tet clipping (slow); the cell
   // integrals do not change.
   bool keep_geometry = false;
   // Integrate every boundary cell by the tet-by-tet clipping (sec. 4.2), the reference the
@@ -470,8 +470,12 @@ class ClippedVoronoi3 {
   // ---- Geometry. Polygons as flat coordinate lists: polygon p has the points
   // [polygon_begin[p], polygon_begin[p + 1]) of xyz (x y z each).
   struct Polygons {
-    std::vector<std::uint32_t> site;           // per polygon: its cell
-    std::vector<std::uint32_t> piece;          // cell_faces: per polygon, its convex piece
+    std::vector<std::uint32_t> site;   // per polygon: its cell
+    std::vector<std::uint32_t> piece;  // cell_faces: per polygon, its convex piece
+    // cell_faces: per polygon, the site across it (the face lies on their bisector), or
+    // kSurface (on the domain's boundary) or kInterior (on a tet facet inside the volume:
+    // between two pieces of the same cell, so not part of the cell's boundary).
+    std::vector<std::uint32_t> across;
     std::vector<std::uint32_t> polygon_begin;  // nb polygons + 1
     std::vector<double> xyz;
     // surface_polygons only: per polygon its boundary triangle (Domain3), per point its
@@ -484,9 +488,18 @@ class ClippedVoronoi3 {
   // per boundary triangle it meets, in triangle order, with the triangle's orientation
   // (Domain3: clockwise seen from outside); cells in index order.
   const Polygons& surface_polygons() const { return surface_; }
-  // Faces of the boundary cells' convex pieces (keep_geometry; one piece per tet met),
-  // numbered pieces; orientation as Domain3::kTetFacetVertex (inward for positive tets).
+  // Faces of every cell with a non-empty part in the volume (keep_geometry), as convex
+  // pieces numbered from 0, each piece's faces consecutive, all facing inwards (as
+  // Domain3::kTetFacetVertex for positive tets): a boundary cell as its pieces in the tets
+  // it meets (from the tet-by-tet clipping; their faces on tet facets inside the volume are
+  // marked kInterior), the boundary cells first, in the order of their clipping; then every
+  // inner cell as one piece, its Voronoi facets (one per Delaunay neighbour: the
+  // circumcentres of the tets around the Delaunay edge), cells in Hilbert order of their
+  // sites. The faces other than kInterior ones bound the cell. Degenerate (cospherical)
+  // sites give facets of zero area and repeated points, as they are.
   const Polygons& cell_faces() const { return faces_; }
+  static constexpr std::uint32_t kSurface = 0xffffffffu;
+  static constexpr std::uint32_t kInterior = 0xfffffffeu;
 
  private:
   friend struct Clip3Impl;
