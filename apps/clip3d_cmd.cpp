@@ -87,25 +87,19 @@ void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv) {
   }
 }
 
-// Every cell's boundary as VTK XML polygons: the faces of cell_faces() other than those
-// inside the volume (kInterior), each shrunk towards its cell's centroid by 10 % so that
-// cells stand apart, with site_id and across (the site on the other side, -1 for the
-// domain's surface).
+// Every cell's boundary (cell_boundaries()) as VTK XML polygons, each shrunk towards its
+// cell's centroid by 10 % so that cells stand apart, with site_id and across (the site on
+// the other side, -1 for the domain's surface).
 void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
-  const ClippedVoronoi3::Polygons& f = cv.cell_faces();
-  std::vector<std::uint32_t> kept;
-  std::size_t nv = 0;
-  for (std::size_t k = 0; k < f.site.size(); ++k) {
-    if (f.across[k] == ClippedVoronoi3::kInterior) continue;
-    kept.push_back(static_cast<std::uint32_t>(k));
-    nv += f.polygon_begin[k + 1] - f.polygon_begin[k];
-  }
+  const ClippedVoronoi3::Polygons f = cv.cell_boundaries();
+  const std::size_t nf = f.site.size();
+  const std::size_t nv = f.polygon_begin.back();
   out << std::setprecision(17);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
          "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << nv << "\" NumberOfCells=\"" << kept.size() << "\">\n<Points>\n<DataArray type=\"Float64\" "
+      << nv << "\" NumberOfCells=\"" << nf << "\">\n<Points>\n<DataArray type=\"Float64\" "
       << "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const std::uint32_t k : kept) {
+  for (std::size_t k = 0; k < nf; ++k) {
     const double* c = cv.centroid(f.site[k]);
     for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
       for (int q = 0; q < 3; ++q)
@@ -117,18 +111,14 @@ void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
          "format=\"ascii\">\n";
   for (std::size_t v = 0; v < nv; ++v) out << v << '\n';
   out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  std::size_t offset = 0;
-  for (const std::uint32_t k : kept) {
-    offset += f.polygon_begin[k + 1] - f.polygon_begin[k];
-    out << offset << '\n';
-  }
+  for (std::size_t k = 0; k < nf; ++k) out << f.polygon_begin[k + 1] << '\n';
   out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < kept.size(); ++k) out << "7\n";
+  for (std::size_t k = 0; k < nf; ++k) out << "7\n";
   out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
          "Name=\"site_id\" format=\"ascii\">\n";
-  for (const std::uint32_t k : kept) out << f.site[k] << '\n';
+  for (std::size_t k = 0; k < nf; ++k) out << f.site[k] << '\n';
   out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"across\" format=\"ascii\">\n";
-  for (const std::uint32_t k : kept) {
+  for (std::size_t k = 0; k < nf; ++k) {
     if (f.across[k] == ClippedVoronoi3::kSurface) {
       out << "-1\n";
     } else {

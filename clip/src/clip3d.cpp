@@ -29,8 +29,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -325,6 +327,176 @@ void Clip3Impl::run() {
     }
     for (std::size_t h = 0; h < order.size(); ++h) append(order[h], facets[h]);
   }
+}
+
+ClippedVoronoi3::Polygons ClippedVoronoi3::cell_boundaries() const {
+  const Polygons& f = faces_;
+  Polygons out;
+  out.polygon_begin.push_back(0);
+  const auto point = [&](std::uint32_t v) { return &f.xyz[3 * std::size_t{v}]; };
+  const auto emit_face = [&](std::size_t k) {
+    out.site.push_back(f.site[k]);
+    out.across.push_back(f.across[k]);
+    out.xyz.insert(out.xyz.end(), point(f.polygon_begin[k]), point(f.polygon_begin[k + 1]));
+    out.polygon_begin.push_back(static_cast<std::uint32_t>(out.xyz.size() / 3));
+  };
+  // Twice the area vector of points pts[0, m) (Newell).
+  const auto newell = [](const double* const* pts, std::size_t m, double* nrm) {
+    nrm[0] = nrm[1] = nrm[2] = 0;
+    for (std::size_t v = 0; v < m; ++v) {
+      const double* p = pts[v];
+      const double* q = pts[v + 1 == m ? 0 : v + 1];
+      nrm[0] += (p[1] - q[1]) * (p[2] + q[2]);
+      nrm[1] += (p[2] - q[2]) * (p[0] + q[0]);
+      nrm[2] += (p[0] - q[0]) * (p[1] + q[1]);
+    }
+  };
+  std::vector<std::uint32_t> group;  // the pieces of one face
+  std::vector<std::array<std::uint64_t, 3>> keys;
+  std::vector<std::uint32_t> key_order, id_of_point, id_point;  // per point; per id
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges, kept;
+  std::vector<std::uint32_t> next, nb_in, loop;
+  std::vector<const double*> loop_pts;
+  std::vector<std::uint8_t> emitted;
+  // Joins the pieces in `group` (faces of one cell on one bisector); false when they do
+  // not make simple outer loops (nothing emitted then).
+  const auto join = [&]() {
+    // Points numbered by their coordinates' bits (first appearance first).
+    keys.clear();
+    std::vector<std::uint32_t> at;  // per point of the group: its polygon point index
+    for (const std::uint32_t k : group) {
+      for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
+        std::array<std::uint64_t, 3> key;
+        std::memcpy(key.data(), point(v), sizeof key);
+        keys.push_back(key);
+        at.push_back(v);
+      }
+    }
+    key_order.resize(keys.size());
+    std::iota(key_order.begin(), key_order.end(), 0u);
+    std::stable_sort(key_order.begin(), key_order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    id_of_point.assign(keys.size(), 0);
+    std::vector<std::uint32_t> first_of_run;  // per id: its first point (lowest index)
+    for (std::size_t r = 0; r < key_order.size();) {
+      std::size_t e = r;
+      std::uint32_t first = key_order[r];
+      while (e < key_order.size() && keys[key_order[e]] == keys[key_order[r]]) {
+        first = std::min(first, key_order[e]);
+        ++e;
+      }
+      for (std::size_t q = r; q < e; ++q) {
+        id_of_point[key_order[q]] = static_cast<std::uint32_t>(first_of_run.size());
+      }
+      first_of_run.push_back(first);
+      r = e;
+    }
+    // Renumber ids by first appearance, so that everything below follows the input order.
+    std::vector<std::uint32_t> rank(first_of_run.size());
+    std::iota(rank.begin(), rank.end(), 0u);
+    std::sort(rank.begin(), rank.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return first_of_run[a] < first_of_run[b]; });
+    std::vector<std::uint32_t> new_id(rank.size());
+    id_point.assign(rank.size(), 0);
+    for (std::uint32_t q = 0; q < rank.size(); ++q) {
+      new_id[rank[q]] = q;
+      id_point[q] = at[first_of_run[rank[q]]];
+    }
+    for (std::uint32_t& id : id_of_point) id = new_id[id];
+    // Directed edges; those met in both directions are inside the face.
+    edges.clear();
+    std::size_t base = 0;
+    for (const std::uint32_t k : group) {
+      const std::size_t m = f.polygon_begin[k + 1] - f.polygon_begin[k];
+      for (std::size_t v = 0; v < m; ++v) {
+        const std::uint32_t a = id_of_point[base + v], b = id_of_point[base + (v + 1) % m];
+        if (a != b) edges.emplace_back(a, b);
+      }
+      base += m;
+    }
+    std::sort(edges.begin(), edges.end());
+    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
+    kept.clear();
+    for (const auto& e : edges) {
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(e.second, e.first))) {
+        kept.push_back(e);
+      }
+    }
+    const std::size_t nb_ids = id_point.size();
+    next.assign(nb_ids, kNone);
+    nb_in.assign(nb_ids, 0);
+    for (const auto& e : kept) {
+      if (next[e.first] != kNone) return false;
+      next[e.first] = e.second;
+      if (++nb_in[e.second] > 1) return false;
+    }
+    // The loops, each from its smallest id; each must turn as the pieces do (else a hole).
+    double total[3] = {0, 0, 0}, nrm[3];
+    for (const std::uint32_t k : group) {
+      loop_pts.clear();
+      for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
+        loop_pts.push_back(point(v));
+      }
+      newell(loop_pts.data(), loop_pts.size(), nrm);
+      for (int c = 0; c < 3; ++c) total[c] += nrm[c];
+    }
+    loop.clear();
+    std::vector<std::uint32_t> loop_begin{0};
+    std::vector<std::uint8_t> seen(nb_ids, 0);
+    for (const auto& e : kept) {
+      if (seen[e.first]) continue;
+      std::uint32_t v = e.first;
+      do {
+        if (next[v] == kNone || seen[v]) return false;
+        seen[v] = 1;
+        loop.push_back(v);
+        v = next[v];
+      } while (v != e.first);
+      loop_pts.clear();
+      for (std::size_t q = loop_begin.back(); q < loop.size(); ++q) {
+        loop_pts.push_back(point(id_point[loop[q]]));
+      }
+      if (loop_pts.size() < 3) return false;
+      newell(loop_pts.data(), loop_pts.size(), nrm);
+      if (!(nrm[0] * total[0] + nrm[1] * total[1] + nrm[2] * total[2] > 0)) return false;
+      loop_begin.push_back(static_cast<std::uint32_t>(loop.size()));
+    }
+    for (std::size_t l = 0; l + 1 < loop_begin.size(); ++l) {
+      out.site.push_back(f.site[group[0]]);
+      out.across.push_back(f.across[group[0]]);
+      for (std::uint32_t q = loop_begin[l]; q < loop_begin[l + 1]; ++q) {
+        const double* x = point(id_point[loop[q]]);
+        out.xyz.insert(out.xyz.end(), x, x + 3);
+      }
+      out.polygon_begin.push_back(static_cast<std::uint32_t>(out.xyz.size() / 3));
+    }
+    return true;
+  };
+  const std::size_t nb = f.site.size();
+  emitted.assign(nb, 0);
+  for (std::size_t k0 = 0; k0 < nb;) {
+    std::size_t k1 = k0;
+    while (k1 < nb && f.site[k1] == f.site[k0]) ++k1;
+    for (std::size_t k = k0; k < k1; ++k) {
+      if (emitted[k] || f.across[k] == kInterior) continue;
+      if (f.across[k] == kSurface) {
+        emit_face(k);
+        continue;
+      }
+      group.clear();
+      for (std::size_t h = k; h < k1; ++h) {
+        if (f.across[h] == f.across[k]) {
+          group.push_back(static_cast<std::uint32_t>(h));
+          emitted[h] = 1;
+        }
+      }
+      if (group.size() == 1 || !join()) {
+        for (const std::uint32_t h : group) emit_face(h);
+      }
+    }
+    k0 = k1;
+  }
+  return out;
 }
 
 void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,

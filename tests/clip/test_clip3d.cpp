@@ -177,21 +177,23 @@ void require_same_cells(const ClippedVoronoi3& a, const ClippedVoronoi3& b) {
 // have the cell's restricted surface area; a face on a bisector has
 // its points equidistant from the two sites (up to the rounding of the constructed
 // points) and the site across is a Delaunay neighbour.
-void check_cell_faces(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3& cv) {
-  const ClippedVoronoi3::Polygons& f = cv.cell_faces();
+// The same for cell_boundaries() (joined: no kInterior faces, no pieces).
+void check_cell_faces(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3& cv,
+                      const ClippedVoronoi3::Polygons& f, bool joined) {
   const std::uint32_t n = cv.nb_sites();
   REQUIRE(f.across.size() == f.site.size());
-  REQUIRE(f.piece.size() == f.site.size());
+  REQUIRE(f.piece.size() == (joined ? 0 : f.site.size()));
   const double scale = std::cbrt(d.volume() / n);  // an average cell's size
   std::vector<double> bounded(n, 0), surface(n, 0);
   std::vector<std::uint32_t> pieces(n, 0), nb_faces(n, 0);
   std::vector<std::uint32_t> nbrs;
   for (std::size_t k = 0; k < f.site.size(); ++k) {
     const std::uint32_t i = f.site[k];
-    if (k == 0 || f.piece[k] != f.piece[k - 1]) ++pieces[i];
+    if (!joined && (k == 0 || f.piece[k] != f.piece[k - 1])) ++pieces[i];
     ++nb_faces[i];
     const std::uint32_t b = f.polygon_begin[k], e = f.polygon_begin[k + 1];
     REQUIRE(e - b >= 3);
+    if (joined) REQUIRE(f.across[k] != ClippedVoronoi3::kInterior);
     if (f.across[k] == ClippedVoronoi3::kInterior) continue;
     const double* pi = dt.point(i);
     const auto rel = [&](std::uint32_t v, double* y) {
@@ -239,7 +241,7 @@ void check_cell_faces(const Domain3& d, const Delaunay3& dt, const ClippedVorono
     INFO("cell " << i << (cv.is_boundary(i) ? " (boundary)" : " (inner)") << ", volume "
                  << cv.volume(i) << ", bounded by its faces " << bounded[i]);
     if (cv.volume(i) > 0) REQUIRE(nb_faces[i] >= 4);
-    if (!cv.is_boundary(i) && cv.volume(i) > 0) REQUIRE(pieces[i] == 1);
+    if (!joined && !cv.is_boundary(i) && cv.volume(i) > 0) REQUIRE(pieces[i] == 1);
     REQUIRE(std::fabs(bounded[i] - cv.volume(i)) <= 1e-10 * scale * scale * scale);
     // The faces on the surface: the restricted surface's area (pieces of faces on
     // interior tet facets would add theirs).
@@ -266,7 +268,8 @@ void check_diagram(const Domain3& d, const Delaunay3& dt, const ClippedVoronoi3&
   REQUIRE(boundary == cv.nb_boundary_sites());
   // Pieces of the cells: planes of their faces (inward: kTetFacetVertex order).
   const ClippedVoronoi3::Polygons& f = cv.cell_faces();
-  check_cell_faces(d, dt, cv);
+  check_cell_faces(d, dt, cv, f, false);
+  check_cell_faces(d, dt, cv, cv.cell_boundaries(), true);
   std::vector<std::uint32_t> piece_first(1, 0);
   for (std::size_t k = 1; k < f.piece.size(); ++k) {
     if (f.piece[k] != f.piece[k - 1]) piece_first.push_back(static_cast<std::uint32_t>(k));
@@ -386,7 +389,25 @@ TEST_CASE("clip3d: 10^5 sites in sphere-fine, 10^5 probes", "[clip][data]") {
   const auto n = static_cast<std::uint32_t>(100000 * test_scale());
   const std::vector<double> sites = sample_volume(d, n, 5);
   const Delaunay3 dt(sites.data(), n);
-  check_diagram(d, dt, clip(d, dt), static_cast<std::uint32_t>(100000 * test_scale()), 5);
+  const ClippedVoronoi3 cv = clip(d, dt);
+  check_diagram(d, dt, cv, static_cast<std::uint32_t>(100000 * test_scale()), 5);
+  // The volume is convex: each face of a cell on a bisector is convex and joins into one
+  // polygon (while a boundary cell's faces come in many pieces).
+  const ClippedVoronoi3::Polygons& f = cv.cell_boundaries();
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+  std::size_t on_bisectors = 0;
+  for (std::size_t k = 0; k < f.site.size(); ++k) {
+    if (f.across[k] == ClippedVoronoi3::kSurface) continue;
+    on_bisectors += cv.is_boundary(f.site[k]) ? 1 : 0;
+    INFO("cell " << f.site[k] << ", face on bisector(" << f.site[k] << ", " << f.across[k] << ")");
+    REQUIRE(++count[{f.site[k], f.across[k]}] == 1);
+  }
+  std::size_t pieces_on_bisectors = 0;
+  const ClippedVoronoi3::Polygons& p = cv.cell_faces();
+  for (std::size_t k = 0; k < p.site.size(); ++k) {
+    pieces_on_bisectors += cv.is_boundary(p.site[k]) && p.across[k] < ClippedVoronoi3::kInterior;
+  }
+  REQUIRE(pieces_on_bisectors > 2 * on_bisectors);
 }
 
 TEST_CASE("clip3d: exhaustive reference on small cases", "[clip]") {

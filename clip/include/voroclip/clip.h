@@ -500,6 +500,17 @@ class ClippedVoronoi3 {
   const Polygons& cell_faces() const { return faces_; }
   static constexpr std::uint32_t kSurface = 0xffffffffu;
   static constexpr std::uint32_t kInterior = 0xfffffffeu;
+  // The boundary of every cell (keep_geometry), as cell_faces() without its kInterior
+  // faces and with the pieces of each face on a bisector joined: one polygon per
+  // connected part of the face (their common edges dropped; their points stay, so a
+  // joined polygon may have points inside its straight edges). The pieces join on points
+  // of equal coordinates (a point met in several tets is computed from the same symbolic
+  // vertex, to the same bits); a face whose pieces do not make simple loops around its
+  // parts (a part with a hole; coinciding points of distinct vertices in degenerate input)
+  // is left in pieces. Faces on the surface stay one per boundary triangle and tet. Per
+  // cell in cell_faces() order, a face where its first piece was; site and across as in
+  // cell_faces() (piece left empty).
+  Polygons cell_boundaries() const;
 
  private:
   friend struct Clip3Impl;
