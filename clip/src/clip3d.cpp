@@ -297,17 +297,24 @@ void Clip3Impl::run() {
   for (const CellOut& c : clip_out) out.nb_pairs_ += c.pairs;
   for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
   if (options.keep_geometry) {
-    // The inner cells' Voronoi facets, cells in Hilbert order of their sites.
+    // The inner cells' Voronoi facets, cells in Hilbert order of their sites, by fixed
+    // chunks (a chunk's faces in one CellOut, piece = the cell's place in the chunk).
     spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
-    std::vector<CellOut> facets(order.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const auto& range) {
+    const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
+    std::vector<CellOut> facets(nb_chunks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
       ThreadScratch& s = ts.local();
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
-        voronoi_facets(order[h], s, facets[h]);
+        const std::size_t begin = h * kInnerChunk;
+        const std::size_t end = std::min(order.size(), begin + kInnerChunk);
+        for (std::size_t k = begin; k < end; ++k) {
+          voronoi_facets(order[k], static_cast<std::uint32_t>(k - begin), s, facets[h]);
+        }
       }
     });
     std::uint32_t pieces = 0;
-    const auto append = [&](std::uint32_t site, const CellOut& c) {
+    // A CellOut's faces; site_of(face_piece) is the cell of a piece.
+    const auto append = [&](const CellOut& c, auto&& site_of) {
       const auto base = static_cast<std::uint32_t>(out.faces_.xyz.size() / 3);
       out.faces_.xyz.insert(out.faces_.xyz.end(), c.face_xyz.begin(), c.face_xyz.end());
       std::uint32_t last = kNone;
@@ -316,16 +323,18 @@ void Clip3Impl::run() {
           last = c.face_piece[f - 1];
           ++pieces;
         }
-        out.faces_.site.push_back(site);
+        out.faces_.site.push_back(site_of(last));
         out.faces_.piece.push_back(pieces - 1);
         out.faces_.across.push_back(c.face_across[f - 1]);
         out.faces_.polygon_begin.push_back(base + c.face_begin[f]);
       }
     };
     for (std::size_t h = 0; h < clipped.size(); ++h) {
-      append(boundary_cells[clipped[h]], clip_out[h]);
+      append(clip_out[h], [&](std::uint32_t) { return boundary_cells[clipped[h]]; });
     }
-    for (std::size_t h = 0; h < order.size(); ++h) append(order[h], facets[h]);
+    for (std::size_t h = 0; h < nb_chunks; ++h) {
+      append(facets[h], [&](std::uint32_t piece) { return order[h * kInnerChunk + piece]; });
+    }
   }
 }
 
@@ -352,57 +361,35 @@ ClippedVoronoi3::Polygons ClippedVoronoi3::cell_boundaries() const {
     }
   };
   std::vector<std::uint32_t> group;  // the pieces of one face
-  std::vector<std::array<std::uint64_t, 3>> keys;
-  std::vector<std::uint32_t> key_order, id_of_point, id_point;  // per point; per id
+  // Per point of the group (in order): its coordinates' bits and place, sorted.
+  std::vector<std::pair<std::array<std::uint64_t, 3>, std::uint32_t>> keys;
+  std::vector<std::uint32_t> at, id_of_point, id_point;  // per point: xyz index, id; per id
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges, kept;
-  std::vector<std::uint32_t> next, nb_in, loop;
+  std::vector<std::uint32_t> next, nb_in, loop, loop_begin;
+  std::vector<std::uint8_t> seen;
   std::vector<const double*> loop_pts;
   std::vector<std::uint8_t> emitted;
   // Joins the pieces in `group` (faces of one cell on one bisector); false when they do
   // not make simple outer loops (nothing emitted then).
   const auto join = [&]() {
-    // Points numbered by their coordinates' bits (first appearance first).
+    // Points of equal coordinates (bits) get one id; ids in the order of the coordinates.
     keys.clear();
-    std::vector<std::uint32_t> at;  // per point of the group: its polygon point index
+    at.clear();
     for (const std::uint32_t k : group) {
       for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
         std::array<std::uint64_t, 3> key;
         std::memcpy(key.data(), point(v), sizeof key);
-        keys.push_back(key);
+        keys.emplace_back(key, static_cast<std::uint32_t>(at.size()));
         at.push_back(v);
       }
     }
-    key_order.resize(keys.size());
-    std::iota(key_order.begin(), key_order.end(), 0u);
-    std::stable_sort(key_order.begin(), key_order.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    std::sort(keys.begin(), keys.end());
     id_of_point.assign(keys.size(), 0);
-    std::vector<std::uint32_t> first_of_run;  // per id: its first point (lowest index)
-    for (std::size_t r = 0; r < key_order.size();) {
-      std::size_t e = r;
-      std::uint32_t first = key_order[r];
-      while (e < key_order.size() && keys[key_order[e]] == keys[key_order[r]]) {
-        first = std::min(first, key_order[e]);
-        ++e;
-      }
-      for (std::size_t q = r; q < e; ++q) {
-        id_of_point[key_order[q]] = static_cast<std::uint32_t>(first_of_run.size());
-      }
-      first_of_run.push_back(first);
-      r = e;
+    id_point.clear();
+    for (std::size_t r = 0; r < keys.size(); ++r) {
+      if (r == 0 || keys[r].first != keys[r - 1].first) id_point.push_back(at[keys[r].second]);
+      id_of_point[keys[r].second] = static_cast<std::uint32_t>(id_point.size() - 1);
     }
-    // Renumber ids by first appearance, so that everything below follows the input order.
-    std::vector<std::uint32_t> rank(first_of_run.size());
-    std::iota(rank.begin(), rank.end(), 0u);
-    std::sort(rank.begin(), rank.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return first_of_run[a] < first_of_run[b]; });
-    std::vector<std::uint32_t> new_id(rank.size());
-    id_point.assign(rank.size(), 0);
-    for (std::uint32_t q = 0; q < rank.size(); ++q) {
-      new_id[rank[q]] = q;
-      id_point[q] = at[first_of_run[rank[q]]];
-    }
-    for (std::uint32_t& id : id_of_point) id = new_id[id];
     // Directed edges; those met in both directions are inside the face.
     edges.clear();
     std::size_t base = 0;
@@ -441,8 +428,8 @@ ClippedVoronoi3::Polygons ClippedVoronoi3::cell_boundaries() const {
       for (int c = 0; c < 3; ++c) total[c] += nrm[c];
     }
     loop.clear();
-    std::vector<std::uint32_t> loop_begin{0};
-    std::vector<std::uint8_t> seen(nb_ids, 0);
+    loop_begin.assign(1, 0);
+    seen.assign(nb_ids, 0);
     for (const auto& e : kept) {
       if (seen[e.first]) continue;
       std::uint32_t v = e.first;

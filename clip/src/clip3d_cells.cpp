@@ -597,7 +597,8 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
   }
 }
 
-void Clip3Impl::voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) const {
+void Clip3Impl::voronoi_facets(std::uint32_t c, std::uint32_t piece, ThreadScratch& s,
+                               CellOut& res) const {
   // Per Delaunay edge (c, j), the circumcentres of the tets around it, taken from the first
   // star tet with that edge: crossing the facet f with kFaceOther[ic][f][0] == ij goes
   // counter-clockwise around p_j - p_c (kFaceOther), that is, outwards; the ring is then
@@ -621,12 +622,9 @@ void Clip3Impl::voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) 
       const std::size_t first = res.face_xyz.size();
       std::uint32_t u = t;
       int uc = ic, uj = ij;
-      do {
+      do {  // (u is a star tet: finite)
         const std::uint32_t v[4] = {dt.tet_vertex(u, 0), dt.tet_vertex(u, 1), dt.tet_vertex(u, 2),
                                     dt.tet_vertex(u, 3)};
-        if (v[3] == Delaunay3::kInfinite) {
-          internal_error("inner cell " + std::to_string(c) + " is unbounded");
-        }
         s.edge_done[4 * std::size_t{st.pos(u)} + static_cast<std::size_t>(uj)] = 1;
         const double* x = circumcentre(u, v, s.circ);
         res.face_xyz.insert(res.face_xyz.end(), x, x + 3);
@@ -641,7 +639,7 @@ void Clip3Impl::voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) 
         for (std::size_t k = 0; k < 3; ++k) std::swap(res.face_xyz[a + k], res.face_xyz[b + k]);
       }
       res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
-      res.face_piece.push_back(0);
+      res.face_piece.push_back(piece);
       res.face_across.push_back(j);
     }
   }

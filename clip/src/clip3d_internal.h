@@ -551,8 +551,8 @@ struct Clip3Impl {
   void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                    Moments* result) const;
   // The Voronoi facets of inner cell c (keep_geometry), appended to res as one piece
-  // (piece 0), facing inwards (clip3d_cells.cpp).
-  void voronoi_facets(std::uint32_t c, ThreadScratch& s, CellOut& res) const;
+  // (numbered `piece`), facing inwards (clip3d_cells.cpp).
+  void voronoi_facets(std::uint32_t c, std::uint32_t piece, ThreadScratch& s, CellOut& res) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
   void global_flags(std::vector<std::int8_t>& flag) const;
