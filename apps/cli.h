@@ -78,7 +78,8 @@ struct ClipArgs {
   std::uint32_t random = 0;
   bool random_set = false;
   std::uint64_t seed = 1;
-  std::string output;  // .svg, .vtu, .json (cvt2d also .txt); empty: no file
+  std::string output;     // .svg, .vtu, .json (cvt2d also .txt); empty: no file
+  bool reorient = false;  // clip3d: reorient inside-out shells of a surface domain
   // cvt2d
   std::string method = "lbfgs";
   std::uint32_t iterations = 100;
@@ -137,7 +138,8 @@ void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh)
 void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh);
 
 struct Mesh3dArgs {
-  std::string domain;  // tet mesh, any format read_tet_mesh reads
+  std::string domain;  // closed surface or tet mesh (read_domain3)
+  bool reorient = false;
   std::uint32_t vertices = 10000;
   bool adaptive = false;
   double feature_angle = 40;
@@ -152,8 +154,19 @@ struct Mesh3dArgs {
   std::string msh_version = "4.1";
 };
 
-/// CVT tetrahedral meshing of a tet mesh's volume (mesh3d), with the quality report.
+/// CVT tetrahedral meshing of a volume (mesh3d), with the quality report.
 void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options);
+
+struct CheckSurfaceArgs {
+  std::string path;  // a surface (.obj, .off, .stl, .ply) or a tet mesh (its boundary)
+  bool reorient = false;
+};
+
+/// Validates a closed surface (Surface3) and reports its shells, genus, area and volume.
+void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& options);
+
+/// Reads a 3D domain (read_domain3) and prints a note for each shell it reoriented.
+Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions& options);
 
 void run_demo(const DemoArgs& args, const GlobalOptions& options);
 void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options);

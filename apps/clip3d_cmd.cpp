@@ -1,6 +1,6 @@
-// voroclip clip3d: the Voronoi diagram of sites clipped to the volume of a tet mesh;
-// every cell's faces (VTK), the restricted surface (OBJ, coloured by cell) and per-cell
-// JSON out.
+// voroclip clip3d: the Voronoi diagram of sites clipped to a volume given by its closed
+// surface or a tet mesh; every cell's faces (VTK), the restricted surface (OBJ, coloured by
+// cell) and per-cell JSON out.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -158,7 +158,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
   if (args.random_set && args.random < 4) throw UsageError("--random: needs at least 4 sites");
-  const Domain3 domain(read_tet_mesh(args.domain));
+  const Domain3 domain = load_domain3(args.domain, args.reorient, options);
   const std::vector<double> sites =
       args.random_set ? random_points3(domain, args.random, args.seed) : read_points(args.sites, 3);
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
@@ -185,7 +185,8 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   }
   if (options.stats_json) {
     std::cout << nlohmann::json{{"tets", domain.nb_tets()},
-                                {"boundary_triangles", domain.nb_boundary_triangles()},
+                                {"boundary_triangles", domain.surface().nb_triangles()},
+                                {"shells", domain.surface().shells().size()},
                                 {"sites", n},
                                 {"unique_sites", cv.delaunay().nb_unique_points()},
                                 {"boundary_sites", cv.nb_boundary_sites()},
@@ -193,7 +194,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
                                 {"cells_volume_sum", cv.total_volume()},
                                 {"surface_area_sum", cv.total_surface_area()},
                                 {"clipped_pairs", cv.nb_clipped_pairs()},
-                                {"fallback_cells", cv.nb_fallback_cells()},
+                                {"multi_crossing_cells", cv.nb_multi_crossing_cells()},
                                 {"seconds",
                                  {{"delaunay", t_delaunay},
                                   {"surface_rvd", cv.seconds_surface()},
@@ -205,8 +206,9 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   }
   if (std::ostream* out = human_stream(options)) {
     *out << "Clipped Voronoi diagram: " << n << " sites (" << cv.nb_boundary_sites()
-         << " boundary cells) in " << domain.source() << " (" << domain.nb_tets() << " tets, "
-         << domain.nb_boundary_triangles() << " boundary triangles); cells' volume "
+         << " boundary cells) in " << domain.source() << " ("
+         << (domain.has_tets() ? std::to_string(domain.nb_tets()) + " tets, " : std::string())
+         << domain.surface().nb_triangles() << " boundary triangles); cells' volume "
          << format_double(cv.total_volume()) << " (domain " << format_double(domain.volume())
          << "); Delaunay " << format_double(t_delaunay) << " s, surface "
          << format_double(cv.seconds_surface()) << " s, boundary cells "

@@ -221,15 +221,21 @@ int main(int argc, char** argv) {
                    "Write the angle histograms as an SVG bar chart")
       ->type_name("FILE.svg");
 
+  const std::string domain3_help =
+      "The volume: a closed surface (.obj, .off, .stl, .ply; validated exactly: closed, "
+      "manifold, oriented outward, no self-intersection; several shells and cavities allowed) "
+      "or a tet mesh (Medit .mesh, TetGen .node/.ele, Gmsh .msh 2.2 or 4.1 ASCII, legacy VTK "
+      ".vtk or VTK XML .vtu)";
+  const std::string reorient_help =
+      "Reverse the shells of a surface that face the wrong way (inside out) instead of "
+      "rejecting it; a note names each one";
+
   voroclip::cli::ClipArgs clip3d_args;
   CLI::App* clip3d = app.add_subcommand(
-      "clip3d", "Voronoi diagram of sites clipped to the volume of a tetrahedral mesh (exact)");
-  clip3d
-      ->add_option("DOMAIN", clip3d_args.domain,
-                   "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 or 4.1 ASCII), "
-                   "legacy VTK .vtk or VTK XML .vtu")
-      ->required()
-      ->type_name("MESH");
+      "clip3d",
+      "Voronoi diagram of sites clipped to a volume given by its surface or a tet mesh (exact)");
+  clip3d->add_option("DOMAIN", clip3d_args.domain, domain3_help)->required()->type_name("DOMAIN");
+  clip3d->add_flag("--reorient", clip3d_args.reorient, reorient_help);
   clip3d
       ->add_option("--sites", clip3d_args.sites,
                    "Site file: one 'x y z' per line ('#' comments) or a JSON array")
@@ -278,15 +284,12 @@ int main(int argc, char** argv) {
   voroclip::cli::Mesh3dArgs mesh3d_args;
   CLI::App* mesh3d = app.add_subcommand(
       "mesh3d",
-      "Tetrahedral mesh of the volume of a tet mesh by centroidal Voronoi tessellation (Yan et "
+      "Tetrahedral mesh of a volume (a closed surface or a tet mesh) by centroidal Voronoi "
+      "tessellation (Yan et "
       "al. 2011, sec. 5.2): CVT, boundary and feature sites constrained, exact extraction, "
       "sliver perturbation; progress per phase and the quality report");
-  mesh3d
-      ->add_option("DOMAIN", mesh3d_args.domain,
-                   "Tet mesh of the domain: Medit .mesh, TetGen .node/.ele, Gmsh .msh, legacy "
-                   ".vtk or .vtu")
-      ->required()
-      ->type_name("MESH");
+  mesh3d->add_option("DOMAIN", mesh3d_args.domain, domain3_help)->required()->type_name("DOMAIN");
+  mesh3d->add_flag("--reorient", mesh3d_args.reorient, reorient_help);
   mesh3d->add_option("--vertices", mesh3d_args.vertices, "Number of vertices (sites) wanted")
       ->required()
       ->type_name("N");
@@ -333,6 +336,20 @@ int main(int argc, char** argv) {
                    "Gmsh format of a .msh output: 4.1 (default) or 2.2")
       ->type_name("V");
 
+  voroclip::cli::CheckSurfaceArgs check_args;
+  CLI::App* check_surface = app.add_subcommand(
+      "check-surface",
+      "Validate a closed surface as the boundary of a volume, exactly (closed, 2-manifold, "
+      "consistently oriented, no self-intersection, shells nested and facing the right way) "
+      "and report its shells (genus, role), area and volume; exit status 1 with the defect "
+      "otherwise");
+  check_surface
+      ->add_option("FILE", check_args.path,
+                   "A surface (.obj, .off, .stl, .ply), or a tet mesh (its boundary is checked)")
+      ->required()
+      ->type_name("FILE");
+  check_surface->add_flag("--reorient", check_args.reorient, reorient_help);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -361,6 +378,7 @@ int main(int argc, char** argv) {
       voroclip::cli::run_predicate(predicate_args, global);
     }
     if (*mesh3d) voroclip::cli::run_mesh3d(mesh3d_args, global);
+    if (*check_surface) voroclip::cli::run_check_surface(check_args, global);
     if (*quality) {
       quality_args.samples_set = quality->get_option("--samples")->count() > 0;
       voroclip::cli::run_quality(quality_args, global);

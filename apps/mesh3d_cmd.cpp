@@ -1,4 +1,5 @@
-// voroclip mesh3d: CVT tetrahedral meshing of the volume of a tet mesh (mesh3d in
+// voroclip mesh3d: CVT tetrahedral meshing of a volume, given by its closed surface or a tet
+// mesh (mesh3d in
 // voroclip/mesh.h): progress per phase, the mesh as Medit, Gmsh or VTK XML, and the quality
 // report (Q1..Q4, Hausdorff distance of the boundary to the input's) in --stats json.
 #include <algorithm>
@@ -62,7 +63,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      format_double(args.smooth_shape));
   }
   const auto start = std::chrono::steady_clock::now();
-  const Domain3 domain(read_tet_mesh(args.domain));
+  const Domain3 domain = load_domain3(args.domain, args.reorient, options);
   const double t_read = seconds_since(start);
 
   std::ostream* out = human_stream(options);

@@ -94,7 +94,7 @@ void BM_clip3d(benchmark::State& state) {
   state.counters["tets"] = d.nb_tets();
   state.counters["boundary_sites"] = cv.nb_boundary_sites();
   state.counters["pairs"] = static_cast<double>(cv.nb_clipped_pairs());
-  state.counters["fallback"] = cv.nb_fallback_cells();
+  state.counters["multi_crossing"] = cv.nb_multi_crossing_cells();
   state.counters["s_delaunay"] = t_delaunay;
   state.counters["s_surface"] = cv.seconds_surface();
   state.counters["s_boundary"] = cv.seconds_boundary_cells();

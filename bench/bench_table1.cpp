@@ -159,8 +159,8 @@ int main(int argc, char** argv) {
         }
         std::printf(
             "| %s | %u | %u | %u | %u | %u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.0fk |\n",
-            m.name, d.nb_tets(), d.nb_boundary_triangles(), n, cv.nb_boundary_sites(),
-            cv.nb_fallback_cells(), median(del), median(surf), median(bnd), median(inn),
+            m.name, d.nb_tets(), d.surface().nb_triangles(), n, cv.nb_boundary_sites(),
+            cv.nb_multi_crossing_cells(), median(del), median(surf), median(bnd), median(inn),
             median(clip), median(tot), n / median(clip) / threads / 1000);
         std::fflush(stdout);
       }

@@ -54,7 +54,9 @@ constexpr std::size_t kBoundaryChunk = 512;  // boundary cells per chunk (run)
 void Clip3Impl::run() {
   using Clock = std::chrono::steady_clock;
   n = dt.nb_points();
-  linear_density = !options.vertex_density.empty();
+  weighted = !options.density.is_constant();
+  linear_density = options.density.kind == Density3::Kind::kVertexLinear;
+  callback_density = options.density.kind == Density3::Kind::kCallback ? &options.density : nullptr;
   keep_surface = options.keep_surface || options.keep_geometry;
   out.surface_ = {};
   out.faces_ = {};
@@ -123,8 +125,14 @@ void Clip3Impl::run() {
         for (std::size_t k = begin; k < end; ++k) {
           s.chunk_out[k - begin] = surface_moments[boundary_slot[order[k]]];
         }
-        if (boundary_chunk(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
-                           s.chunk_out.data())) {
+        const bool placed = weighted
+                                ? boundary_chunk<true>(order.data() + begin,
+                                                       static_cast<std::uint32_t>(end - begin), s,
+                                                       s.chunk_out.data())
+                                : boundary_chunk<false>(order.data() + begin,
+                                                        static_cast<std::uint32_t>(end - begin), s,
+                                                        s.chunk_out.data());
+        if (placed) {
           for (std::size_t k = begin; k < end; ++k) {
             boundary_moments[boundary_slot[order[k]]] = s.chunk_out[k - begin];
           }
@@ -134,26 +142,24 @@ void Clip3Impl::run() {
       }
     });
   }
+  std::vector<std::int8_t> global_flag;  // per tet slot, when a cell needs it
   if (std::find(unplaced.begin(), unplaced.end(), 1) != unplaced.end()) {
-    std::vector<std::int8_t> flag;
-    global_flags(flag);
+    global_flags(global_flag);
     ThreadScratch& s = ts.local();
     for (std::size_t q = 0; q < nb_boundary; ++q) {
       if (!unplaced[q]) continue;
       Moments r = surface_moments[q];
-      boundary_cell(boundary_cells[q], flag.data(), s, r);
+      boundary_cell(boundary_cells[q], global_flag.data(), s, r);
       boundary_moments[q] = r;
     }
   }
-  // Tet by tet: the cells the fast path leaves, or all of them (for their integrals or
-  // for the pieces' geometry).
+  // Tet by tet: every boundary cell under tet_clipping or a density linear per tet.
   const bool clip_all = linear_density || options.tet_clipping;
   std::vector<std::uint32_t> clipped;  // boundary slots
-  std::uint32_t nb_fallback = 0;
+  std::uint32_t nb_multi = 0;
   for (std::size_t q = 0; q < nb_boundary; ++q) {
-    const bool fb = fallback[boundary_cells[q]] != 0;
-    nb_fallback += fb ? 1 : 0;
-    if (clip_all || fb || options.keep_geometry) clipped.push_back(static_cast<std::uint32_t>(q));
+    nb_multi += multi_crossed[boundary_cells[q]] != 0 ? 1 : 0;
+    if (clip_all) clipped.push_back(static_cast<std::uint32_t>(q));
   }
   std::vector<CellOut> clip_out(clipped.size());
   // Under a non-constant density: per clipped cell, (neighbour, tet) seeds of inner cells.
@@ -169,7 +175,7 @@ void Clip3Impl::run() {
       }
       clip_cell(boundary_cells[q], s.cells.data(), s.cells.size(), s.clip, clip_out[h],
                 linear_density ? &seeds_out[h] : nullptr);
-      if (clip_all || fallback[boundary_cells[q]]) boundary_moments[q] = clip_out[h];
+      boundary_moments[q] = clip_out[h];
     }
   });
   const auto t2 = Clock::now();
@@ -192,14 +198,14 @@ void Clip3Impl::run() {
     ClippedVoronoi3::Cell& cell = cells[i];
     const double* p = site(i);
     cell.volume = r ? r->volume : 0;
-    if (linear_density) {
+    if (weighted) {
       cell.mass = r ? r->mass : 0;
       cell.energy = r ? r->energy : 0;
     } else {
-      cell.mass = options.density * cell.volume;
-      cell.energy = r ? options.density * r->energy : 0;
+      cell.mass = options.density.value * cell.volume;
+      cell.energy = r ? options.density.value * r->energy : 0;
     }
-    const double m = linear_density ? cell.mass : cell.volume;
+    const double m = weighted ? cell.mass : cell.volume;
     for (int c = 0; c < 3; ++c) {
       cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
     }
@@ -268,8 +274,13 @@ void Clip3Impl::run() {
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
         const std::size_t begin = h * kInnerChunk;
         const std::size_t end = std::min(order.size(), begin + kInnerChunk);
-        inner_chunk(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
-                    s.chunk_out.data());
+        if (weighted) {
+          inner_chunk<true>(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
+                            s.chunk_out.data());
+        } else {
+          inner_chunk<false>(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
+                             s.chunk_out.data());
+        }
         for (std::size_t q = begin; q < end; ++q) write_cell(order[q], &s.chunk_out[q - begin]);
       }
     });
@@ -291,14 +302,35 @@ void Clip3Impl::run() {
   out.seconds_[2] = std::chrono::duration<double>(t3 - t2).count();
 
   out.nb_boundary_ = static_cast<std::uint32_t>(nb_boundary);
-  out.nb_fallback_ = nb_fallback;
+  out.nb_multi_crossing_ = nb_multi;
   if (!input_index) out.sum_totals();
   out.nb_pairs_ = 0;
   for (const CellOut& c : clip_out) out.nb_pairs_ += c.pairs;
   for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
   if (options.keep_geometry) {
-    // The inner cells' Voronoi facets, cells in Hilbert order of their sites, by fixed
-    // chunks (a chunk's faces in one CellOut, piece = the cell's place in the chunk).
+    // The boundary cells' faces from the surface (unless clipped tet by tet), then the inner
+    // cells' Voronoi facets; cells in Hilbert order of their sites, by fixed chunks (a
+    // chunk's faces in one CellOut, piece = the cell's place in the chunk).
+    std::vector<std::uint32_t> border;
+    if (!clip_all) spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, border);
+    // The Voronoi vertices placed by the search from the infinite tets: a cell alone may not
+    // place its own (its chunk did).
+    if (!border.empty() && global_flag.empty()) global_flags(global_flag);
+    const std::size_t nb_border_chunks = (border.size() + kInnerChunk - 1) / kInnerChunk;
+    std::vector<CellOut> border_faces(nb_border_chunks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_border_chunks, 1),
+                      [&](const auto& range) {
+                        ThreadScratch& s = ts.local();
+                        std::vector<Segment> segments;
+                        for (std::size_t h = range.begin(); h != range.end(); ++h) {
+                          const std::size_t begin = h * kInnerChunk;
+                          const std::size_t end = std::min(border.size(), begin + kInnerChunk);
+                          for (std::size_t k = begin; k < end; ++k) {
+                            boundary_faces(border[k], static_cast<std::uint32_t>(k - begin),
+                                           global_flag.data(), s, segments, border_faces[h]);
+                          }
+                        }
+                      });
     spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
     const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
     std::vector<CellOut> facets(nb_chunks);
@@ -332,9 +364,127 @@ void Clip3Impl::run() {
     for (std::size_t h = 0; h < clipped.size(); ++h) {
       append(clip_out[h], [&](std::uint32_t) { return boundary_cells[clipped[h]]; });
     }
+    for (std::size_t h = 0; h < nb_border_chunks; ++h) {
+      append(border_faces[h], [&](std::uint32_t piece) { return border[h * kInnerChunk + piece]; });
+    }
     for (std::size_t h = 0; h < nb_chunks; ++h) {
       append(facets[h], [&](std::uint32_t piece) { return order[h * kInnerChunk + piece]; });
     }
+  }
+}
+
+void Clip3Impl::boundary_faces(std::uint32_t i, std::uint32_t piece, const std::int8_t* flag,
+                               ThreadScratch& s, std::vector<Segment>& segments,
+                               CellOut& res) const {
+  segments.clear();
+  Moments unused;
+  boundary_cell(i, flag, s, unused, &segments);
+  const ClippedVoronoi3::Polygons& sp = out.surface_;
+  const auto emit_reversed = [&](const double* const* pts, std::size_t m, std::uint32_t across) {
+    for (std::size_t k = m; k-- > 0;) res.face_xyz.insert(res.face_xyz.end(), pts[k], pts[k] + 3);
+    res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
+    res.face_piece.push_back(piece);
+    res.face_across.push_back(across);
+  };
+  std::vector<const double*> pts;
+  // The restricted polygons, and their edges on bisectors (the face across runs through
+  // such an edge the other way).
+  for (std::uint32_t p = sp.site_begin[i]; p < sp.site_begin[i + 1]; ++p) {
+    const std::uint32_t b = sp.polygon_begin[p], e = sp.polygon_begin[p + 1];
+    pts.clear();
+    for (std::uint32_t v = b; v < e; ++v) pts.push_back(&sp.xyz[3 * std::size_t{v}]);
+    emit_reversed(pts.data(), pts.size(), ClippedVoronoi3::kSurface);
+    for (std::uint32_t v = b; v < e; ++v) {
+      const std::uint32_t j = surface_across[v];
+      if (j == kNone) continue;
+      const double* from = &sp.xyz[3 * std::size_t{v}];
+      const double* to = &sp.xyz[3 * std::size_t{v + 1 == e ? b : v + 1}];
+      Segment& g = segments.emplace_back();
+      g.across = j;
+      for (int c = 0; c < 3; ++c) {
+        g.a[c] = to[c];
+        g.b[c] = from[c];
+      }
+    }
+  }
+  // Per bisector, the segments chained into loops on their points' coordinates (a point is
+  // computed from its symbolic vertex wherever it is met: the same bits), each loop emitted
+  // reversed (inwards). Where several loops pass through one point, they are paired there in
+  // segment order (the loops may differ, the face they bound does not).
+  std::stable_sort(segments.begin(), segments.end(),
+                   [](const Segment& x, const Segment& y) { return x.across < y.across; });
+  using Key = std::array<std::uint64_t, 3>;
+  const auto key = [](const double* x) {
+    Key k;
+    std::memcpy(k.data(), x, sizeof k);
+    return k;
+  };
+  std::vector<std::pair<Key, std::uint32_t>> keys;
+  std::vector<std::uint32_t> seg_from, seg_to, out_begin, out_list;
+  std::vector<const double*> point_of;
+  std::vector<std::uint8_t> used;
+  for (std::size_t g0 = 0; g0 < segments.size();) {
+    std::size_t g1 = g0;
+    while (g1 < segments.size() && segments[g1].across == segments[g0].across) ++g1;
+    const std::size_t m = g1 - g0;
+    keys.clear();
+    for (std::size_t k = g0; k < g1; ++k) {
+      keys.emplace_back(key(segments[k].a), static_cast<std::uint32_t>(2 * (k - g0)));
+      keys.emplace_back(key(segments[k].b), static_cast<std::uint32_t>(2 * (k - g0) + 1));
+    }
+    std::sort(keys.begin(), keys.end());
+    seg_from.assign(m, 0);
+    seg_to.assign(m, 0);
+    point_of.clear();
+    for (std::size_t r = 0; r < keys.size(); ++r) {
+      if (r == 0 || keys[r].first != keys[r - 1].first) {
+        const std::uint32_t e = keys[r].second;
+        const Segment& sg = segments[g0 + e / 2];
+        point_of.push_back(e % 2 == 0 ? sg.a : sg.b);
+      }
+      const auto id = static_cast<std::uint32_t>(point_of.size() - 1);
+      (keys[r].second % 2 == 0 ? seg_from : seg_to)[keys[r].second / 2] = id;
+    }
+    // Outgoing segments per point, in segment order.
+    const std::size_t nb_points = point_of.size();
+    out_begin.assign(nb_points + 1, 0);
+    for (std::size_t k = 0; k < m; ++k) ++out_begin[seg_from[k] + 1];
+    for (std::size_t v = 0; v < nb_points; ++v) out_begin[v + 1] += out_begin[v];
+    out_list.resize(m);
+    {
+      std::vector<std::uint32_t> fill(out_begin.begin(), out_begin.end() - 1);
+      for (std::size_t k = 0; k < m; ++k)
+        out_list[fill[seg_from[k]]++] = static_cast<std::uint32_t>(k);
+    }
+    used.assign(m, 0);
+    // A segment of zero length (both ends equal) bounds nothing.
+    for (std::size_t k = 0; k < m; ++k) used[k] = seg_from[k] == seg_to[k] ? 1 : 0;
+    for (std::size_t k0 = 0; k0 < m; ++k0) {
+      if (used[k0]) continue;
+      pts.clear();
+      std::size_t k = k0;
+      bool closed = false;
+      for (;;) {
+        used[k] = 1;
+        pts.push_back(point_of[seg_from[k]]);
+        const std::uint32_t v = seg_to[k];
+        if (v == seg_from[k0]) {
+          closed = true;
+          break;
+        }
+        std::size_t next = m;
+        for (std::uint32_t e = out_begin[v]; e < out_begin[v + 1]; ++e) {
+          if (!used[out_list[e]]) {
+            next = out_list[e];
+            break;
+          }
+        }
+        if (next == m) break;
+        k = next;
+      }
+      if (closed && pts.size() >= 3) emit_reversed(pts.data(), pts.size(), segments[g0].across);
+    }
+    g0 = g1;
   }
 }
 
@@ -597,21 +747,39 @@ void ClippedVoronoi3::to_input_indices() {
 void ClippedVoronoi3::compute_impl(const Domain3& domain, const Delaunay3& dt,
                                    const Clip3Options& options, const std::uint32_t* input_index) {
   cells_.clear();  // keeps the capacity: a repeated compute resizes without allocating
-  if (domain.nb_tets() == 0) throw Error("clip3d: the domain has no tetrahedra");
+  if (domain.surface().nb_triangles() == 0) throw Error("clip3d: the domain has no boundary");
   if (dt.nb_points() == 0) throw Error("clip3d: no sites");
-  if (!(options.density > 0) || !std::isfinite(options.density)) {
-    throw Error("clip3d: the density must be finite and positive");
-  }
-  if (!options.vertex_density.empty()) {
-    if (options.vertex_density.size() != domain.nb_vertices()) {
-      throw Error("clip3d: vertex_density has " + std::to_string(options.vertex_density.size()) +
-                  " values for " + std::to_string(domain.nb_vertices()) + " domain vertices");
-    }
-    for (std::size_t v = 0; v < options.vertex_density.size(); ++v) {
-      if (!(options.vertex_density[v] >= 0) || !std::isfinite(options.vertex_density[v])) {
-        throw Error("clip3d: vertex_density[" + std::to_string(v) + "] is negative or not finite");
+  const Density3& rho = options.density;
+  switch (rho.kind) {
+    case Density3::Kind::kConstant:
+      if (!(rho.value > 0) || !std::isfinite(rho.value)) {
+        throw Error("clip3d: the density must be finite and positive");
       }
-    }
+      break;
+    case Density3::Kind::kCallback:
+      if (!rho.callback) throw Error("clip3d: the density function is empty");
+      break;
+    case Density3::Kind::kVertexLinear:
+      if (!domain.has_tets()) {
+        throw Error("clip3d: a density linear per tet needs a domain with a tetrahedral mesh (" +
+                    domain.source() + " is a surface); give the density as a function instead");
+      }
+      if (rho.vertex_values.size() != domain.nb_vertices()) {
+        throw Error("clip3d: the density has " + std::to_string(rho.vertex_values.size()) +
+                    " vertex values for " + std::to_string(domain.nb_vertices()) +
+                    " domain vertices");
+      }
+      for (std::size_t v = 0; v < rho.vertex_values.size(); ++v) {
+        if (!(rho.vertex_values[v] >= 0) || !std::isfinite(rho.vertex_values[v])) {
+          throw Error("clip3d: the density's value at vertex " + std::to_string(v) +
+                      " is negative or not finite");
+        }
+      }
+      break;
+  }
+  if (options.tet_clipping && !domain.has_tets()) {
+    throw Error("clip3d: tet_clipping needs a domain with a tetrahedral mesh (" + domain.source() +
+                " is a surface)");
   }
   Clip3Impl impl(domain, dt, options, *this);
   impl.input_index = input_index;

@@ -114,7 +114,7 @@ namespace {
 }  // namespace
 
 bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
-                              Moments& r) const {
+                              Moments& r, std::vector<Segment>* segments) const {
   Star& st = s.star;
   pooled_star(i, s);
   const std::vector<std::uint32_t>& tets = st.tets;
@@ -223,7 +223,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
       s.first_layer.emplace_back(v[k], flag[q]);
     }
   };
-  if (linear_density || options.tet_clipping || fallback[i]) {
+  if (linear_density || options.tet_clipping) {
     for (std::size_t q = 0; q < m; ++q) {
       const std::uint32_t t = tets[q];
       const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
@@ -238,55 +238,141 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   // at most two tets around an edge are infinite; all tets of a non-boundary site carry
   // the same flag, so which one reports it does not matter).
   const double* pi = site(i);
-  std::vector<Rel>& cu = s.cu;
-  cu.resize(m);
+  if (s.chunk_c.size() < m) s.chunk_c.resize(m);
+  std::array<double, 3>* cc = s.chunk_c.data();
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (infinite(t)) continue;
     const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
                                 dt.tet_vertex(t, 3)};
     report(q, v);
-    cu[q] = rel(circumcentre(t, v, s.circ), pi);
+    const double* c = circumcentre(t, v, s.circ);
+    cc[q] = {c[0], c[1], c[2]};
   }
   PieceSums sums;
-  FootCache feet;
+  Moments weighted_sums;
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (infinite(t)) continue;
+    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
+                                dt.tet_vertex(t, 3)};
     int li = 0;
-    while (dt.tet_vertex(t, li) != i) ++li;
+    while (v[li] != i) ++li;
     for (int f = 0; f < 4; ++f) {
       if (f == li) continue;
       const std::uint32_t t2 = dt.tet_adjacent(t, f);
       const bool infinite2 = infinite(t2);
       if (!infinite2 && t2 < t) continue;
       const std::uint32_t q2 = st.pos(t2);
-      const bool in1 = flag[q] != 0, in2 = flag[q2] != 0;
-      const EdgeCrossings* x = fx[4 * q + f];
-      const std::uint32_t count = x ? x->count : 0;
-      Rel u, w;
-      if (count == 0) {
-        if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
-        if (!in1) continue;
-        u = cu[q];
-        w = cu[q2];
-      } else if (count == 1) {
-        if (in1 == in2) internal_error("a Voronoi edge with one crossing keeps its side");
-        u = in1 ? cu[q] : rel(x->x, pi);
-        w = in1 ? rel(x->x, pi) : cu[q2];
-      } else {
-        internal_error("cell " + std::to_string(i) + " has a Voronoi edge crossing the surface " +
-                       std::to_string(count) + " times");
-      }
-      const std::uint32_t vj = dt.tet_vertex(t, kFaceOther[li][f][0]);
-      const std::uint32_t vk = dt.tet_vertex(t, kFaceOther[li][f][1]);
-      const Foot hj = feet.get(vj, site(vj), pi);
-      const Foot hk = feet.get(vk, site(vk), pi);
-      add_edge_piece(hj, hk, u, w, sums);
+      const std::uint32_t vj = v[kFaceOther[li][f][0]];
+      const std::uint32_t vk = v[kFaceOther[li][f][1]];
+      const double* pj = site(vj);
+      const double* pk = site(vk);
+      inside_pieces(v, f, cc[q].data(), flag[q] != 0, infinite2 ? nullptr : cc[q2].data(),
+                    flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
+                      const Rel u = rel(a, pi), w = rel(b, pi);
+                      if (weighted) {
+                        add_piece<true>(pi, pj, pk, u, w, weighted_sums);
+                      } else {
+                        add_piece<false>(pi, pj, pk, u, w, sums);
+                      }
+                      if (segments) {
+                        Segment sj, sk;
+                        sj.across = vj;
+                        sk.across = vk;
+                        for (int c = 0; c < 3; ++c) {
+                          sj.a[c] = sk.b[c] = a[c];
+                          sj.b[c] = sk.a[c] = b[c];
+                        }
+                        segments->push_back(sj);
+                        segments->push_back(sk);
+                      }
+                    });
     }
   }
-  sums.add_to(r);
+  if (weighted) {
+    r.mass += weighted_sums.mass;
+    for (int c = 0; c < 3; ++c) r.moment[c] += weighted_sums.moment[c];
+    r.energy += weighted_sums.energy;
+    r.volume += weighted_sums.volume;
+  } else {
+    sums.add_to(r);
+  }
   return true;
+}
+
+template <class Piece>
+void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f, const double* u, bool in1,
+                              const double* w, bool in2, const EdgeCrossings* x,
+                              Piece&& piece) const {
+  const std::uint32_t count = x ? x->count : 0;
+  if (count == 0) {
+    if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
+    if (in1) piece(u, w);
+    return;
+  }
+  if (count == 1) {
+    if (in1 == in2) internal_error("a Voronoi edge with one crossing keeps its side");
+    piece(in1 ? u : x->x, in1 ? x->x : w);
+    return;
+  }
+  // The edge leaves t along n = (p_s1 - p_s0) x (p_s2 - p_s0) when (s0, s1, s2, opposite) is
+  // an even permutation of t's vertices; a crossing with sigma > 0 leaves Ω along n.
+  int l0 = 0;
+  while (tv[l0] != x->s[0]) ++l0;
+  const bool even = tv[kFaceOther[l0][f][0]] == x->s[1];
+  int balance = in1 ? 1 : 0;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const CrossingPoint& c = multi_crossings[x->first + k];
+    balance += (even ? c.sigma : -c.sigma) > 0 ? -1 : 1;
+  }
+  if (balance != (in2 ? 1 : 0)) {
+    internal_error("the " + std::to_string(count) + " crossings of the Voronoi edge of sites " +
+                   std::to_string(x->s[0]) + ", " + std::to_string(x->s[1]) + ", " +
+                   std::to_string(x->s[2]) + " do not match the sides of its ends");
+  }
+  // The crossings in their order along the edge, by floating point: the sum telescopes to
+  // the same exact value in any order (inside_pieces' comment), so the order only chooses
+  // short segments over long ones that cancel. Between consecutive points, the number of
+  // times the segment counts (1 inside; a misordered pair of nearly equal crossings can
+  // make it 2 or -1 on the tiny segment between them).
+  double dir[3];
+  if (w != nullptr) {
+    for (int c = 0; c < 3; ++c) dir[c] = w[c] - u[c];
+  } else {
+    const double* p0 = site(x->s[0]);
+    const double* p1 = site(x->s[1]);
+    const double* p2 = site(x->s[2]);
+    const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    const double sign = even ? 1.0 : -1.0;
+    dir[0] = sign * (e1[1] * e2[2] - e1[2] * e2[1]);
+    dir[1] = sign * (e1[2] * e2[0] - e1[0] * e2[2]);
+    dir[2] = sign * (e1[0] * e2[1] - e1[1] * e2[0]);
+  }
+  constexpr std::uint32_t kMaxSorted = 32;
+  std::pair<double, std::uint32_t> sorted[kMaxSorted];
+  const std::uint32_t m = std::min(count, kMaxSorted);
+  for (std::uint32_t k = 0; k < m; ++k) {
+    const double* q = multi_crossings[x->first + k].x;
+    sorted[k] = {(q[0] - u[0]) * dir[0] + (q[1] - u[1]) * dir[1] + (q[2] - u[2]) * dir[2], k};
+  }
+  std::sort(sorted, sorted + m);
+  const auto emit = [&](const double* a, const double* b, int times) {
+    for (int r = 0; r < times; ++r) piece(a, b);
+    for (int r = 0; r < -times; ++r) piece(b, a);
+  };
+  int inside = in1 ? 1 : 0;
+  const double* prev = u;
+  for (std::uint32_t h = 0; h < count; ++h) {
+    // (Beyond kMaxSorted crossings, the rest in triangle order.)
+    const std::uint32_t k = h < m ? sorted[h].second : h;
+    const CrossingPoint& c = multi_crossings[x->first + k];
+    emit(prev, c.x, inside);
+    inside += (even ? c.sigma : -c.sigma) > 0 ? -1 : 1;
+    prev = c.x;
+  }
+  if (w != nullptr) emit(prev, w, inside);
 }
 
 std::uint32_t* Clip3Impl::start_chunk(const std::uint32_t* cells, std::uint32_t count,
@@ -300,6 +386,7 @@ std::uint32_t* Clip3Impl::start_chunk(const std::uint32_t* cells, std::uint32_t 
   return slot;
 }
 
+template <bool kWeighted>
 bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                                Moments* result) const {
   // As inner_chunk, over the tets with a chunk vertex (infinite ones included), each taken
@@ -428,8 +515,14 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
     }
   }
   // The pieces, each Voronoi edge from its finite tet of larger position (or its only one).
-  s.chunk_sums.assign(count, PieceSums{});
-  PieceSums* sums = s.chunk_sums.data();
+  PieceAcc<kWeighted>* sums;
+  if constexpr (kWeighted) {
+    s.chunk_moments.assign(count, Moments{});
+    sums = s.chunk_moments.data();
+  } else {
+    s.chunk_sums.assign(count, PieceSums{});
+    sums = s.chunk_sums.data();
+  }
   if (s.chunk_c.size() < m) s.chunk_c.resize(m);
   std::array<double, 3>* cc = s.chunk_c.data();
   for (std::size_t q = 0; q < m; ++q) {
@@ -446,9 +539,7 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
     const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
                                 dt.tet_vertex(t, 3)};
     unsigned in_mask = 0;
-    for (int k = 0; k < 4; ++k) {
-      in_mask |= slot[v[k]] != 0 && fallback[v[k]] == 0 ? 1u << k : 0u;
-    }
+    for (int k = 0; k < 4; ++k) in_mask |= slot[v[k]] != 0 ? 1u << k : 0u;
     for (int f = 0; f < 4; ++f) {
       const unsigned facet_mask = in_mask & ~(1u << f);
       if (facet_mask == 0) continue;
@@ -456,48 +547,38 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
       const bool infinite2 = infinite(t2);
       const std::size_t q2 = mark[t2] - first;
       if (!infinite2 && q2 > q) continue;
-      const bool in1 = flag[q] != 0, in2 = flag[q2] != 0;
-      const EdgeCrossings* x = fx[4 * q + f];
-      const std::uint32_t nb_cross = x ? x->count : 0;
-      const double* u = nullptr;
-      const double* w = nullptr;
-      if (nb_cross == 0) {
-        if (in1 != in2) {
-          clear_slots();
-          internal_error("a Voronoi edge with no crossing changes side");
-        }
-        if (!in1) continue;
-        u = cc[q].data();
-        w = cc[q2].data();
-      } else if (nb_cross == 1) {
-        if (in1 == in2) {
-          clear_slots();
-          internal_error("a Voronoi edge with one crossing keeps its side");
-        }
-        u = in1 ? cc[q].data() : x->x;
-        w = in1 ? x->x : cc[q2].data();
-      } else {
+      try {
+        inside_pieces(v, f, cc[q].data(), flag[q] != 0, infinite2 ? nullptr : cc[q2].data(),
+                      flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
+                        for (int k = 0; k < 4; ++k) {
+                          if ((facet_mask >> k & 1u) == 0) continue;
+                          const double* px = site(v[k]);
+                          add_piece<kWeighted>(px, site(v[kFaceOther[k][f][0]]),
+                                               site(v[kFaceOther[k][f][1]]), rel(a, px), rel(b, px),
+                                               sums[slot[v[k]] - 1]);
+                        }
+                      });
+      } catch (...) {
         clear_slots();
-        internal_error("boundary cell " + std::to_string(v[__builtin_ctz(facet_mask)]) +
-                       " has a Voronoi edge crossing the surface " + std::to_string(nb_cross) +
-                       " times");
-      }
-      for (int k = 0; k < 4; ++k) {
-        if ((facet_mask >> k & 1u) == 0) continue;
-        const double* px = site(v[k]);
-        const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
-        add_edge_piece(foot(site(vj), px), foot(site(vk), px), rel(u, px), rel(w, px),
-                       sums[slot[v[k]] - 1]);
+        throw;
       }
     }
   }
   for (std::uint32_t k = 0; k < count; ++k) {
     slot[cells[k]] = 0;
-    sums[k].add_to(result[k]);
+    if constexpr (kWeighted) {
+      result[k].volume += sums[k].volume;
+      result[k].mass += sums[k].mass;
+      for (int c = 0; c < 3; ++c) result[k].moment[c] += sums[k].moment[c];
+      result[k].energy += sums[k].energy;
+    } else {
+      sums[k].add_to(result[k]);
+    }
   }
   return true;
 }
 
+template <bool kWeighted>
 void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                             Moments* result) const {
   // The tets with a vertex in the chunk, breadth first from each cell's vertex_tet through
@@ -509,8 +590,14 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
   Star& st = s.star;
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
-  s.chunk_sums.assign(count, PieceSums{});
-  PieceSums* sums = s.chunk_sums.data();
+  PieceAcc<kWeighted>* sums;
+  if constexpr (kWeighted) {
+    s.chunk_moments.assign(count, Moments{});
+    sums = s.chunk_moments.data();
+  } else {
+    s.chunk_sums.assign(count, PieceSums{});
+    sums = s.chunk_sums.data();
+  }
   // st.tets, s.chunk_c and s.chunk_rel serve as fixed buffers (grown by doubling).
   std::vector<std::uint32_t>& tets = st.tets;
   if (tets.size() < 64) tets.resize(64);
@@ -582,8 +669,8 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
             if ((facet_mask >> k & 1u) == 0) continue;
             const double* px = site(v[k]);
             const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
-            add_edge_piece(foot(site(vj), px), foot(site(vk), px), cr[4 * std::size_t{q} + k],
-                           rel(c2, px), sums[in[k] - 1]);
+            add_piece<kWeighted>(px, site(vj), site(vk), cr[4 * std::size_t{q} + k], rel(c2, px),
+                                 sums[in[k] - 1]);
           }
         }
       }
@@ -592,10 +679,23 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
   st.next = first + nb_tets;
   for (std::uint32_t k = 0; k < count; ++k) {
     slot[cells[k]] = 0;
-    result[k] = Moments{};
-    sums[k].add_to(result[k]);
+    if constexpr (kWeighted) {
+      result[k] = sums[k];
+    } else {
+      result[k] = Moments{};
+      sums[k].add_to(result[k]);
+    }
   }
 }
+
+template bool Clip3Impl::boundary_chunk<false>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
+                                               Moments*) const;
+template bool Clip3Impl::boundary_chunk<true>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
+                                              Moments*) const;
+template void Clip3Impl::inner_chunk<false>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
+                                            Moments*) const;
+template void Clip3Impl::inner_chunk<true>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
+                                           Moments*) const;
 
 void Clip3Impl::voronoi_facets(std::uint32_t c, std::uint32_t piece, ThreadScratch& s,
                                CellOut& res) const {

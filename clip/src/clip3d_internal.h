@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -159,6 +160,68 @@ inline void add_cone(const double* a, const double* b, const double* c, Moments&
       ((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) + (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]) +
        (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
        (a[0] * c[0] + a[1] * c[1] + a[2] * c[2]) + (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]));
+}
+
+// The integrals of a density rho over the signed tet (x, x + a, x + b, x + c) (vectors
+// relative to x, sign as add_cone): r.volume += det / 6, r.mass += ∫rho, r.moment +=
+// ∫rho (y - x), r.energy += ∫rho |y - x|^2, by Walkington's 14-point rule of degree 5
+// (positive weights; "Quadrature on simplices of arbitrary dimension", 2000): two orbits
+// of 4 points (a, a, a, 1 - 3a) and one of 6 points (b, b, 1/2 - b, 1/2 - b) in barycentric
+// coordinates. Exact for polynomials of degree <= 5, so for rho of degree <= 3 (the
+// energy's integrand is rho |y - x|^2); tests/clip/test_clip3d.cpp checks it on monomials.
+struct TetRule {
+  double l[3];  // barycentric coordinates of the points x + a, x + b, x + c
+  double w;     // weight, the 14 summing to 1
+};
+inline constexpr TetRule kTetRule[14] = {
+    {{0.31088591926330060980, 0.31088591926330060980, 0.31088591926330060980},
+     0.11268792571801585080},
+    {{0.06734224221009817060, 0.31088591926330060980, 0.31088591926330060980},
+     0.11268792571801585080},
+    {{0.31088591926330060980, 0.06734224221009817060, 0.31088591926330060980},
+     0.11268792571801585080},
+    {{0.31088591926330060980, 0.31088591926330060980, 0.06734224221009817060},
+     0.11268792571801585080},
+    {{0.092735250310891226402, 0.092735250310891226402, 0.092735250310891226402},
+     0.073493043116361949544},
+    {{0.72179424906732632079, 0.092735250310891226402, 0.092735250310891226402},
+     0.073493043116361949544},
+    {{0.092735250310891226402, 0.72179424906732632079, 0.092735250310891226402},
+     0.073493043116361949544},
+    {{0.092735250310891226402, 0.092735250310891226402, 0.72179424906732632079},
+     0.073493043116361949544},
+    {{0.045503704125649649492, 0.045503704125649649492, 0.45449629587435035051},
+     0.042546020777081466438},
+    {{0.045503704125649649492, 0.45449629587435035051, 0.045503704125649649492},
+     0.042546020777081466438},
+    {{0.45449629587435035051, 0.045503704125649649492, 0.045503704125649649492},
+     0.042546020777081466438},
+    {{0.045503704125649649492, 0.45449629587435035051, 0.45449629587435035051},
+     0.042546020777081466438},
+    {{0.45449629587435035051, 0.045503704125649649492, 0.45449629587435035051},
+     0.042546020777081466438},
+    {{0.45449629587435035051, 0.45449629587435035051, 0.045503704125649649492},
+     0.042546020777081466438},
+};
+
+inline void add_tet_weighted(const Density3& rho, const double* x, const double* a, const double* b,
+                             const double* c, Moments& r) {
+  const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                     a[2] * (b[0] * c[1] - b[1] * c[0]);
+  r.volume += det / 6;
+  double m = 0, mom[3] = {0, 0, 0}, e = 0;
+  for (const TetRule& q : kTetRule) {
+    double y[3];
+    for (int k = 0; k < 3; ++k) y[k] = (q.l[0] * a[k] + q.l[1] * b[k]) + q.l[2] * c[k];
+    const double f = q.w * rho.callback(x[0] + y[0], x[1] + y[1], x[2] + y[2]);
+    m += f;
+    for (int k = 0; k < 3; ++k) mom[k] += f * y[k];
+    e += f * ((y[0] * y[0] + y[1] * y[1]) + y[2] * y[2]);
+  }
+  const double v = det / 6;
+  r.mass += v * m;
+  for (int k = 0; k < 3; ++k) r.moment[k] += v * mom[k];
+  r.energy += v * e;
 }
 
 // A point relative to a site: y = (x - p_i) and |y|^2.
@@ -334,15 +397,23 @@ struct Clip3Impl {
   using TriPoly = clip3::TriPoly;
   using Star = clip3::Star;
 
+  // The surface drives everything; the domain's tets only the tet-by-tet clipping
+  // (tet_clipping, a density linear per tet).
   const Domain3& domain;
+  const Surface3& surface;
   const Delaunay3& dt;
   const Clip3Options& options;
   ClippedVoronoi3& out;
   Clip3Impl(const Domain3& d, const Delaunay3& t, const Clip3Options& o, ClippedVoronoi3& r)
-      : domain(d), dt(t), options(o), out(r) {}
+      : domain(d), surface(d.surface()), dt(t), options(o), out(r) {}
 
   std::uint32_t n = 0;
+  // A non-constant density: the cells' integrals are weighted (Moments::mass).
+  bool weighted = false;
+  // A density linear per tet: every cell is clipped tet by tet.
   bool linear_density = false;
+  // A density given as a function: quadrature on the cells' cone decompositions.
+  const Density3* callback_density = nullptr;
   bool keep_surface = false;
   // Where cell i goes in the output (compute(domain, sites, n)), or nullptr: cell i.
   const std::uint32_t* input_index = nullptr;
@@ -427,6 +498,13 @@ struct Clip3Impl {
     std::uint32_t s[3], count;
     double x[3];
     std::int8_t sigma;
+    // count >= 2: the crossings are multi_crossings[first, first + count), in triangle order.
+    std::uint32_t first;
+  };
+  // One crossing of a Voronoi edge crossed several times: the point and sigma (as above).
+  struct CrossingPoint {
+    double x[3];
+    std::int8_t sigma;
   };
   // A neighbour j of site c: e = p_j - p_c, ee = |e|^2 (rounded), reach = 2 |e| (1 + 1e-14)
   // (above the exact 2 |e| despite rounding), ee_err = 2e-15 ee (bisector_value's bound,
@@ -480,6 +558,7 @@ struct Clip3Impl {
     std::vector<std::array<double, 3>> chunk_c;
     std::vector<clip3::Rel> chunk_rel;
     std::vector<clip3::PieceSums> chunk_sums;
+    std::vector<clip3::Moments> chunk_moments;  // (weighted)
     std::vector<clip3::Moments> chunk_out;
     std::vector<const EdgeCrossings*> fx;  // per star tet and facet: its crossings
     std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
@@ -501,17 +580,23 @@ struct Clip3Impl {
   NeighborList neighbors(std::uint32_t c, ThreadScratch& s) const;
 
   // ---- Restricted surface (clip3d_surface.cpp).
-  std::vector<EdgeCrossings> crossings;       // sorted by s
-  std::vector<std::uint32_t> crossing_begin;  // per site a: crossings with s[0] == a
+  std::vector<EdgeCrossings> crossings;        // sorted by s
+  std::vector<CrossingPoint> multi_crossings;  // of the edges crossed several times
+  std::vector<std::uint32_t> crossing_begin;   // per site a: crossings with s[0] == a
   // The crossings of the Voronoi edge of sites a, b, c (any order; nullptr: none).
   const EdgeCrossings* find_crossings(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
-  std::vector<std::uint8_t> is_boundary, fallback;  // per site
-  std::vector<std::uint32_t> boundary_cells;        // sorted
-  std::vector<std::uint32_t> boundary_slot;         // per site: index in boundary_cells
+  std::vector<std::uint8_t> is_boundary;  // per site
+  // Per site: 1 when a Voronoi edge of its cell crosses the surface several times.
+  std::vector<std::uint8_t> multi_crossed;
+  std::vector<std::uint32_t> boundary_cells;  // sorted
+  std::vector<std::uint32_t> boundary_slot;   // per site: index in boundary_cells
   // Per boundary cell: its restricted polygons' triangles, in triangle order (CSR).
   std::vector<std::uint32_t> cell_tri_begin, cell_tris;
   std::vector<Moments> surface_moments;  // per boundary cell: the polygons' cones
-  std::vector<double> surface_area;      // per site
+  // keep_surface: per vertex of out.surface_ (before to_input_indices), the site across the
+  // polygon edge from it (kNone: an edge on the triangle's boundary).
+  std::vector<std::uint32_t> surface_across;
+  std::vector<double> surface_area;  // per site
   std::uint32_t descend(const double* p, std::uint32_t c, ThreadScratch& s) const;
   struct SurfaceChunk;
   // A boundary triangle: its index, corners (domain vertices, in the triangle's order).
@@ -531,12 +616,45 @@ struct Clip3Impl {
 
   // ---- Cells from the triangulation (clip3d_cells.cpp).
   std::vector<std::int8_t> status;  // per site: 1 inside, 0 outside, -1 not decided
+  // The parts inside the volume of the Voronoi edge dual to facet f of tet t (vertices
+  // tv[0..3]): from its circumcentre u (inside when in1) to the circumcentre w of the tet
+  // across f (nullptr when infinite; inside when in2), with the edge's crossings x
+  // (nullptr: none). Calls piece(a, b) for signed segments [a, b] whose sum is the inside
+  // part: with crossings q_k, each entering (+1) or leaving (-1) the volume as the edge runs
+  // from u to w, it is [u, w] if in1, plus [q_k, w] for an entering and [w, q_k] for a
+  // leaving crossing; towards infinity, [q_k, u] or [u, q_k] (the segments' integrals are
+  // additive along the line, so no order of the crossings is needed).
+  template <class Piece>
+  void inside_pieces(const std::uint32_t* tv, int f, const double* u, bool in1, const double* w,
+                     bool in2, const EdgeCrossings* x, Piece&& piece) const;
+  // Cell i's (site px) share of the segment [a, b] of the Voronoi edge of sites i, vj, vk
+  // (kFaceOther order: pj, pk): add_edge_piece, or the same cones weighted by the density.
+  template <bool kWeighted>
+  using PieceAcc = std::conditional_t<kWeighted, Moments, clip3::PieceSums>;
+  template <bool kWeighted>
+  void add_piece(const double* px, const double* pj, const double* pk, const clip3::Rel& u,
+                 const clip3::Rel& w, PieceAcc<kWeighted>& acc) const {
+    if constexpr (kWeighted) {
+      const clip3::Foot hj = clip3::foot(pj, px), hk = clip3::foot(pk, px);
+      clip3::add_tet_weighted(*callback_density, px, hj.y, u.y, w.y, acc);
+      clip3::add_tet_weighted(*callback_density, px, hk.y, w.y, u.y, acc);
+    } else {
+      clip3::add_edge_piece(clip3::foot(pj, px), clip3::foot(pk, px), u, w, acc);
+    }
+  }
+  // A segment of the boundary of a cell's face on bisector(cell, across), for export.
+  struct Segment {
+    std::uint32_t across;
+    double a[3], b[3];
+  };
   // Boundary cell i: its Voronoi vertices placed inside or outside the volume (from its
   // own crossings, or from `global_flag` when given) and, unless it is clipped tet by tet,
   // its integrals added to r. Appends (site, 0/1) for the non-boundary sites of its star.
   // False when no Voronoi vertex of its star could be placed from its own crossings.
-  bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
-                     Moments& r) const;
+  // With `segments`, also the boundary segments of its faces on bisectors: each Voronoi
+  // edge part, counter-clockwise around p_j - p_i for the face on bisector(i, j).
+  bool boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s, Moments& r,
+                     std::vector<Segment>* segments = nullptr) const;
   // A chunk's start: a new range of marks in s.star, and s.chunk_slot[c] = k + 1 for
   // c = cells[k] (the chunk functions clear it). Returns s.chunk_slot's data.
   std::uint32_t* start_chunk(const std::uint32_t* cells, std::uint32_t count,
@@ -544,15 +662,22 @@ struct Clip3Impl {
   // The boundary cells cells[0, count) (consecutive in Hilbert order, none clipped tet by
   // tet for its integrals) at once: result[k] (holding cells[k]'s surface share) gets the
   // rest. False when a Voronoi vertex could not be placed (then nothing is changed).
+  template <bool kWeighted>
   bool boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                       Moments* result) const;
   // The inner cells cells[0, count) (consecutive in Hilbert order) at once: result[k] for
   // cells[k] (clip3d_cells.cpp).
+  template <bool kWeighted>
   void inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
                    Moments* result) const;
   // The Voronoi facets of inner cell c (keep_geometry), appended to res as one piece
   // (numbered `piece`), facing inwards (clip3d_cells.cpp).
   void voronoi_facets(std::uint32_t c, std::uint32_t piece, ThreadScratch& s, CellOut& res) const;
+  // The faces of boundary cell i from the surface (keep_geometry), appended to res as one
+  // piece: its restricted polygons and, per bisector, the loops that bound its face there,
+  // all facing inwards. `flag`: the global flags (global_flags).
+  void boundary_faces(std::uint32_t i, std::uint32_t piece, const std::int8_t* flag,
+                      ThreadScratch& s, std::vector<Segment>& segments, CellOut& res) const;
   // Inside (1) / outside (0) for every Voronoi vertex (tet slot), by a breadth-first
   // search from the infinite tets, flipping with the parity of the crossings.
   void global_flags(std::vector<std::int8_t>& flag) const;

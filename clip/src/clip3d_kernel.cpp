@@ -1,7 +1,7 @@
 // The exact clipping kernel of the 3D clipped Voronoi diagram (clip3d.cpp), and the
-// tet-by-tet integration of a cell (Yan et al. 2011, sec. 4.2) built on it: the path of the
-// cells that the fast path leaves (clip3d_cells.cpp), of a non-constant density, of the
-// exported pieces, and the reference of the tests.
+// tet-by-tet integration of a cell (Yan et al. 2011, sec. 4.2) built on it, for domains with
+// a tet mesh: the path of a density linear per tet, and of tet_clipping, the reference the
+// tests check the surface-only path (clip3d_cells.cpp) against.
 //
 // A convex polyhedron (or polygon) is kept as faces listing vertices, and every vertex as
 // the three planes that define it, among the four facets of the current tet and the
@@ -453,7 +453,7 @@ double Clip3Impl::density_at(std::uint32_t t, const double* x) const {
             mk[0][2] * (mk[1][0] * mk[2][1] - mk[1][1] * mk[2][0])) /
            det;
   }
-  const std::vector<double>& rho = options.vertex_density;
+  const std::vector<double>& rho = options.density.vertex_values;
   return rho[domain.tet_vertex(t, 0)] * (1 - l[0] - l[1] - l[2]) +
          rho[domain.tet_vertex(t, 1)] * l[0] + rho[domain.tet_vertex(t, 2)] * l[1] +
          rho[domain.tet_vertex(t, 3)] * l[2];

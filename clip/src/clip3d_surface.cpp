@@ -14,16 +14,15 @@
 //    bisector is skipped without a predicate when the three corners are certainly on the
 //    cell's side of it (certainly_nearer).
 // 3. Per polygon of cell c, the divergence theorem's share of ∂(C_c ∩ Ω) that the surface
-//    knows (clip3d_cells.cpp has the rest): the cones from p_c over the polygon (outward:
-//    the triangle's orientation reversed) and, over each polygon edge on bisector(c, j), the
-//    cone over the triangle (foot of p_c on the bisector, edge) — the edge bounds the facet
-//    of c on bisector(c, j) inside the volume. A polygon vertex on two bisectors (c, k),
-//    (c, l) is where the Voronoi edge of c, k, l crosses the surface; the polygon of the
-//    smallest of the three records it.
-// 4. Per Voronoi edge, its crossings are counted; with one crossing,
-//    voronoi_edge_direction3d tells which way it leaves the volume. Cells with a Voronoi
-//    edge crossing twice or more are clipped tet by tet (the order of the crossings along
-//    the edge would be needed).
+//    knows (clip3d_cells.cpp has the rest): the cones from p_c over the polygon (outward,
+//    as the surface's triangles) and, over each polygon edge on bisector(c, j), the cone
+//    over the triangle (foot of p_c on the bisector, edge reversed) — the edge bounds the
+//    facet of c on bisector(c, j) inside the volume, which runs through it the other way.
+//    A polygon vertex on two bisectors (c, k), (c, l) is where the Voronoi edge of c, k, l
+//    crosses the surface; the polygon of the smallest of the three records it.
+// 4. Per Voronoi edge, its crossings, each with the direction in which the edge crosses
+//    the surface there (voronoi_edge_direction3d): clip3d_cells.cpp turns them into the
+//    pieces of the edge inside the volume, whatever their number.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -43,6 +42,7 @@ using namespace clip3;
 namespace {
 
 constexpr std::uint32_t kTriangleChunk = 128;
+constexpr std::size_t kSums = 7;  // per polygon (SurfaceChunk::sums)
 
 }  // namespace
 
@@ -151,10 +151,13 @@ constexpr int kEdgeEnd[3][2] = {{1, 2}, {2, 0}, {0, 1}};
 // Per chunk of triangles, its polygons in triangle order.
 struct Clip3Impl::SurfaceChunk {
   std::vector<std::uint32_t> cell, tri;
-  std::vector<double> sums;  // per polygon: volume, moment (3), energy, area
+  std::vector<double> sums;  // per polygon: volume, moment (3), energy, area, mass
   std::vector<std::uint32_t> begin{0};
   std::vector<ClipVertex3> verts;  // keep_surface
   std::vector<double> xyz;         // keep_surface
+  // keep_surface: per polygon vertex, the site across the edge from it (kNone: an edge on
+  // the triangle's boundary).
+  std::vector<std::uint32_t> across;
   std::vector<Crossing> crossings;
 };
 
@@ -381,8 +384,8 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   // s = a + b + c, the moment sum det s = 24 M and the energy sum
   // det (|s|^2 + |a|^2 + |b|^2 + |c|^2) = 120 E (|a|^2 + |b|^2 + |c|^2 + a.b + a.c + b.c
   // is half the bracket).
-  // Fan from o = y_0 over the polygon, reversed (outward): det(o, w, u) = -o . (a x d) for
-  // a = u - o, d = w - o, whose cross product also sums to twice the area vector.
+  // Fan from o = y_0 over the polygon (outward, as its triangle): det(o, u, w) = o . (a x d)
+  // for a = u - o, d = w - o, whose cross product also sums to twice the area vector.
   double vol6 = 0, mom24[3] = {0, 0, 0}, en120 = 0, area[3] = {0, 0, 0};
   const double* o = x(0);
   for (std::size_t k = 1; k + 1 < m; ++k) {
@@ -393,15 +396,15 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
     const double nv[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2],
                           a[0] * d[1] - a[1] * d[0]};
     for (int q = 0; q < 3; ++q) area[q] += nv[q];
-    const double det = -((o[0] * nv[0] + o[1] * nv[1]) + o[2] * nv[2]);
+    const double det = (o[0] * nv[0] + o[1] * nv[1]) + o[2] * nv[2];
     const double sv[3] = {(o[0] + u[0]) + w[0], (o[1] + u[1]) + w[1], (o[2] + u[2]) + w[2]};
     vol6 += det;
     for (int q = 0; q < 3; ++q) mom24[q] += det * sv[q];
     en120 += det * (((sv[0] * sv[0] + sv[1] * sv[1]) + sv[2] * sv[2]) + ((o[3] + u[3]) + w[3]));
   }
-  // Over each edge on bisector(c, j), the cone over (h, u, w), h the foot: there
-  // h . u = h . w = |h|^2, so the bracket is 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w)
-  // (add_edge_piece).
+  // Over each edge u -> w on bisector(c, j), the cone over (h, w, u), h the foot (the facet
+  // runs through the edge the other way): there h . u = h . w = |h|^2, so the bracket is
+  // 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w) (add_edge_piece).
   for (std::size_t k = 0; k < m; ++k) {
     if (is_facet(p.e[k])) continue;
     const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
@@ -410,7 +413,7 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
     const double* w = x(k + 1);
     const double nv[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                           u[0] * w[1] - u[1] * w[0]};
-    const double det = (h[0] * nv[0] + h[1] * nv[1]) + h[2] * nv[2];
+    const double det = -((h[0] * nv[0] + h[1] * nv[1]) + h[2] * nv[2]);
     const double hh3 = 3 * ((h[0] * h[0] + h[1] * h[1]) + h[2] * h[2]);
     const double q2 = hh3 + ((u[3] + w[3]) + ((u[0] * w[0] + u[1] * w[1]) + u[2] * w[2]));
     vol6 += det;
@@ -421,6 +424,22 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   r.volume = vol6 * (1.0 / 6);
   for (int q = 0; q < 3; ++q) r.moment[q] = mom24[q] * (1.0 / 24);
   r.energy = en120 * (1.0 / 120);
+  if (callback_density) {
+    // The same cones, weighted by the density (the volume stays the closed form's).
+    Moments wm;
+    for (std::size_t k = 1; k + 1 < m; ++k) {
+      add_tet_weighted(*callback_density, pc, o, x(k), x(k + 1), wm);
+    }
+    for (std::size_t k = 0; k < m; ++k) {
+      if (is_facet(p.e[k])) continue;
+      const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
+      const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
+      add_tet_weighted(*callback_density, pc, h, x(k + 1), x(k), wm);
+    }
+    r.mass = wm.mass;
+    for (int q = 0; q < 3; ++q) r.moment[q] = wm.moment[q];
+    r.energy = wm.energy;
+  }
   for (std::size_t k = 0; k < m; ++k) {
     const TriVertex& v = p.v[k];
     if (v.tag != 6 || c > v.k) continue;
@@ -436,16 +455,18 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   chunk.tri.push_back(tri.b);
   // Written in place (a local array copied by 16-byte loads stalled on store forwarding).
   const std::size_t at = chunk.sums.size();
-  chunk.sums.resize(at + 6);
+  chunk.sums.resize(at + kSums);
   double* sums = chunk.sums.data() + at;
   sums[0] = r.volume;
   for (int q = 0; q < 3; ++q) sums[1 + q] = r.moment[q];
   sums[4] = r.energy;
   sums[5] = 0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
+  sums[6] = r.mass;
   if (keep_surface) {
     for (std::size_t k = 0; k < m; ++k) {
       chunk.verts.push_back(tri_symbolic(tri, p.v[k], c));
       for (int q = 0; q < 3; ++q) chunk.xyz.push_back(s.xyz[3 * k + q]);
+      chunk.across.push_back(is_facet(p.e[k]) ? kNone : static_cast<std::uint32_t>(p.e[k]));
     }
     chunk.begin.push_back(static_cast<std::uint32_t>(chunk.verts.size()));
   }
@@ -453,25 +474,19 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
 
 void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
                               SurfaceChunk& chunk) const {
-  const int f = domain.boundary_facet(b);
-  const int* lv = Domain3::kTetFacetVertex[f];
-  // Corner k is tet vertex lv[k]; the edge from corner k to k + 1 lies on the facet opposite
-  // corner k + 2.
+  // The edge from corner k to k + 1 lies on "facet" k + 2 (the plane label of the triangle
+  // edge opposite corner k + 2: facet_plane(f) with f the opposite corner).
   Tri tri{};
   tri.b = b;
   // The cells of the corners that earlier triangles of this chunk found (kNone: unknown).
-  if (s.corner_cell.size() != domain.nb_vertices()) {
-    s.corner_cell.assign(domain.nb_vertices(), kNone);
-    s.corner_stamp.assign(domain.nb_vertices(), 0);
+  if (s.corner_cell.size() != surface.nb_vertices()) {
+    s.corner_cell.assign(surface.nb_vertices(), kNone);
+    s.corner_stamp.assign(surface.nb_vertices(), 0);
   }
   std::uint32_t corner[3];
-  // corner_of_facet[f]: the corner that is tet vertex f (the triangle edge on facet f is
-  // opposite it).
-  int corner_of_facet[4] = {-1, -1, -1, -1};
-  for (int k = 0; k < 3; ++k) corner_of_facet[lv[k]] = k;
   for (int k = 0; k < 3; ++k) {
-    tri.mv[k] = domain.boundary_vertex(b, k);  // tet vertex lv[k], without reading the tet
-    tri.x[k] = domain.vertex(tri.mv[k]);
+    tri.mv[k] = surface.triangle_vertex(b, k);
+    tri.x[k] = surface.vertex(tri.mv[k]);
     corner[k] = s.corner_stamp[tri.mv[k]] == stamp ? s.corner_cell[tri.mv[k]] : kNone;
   }
   if (corner[0] == kNone && corner[1] == kNone && corner[2] == kNone) {
@@ -484,7 +499,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     p.reset(3);
     for (int k = 0; k < 3; ++k) {
       p.push(TriVertex{static_cast<std::int8_t>(k), kNone, kNone, kNone, kNone, kNone},
-             facet_plane(lv[(k + 2) % 3]));
+             facet_plane((k + 2) % 3));
     }
   };
   init(s.a);
@@ -615,7 +630,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
           TriVertex x{6, j, kNone, row, kNone, kNone};
           const Plane e = in.e[k];
           if (is_facet(e)) {
-            x.tag = static_cast<std::int8_t>(3 + corner_of_facet[facet_of(e)]);
+            x.tag = static_cast<std::int8_t>(3 + facet_of(e));
           } else {
             // The edge from v[k] lies on bisector(c, e): v[k] is on it, and carries its row.
             const TriVertex& from = in.v[k];
@@ -661,8 +676,8 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   // Triangles in depth-first order over the surface, in chunks: a triangle takes the
   // cells of its corners from the polygons of the chunk's triangles before it (exact facts,
   // so the order changes nothing but the work).
-  const std::uint32_t nb = domain.nb_boundary_triangles();
-  const std::vector<std::uint32_t>& order = domain.surface_order();
+  const std::uint32_t nb = surface.nb_triangles();
+  const std::vector<std::uint32_t>& order = surface.order();
   const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
   std::vector<SurfaceChunk> chunks(nb_chunks);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
@@ -670,14 +685,14 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
       for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
-        // In this order the triangles are scattered over the domain's arrays (tet order):
-        // the corners' indices eight triangles ahead, their coordinates three ahead.
+        // In this order the triangles are scattered over the surface's arrays: the corners'
+        // indices eight triangles ahead, their coordinates three ahead.
         if (h + 8 < nb) {
-          __builtin_prefetch(domain.boundary_triangle(order[h + 8]));
+          __builtin_prefetch(surface.triangle(order[h + 8]));
         }
         if (h + 3 < nb) {
-          const std::uint32_t* v = domain.boundary_triangle(order[h + 3]);
-          for (int q = 0; q < 3; ++q) __builtin_prefetch(domain.vertex(v[q]));
+          const std::uint32_t* v = surface.triangle(order[h + 3]);
+          for (int q = 0; q < 3; ++q) __builtin_prefetch(surface.vertex(v[q]));
         }
         clip_triangle(order[h], k + 1, s, chunks[k]);
       }
@@ -737,11 +752,12 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
           Moments& r = surface_moments[q];
           double area = 0;
           for (std::uint32_t pos = cell_tri_begin[q]; pos < cell_tri_begin[q + 1]; ++pos) {
-            const double* v = &chunks[where_chunk[pos]].sums[6 * std::size_t{where_index[pos]}];
+            const double* v = &chunks[where_chunk[pos]].sums[kSums * std::size_t{where_index[pos]}];
             r.volume += v[0];
             for (int c = 0; c < 3; ++c) r.moment[c] += v[1 + c];
             r.energy += v[4];
             area += v[5];
+            r.mass += v[6];
           }
           surface_area[boundary_cells[q]] = area;
         }
@@ -752,6 +768,7 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     sp.site.resize(nb_polygons);
     sp.triangle.resize(nb_polygons);
     sp.polygon_begin.assign(1, 0);
+    surface_across.clear();
     for (std::size_t pos = 0; pos < nb_polygons; ++pos) {
       const SurfaceChunk& ch = chunks[where_chunk[pos]];
       const std::uint32_t p = where_index[pos];
@@ -759,6 +776,8 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
       sp.triangle[pos] = ch.tri[p];
       sp.vertices.insert(sp.vertices.end(), ch.verts.begin() + ch.begin[p],
                          ch.verts.begin() + ch.begin[p + 1]);
+      surface_across.insert(surface_across.end(), ch.across.begin() + ch.begin[p],
+                            ch.across.begin() + ch.begin[p + 1]);
       sp.xyz.insert(sp.xyz.end(), ch.xyz.begin() + 3 * std::size_t{ch.begin[p]},
                     ch.xyz.begin() + 3 * std::size_t{ch.begin[p + 1]});
       sp.polygon_begin.push_back(static_cast<std::uint32_t>(sp.vertices.size()));
@@ -786,37 +805,58 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   }
   group_begin.push_back(static_cast<std::uint32_t>(all.size()));
   crossings.resize(group_begin.size() - 1);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, crossings.size(), 1024), [&](const auto& range) {
-        for (std::size_t g = range.begin(); g != range.end(); ++g) {
-          const Crossing& first = all[group_begin[g]];
-          EdgeCrossings& x = crossings[g];
-          x = EdgeCrossings{};
-          for (int q = 0; q < 3; ++q) {
-            x.s[q] = first.s[q];
-            x.x[q] = first.x[q];
-          }
-          x.count = group_begin[g + 1] - group_begin[g];
-          if (x.count != 1) continue;
-          const std::uint32_t b = first.tri;
-          // Outward normal of the boundary triangle: its orientation reversed (Domain3).
-          const Sign d = voronoi_edge_direction3d(site(x.s[0]), site(x.s[1]), site(x.s[2]),
-                                                  domain.vertex(domain.boundary_vertex(b, 0)),
-                                                  domain.vertex(domain.boundary_vertex(b, 2)),
-                                                  domain.vertex(domain.boundary_vertex(b, 1)));
-          if (d == Sign::zero) {
-            throw Error("clip3d: internal error: the Voronoi edge of sites " +
-                        std::to_string(x.s[0]) + ", " + std::to_string(x.s[1]) + ", " +
-                        std::to_string(x.s[2]) + " crosses boundary triangle " + std::to_string(b) +
-                        " along its plane");
-          }
-          x.sigma = d == Sign::positive ? 1 : -1;
-        }
-      });
-  fallback.assign(n, 0);
+  // The points of the edges crossed several times go to multi_crossings, in group order.
+  std::vector<std::uint32_t> multi_first(crossings.size(), kNone);
+  std::uint32_t nb_multi = 0;
+  for (std::size_t g = 0; g < crossings.size(); ++g) {
+    const std::uint32_t nb_in_group = group_begin[g + 1] - group_begin[g];
+    if (nb_in_group < 2) continue;
+    multi_first[g] = nb_multi;
+    nb_multi += nb_in_group;
+  }
+  multi_crossings.resize(nb_multi);
+  // The direction of a crossing: sigma, the sign of n . N for the outward normal N of the
+  // triangle crossed (Surface3's orientation).
+  const auto direction = [&](const Crossing& c) -> std::int8_t {
+    const std::uint32_t* v = surface.triangle(c.tri);
+    const Sign d =
+        voronoi_edge_direction3d(site(c.s[0]), site(c.s[1]), site(c.s[2]), surface.vertex(v[0]),
+                                 surface.vertex(v[1]), surface.vertex(v[2]));
+    if (d == Sign::zero) {
+      throw Error("clip3d: internal error: the Voronoi edge of sites " + std::to_string(c.s[0]) +
+                  ", " + std::to_string(c.s[1]) + ", " + std::to_string(c.s[2]) +
+                  " crosses boundary triangle " + std::to_string(c.tri) + " along its plane");
+    }
+    return d == Sign::positive ? 1 : -1;
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, crossings.size(), 1024),
+                    [&](const auto& range) {
+                      for (std::size_t g = range.begin(); g != range.end(); ++g) {
+                        const Crossing& first = all[group_begin[g]];
+                        EdgeCrossings& x = crossings[g];
+                        x = EdgeCrossings{};
+                        for (int q = 0; q < 3; ++q) {
+                          x.s[q] = first.s[q];
+                          x.x[q] = first.x[q];
+                        }
+                        x.count = group_begin[g + 1] - group_begin[g];
+                        x.first = multi_first[g];
+                        if (x.count == 1) {
+                          x.sigma = direction(first);
+                          continue;
+                        }
+                        for (std::uint32_t k = 0; k < x.count; ++k) {
+                          const Crossing& c = all[group_begin[g] + k];
+                          CrossingPoint& point = multi_crossings[x.first + k];
+                          for (int q = 0; q < 3; ++q) point.x[q] = c.x[q];
+                          point.sigma = direction(c);
+                        }
+                      }
+                    });
+  multi_crossed.assign(n, 0);
   for (const EdgeCrossings& x : crossings) {
     if (x.count == 1) continue;
-    for (const std::uint32_t c : x.s) fallback[c] = 1;
+    for (const std::uint32_t c : x.s) multi_crossed[c] = 1;
   }
   crossing_begin.assign(std::size_t{n} + 1, 0);
   for (const EdgeCrossings& x : crossings) ++crossing_begin[x.s[0] + std::size_t{1}];

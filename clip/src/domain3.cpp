@@ -20,18 +20,16 @@
 //     exactly when they list the facet with opposite orientations, i.e. when the
 //     permutations that sort the two listed triples have different parities. That parity
 //     test is the exact orient3d test, at no cost.
-//  5. Boundary edges, keyed and bucketed like the facets: each must be in exactly two
-//     boundary triangles, which run through it in opposite directions. (The boundary of a
-//     tet mesh is closed modulo 2, so an edge is always in an even number of boundary
-//     triangles: a defect here is an edge in 4, 6, ... triangles, where tets meet along an
-//     edge only.)
-//  6. Boundary vertices: the triangles around a vertex, walked across boundary edges,
-//     must form a single cycle (one fan); two tets meeting at a vertex only give two.
+//  5. The boundary triangles, reversed (outward), become the Surface3: its passes check
+//     the edges (each in exactly two boundary triangles, opposite directions: the tets
+//     meet along an edge only otherwise), the fans (tets meeting at a vertex only give
+//     two), the intersections between boundary triangles, the shells and their nesting.
 //
-// Not detected (no local test sees them): tets that intersect without sharing a facet,
-// e.g. two separate components that cross, or a mesh that winds around an edge twice.
+// Not detected: tets that intersect without sharing a facet and without their boundary
+// triangles meeting (a mesh that winds twice around an edge and closes up).
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -42,6 +40,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "validation.h"
 #include "voroclip/clip.h"
 
 namespace voroclip {
@@ -50,15 +49,10 @@ namespace {
 
 constexpr std::uint32_t kNone = Domain3::kNone;
 
-std::string number(double x) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), x);
-  return std::string(buf, r.ptr);
-}
-
-std::string point(const double* p) {
-  return "(" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + ")";
-}
+using detail::FirstError;
+using detail::Keyed;
+using detail::point;
+using detail::sort3;
 
 // Names what a message is about, as in the input: the source, tets by their index in the
 // TetMeshInput (the file's order, from 0) with their line in the file.
@@ -89,74 +83,14 @@ struct Namer {
   }
 };
 
-// The first error found by a pass, keeping the one about the smallest key.
-struct FirstError {
-  std::uint64_t key = ~std::uint64_t{0};
-  std::string message;
-
-  bool wants(std::uint64_t k) const { return k < key; }
-  void set(std::uint64_t k, std::string m) {
-    key = k;
-    message = std::move(m);
-  }
-  void raise() const {
-    if (!message.empty()) throw Error(message);
-  }
-};
-
-// Sorts three indices; returns the parity of the permutation applied (1: odd).
-std::uint32_t sort3(std::uint32_t& a, std::uint32_t& b, std::uint32_t& c) {
-  std::uint32_t parity = 0;
-  if (a > b) std::swap(a, b), parity ^= 1u;
-  if (b > c) std::swap(b, c), parity ^= 1u;
-  if (a > b) std::swap(a, b), parity ^= 1u;
-  return parity;
-}
-
-// Keys bucketed by their smallest vertex; within a bucket, sorted by (hi0, hi1, code).
-struct Keyed {
-  std::uint32_t hi0, hi1, code, parity;
-};
-
-// Counting sort into buckets (stable in the order of `keys`), then each bucket sorted.
-// Returns the bucket offsets (nb_buckets + 1); `keys` is reordered in place.
-std::vector<std::uint32_t> bucket_sort(std::vector<Keyed>& keys,
-                                       const std::vector<std::uint32_t>& bucket,
-                                       std::uint32_t nb_buckets) {
-  std::vector<std::uint32_t> begin(static_cast<std::size_t>(nb_buckets) + 1, 0);
-  for (const std::uint32_t b : bucket) ++begin[b + 1];
-  for (std::size_t i = 0; i < nb_buckets; ++i) begin[i + 1] += begin[i];
-  std::vector<Keyed> sorted(keys.size());
-  std::vector<std::uint32_t> pos(begin.begin(), begin.end() - 1);
-  for (std::size_t i = 0; i < keys.size(); ++i) sorted[pos[bucket[i]]++] = keys[i];
-  keys.swap(sorted);
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_buckets, 1024), [&](const auto& r) {
-    for (std::uint32_t a = r.begin(); a != r.end(); ++a) {
-      std::sort(keys.begin() + begin[a], keys.begin() + begin[a + 1],
-                [](const Keyed& x, const Keyed& y) {
-                  if (x.hi0 != y.hi0) return x.hi0 < y.hi0;
-                  if (x.hi1 != y.hi1) return x.hi1 < y.hi1;
-                  return x.code < y.code;
-                });
-    }
-  });
-  return begin;
-}
-
-// Neumaier's compensated sum, in the order given.
-double compensated_sum(const std::vector<double>& v) {
-  double sum = 0, comp = 0;
-  for (const double x : v) {
-    const double t = sum + x;
-    comp += std::fabs(sum) >= std::fabs(x) ? (sum - t) + x : (x - t) + sum;
-    sum = t;
-  }
-  return sum + comp;
-}
-
 }  // namespace
 
-Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
+Domain3::Domain3(const TriangleSurface& surface, const Surface3Options& options)
+    : surface_(surface, options) {}
+
+Domain3::Domain3(Surface3 surface) : surface_(std::move(surface)) {}
+
+Domain3::Domain3(const TetMeshInput& mesh) {
   const Namer name{mesh, mesh.source.empty() ? std::string("tetrahedral mesh") : mesh.source};
   if (mesh.xyz.size() % 3 != 0 || mesh.tets.size() % 4 != 0) {
     throw Error(name.source + ": the mesh arrays hold " + std::to_string(mesh.xyz.size()) +
@@ -168,8 +102,11 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
   if (mesh.tets.size() / 4 >= (std::size_t{1} << 30)) {
     throw Error(name.source + ": more than 2^30 tets");
   }
-  xyz_ = mesh.xyz;
+  Surface3& surface = surface_;
+  surface.source_ = name.source;
+  surface.xyz_ = mesh.xyz;
   tets_ = mesh.tets;
+  const auto vertex = [&](std::uint32_t v) { return surface.vertex(v); };
 
   // ---- 1. Indices, finite coordinates, bounding box.
   std::vector<std::uint32_t> first_tet(nv, kNone);  // the first tet using each vertex
@@ -183,7 +120,6 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
       if (first_tet[v] == kNone) first_tet[v] = t;
     }
   }
-  bool first_used = true;
   for (std::uint32_t v = 0; v < nv; ++v) {
     if (first_tet[v] == kNone) continue;
     const double* p = vertex(v);
@@ -191,11 +127,6 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
       throw Error(name.at(first_tet[v]) + ": vertex " + std::to_string(v) +
                   " has a non-finite coordinate " + point(p));
     }
-    for (int k = 0; k < 3; ++k) {
-      bbox_[k] = first_used ? p[k] : std::min(bbox_[k], p[k]);
-      bbox_[k + 3] = first_used ? p[k] : std::max(bbox_[k + 3], p[k]);
-    }
-    first_used = false;
   }
 
   // ---- 2. Repeated vertices, exact orientation, volumes.
@@ -230,7 +161,7 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
     }
     if (sign[t] < 0) std::swap(tets_[4 * static_cast<std::size_t>(t) + 2], tets_[4 * t + 3]);
   }
-  volume_ = compensated_sum(tet_volume);
+  tet_volume_ = detail::compensated_sum(tet_volume);
 
   // ---- 3. Duplicate vertices among the used ones.
   {
@@ -320,135 +251,27 @@ Domain3::Domain3(const TetMeshInput& mesh) : source_(mesh.source) {
   const auto nb = static_cast<std::uint32_t>(boundary_codes.size());
   boundary_tet_.resize(nb);
   boundary_facet_.resize(nb);
-  boundary_vertices_.resize(3 * static_cast<std::size_t>(nb));
+  surface.triangles_.resize(3 * static_cast<std::size_t>(nb));
+  surface.triangle_face_.resize(nb);
+  surface.triangle_line_.resize(nb);
   tet_boundary_begin_.assign(static_cast<std::size_t>(nt) + 1, 0);
   for (std::uint32_t b = 0; b < nb; ++b) {
     const std::uint32_t t = boundary_codes[b] / 4;
     const int f = static_cast<int>(boundary_codes[b] % 4);
     boundary_tet_[b] = t;
     boundary_facet_[b] = static_cast<std::int8_t>(f);
+    // Reversed: the facet as the tet lists it is clockwise seen from outside.
     for (int k = 0; k < 3; ++k) {
-      boundary_vertices_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)] =
-          tet_vertex(t, kTetFacetVertex[f][k]);
+      surface.triangles_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)] =
+          tet_vertex(t, kTetFacetVertex[f][k == 0 ? 0 : 3 - k]);
     }
+    surface.triangle_face_[b] = t;
+    surface.triangle_line_[b] = name.line(t);
     ++tet_boundary_begin_[t + 1];
   }
   for (std::size_t t = 0; t < nt; ++t) tet_boundary_begin_[t + 1] += tet_boundary_begin_[t];
-
-  // ---- 5. Boundary edges: edge e of b runs from vertex e + 1 to vertex e + 2.
-  boundary_adjacent_.assign(3 * static_cast<std::size_t>(nb), kNone);
-  {
-    std::vector<Keyed> keys(3 * static_cast<std::size_t>(nb));
-    std::vector<std::uint32_t> bucket(keys.size());
-    for (std::uint32_t b = 0; b < nb; ++b) {
-      for (int e = 0; e < 3; ++e) {
-        const std::uint32_t u = boundary_vertex(b, (e + 1) % 3);
-        const std::uint32_t w = boundary_vertex(b, (e + 2) % 3);
-        const std::size_t i = 3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(e);
-        keys[i] = {std::max(u, w), 0, static_cast<std::uint32_t>(i), u < w ? 0u : 1u};
-        bucket[i] = std::min(u, w);
-      }
-    }
-    const std::vector<std::uint32_t> begin = bucket_sort(keys, bucket, nv);
-    FirstError error;
-    for (std::uint32_t a = 0; a < nv; ++a) {
-      for (std::uint32_t i = begin[a]; i < begin[a + 1];) {
-        std::uint32_t j = i + 1;
-        while (j < begin[a + 1] && keys[j].hi0 == keys[i].hi0) ++j;
-        const std::uint32_t b0 = keys[i].code / 3;
-        const std::uint32_t t0 = boundary_tet_[b0];
-        const auto edge = [&] {
-          return "(vertices " + std::to_string(a) + " " + std::to_string(keys[i].hi0) + ")";
-        };
-        if (j - i == 2 && keys[i].parity != keys[i + 1].parity) {
-          boundary_adjacent_[keys[i].code] = keys[i + 1].code / 3;
-          boundary_adjacent_[keys[i + 1].code] = b0;
-        } else if (j - i == 2) {
-          if (error.wants(t0)) {
-            error.set(t0, name.at(t0) +
-                              ": the boundary is not consistently oriented: the "
-                              "boundary triangles of " +
-                              name.tet(t0) + " and " +
-                              name.tet(boundary_tet_[keys[i + 1].code / 3]) +
-                              " run through their edge " + edge() + " in the same direction");
-          }
-        } else if (error.wants(t0)) {
-          std::string tets;
-          for (std::uint32_t k = i; k < j; ++k) {
-            tets += (k == i       ? ""
-                     : k + 1 == j ? " and "
-                                  : ", ") +
-                    name.tet(boundary_tet_[keys[k].code / 3]);
-          }
-          error.set(t0, name.at(t0) + ": the boundary is not a 2-manifold: the edge " + edge() +
-                            " is in " + std::to_string(j - i) +
-                            " boundary triangles (2 expected), the facets of " + tets);
-        }
-        i = j;
-      }
-    }
-    error.raise();
-  }
-
-  // ---- 6. One fan of boundary triangles around each boundary vertex.
-  {
-    std::vector<std::uint8_t> visited(3 * static_cast<std::size_t>(nb), 0);
-    std::vector<std::uint32_t> nb_corners(nv, 0), first_fan(nv, kNone);
-    for (const std::uint32_t v : boundary_vertices_) ++nb_corners[v];
-    FirstError error;
-    for (std::uint32_t b = 0; b < nb; ++b) {
-      for (int k = 0; k < 3; ++k) {
-        if (visited[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)]) continue;
-        const std::uint32_t v = boundary_vertex(b, k);
-        if (first_fan[v] == kNone) {
-          first_fan[v] = b;
-        } else if (error.wants(v)) {
-          error.set(v, name.source + ": the boundary is not a 2-manifold at vertex " +
-                           std::to_string(v) + " " + point(vertex(v)) +
-                           ": its boundary triangles form several fans, one in " +
-                           name.tet(boundary_tet_[first_fan[v]]) + ", another in " +
-                           name.tet(boundary_tet_[b]));
-        }
-        // Walk around v: across the edge opposite the next corner, which holds v.
-        std::uint32_t cur = b;
-        int loc = k;
-        for (std::uint32_t steps = 0;; ++steps) {
-          visited[3 * static_cast<std::size_t>(cur) + static_cast<std::size_t>(loc)] = 1;
-          cur = boundary_adjacent(cur, (loc + 1) % 3);
-          loc = boundary_vertex(cur, 0) == v ? 0 : boundary_vertex(cur, 1) == v ? 1 : 2;
-          if (cur == b) break;
-          if (steps > nb_corners[v]) {
-            throw Error(name.source + ": internal error: the fan around boundary vertex " +
-                        std::to_string(v) + " does not close");
-          }
-        }
-      }
-    }
-    error.raise();
-  }
-
-  // ---- 7. The boundary triangles depth first over the surface (clip3d's traversal order).
-  {
-    surface_order_.clear();
-    surface_order_.reserve(nb);
-    std::vector<std::uint8_t> seen(nb, 0);
-    std::vector<std::uint32_t> stack;
-    for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
-      if (seen[b0]) continue;
-      stack.assign(1, b0);
-      while (!stack.empty()) {
-        const std::uint32_t b = stack.back();
-        stack.pop_back();
-        if (seen[b]) continue;
-        seen[b] = 1;
-        surface_order_.push_back(b);
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t b2 = boundary_adjacent(b, k);
-          if (b2 != kNone && !seen[b2]) stack.push_back(b2);
-        }
-      }
-    }
-  }
+  surface.naming_ = Surface3::Naming::kTetFacet;
+  surface.build(Surface3Options{});
 
   source_tet_.resize(nt);
   for (std::uint32_t t = 0; t < nt; ++t) source_tet_[t] = t;
@@ -460,6 +283,25 @@ std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {
     if (boundary_facet_[b] == f) return b;
   }
   return kNone;
+}
+
+Domain3 read_domain3(const std::string& path, const Surface3Options& options) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of("/\\");
+  std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
+                        ? std::string()
+                        : path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj" || ext == ".off" || ext == ".stl" || ext == ".ply") {
+    return Domain3(read_surface(path), options);
+  }
+  if (ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".msh" || ext == ".vtk" ||
+      ext == ".vtu") {
+    return Domain3(read_tet_mesh(path));
+  }
+  throw Error(path + ": unknown 3D domain format '" + ext +
+              "' (closed surfaces: .obj .off .stl .ply; tetrahedral meshes: .mesh .node .ele "
+              ".msh .vtk .vtu)");
 }
 
 }  // namespace voroclip

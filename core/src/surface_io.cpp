@@ -48,6 +48,7 @@ struct RawFaces {
 void finish_faces(const std::string& path, const RawFaces& raw, bool binary, std::int64_t base,
                   TriangleSurface& s) {
   const std::int64_t nv = s.nb_vertices();
+  s.vertex_base = static_cast<std::uint32_t>(base);
   for (std::size_t f = 0; f < raw.size(); ++f) {
     const std::uint32_t b = raw.begin[f], e = raw.begin[f + 1];
     const std::string where =
@@ -65,6 +66,7 @@ void finish_faces(const std::string& path, const RawFaces& raw, bool binary, std
       s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[k]));
       s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[k + 1]));
       s.triangle_line.push_back(binary ? 0u : raw.line[f]);
+      s.triangle_face.push_back(static_cast<std::uint32_t>(raw.label[f]));
     }
   }
   if (s.triangles.empty()) throw Error(path + ": no faces");
@@ -288,7 +290,9 @@ TriangleSurface read_stl_binary(const std::string& path, const std::string& data
   VertexMerger merge(s);
   s.triangles.reserve(3 * std::size_t{n});
   s.triangle_line.assign(n, 0);
+  s.triangle_face.resize(n);
   for (std::uint32_t t = 0; t < n; ++t) {
+    s.triangle_face[t] = t;
     const std::string what = "facet " + std::to_string(t);
     in.skip(12, what);  // the normal
     for (int k = 0; k < 3; ++k) {
@@ -339,6 +343,7 @@ TriangleSurface read_stl_ascii(const std::string& path, std::string data) {
       }
       expect_word(lx, "endloop");
       expect_word(lx, "endfacet");
+      s.triangle_face.push_back(static_cast<std::uint32_t>(s.triangle_line.size()));
       s.triangle_line.push_back(line);
     } else if (kw == "endsolid") {
       lx.skip_line();

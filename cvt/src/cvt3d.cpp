@@ -304,21 +304,25 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
 }
 
 std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::uint64_t seed,
-                                   const std::vector<double>* vertex_density) {
-  if (domain.nb_tets() == 0) throw Error("random_points3: the domain has no tets");
-  if (vertex_density && vertex_density->size() != domain.nb_vertices()) {
-    throw Error("random_points3: " + std::to_string(vertex_density->size()) +
-                " density values for " + std::to_string(domain.nb_vertices()) + " vertices");
-  }
-  const auto rho = [&](std::uint32_t t, int k) {
-    return (*vertex_density)[domain.tet_vertex(t, k)];
-  };
-  // Cumulative mass per tet (|det| = 6 volume; the factor does not matter).
-  std::vector<double> cumulative(domain.nb_tets());
-  double total = 0;
-  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
-    double m = tet_det(domain, t);
-    if (vertex_density) {
+                                   const Density3& density) {
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  std::vector<double> xyz;
+  xyz.reserve(3 * std::size_t{n});
+  if (density.kind == Density3::Kind::kVertexLinear) {
+    if (!domain.has_tets()) {
+      throw Error("random_points3: a density linear per tet needs a domain with a tet mesh");
+    }
+    const std::vector<double>& values = density.vertex_values;
+    if (values.size() != domain.nb_vertices()) {
+      throw Error("random_points3: " + std::to_string(values.size()) + " density values for " +
+                  std::to_string(domain.nb_vertices()) + " vertices");
+    }
+    const auto rho = [&](std::uint32_t t, int k) { return values[domain.tet_vertex(t, k)]; };
+    // Cumulative mass per tet (|det| = 6 volume; the factor does not matter).
+    std::vector<double> cumulative(domain.nb_tets());
+    double total = 0;
+    for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
       double s = 0;
       for (int k = 0; k < 4; ++k) {
         const double r = rho(t, k);
@@ -328,43 +332,78 @@ std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::
         }
         s += r;
       }
-      m *= s / 4;
+      total += tet_det(domain, t) * s / 4;
+      cumulative[t] = total;
     }
-    total += m;
-    cumulative[t] = total;
-  }
-  if (!(total > 0)) throw Error("random_points3: the domain has zero mass");
-  std::mt19937_64 rng(seed);
-  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
-  std::vector<double> xyz;
-  xyz.reserve(3 * std::size_t{n});
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const double r = uniform() * total;
-    const auto t = static_cast<std::uint32_t>(std::min<std::size_t>(
-        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) -
-                                 cumulative.begin()),
-        domain.nb_tets() - 1));
-    double rho_max = 0;
-    if (vertex_density) {
+    if (!(total > 0)) throw Error("random_points3: the domain has zero mass");
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const double r = uniform() * total;
+      const auto t = static_cast<std::uint32_t>(std::min<std::size_t>(
+          static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) -
+                                   cumulative.begin()),
+          domain.nb_tets() - 1));
+      double rho_max = 0;
       for (int k = 0; k < 4; ++k) rho_max = std::max(rho_max, rho(t, k));
-    }
-    for (;;) {
-      // Barycentric gaps of three sorted uniforms: uniform in the tet.
-      double b[3] = {uniform(), uniform(), uniform()};
-      std::sort(b, b + 3);
-      const double w[4] = {b[0], b[1] - b[0], b[2] - b[1], 1 - b[2]};
-      double p[3] = {0, 0, 0};
-      for (int k = 0; k < 4; ++k) {
-        for (int c = 0; c < 3; ++c) p[c] += w[k] * domain.vertex(domain.tet_vertex(t, k))[c];
-      }
-      if (vertex_density) {
+      for (;;) {
+        // Barycentric gaps of three sorted uniforms: uniform in the tet.
+        double b[3] = {uniform(), uniform(), uniform()};
+        std::sort(b, b + 3);
+        const double w[4] = {b[0], b[1] - b[0], b[2] - b[1], 1 - b[2]};
+        double p[3] = {0, 0, 0};
         double value = 0;
-        for (int k = 0; k < 4; ++k) value += w[k] * rho(t, k);
+        for (int k = 0; k < 4; ++k) {
+          for (int c = 0; c < 3; ++c) p[c] += w[k] * domain.vertex(domain.tet_vertex(t, k))[c];
+          value += w[k] * rho(t, k);
+        }
         if (uniform() * rho_max > value) continue;  // rejected: draw again in this tet
+        xyz.insert(xyz.end(), p, p + 3);
+        break;
       }
-      xyz.insert(xyz.end(), p, p + 3);
-      break;
     }
+    return xyz;
+  }
+
+  if (domain.surface().nb_triangles() == 0) {
+    throw Error("random_points3: the domain has no boundary");
+  }
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  // A uniform point of the volume: candidates from the bounding box, located exactly.
+  const auto draw = [&](double* p) {
+    for (std::uint32_t attempt = 0; attempt < 10000000u; ++attempt) {
+      for (int c = 0; c < 3; ++c) p[c] = lo[c] + uniform() * (hi[c] - lo[c]);
+      if (domain.locate(p) == Sign::positive) return;
+    }
+    throw Error("random_points3: 10^7 points of the bounding box of " + domain.source() +
+                " all missed its volume");
+  };
+  const auto value = [&](const double* p) {
+    const double r = density.callback(p[0], p[1], p[2]);
+    if (!(r > 0) || !std::isfinite(r)) {
+      throw Error("random_points3: the density is " + std::to_string(r) + " at (" +
+                  std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                  "); it must be finite and positive in the volume");
+    }
+    return r;
+  };
+  double bound = 0;
+  if (density.kind == Density3::Kind::kCallback) {
+    if (!density.callback) throw Error("random_points3: the density function is empty");
+    const std::uint32_t m = std::max<std::uint32_t>(1024, std::min<std::uint32_t>(n, 65536));
+    for (std::uint32_t i = 0; i < m; ++i) {
+      double p[3];
+      draw(p);
+      bound = std::max(bound, value(p));
+    }
+    bound *= 2;
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    double p[3];
+    for (;;) {
+      draw(p);
+      if (bound == 0 || uniform() * bound <= value(p)) break;
+    }
+    xyz.insert(xyz.end(), p, p + 3);
   }
   return xyz;
 }

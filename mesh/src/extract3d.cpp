@@ -2,23 +2,9 @@
 // al. 2011, sec. 5.2, "Final mesh extraction"): the tets whose circumcenter lies in the
 // domain, decided exactly, then a local repair of a non-manifold boundary (mesh.h).
 //
-// Location. A uniform grid over the domain's bounding box lists, per cell, the domain tets
-// whose bounding box meets the cell (cells of about eight tets of the box's volume); the
-// tets are copied in Morton order of their centroid's cell. The cell of a coordinate is
-// clamp(floor((x - lo) * inv_h)), a monotone function of x, so a tet whose box meets a
-// query box is listed in a cell of the query's cell range: the grid only filters. The
-// query box is the proven enclosure of the circumcenter (circumcenter3d_enclosure).
-//   1. Walk: from the previous answer (the Delaunay tets are visited in Morton order of
-//      their centroid's cell, so it is near) or a tet of the centre's cell, step across
-//      the facets that orient3d_fast puts the floating-point centre beyond; the tet
-//      reached is tested exactly (orient3d_circumcenter against its four facets,
-//      Domain3::kTetFacetVertex listing them so that the tet's inside is negative). A
-//      strict inclusion, or an exact zero on a boundary facet, decides.
-//   2. Otherwise (the walk left the domain or looped, the centre is on an interior facet,
-//      edge or vertex, or there is no error box): every tet listed in the query's cells
-//      whose box meets the query box is tested exactly, each once (in the first cell of
-//      the query where it is listed: per axis, the larger of the two ranges' starts).
-// The walk in floating point only chooses which tet the exact test sees first.
+// Location: the domain's surface (Surface3::locate_circumcenter, exact ray parity), per
+// finite Delaunay tet in parallel, tets in Morton order of their centroids so that
+// consecutive queries read nearby parts of the surface.
 //
 // Repair. Boundary facets are the facets of kept tets whose neighbour is not kept (or
 // infinite). An edge of the boundary is non-manifold when the tets around it (a cycle,
@@ -61,30 +47,6 @@ double tet_volume(const double* a, const double* b, const double* c, const doubl
 
 }  // namespace
 
-// The domain's tets are copied in Morton order of their centroid's grid cell (`order`
-// maps back), so that walks and cell scans touch nearby memory.
-struct TetExtractor3::Grid {
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  double inv_h = 1;
-  std::uint32_t n[3] = {1, 1, 1};
-  std::vector<std::uint32_t> begin;  // per cell + 1
-  std::vector<std::uint32_t> tets;   // per cell entry: a tet (in this order)
-  std::vector<std::uint32_t> order;  // tet in this order -> Domain3 tet
-  std::vector<std::uint32_t> adj;    // per tet, 4: the tet across facet f, or kNone
-  std::vector<double> box;           // per tet: lo xyz, hi xyz
-  std::vector<double> coords;        // per tet: its 4 vertices, x y z each
-
-  std::uint32_t cell(int axis, double x) const {
-    const double f = std::floor((x - lo[axis]) * inv_h);
-    if (!(f > 0)) return 0;  // NaN too
-    const double top = static_cast<double>(n[axis] - 1);
-    return f >= top ? n[axis] - 1 : static_cast<std::uint32_t>(f);
-  }
-  std::size_t index(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
-    return (std::size_t{k} * n[1] + j) * n[0] + i;
-  }
-};
-
 namespace {
 
 // Interleaves the low 10 bits of x, y, z.
@@ -99,254 +61,18 @@ std::uint32_t morton3(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
 
 }  // namespace
 
-TetExtractor3::TetExtractor3(const Domain3& domain) : domain_(&domain), grid_(new Grid) {
-  Grid& g = *grid_;
-  const std::uint32_t nt = domain.nb_tets();
-  for (int c = 0; c < 3; ++c) {
-    g.lo[c] = domain.bbox_lo()[c];
-    g.hi[c] = domain.bbox_hi()[c];
-  }
-  const double ext[3] = {g.hi[0] - g.lo[0], g.hi[1] - g.lo[1], g.hi[2] - g.lo[2]};
-  // About eight tets per cell of the bounding box (cubes): a tet's box spans a few cells.
-  const double vol = std::max(ext[0], 1e-300) * std::max(ext[1], 1e-300) * std::max(ext[2], 1e-300);
-  double h = std::cbrt(vol / std::max(1.0, nt / 8.0));
-  if (!(h > 0) || !std::isfinite(h)) h = 1;
-  for (int c = 0; c < 3; ++c) {
-    const double cells = std::min(std::ceil(ext[c] / h), 1024.0);
-    g.n[c] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));
-  }
-  g.inv_h = 1 / h;
-  std::vector<std::uint64_t> keyed(nt);
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    double centroid[3] = {0, 0, 0};
-    for (int k = 0; k < 4; ++k) {
-      for (int c = 0; c < 3; ++c) centroid[c] += 0.25 * domain.vertex(domain.tet_vertex(t, k))[c];
-    }
-    const std::uint64_t key =
-        morton3(g.cell(0, centroid[0]), g.cell(1, centroid[1]), g.cell(2, centroid[2]));
-    keyed[t] = key << 32 | t;
-  }
-  std::sort(keyed.begin(), keyed.end());
-  g.order.resize(nt);
-  std::vector<std::uint32_t> rank(nt);
-  for (std::uint32_t r = 0; r < nt; ++r) {
-    g.order[r] = static_cast<std::uint32_t>(keyed[r] & 0xffffffffu);
-    rank[g.order[r]] = r;
-  }
-  g.adj.resize(4 * std::size_t{nt});
-  g.box.resize(6 * std::size_t{nt});
-  g.coords.resize(12 * std::size_t{nt});
-  for (std::uint32_t r = 0; r < nt; ++r) {
-    const std::uint32_t t = g.order[r];
-    double* b = &g.box[6 * std::size_t{r}];
-    for (int c = 0; c < 3; ++c) {
-      b[c] = std::numeric_limits<double>::infinity();
-      b[3 + c] = -b[c];
-    }
-    for (int k = 0; k < 4; ++k) {
-      const std::uint32_t n = domain.tet_adjacent(t, k);
-      g.adj[4 * std::size_t{r} + static_cast<std::size_t>(k)] = n == Domain3::kNone ? n : rank[n];
-      const double* p = domain.vertex(domain.tet_vertex(t, k));
-      std::copy_n(p, 3, &g.coords[12 * std::size_t{r} + 3 * static_cast<std::size_t>(k)]);
-      for (int c = 0; c < 3; ++c) {
-        b[c] = std::min(b[c], p[c]);
-        b[3 + c] = std::max(b[3 + c], p[c]);
-      }
-    }
-  }
-  const std::size_t nc = std::size_t{g.n[0]} * g.n[1] * g.n[2];
-  g.begin.assign(nc + 1, 0);
-  const auto for_cells = [&](std::uint32_t r, auto visit) {
-    const double* b = &g.box[6 * std::size_t{r}];
-    for (std::uint32_t k = g.cell(2, b[2]); k <= g.cell(2, b[5]); ++k)
-      for (std::uint32_t j = g.cell(1, b[1]); j <= g.cell(1, b[4]); ++j)
-        for (std::uint32_t i = g.cell(0, b[0]); i <= g.cell(0, b[3]); ++i) visit(g.index(i, j, k));
-  };
-  for (std::uint32_t r = 0; r < nt; ++r) for_cells(r, [&](std::size_t c) { ++g.begin[c + 1]; });
-  for (std::size_t c = 0; c < nc; ++c) g.begin[c + 1] += g.begin[c];
-  g.tets.resize(g.begin[nc]);
-  std::vector<std::uint32_t> fill(g.begin.begin(), g.begin.end() - 1);
-  for (std::uint32_t r = 0; r < nt; ++r)
-    for_cells(r, [&](std::size_t c) { g.tets[fill[c]++] = r; });
-}
-
-TetExtractor3::~TetExtractor3() = default;
-TetExtractor3::TetExtractor3(TetExtractor3&&) noexcept = default;
+TetExtractor3::TetExtractor3(const Domain3& domain) : domain_(&domain) {}
 
 Sign TetExtractor3::circumcenter_side(const double* p0, const double* p1, const double* p2,
                                       const double* p3) const {
-  bool unbounded = false;
-  std::uint32_t hint = Domain3::kNone;
-  return locate(p0, p1, p2, p3, unbounded, hint);
-}
-
-Sign TetExtractor3::locate(const double* p0, const double* p1, const double* p2, const double* p3,
-                           bool& unbounded, std::uint32_t& hint) const {
-  const Grid& g = *grid_;
-  double centre[3], hw[3], qlo[3], qhi[3];
-  if (circumcenter3d_enclosure(p0, p1, p2, p3, centre, hw)) {
-    for (int c = 0; c < 3; ++c) {
-      qlo[c] = centre[c] - hw[c];
-      qhi[c] = centre[c] + hw[c];
-      if (qhi[c] < g.lo[c] || qlo[c] > g.hi[c]) return Sign::negative;
-    }
-  } else {
-    // No error box (the tet is too close to flat; the predicate throws for coplanar sites).
-    // Such a circumcenter is usually far: first its exact side of the six planes of the
-    // domain's bounding box (six exact tests instead of four per domain tet), then every
-    // domain tet is a candidate.
-    for (int c = 0; c < 3; ++c) {
-      for (int upper = 0; upper < 2; ++upper) {
-        const double x = upper != 0 ? g.hi[c] : g.lo[c];
-        double a[3] = {0, 0, 0}, b[3], d[3], away[3];
-        a[c] = x;
-        std::copy_n(a, 3, b);
-        std::copy_n(a, 3, d);
-        std::copy_n(a, 3, away);
-        b[(c + 1) % 3] = 1;
-        d[(c + 2) % 3] = 1;
-        away[c] = upper != 0 ? x + std::fabs(x) + 1 : x - std::fabs(x) - 1;  // strictly outside
-        if (orient3d_circumcenter(a, b, d, p0, p1, p2, p3) == orient3d(a, b, d, away)) {
-          return Sign::negative;
-        }
-      }
-    }
-    unbounded = true;
-    for (int c = 0; c < 3; ++c) {
-      qlo[c] = g.lo[c];
-      qhi[c] = g.hi[c];
-      centre[c] = 0.5 * (qlo[c] + qhi[c]);
-    }
-  }
-  return locate_in(centre, qlo, qhi, unbounded, hint,
-                   [&](const double* a, const double* b, const double* c) {
-                     return orient3d_circumcenter(a, b, c, p0, p1, p2, p3);
-                   });
+  return domain_->surface().locate_circumcenter(p0, p1, p2, p3);
 }
 
 Sign TetExtractor3::point_side(const double* p) const {
-  const Grid& g = *grid_;
   for (int c = 0; c < 3; ++c) {
-    if (!(p[c] >= g.lo[c] && p[c] <= g.hi[c])) {
-      if (!std::isfinite(p[c])) throw Error("point_side: a coordinate is not finite");
-      return Sign::negative;
-    }
+    if (!std::isfinite(p[c])) throw Error("point_side: a coordinate is not finite");
   }
-  std::uint32_t hint = Domain3::kNone;
-  return locate_in(p, p, p, false, hint, [&](const double* a, const double* b, const double* c) {
-    return orient3d(a, b, c, p);
-  });
-}
-
-template <class SideOf>
-Sign TetExtractor3::locate_in(const double* centre, const double* qlo, const double* qhi,
-                              bool unbounded, std::uint32_t& hint, const SideOf& side) const {
-  const Grid& g = *grid_;
-  // Exact: is the point in closed tet t? 0 no; 1 strictly inside; 2 on its boundary but
-  // not on the domain's boundary; 3 on the domain's boundary.
-  const auto test = [&](std::uint32_t t) {
-    const double* x = &g.coords[12 * std::size_t{t}];
-    int zero_facets = 0;  // bit f: the point is on the plane of facet f
-    for (int f = 0; f < 4; ++f) {
-      const int* fv = Domain3::kTetFacetVertex[f];
-      const Sign s = side(x + 3 * fv[0], x + 3 * fv[1], x + 3 * fv[2]);
-      if (s == Sign::positive) return 0;
-      if (s == Sign::zero) zero_facets |= 1 << f;
-    }
-    if (zero_facets == 0) return 1;
-    for (int f = 0; f < 4; ++f) {
-      if ((zero_facets >> f & 1) != 0 &&
-          g.adj[4 * std::size_t{t} + static_cast<std::size_t>(f)] == Domain3::kNone)
-        return 3;
-    }
-    return 2;
-  };
-  const auto overlaps = [&](std::uint32_t t) {
-    const double* b = &g.box[6 * std::size_t{t}];
-    return !(b[0] > qhi[0] || b[3] < qlo[0] || b[1] > qhi[1] || b[4] < qlo[1] || b[2] > qhi[2] ||
-             b[5] < qlo[2]);
-  };
-  const std::uint32_t c0[3] = {g.cell(0, qlo[0]), g.cell(1, qlo[1]), g.cell(2, qlo[2])};
-  const std::uint32_t c1[3] = {g.cell(0, qhi[0]), g.cell(1, qhi[1]), g.cell(2, qhi[2])};
-  const bool single = c0[0] == c1[0] && c0[1] == c1[1] && c0[2] == c1[2];
-  if (!unbounded) {
-    // The common case: walk in floating point from the hint (or from a tet listed in the
-    // centre's cell) towards the floating-point centre, then test the tet reached exactly.
-    // The walk only chooses which tet the exact test sees; when it leaves the domain, loops
-    // or lands on a tet that does not hold the circumcenter strictly, the exact search
-    // below decides.
-    // Start: the hint when its box holds the centre, else the first tet of the centre's
-    // cell whose box does, else the cell's first tet.
-    std::uint32_t t = Domain3::kNone;
-    const auto holds = [&](std::uint32_t r) {
-      const double* b = &g.box[6 * std::size_t{r}];
-      return b[0] <= centre[0] && centre[0] <= b[3] && b[1] <= centre[1] && centre[1] <= b[4] &&
-             b[2] <= centre[2] && centre[2] <= b[5];
-    };
-    if (hint != Domain3::kNone && holds(hint)) {
-      t = hint;
-    } else {
-      const std::size_t cell =
-          g.index(g.cell(0, centre[0]), g.cell(1, centre[1]), g.cell(2, centre[2]));
-      for (std::uint32_t e = g.begin[cell]; e < g.begin[cell + 1] && t == Domain3::kNone; ++e) {
-        if (holds(g.tets[e])) t = g.tets[e];
-      }
-      if (t == Domain3::kNone && g.begin[cell] < g.begin[cell + 1]) t = g.tets[g.begin[cell]];
-    }
-    std::uint32_t previous = Domain3::kNone;
-    for (int step = 0; step < 256 && t != Domain3::kNone; ++step) {
-      const double* x = &g.coords[12 * std::size_t{t}];
-      std::uint32_t next = Domain3::kNone;
-      bool outside = false;
-      for (int f = 0; f < 4; ++f) {
-        const int* fv = Domain3::kTetFacetVertex[f];
-        if (orient3d_fast(x + 3 * fv[0], x + 3 * fv[1], x + 3 * fv[2], centre) != Sign::positive) {
-          continue;
-        }
-        const std::uint32_t n = g.adj[4 * std::size_t{t} + static_cast<std::size_t>(f)];
-        if (n == previous) continue;  // do not step straight back
-        outside = n == Domain3::kNone;
-        next = n;
-        break;
-      }
-      if (next == Domain3::kNone) {
-        if (!outside) {
-          hint = t;
-          const int r = test(t);
-          if (r == 1) return Sign::positive;
-          if (r == 3) return Sign::zero;
-        }
-        break;
-      }
-      previous = t;
-      t = next;
-    }
-  }
-  bool in_closed = false;
-  for (std::uint32_t k = c0[2]; k <= c1[2]; ++k) {
-    for (std::uint32_t j = c0[1]; j <= c1[1]; ++j) {
-      for (std::uint32_t i = c0[0]; i <= c1[0]; ++i) {
-        const std::size_t cell = g.index(i, j, k);
-        for (std::uint32_t e = g.begin[cell]; e < g.begin[cell + 1]; ++e) {
-          const std::uint32_t t = g.tets[e];
-          if (!overlaps(t)) continue;
-          // Test t in the first cell of the query where it is listed.
-          if (!single) {
-            const double* b = &g.box[6 * std::size_t{t}];
-            if (i != std::max(c0[0], g.cell(0, b[0])) || j != std::max(c0[1], g.cell(1, b[1])) ||
-                k != std::max(c0[2], g.cell(2, b[2]))) {
-              continue;
-            }
-          }
-          const int r = test(t);
-          if (r == 1) return Sign::positive;
-          if (r == 3) return Sign::zero;
-          in_closed = in_closed || r == 2;
-        }
-      }
-    }
-  }
-  return in_closed ? Sign::positive : Sign::negative;
+  return domain_->locate(p);
 }
 
 namespace {
@@ -703,11 +429,17 @@ std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
   const auto t0 = std::chrono::steady_clock::now();
   Extract3Stats st;
   const std::uint32_t ns = dt.nb_tet_slots();
-  // Per slot: bit 0 kept, bit 1 on the boundary, bit 2 searched without an error box.
+  // Per slot: bit 0 kept, bit 1 on the boundary.
   std::vector<std::uint8_t> flags(ns, 0);
-  // The finite tets in Morton order of their centroid's cell: consecutive queries are
-  // near each other, so the previous answer is a good start for the next walk.
-  const Grid& g = *grid_;
+  // The finite tets in Morton order of their centroid's cell (of a 1024^3 grid over the
+  // domain's bounding box): consecutive queries are near each other.
+  const double* lo = domain_->bbox_lo();
+  const double* hi = domain_->bbox_hi();
+  const auto cell = [&](int a, double x) -> std::uint32_t {
+    const double f = std::floor((x - lo[a]) / (hi[a] - lo[a]) * 1024);
+    if (!(f > 0)) return 0;
+    return f >= 1023 ? 1023u : static_cast<std::uint32_t>(f);
+  };
   std::vector<std::uint64_t> order(ns);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, ns, 4096), [&](const auto& range) {
     for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
@@ -717,22 +449,20 @@ std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
         for (int k = 0; k < 4; ++k) {
           for (int a = 0; a < 3; ++a) c[a] += 0.25 * dt.point(dt.tet_vertex(t, k))[a];
         }
-        key = morton3(g.cell(0, c[0]), g.cell(1, c[1]), g.cell(2, c[2]));
+        key = morton3(cell(0, c[0]), cell(1, c[1]), cell(2, c[2]));
       }
       order[t] = key << 32 | t;
     }
   });
   std::sort(order.begin(), order.end());
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, ns, 1024), [&](const auto& range) {
-    std::uint32_t hint = Domain3::kNone;  // the previous tet's answer: nearby, usually
     for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
       const auto t = static_cast<std::uint32_t>(order[i] & 0xffffffffu);
       if (dt.is_free(t) || dt.is_infinite(t)) continue;
       const double* p[4];
       for (int k = 0; k < 4; ++k) p[k] = dt.point(dt.tet_vertex(t, k));
-      bool unbounded = false;
-      const Sign s = locate(p[0], p[1], p[2], p[3], unbounded, hint);
-      std::uint8_t f = unbounded ? 4 : 0;
+      const Sign s = circumcenter_side(p[0], p[1], p[2], p[3]);
+      std::uint8_t f = 0;
       if (s != Sign::negative) f |= 1;
       if (s == Sign::zero) f |= 2;
       flags[t] = f;
@@ -745,7 +475,6 @@ std::vector<std::uint32_t> TetExtractor3::extract(const Delaunay3& dt,
     kept[t] = flags[t] & 1;
     st.nb_inside += flags[t] & 1;
     st.nb_on_boundary += (flags[t] >> 1) & 1;
-    st.nb_unbounded += (flags[t] >> 2) & 1;
   }
   if (options.surface)
     fill_boundary(*this, dt, *options.surface, options.max_fill_passes, kept, st);

@@ -11,6 +11,9 @@
 // the site nearest to it unless that site already went to another corner, in which case a new site
 // is added at the corner. Surface sites are then the boundary sites (ClippedVoronoi3::
 // is_boundary) left. Every choice is a function of the sites, in index order.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -100,6 +103,40 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
   }
   if (xyz.size() < 12) throw Error("mesh3d: the lattice has fewer than 4 points in the domain");
   return xyz;
+}
+
+// The integral of f over the volume by the midpoint rule on a grid of 48 cells along the
+// longest side of the bounding box, each cell's centre located exactly; slices summed in
+// order (the same value for any thread count). For the scale of the sizing field, which
+// needs a few digits.
+template <class F>
+double integrate_over_volume(const Domain3& domain, const F& f) {
+  constexpr double kCells = 48;
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(longest > 0)) return 0;
+  const double h = longest / kCells;
+  std::uint32_t n[3];
+  for (int c = 0; c < 3; ++c) {
+    n[c] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil((hi[c] - lo[c]) / h)));
+  }
+  std::vector<double> slice(n[2], 0);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n[2], 1), [&](const auto& range) {
+    for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
+      double sum = 0;
+      for (std::uint32_t j = 0; j < n[1]; ++j) {
+        for (std::uint32_t i = 0; i < n[0]; ++i) {
+          const double p[3] = {lo[0] + (i + 0.5) * h, lo[1] + (j + 0.5) * h, lo[2] + (k + 0.5) * h};
+          if (domain.locate(p) == Sign::positive) sum += f(p);
+        }
+      }
+      slice[k] = sum;
+    }
+  });
+  double total = 0;
+  for (const double v : slice) total += v;
+  return total * h * h * h;
 }
 
 // Feature lines cut at the vertices where they turn by more than angle_deg (the angle
@@ -222,7 +259,7 @@ std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines) {
 // edges that are not feature edges, numbered in the order of their first triangle.
 std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const FeatureLines& lines) {
   const std::vector<std::uint64_t> features = sorted_feature_edges(lines);
-  const std::uint32_t nb = domain.nb_boundary_triangles();
+  const std::uint32_t nb = domain.surface().nb_triangles();
   std::vector<std::uint32_t> patch(nb, SurfaceTree::kNone), queue;
   std::uint32_t nb_patches = 0;
   for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
@@ -232,9 +269,9 @@ std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const Feature
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const std::uint32_t b = queue[q];
       for (int e = 0; e < 3; ++e) {
-        const std::uint32_t a = domain.boundary_adjacent(b, e);
-        const std::uint64_t key = edge_key(domain.boundary_vertex(b, (e + 1) % 3),
-                                           domain.boundary_vertex(b, (e + 2) % 3));
+        const std::uint32_t a = domain.surface().adjacent(b, e);
+        const std::uint64_t key = edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
+                                           domain.surface().triangle_vertex(b, (e + 2) % 3));
         if (patch[a] != SurfaceTree::kNone ||
             std::binary_search(features.begin(), features.end(), key))
           continue;
@@ -261,9 +298,10 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   const auto is_feature = [&](std::uint64_t k) {
     return std::binary_search(features.begin(), features.end(), k);
   };
-  const std::uint32_t nb = domain.nb_boundary_triangles();
+  const std::uint32_t nb = domain.surface().nb_triangles();
   const auto edge_of = [&](std::uint32_t b, int e) {
-    return edge_key(domain.boundary_vertex(b, (e + 1) % 3), domain.boundary_vertex(b, (e + 2) % 3));
+    return edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
+                    domain.surface().triangle_vertex(b, (e + 2) % 3));
   };
   // (feature edge, patch) and (corner vertex, patch) pairs.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edge_patch, vertex_patch;
@@ -274,7 +312,7 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   for (std::uint32_t b = 0; b < nb; ++b) {
     for (int e = 0; e < 3; ++e) {
       if (is_feature(edge_of(b, e))) edge_patch.emplace_back(edge_of(b, e), patch[b]);
-      const std::uint32_t v = domain.boundary_vertex(b, e);
+      const std::uint32_t v = domain.surface().triangle_vertex(b, e);
       if (corner_mark[v] != 0) vertex_patch.emplace_back(v, patch[b]);
     }
   }
@@ -618,14 +656,9 @@ TriangleSurface boundary_surface(const Domain3& domain) {
   TriangleSurface s;
   s.source = domain.source() + " (boundary)";
   s.xyz = domain.coords();
-  s.triangles.reserve(3 * std::size_t{domain.nb_boundary_triangles()});
-  for (std::uint32_t b = 0; b < domain.nb_boundary_triangles(); ++b) {
-    // Domain3's boundary triangles are clockwise seen from outside: reversed.
-    s.triangles.insert(
-        s.triangles.end(),
-        {domain.boundary_vertex(b, 0), domain.boundary_vertex(b, 2), domain.boundary_vertex(b, 1)});
-  }
-  s.triangle_line.assign(domain.nb_boundary_triangles(), 0);
+  s.triangles.reserve(3 * std::size_t{domain.surface().nb_triangles()});
+  s.triangles = domain.surface().triangles();
+  s.triangle_line.assign(domain.surface().nb_triangles(), 0);
   return s;
 }
 
@@ -642,7 +675,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     throw Error("mesh3d: smooth_shape " + std::to_string(options.smooth_shape) +
                 "; expected a value in [0, 1]");
   }
-  if (domain.nb_boundary_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
+  if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
   Mesh3Result result;
   Mesh3Phase phase = Mesh3Phase::kSizing;
   Clock::time_point t_phase = t_start;
@@ -679,22 +712,16 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     double integral = domain.volume();
     if (options.adaptive) {
       field = std::make_unique<SizingField3>(domain, options.sizing);
-      clip.vertex_density = field->vertex_density(domain);
-      integral = 0;
-      for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
-        double mean = 0, e[3][3];
-        const double* a = domain.vertex(domain.tet_vertex(t, 0));
-        for (int k = 0; k < 4; ++k)
-          mean += 0.25 * std::pow(field->size(domain.vertex(domain.tet_vertex(t, k))), -3);
-        for (int k = 0; k < 3; ++k) {
-          for (int c = 0; c < 3; ++c)
-            e[k][c] = domain.vertex(domain.tet_vertex(t, k + 1))[c] - a[c];
-        }
-        const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
-                           e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-                           e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
-        integral += std::fabs(det) / 6 * mean;
-      }
+      const SizingField3* h = field.get();
+      clip.density = Density3::function([h](double x, double y, double z) {
+        const double p[3] = {x, y, z};
+        const double s = h->size(p);
+        return 1 / (s * s * s * s * s);
+      });
+      integral = integrate_over_volume(domain, [h](const double* p) {
+        const double s = h->size(p);
+        return 1 / (s * s * s);
+      });
     }
     const auto local_spacing = [&](const double* x) {
       const double scale = std::cbrt(integral / options.nb_vertices);
@@ -734,8 +761,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     std::vector<double> sites =
         options.sampling == Mesh3Sampling::kLattice && !options.adaptive
             ? lattice_sites(domain, extractor, options.nb_vertices, options.seed)
-            : random_points3(domain, options.nb_vertices, options.seed,
-                             clip.vertex_density.empty() ? nullptr : &clip.vertex_density);
+            : random_points3(domain, options.nb_vertices, options.seed, clip.density);
 
     // 3. Unconstrained CVT.
     next_phase(Mesh3Phase::kUnconstrained);

@@ -112,28 +112,29 @@ class BucketGrid {
 }  // namespace
 
 SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options) {
-  if (domain.nb_boundary_triangles() == 0) {
+  const Surface3& surface = domain.surface();
+  if (surface.nb_triangles() == 0) {
     throw Error("sizing: the domain " + domain.source() + " has no boundary triangles");
   }
   if (!(options.gradation > 0) || !(options.max_ratio >= 1) || options.resolution < 2 ||
       options.resolution > 1024) {
     throw Error("sizing: gradation must be > 0, max_ratio >= 1 and resolution within [2, 1024]");
   }
-  // Boundary vertices (local numbering) and their area-weighted outward normals. A
-  // boundary triangle's right-hand normal points into its tet (clip.h, Domain3).
+  // Boundary vertices (local numbering) and their area-weighted outward normals (the
+  // surface's triangles face outward: Surface3).
   const std::uint32_t nv = domain.nb_vertices();
   std::vector<std::uint32_t> local(nv, kNone);
   std::vector<std::uint32_t> global;
   std::vector<double> normal;
-  for (std::uint32_t b = 0; b < domain.nb_boundary_triangles(); ++b) {
+  for (std::uint32_t b = 0; b < surface.nb_triangles(); ++b) {
     const double* p[3];
-    for (int k = 0; k < 3; ++k) p[k] = domain.vertex(domain.boundary_vertex(b, k));
+    for (int k = 0; k < 3; ++k) p[k] = surface.vertex(surface.triangle_vertex(b, k));
     const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
     const double w[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-    const double outward[3] = {-(u[1] * w[2] - u[2] * w[1]), -(u[2] * w[0] - u[0] * w[2]),
-                               -(u[0] * w[1] - u[1] * w[0])};
+    const double outward[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                               u[0] * w[1] - u[1] * w[0]};
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v = domain.boundary_vertex(b, k);
+      const std::uint32_t v = surface.triangle_vertex(b, k);
       if (local[v] == kNone) {
         local[v] = static_cast<std::uint32_t>(global.size());
         global.push_back(v);

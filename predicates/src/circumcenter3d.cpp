@@ -35,43 +35,96 @@ constexpr int kHeadroomBits = 11;
 // Returned when D == 0 (p0..p3 coplanar).
 constexpr int kCoplanar = 2;
 
+template <class C>
+using Vec3 = typename C::Num[3];
+
+template <class C>
+void cross3(C& c, const Vec3<C>& p, const Vec3<C>& q, Vec3<C>& out) {
+  out[0] = c.sub(c.mul(p[1], q[2]), c.mul(p[2], q[1]));
+  out[1] = c.sub(c.mul(p[2], q[0]), c.mul(p[0], q[2]));
+  out[2] = c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
+}
+
+// The reduced form shared by both predicates (circumcenter3d.h), from d[0..2] = d_1, d_2,
+// d_3 and d[3] = u = a - p0: t = Nv - 2 D u (x - a = t / (2 D)), and sign(D). Returns false
+// when D == 0 (t is then not computed).
+template <class C, class M>
+bool circumcenter_offset(C& c, const M& d, Vec3<C>& t, int& sign_det) {
+  using Num = typename C::Num;
+  Num c23[3], c31[3], c12[3];
+  cross3<C>(c, d[1], d[2], c23);
+  cross3<C>(c, d[2], d[0], c31);
+  cross3<C>(c, d[0], d[1], c12);
+  const Num det = dot<C, 3>(c, d[0], c23);
+  sign_det = C::sign(det);
+  if (sign_det == 0) return false;
+  const Num l1 = dot<C, 3>(c, d[0], d[0]);
+  const Num l2 = dot<C, 3>(c, d[1], d[1]);
+  const Num l3 = dot<C, 3>(c, d[2], d[2]);
+  const Num det2 = c.add(det, det);
+  for (int k = 0; k < 3; ++k) {
+    const Num nv = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
+    t[k] = c.sub(nv, c.mul(det2, d[3][k]));
+  }
+  return true;
+}
+
 // d = {d_1, d_2, d_3, u_a, u_b, u_c}, differences to p0. Returns sign orient3d(a, b, c, x).
 struct SideFormula {
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     using Num = typename C::Num;
-    const auto cross = [&](const Num(&p)[3], const Num(&q)[3], Num(&out)[3]) {
-      out[0] = c.sub(c.mul(p[1], q[2]), c.mul(p[2], q[1]));
-      out[1] = c.sub(c.mul(p[2], q[0]), c.mul(p[0], q[2]));
-      out[2] = c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
-    };
-    Num c23[3], c31[3], c12[3];
-    cross(d[1], d[2], c23);
-    cross(d[2], d[0], c31);
-    cross(d[0], d[1], c12);
-    const Num det = dot<C, 3>(c, d[0], c23);
-    const int sign_det = C::sign(det);
-    if (sign_det == 0) return kCoplanar;
-    const Num l1 = dot<C, 3>(c, d[0], d[0]);
-    const Num l2 = dot<C, 3>(c, d[1], d[1]);
-    const Num l3 = dot<C, 3>(c, d[2], d[2]);
+    Num t[3];
+    int sign_det = 0;
+    if (!circumcenter_offset(c, d, t, sign_det)) return kCoplanar;
     const auto& ua = d[3];
-    Num w1[3], w2[3], n[3], t[3];
+    Num w1[3], w2[3], n[3];
     for (int k = 0; k < 3; ++k) {
       w1[k] = c.sub(d[4][k], ua[k]);
       w2[k] = c.sub(d[5][k], ua[k]);
     }
-    cross(w1, w2, n);
-    const Num det2 = c.add(det, det);
-    for (int k = 0; k < 3; ++k) {
-      const Num nv = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
-      t[k] = c.sub(nv, c.mul(det2, ua[k]));
-    }
+    cross3<C>(c, w1, w2, n);
     return -C::sign(dot<C, 3>(c, n, t)) * sign_det;
   }
 };
 
+// orient2d_circumcenter over d = {d_1, d_2, d_3, u_a, u_b}: sign(Q) * sign(D) (circumcenter3d.h).
+// Bounds for differences below 2^B, as above: |w_x| < 2^(B+1), |t_x| < 2^(4B+6), |Q| <
+// 2^(5B+8): the 128-bit path takes B = 23 (2^123), the other paths a headroom of 8 bits.
+constexpr int kOrient2dIntegerBits = 23;
+constexpr int kOrient2dDegree = 5;
+constexpr int kOrient2dHeadroomBits = 8;
+
+struct ProjectedSideFormula {
+  int i, j;  // the projection's coordinates ((axis + 1) % 3, (axis + 2) % 3)
+
+  template <class C, class M>
+  int operator()(C& c, const M& d) const {
+    using Num = typename C::Num;
+    Num t[3];
+    int sign_det = 0;
+    if (!circumcenter_offset(c, d, t, sign_det)) return kCoplanar;
+    const auto& ua = d[3];
+    const Num wi = c.sub(d[4][i], ua[i]), wj = c.sub(d[4][j], ua[j]);
+    return C::sign(c.sub(c.mul(wi, t[j]), c.mul(wj, t[i]))) * sign_det;
+  }
+};
+
 }  // namespace
+
+Sign orient2d_circumcenter_exact(int axis, const double* a, const double* b, const double* p0,
+                                 const double* p1, const double* p2, const double* p3) {
+  const ProjectedSideFormula formula{axis == 2 ? 0 : axis + 1, axis == 0 ? 2 : axis - 1};
+  const int s =
+      exact_eval<5, 3, kOrient2dIntegerBits, kOrient2dDegree, kOrient2dHeadroomBits, true>(
+          "orient2d_circumcenter", {p1, p2, p3, a, b, p0}, formula);
+  if (s == kCoplanar) {
+    throw Error(
+        "orient2d_circumcenter: the four points are coplanar: their circumcenter is not "
+        "defined");
+  }
+  return static_cast<Sign>(s);
+}
 
 Sign orient3d_circumcenter_exact(const double* a, const double* b, const double* c,
                                  const double* p0, const double* p1, const double* p2,
@@ -93,6 +146,16 @@ Sign orient3d_circumcenter(const double* a, const double* b, const double* c, co
   const int s = detail::circumcenter_side_filter(a, b, c, p0, p1, p2, p3);
   if (s != 0) return static_cast<Sign>(s);
   return detail::orient3d_circumcenter_exact(a, b, c, p0, p1, p2, p3);
+}
+
+Sign orient2d_circumcenter(int axis, const double* a, const double* b, const double* p0,
+                           const double* p1, const double* p2, const double* p3) {
+  if (axis < 0 || axis > 2) {
+    throw Error("orient2d_circumcenter: axis " + std::to_string(axis) + " is not 0, 1 or 2");
+  }
+  const int s = detail::circumcenter_orient2d_filter(axis, a, b, p0, p1, p2, p3);
+  if (s != 0) return static_cast<Sign>(s);
+  return detail::orient2d_circumcenter_exact(axis, a, b, p0, p1, p2, p3);
 }
 
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,

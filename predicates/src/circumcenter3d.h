@@ -42,6 +42,24 @@
 // division adds mu |q~| / (1 - mu) and the sum p_0 + q~ adds mu |x~|. The half-width is
 // twice the sum of these terms (which covers the roundings of its own evaluation and of
 // x~ +- halfwidth), plus 2^-1000 for underflow.
+//
+// orient2d_circumcenter(axis, a, b, p0..p3). With (i, j) = (axis + 1, axis + 2) mod 3 and
+// w = b - a, its value is the axis component of w x (x - a) = w x t / (2 D), t = Nv - 2 D u
+// as above, so
+//   sign = sign(Q) * sign(D),   Q = w_i t_j - w_j t_i                (degree 5).
+// Filter bound, the same model: only w_i, w_j and u_i, u_j enter, so W and U may be the
+// norms of those two components (W = max(|w~_i|, |w~_j|), U likewise):
+//   t_x                              k 13   mag <= 6 D1 D2 D3 (D1 + D2 + D3 + 2 U)
+//   w_i t_j                          k 15   mag <= 6 W D1 D2 D3 (D1 + D2 + D3 + 2 U)
+//   Q = w_i t_j - w_j t_i            k 16   mag <= 12 W D1 D2 D3 (D1 + D2 + D3 + 2 U)
+// the norm product evaluated as (W (D1 D2 D3)) ((D1 + D2 + D3) + 2 U), r = 7 roundings:
+//   Q 12 gamma_16 (1 + mu)^9 / (1 - mu)^5 = 192.0 mu (stored 2.14e-14, 0.39 % of slack;
+//   the norm-product formula of scripts/filter_bounds.py with count 12, k 16, r 7, deg 5).
+// Range: as for P (degree 5 < 6, the same norms in [2^-150, 2^150]): a product that
+// underflows at degree d <= 4 reaches Q multiplied by at most a small count times T / B
+// <= 2^(4 * 150) T (T the root's norm product, B >= 2^(-150 d) the node's), so its error is
+// below 2^-475 T, and at the top products (co-factor 1) 2^-1075 <= 2^-325 T: far inside
+// the slack (about 2^-60 T).
 #pragma once
 
 #include <algorithm>
@@ -53,9 +71,10 @@
 
 namespace voroclip::detail {
 
-inline constexpr double kCircumcenterSideBound = 8.00e-14;  // 720 mu, rounded up
-inline constexpr double kCircumcenterDetBound = 5.33e-15;   // 48 mu
-inline constexpr double kCircumcenterNumBound = 8.00e-15;   // 72 mu
+inline constexpr double kCircumcenterSideBound = 8.00e-14;      // 720 mu, rounded up
+inline constexpr double kCircumcenterDetBound = 5.33e-15;       // 48 mu
+inline constexpr double kCircumcenterNumBound = 8.00e-15;       // 72 mu
+inline constexpr double kCircumcenterOrient2dBound = 2.14e-14;  // 192 mu
 inline constexpr double kCircumcenterLower = 0x1p-150, kCircumcenterUpper = 0x1p+150;
 
 // The floating-point values of the reduced form (differences to p0) and their norms.
@@ -111,10 +130,40 @@ inline int circumcenter_side_filter(const double* a, const double* b, const doub
   return 0;
 }
 
-// The exact stage, for every finite input; throws voroclip::Error for coplanar p0..p3 and
+// orient2d_circumcenter's value (the axis component of (b - a) x (x - a), x the
+// circumcenter) when Q and D are certainly non-zero: +1 / -1; 0 when the exact stage must
+// decide. axis is 0, 1 or 2 (not checked here).
+inline int circumcenter_orient2d_filter(int axis, const double* a, const double* b,
+                                        const double* p0, const double* p1, const double* p2,
+                                        const double* p3) {
+  const CircumcenterApprox x = circumcenter_approx(p0, p1, p2, p3);
+  const int i = axis == 2 ? 0 : axis + 1, j = axis == 0 ? 2 : axis - 1;
+  const double wi = b[i] - a[i], wj = b[j] - a[j];
+  const double ui = a[i] - p0[i], uj = a[j] - p0[j];
+  const double d2 = x.det + x.det;
+  const double ti = x.nv[i] - d2 * ui, tj = x.nv[j] - d2 * uj;
+  const double q = wi * tj - wj * ti;
+
+  const double wn = std::max(std::fabs(wi), std::fabs(wj));
+  const double un = std::max(std::fabs(ui), std::fabs(uj));
+  const double lower = std::min(wn, x.lower);
+  const double upper = std::max(std::max(wn, x.upper), un);
+  const double pq = (wn * x.pd) * (x.ps + 2 * un);
+  if (lower >= kCircumcenterLower && upper <= kCircumcenterUpper &&
+      std::fabs(q) > kCircumcenterOrient2dBound * pq &&
+      std::fabs(x.det) > kCircumcenterDetBound * x.pd) {
+    return decided_sign(q) * decided_sign(x.det);
+  }
+  return 0;
+}
+
+// The exact stages, for every finite input; throw voroclip::Error for coplanar p0..p3 and
 // non-finite coordinates.
 Sign orient3d_circumcenter_exact(const double* a, const double* b, const double* c,
                                  const double* p0, const double* p1, const double* p2,
                                  const double* p3);
+
+Sign orient2d_circumcenter_exact(int axis, const double* a, const double* b, const double* p0,
+                                 const double* p1, const double* p2, const double* p3);
 
 }  // namespace voroclip::detail

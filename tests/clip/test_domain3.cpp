@@ -85,7 +85,7 @@ std::string check_domain3(const Domain3& d) {
       }
     }
   }
-  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+  for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
     const std::uint32_t t = d.boundary_tet(b);
     const int f = d.boundary_facet(b);
     if (b > 0 &&
@@ -95,25 +95,28 @@ std::string check_domain3(const Domain3& d) {
     if (d.tet_adjacent(t, f) != kNone || d.tet_boundary(t, f) != b) {
       return "boundary triangle " + std::to_string(b) + " is not a boundary facet";
     }
-    const Tri tri = facet(d, t, f);
+    // The surface triangle is the facet reversed (outward by the right-hand rule).
+    const Tri f3 = facet(d, t, f);
+    const Tri tri = {f3[0], f3[2], f3[1]};
     for (int k = 0; k < 3; ++k) {
-      if (d.boundary_vertex(b, k) != tri[static_cast<std::size_t>(k)] ||
-          d.boundary_triangle(b)[k] != tri[static_cast<std::size_t>(k)]) {
-        return "boundary triangle " + std::to_string(b) + " is not its facet";
+      if (d.surface().triangle_vertex(b, k) != tri[static_cast<std::size_t>(k)] ||
+          d.surface().triangle(b)[k] != tri[static_cast<std::size_t>(k)]) {
+        return "boundary triangle " + std::to_string(b) + " is not its facet reversed";
       }
     }
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t u = d.boundary_vertex(b, (e + 1) % 3);
-      const std::uint32_t w = d.boundary_vertex(b, (e + 2) % 3);
-      const std::uint32_t n = d.boundary_adjacent(b, e);
+      const std::uint32_t u = d.surface().triangle_vertex(b, (e + 1) % 3);
+      const std::uint32_t w = d.surface().triangle_vertex(b, (e + 2) % 3);
+      const std::uint32_t n = d.surface().adjacent(b, e);
       if (n == kNone || n == b) return "boundary triangle " + std::to_string(b) + " open edge";
       int back = -1;
       for (int g = 0; g < 3; ++g) {
-        if (d.boundary_vertex(n, (g + 1) % 3) == w && d.boundary_vertex(n, (g + 2) % 3) == u) {
+        if (d.surface().triangle_vertex(n, (g + 1) % 3) == w &&
+            d.surface().triangle_vertex(n, (g + 2) % 3) == u) {
           back = g;
         }
       }
-      if (back < 0 || d.boundary_adjacent(n, back) != b) {
+      if (back < 0 || d.surface().adjacent(n, back) != b) {
         return "boundary adjacency not symmetric at triangle " + std::to_string(b);
       }
     }
@@ -121,8 +124,8 @@ std::string check_domain3(const Domain3& d) {
   // surface_order: every boundary triangle once; each one adjacent to a triangle before it,
   // or, once the component listed so far is complete (no listed triangle has an unlisted
   // neighbour), the lowest-numbered triangle not listed yet.
-  const std::vector<std::uint32_t>& order = d.surface_order();
-  const std::uint32_t nb = d.nb_boundary_triangles();
+  const std::vector<std::uint32_t>& order = d.surface().order();
+  const std::uint32_t nb = d.surface().nb_triangles();
   if (order.size() != nb) return "surface_order has the wrong length";
   std::vector<char> listed(nb, 0);
   std::uint32_t lowest = 0;    // the lowest-numbered triangle not listed yet
@@ -131,14 +134,14 @@ std::string check_domain3(const Domain3& d) {
     if (b >= nb || listed[b]) return "surface_order is not a permutation";
     bool after_neighbour = false;
     for (int e = 0; e < 3; ++e) {
-      after_neighbour = after_neighbour || listed[d.boundary_adjacent(b, e)];
+      after_neighbour = after_neighbour || listed[d.surface().adjacent(b, e)];
     }
     if (!after_neighbour && (b != lowest || open_edges != 0)) {
       return "surface_order: triangle " + std::to_string(b) + " does not continue the surface";
     }
     listed[b] = 1;
     for (int e = 0; e < 3; ++e) {
-      if (listed[d.boundary_adjacent(b, e)] && d.boundary_adjacent(b, e) != b) {
+      if (listed[d.surface().adjacent(b, e)] && d.surface().adjacent(b, e) != b) {
         --open_edges;
       } else {
         ++open_edges;
@@ -191,19 +194,19 @@ double det3(const double* a, const double* b, const double* c) {
 // The Euler characteristic V - E + F of the boundary surface.
 long long boundary_euler(const Domain3& d) {
   std::set<std::uint32_t> vertices;
-  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
-    for (int k = 0; k < 3; ++k) vertices.insert(d.boundary_vertex(b, k));
+  for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
+    for (int k = 0; k < 3; ++k) vertices.insert(d.surface().triangle_vertex(b, k));
   }
   std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
+  for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t u = d.boundary_vertex(b, (e + 1) % 3);
-      const std::uint32_t w = d.boundary_vertex(b, (e + 2) % 3);
+      const std::uint32_t u = d.surface().triangle_vertex(b, (e + 1) % 3);
+      const std::uint32_t w = d.surface().triangle_vertex(b, (e + 2) % 3);
       edges.emplace(std::min(u, w), std::max(u, w));
     }
   }
   return static_cast<long long>(vertices.size()) - static_cast<long long>(edges.size()) +
-         static_cast<long long>(d.nb_boundary_triangles());
+         static_cast<long long>(d.surface().nb_triangles());
 }
 
 struct Model {
@@ -275,35 +278,36 @@ TEST_CASE("Domain3 validates every shared model", "[clip]") {
     CHECK(d.source() == path);
     CHECK(d.nb_vertices() == m.vertices);
     CHECK(d.nb_tets() == m.tets);
-    CHECK(d.nb_boundary_triangles() == m.boundary);
+    CHECK(d.surface().nb_triangles() == m.boundary);
     CHECK(boundary_euler(d) == 2 - 2 * m.genus);
 
-    // The boundary triangles are the file's Triangles, each listed the other way round
-    // (outward in orient3d's sense is clockwise from outside; clip.h, Domain3).
+    // The surface triangles are the file's Triangles, outward as they are (Surface3).
     std::vector<Tri> ours, file;
-    for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
-      ours.push_back(
-          canonical({d.boundary_vertex(b, 0), d.boundary_vertex(b, 2), d.boundary_vertex(b, 1)}));
+    for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
+      const std::uint32_t* v = d.surface().triangle(b);
+      ours.push_back(canonical({v[0], v[1], v[2]}));
     }
     for (const Tri& t : medit_triangles(path)) file.push_back(canonical(t));
     std::sort(ours.begin(), ours.end());
     std::sort(file.begin(), file.end());
     CHECK(ours == file);
 
-    // Volume = the volume enclosed by the boundary (divergence theorem): the file's
-    // triangles give +sum det / 6, ours (reversed) -sum det / 6.
+    // Volume = the volume enclosed by the boundary (divergence theorem): +sum det / 6 over
+    // the file's triangles and over ours; the tets' volumes sum to it too.
     Sum enclosed_file, enclosed_ours;
     for (const Tri& t : medit_triangles(path)) {
       enclosed_file.add(det3(d.vertex(t[0]), d.vertex(t[1]), d.vertex(t[2])) / 6);
     }
-    for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
-      enclosed_ours.add(-det3(d.vertex(d.boundary_vertex(b, 0)), d.vertex(d.boundary_vertex(b, 1)),
-                              d.vertex(d.boundary_vertex(b, 2))) /
-                        6);
+    for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
+      const std::uint32_t* v = d.surface().triangle(b);
+      enclosed_ours.add(det3(d.vertex(v[0]), d.vertex(v[1]), d.vertex(v[2])) / 6);
     }
     CHECK(d.volume() > 0);
     CHECK(std::fabs(d.volume() - enclosed_file.value()) <= 1e-12 * d.volume());
     CHECK(std::fabs(d.volume() - enclosed_ours.value()) <= 1e-12 * d.volume());
+    CHECK(std::fabs(d.volume() - d.tet_volume()) <= 1e-12 * d.volume());
+    REQUIRE(d.surface().shells().size() == 1);
+    CHECK(d.surface().shells()[0].genus == static_cast<std::uint32_t>(m.genus));
 
     // TetGen writes det(p1 - p0, p2 - p0, p3 - p0) > 0: orient3d < 0, so every tet was
     // swapped (vertices 2 and 3), nothing else changed.
@@ -336,16 +340,16 @@ TEST_CASE("Domain3 is identical for 1 and N threads", "[clip]") {
   };
   const Domain3 one = build(1), many = build(8);
   CHECK(one.volume() == many.volume());
-  REQUIRE(one.nb_boundary_triangles() == many.nb_boundary_triangles());
+  REQUIRE(one.surface().nb_triangles() == many.surface().nb_triangles());
   for (std::uint32_t t = 0; t < one.nb_tets(); ++t) {
     for (int f = 0; f < 4; ++f) {
       REQUIRE(one.tet_adjacent(t, f) == many.tet_adjacent(t, f));
       REQUIRE(one.tet_vertex(t, f) == many.tet_vertex(t, f));
     }
   }
-  for (std::uint32_t b = 0; b < one.nb_boundary_triangles(); ++b) {
+  for (std::uint32_t b = 0; b < one.surface().nb_triangles(); ++b) {
     for (int e = 0; e < 3; ++e)
-      REQUIRE(one.boundary_adjacent(b, e) == many.boundary_adjacent(b, e));
+      REQUIRE(one.surface().adjacent(b, e) == many.surface().adjacent(b, e));
   }
 }
 
@@ -358,7 +362,7 @@ TEST_CASE("Domain3: the Kuhn cube, mixed orientations, scale sweep", "[clip][exa
       for (std::size_t t = 0; t < m.nb_tets(); t += 2) std::swap(m.tets[4 * t], m.tets[4 * t + 1]);
       const Domain3 d(m);
       require_valid(d);
-      CHECK(d.nb_boundary_triangles() == 12);
+      CHECK(d.surface().nb_triangles() == 12);
       CHECK(boundary_euler(d) == 2);
       // (The shifted coordinates are rounded: the cube is a cube to ~1e-13 relative.)
       CHECK(d.volume() == Approx(scale * scale * scale).epsilon(1e-11));
@@ -366,9 +370,9 @@ TEST_CASE("Domain3: the Kuhn cube, mixed orientations, scale sweep", "[clip][exa
       CHECK(d.bbox_hi()[2] == scale + shift);
       // All 6 tets share the diagonal: the 12 boundary triangles are the cube's faces.
       for (std::uint32_t b = 0; b < 12; ++b) {
-        const double* p = d.vertex(d.boundary_vertex(b, 0));
-        const double* q = d.vertex(d.boundary_vertex(b, 1));
-        const double* r = d.vertex(d.boundary_vertex(b, 2));
+        const double* p = d.vertex(d.surface().triangle_vertex(b, 0));
+        const double* q = d.vertex(d.surface().triangle_vertex(b, 1));
+        const double* r = d.vertex(d.surface().triangle_vertex(b, 2));
         bool on_face = false;
         for (int k = 0; k < 3; ++k) on_face = on_face || (p[k] == q[k] && q[k] == r[k]);
         CHECK(on_face);
@@ -389,7 +393,7 @@ TEST_CASE("Domain3: a flipped tet is accepted and reoriented", "[clip]") {
   CHECK(d.tet_vertex(0, 2) == 3);
   CHECK(d.tet_vertex(0, 3) == 2);
   CHECK(d.volume() == 1.0 / 6);
-  CHECK(d.nb_boundary_triangles() == 4);
+  CHECK(d.surface().nb_triangles() == 4);
   CHECK(boundary_euler(d) == 2);
   // Vertex 4 is used by no tet: ignored (not a duplicate), kept in the array.
   CHECK(d.nb_vertices() == 5);
@@ -402,7 +406,7 @@ TEST_CASE("Domain3: a non-convex mesh (a Kuhn cube without one tet) is accepted"
   m.tet_line.erase(m.tet_line.begin() + 2);
   const Domain3 d(m);
   require_valid(d);
-  CHECK(d.nb_boundary_triangles() == 12);
+  CHECK(d.surface().nb_triangles() == 12);
   CHECK(boundary_euler(d) == 2);
   CHECK(d.volume() == Approx(5.0 / 6).epsilon(1e-14));
 }
@@ -453,23 +457,25 @@ TEST_CASE("Domain3 rejects a boundary that is not a closed 2-manifold", "[clip][
   TetMeshInput m = make(tet_and(0, -1, 0), {0, 1, 2, 3, 0, 1, 4, 5});
   m.xyz.insert(m.xyz.end(), {0, 0, -1});
   CHECK(error_of(m) ==
-        "hand:100: tet 0: the boundary is not a 2-manifold: the edge (vertices 0 1) is in 4 "
-        "boundary triangles (2 expected), the facets of tet 0 (line 100), tet 0 (line 100), "
-        "tet 1 (line 101) and tet 1 (line 101)");
+        "hand:100: the boundary facet of tet 0: the surface is not a 2-manifold: the edge "
+        "(vertices 0 1) is in 4 triangles (2 expected): the boundary facet of tet 0 (line 100), "
+        "the boundary facet of tet 0 (line 100), the boundary facet of tet 1 (line 101) and the "
+        "boundary facet of tet 1 (line 101)");
   // The Kuhn cube without two opposite tets: two wedges touching along the diagonal.
   TetMeshInput k = kuhn_cube();
   k.tets.erase(k.tets.begin() + 20, k.tets.begin() + 24);  // order {4, 2, 1}
   k.tets.erase(k.tets.begin(), k.tets.begin() + 4);        // order {1, 2, 4}
   k.tet_line = {11, 12, 13, 14};
   const std::string e = error_of(k);
-  CHECK(e.find("kuhn:11: tet 0: the boundary is not a 2-manifold: the edge (vertices 0 7) is "
-               "in 4 boundary triangles") == 0);
+  CHECK(e.find("kuhn:11: the boundary facet of tet 0: the surface is not a 2-manifold: the "
+               "edge (vertices 0 7) is in 4 triangles") == 0);
   // Two tets sharing only vertex 0: every edge is fine, vertex 0 has two fans.
   TetMeshInput v = make(tet_and(-1, 0, 0), {0, 1, 2, 3, 0, 4, 5, 6});
   v.xyz.insert(v.xyz.end(), {0, -1, 0, 0, 0, -1});
   CHECK(error_of(v) ==
-        "hand: the boundary is not a 2-manifold at vertex 0 (0, 0, 0): its boundary "
-        "triangles form several fans, one in tet 0 (line 100), another in tet 1 (line 101)");
+        "hand: the surface is not a 2-manifold at vertex 0 (0, 0, 0) (a pinched vertex): its "
+        "triangles form several fans, one with the boundary facet of tet 0 (line 100), another "
+        "with the boundary facet of tet 1 (line 101)");
 }
 
 TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][degenerate]") {
@@ -489,7 +495,7 @@ TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][dege
   // An empty mesh is an empty domain.
   const Domain3 empty{TetMeshInput{}};
   CHECK(empty.nb_tets() == 0);
-  CHECK(empty.nb_boundary_triangles() == 0);
+  CHECK(empty.surface().nb_triangles() == 0);
   CHECK(empty.volume() == 0);
 }
 

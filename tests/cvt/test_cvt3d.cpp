@@ -87,12 +87,36 @@ TEST_CASE("cvt3d: gradient equals finite differences of the energy", "[cvt]") {
   SECTION("constant density") { check_gradient(d, sites, {}); }
   SECTION("linear density") {
     voroclip::Clip3Options o;
+    std::vector<double> values;
     for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
       const double* p = d.vertex(v);
-      o.vertex_density.push_back(1 + p[0] + 0.5 * p[2]);
+      values.push_back(1 + p[0] + 0.5 * p[2]);
     }
+    o.density = voroclip::Density3::vertex_linear(values);
     check_gradient(d, sites, o);
   }
+}
+
+TEST_CASE(
+    "cvt3d: gradient against finite differences on a surface domain, non-polynomial "
+    "density",
+    "[cvt]") {
+  // The unit cube given by 12 triangles; rho = 1 / (0.1 + |x - c|^2), integrated by the
+  // degree-5 rule on the cells' cone decompositions.
+  voroclip::TriangleSurface box;
+  box.source = "box";
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) box.xyz.push_back((i >> k) & 1 ? 1.0 : 0.0);
+  }
+  box.triangles = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                   2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  const Domain3 d(box);
+  REQUIRE(!d.has_tets());
+  const std::vector<double> sites = voroclip::random_points3(d, 40, 23);
+  voroclip::Clip3Options o;
+  o.density = voroclip::Density3::function(
+      [](double x, double y, double z) { return std::exp(0.5 * x + 0.3 * y - 0.2 * z); });
+  check_gradient(d, sites, o);
 }
 
 TEST_CASE("cvt3d: eight sites in a cube converge to the centres of its octants", "[cvt]") {
@@ -289,9 +313,18 @@ TEST_CASE("random_points3: uniform and linear-density samples", "[cvt]") {
   // rho = 1 + x: E[x] = ∫x(1 + x) / ∫(1 + x) over [0, 2] = (2 + 8/3) / 4 = 7/6.
   std::vector<double> rho;
   for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) rho.push_back(1 + d.vertex(v)[0]);
-  const std::vector<double> w = voroclip::random_points3(d, n, 2, &rho);
+  const std::vector<double> w =
+      voroclip::random_points3(d, n, 2, voroclip::Density3::vertex_linear(rho));
   REQUIRE(std::fabs(mean_x(w) - 7.0 / 6) < 0.01);
+  // The same density as a function, on the surface path.
+  const std::vector<double> f = voroclip::random_points3(
+      d, n, 2, voroclip::Density3::function([](double x, double, double) { return 1 + x; }));
+  REQUIRE(std::fabs(mean_x(f) - 7.0 / 6) < 0.01);
   rho[0] = -1;
-  REQUIRE_THROWS_WITH(voroclip::random_points3(d, 10, 2, &rho),
+  REQUIRE_THROWS_WITH(voroclip::random_points3(d, 10, 2, voroclip::Density3::vertex_linear(rho)),
                       Catch::Contains("density") && Catch::Contains("vertex 0"));
+  REQUIRE_THROWS_WITH(
+      voroclip::random_points3(
+          d, 10, 2, voroclip::Density3::function([](double x, double, double) { return x - 1; })),
+      Catch::Contains("density") && Catch::Contains("positive"));
 }

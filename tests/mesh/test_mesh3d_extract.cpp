@@ -79,7 +79,7 @@ std::vector<double> mixed_sites(const Domain3& d, std::uint32_t n, std::uint64_t
   std::mt19937_64 rng(seed);
   const auto u01 = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
   for (std::uint32_t i = n / 2; i < n; ++i) {
-    const std::uint32_t b = static_cast<std::uint32_t>(rng() % d.nb_boundary_triangles());
+    const std::uint32_t b = static_cast<std::uint32_t>(rng() % d.surface().nb_triangles());
     double w[3] = {u01(), u01(), 0};
     if (w[0] + w[1] > 1) {
       w[0] = 1 - w[0];
@@ -88,7 +88,7 @@ std::vector<double> mixed_sites(const Domain3& d, std::uint32_t n, std::uint64_t
     w[2] = 1 - w[0] - w[1];
     for (int c = 0; c < 3; ++c) {
       double x = 0;
-      for (int k = 0; k < 3; ++k) x += w[k] * d.vertex(d.boundary_vertex(b, k))[c];
+      for (int k = 0; k < 3; ++k) x += w[k] * d.vertex(d.surface().triangle_vertex(b, k))[c];
       xyz.push_back(x);
     }
   }

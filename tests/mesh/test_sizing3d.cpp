@@ -26,8 +26,8 @@ Domain3 model(const std::string& name) {
 
 std::vector<std::uint32_t> boundary_vertices(const Domain3& d) {
   std::vector<std::uint32_t> v;
-  for (std::uint32_t b = 0; b < d.nb_boundary_triangles(); ++b) {
-    for (int k = 0; k < 3; ++k) v.push_back(d.boundary_vertex(b, k));
+  for (std::uint32_t b = 0; b < d.surface().nb_triangles(); ++b) {
+    for (int k = 0; k < 3; ++k) v.push_back(d.surface().triangle_vertex(b, k));
   }
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());

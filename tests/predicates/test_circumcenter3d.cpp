@@ -420,3 +420,224 @@ TEST_CASE("orient3d_circumcenter and the enclosure: coplanar sites and non-finit
   CHECK_FALSE(circumcenter3d_enclosure(o, x, huge, z, centre, hw));
   CHECK_FALSE(circumcenter3d_enclosure(bad, x, y, z, centre, hw));
 }
+
+// ---------------------------------------------------------------------------------------
+// orient2d_circumcenter: the same families; the oracle is the axis component of
+// (b - a) x (x - a) at the exact circumcenter x (the contract's definition).
+
+namespace {
+
+std::size_t other(int axis, int k) { return static_cast<std::size_t>((axis + k) % 3); }
+
+// 2: throws (coplanar p); else -1, 0, +1.
+int oracle2d(const Case& k, int axis) {
+  Q3 x;
+  if (!exact_circumcenter(k.p, x)) return 2;
+  const std::size_t i = other(axis, 1), j = other(axis, 2);
+  const Q wi = Q(k.b[i]) - Q(k.a[i]), wj = Q(k.b[j]) - Q(k.a[j]);
+  return sgn(wi * (x[j] - Q(k.a[j])) - wj * (x[i] - Q(k.a[i])));
+}
+
+int run2d(const Case& k, int axis, bool exact_stage) {
+  try {
+    const Sign s = exact_stage ? detail::orient2d_circumcenter_exact(axis, k.a.data(), k.b.data(),
+                                                                     k.p[0].data(), k.p[1].data(),
+                                                                     k.p[2].data(), k.p[3].data())
+                               : orient2d_circumcenter(axis, k.a.data(), k.b.data(), k.p[0].data(),
+                                                       k.p[1].data(), k.p[2].data(), k.p[3].data());
+    return static_cast<int>(s);
+  } catch (const Error&) {
+    return 2;
+  }
+}
+
+int run2d_filter(const Case& k, int axis) {
+  return detail::circumcenter_orient2d_filter(axis, k.a.data(), k.b.data(), k.p[0].data(),
+                                              k.p[1].data(), k.p[2].data(), k.p[3].data());
+}
+
+// Coordinates rotated: (x, y, z) -> (y, z, x). Axis k of the input is axis k - 1 (mod 3)
+// of the result, with the same two projected coordinates in the same order.
+P3 rotated(const P3& p) { return {p[1], p[2], p[0]}; }
+
+}  // namespace
+
+TEST_CASE("orient2d_circumcenter: hand-derived cases", "[predicates][exact]") {
+  // The circumcenter of 0, e_x, e_y, e_z is (1/2, 1/2, 1/2).
+  const double p0[3] = {0, 0, 0}, p1[3] = {1, 0, 0}, p2[3] = {0, 1, 0}, p3[3] = {0, 0, 1};
+  // Axis 2, the plane (x, y): a -> (0, 0), b -> (1, 0); the centre (1/2, 1/2) is on the left.
+  const double a2[3] = {0, 0, 5}, b2[3] = {1, 0, -3};
+  CHECK(orient2d_circumcenter(2, a2, b2, p0, p1, p2, p3) == Sign::positive);
+  CHECK(orient2d_circumcenter(2, b2, a2, p0, p1, p2, p3) == Sign::negative);
+  CHECK(orient2d_circumcenter(2, a2, b2, p3, p2, p0, p1) == Sign::positive);
+  // Axis 0, the plane (y, z); axis 1, the plane (z, x) (cyclic order).
+  const double a0[3] = {5, 0, 0}, b0[3] = {2, 1, 0};
+  CHECK(orient2d_circumcenter(0, a0, b0, p0, p1, p2, p3) == Sign::positive);
+  const double a1[3] = {0, 3, 0}, b1[3] = {0, -1, 1};
+  CHECK(orient2d_circumcenter(1, a1, b1, p0, p1, p2, p3) == Sign::positive);
+  const double b1x[3] = {1, -1, 0};  // (z, x) from (0, 0) to (0, 1): the centre on the right
+  CHECK(orient2d_circumcenter(1, a1, b1x, p0, p1, p2, p3) == Sign::negative);
+  // The projection of the centre on the projected line (not the 3D line): zero.
+  const double a3[3] = {0, 0.5, 7}, b3[3] = {1, 0.5, 9};
+  CHECK(orient2d_circumcenter(2, a3, b3, p0, p1, p2, p3) == Sign::zero);
+  CHECK(orient2d_circumcenter(0, a3, b3, p0, p1, p2, p3) == Sign::zero);      // (y, z): y = 1/2
+  CHECK(orient2d_circumcenter(1, a3, b3, p0, p1, p2, p3) == Sign::positive);  // (z, x)
+  // a and b with the same projection: zero whatever the centre.
+  const double a4[3] = {3, 7, 1}, b4[3] = {3, 7, -4};
+  CHECK(orient2d_circumcenter(2, a4, b4, p0, p1, p2, p3) == Sign::zero);
+  // Agreement with orient2d on the explicit projected centre.
+  const double c2d[2] = {0.5, 0.5}, a2d[2] = {0, 0}, b2d[2] = {1, 0};
+  CHECK(orient2d(a2d, b2d, c2d) == Sign::positive);
+}
+
+TEST_CASE("orient2d_circumcenter agrees with the rational oracle on every family",
+          "[predicates][exact][degenerate]") {
+  const std::uint64_t seed = seed_for(0xc1c2d);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  for (const Family fam : kFamilies) {
+    INFO("family " << name(fam));
+    const std::size_t n = scaled(fam == Family::mixed ? 2000 : 8000);
+    std::size_t failures = 0, zeros = 0, throws = 0, undecided = 0;
+    for (std::size_t it = 0; it < n; ++it) {
+      const Case k = make_case(fam, rng);
+      const int axis = static_cast<int>(rng() % 3);
+      const int want = oracle2d(k, axis);
+      const int got = run2d(k, axis, false), exact = run2d(k, axis, true);
+      const int filt = run2d_filter(k, axis);
+      zeros += want == 0;
+      throws += want == 2;
+      undecided += filt == 0;
+      const bool ok = got == want && exact == want && (filt == 0 || filt == want);
+      if (!ok) {
+        ++failures;
+        if (failures <= 10) {
+          FAIL_CHECK("axis " << axis << " " << describe(k) << ": want " << want << " got " << got
+                             << " exact stage " << exact << " filter " << filt);
+        }
+      }
+    }
+    INFO(zeros << " on the line, " << throws << " coplanar, " << undecided
+               << " undecided by the filter, of " << n);
+    CHECK(failures == 0);
+    if (fam == Family::random) CHECK(undecided * 1000 <= n);
+    if (fam == Family::grid) {
+      // The lattice family puts a and b on a line through the centre: exact zeros.
+      CHECK(zeros > n / 10);
+      CHECK(throws > n / 100);
+    }
+    if (fam == Family::near) {
+      CHECK(undecided > n / 8);
+      CHECK(undecided < n - n / 8);
+    }
+  }
+}
+
+TEST_CASE("orient2d_circumcenter: scale invariance and symmetries", "[predicates][exact]") {
+  const std::uint64_t seed = seed_for(0xc1c2e);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  std::size_t failures = 0;
+  for (std::size_t it = 0; it < scaled(500); ++it) {
+    const Case k0 = make_case(it % 2 == 0 ? Family::near : Family::grid, rng);
+    const int axis = static_cast<int>(it % 3);
+    const int s0 = run2d(k0, axis, false);
+    // Swapping a and b flips the sign; any permutation of the sites keeps it; rotating the
+    // coordinates moves the axis.
+    Case flipped = k0;
+    std::swap(flipped.a, flipped.b);
+    Case permuted = k0;
+    std::swap(permuted.p[0], permuted.p[2]);
+    std::swap(permuted.p[1], permuted.p[3]);
+    Case rot = k0;
+    for (P3* q : {&rot.a, &rot.b, &rot.p[0], &rot.p[1], &rot.p[2], &rot.p[3]}) *q = rotated(*q);
+    const int sf = run2d(flipped, axis, false), sp = run2d(permuted, axis, false);
+    const int sr = run2d(rot, (axis + 2) % 3, false);
+    if ((s0 == 2 ? sf != 2 : sf != -s0) || sp != s0 || sr != s0) {
+      ++failures;
+      FAIL_CHECK("axis " << axis << " " << describe(k0) << ": " << s0 << " flipped " << sf
+                         << " permuted " << sp << " rotated " << sr);
+    }
+    for (int e = -500; e <= 500; e += 50 + static_cast<int>(rng() % 7)) {
+      Case k = k0;
+      for (P3* q : {&k.a, &k.b, &k.c, &k.p[0], &k.p[1], &k.p[2], &k.p[3]}) *q = scaled_point(*q, e);
+      if (run2d(k, axis, false) != s0) {
+        ++failures;
+        FAIL_CHECK("scale 2^" << e << ": axis " << axis << " " << describe(k0));
+      }
+    }
+  }
+  CHECK(failures == 0);
+}
+
+TEST_CASE("orient2d_circumcenter: the centre exactly on the projected line, at every scale",
+          "[predicates][exact][degenerate]") {
+  // Sites symmetric about c (c + (±r, 0, 0), c + (0, r, 0), c + (0, 0, r)): the circumcenter
+  // is c exactly. a and b on a line through c's projection, offset along the axis: zero;
+  // moved by one ulp across it: the side of the move.
+  const std::uint64_t seed = seed_for(0xc1c2f);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  std::size_t failures = 0;
+  for (int e = -1000; e <= 1000; e += 40) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const P3 c = {std::ldexp(static_cast<double>(rand_int(rng, -64, 64)), e),
+                    std::ldexp(static_cast<double>(rand_int(rng, -64, 64)), e),
+                    std::ldexp(static_cast<double>(rand_int(rng, -64, 64)), e)};
+      const double r = std::ldexp(static_cast<double>(rand_int(rng, 1, 64)), e);
+      Case k{};
+      k.p[0] = {c[0] + r, c[1], c[2]};
+      k.p[1] = {c[0] - r, c[1], c[2]};
+      k.p[2] = {c[0], c[1] + r, c[2]};
+      k.p[3] = {c[0], c[1], c[2] + r};
+      const std::size_t i = other(axis, 1), j = other(axis, 2), ax = other(axis, 0);
+      // a = c + s d, b = c + (s + 1) d along a lattice direction d in the projection.
+      const double di = std::ldexp(static_cast<double>(rand_int(rng, -8, 8)), e);
+      const double dj = std::ldexp(static_cast<double>(rand_int(rng, 1, 8)), e);
+      // s != -1: b's projection is not the centre's (a's move below would keep the line on it).
+      long long si = rand_int(rng, -3, 2);
+      if (si >= -1) ++si;
+      const double s = static_cast<double>(si);
+      k.a = c;
+      k.a[i] += s * di;
+      k.a[j] += s * dj;
+      k.a[ax] += std::ldexp(static_cast<double>(rand_int(rng, -64, 64)), e);
+      k.b = c;
+      k.b[i] += (s + 1) * di;
+      k.b[j] += (s + 1) * dj;
+      k.b[ax] -= std::ldexp(static_cast<double>(rand_int(rng, -64, 64)), e);
+      const int want0 = oracle2d(k, axis);
+      if (want0 != 0 || run2d(k, axis, false) != 0) {
+        ++failures;
+        FAIL_CHECK("2^" << e << " axis " << axis << ": " << describe(k) << " oracle " << want0);
+      }
+      // One ulp of a's i coordinate up: the line (never parallel to the i axis, dj != 0)
+      // leaves the centre, which falls on the side the oracle gives (non-zero, and the
+      // predicate agrees).
+      Case moved = k;
+      moved.a[i] = nudge(moved.a[i], 1);
+      const int want1 = oracle2d(moved, axis);
+      if (want1 == 0 || run2d(moved, axis, false) != want1) {
+        ++failures;
+        FAIL_CHECK("2^" << e << " axis " << axis << " nudged: " << describe(moved));
+      }
+    }
+  }
+  CHECK(failures == 0);
+}
+
+TEST_CASE("orient2d_circumcenter: coplanar sites, bad axis and non-finite input",
+          "[predicates][exact][degenerate]") {
+  const double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, xy[3] = {1, 1, 0};
+  const double z[3] = {0, 0, 1};
+  for (int axis = 0; axis < 3; ++axis) {
+    CHECK_THROWS_AS(orient2d_circumcenter(axis, o, z, o, x, y, xy), Error);
+  }
+  CHECK_THROWS_AS(orient2d_circumcenter(3, o, z, o, x, y, z), Error);
+  CHECK_THROWS_AS(orient2d_circumcenter(-1, o, z, o, x, y, z), Error);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double bad[3] = {0, nan, 0}, huge[3] = {0, 0, -inf};
+  CHECK_THROWS_AS(orient2d_circumcenter(2, bad, z, o, x, y, z), Error);
+  CHECK_THROWS_AS(orient2d_circumcenter(0, o, z, o, x, huge, z), Error);
+}

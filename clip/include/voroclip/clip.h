@@ -18,6 +18,10 @@
 
 namespace voroclip {
 
+namespace detail {
+class SurfaceLocator;  // clip/src/surface_locate.h
+}  // namespace detail
+
 // ---------------------------------------------------------------------------------------
 // Domain2: a bounded open set of the plane whose boundary is a set of disjoint simple
 // polygonal rings.
@@ -243,48 +247,71 @@ class ClippedVoronoi2 {
 };
 
 // ---------------------------------------------------------------------------------------
-// Domain3: the volume of a tetrahedral mesh, validated (clip/src/domain3.cpp).
+// Surface3: the boundary of a bounded volume as a closed, oriented, embedded triangle
+// surface of one or more shells, validated exactly (clip/src/surface3.cpp). It is all that
+// the 3D clipping, CVT and meshing need of a domain: inside / outside is an exact query on
+// it (locate), so no tetrahedral mesh is needed.
 //
-// Built from TetMeshInput (core.h). Every tet is made positively oriented (orient3d of its
-// vertices in order > 0, exact), swapping its local vertices 2 and 3 when it is negative.
-// The constructor throws Error, naming the source, the element (tet index as in the
-// TetMeshInput, i.e. the file's order from 0, and its line in the file), the vertices
-// involved (indices into the TetMeshInput's vertices, from 0) and the defect, for
-//   - a tet of zero volume (four coplanar vertices, exact) or with a repeated vertex;
-//   - duplicate vertices (two vertices with equal coordinates, both used by tets);
-//   - a facet shared by more than two tets, or two tets that overlap (a facet whose two
-//     tets lie on the same side of it);
-//   - a boundary (facets of exactly one tet) that is not a closed 2-manifold: a boundary
-//     edge not shared by exactly two boundary triangles (tets meeting along an edge only),
-//     or a vertex whose boundary triangles form more than one fan (tets meeting at a
-//     vertex only);
-//   - a non-finite coordinate (of a used vertex), a vertex index out of range.
-// Vertices used by no tet are allowed and ignored (kept, so indices stay those of the
-// input). Not detected: tets that intersect without sharing a facet (two crossing
-// components, a mesh winding twice around an edge): no local test sees them.
-// Tets keep the input's order (source_tet(t) == t) and the result is the same for any
-// thread count.
+// Built from a TriangleSurface (core.h: OBJ, OFF, STL, PLY files) or, by Domain3, from the
+// boundary of a tet mesh. Vertices keep their input indices: a vertex with the coordinates
+// of an earlier one is welded to it (triangles use the earliest index with those
+// coordinates); unused and welded vertices stay in the array, unused by any triangle.
+// Triangles keep their input order.
 //
-// Local numbering (the convention of Delaunay3::kFacetVertex): facet f of tet t is
-// opposite vertex f and has the vertices kTetFacetVertex[f], listed so that
-// orient3d(facet, q) < 0 for q on the tet's side and > 0 beyond it: "outward" in the sense
-// of orient3d. With Shewchuk's sign convention (predicates.h) such a triangle is CLOCKWISE
-// seen from outside, i.e. its right-hand normal (b - a) x (c - a) points into the tet: a
-// surface file oriented by the right-hand rule (Medit Triangles, OBJ, the shared data's
-// boundary triangles) lists each boundary triangle reversed, and the enclosed volume is
-// -sum over boundary triangles of det(a, b, c) / 6. Input tets oriented the other way
-// (TetGen's det(p1 - p0, p2 - p0, p3 - p0) > 0, i.e. orient3d < 0) are all swapped.
-// Boundary triangle b is the facet boundary_facet(b) of tet boundary_tet(b), with the same
-// orientation; boundary triangles are ordered by (tet, facet). Its edge e is opposite its
-// vertex e (from vertex e + 1 to vertex e + 2, mod 3), and boundary_adjacent(b, e) is the
-// boundary triangle across that edge (which runs through it the other way).
-class Domain3 {
+// A valid surface (each defect is reported as below):
+//   - indices in range; finite coordinates (of the used vertices);
+//   - no triangle with a repeated vertex (after welding) or of zero area (collinear
+//     corners, exact); no two triangles with the same three vertices (duplicates);
+//   - every edge in exactly two triangles, which run through it in opposite directions: a
+//     closed, consistently oriented 2-manifold; the triangles around each vertex form one
+//     fan (no pinched vertex);
+//   - no two triangles meet other than at the edge or the vertex they share (exact
+//     triangle-triangle tests; touching counts as meeting);
+//   - each shell (connected component) oriented as its nesting says: a shell inside an
+//     even number of other shells bounds the volume from outside and faces outward, one
+//     inside an odd number (a cavity, or the inner wall of a hollow part) faces inward; so
+//     every triangle's right-hand normal, (b - a) x (c - a) for (a, b, c), points out of
+//     the volume. An inside-out shell is rejected by default (it usually means a wrong
+//     export); with Surface3Options::reorient it is reversed instead (Shell::reoriented).
+// The constructor throws Error "source: what", naming triangles as the file numbers its
+// faces (TriangleSurface::triangle_face: "face 12 (line 40)"; from 0 without numbering),
+// vertices as the file numbers them (vertex_base) and the defect, e.g. "bunny.obj: faces
+// 230 (line 3535) and 2473 (line 5778) intersect". The first defect found in a fixed
+// order (the checks above, each by its smallest element) is reported, for any thread
+// count.
+//
+// Local numbering, as Domain3's boundary: edge e of triangle t is opposite its corner e,
+// from corner e + 1 to corner e + 2 (mod 3), and adjacent(t, e) is the triangle across it
+// (which runs through it the other way).
+struct Surface3Options {
+  // Reverse the shells whose orientation contradicts their nesting instead of rejecting
+  // the surface.
+  bool reorient = false;
+};
+
+class Surface3 {
  public:
   static constexpr std::uint32_t kNone = 0xffffffffu;
-  static constexpr int kTetFacetVertex[4][3] = {{1, 2, 3}, {0, 3, 2}, {3, 0, 1}, {2, 1, 0}};
 
-  Domain3() = default;
-  explicit Domain3(const TetMeshInput& mesh);
+  // One connected component of the surface.
+  struct Shell {
+    std::uint32_t first_triangle = 0;  // its lowest triangle index
+    std::uint32_t nb_triangles = 0, nb_vertices = 0, nb_edges = 0;
+    std::uint32_t genus = 0;  // (2 - (V - E + F)) / 2
+    // The innermost shell that encloses this one (kNone: none), and how many do.
+    std::uint32_t parent = kNone;
+    std::uint32_t depth = 0;
+    double area = 0;
+    // The volume it encloses, signed by its role: positive for an outer boundary, negative
+    // for a cavity (odd depth). Sum of the signed tet volumes over its triangles from a
+    // fixed point, compensated.
+    double volume = 0;
+    bool reoriented = false;  // reversed by Surface3Options::reorient
+    bool cavity() const { return depth % 2 == 1; }
+  };
+
+  Surface3() = default;
+  explicit Surface3(const TriangleSurface& surface, const Surface3Options& options = {});
 
   const std::string& source() const { return source_; }
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz_.size() / 3); }
@@ -294,6 +321,145 @@ class Domain3 {
   }
   const std::vector<double>& coords() const { return xyz_; }
 
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles_.size() / 3); }
+  // Corner k of triangle t; the corners, counter-clockwise seen from outside the volume.
+  std::uint32_t triangle_vertex(std::uint32_t t, int k) const {
+    assert(t < nb_triangles() && k >= 0 && k < 3);
+    return triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+  }
+  const std::uint32_t* triangle(std::uint32_t t) const {
+    assert(t < nb_triangles());
+    return triangles_.data() + 3 * static_cast<std::size_t>(t);
+  }
+  const std::vector<std::uint32_t>& triangles() const { return triangles_; }
+  std::uint32_t adjacent(std::uint32_t t, int e) const {
+    assert(t < nb_triangles() && e >= 0 && e < 3);
+    return adjacent_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(e)];
+  }
+  // Every triangle once, depth first over the surface (from the lowest-numbered triangle
+  // of each shell, across edges in the order 0, 1, 2 pushed on a stack): consecutive
+  // triangles are mostly adjacent.
+  const std::vector<std::uint32_t>& order() const { return order_; }
+
+  const std::vector<Shell>& shells() const { return shells_; }
+  std::uint32_t shell_of(std::uint32_t t) const { return shell_of_[t]; }
+  // Total area, and the enclosed volume (the shells' signed volumes summed: outer minus
+  // cavities). Bounding box of the used vertices.
+  double area() const { return area_; }
+  double volume() const { return volume_; }
+  const double* bbox_lo() const { return bbox_; }
+  const double* bbox_hi() const { return bbox_ + 3; }
+  // Vertices welded to an earlier one with the same coordinates.
+  std::uint32_t nb_welded_vertices() const { return nb_welded_; }
+
+  // Exact point location: POSITIVE strictly inside the volume, ZERO on the surface,
+  // NEGATIVE outside. The parity of the crossings of an axis-parallel ray with the
+  // triangles, the point perturbed symbolically off the ray's degenerate hits (edges,
+  // vertices, triangles parallel to the ray), on a grid of the triangles' projections
+  // (surface_locate.cpp). Throws Error for a non-finite coordinate. Thread-safe.
+  Sign locate(const double* p) const;
+  // The same for the circumcentre of p0..p3 (the point equidistant from the four), exact.
+  // Throws Error for coplanar points.
+  Sign locate_circumcenter(const double* p0, const double* p1, const double* p2,
+                           const double* p3) const;
+
+  // For messages: triangle t as the input names it ("face 12 (line 40)"), and vertex v.
+  std::string triangle_name(std::uint32_t t) const;
+  std::string vertex_name(std::uint32_t v) const;
+
+ private:
+  friend class Domain3;
+  // How messages name triangles: by index from 0, by the file's face numbers and lines, or
+  // (a tet mesh's boundary) by their tet and its line.
+  enum class Naming : std::uint8_t { kIndex, kFace, kTetFacet };
+  // The checks and structures after the per-triangle checks (surface3.cpp): edges and
+  // adjacency, fans, self-intersections, shells and their order, areas and volumes,
+  // nesting and orientation, the locator.
+  void build(const Surface3Options& options);
+  // "source:line: face 12", the start of a message about triangle t.
+  std::string at(std::uint32_t t) const;
+  std::string source_;
+  std::vector<double> xyz_;
+  std::vector<std::uint32_t> triangles_;
+  std::vector<std::uint32_t> adjacent_;
+  std::vector<std::uint32_t> order_;
+  std::vector<std::uint32_t> shell_of_;
+  std::vector<Shell> shells_;
+  Naming naming_ = Naming::kIndex;
+  std::vector<std::uint32_t> triangle_face_;  // kFace: the face number; kTetFacet: the tet
+  std::vector<std::uint32_t> triangle_line_;  // (0: not known)
+  std::uint32_t vertex_base_ = 0;
+  double area_ = 0, volume_ = 0;
+  double bbox_[6] = {0, 0, 0, 0, 0, 0};
+  std::uint32_t nb_welded_ = 0;
+  // The point-location structure (immutable once built; shared by copies).
+  std::shared_ptr<const detail::SurfaceLocator> locator_;
+};
+
+// ---------------------------------------------------------------------------------------
+// Domain3: a bounded volume for the 3D clipped diagrams, CVT and meshing: its boundary
+// surface (Surface3), and optionally a tetrahedral mesh of it.
+//
+// From a surface: the volume it bounds; nothing else is needed (clip3d, CVT, mesh3d).
+// From a tet mesh (clip/src/domain3.cpp): the tets, validated exactly, and their boundary
+// as the surface (validated as a Surface3, the checks the tets have made skipped: the
+// triangle-triangle and nesting tests remain). Only what needs tets reads them: the
+// tet-by-tet clipping (Clip3Options::tet_clipping, the reference path), a density linear
+// per tet (Clip3Options::vertex_density), and the region data of the mesh.
+//
+// Tet mesh validation: every tet is made positively oriented (orient3d of its vertices in
+// order > 0, exact), swapping its local vertices 2 and 3 when it is negative. The
+// constructor throws Error, naming the source, the element (tet index as in the
+// TetMeshInput, i.e. the file's order from 0, and its line in the file), the vertices
+// involved (indices into the TetMeshInput's vertices, from 0) and the defect, for
+//   - a tet of zero volume (four coplanar vertices, exact) or with a repeated vertex;
+//   - duplicate vertices (two vertices with equal coordinates, both used by tets);
+//   - a facet shared by more than two tets, or two tets that overlap (a facet whose two
+//     tets lie on the same side of it);
+//   - a boundary (facets of exactly one tet) that is not a closed 2-manifold: a boundary
+//     edge not shared by exactly two boundary triangles (tets meeting along an edge only),
+//     or a vertex whose boundary triangles form more than one fan (tets meeting at a
+//     vertex only); boundary triangles that intersect (Surface3);
+//   - a non-finite coordinate (of a used vertex), a vertex index out of range.
+// Vertices used by no tet are allowed and ignored (kept, so indices stay those of the
+// input). Tets keep the input's order (source_tet(t) == t) and the result is the same for
+// any thread count.
+//
+// Local numbering (the convention of Delaunay3::kFacetVertex): facet f of tet t is
+// opposite vertex f and has the vertices kTetFacetVertex[f], listed so that
+// orient3d(facet, q) < 0 for q on the tet's side and > 0 beyond it: "outward" in the sense
+// of orient3d. With Shewchuk's sign convention (predicates.h) such a triangle is CLOCKWISE
+// seen from outside. Input tets oriented the other way (TetGen's det(p1 - p0, p2 - p0,
+// p3 - p0) > 0, i.e. orient3d < 0) are all swapped. Surface triangle b is the facet
+// boundary_facet(b) of tet boundary_tet(b), reversed (counter-clockwise seen from outside,
+// as Surface3 lists triangles); surface triangles are ordered by (tet, facet).
+class Domain3 {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  static constexpr int kTetFacetVertex[4][3] = {{1, 2, 3}, {0, 3, 2}, {3, 0, 1}, {2, 1, 0}};
+
+  Domain3() = default;
+  // The volume bounded by a closed surface.
+  explicit Domain3(const TriangleSurface& surface, const Surface3Options& options = {});
+  explicit Domain3(Surface3 surface);
+  // The volume of a tet mesh.
+  explicit Domain3(const TetMeshInput& mesh);
+
+  const Surface3& surface() const { return surface_; }
+  const std::string& source() const { return surface_.source(); }
+  // Vertices: the surface's (for a tet mesh: every vertex of the mesh, same indices).
+  std::uint32_t nb_vertices() const { return surface_.nb_vertices(); }
+  const double* vertex(std::uint32_t v) const { return surface_.vertex(v); }
+  const std::vector<double>& coords() const { return surface_.coords(); }
+  // The enclosed volume (Surface3::volume) and the bounding box.
+  double volume() const { return surface_.volume(); }
+  const double* bbox_lo() const { return surface_.bbox_lo(); }
+  const double* bbox_hi() const { return surface_.bbox_hi(); }
+  // Exact point location (Surface3::locate).
+  Sign locate(const double* p) const { return surface_.locate(p); }
+
+  // ---- The tet mesh (empty for a domain given by its surface).
+  bool has_tets() const { return !tets_.empty(); }
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets_.size() / 4); }
   std::uint32_t tet_vertex(std::uint32_t t, int k) const {
     assert(t < nb_tets() && k >= 0 && k < 4);
@@ -304,58 +470,33 @@ class Domain3 {
     assert(t < nb_tets() && f >= 0 && f < 4);
     return tet_adjacent_[4 * static_cast<std::size_t>(t) + static_cast<std::size_t>(f)];
   }
-  // The boundary triangle that is facet f of t (kNone for an interior facet); O(1): t's
-  // boundary triangles are consecutive.
+  // The surface triangle that is facet f of t (kNone for an interior facet); O(1): t's
+  // surface triangles are consecutive.
   std::uint32_t tet_boundary(std::uint32_t t, int f) const;
-
-  std::uint32_t nb_boundary_triangles() const {
-    return static_cast<std::uint32_t>(boundary_tet_.size());
-  }
-  std::uint32_t boundary_vertex(std::uint32_t b, int k) const {
-    assert(b < nb_boundary_triangles() && k >= 0 && k < 3);
-    return boundary_vertices_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(k)];
-  }
-  // The three vertices of boundary triangle b, in place (boundary_vertex(b, 0..2)).
-  const std::uint32_t* boundary_triangle(std::uint32_t b) const {
-    assert(b < nb_boundary_triangles());
-    return boundary_vertices_.data() + 3 * static_cast<std::size_t>(b);
-  }
+  // The tet and facet of surface triangle b.
   std::uint32_t boundary_tet(std::uint32_t b) const { return boundary_tet_[b]; }
   int boundary_facet(std::uint32_t b) const { return boundary_facet_[b]; }
-  std::uint32_t boundary_adjacent(std::uint32_t b, int e) const {
-    assert(b < nb_boundary_triangles() && e >= 0 && e < 3);
-    return boundary_adjacent_[3 * static_cast<std::size_t>(b) + static_cast<std::size_t>(e)];
-  }
-  // Every boundary triangle once, depth first over the surface (from the lowest-numbered
-  // triangle of each connected component, across edges in the order 0, 1, 2 pushed on a
-  // stack): consecutive triangles are mostly adjacent.
-  const std::vector<std::uint32_t>& surface_order() const { return surface_order_; }
   // Where tet t came from in the input (its index there), for messages.
   std::uint32_t source_tet(std::uint32_t t) const { return source_tet_[t]; }
-
-  // Total volume: the sum of the tet volumes |det| / 6 (each in floating point), summed in
-  // tet order with compensated summation. The bounding box of the used vertices (zero
-  // for an empty mesh).
-  double volume() const { return volume_; }
-  const double* bbox_lo() const { return bbox_; }
-  const double* bbox_hi() const { return bbox_ + 3; }
+  // The sum of the tet volumes |det| / 6 (each in floating point), in tet order, compensated.
+  double tet_volume() const { return tet_volume_; }
 
  private:
-  std::string source_;
-  std::vector<double> xyz_;
+  Surface3 surface_;
   std::vector<std::uint32_t> tets_;
   std::vector<std::uint32_t> tet_adjacent_;
-  std::vector<std::uint32_t> boundary_vertices_;
   std::vector<std::uint32_t> boundary_tet_;
   std::vector<std::int8_t> boundary_facet_;
-  std::vector<std::uint32_t> boundary_adjacent_;
   std::vector<std::uint32_t> source_tet_;
-  std::vector<std::uint32_t> surface_order_;
-  // Tet t's boundary triangles are [tet_boundary_begin_[t], tet_boundary_begin_[t + 1]).
+  // Tet t's surface triangles are [tet_boundary_begin_[t], tet_boundary_begin_[t + 1]).
   std::vector<std::uint32_t> tet_boundary_begin_;
-  double volume_ = 0;
-  double bbox_[6] = {0, 0, 0, 0, 0, 0};
+  double tet_volume_ = 0;
 };
+
+// Reads a 3D domain by extension (case-insensitive): a surface (.obj, .off, .stl, .ply:
+// read_surface) or a tet mesh (.mesh, .node, .ele, .msh, .vtk, .vtu: read_tet_mesh), and
+// validates it. Throws Error as the reader and the constructor do.
+Domain3 read_domain3(const std::string& path, const Surface3Options& options = {});
 
 // ---------------------------------------------------------------------------------------
 // ClippedVoronoi3: the Voronoi diagram of the vertices of a Delaunay3 clipped to the
@@ -364,15 +505,41 @@ class Domain3 {
 // Cells are indexed by input point; duplicates and cells that miss the volume are empty.
 // Per cell: volume, mass = ∫rho, centroid, energy = ∫rho |x - x_i|^2, the area of its
 // restricted surface cell (cell ∩ boundary surface) and whether that is non-empty (a
-// boundary cell). The restricted surface is computed triangle by triangle; inner cells
-// come from the Delaunay triangulation (cones over their Voronoi facets); boundary cells,
-// by the divergence theorem, from their restricted surface polygons and the pieces of their
-// Voronoi edges inside the volume (clip3d.cpp). A boundary cell with a Voronoi edge that
-// crosses the surface twice or more, and every cell under a non-constant density, is
-// clipped tet by tet (sec. 4.2) instead.
+// boundary cell). Only the domain's surface is needed: the restricted surface is computed
+// triangle by triangle; inner cells come from the Delaunay triangulation (cones over their
+// Voronoi facets); boundary cells, by the divergence theorem, from their restricted
+// surface polygons and the pieces of their Voronoi edges inside the volume (an edge that
+// crosses the surface several times contributes its inside parts as signed segments from
+// each crossing; clip3d.cpp). The tet-by-tet clipping of sec. 4.2 runs only for a tet mesh
+// domain under tet_clipping (the reference) or a density linear per tet.
 //
 // Threads: TBB loops into per-cell (per-triangle) slots, reduced in index order: identical
 // results for any thread count.
+
+// Density for the 3D cell integrals (the 3D counterpart of Density2).
+//   constant       rho = value everywhere (closed forms);
+//   callback       rho(x, y, z) given by the user, integrated with a degree-5 rule (14
+//                  points, positive weights) on the tetrahedra of each cell's cone
+//                  decomposition (from the site over the faces of cell ∩ volume, each face
+//                  fanned): exact for rho a polynomial of degree <= 3. It must be finite and
+//                  positive on every Voronoi cell that meets the volume (the cones reach
+//                  the whole cell, not only its part in the volume), deterministic, and
+//                  safe to call from several threads at once;
+//   vertex_linear  linear on each tet of the domain's tet mesh with these values at the
+//                  mesh's vertices (one per vertex, >= 0): needs a tet mesh, and clips every
+//                  cell tet by tet (sec. 4.2), integrated exactly per piece.
+struct Density3 {
+  enum class Kind { kConstant, kCallback, kVertexLinear };
+  Kind kind = Kind::kConstant;
+  double value = 1.0;
+  std::function<double(double, double, double)> callback;
+  std::vector<double> vertex_values;
+
+  static Density3 constant(double rho);
+  static Density3 function(std::function<double(double, double, double)> rho);
+  static Density3 vertex_linear(std::vector<double> values);
+  bool is_constant() const { return kind == Kind::kConstant; }
+};
 
 // A vertex of a restricted surface polygon, kept as what defines it (DESIGN.md,
 // "Exactness"): mesh vertex indices (Domain3) and sites, each list sorted, unused entries
@@ -395,21 +562,15 @@ struct ClipVertex3 {
 };
 
 struct Clip3Options {
-  // rho: constant `density`, or, when vertex_density is not empty, linear on each tet of
-  // the domain with these values at its vertices (one per domain vertex, >= 0). A
-  // non-constant density makes every cell go through the tet-by-tet clipping (inner cells
-  // are then seeded from their clipped neighbours), integrated exactly per piece.
-  double density = 1.0;
-  std::vector<double> vertex_density;
+  Density3 density;
   // Keep the restricted surface polygons (surface_polygons(): per cell, symbolic vertices
   // and coordinates). They are computed anyway: this only stores them.
   bool keep_surface = false;
   // Keep the restricted surface and the faces of every cell (cell_faces()), for export and
-  // tests. The boundary cells' pieces come from the tet-by-tet clipping (slow); the cell
-  // integrals do not change.
+  // tests. The cell integrals do not change.
   bool keep_geometry = false;
   // Integrate every boundary cell by the tet-by-tet clipping (sec. 4.2), the reference the
-  // default path is tested against: several times slower.
+  // default path is tested against: several times slower. Needs a domain with a tet mesh.
   bool tet_clipping = false;
   // For compute(domain, sites, n): the options of the Delaunay triangulation it builds.
   Delaunay3Options delaunay;
@@ -461,11 +622,10 @@ class ClippedVoronoi3 {
   double seconds_surface() const { return seconds_[0]; }
   double seconds_boundary_cells() const { return seconds_[1]; }
   double seconds_inner_cells() const { return seconds_[2]; }
-  // (Cell, tet) pairs clipped tet by tet; boundary cells clipped tet by tet because a
-  // Voronoi edge of theirs crosses the surface more than once (not counting tet_clipping
-  // and a non-constant density, which clip them all).
+  // (Cell, tet) pairs clipped tet by tet (tet_clipping, a density linear per tet);
+  // boundary cells with a Voronoi edge that crosses the surface more than once.
   std::uint64_t nb_clipped_pairs() const { return nb_pairs_; }
-  std::uint32_t nb_fallback_cells() const { return nb_fallback_; }
+  std::uint32_t nb_multi_crossing_cells() const { return nb_multi_crossing_; }
 
   // ---- Geometry. Polygons as flat coordinate lists: polygon p has the points
   // [polygon_begin[p], polygon_begin[p + 1]) of xyz (x y z each).
@@ -488,15 +648,19 @@ class ClippedVoronoi3 {
   // per boundary triangle it meets, in triangle order, with the triangle's orientation
   // (Domain3: clockwise seen from outside); cells in index order.
   const Polygons& surface_polygons() const { return surface_; }
-  // Faces of every cell with a non-empty part in the volume (keep_geometry), as convex
-  // pieces numbered from 0, each piece's faces consecutive, all facing inwards (as
-  // Domain3::kTetFacetVertex for positive tets): a boundary cell as its pieces in the tets
-  // it meets (from the tet-by-tet clipping; their faces on tet facets inside the volume are
-  // marked kInterior), the boundary cells first, in the order of their clipping; then every
-  // inner cell as one piece, its Voronoi facets (one per Delaunay neighbour: the
-  // circumcentres of the tets around the Delaunay edge), cells in Hilbert order of their
-  // sites. The faces other than kInterior ones bound the cell. Degenerate (cospherical)
-  // sites give facets of zero area and repeated points, as they are.
+  // Faces of every cell with a non-empty part in the volume (keep_geometry), in pieces
+  // numbered from 0, each piece's faces consecutive, all facing inwards (clockwise seen from
+  // outside the cell, as Domain3::kTetFacetVertex for positive tets). A boundary cell is one
+  // piece: its restricted surface polygons (across kSurface, one per triangle it meets),
+  // then per neighbour j the loops that bound cell ∩ volume on bisector(i, j) (across j;
+  // where the volume passes through the facet, the face has holes: its outer loops and
+  // its hole loops, which turn the other way), boundary cells first; under tet_clipping
+  // (a tet mesh) a boundary cell is instead its convex pieces in the tets it meets (their
+  // faces on tet facets inside the volume marked kInterior). Then every inner cell as one
+  // piece, its Voronoi facets (one per Delaunay neighbour: the circumcentres of the tets
+  // around the Delaunay edge). Cells in Hilbert order of their sites. The faces other than
+  // kInterior ones bound the cell. Degenerate (cospherical) sites give facets of zero area
+  // and repeated points, as they are.
   const Polygons& cell_faces() const { return faces_; }
   static constexpr std::uint32_t kSurface = 0xffffffffu;
   static constexpr std::uint32_t kInterior = 0xfffffffeu;
@@ -522,7 +686,7 @@ class ClippedVoronoi3 {
     std::uint32_t boundary;
   };
   std::vector<Cell> cells_;
-  std::uint32_t nb_boundary_ = 0, nb_fallback_ = 0;
+  std::uint32_t nb_boundary_ = 0, nb_multi_crossing_ = 0;
   double total_volume_ = 0, total_mass_ = 0, total_energy_ = 0, total_surface_area_ = 0;
   double seconds_[3] = {0, 0, 0};
   std::uint64_t nb_pairs_ = 0;

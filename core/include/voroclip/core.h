@@ -213,6 +213,12 @@ struct TriangleSurface {
   /// files and built surfaces). A polygon fan-triangulated into k triangles gives k equal
   /// entries.
   std::vector<std::uint32_t> triangle_line;
+  /// For messages, how the file numbers its elements: per triangle, the number of its face
+  /// as the file counts faces (OBJ from 1, OFF, PLY and STL from 0; a polygon split into k
+  /// triangles gives k equal entries; empty for built surfaces: triangles are then named by
+  /// their index from 0), and the number the file gives its first vertex (OBJ 1, else 0).
+  std::vector<std::uint32_t> triangle_face;
+  std::uint32_t vertex_base = 0;
 
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
   std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }

@@ -184,13 +184,21 @@ double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
 Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
                          const Cvt3Options& options);
 
-// n points in the volume of the domain, independent and distributed with density rho:
-// uniform when vertex_density is null, else linear on each tet with these values at the
-// domain's vertices (one per vertex, >= 0, not all zero on the tets). A tet is drawn by
-// its mass, then a uniform point in it, kept with probability rho / max rho on the tet.
+// n points strictly inside the volume of the domain, independent and distributed with
+// density rho:
+//   constant       uniform: points of the bounding box drawn uniformly, kept when inside
+//                  (Domain3::locate, exact);
+//   callback       the same candidates, each kept with probability rho / B, where B is
+//                  twice the largest rho among max(1024, min(n, 65536)) uniform points of
+//                  the volume drawn first (where rho exceeds B, the samples are too few
+//                  there in proportion); rho must be finite and positive in the volume;
+//   vertex_linear  linear on each tet (a tet mesh domain; values >= 0, not all zero): a tet
+//                  is drawn by its mass, then a uniform point in it, kept with probability
+//                  rho / max rho on the tet.
 // Draws from std::mt19937_64(seed) turned into doubles bit by bit: the same points on
-// every platform.
+// every platform. Throws Error for a domain without boundary, a density that is not
+// finite and positive (naming the point), or a volume that 10^7 candidates miss.
 std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::uint64_t seed,
-                                   const std::vector<double>* vertex_density = nullptr);
+                                   const Density3& density = {});
 
 }  // namespace voroclip

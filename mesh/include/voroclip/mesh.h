@@ -478,13 +478,11 @@ void write_quality_svg(std::ostream& out, const TriangleQuality2& q, const std::
 // 3D CVT tet meshing: extraction of the mesh from the Delaunay triangulation of the sites
 // (paper sec. 5.2, "Final mesh extraction"; mesh/src/extract3d.cpp).
 //
-// A Delaunay tet is kept when its circumcenter lies in the CLOSED domain: inside a tet of
-// the Domain3 or on the boundary surface (the tie rule: a circumcenter exactly on the
-// boundary counts as inside). The decision is exact: orient3d_circumcenter against the
-// facets of the domain tets that may contain the circumcenter, found by a grid over the
-// domain tets' bounding boxes queried with the proven error box of the floating-point
-// circumcenter (circumcenter3d_enclosure; when it has none, every domain tet is a
-// candidate). No epsilon anywhere.
+// A Delaunay tet is kept when its circumcenter lies in the CLOSED domain: inside the volume
+// or on its boundary surface (the tie rule: a circumcenter exactly on the boundary counts
+// as inside). The decision is exact: Surface3::locate_circumcenter, the parity of the
+// crossings of a ray from the circumcenter with the domain's surface, by exact predicates
+// on the circumcenter's rational coordinates (no tet mesh is needed). No epsilon anywhere.
 //
 // The kept tets can have a non-manifold boundary (tets meeting along an edge or at a
 // vertex only; it happens near concave parts of the boundary). With repair_manifold, each
@@ -528,7 +526,6 @@ struct Extract3Stats {
   std::uint32_t nb_delaunay_tets = 0;          // finite tets of the triangulation
   std::uint32_t nb_inside = 0;                 // with the circumcenter in the closed domain
   std::uint32_t nb_on_boundary = 0;            // of those, exactly on the boundary (tie rule)
-  std::uint32_t nb_unbounded = 0;              // no error box: every domain tet was searched
   std::uint32_t nb_filled = 0;                 // tets added across dents
   std::uint32_t nb_creases = 0;                // tets added across creases
   std::uint32_t nb_carved = 0;                 // tets removed at creases
@@ -540,23 +537,19 @@ struct Extract3Stats {
   double seconds = 0;
 };
 
-// The exact location of circumcenters in a domain, and the extraction. Builds its grid
-// once (O(number of domain tets)); queries are const and thread-safe. The domain must
-// outlive it.
+// The exact location of circumcenters in a domain, and the extraction. Queries are const
+// and thread-safe. The domain must outlive it.
 class TetExtractor3 {
  public:
   explicit TetExtractor3(const Domain3& domain);
-  ~TetExtractor3();
-  TetExtractor3(TetExtractor3&&) noexcept;
-  TetExtractor3& operator=(TetExtractor3&&) = delete;
 
   // Where the circumcenter of p0..p3 (not coplanar) lies: POSITIVE strictly inside the
-  // domain (in a domain tet or on a facet between two), ZERO on the boundary surface,
-  // NEGATIVE outside. Exact. Throws Error for coplanar points.
+  // domain, ZERO on the boundary surface, NEGATIVE outside. Exact. Throws Error for
+  // coplanar points.
   Sign circumcenter_side(const double* p0, const double* p1, const double* p2,
                          const double* p3) const;
-  // Where point p lies, with the same convention (exact orient3d). Throws Error for a
-  // non-finite coordinate.
+  // Where point p lies, with the same convention (exact). Throws Error for a non-finite
+  // coordinate.
   Sign point_side(const double* p) const;
 
   // The kept tets of dt (4 input point indices each), each listed so that
@@ -567,18 +560,7 @@ class TetExtractor3 {
                                      Extract3Stats* stats = nullptr) const;
 
  private:
-  struct Grid;
-  // circumcenter_side, starting from tet `hint` (kNone: none; updated to a tet near the
-  // circumcenter); `unbounded` set when no error box exists.
-  Sign locate(const double* p0, const double* p1, const double* p2, const double* p3,
-              bool& unbounded, std::uint32_t& hint) const;
-  // The search of a point x given by `side` (side(a, b, c) = orient3d(a, b, c, x)), known
-  // to lie in the box [qlo, qhi] (centre: a floating-point approximation of it).
-  template <class SideOf>
-  Sign locate_in(const double* centre, const double* qlo, const double* qhi, bool unbounded,
-                 std::uint32_t& hint, const SideOf& side) const;
   const Domain3* domain_;
-  std::unique_ptr<Grid> grid_;
 };
 
 // =======================================================================================

@@ -407,6 +407,19 @@ Sign insphere_sos(const double* a, const double* b, const double* c, const doubl
                   std::uint32_t id, std::uint32_t ie);
 
 // ---------------------------------------------------------------------------------------
+// The orientation of a closed triangle surface (Surface3 validation, clip/).
+//
+//   surface_volume_sign(xyz, triangles, n)
+//       the exact sign of the sum over the n triangles (a, b, c) (3 indices each into xyz,
+//       x y z per vertex) of det(a, b, c) = a . (b x c): six times the volume enclosed by a
+//       closed surface, signed (POSITIVE when the triangles' right-hand normals point out
+//       of the volume). For a closed surface the sum equals that of det(a - o, b - o, c - o)
+//       for any o: a floating-point sum from the first vertex with a proven bound
+//       (predicates/src/volume.cpp), then big integers when it cannot decide. Throws Error
+//       for a non-finite coordinate. ZERO only when the exact sum is zero.
+Sign surface_volume_sign(const double* xyz, const std::uint32_t* triangles, std::size_t n);
+
+// ---------------------------------------------------------------------------------------
 // Voronoi clipping predicates in 2D (clip/, DESIGN.md "Clipping predicates on symbolic
 // vertices"). Sites p_i carry the lift perturbation of the *_sos predicates above, so the
 // Voronoi diagram they decide on is the power diagram dual to the triangulation that
@@ -548,6 +561,15 @@ Sign voronoi_edge_direction3d(const double* pi, const double* pk, const double* 
 //       must not be coplanar (then x does not exist: throws voroclip::Error); NaN or
 //       infinite coordinates throw too. Exact for every finite input: a filter with a
 //       proven bound (about 25 ns on random input), then exact arithmetic (degree 6).
+//   orient2d_circumcenter(axis, a, b, p0, p1, p2, p3)
+//       the exact sign of the axis component of (b - a) x (x - a), x the circumcenter: with
+//       (i, j) = ((axis + 1) % 3, (axis + 2) % 3), orient2d((a_i, a_j), (b_i, b_j),
+//       (x_i, x_j)) of the projections along the axis (x on the right of b - a is
+//       NEGATIVE; for axis 1 the plane's coordinates are (z, x)). ZERO when the projection
+//       of x is on the line through those of a and b (in particular when a and b project
+//       to one point). axis is 0, 1 or 2 (else throws); coplanar points and non-finite
+//       coordinates throw as above. Exact for every finite input: a filter with a proven
+//       bound (about 25 ns), then exact arithmetic (degree 5).
 //   circumcenter3d_enclosure(p0, p1, p2, p3, center, halfwidth)
 //       the circumcenter in floating point (center, 3 values) and a proven bound on its
 //       error: |x_k - center_k| <= halfwidth_k for the exact circumcenter x. Returns false
@@ -555,6 +577,8 @@ Sign voronoi_edge_direction3d(const double* pi, const double* pk, const double* 
 //       not certainly non-zero in floating point), the differences to p0 lie outside
 //       [2^-150, 2^150], or a value is not finite.
 Sign orient3d_circumcenter(const double* a, const double* b, const double* c, const double* p0,
+                           const double* p1, const double* p2, const double* p3);
+Sign orient2d_circumcenter(int axis, const double* a, const double* b, const double* p0,
                            const double* p1, const double* p2, const double* p3);
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
                               const double* p3, double* center, double* halfwidth);

@@ -1,0 +1,149 @@
+// voroclip check-surface: validates a closed surface as a 3D domain (Surface3: closed,
+// oriented, manifold, no self-intersection, shells nested and oriented) and reports its
+// shells, their genus, area and volume. Also the loading of 3D domains for clip3d and mesh3d.
+#include <chrono>
+#include <cstdint>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void note_reoriented(const Domain3& domain, const GlobalOptions& options) {
+  std::ostream* out = human_stream(options);
+  if (!out) return;
+  const std::vector<Surface3::Shell>& shells = domain.surface().shells();
+  for (std::size_t s = 0; s < shells.size(); ++s) {
+    if (!shells[s].reoriented) continue;
+    *out << "note: " << domain.source() << ": shell " << s << " (" << shells[s].nb_triangles
+         << " triangles, the first " << domain.surface().triangle_name(shells[s].first_triangle)
+         << ") was inside out and has been reoriented (--reorient)\n";
+  }
+}
+
+}  // namespace
+
+Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions& options) {
+  Surface3Options so;
+  so.reorient = reorient;
+  Domain3 domain = read_domain3(path, so);
+  note_reoriented(domain, options);
+  return domain;
+}
+
+void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool tets = [&] {
+    const std::string ext = lower_extension(args.path);
+    return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".msh" || ext == ".vtk" ||
+           ext == ".vtu";
+  }();
+  // Read first (a file that cannot be read is an error either way), then validate: an
+  // invalid surface is a verdict, printed as such, with exit status 1.
+  TriangleSurface input;
+  TetMeshInput mesh;
+  if (tets) {
+    mesh = read_tet_mesh(args.path);
+  } else {
+    input = read_surface(args.path);
+  }
+  const double t_read = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  Domain3 domain;
+  std::string defect;
+  try {
+    Surface3Options so;
+    so.reorient = args.reorient;
+    domain = tets ? Domain3(mesh) : Domain3(input, so);
+  } catch (const Error& e) {
+    defect = e.what();
+  }
+  const double t_validate = seconds_since(t1);
+  if (!defect.empty()) {
+    if (options.stats_json) {
+      std::cout << nlohmann::json{{"valid", false},
+                                  {"error", defect},
+                                  {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
+                       .dump()
+                << '\n';
+    }
+    throw Error(defect);
+  }
+  note_reoriented(domain, options);
+  const Surface3& s = domain.surface();
+  std::uint32_t used = 0;
+  {
+    std::vector<std::uint8_t> seen(s.nb_vertices(), 0);
+    for (const std::uint32_t v : s.triangles()) {
+      used += seen[v] == 0 ? 1 : 0;
+      seen[v] = 1;
+    }
+  }
+  if (options.stats_json) {
+    nlohmann::json shells = nlohmann::json::array();
+    for (const Surface3::Shell& sh : s.shells()) {
+      shells.push_back(
+          {{"triangles", sh.nb_triangles},
+           {"vertices", sh.nb_vertices},
+           {"edges", sh.nb_edges},
+           {"genus", sh.genus},
+           {"euler_characteristic", std::int64_t{sh.nb_vertices} - std::int64_t{sh.nb_edges} +
+                                        std::int64_t{sh.nb_triangles}},
+           {"depth", sh.depth},
+           {"parent",
+            sh.parent == Surface3::kNone ? nlohmann::json(nullptr) : nlohmann::json(sh.parent)},
+           {"role", sh.cavity() ? "cavity" : "outer"},
+           {"area", sh.area},
+           {"volume", sh.volume},
+           {"reoriented", sh.reoriented}});
+    }
+    std::cout << nlohmann::json{{"valid", true},
+                                {"source", s.source()},
+                                {"vertices", s.nb_vertices()},
+                                {"used_vertices", used},
+                                {"welded_vertices", s.nb_welded_vertices()},
+                                {"triangles", s.nb_triangles()},
+                                {"shells", std::move(shells)},
+                                {"area", s.area()},
+                                {"volume", s.volume()},
+                                {"bbox_min", {s.bbox_lo()[0], s.bbox_lo()[1], s.bbox_lo()[2]}},
+                                {"bbox_max", {s.bbox_hi()[0], s.bbox_hi()[1], s.bbox_hi()[2]}},
+                                {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
+                     .dump()
+              << '\n';
+  }
+  if (std::ostream* out = human_stream(options)) {
+    *out << s.source() << ": a valid closed surface: " << s.nb_triangles() << " triangles, " << used
+         << " vertices";
+    if (s.nb_welded_vertices() > 0) {
+      *out << " (" << s.nb_welded_vertices() << " duplicates welded)";
+    }
+    *out << ", " << s.shells().size() << (s.shells().size() == 1 ? " shell" : " shells") << '\n';
+    for (std::size_t k = 0; k < s.shells().size(); ++k) {
+      const Surface3::Shell& sh = s.shells()[k];
+      *out << "  shell " << k << ": " << sh.nb_triangles << " triangles, " << sh.nb_vertices
+           << " vertices, genus " << sh.genus << ", "
+           << (sh.cavity() ? "a cavity in shell " + std::to_string(sh.parent)
+               : sh.parent == Surface3::kNone
+                   ? std::string("outer boundary")
+                   : "outer boundary of a part inside shell " + std::to_string(sh.parent))
+           << ", area " << format_double(sh.area) << ", volume " << format_double(sh.volume)
+           << '\n';
+    }
+    *out << "volume " << format_double(s.volume()) << ", area " << format_double(s.area())
+         << "; read in " << format_double(t_read) << " s, validated in "
+         << format_double(t_validate) << " s\n";
+  }
+}
+
+}  // namespace voroclip::cli

@@ -1,0 +1,36 @@
+// Density3: the density of the 3D cell integrals (see clip.h).
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "voroclip/clip.h"
+
+namespace voroclip {
+
+Density3 Density3::constant(double rho) {
+  if (!(rho > 0) || !std::isfinite(rho)) {
+    throw Error("density: a constant density must be finite and positive, not " +
+                std::to_string(rho));
+  }
+  Density3 d;
+  d.kind = Kind::kConstant;
+  d.value = rho;
+  return d;
+}
+
+Density3 Density3::function(std::function<double(double, double, double)> rho) {
+  if (!rho) throw Error("density: the density function is empty");
+  Density3 d;
+  d.kind = Kind::kCallback;
+  d.callback = std::move(rho);
+  return d;
+}
+
+Density3 Density3::vertex_linear(std::vector<double> values) {
+  Density3 d;
+  d.kind = Kind::kVertexLinear;
+  d.vertex_values = std::move(values);
+  return d;
+}
+
+}  // namespace voroclip
