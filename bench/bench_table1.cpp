@@ -3,13 +3,20 @@
 // site counts and at 10x and 100x more, with the time split of the clipped Voronoi diagram.
 //
 //   bench_table1 [--threads N] [--repeat R] [--scales 1,10,100] [--models a,b,...]
+//                [--domain tets|surface|both]
+//
+// --domain: the volume given by the tet mesh (default), by its surface alone (the model's
+// file in ../shared/data/surfaces, or the tet mesh's boundary for sphere-fine, which has
+// none), or both, each run with the same sites, with the ratio surface / tets of the
+// totals. The sites are drawn from the tets either way.
 //
 // Site counts (x1): the paper's for its models (bunny 2k, elk 2k, homer 10k, rocker-arm
 // 3k); for the others, chosen: sphere 1k, sphere-fine 10k (the peer benchmarks'),
 // skull_low_resolution 3k, fandisk 3k, gargoyle 10k. The paper's Bust (68.5k tets, 30k
 // sites) has no file here: rocker-arm (68.5k tets) at x10 is that class.
-// Columns: |T| tets, |S| boundary triangles, |X| sites, |X_b| boundary sites, fb the
-// boundary cells clipped tet by tet, then seconds: Delaunay, surface RVD, boundary cells,
+// Columns: |T| tets, |S| boundary triangles, |X| sites, |X_b| boundary sites, multi the
+// boundary cells with a Voronoi edge crossing the surface twice or more, then seconds:
+// Delaunay, surface RVD, boundary cells,
 // inner cells, clipping (the three), total; then cells/s per thread of the clipping. Each
 // figure is the median of R runs (default 3; one run at 10^6 sites and more).
 #include <tbb/global_control.h>
@@ -80,6 +87,19 @@ std::vector<double> sites_in(const voroclip::Domain3& d, std::uint32_t n) {
   return xyz;
 }
 
+// The model's surface: its file in shared/data/surfaces, or the tet mesh's boundary.
+voroclip::Domain3 surface_of(const std::string& name, const std::string& tet_path) {
+  const std::string dir = std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/";
+  for (const char* ext : {".obj", ".off"}) {
+    const std::string path = dir + name + ext;
+    if (std::FILE* f = std::fopen(path.c_str(), "r")) {
+      std::fclose(f);
+      return voroclip::Domain3(voroclip::read_surface(path));
+    }
+  }
+  return voroclip::Domain3(voroclip::tet_mesh_boundary(voroclip::read_tet_mesh(tet_path)));
+}
+
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream in(s);
@@ -98,6 +118,7 @@ int main(int argc, char** argv) {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int repeat = 3;
   std::vector<std::string> scales = {"1", "10", "100"}, models;
+  std::string domain = "tets";
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     const bool has_value = a + 1 < argc;
@@ -109,10 +130,12 @@ int main(int argc, char** argv) {
       scales = split(argv[++a]);
     } else if (arg == "--models" && has_value) {
       models = split(argv[++a]);
+    } else if (arg == "--domain" && has_value) {
+      domain = argv[++a];
     } else {
       std::fprintf(stderr,
                    "usage: bench_table1 [--threads N] [--repeat R] [--scales 1,10,100] "
-                   "[--models a,b,...]\n");
+                   "[--models a,b,...] [--domain tets|surface|both]\n");
       return 2;
     }
   }
@@ -120,49 +143,68 @@ int main(int argc, char** argv) {
                               static_cast<std::size_t>(std::max(1, threads)));
   std::printf("%d thread(s), median of %d run(s) (1 at >= 10^6 sites), seconds\n\n", threads,
               repeat);
+  if (domain != "tets" && domain != "surface" && domain != "both") {
+    std::fprintf(stderr, "bench_table1: --domain: tets, surface or both, not '%s'\n",
+                 domain.c_str());
+    return 2;
+  }
   std::printf(
-      "| model | \\|T\\| | \\|S\\| | \\|X\\| | \\|X_b\\| | fb | Delaunay | surface | boundary | "
-      "inner | "
-      "clipping | total | cells/s/thread |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| model | domain | \\|T\\| | \\|S\\| | \\|X\\| | \\|X_b\\| | multi | Delaunay | surface | "
+      "boundary | inner | clipping | total | cells/s/thread | surface/tets |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   try {
     for (const Model& m : kModels) {
       if (!models.empty() && std::find(models.begin(), models.end(), m.name) == models.end()) {
         continue;
       }
-      const voroclip::Domain3 d(voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) +
-                                                        "/tetmeshes/" + m.name + ".mesh"));
+      const std::string tet_path =
+          std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/" + m.name + ".mesh";
+      const voroclip::Domain3 tets(voroclip::read_tet_mesh(tet_path));
+      voroclip::Domain3 surface;
+      if (domain != "tets") surface = surface_of(m.name, tet_path);
       for (const std::string& sc : scales) {
         const auto n = static_cast<std::uint32_t>(m.sites * std::atof(sc.c_str()));
-        const std::vector<double> xyz = sites_in(d, n);
-        voroclip::ClippedVoronoi3 cv;
-        std::vector<double> del, surf, bnd, inn, clip, tot;
-        const int runs = n >= 1000000 ? 1 : repeat;
-        for (int r = 0; r < runs; ++r) {
-          // The sites as the CLI passes them: compute() sorts them spatially and builds
-          // their Delaunay triangulation (the Delaunay column, with the sort and the copy).
-          const auto t0 = std::chrono::steady_clock::now();
-          cv.compute(d, xyz.data(), n);
-          const auto t1 = std::chrono::steady_clock::now();
-          const double total = std::chrono::duration<double>(t1 - t0).count();
-          del.push_back(cv.seconds_delaunay());
-          surf.push_back(cv.seconds_surface());
-          bnd.push_back(cv.seconds_boundary_cells());
-          inn.push_back(cv.seconds_inner_cells());
-          clip.push_back(total - cv.seconds_delaunay());
-          tot.push_back(total);
+        const std::vector<double> xyz = sites_in(tets, n);
+        double total_tets = 0;
+        for (int which = 0; which < 2; ++which) {
+          if ((which == 0 && domain == "surface") || (which == 1 && domain == "tets")) continue;
+          const voroclip::Domain3& d = which == 0 ? tets : surface;
+          voroclip::ClippedVoronoi3 cv;
+          std::vector<double> del, surf, bnd, inn, clip, tot;
+          const int runs = n >= 1000000 ? 1 : repeat;
+          for (int r = 0; r < runs; ++r) {
+            // The sites as the CLI passes them: compute() sorts them spatially and builds
+            // their Delaunay triangulation (the Delaunay column, with the sort and the copy).
+            const auto t0 = std::chrono::steady_clock::now();
+            cv.compute(d, xyz.data(), n);
+            const auto t1 = std::chrono::steady_clock::now();
+            const double total = std::chrono::duration<double>(t1 - t0).count();
+            del.push_back(cv.seconds_delaunay());
+            surf.push_back(cv.seconds_surface());
+            bnd.push_back(cv.seconds_boundary_cells());
+            inn.push_back(cv.seconds_inner_cells());
+            clip.push_back(total - cv.seconds_delaunay());
+            tot.push_back(total);
+          }
+          const double err = std::fabs(cv.total_volume() - d.volume()) / d.volume();
+          if (!(err <= 1e-12)) {
+            std::fprintf(stderr, "%s, %u sites: volume error %g\n", m.name, n, err);
+            return 1;
+          }
+          if (which == 0) total_tets = median(tot);
+          char ratio[32] = "";
+          if (which == 1 && total_tets > 0) {
+            std::snprintf(ratio, sizeof ratio, "%.3f", median(tot) / total_tets);
+          }
+          std::printf(
+              "| %s | %s | %u | %u | %u | %u | %u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | "
+              "%.0fk | %s |\n",
+              m.name, which == 0 ? "tets" : "surface", d.nb_tets(), d.surface().nb_triangles(),
+              n, cv.nb_boundary_sites(), cv.nb_multi_crossing_cells(), median(del), median(surf),
+              median(bnd), median(inn), median(clip), median(tot),
+              n / median(clip) / threads / 1000, ratio);
+          std::fflush(stdout);
         }
-        const double err = std::fabs(cv.total_volume() - d.volume()) / d.volume();
-        if (!(err <= 1e-12)) {
-          std::fprintf(stderr, "%s, %u sites: volume error %g\n", m.name, n, err);
-          return 1;
-        }
-        std::printf(
-            "| %s | %u | %u | %u | %u | %u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.0fk |\n",
-            m.name, d.nb_tets(), d.surface().nb_triangles(), n, cv.nb_boundary_sites(),
-            cv.nb_multi_crossing_cells(), median(del), median(surf), median(bnd), median(inn),
-            median(clip), median(tot), n / median(clip) / threads / 1000);
-        std::fflush(stdout);
       }
     }
   } catch (const std::exception& e) {

@@ -2,6 +2,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "voroclip/core.h"
 
 namespace {
 
@@ -145,4 +148,90 @@ TEST_CASE("clip3d: statistics, outputs and errors", "[apps]") {
   check_one_error_line(bad);
   CHECK(contains(bad.err, "nonexistent.mesh"));
   CHECK(!exists(out));
+}
+
+TEST_CASE("clip3d from a closed surface (OBJ, OFF, STL, PLY)", "[apps]") {
+  // bunny.obj as is, and written as binary STL and PLY by the library, elk.off as is.
+  const std::string obj = kData + "/surfaces/bunny.obj";
+  const std::string stl = temp_path(".stl"), ply = temp_path(".ply");
+  voroclip::write_surface(stl, voroclip::read_surface(obj), voroclip::SurfaceFormat::kStlBinary);
+  voroclip::write_surface(ply, voroclip::read_surface(obj), voroclip::SurfaceFormat::kPlyBinary);
+  double volume_obj = 0;
+  for (const std::string& domain : {obj, stl, ply, kData + "/surfaces/elk.off"}) {
+    const Run run = run_cli({"clip3d", domain, "--random", "3000", "--stats", "json"});
+    REQUIRE(run.status == 0);
+    const nlohmann::json s = nlohmann::json::parse(run.out);
+    CHECK(s["tets"] == 0);
+    CHECK(s["shells"] == 1);
+    CHECK(s["sites"] == 3000);
+    const double volume = s["domain_volume"], sum = s["cells_volume_sum"];
+    CHECK(std::fabs(volume - sum) <= 1e-12 * volume);
+    if (domain == obj) {
+      CHECK(s["boundary_triangles"] == 6598);
+      volume_obj = volume;
+    } else if (domain == ply) {
+      CHECK(volume == volume_obj);  // binary PLY keeps the doubles
+    } else if (domain == stl) {
+      CHECK(std::fabs(volume - volume_obj) <= 1e-6 * volume_obj);  // float32 coordinates
+    }
+  }
+  std::remove(stl.c_str());
+  std::remove(ply.c_str());
+  // The cells' faces from the surface alone.
+  const std::string out = temp_path(".vtu");
+  const Run w = run_cli({"-q", "clip3d", obj, "--random", "300", "-o", out});
+  CHECK(w.status == 0);
+  const std::string text = slurp(out);
+  std::remove(out.c_str());
+  CHECK(contains(text, "Name=\"across\""));
+  // An inside-out surface: rejected with the shell and what to do, or reoriented on demand.
+  voroclip::TriangleSurface inside_out = voroclip::read_surface(kData + "/surfaces/sphere.obj");
+  for (std::size_t t = 0; t < inside_out.triangles.size(); t += 3) {
+    std::swap(inside_out.triangles[t + 1], inside_out.triangles[t + 2]);
+  }
+  const std::string inverted = temp_path(".obj");
+  voroclip::write_surface(inverted, inside_out, voroclip::SurfaceFormat::kObj);
+  const std::string vtu = temp_path(".vtu");
+  const Run bad = run_cli({"clip3d", inverted, "--random", "100", "-o", vtu});
+  CHECK(bad.status == 1);
+  check_one_error_line(bad);
+  CHECK(contains(bad.err, "inside out"));
+  CHECK(contains(bad.err, "--reorient"));
+  CHECK(!exists(vtu));
+  const Run fixed = run_cli({"clip3d", inverted, "--reorient", "--random", "100"});
+  CHECK(fixed.status == 0);
+  CHECK(contains(fixed.out, "note: "));
+  CHECK(contains(fixed.out, "reoriented"));
+  std::remove(inverted.c_str());
+}
+
+TEST_CASE("check-surface: the verdict, the shells, genus, area and volume", "[apps]") {
+  const Run run = run_cli({"check-surface", kData + "/surfaces/skull_low_resolution.obj"});
+  REQUIRE(run.status == 0);
+  CHECK(contains(run.out, "a valid closed surface: 10312 triangles"));
+  CHECK(contains(run.out, "shell 0: 10312 triangles, 5154 vertices, genus 2, outer boundary"));
+  const Run json = run_cli({"--stats", "json", "check-surface", kData + "/surfaces/rocker-arm.obj"});
+  REQUIRE(json.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(json.out);
+  CHECK(s["valid"] == true);
+  CHECK(s["triangles"] == 20088);
+  REQUIRE(s["shells"].size() == 1);
+  CHECK(s["shells"][0]["genus"] == 1);
+  CHECK(s["shells"][0]["euler_characteristic"] == 0);
+  CHECK(s["volume"].get<double>() > 0);
+  CHECK(s["area"].get<double>() > 0);
+  // A defect: the verdict on stdout as JSON, the message on stderr, exit status 1.
+  const std::string open = temp_path(".off");
+  {
+    std::ofstream f(open);
+    f << "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  }
+  const Run defect = run_cli({"--stats", "json", "check-surface", open});
+  CHECK(defect.status == 1);
+  const nlohmann::json d = nlohmann::json::parse(defect.out);
+  CHECK(d["valid"] == false);
+  CHECK(contains(d["error"].get<std::string>(), "is not closed"));
+  CHECK(contains(defect.err, open + ":"));
+  CHECK(contains(defect.err, "face 0: the surface is not closed"));
+  std::remove(open.c_str());
 }

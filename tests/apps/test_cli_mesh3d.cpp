@@ -146,3 +146,46 @@ TEST_CASE("mesh3d: errors name the problem, leave no file", "[apps]") {
   }
   CHECK_FALSE(exists(out));
 }
+
+TEST_CASE("mesh3d from a closed surface: the mesh read back, its volume the surface's", "[apps]") {
+  const std::string domain = kData + "/surfaces/sphere.obj";
+  const std::string out = temp_path(".mesh");
+  const Run run =
+      run_cli({"--stats", "json", "mesh3d", domain, "--vertices", "600",
+               "--unconstrained-iterations", "6", "--constrained-iterations", "9", "-o", out});
+  REQUIRE(run.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  const voroclip::TetMeshInput mesh = voroclip::read_tet_mesh(out);
+  std::remove(out.c_str());
+  CHECK(s["tets"].get<std::uint32_t>() == mesh.nb_tets());
+  CHECK(mesh.nb_vertices() > 550);
+  CHECK(s["min_dihedral_deg"].get<double>() > 20);
+  CHECK(s["hausdorff_rel"].get<double>() < 0.02);
+  // The tets fill the sphere's volume, less the sag of the output's coarser boundary facets
+  // (about 2 % with 600 vertices).
+  double volume = 0;
+  for (std::uint32_t t = 0; t < mesh.nb_tets(); ++t) {
+    const double* p[4];
+    for (int k = 0; k < 4; ++k) p[k] = &mesh.xyz[3 * std::size_t{mesh.tets[4 * t + k]}];
+    double u[3][3];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) u[k][c] = p[k + 1][c] - p[0][c];
+    }
+    volume += (u[0][0] * (u[1][1] * u[2][2] - u[1][2] * u[2][1]) -
+               u[0][1] * (u[1][0] * u[2][2] - u[1][2] * u[2][0]) +
+               u[0][2] * (u[1][0] * u[2][1] - u[1][1] * u[2][0])) /
+              6;
+  }
+  const voroclip::TriangleSurface sphere = voroclip::read_surface(domain);
+  double enclosed = 0;
+  for (std::size_t t = 0; t < sphere.triangles.size(); t += 3) {
+    const double* a = &sphere.xyz[3 * std::size_t{sphere.triangles[t]}];
+    const double* b = &sphere.xyz[3 * std::size_t{sphere.triangles[t + 1]}];
+    const double* c = &sphere.xyz[3 * std::size_t{sphere.triangles[t + 2]}];
+    enclosed += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                 a[2] * (b[0] * c[1] - b[1] * c[0])) /
+                6;
+  }
+  CHECK(volume < enclosed);
+  CHECK(volume > 0.96 * enclosed);
+}

@@ -313,6 +313,63 @@ TEST_CASE("mesh3d: adaptive sizing, random sampling, no perturbation", "[mesh]")
   check_valid(d, voroclip::mesh3d(d, o));
 }
 
+TEST_CASE("mesh3d from a surface alone: as from its tet mesh; a box of 12 triangles; a hollow "
+          "ball",
+          "[mesh][exact]") {
+  // sphere.obj against sphere.mesh (TetGen's mesh of it): valid, and the same quality (the
+  // surface path is the same computation; the two list triangle corners in other orders).
+  const Domain3 surface(voroclip::read_surface(kData + "/surfaces/sphere.obj"));
+  const Domain3 tets(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
+  REQUIRE(!surface.has_tets());
+  Mesh3Options o = small_options(500);
+  const Mesh3Result from_surface = voroclip::mesh3d(surface, o);
+  const Mesh3Result from_tets = voroclip::mesh3d(tets, o);
+  check_valid(surface, from_surface);
+  check_valid(tets, from_tets);
+  INFO("vertices " << from_surface.nb_vertices() << " / " << from_tets.nb_vertices()
+                   << ", min dihedral " << from_surface.quality.q1_deg.min << " / "
+                   << from_tets.quality.q1_deg.min << ", mean "
+                   << from_surface.quality.q1_deg.mean << " / " << from_tets.quality.q1_deg.mean);
+  CHECK(std::abs(static_cast<int>(from_surface.nb_vertices()) -
+                 static_cast<int>(from_tets.nb_vertices())) <= 5);
+  CHECK(std::fabs(from_surface.quality.q1_deg.mean - from_tets.quality.q1_deg.mean) < 1.0);
+  CHECK(from_surface.quality.q1_deg.min > 10);
+
+  // The box given by its 12 triangles: the same checks as from its 6 tets.
+  const Domain3 box(voroclip_test::box_surface({0, 0, 0}, {2, 3, 1}));
+  const Mesh3Result r = voroclip::mesh3d(box, small_options(600));
+  check_valid(box, r);
+  CHECK(r.nb_feature_lines == 12);
+  CHECK(r.nb_feature_corners == 8);
+  double volume = 0;
+  for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+    const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+    volume +=
+        voroclip::tet_shape(&r.xyz[3 * v[0]], &r.xyz[3 * v[1]], &r.xyz[3 * v[2]], &r.xyz[3 * v[3]])
+            .volume;
+  }
+  CHECK(volume == Approx(6).epsilon(1e-9));
+
+  // A hollow ball (a cavity: the inner shell faces inward): the output has the cavity, its
+  // boundary two closed shells (Euler characteristic 2 + 2).
+  const Domain3 hollow(voroclip_test::merged(voroclip_test::icosphere(3, 2),
+                                             voroclip_test::reversed(voroclip_test::icosphere(3, 1))));
+  Mesh3Options h = small_options(1500);
+  h.features = false;
+  const Mesh3Result rh = voroclip::mesh3d(hollow, h);
+  check_valid(hollow, rh);
+  voroclip::TetMeshInput m;
+  m.xyz = rh.xyz;
+  m.tets = rh.tets;
+  const Domain3 out(m);
+  REQUIRE(out.surface().shells().size() == 2);
+  CHECK(out.surface().shells()[0].genus == 0);
+  CHECK(out.surface().shells()[1].genus == 0);
+  CHECK(out.volume() == Approx(hollow.volume()).epsilon(0.05));
+  const double centre[3] = {0, 0, 0};
+  CHECK(out.locate(centre) == Sign::negative);
+}
+
 TEST_CASE("mesh3d: progress per phase, cancellation, errors", "[mesh]") {
   const Domain3 box = box_domain();
   Mesh3Options o = small_options(300);
