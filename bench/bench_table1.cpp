@@ -199,8 +199,8 @@ int main(int argc, char** argv) {
           std::printf(
               "| %s | %s | %u | %u | %u | %u | %u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | "
               "%.0fk | %s |\n",
-              m.name, which == 0 ? "tets" : "surface", d.nb_tets(), d.surface().nb_triangles(),
-              n, cv.nb_boundary_sites(), cv.nb_multi_crossing_cells(), median(del), median(surf),
+              m.name, which == 0 ? "tets" : "surface", d.nb_tets(), d.surface().nb_triangles(), n,
+              cv.nb_boundary_sites(), cv.nb_multi_crossing_cells(), median(del), median(surf),
               median(bnd), median(inn), median(clip), median(tot),
               n / median(clip) / threads / 1000, ratio);
           std::fflush(stdout);

@@ -78,7 +78,7 @@ void Clip3Impl::run() {
   if (!input_index) {
     curve.resize(n);
     std::iota(curve.begin(), curve.end(), 0u);
-    detail::hilbert_sort(site(0), 3, curve.data(), curve.data() + n);
+    hilbert_sort(site(0), 3, curve.data(), curve.data() + n);
   }
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
@@ -648,7 +648,7 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   if (n == 0) throw Error("clip3d: no sites");
   const auto t0 = std::chrono::steady_clock::now();
   double lo[3], hi[3];
-  const std::uint32_t bad = detail::finite_bounding_box(sites, n, 3, lo, hi);
+  const std::uint32_t bad = finite_bounding_box(sites, n, 3, lo, hi);
   if (bad < n) {  // named by input index (the sort renumbers)
     const double* p = sites + 3 * std::size_t{bad};
     throw Error("clip3d: site " + std::to_string(bad) + " has a non-finite coordinate (" +
@@ -659,7 +659,7 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   // Delaunay's BRIO rounds (which then need no sort of their own).
   site_order_.resize(n);
   std::iota(site_order_.begin(), site_order_.end(), 0u);
-  detail::hilbert_sort(sites, 3, site_order_.data(), site_order_.data() + n);
+  hilbert_sort(sites, 3, site_order_.data(), site_order_.data() + n);
   sorted_sites_.resize(3 * std::size_t{n});
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 8192), [&](const auto& range) {
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {

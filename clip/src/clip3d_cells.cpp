@@ -302,9 +302,11 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
 }
 
 template <class Piece>
-void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f, const double* u, bool in1,
-                              const double* w, bool in2, const EdgeCrossings* x,
-                              Piece&& piece) const {
+[[gnu::always_inline]] inline void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f,
+                                                            const double* u, bool in1,
+                                                            const double* w, bool in2,
+                                                            const EdgeCrossings* x,
+                                                            Piece&& piece) const {
   const std::uint32_t count = x ? x->count : 0;
   if (count == 0) {
     if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
@@ -316,6 +318,20 @@ void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f, const double* u, b
     piece(in1 ? u : x->x, in1 ? x->x : w);
     return;
   }
+  thread_local std::vector<SignedSegment> signed_segments;
+  multi_crossing_segments(tv, f, u, in1, w, in2, *x, signed_segments);
+  for (const SignedSegment& g : signed_segments) {
+    for (int r = 0; r < g.times; ++r) piece(g.a, g.b);
+    for (int r = 0; r < -g.times; ++r) piece(g.b, g.a);
+  }
+}
+
+void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const double* u, bool in1,
+                                        const double* w, bool in2, const EdgeCrossings& edge,
+                                        std::vector<SignedSegment>& segments) const {
+  const EdgeCrossings* x = &edge;
+  const std::uint32_t count = x->count;
+  segments.clear();
   // The edge leaves t along n = (p_s1 - p_s0) x (p_s2 - p_s0) when (s0, s1, s2, opposite) is
   // an even permutation of t's vertices; a crossing with sigma > 0 leaves Ω along n.
   int l0 = 0;
@@ -359,8 +375,7 @@ void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f, const double* u, b
   }
   std::sort(sorted, sorted + m);
   const auto emit = [&](const double* a, const double* b, int times) {
-    for (int r = 0; r < times; ++r) piece(a, b);
-    for (int r = 0; r < -times; ++r) piece(b, a);
+    if (times != 0) segments.push_back({a, b, times});
   };
   int inside = in1 ? 1 : 0;
   const double* prev = u;

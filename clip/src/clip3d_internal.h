@@ -627,6 +627,16 @@ struct Clip3Impl {
   template <class Piece>
   void inside_pieces(const std::uint32_t* tv, int f, const double* u, bool in1, const double* w,
                      bool in2, const EdgeCrossings* x, Piece&& piece) const;
+  // inside_pieces for an edge crossed twice or more (out of line: rare): the segments, each
+  // to be counted `times` times (negative: reversed).
+  struct SignedSegment {
+    const double* a;
+    const double* b;
+    int times;
+  };
+  void multi_crossing_segments(const std::uint32_t* tv, int f, const double* u, bool in1,
+                               const double* w, bool in2, const EdgeCrossings& x,
+                               std::vector<SignedSegment>& segments) const;
   // Cell i's (site px) share of the segment [a, b] of the Voronoi edge of sites i, vj, vk
   // (kFaceOther order: pj, pk): add_edge_piece, or the same cones weighted by the density.
   template <bool kWeighted>

@@ -76,7 +76,7 @@ void Delaunay2::build(const double* xy, std::uint32_t n) {
                 std::to_string(kMaxPoints));
   }
   double lo[2], hi[2];
-  const std::uint32_t bad = detail::finite_bounding_box(xy, n, 2, lo, hi);
+  const std::uint32_t bad = finite_bounding_box(xy, n, 2, lo, hi);
   if (bad < n) {
     const double* p = xy + 2 * static_cast<std::size_t>(bad);
     std::ostringstream message;

@@ -858,7 +858,7 @@ void Delaunay3::split_into_zones(const std::vector<std::uint32_t>& points, std::
       [this](std::uint32_t v) { return point(v); }, scratch);
   tbb::parallel_for(std::size_t{0}, nb_zones, [this, zones](std::size_t k) {
     std::vector<std::uint32_t>& p = zones[k].points;
-    detail::hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
+    hilbert_sort(sorted_xyz_.data(), 3, p.data(), p.data() + p.size());
   });
 }
 
@@ -1111,7 +1111,7 @@ bool Delaunay3::automatic_uses_avx2() {
 void Delaunay3::note_memory() { peak_bytes_ = std::max(peak_bytes_, memory_bytes()); }
 
 void Delaunay3::build(const double* xyz, std::uint32_t n) {
-  const std::uint32_t bad = detail::finite_bounding_box(xyz, n, 3, box_lo_, box_hi_);
+  const std::uint32_t bad = finite_bounding_box(xyz, n, 3, box_lo_, box_hi_);
   if (bad < n) {
     const double* p = xyz + 3 * static_cast<std::size_t>(bad);
     std::ostringstream message;

@@ -534,55 +534,6 @@ void hilbert_axes3(const double* lo, const double* hi, int axes[3]) {
   }
 }
 
-void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last) {
-  if (dim == 2) {
-    hilbert_sort_range<2>(coords, first, last);
-  } else {
-    hilbert_sort_range<3>(coords, first, last);
-  }
-}
-
-std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
-                                  double* hi) {
-  struct Block {
-    std::uint32_t bad;
-    double lo[3], hi[3];
-  };
-  constexpr std::uint32_t kBlock = 65536;
-  const std::uint32_t nb_blocks = n / kBlock + (n % kBlock != 0 ? 1 : 0);
-  const auto d = static_cast<std::size_t>(dim);
-  std::vector<Block> blocks(nb_blocks);
-  tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
-    Block& k = blocks[b];
-    const auto end = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, (b + 1ull) * kBlock));
-    k.bad = n;
-    for (std::size_t a = 0; a < d; ++a)
-      k.lo[a] = k.hi[a] = coords[d * (std::size_t{b} * kBlock) + a];
-    for (std::uint32_t i = b * kBlock; i < end; ++i) {
-      const double* p = coords + d * i;
-      bool finite = true;
-      for (std::size_t a = 0; a < d; ++a) {
-        finite = finite && std::isfinite(p[a]);
-        k.lo[a] = std::min(k.lo[a], p[a]);
-        k.hi[a] = std::max(k.hi[a], p[a]);
-      }
-      if (!finite) {
-        k.bad = i;
-        return;
-      }
-    }
-  });
-  for (std::size_t a = 0; a < d && n > 0; ++a) lo[a] = hi[a] = coords[a];
-  for (const Block& k : blocks) {
-    if (k.bad != n) return k.bad;
-    for (std::size_t a = 0; a < d; ++a) {
-      lo[a] = std::min(lo[a], k.lo[a]);
-      hi[a] = std::max(hi[a], k.hi[a]);
-    }
-  }
-  return n;
-}
-
 std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int dim,
                                       std::vector<std::uint32_t>* round_starts, bool presorted) {
   std::vector<std::uint32_t> order;
@@ -658,3 +609,56 @@ std::vector<std::uint32_t> brio_order(const double* coords, std::uint32_t n, int
 }
 
 }  // namespace voroclip::detail
+
+namespace voroclip {
+
+void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last) {
+  if (dim == 2) {
+    detail::hilbert_sort_range<2>(coords, first, last);
+  } else {
+    detail::hilbert_sort_range<3>(coords, first, last);
+  }
+}
+
+std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
+                                  double* hi) {
+  struct Block {
+    std::uint32_t bad;
+    double lo[3], hi[3];
+  };
+  constexpr std::uint32_t kBlock = 65536;
+  const std::uint32_t nb_blocks = n / kBlock + (n % kBlock != 0 ? 1 : 0);
+  const auto d = static_cast<std::size_t>(dim);
+  std::vector<Block> blocks(nb_blocks);
+  tbb::parallel_for(std::uint32_t{0}, nb_blocks, [&](std::uint32_t b) {
+    Block& k = blocks[b];
+    const auto end = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, (b + 1ull) * kBlock));
+    k.bad = n;
+    for (std::size_t a = 0; a < d; ++a)
+      k.lo[a] = k.hi[a] = coords[d * (std::size_t{b} * kBlock) + a];
+    for (std::uint32_t i = b * kBlock; i < end; ++i) {
+      const double* p = coords + d * i;
+      bool finite = true;
+      for (std::size_t a = 0; a < d; ++a) {
+        finite = finite && std::isfinite(p[a]);
+        k.lo[a] = std::min(k.lo[a], p[a]);
+        k.hi[a] = std::max(k.hi[a], p[a]);
+      }
+      if (!finite) {
+        k.bad = i;
+        return;
+      }
+    }
+  });
+  for (std::size_t a = 0; a < d && n > 0; ++a) lo[a] = hi[a] = coords[a];
+  for (const Block& k : blocks) {
+    if (k.bad != n) return k.bad;
+    for (std::size_t a = 0; a < d; ++a) {
+      lo[a] = std::min(lo[a], k.lo[a]);
+      hi[a] = std::max(hi[a], k.hi[a]);
+    }
+  }
+  return n;
+}
+
+}  // namespace voroclip

@@ -31,7 +31,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "voroclip/delaunay.h"  // detail::hilbert_sort, detail::finite_bounding_box
+#include "voroclip/delaunay.h"  // hilbert_sort, finite_bounding_box
 
 namespace voroclip::detail {
 

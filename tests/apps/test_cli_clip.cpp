@@ -210,7 +210,8 @@ TEST_CASE("check-surface: the verdict, the shells, genus, area and volume", "[ap
   REQUIRE(run.status == 0);
   CHECK(contains(run.out, "a valid closed surface: 10312 triangles"));
   CHECK(contains(run.out, "shell 0: 10312 triangles, 5154 vertices, genus 2, outer boundary"));
-  const Run json = run_cli({"--stats", "json", "check-surface", kData + "/surfaces/rocker-arm.obj"});
+  const Run json =
+      run_cli({"--stats", "json", "check-surface", kData + "/surfaces/rocker-arm.obj"});
   REQUIRE(json.status == 0);
   const nlohmann::json s = nlohmann::json::parse(json.out);
   CHECK(s["valid"] == true);

@@ -668,7 +668,7 @@ TEST_CASE("clip3d: repeated computes on one object, and a failed one", "[clip]")
 }
 
 // compute(domain, sites, n) triangulates the sites along a Hilbert curve and reports in
-// input order. Against the order's definition (detail::hilbert_sort of the input order),
+// input order. Against the order's definition (hilbert_sort of the input order),
 // against compute(domain, dt) on the sorted copy triangulated as compute() does, presorted
 // (bit for bit, after mapping the indices: the same triangulation and the same
 // arithmetic), and against compute(domain, dt) on the input order (the same cells up to
@@ -692,7 +692,7 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
   const std::vector<std::uint32_t>& order = cv.site_order();
   std::vector<std::uint32_t> expected(n);
   std::iota(expected.begin(), expected.end(), 0u);
-  voroclip::detail::hilbert_sort(sites.data(), 3, expected.data(), expected.data() + n);
+  voroclip::hilbert_sort(sites.data(), 3, expected.data(), expected.data() + n);
   REQUIRE(order == expected);
   std::vector<std::uint32_t> rank(n, n);
   for (std::uint32_t k = 0; k < n; ++k) {

@@ -516,12 +516,12 @@ TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they 
   }
 }
 
-// The points in the order detail::hilbert_sort gives them.
+// The points in the order hilbert_sort gives them.
 std::vector<double> hilbert_sorted(const std::vector<double>& xyz) {
   const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  voroclip::detail::hilbert_sort(xyz.data(), 3, order.data(), order.data() + n);
+  voroclip::hilbert_sort(xyz.data(), 3, order.data(), order.data() + n);
   std::vector<double> sorted;
   for (const std::uint32_t i : order) sorted.insert(sorted.end(), &xyz[3 * i], &xyz[3 * i] + 3);
   return sorted;

@@ -12,8 +12,8 @@
 
 #include "spatial_sort.h"
 
+using voroclip::hilbert_sort;
 using voroclip::detail::brio_order;
-using voroclip::detail::hilbert_sort;
 
 namespace {
 
@@ -282,7 +282,7 @@ TEST_CASE("brio_order of presorted points keeps their order in each round", "[de
 }
 
 TEST_CASE("finite_bounding_box: the first non-finite point, else the box", "[delaunay]") {
-  using voroclip::detail::finite_bounding_box;
+  using voroclip::finite_bounding_box;
   const std::uint32_t n = 300000;  // several blocks
   for (const int dim : {2, 3}) {
     std::vector<double> c = random_points(n, dim, 13);

@@ -313,9 +313,10 @@ TEST_CASE("mesh3d: adaptive sizing, random sampling, no perturbation", "[mesh]")
   check_valid(d, voroclip::mesh3d(d, o));
 }
 
-TEST_CASE("mesh3d from a surface alone: as from its tet mesh; a box of 12 triangles; a hollow "
-          "ball",
-          "[mesh][exact]") {
+TEST_CASE(
+    "mesh3d from a surface alone: as from its tet mesh; a box of 12 triangles; a hollow "
+    "ball",
+    "[mesh][exact]") {
   // sphere.obj against sphere.mesh (TetGen's mesh of it): valid, and the same quality (the
   // surface path is the same computation; the two list triangle corners in other orders).
   const Domain3 surface(voroclip::read_surface(kData + "/surfaces/sphere.obj"));
@@ -328,8 +329,8 @@ TEST_CASE("mesh3d from a surface alone: as from its tet mesh; a box of 12 triang
   check_valid(tets, from_tets);
   INFO("vertices " << from_surface.nb_vertices() << " / " << from_tets.nb_vertices()
                    << ", min dihedral " << from_surface.quality.q1_deg.min << " / "
-                   << from_tets.quality.q1_deg.min << ", mean "
-                   << from_surface.quality.q1_deg.mean << " / " << from_tets.quality.q1_deg.mean);
+                   << from_tets.quality.q1_deg.min << ", mean " << from_surface.quality.q1_deg.mean
+                   << " / " << from_tets.quality.q1_deg.mean);
   CHECK(std::abs(static_cast<int>(from_surface.nb_vertices()) -
                  static_cast<int>(from_tets.nb_vertices())) <= 5);
   CHECK(std::fabs(from_surface.quality.q1_deg.mean - from_tets.quality.q1_deg.mean) < 1.0);
@@ -352,8 +353,8 @@ TEST_CASE("mesh3d from a surface alone: as from its tet mesh; a box of 12 triang
 
   // A hollow ball (a cavity: the inner shell faces inward): the output has the cavity, its
   // boundary two closed shells (Euler characteristic 2 + 2).
-  const Domain3 hollow(voroclip_test::merged(voroclip_test::icosphere(3, 2),
-                                             voroclip_test::reversed(voroclip_test::icosphere(3, 1))));
+  const Domain3 hollow(voroclip_test::merged(
+      voroclip_test::icosphere(3, 2), voroclip_test::reversed(voroclip_test::icosphere(3, 1))));
   Mesh3Options h = small_options(1500);
   h.features = false;
   const Mesh3Result rh = voroclip::mesh3d(hollow, h);

@@ -581,7 +581,7 @@ class ClippedVoronoi3 {
   // Throws voroclip::Error on bad input; the result is then empty (nb_sites() == 0).
   void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
   // The same for n sites (x y z each), faster: the Delaunay triangulation is built here, of
-  // a copy of the sites along a Hilbert curve (detail::hilbert_sort of the input order,
+  // a copy of the sites along a Hilbert curve (hilbert_sort of the input order,
   // which keeps duplicates in input order), presorted (Delaunay3Options::presorted: its
   // BRIO rounds need no sort of their own), so that the sites of neighbouring cells are
   // neighbours in memory; with the sites in input order each cell reads its neighbours

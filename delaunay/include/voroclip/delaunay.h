@@ -100,6 +100,25 @@
 
 namespace voroclip {
 
+// ---------------------------------------------------------------------------------------
+// Spatial sorting (delaunay/src/spatial_sort.cpp), for callers that want their points, and
+// so their memory accesses, in the order of a space-filling curve (as the triangulations'
+// insertion orders and the 3D clipped diagram's cells are).
+
+// Sorts the point indices [first, last) along a Hilbert curve over the bounding box of
+// those points (packed coordinates, dim = 2 or 3 doubles each): the order of each BRIO
+// round, and of the points for Delaunay3Options::presorted. Parallel; a fixed function of
+// the coordinates and of the order of [first, last), which points with equal coordinates
+// keep among themselves.
+void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
+
+// The smallest index of a point (packed coordinates, dim = 2 or 3 doubles each) with a
+// non-finite coordinate, or n if there is none; then lo and hi (dim values each) receive
+// the points' bounding box. Parallel over fixed blocks: the same answer for any number of
+// threads.
+std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
+                                  double* hi);
+
 namespace detail {
 
 // Asks the kernel to back the whole 2 MiB pages inside [p, p + bytes) with transparent
@@ -124,20 +143,6 @@ class HugePageAdvice {
  private:
   bool previous_;
 };
-
-// Sorts the point indices [first, last) along a Hilbert curve over the bounding box of
-// those points (packed coordinates, dim = 2 or 3 doubles each; see "Spatial sort" in
-// delaunay/src/spatial_sort.h): the order of each BRIO round, and of the points for
-// Delaunay3Options::presorted. Parallel; a fixed function of the coordinates and of the
-// order of [first, last), which points with equal coordinates keep among themselves.
-void hilbert_sort(const double* coords, int dim, std::uint32_t* first, std::uint32_t* last);
-
-// The smallest index of a point (packed coordinates, dim = 2 or 3 doubles each) with a
-// non-finite coordinate, or n if there is none; then lo and hi (dim values each) receive
-// the points' bounding box. Parallel over fixed blocks: the same answer for any number of
-// threads.
-std::uint32_t finite_bounding_box(const double* coords, std::uint32_t n, int dim, double* lo,
-                                  double* hi);
 
 // Arrays at least this large get advise_huge_pages() when allocated.
 inline constexpr std::size_t kHugePageAdviceBytes = std::size_t{4} << 20;
@@ -619,7 +624,7 @@ struct Delaunay3Options {
     avx2,  // AVX2 whenever the CPU has it
   };
   InsphereSimd insphere_simd = InsphereSimd::automatic;
-  // The points come in a spatial order already, as detail::hilbert_sort leaves them: each
+  // The points come in a spatial order already, as hilbert_sort leaves them: each
   // BRIO round keeps their order instead of being sorted along its own curve, and the
   // zones along the curve take the halves, quarters and octants of the points' bounding
   // box (the box of that sort). For a caller that sorts its points anyway
