@@ -13,6 +13,7 @@ packages=(
   libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev liblbfgspp-dev
   catch2 libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev voro++-dev
   clang-format
+  python3-meshio python3-gmsh
 )
 
 deps_only=0

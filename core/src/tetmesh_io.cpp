@@ -1,14 +1,17 @@
-// Tetrahedral mesh files: Medit .mesh, TetGen .node/.ele, Gmsh .msh (2.2 and 4.1) and
-// legacy VTK, read into a TetMeshInput and written from one.
+// Tetrahedral mesh files: Medit .mesh, TetGen .node/.ele/.face, Gmsh .msh (2.2 and 4.1)
+// and legacy VTK, read into a TetMeshInput and written from one, with the triangles the
+// file lists and the tags of tets and triangles (see TetMeshInput).
 //
 // Reading. The whole file is read into memory and split into blank-separated tokens by
 // Lexer (text_lexer.h), which keeps the line of each token for messages and parses numbers with
 // std::from_chars (locale-independent, correctly rounded). A counted section (n entries
 // announced by a header) that meets the end of the file, or a keyword, before its n-th
-// entry is reported as truncated with the counts expected and found. Tetrahedra are
-// collected with their vertex numbers as the file writes them (RawTets) and checked against
-// the file's vertex numbering once the whole file is read: Medit and TetGen number from a
-// base (1, or TetGen's first node number), VTK from 0, Gmsh by arbitrary node tags.
+// entry is reported as truncated with the counts expected and found. Tetrahedra and
+// triangles are collected with their vertex numbers as the file writes them (RawCells) and
+// checked against the file's vertex numbering once the whole file is read: Medit and TetGen
+// number from a base (1, or TetGen's first node number), VTK from 0, Gmsh by arbitrary node
+// tags. Tags are read with their elements (Gmsh 4.1: from the entity of the element's
+// block, once the whole file is read); a tag vector of zeros is returned empty.
 //
 // Writing. Coordinates use the shortest decimal that reads back to the same double
 // (std::to_chars), so every writer/reader pair round-trips exactly; files are written
@@ -41,40 +44,84 @@ using namespace detail;  // NOLINT: the shared tokenizer and helpers of text_lex
 
 constexpr std::uint64_t kMaxVertices = std::numeric_limits<std::uint32_t>::max();
 
-// Tetrahedra as the file numbers their vertices, with what a message needs.
-struct RawTets {
-  std::vector<std::uint64_t> v;      // 4 per tet
-  std::vector<std::uint32_t> line;   // per tet
-  std::vector<std::uint64_t> label;  // per tet: its number as the file knows it
-  const char* what = "tetrahedron";  // how the format calls a tet: "element", "cell"
+// Tetrahedra or triangles as the file numbers their vertices, with their tags and what a
+// message needs.
+struct RawCells {
+  std::size_t per = 4;               // vertices per cell: 4 (tets) or 3 (triangles)
+  const char* what = "tetrahedron";  // how the format calls one: "element", "cell", "face"
+  std::vector<std::uint64_t> v;      // `per` per cell
+  std::vector<std::uint32_t> line;   // per cell
+  std::vector<std::uint64_t> label;  // per cell: its number as the file knows it
+  std::vector<std::int32_t> ref;     // per cell: its tag (0: none)
 
-  void push(std::uint64_t label_in, std::uint32_t line_in, const std::uint64_t idx[4]) {
-    v.insert(v.end(), idx, idx + 4);
+  RawCells(std::size_t per_in, const char* what_in) : per(per_in), what(what_in) {}
+  void push(std::uint64_t label_in, std::uint32_t line_in, const std::uint64_t* idx,
+            std::int32_t ref_in) {
+    v.insert(v.end(), idx, idx + per);
     line.push_back(line_in);
     label.push_back(label_in);
+    ref.push_back(ref_in);
   }
   std::size_t size() const { return line.size(); }
 };
 
-// Vertex numbers base .. base + nb_vertices - 1 (Medit, TetGen, VTK).
-void finish_tets(const std::string& path, const RawTets& raw, std::uint64_t base,
-                 TetMeshInput& mesh) {
-  const std::uint64_t nv = mesh.nb_vertices();
-  mesh.tets.resize(raw.v.size());
-  for (std::size_t t = 0; t < raw.size(); ++t) {
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::uint64_t i = raw.v[4 * t + k];
+// Tags as TetMeshInput keeps them: empty when all are 0.
+std::vector<std::int32_t> tags_or_empty(const std::vector<std::int32_t>& ref) {
+  const bool any = std::any_of(ref.begin(), ref.end(), [](std::int32_t r) { return r != 0; });
+  return any ? ref : std::vector<std::int32_t>{};
+}
+
+// Vertex numbers base .. base + nb_vertices - 1 (Medit, TetGen, VTK) to indices from 0.
+std::vector<std::uint32_t> finish_cells(const std::string& path, const RawCells& raw,
+                                        std::uint64_t base, std::uint64_t nv) {
+  std::vector<std::uint32_t> out(raw.v.size());
+  for (std::size_t c = 0; c < raw.size(); ++c) {
+    for (std::size_t k = 0; k < raw.per; ++k) {
+      const std::uint64_t i = raw.v[raw.per * c + k];
       if (i < base || i - base >= nv) {
-        fail_at(path, raw.line[t],
-                std::string(raw.what) + " " + std::to_string(raw.label[t]) + ": vertex " +
+        fail_at(path, raw.line[c],
+                std::string(raw.what) + " " + std::to_string(raw.label[c]) + ": vertex " +
                     std::to_string(i) + " is out of range " +
                     (nv == 0 ? std::string("(the file has no vertices)")
                              : std::to_string(base) + ".." + std::to_string(base + nv - 1)));
       }
-      mesh.tets[4 * t + k] = static_cast<std::uint32_t>(i - base);
+      out[raw.per * c + k] = static_cast<std::uint32_t>(i - base);
     }
   }
-  mesh.tet_line = raw.line;
+  return out;
+}
+
+// The tets and triangles of a file that numbers vertices from `base`.
+void finish_mesh(const std::string& tets_path, const RawCells& tets,
+                 const std::string& triangles_path, const RawCells& triangles, std::uint64_t base,
+                 TetMeshInput& mesh) {
+  const std::uint64_t nv = mesh.nb_vertices();
+  mesh.tets = finish_cells(tets_path, tets, base, nv);
+  mesh.tet_line = tets.line;
+  mesh.tet_ref = tags_or_empty(tets.ref);
+  mesh.triangles = finish_cells(triangles_path, triangles, base, nv);
+  mesh.triangle_ref = tags_or_empty(triangles.ref);
+}
+
+// A tag as an integer token (a Medit ref, a Gmsh physical tag, a TetGen marker).
+std::int32_t to_tag(const Lexer& lx, std::string_view t, const char* what) {
+  std::string_view s = t;
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
+  std::int32_t v = 0;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (r.ec == std::errc() && r.ptr == s.data() + s.size()) return v;
+  lx.fail(quote(t) + " is not a valid " + what +
+          (r.ec == std::errc::result_out_of_range ? " (out of the range of a 32-bit integer)"
+                                                  : " (an integer)"));
+}
+
+// A tag written as any number (a TetGen attribute): its value must be a 32-bit integer.
+std::int32_t to_tag_from_double(const Lexer& lx, std::string_view t, const char* what) {
+  const double v = to_double(lx, t);
+  if (v != std::floor(v) || v < -2147483648.0 || v > 2147483647.0) {
+    lx.fail(quote(t) + " is not a valid " + what + " (a 32-bit integer)");
+  }
+  return static_cast<std::int32_t>(v);
 }
 
 void check_vertex_count(const Lexer& lx, std::uint64_t n) {
@@ -90,7 +137,6 @@ void check_vertex_count(const Lexer& lx, std::uint64_t n) {
 int medit_skipped_section_size(const std::string& kw) {
   static const std::pair<const char*, int> kSizes[] = {
       {"edges", 3},
-      {"triangles", 4},
       {"quadrilaterals", 5},
       {"prisms", 7},
       {"pyramids", 6},
@@ -123,7 +169,7 @@ TetMeshInput read_medit(const std::string& path) {
   Lexer lx(path, read_whole_file(path), '#');
   TetMeshInput mesh;
   mesh.source = path;
-  RawTets raw;
+  RawCells tets(4, "tetrahedron"), triangles(3, "triangle");
   const std::string_view first = lx.next();
   if (lower(first) != "meshversionformatted") {
     lx.fail("not a Medit mesh: expected MeshVersionFormatted, found " +
@@ -151,17 +197,22 @@ TetMeshInput read_medit(const std::string& path) {
         for (int k = 0; k < 3; ++k) mesh.xyz.push_back(entry_double(lx, s));
         entry_token(lx, s);  // reference
       }
-    } else if (kw == "tetrahedra") {
-      Section s{"Tetrahedra", "tetrahedra", to_uint(lx, header_token(lx, "Tetrahedra"), "count")};
-      tets_section = true;
-      raw.v.reserve(4 * reserve_for(lx, s.expected));
+    } else if (kw == "tetrahedra" || kw == "triangles") {
+      const bool tet = kw == "tetrahedra";
+      const std::string name = tet ? "Tetrahedra" : "Triangles";
+      RawCells& raw = tet ? tets : triangles;
+      Section s{name, tet ? "tetrahedra" : "triangles",
+                to_uint(lx, header_token(lx, name), "count")};
+      tets_section = tets_section || tet;
+      raw.v.reserve(raw.v.size() + raw.per * reserve_for(lx, s.expected));
+      // Numbered from 1 on, across sections of the same kind.
+      const std::uint64_t first_number = raw.size() + 1;
       for (; s.found < s.expected; ++s.found) {
         std::uint64_t idx[4];
         idx[0] = entry_uint(lx, s, "vertex index");
         const std::uint32_t line = lx.line();
-        for (int k = 1; k < 4; ++k) idx[k] = entry_uint(lx, s, "vertex index");
-        entry_token(lx, s);  // reference
-        raw.push(s.found + 1, line, idx);
+        for (std::size_t k = 1; k < raw.per; ++k) idx[k] = entry_uint(lx, s, "vertex index");
+        raw.push(first_number + s.found, line, idx, to_tag(lx, entry_token(lx, s), "reference"));
       }
     } else if (const int size = medit_skipped_section_size(kw); size > 0) {
       Section s{std::string(t), "entries", to_uint(lx, header_token(lx, std::string(t)), "count")};
@@ -172,11 +223,11 @@ TetMeshInput read_medit(const std::string& path) {
       lx.fail("unknown Medit keyword " + quote(t));
     }
   }
-  if (raw.size() == 0) {
+  if (tets.size() == 0) {
     throw Error(path + (tets_section ? ": the Tetrahedra section is empty"
                                      : ": no tetrahedra (no Tetrahedra section)"));
   }
-  finish_tets(path, raw, 1, mesh);
+  finish_mesh(path, tets, path, triangles, 1, mesh);
   return mesh;
 }
 
@@ -245,38 +296,71 @@ TetMeshInput read_tetgen(const std::string& base) {
   }
   const std::uint64_t nattr = to_uint(lx, header_token(lx, h), "attribute count");
   const std::size_t per_line = static_cast<std::size_t>(1 + per_tet + nattr);
-  RawTets raw;
-  raw.v.reserve(4 * reserve_for(lx, n));
+  RawCells tets(4, "tetrahedron");
+  tets.v.reserve(4 * reserve_for(lx, n));
   Section s{"tetrahedra", "tetrahedra", n};
   for (; s.found < n; ++s.found) {
     const std::uint64_t index = to_uint(lx, entry_token(lx, s), "tetrahedron number");
     const std::uint32_t line = lx.line();
     const std::string entry = "tetrahedron " + std::to_string(index);
     std::uint64_t idx[4];
+    std::int32_t region = 0;
     for (std::size_t k = 1; k < per_line; ++k) {
       const std::string_view t = line_field(lx, entry, per_line, k);
       if (k <= 4) {
         idx[k - 1] = to_uint(lx, t, "node number");
       } else if (k <= per_tet) {
         to_uint(lx, t, "node number");
+      } else if (k == per_tet + 1) {
+        region = to_tag_from_double(lx, t, "region attribute");
       } else {
         to_double(lx, t);
       }
     }
     lx.skip_line();
-    raw.push(index, line, idx);
+    tets.push(index, line, idx, region);
   }
-  if (raw.size() == 0) throw Error(mesh.source + ": no tetrahedra");
-  finish_tets(mesh.source, raw, first_node, mesh);
+  if (tets.size() == 0) throw Error(mesh.source + ": no tetrahedra");
+  // The .face file, when there is one: "index a b c [marker]" per face, anything after that
+  // on the line (TetGen's adjacent tetrahedra) read past.
+  RawCells faces(3, "face");
+  const std::string face_path = base + ".face";
+  if (std::ifstream(face_path, std::ios::binary)) {
+    Lexer fx(face_path, read_whole_file(face_path), '#');
+    const std::string fh = ".face header";
+    const std::uint64_t nf = to_uint(fx, header_token(fx, fh), "count");
+    const std::uint64_t nmark = to_uint(fx, header_token(fx, fh), "boundary marker count");
+    if (nmark > 1) fx.fail("boundary marker count " + std::to_string(nmark) + ": 0 or 1");
+    const std::size_t per_face = static_cast<std::size_t>(4 + nmark);
+    faces.v.reserve(3 * reserve_for(fx, nf));
+    Section fs{"faces", "faces", nf};
+    for (; fs.found < nf; ++fs.found) {
+      const std::uint64_t index = to_uint(fx, entry_token(fx, fs), "face number");
+      const std::uint32_t line = fx.line();
+      const std::string entry = "face " + std::to_string(index);
+      std::uint64_t idx[3];
+      for (std::size_t k = 1; k < 4; ++k) {
+        idx[k - 1] = to_uint(fx, line_field(fx, entry, per_face, k), "node number");
+      }
+      const std::int32_t marker =
+          nmark == 0 ? 0 : to_tag(fx, line_field(fx, entry, per_face, 4), "boundary marker");
+      fx.skip_line();
+      faces.push(index, line, idx, marker);
+    }
+  }
+  finish_mesh(mesh.source, tets, face_path, faces, first_node, mesh);
   return mesh;
 }
 
 // ---------------------------------------------------------------------------------------
 // Gmsh .msh, ASCII 2.x (2.2) and 4.1. Sections "$Name" ... "$EndName"; unknown sections
-// (and $Entities, $PhysicalNames...) are read past. Nodes are identified by tags, which
-// need not be contiguous; elements of type 4 are 4-node tetrahedra.
+// are read past. Nodes are identified by tags, which need not be contiguous; elements of
+// type 4 are 4-node tetrahedra, of type 2 3-node triangles. An element's tag is its
+// physical tag: in 2.2 its first tag; in 4.1 the first physical tag of the entity of its
+// block ($Entities), resolved once the whole file is read (sections in any order).
 
 constexpr std::uint64_t kGmshTet = 4;
+constexpr std::uint64_t kGmshTriangle = 2;
 
 // Reads past a section up to its "$End..." token.
 void skip_gmsh_section(Lexer& lx, std::string_view name) {
@@ -303,6 +387,101 @@ struct GmshNodes {
   std::vector<std::uint32_t> line;
 };
 
+// What a Gmsh file says about tags: the elements of 4.1 blocks, to be tagged by their
+// entity, and the entities' first physical tags.
+struct GmshTags {
+  struct Block {
+    std::uint64_t dim, entity;
+    RawCells* cells;
+    std::size_t begin, end;  // elements [begin, end) of *cells
+  };
+  std::vector<Block> blocks;
+  // Per dimension 0..3: entity tag -> its first physical tag (entities without one absent),
+  // from $Entities and from $PartitionedEntities (whose entities the blocks of a
+  // partitioned mesh refer to).
+  std::unordered_map<std::uint64_t, std::int32_t> physical[4], partitioned[4];
+  bool have_partitioned = false;
+};
+
+// The RawCells an element type goes to (nullptr: skipped).
+RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles) {
+  return type == kGmshTet ? &tets : type == kGmshTriangle ? &triangles : nullptr;
+}
+
+// $PhysicalNames (both formats): count, then `dimension tag "name"` per line.
+void read_gmsh_physical_names(Lexer& lx, TetMeshInput& mesh) {
+  Section s{"$PhysicalNames", "names", to_uint(lx, header_token(lx, "$PhysicalNames"), "count")};
+  for (; s.found < s.expected; ++s.found) {
+    TetMeshInput::TagName n;
+    const std::uint64_t dim = entry_uint(lx, s, "dimension");
+    if (dim > 3) lx.fail("physical name of dimension " + std::to_string(dim) + ": 0 to 3");
+    n.dimension = static_cast<int>(dim);
+    n.tag = to_tag(lx, entry_token(lx, s), "physical tag");
+    std::string_view name = lx.rest_of_line();
+    while (!name.empty() && std::isspace(static_cast<unsigned char>(name.front()))) {
+      name.remove_prefix(1);
+    }
+    while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) {
+      name.remove_suffix(1);
+    }
+    if (name.size() < 2 || name.front() != '"' || name.back() != '"') {
+      lx.fail("physical name " + (name.empty() ? std::string("(none)") : quote(name)) +
+              ": expected a name in double quotes");
+    }
+    n.name = std::string(name.substr(1, name.size() - 2));
+    mesh.tag_names.push_back(std::move(n));
+  }
+  expect_gmsh_end(lx, s, "$EndPhysicalNames");
+}
+
+// $Entities, format 4.1: "numPoints numCurves numSurfaces numVolumes", then per point
+// "tag x y z numPhysicalTags physicalTag...", per curve, surface and volume "tag minX minY
+// minZ maxX maxY maxZ numPhysicalTags physicalTag... numBounding boundingTag...".
+// $PartitionedEntities: first "numPartitions numGhostEntities (ghostTag partition)...",
+// then the same counts and entities, each with "parentDim parentTag numPartitions
+// partitionTag..." after its tag.
+void read_gmsh4_entities(Lexer& lx, GmshTags& tags, bool partitioned) {
+  const std::string name = partitioned ? "$PartitionedEntities" : "$Entities";
+  if (partitioned) {
+    to_uint(lx, header_token(lx, name), "partition count");
+    Section ghosts{name, "ghost entities", to_uint(lx, header_token(lx, name), "count")};
+    for (; ghosts.found < ghosts.expected; ++ghosts.found) {
+      entry_token(lx, ghosts);
+      entry_token(lx, ghosts);
+    }
+  }
+  std::uint64_t count[4];
+  for (auto& c : count) c = to_uint(lx, header_token(lx, name), "entity count");
+  Section s{name, "entities", 0};
+  for (const std::uint64_t c : count) {
+    if (c > kMaxVertices) lx.fail(name + ": " + std::to_string(c) + " entities: too many");
+    s.expected += c;
+  }
+  auto& physical = partitioned ? tags.partitioned : tags.physical;
+  for (std::size_t dim = 0; dim < 4; ++dim) {
+    for (std::uint64_t e = 0; e < count[dim]; ++e, ++s.found) {
+      const std::uint64_t tag = entry_uint(lx, s, "entity tag");
+      if (partitioned) {
+        entry_uint(lx, s, "parent dimension");
+        entry_token(lx, s);  // parent tag
+        const std::uint64_t parts = entry_uint(lx, s, "partition count");
+        for (std::uint64_t k = 0; k < parts; ++k) entry_token(lx, s);
+      }
+      for (std::size_t k = 0; k < (dim == 0 ? 3u : 6u); ++k) entry_double(lx, s);
+      const std::uint64_t nphys = entry_uint(lx, s, "physical tag count");
+      for (std::uint64_t k = 0; k < nphys; ++k) {
+        const std::int32_t phys = to_tag(lx, entry_token(lx, s), "physical tag");
+        if (k == 0) physical[dim].emplace(tag, phys);
+      }
+      if (dim > 0) {
+        const std::uint64_t nbound = entry_uint(lx, s, "bounding entity count");
+        for (std::uint64_t k = 0; k < nbound; ++k) entry_token(lx, s);
+      }
+    }
+  }
+  expect_gmsh_end(lx, s, ("$End" + name.substr(1)).c_str());
+}
+
 // $Nodes, format 2: count, then "tag x y z" per node.
 void read_gmsh2_nodes(Lexer& lx, TetMeshInput& mesh, GmshNodes& nodes) {
   Section s{"$Nodes", "nodes", to_uint(lx, header_token(lx, "$Nodes"), "count")};
@@ -315,23 +494,28 @@ void read_gmsh2_nodes(Lexer& lx, TetMeshInput& mesh, GmshNodes& nodes) {
   expect_gmsh_end(lx, s, "$EndNodes");
 }
 
-// $Elements, format 2: count, then "tag type ntags tag... node..." per element.
-void read_gmsh2_elements(Lexer& lx, RawTets& raw) {
+// $Elements, format 2: count, then "tag type ntags tag... node..." per element; the first
+// tag is the physical tag.
+void read_gmsh2_elements(Lexer& lx, RawCells& tets, RawCells& triangles) {
   Section s{"$Elements", "elements", to_uint(lx, header_token(lx, "$Elements"), "count")};
   for (; s.found < s.expected; ++s.found) {
     const std::uint64_t tag = entry_uint(lx, s, "element tag");
     const std::uint32_t line = lx.line();
-    const std::uint64_t type = entry_uint(lx, s, "element type");
-    if (type != kGmshTet) {
+    RawCells* cells = gmsh_cells(entry_uint(lx, s, "element type"), tets, triangles);
+    if (cells == nullptr) {
       lx.skip_line();
       continue;
     }
     const std::uint64_t ntags = entry_uint(lx, s, "tag count");
-    for (std::uint64_t k = 0; k < ntags; ++k) entry_token(lx, s);
+    std::int32_t physical = 0;
+    for (std::uint64_t k = 0; k < ntags; ++k) {
+      const std::string_view t = entry_token(lx, s);
+      if (k == 0) physical = to_tag(lx, t, "physical tag");
+    }
     std::uint64_t idx[4];
-    for (auto& i : idx) i = entry_uint(lx, s, "node tag");
+    for (std::size_t k = 0; k < cells->per; ++k) idx[k] = entry_uint(lx, s, "node tag");
     lx.skip_line();
-    raw.push(tag, line, idx);
+    cells->push(tag, line, idx, physical);
   }
   expect_gmsh_end(lx, s, "$EndElements");
 }
@@ -374,31 +558,34 @@ void read_gmsh4_nodes(Lexer& lx, TetMeshInput& mesh, GmshNodes& nodes) {
 
 // $Elements, format 4.1: "numEntityBlocks numElements minTag maxTag", then per block
 // "entityDim entityTag elementType numElementsInBlock" and one element per line:
-// "tag node...".
-void read_gmsh4_elements(Lexer& lx, RawTets& raw) {
+// "tag node...". The blocks of tets and triangles are kept in `tags` for their entity.
+void read_gmsh4_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTags& tags) {
   const std::uint64_t blocks = to_uint(lx, header_token(lx, "$Elements"), "block count");
   Section s{"$Elements", "elements", to_uint(lx, header_token(lx, "$Elements"), "count")};
   to_uint(lx, header_token(lx, "$Elements"), "element tag");
   to_uint(lx, header_token(lx, "$Elements"), "element tag");
   for (std::uint64_t b = 0; b < blocks; ++b) {
-    entry_uint(lx, s, "entity dimension");
-    entry_uint(lx, s, "entity tag");
-    const std::uint64_t type = entry_uint(lx, s, "element type");
+    const std::uint64_t dim = entry_uint(lx, s, "entity dimension");
+    const std::uint64_t entity = entry_uint(lx, s, "entity tag");
+    RawCells* cells = gmsh_cells(entry_uint(lx, s, "element type"), tets, triangles);
     const std::uint64_t in_block = entry_uint(lx, s, "element count");
+    if (dim > 3) lx.fail("section $Elements: a block of entity dimension " + std::to_string(dim));
     if (in_block > s.expected - s.found) {
       lx.fail("section $Elements: a block of " + std::to_string(in_block) + " elements after " +
               std::to_string(s.found) + " of " + std::to_string(s.expected) + " elements");
     }
+    if (cells != nullptr) tags.blocks.push_back({dim, entity, cells, cells->size(), 0});
     for (std::uint64_t i = 0; i < in_block; ++i, ++s.found) {
       const std::uint64_t tag = entry_uint(lx, s, "element tag");
       const std::uint32_t line = lx.line();
-      if (type == kGmshTet) {
+      if (cells != nullptr) {
         std::uint64_t idx[4];
-        for (auto& n : idx) n = entry_uint(lx, s, "node tag");
-        raw.push(tag, line, idx);
+        for (std::size_t k = 0; k < cells->per; ++k) idx[k] = entry_uint(lx, s, "node tag");
+        cells->push(tag, line, idx, 0);
       }
       lx.skip_line();
     }
+    if (cells != nullptr) tags.blocks.back().end = cells->size();
   }
   if (s.found != s.expected) {
     lx.fail("section $Elements: its blocks hold " + std::to_string(s.found) +
@@ -409,8 +596,8 @@ void read_gmsh4_elements(Lexer& lx, RawTets& raw) {
 
 // Node tags to vertex indices: a direct table when the tags are dense enough (the usual
 // 1..n), a hash map otherwise.
-void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawTets& raw,
-                 TetMeshInput& mesh) {
+void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells& tets,
+                 const RawCells& triangles, TetMeshInput& mesh) {
   const std::size_t n = nodes.tag.size();
   const std::uint64_t max_tag = n == 0 ? 0 : *std::max_element(nodes.tag.begin(), nodes.tag.end());
   constexpr std::uint32_t kAbsent = 0xffffffffu;
@@ -439,26 +626,33 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawTets&
                   std::to_string(nodes.line[first]) + ")");
     }
   }
-  mesh.tets.resize(raw.v.size());
-  for (std::size_t t = 0; t < raw.size(); ++t) {
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::uint64_t tag = raw.v[4 * t + k];
-      std::uint32_t index = kAbsent;
-      if (dense) {
-        if (tag <= max_tag) index = table[static_cast<std::size_t>(tag)];
-      } else if (const auto it = map.find(tag); it != map.end()) {
-        index = it->second;
+  const auto resolve = [&](const RawCells& raw) {
+    std::vector<std::uint32_t> out(raw.v.size());
+    for (std::size_t c = 0; c < raw.size(); ++c) {
+      for (std::size_t k = 0; k < raw.per; ++k) {
+        const std::uint64_t tag = raw.v[raw.per * c + k];
+        std::uint32_t index = kAbsent;
+        if (dense) {
+          if (tag <= max_tag) index = table[static_cast<std::size_t>(tag)];
+        } else if (const auto it = map.find(tag); it != map.end()) {
+          index = it->second;
+        }
+        if (index == kAbsent) {
+          fail_at(path, raw.line[c],
+                  "element " + std::to_string(raw.label[c]) + ": node " + std::to_string(tag) +
+                      (n == 0 ? std::string(" does not exist (the file has no nodes)")
+                              : " is not in section $Nodes"));
+        }
+        out[raw.per * c + k] = index;
       }
-      if (index == kAbsent) {
-        fail_at(path, raw.line[t],
-                "element " + std::to_string(raw.label[t]) + ": node " + std::to_string(tag) +
-                    (n == 0 ? std::string(" does not exist (the file has no nodes)")
-                            : " is not in section $Nodes"));
-      }
-      mesh.tets[4 * t + k] = index;
     }
-  }
-  mesh.tet_line = raw.line;
+    return out;
+  };
+  mesh.tets = resolve(tets);
+  mesh.tet_line = tets.line;
+  mesh.tet_ref = tags_or_empty(tets.ref);
+  mesh.triangles = resolve(triangles);
+  mesh.triangle_ref = tags_or_empty(triangles.ref);
 }
 
 TetMeshInput read_gmsh(const std::string& path) {
@@ -489,9 +683,9 @@ TetMeshInput read_gmsh(const std::string& path) {
     }
   }
   GmshNodes nodes;
-  RawTets raw;
-  raw.what = "element";
-  bool have_nodes = false, have_elements = false;
+  RawCells tets(4, "element"), triangles(3, "element");
+  GmshTags tags;
+  bool have_nodes = false, have_elements = false, have_names = false, have_entities = false;
   for (;;) {
     const std::string_view t = lx.next();
     if (t.empty()) break;
@@ -508,28 +702,67 @@ TetMeshInput read_gmsh(const std::string& path) {
       if (have_elements) lx.fail("a second $Elements section");
       have_elements = true;
       if (v2) {
-        read_gmsh2_elements(lx, raw);
+        read_gmsh2_elements(lx, tets, triangles);
       } else {
-        read_gmsh4_elements(lx, raw);
+        read_gmsh4_elements(lx, tets, triangles, tags);
       }
+    } else if (t == "$PhysicalNames") {
+      if (have_names) lx.fail("a second $PhysicalNames section");
+      have_names = true;
+      read_gmsh_physical_names(lx, mesh);
+    } else if (t == "$Entities" && !v2) {
+      if (have_entities) lx.fail("a second $Entities section");
+      have_entities = true;
+      read_gmsh4_entities(lx, tags, false);
+    } else if (t == "$PartitionedEntities" && !v2) {
+      if (tags.have_partitioned) lx.fail("a second $PartitionedEntities section");
+      tags.have_partitioned = true;
+      read_gmsh4_entities(lx, tags, true);
     } else {
       skip_gmsh_section(lx, t);
     }
   }
-  if (raw.size() == 0) {
+  if (tets.size() == 0) {
     throw Error(path + (have_elements ? ": no tetrahedra (element type 4) in $Elements"
                                       : ": no tetrahedra (no $Elements section)"));
   }
-  finish_gmsh(path, nodes, raw, mesh);
+  for (const GmshTags::Block& b : tags.blocks) {
+    const auto& physical = tags.have_partitioned ? tags.partitioned[b.dim] : tags.physical[b.dim];
+    const auto it = physical.find(b.entity);
+    if (it == physical.end()) continue;
+    std::fill(b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.begin),
+              b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.end), it->second);
+  }
+  finish_gmsh(path, nodes, tets, triangles, mesh);
   return mesh;
 }
 
 // ---------------------------------------------------------------------------------------
 // Legacy VTK (.vtk), ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (the classic layout
 // "n i0 .. i(n-1)" per cell, or the VTK 5.1 layout OFFSETS + CONNECTIVITY), CELL_TYPES;
-// cells of type 10 (VTK_TETRA) are kept. Reading stops at POINT_DATA / CELL_DATA / FIELD.
+// cells of type 10 (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept. Then POINT_DATA / CELL_DATA
+// attributes and FIELD arrays: the CELL_DATA arrays `region` and `patch` (SCALARS or FIELD
+// arrays of one component) are kept, everything else is read past by its size.
 
 constexpr std::uint64_t kVtkTetra = 10;
+constexpr std::uint64_t kVtkTriangle = 5;
+
+// One array of a VTK attribute section: `values` of it, read (as tags) or read past.
+void read_vtk_array(Lexer& lx, const std::string& name, std::uint64_t values,
+                    std::vector<std::int32_t>* tags) {
+  Section s{name, "values", values};
+  if (tags != nullptr) tags->reserve(reserve_for(lx, values));
+  for (; s.found < values; ++s.found) {
+    const std::string_view t = entry_token(lx, s);
+    if (tags == nullptr) continue;
+    const double v = to_double(lx, t);
+    if (v != std::floor(v) || v < -2147483648.0 || v > 2147483647.0) {
+      lx.fail(name + ": cell " + std::to_string(s.found) + ": " + quote(t) +
+              " is not a tag (a 32-bit integer)");
+    }
+    tags->push_back(static_cast<std::int32_t>(v));
+  }
+}
 
 TetMeshInput read_vtk(const std::string& path) {
   Lexer lx(path, read_whole_file(path), 0);
@@ -563,6 +796,26 @@ TetMeshInput read_vtk(const std::string& path) {
   std::vector<std::uint64_t> cell_begin{0}, cell_index;
   std::vector<std::uint32_t> cell_line;
   std::vector<std::uint64_t> cell_type;
+  // Attribute data: the number of tuples of the current POINT_DATA / CELL_DATA section
+  // (none before the first), and the tag arrays found in CELL_DATA, per cell.
+  enum class Data { kNone, kPoint, kCell } data = Data::kNone;
+  std::uint64_t tuples = 0;
+  std::vector<std::int32_t> region, patch;
+  bool have_region = false, have_patch = false;
+  // The tag array an array of CELL_DATA named `name` with `components` fills (nullptr: none).
+  const auto tag_array = [&](std::string_view name,
+                             std::uint64_t components) -> std::vector<std::int32_t>* {
+    if (data != Data::kCell || components != 1) return nullptr;
+    bool& have = name == "region" ? have_region : have_patch;
+    if ((name != "region" && name != "patch") || have) return nullptr;
+    have = true;
+    return name == "region" ? &region : &patch;
+  };
+  const auto need_data = [&](std::string_view kw) {
+    if (data == Data::kNone) {
+      lx.fail(std::string(kw) + " outside POINT_DATA and CELL_DATA");
+    }
+  };
   for (;;) {
     const std::string_view t = lx.next();
     if (t.empty()) break;
@@ -640,8 +893,82 @@ TetMeshInput read_vtk(const std::string& path) {
       have_types = true;
     } else if (kw == "metadata") {
       lx.skip_to_blank_line();
-    } else if (kw == "point_data" || kw == "cell_data" || kw == "field") {
-      break;
+    } else if (kw == "point_data" || kw == "cell_data") {
+      const std::string name = kw == "point_data" ? "POINT_DATA" : "CELL_DATA";
+      tuples = to_uint(lx, header_token(lx, name), "count");
+      data = kw == "point_data" ? Data::kPoint : Data::kCell;
+      if (data == Data::kCell && tuples != cell_line.size()) {
+        lx.fail("CELL_DATA " + std::to_string(tuples) + ": CELLS has " +
+                std::to_string(cell_line.size()) + " cells");
+      }
+    } else if (kw == "scalars") {
+      // SCALARS name type [components], then LOOKUP_TABLE name (optional here).
+      need_data("SCALARS");
+      const std::string name(header_token(lx, "SCALARS"));
+      header_token(lx, "SCALARS");
+      const std::string_view nc = lx.next_on_line();
+      const std::uint64_t components = nc.empty() ? 1 : to_uint(lx, nc, "component count");
+      if (lower(lx.peek()) == "lookup_table") {
+        lx.next();
+        header_token(lx, "LOOKUP_TABLE");
+      }
+      read_vtk_array(lx, "SCALARS " + name, tuples * components, tag_array(name, components));
+    } else if (kw == "lookup_table" || kw == "color_scalars" || kw == "vectors" ||
+               kw == "normals" || kw == "tensors" || kw == "tensors6" ||
+               kw == "texture_coordinates" || kw == "global_ids" || kw == "pedigree_ids") {
+      // Read past: "LOOKUP_TABLE name size" (size RGBA tuples), "COLOR_SCALARS name n",
+      // "TEXTURE_COORDINATES name dim type", the others "KEYWORD name type".
+      const std::string head = std::string(t) + " " + std::string(header_token(lx, std::string(t)));
+      std::uint64_t values = 0;
+      if (kw == "lookup_table") {
+        values = 4 * to_uint(lx, header_token(lx, head), "size");
+      } else {
+        need_data(t);
+        const std::uint64_t per = kw == "color_scalars" || kw == "texture_coordinates"
+                                      ? to_uint(lx, header_token(lx, head), "component count")
+                                  : kw == "vectors" || kw == "normals" ? 3
+                                  : kw == "tensors"                    ? 9
+                                  : kw == "tensors6"                   ? 6
+                                                                       : 1;
+        if (kw != "color_scalars") header_token(lx, head);  // the data type
+        values = tuples * per;
+      }
+      read_vtk_array(lx, head, values, nullptr);
+    } else if (kw == "field") {
+      // FIELD name n, then n arrays "name components tuples type" and their values (in
+      // VTK 5.1 files each possibly followed by METADATA).
+      header_token(lx, "FIELD");
+      Section s{"FIELD", "arrays", to_uint(lx, header_token(lx, "FIELD"), "array count")};
+      // Names and types are words: not entry_token(), which takes a word for a keyword.
+      const auto word = [&]() {
+        const std::string_view w = lx.next();
+        if (w.empty()) truncated(lx, s, w);
+        return w;
+      };
+      for (; s.found < s.expected; ++s.found) {
+        std::string_view name = word();
+        if (lower(name) == "metadata") {
+          lx.skip_to_blank_line();
+          name = word();
+        }
+        if (name == "NULL_ARRAY") continue;
+        const std::string array(name);
+        const std::uint64_t components = entry_uint(lx, s, "component count");
+        const std::uint64_t n = entry_uint(lx, s, "tuple count");
+        const std::string type = lower(word());
+        if (type == "string" || type == "utf8_string") {
+          // One string per line (VTK writes blanks as %20): read past by lines.
+          lx.skip_line();
+          for (std::uint64_t i = 0; i < n * components; ++i) {
+            if (lx.peek().empty()) truncated(lx, s, {});
+            lx.next_line();
+          }
+          lx.next_line();
+          continue;
+        }
+        std::vector<std::int32_t>* tags = n == tuples ? tag_array(array, components) : nullptr;
+        read_vtk_array(lx, "FIELD array " + array, n * components, tags);
+      }
     } else {
       lx.fail("unknown VTK keyword " + quote(t));
     }
@@ -653,25 +980,37 @@ TetMeshInput read_vtk(const std::string& path) {
                                           : "CELL_TYPES") +
                 " section");
   }
-  RawTets raw;
-  raw.what = "cell";
+  RawCells tets(4, "cell"), triangles(3, "cell");
   for (std::size_t c = 0; c < cell_type.size(); ++c) {
-    if (cell_type[c] != kVtkTetra) continue;
+    const bool tet = cell_type[c] == kVtkTetra;
+    if (!tet && cell_type[c] != kVtkTriangle) continue;
+    RawCells& raw = tet ? tets : triangles;
     const std::uint64_t k = cell_begin[c + 1] - cell_begin[c];
-    if (k != 4) {
+    if (k != raw.per) {
       fail_at(path, cell_line[c],
-              "cell " + std::to_string(c) + " of type 10 (tetra) has " + std::to_string(k) +
-                  " points, not 4");
+              "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
+                  " has " + std::to_string(k) + " points, not " + std::to_string(raw.per));
     }
-    raw.push(c, cell_line[c], cell_index.data() + cell_begin[c]);
+    const std::vector<std::int32_t>& ref = tet ? region : patch;
+    raw.push(c, cell_line[c], cell_index.data() + cell_begin[c], ref.empty() ? 0 : ref[c]);
   }
-  if (raw.size() == 0) throw Error(path + ": no tetrahedra (cell type 10)");
-  finish_tets(path, raw, 0, mesh);
+  if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10)");
+  finish_mesh(path, tets, path, triangles, 0, mesh);
   return mesh;
 }
 
 // ---------------------------------------------------------------------------------------
 // Writers.
+
+// The tag of element i of a tag vector that is empty (all 0) or holds one tag per element.
+std::int32_t tag_of(const std::vector<std::int32_t>& ref, std::size_t i) {
+  return ref.empty() ? 0 : ref[i];
+}
+
+void append_int(std::string& out, std::int64_t v) {
+  char buf[24];
+  out.append(buf, std::to_chars(buf, buf + sizeof(buf), v).ptr);
+}
 
 // Vertex i as "x y z" (shortest round-trip decimals).
 void append_vertex(std::string& out, const TetMeshInput& mesh, std::size_t i) {
@@ -682,11 +1021,12 @@ void append_vertex(std::string& out, const TetMeshInput& mesh, std::size_t i) {
   append(out, mesh.xyz[3 * i + 2]);
 }
 
-// Tet t as "a b c d", vertex numbers from `base`.
-void append_tet(std::string& out, const TetMeshInput& mesh, std::size_t t, std::uint64_t base) {
-  for (std::size_t k = 0; k < 4; ++k) {
+// Cell c of `cells` (`per` vertices each) as "a b c [d]", vertex numbers from `base`.
+void append_cell(std::string& out, const std::vector<std::uint32_t>& cells, std::size_t per,
+                 std::size_t c, std::uint64_t base) {
+  for (std::size_t k = 0; k < per; ++k) {
     if (k > 0) out += ' ';
-    append(out, mesh.tets[4 * t + k] + base);
+    append(out, cells[per * c + k] + base);
   }
 }
 
@@ -698,13 +1038,21 @@ std::string medit_text(const TetMeshInput& mesh) {
     append_vertex(s, mesh, i);
     s += " 0\n";
   }
-  s += "Tetrahedra\n";
-  append(s, std::uint64_t{mesh.nb_tets()});
-  s += '\n';
-  for (std::size_t t = 0; t < mesh.nb_tets(); ++t) {
-    append_tet(s, mesh, t, 1);
-    s += " 0\n";
-  }
+  const auto section = [&](const char* name, const std::vector<std::uint32_t>& cells,
+                           std::size_t per, const std::vector<std::int32_t>& ref) {
+    s += name;
+    s += '\n';
+    append(s, std::uint64_t{cells.size() / per});
+    s += '\n';
+    for (std::size_t c = 0; c < cells.size() / per; ++c) {
+      append_cell(s, cells, per, c, 1);
+      s += ' ';
+      append_int(s, tag_of(ref, c));
+      s += '\n';
+    }
+  };
+  if (mesh.nb_triangles() > 0) section("Triangles", mesh.triangles, 3, mesh.triangle_ref);
+  section("Tetrahedra", mesh.tets, 4, mesh.tet_ref);
   s += "End\n";
   return s;
 }
@@ -722,21 +1070,64 @@ std::string tetgen_node_text(const TetMeshInput& mesh) {
   return s;
 }
 
-std::string tetgen_ele_text(const TetMeshInput& mesh) {
+// .ele (tets, a region attribute when tagged) or .face (triangles, a boundary marker when
+// tagged): "count nodes_per_tet attributes" / "count markers", then "number nodes [tag]".
+std::string tetgen_cells_text(const std::vector<std::uint32_t>& cells, std::size_t per,
+                              const std::vector<std::int32_t>& ref) {
   std::string s;
-  append(s, std::uint64_t{mesh.nb_tets()});
-  s += " 4 0\n";
-  for (std::size_t t = 0; t < mesh.nb_tets(); ++t) {
-    append(s, std::uint64_t{t + 1});
+  append(s, std::uint64_t{cells.size() / per});
+  s += per == 4 ? " 4 " : " ";
+  s += ref.empty() ? "0\n" : "1\n";
+  for (std::size_t c = 0; c < cells.size() / per; ++c) {
+    append(s, std::uint64_t{c + 1});
     s += ' ';
-    append_tet(s, mesh, t, 1);
+    append_cell(s, cells, per, c, 1);
+    if (!ref.empty()) {
+      s += ' ';
+      append_int(s, ref[c]);
+    }
     s += '\n';
   }
   return s;
 }
 
+// Gmsh entities of one dimension: one per distinct tag, in increasing order of tag,
+// numbered from 1 (at least one: the volume entity 1 holds the nodes).
+struct GmshEntities {
+  std::vector<std::int32_t> tags;  // entity e + 1 has tags[e]
+
+  explicit GmshEntities(const std::vector<std::int32_t>& ref, std::size_t count, bool at_least_one)
+      : tags(ref) {
+    if (tags.empty() && (count > 0 || at_least_one)) tags.push_back(0);
+    std::sort(tags.begin(), tags.end());
+    tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  }
+  std::uint64_t entity(std::int32_t tag) const {
+    return static_cast<std::uint64_t>(std::lower_bound(tags.begin(), tags.end(), tag) -
+                                      tags.begin()) +
+           1;
+  }
+};
+
+std::string gmsh_physical_names(const TetMeshInput& mesh) {
+  if (mesh.tag_names.empty()) return "";
+  std::string s = "$PhysicalNames\n";
+  append(s, std::uint64_t{mesh.tag_names.size()});
+  s += '\n';
+  for (const TetMeshInput::TagName& n : mesh.tag_names) {
+    append_int(s, n.dimension);
+    s += ' ';
+    append_int(s, n.tag);
+    s += " \"" + n.name + "\"\n";
+  }
+  return s + "$EndPhysicalNames\n";
+}
+
+// Element tags: tets 1..nt, then triangles nt + 1..nt + ntri.
 std::string gmsh22_text(const TetMeshInput& mesh) {
-  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n";
+  const GmshEntities volumes(mesh.tet_ref, mesh.nb_tets(), true);
+  const GmshEntities surfaces(mesh.triangle_ref, mesh.nb_triangles(), false);
+  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" + gmsh_physical_names(mesh) + "$Nodes\n";
   append(s, std::uint64_t{mesh.nb_vertices()});
   s += '\n';
   for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
@@ -746,35 +1137,73 @@ std::string gmsh22_text(const TetMeshInput& mesh) {
     s += '\n';
   }
   s += "$EndNodes\n$Elements\n";
-  append(s, std::uint64_t{mesh.nb_tets()});
+  append(s, std::uint64_t{mesh.nb_tets()} + mesh.nb_triangles());
   s += '\n';
-  for (std::size_t t = 0; t < mesh.nb_tets(); ++t) {
-    append(s, std::uint64_t{t + 1});
-    s += " 4 2 0 1 ";  // type 4, two tags: physical 0, elementary entity 1
-    append_tet(s, mesh, t, 1);
-    s += '\n';
-  }
+  std::uint64_t number = 1;
+  const auto elements = [&](const std::vector<std::uint32_t>& cells, std::size_t per,
+                            const std::vector<std::int32_t>& ref, const GmshEntities& entities) {
+    for (std::size_t c = 0; c < cells.size() / per; ++c, ++number) {
+      append(s, number);
+      s += per == 4 ? " 4 2 " : " 2 2 ";  // type, two tags: physical, elementary entity
+      append_int(s, tag_of(ref, c));
+      s += ' ';
+      append(s, entities.entity(tag_of(ref, c)));
+      s += ' ';
+      append_cell(s, cells, per, c, 1);
+      s += '\n';
+    }
+  };
+  elements(mesh.tets, 4, mesh.tet_ref, volumes);
+  elements(mesh.triangles, 3, mesh.triangle_ref, surfaces);
   s += "$EndElements\n";
   return s;
 }
 
-// One volume entity (tag 1, the bounding box of the vertices) holding every node and tet.
+// Surface entities for the triangle tags, volume entities for the tet tags, each entity's
+// box the mesh's bounding box (a valid, if loose, bound); every node in volume entity 1;
+// element blocks: runs of equal tags, tets first.
 std::string gmsh41_text(const TetMeshInput& mesh) {
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double x = mesh.xyz[3 * i + k];
-      lo[k] = i == 0 ? x : std::min(lo[k], x);
-      hi[k] = i == 0 ? x : std::max(hi[k], x);
+  const GmshEntities volumes(mesh.tet_ref, mesh.nb_tets(), true);
+  const GmshEntities surfaces(mesh.triangle_ref, mesh.nb_triangles(), false);
+  // Physical groups for every entity, tag 0 included, as soon as one tag is not 0 (meshio
+  // wants one physical tag per element or none at all); none otherwise.
+  const auto nonzero = [](std::int32_t t) { return t != 0; };
+  const bool physical = std::any_of(mesh.tet_ref.begin(), mesh.tet_ref.end(), nonzero) ||
+                        std::any_of(mesh.triangle_ref.begin(), mesh.triangle_ref.end(), nonzero);
+  std::string box;
+  {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double x = mesh.xyz[3 * i + k];
+        lo[k] = i == 0 ? x : std::min(lo[k], x);
+        hi[k] = i == 0 ? x : std::max(hi[k], x);
+      }
+    }
+    for (const double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
+      box += ' ';
+      append(box, x);
     }
   }
-  const std::uint64_t nv = mesh.nb_vertices(), nt = mesh.nb_tets();
-  std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 0 1\n1";
-  for (const double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
-    s += ' ';
-    append(s, x);
+  const std::uint64_t nv = mesh.nb_vertices();
+  const std::uint64_t ne = std::uint64_t{mesh.nb_tets()} + mesh.nb_triangles();
+  std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + gmsh_physical_names(mesh);
+  s += "$Entities\n0 0 " + std::to_string(surfaces.tags.size()) + " " +
+       std::to_string(volumes.tags.size()) + "\n";
+  for (const GmshEntities* entities : {&surfaces, &volumes}) {
+    for (std::size_t e = 0; e < entities->tags.size(); ++e) {
+      append(s, std::uint64_t{e + 1});
+      s += box;
+      if (physical) {
+        s += " 1 ";
+        append_int(s, entities->tags[e]);
+      } else {
+        s += " 0";
+      }
+      s += " 0\n";  // no bounding entities
+    }
   }
-  s += " 0 0\n$EndEntities\n$Nodes\n";
+  s += "$EndEntities\n$Nodes\n";
   s += "1 " + std::to_string(nv) + " 1 " + std::to_string(nv) + "\n3 1 0 " + std::to_string(nv) +
        "\n";
   for (std::uint64_t i = 0; i < nv; ++i) {
@@ -786,29 +1215,139 @@ std::string gmsh41_text(const TetMeshInput& mesh) {
     s += '\n';
   }
   s += "$EndNodes\n$Elements\n";
-  s += "1 " + std::to_string(nt) + " 1 " + std::to_string(nt) + "\n3 1 4 " + std::to_string(nt) +
-       "\n";
-  for (std::size_t t = 0; t < nt; ++t) {
-    append(s, std::uint64_t{t + 1});
-    s += ' ';
-    append_tet(s, mesh, t, 1);
+  std::string blocks;
+  std::uint64_t nb_blocks = 0, number = 1;
+  const auto elements = [&](const std::vector<std::uint32_t>& cells, std::size_t per,
+                            const std::vector<std::int32_t>& ref, const GmshEntities& entities) {
+    const std::size_t n = cells.size() / per;
+    for (std::size_t begin = 0, end = 0; begin < n; begin = end) {
+      const std::int32_t tag = tag_of(ref, begin);
+      for (end = begin + 1; end < n && tag_of(ref, end) == tag; ++end) {
+      }
+      ++nb_blocks;
+      blocks += per == 4 ? "3 " : "2 ";
+      append(blocks, entities.entity(tag));
+      blocks += per == 4 ? " 4 " : " 2 ";
+      append(blocks, std::uint64_t{end - begin});
+      blocks += '\n';
+      for (std::size_t c = begin; c < end; ++c, ++number) {
+        append(blocks, number);
+        blocks += ' ';
+        append_cell(blocks, cells, per, c, 1);
+        blocks += '\n';
+      }
+    }
+  };
+  elements(mesh.tets, 4, mesh.tet_ref, volumes);
+  elements(mesh.triangles, 3, mesh.triangle_ref, surfaces);
+  s += std::to_string(nb_blocks) + " " + std::to_string(ne) + " " + (ne == 0 ? "0" : "1") + " " +
+       std::to_string(ne) + "\n" + blocks + "$EndElements\n";
+  return s;
+}
+
+// Legacy VTK: tets then triangles, cell data cell_id, region, patch (as TetMeshFormat::kVtk).
+std::string vtk_text(const TetMeshInput& mesh) {
+  const std::uint64_t nt = mesh.nb_tets(), nf = mesh.nb_triangles(), n = nt + nf;
+  // The title is one line of at most 255 characters.
+  std::string title = mesh.source.empty() ? "voroclip tetrahedral mesh" : mesh.source;
+  if (title.size() > 255) title.resize(255);
+  for (char& c : title) {
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+  }
+  std::string s = "# vtk DataFile Version 3.0\n" + title +
+                  "\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " +
+                  std::to_string(mesh.nb_vertices()) + " double\n";
+  for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
+    append_vertex(s, mesh, i);
     s += '\n';
   }
-  s += "$EndElements\n";
+  s += "CELLS " + std::to_string(n) + " " + std::to_string(5 * nt + 4 * nf) + "\n";
+  for (std::size_t t = 0; t < nt; ++t) {
+    s += "4 ";
+    append_cell(s, mesh.tets, 4, t, 0);
+    s += '\n';
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    s += "3 ";
+    append_cell(s, mesh.triangles, 3, f, 0);
+    s += '\n';
+  }
+  s += "CELL_TYPES " + std::to_string(n) + "\n";
+  for (std::size_t c = 0; c < n; ++c) s += c < nt ? "10\n" : "5\n";
+  s += "CELL_DATA " + std::to_string(n) + "\nSCALARS cell_id int 1\nLOOKUP_TABLE default\n";
+  for (std::uint64_t c = 0; c < n; ++c) {
+    append(s, c);
+    s += '\n';
+  }
+  if (!mesh.tet_ref.empty()) {
+    s += "SCALARS region int 1\nLOOKUP_TABLE default\n";
+    for (std::size_t c = 0; c < n; ++c) {
+      append_int(s, c < nt ? mesh.tet_ref[c] : 0);
+      s += '\n';
+    }
+  }
+  if (!mesh.triangle_ref.empty()) {
+    s += "SCALARS patch int 1\nLOOKUP_TABLE default\n";
+    for (std::size_t c = 0; c < n; ++c) {
+      append_int(s, c < nt ? 0 : mesh.triangle_ref[c - nt]);
+      s += '\n';
+    }
+  }
   return s;
 }
 
 void check_mesh_arrays(const std::string& path, const TetMeshInput& mesh) {
-  if (mesh.xyz.size() % 3 != 0 || mesh.tets.size() % 4 != 0) {
-    throw Error("cannot write '" + path + "': the mesh arrays hold " +
-                std::to_string(mesh.xyz.size()) + " coordinates and " +
-                std::to_string(mesh.tets.size()) + " tet indices (multiples of 3 and 4 needed)");
+  const std::string what = "cannot write '" + path + "': ";
+  if (mesh.xyz.size() % 3 != 0 || mesh.tets.size() % 4 != 0 || mesh.triangles.size() % 3 != 0) {
+    throw Error(what + "the mesh arrays hold " + std::to_string(mesh.xyz.size()) +
+                " coordinates, " + std::to_string(mesh.tets.size()) + " tet indices and " +
+                std::to_string(mesh.triangles.size()) +
+                " triangle indices (multiples of 3, 4 and 3 needed)");
   }
-  for (std::size_t i = 0; i < mesh.tets.size(); ++i) {
-    if (mesh.tets[i] >= mesh.nb_vertices()) {
-      throw Error("cannot write '" + path + "': tet " + std::to_string(i / 4) + " has vertex " +
-                  std::to_string(mesh.tets[i]) + ", the mesh has " +
-                  std::to_string(mesh.nb_vertices()) + " vertices");
+  const auto check_cells = [&](const std::vector<std::uint32_t>& cells, std::size_t per,
+                               const char* name) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (cells[i] >= mesh.nb_vertices()) {
+        throw Error(what + name + " " + std::to_string(i / per) + " has vertex " +
+                    std::to_string(cells[i]) + ", the mesh has " +
+                    std::to_string(mesh.nb_vertices()) + " vertices");
+      }
+    }
+  };
+  check_cells(mesh.tets, 4, "tet");
+  check_cells(mesh.triangles, 3, "triangle");
+  const auto check_tags = [&](const std::vector<std::int32_t>& ref, std::size_t n, const char* name,
+                              const char* cell) {
+    if (!ref.empty() && ref.size() != n) {
+      throw Error(what + name + " has " + std::to_string(ref.size()) + " tags for " +
+                  std::to_string(n) + " " + cell + "s (empty, or one tag per " + cell + ")");
+    }
+  };
+  check_tags(mesh.tet_ref, mesh.nb_tets(), "tet_ref", "tet");
+  check_tags(mesh.triangle_ref, mesh.nb_triangles(), "triangle_ref", "triangle");
+}
+
+// Gmsh physical tags: positive (Gmsh reads a negative one as its absolute value), 0 for
+// none; names in double quotes on one line.
+void check_gmsh_tags(const std::string& path, const TetMeshInput& mesh) {
+  const std::string what = "cannot write '" + path + "' (Gmsh): ";
+  const auto check = [&](const std::vector<std::int32_t>& ref, const char* name) {
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      if (ref[i] < 0) {
+        throw Error(what + name + " " + std::to_string(i) + " has the tag " +
+                    std::to_string(ref[i]) + ": physical tags are positive (0: none)");
+      }
+    }
+  };
+  check(mesh.tet_ref, "tet");
+  check(mesh.triangle_ref, "triangle");
+  for (const TetMeshInput::TagName& n : mesh.tag_names) {
+    const std::string name =
+        "the name of tag " + std::to_string(n.tag) + " of dimension " + std::to_string(n.dimension);
+    if (n.dimension < 0 || n.dimension > 3) throw Error(what + name + ": dimension 0 to 3");
+    if (n.tag <= 0) throw Error(what + name + ": physical tags are positive");
+    if (n.name.find_first_of("\"\r\n") != std::string::npos) {
+      throw Error(what + name + ": a name cannot hold '\"' or a line break");
     }
   }
 }
@@ -839,27 +1378,40 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
     case TetMeshFormat::kTetGen: {
       const std::string base = without_extension(path);
       write_text(base + ".node", tetgen_node_text(mesh));
-      write_text(base + ".ele", tetgen_ele_text(mesh));
+      write_text(base + ".ele", tetgen_cells_text(mesh.tets, 4, mesh.tet_ref));
+      write_text(base + ".face", tetgen_cells_text(mesh.triangles, 3, mesh.triangle_ref));
       return;
     }
     case TetMeshFormat::kGmsh22:
+      check_gmsh_tags(path, mesh);
       write_text(path, gmsh22_text(mesh));
       return;
     case TetMeshFormat::kGmsh41:
+      check_gmsh_tags(path, mesh);
       write_text(path, gmsh41_text(mesh));
       return;
     case TetMeshFormat::kVtu:
     case TetMeshFormat::kVtuAscii:
       write_file_atomically(path, [&](std::ostream& out) {
-        write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, mesh.tets, 4,
-                  format == TetMeshFormat::kVtu);
+        const std::size_t nt = mesh.nb_tets(), nf = mesh.nb_triangles();
+        std::vector<VtuCellBlock> blocks = {{mesh.tets.data(), nt, 4}};
+        if (nf > 0) blocks.push_back({mesh.triangles.data(), nf, 3});
+        std::vector<VtuCellTags> tags;
+        if (!mesh.tet_ref.empty()) {
+          tags.push_back({"region", mesh.tet_ref});
+          tags.back().values.resize(nt + nf, 0);
+        }
+        if (!mesh.triangle_ref.empty()) {
+          tags.push_back({"patch", std::vector<std::int32_t>(nt, 0)});
+          tags.back().values.insert(tags.back().values.end(), mesh.triangle_ref.begin(),
+                                    mesh.triangle_ref.end());
+        }
+        write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, blocks,
+                  format == TetMeshFormat::kVtu, {}, tags);
       });
       return;
     case TetMeshFormat::kVtk:
-      write_file_atomically(path, [&](std::ostream& out) {
-        write_vtk(out, mesh.source.empty() ? "voroclip tetrahedral mesh" : mesh.source,
-                  mesh.xyz.data(), mesh.nb_vertices(), 3, mesh.tets, 4);
-      });
+      write_text(path, vtk_text(mesh));
       return;
   }
   throw Error("cannot write '" + path + "': unknown format");

@@ -10,6 +10,7 @@
 // opens the AppendedData section. Compressed files (a `compressor` attribute) are
 // rejected with a message.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -73,17 +74,26 @@ struct OutArray {
 }  // namespace
 
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
-               const std::vector<std::uint32_t>& cells, int vertices_per_cell, bool binary,
-               const std::vector<VtuCellField>& fields) {
-  const auto per = static_cast<std::size_t>(vertices_per_cell);
-  const std::size_t nb_cells = cells.size() / per;
+               const std::vector<VtuCellBlock>& blocks, bool binary,
+               const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags) {
+  std::size_t nb_cells = 0, nb_indices = 0;
+  for (const VtuCellBlock& b : blocks) {
+    if (b.vertices_per_cell != 3 && b.vertices_per_cell != 4) {
+      throw Error("write_vtu: " + std::to_string(b.vertices_per_cell) +
+                  " vertices per cell: 3 (triangles) or 4 (tetrahedra)");
+    }
+    nb_cells += b.nb_cells;
+    nb_indices += b.nb_cells * static_cast<std::size_t>(b.vertices_per_cell);
+  }
   const auto dim = static_cast<std::size_t>(dimension);
-  for (const VtuCellField& f : fields) {
-    if (f.values.size() != nb_cells) {
-      throw Error("write_vtu: cell field '" + f.name + "' has " + std::to_string(f.values.size()) +
+  const auto check_size = [&](const std::string& name, std::size_t size) {
+    if (size != nb_cells) {
+      throw Error("write_vtu: cell field '" + name + "' has " + std::to_string(size) +
                   " values for " + std::to_string(nb_cells) + " cells");
     }
-  }
+  };
+  for (const VtuCellField& f : fields) check_size(f.name, f.values.size());
+  for (const VtuCellTags& t : tags) check_size(t.name, t.values.size());
   std::vector<OutArray> arrays;
   auto add_doubles = [&](const std::string& type, const std::string& name, int components,
                          std::size_t n, auto value) {
@@ -99,32 +109,63 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
     }
     arrays.push_back(std::move(a));
   };
+  // Int64, UInt8 or Int32 values; `value(i)` returns an std::int64_t.
   auto add_ints = [&](const std::string& type, const std::string& name, std::size_t n, auto value) {
     OutArray a{type, name, 1, {}, {}};
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t v = value(i);
+      const std::int64_t v = value(i);
       if (!binary) {
-        append(a.ascii, v);
+        char buf[24];
+        a.ascii.append(buf, std::to_chars(buf, buf + sizeof(buf), v).ptr);
         a.ascii += '\n';
       } else if (type == "UInt8") {
         put_le<std::uint8_t>(a.bytes, static_cast<std::uint8_t>(v));
+      } else if (type == "Int32") {
+        put_le<std::int32_t>(a.bytes, static_cast<std::int32_t>(v));
       } else {
-        put_le<std::int64_t>(a.bytes, static_cast<std::int64_t>(v));
+        put_le<std::int64_t>(a.bytes, v);
       }
     }
     arrays.push_back(std::move(a));
   };
+  // Cell c is cell c - block_begin[b] of the block b with block_begin[b] <= c < block_begin[b + 1].
+  std::vector<std::size_t> block_begin{0}, index_begin{0};
+  for (const VtuCellBlock& b : blocks) {
+    block_begin.push_back(block_begin.back() + b.nb_cells);
+    index_begin.push_back(index_begin.back() +
+                          b.nb_cells * static_cast<std::size_t>(b.vertices_per_cell));
+  }
   add_doubles("Float64", "Points", 3, 3 * std::size_t{nb_points}, [&](std::size_t i) {
     const std::size_t p = i / 3, c = i % 3;
     return c < dim ? coords[dim * p + c] : 0.0;
   });
-  add_ints("Int64", "connectivity", cells.size(), [&](std::size_t i) { return cells[i]; });
-  add_ints("Int64", "offsets", nb_cells, [&](std::size_t c) { return (c + 1) * per; });
-  const std::uint64_t type = vertices_per_cell == 4 ? 10 : 5;  // VTK_TETRA, VTK_TRIANGLE
-  add_ints("UInt8", "types", nb_cells, [&](std::size_t) { return type; });
-  add_ints("Int64", "cell_id", nb_cells, [&](std::size_t c) { return c; });
+  {
+    std::size_t b = 0;
+    add_ints("Int64", "connectivity", nb_indices, [&](std::size_t i) {
+      while (i >= index_begin[b + 1]) ++b;
+      return static_cast<std::int64_t>(blocks[b].indices[i - index_begin[b]]);
+    });
+  }
+  std::vector<int> cell_size(nb_cells);
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    std::fill(cell_size.begin() + static_cast<std::ptrdiff_t>(block_begin[b]),
+              cell_size.begin() + static_cast<std::ptrdiff_t>(block_begin[b + 1]),
+              blocks[b].vertices_per_cell);
+  }
+  {
+    std::int64_t end = 0;
+    add_ints("Int64", "offsets", nb_cells, [&](std::size_t c) { return end += cell_size[c]; });
+  }
+  // VTK_TETRA, VTK_TRIANGLE.
+  add_ints("UInt8", "types", nb_cells,
+           [&](std::size_t c) { return std::int64_t{cell_size[c] == 4 ? 10 : 5}; });
+  add_ints("Int64", "cell_id", nb_cells,
+           [&](std::size_t c) { return static_cast<std::int64_t>(c); });
   for (const VtuCellField& f : fields) {
     add_doubles("Float64", f.name, 1, nb_cells, [&](std::size_t c) { return f.values[c]; });
+  }
+  for (const VtuCellTags& t : tags) {
+    add_ints("Int32", t.name, nb_cells, [&](std::size_t c) { return std::int64_t{t.values[c]}; });
   }
 
   std::string appended;  // base64, after the '_'
@@ -163,6 +204,15 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   if (binary) s += "<AppendedData encoding=\"base64\">\n_" + appended + "\n</AppendedData>\n";
   s += "</VTKFile>\n";
   out.write(s.data(), static_cast<std::streamsize>(s.size()));
+}
+
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<std::uint32_t>& cells, int vertices_per_cell, bool binary,
+               const std::vector<VtuCellField>& fields) {
+  const auto per = static_cast<std::size_t>(vertices_per_cell);
+  write_vtu(out, coords, nb_points, dimension,
+            {VtuCellBlock{cells.data(), per == 0 ? 0 : cells.size() / per, vertices_per_cell}},
+            binary, fields);
 }
 
 namespace detail {
@@ -234,6 +284,13 @@ class VtuReader {
     const std::vector<double> typ = values(*types, nb_cells, 1);
     const std::uint64_t size = nb_cells == 0 ? 0 : static_cast<std::uint64_t>(off.back());
     const std::vector<double> idx = values(*conn, size, 1);
+    // Tags: CellData region (tets) and patch (triangles), read with the cells they tag.
+    const XmlElement* region = array_in("CellData", "region");
+    const XmlElement* patch = array_in("CellData", "patch");
+    const std::vector<double> region_values =
+        region == nullptr ? std::vector<double>{} : values(*region, nb_cells, 1);
+    const std::vector<double> patch_values =
+        patch == nullptr ? std::vector<double>{} : values(*patch, nb_cells, 1);
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);
@@ -241,22 +298,36 @@ class VtuReader {
         fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
                                 ", not in " + std::to_string(begin) + ".." + std::to_string(size));
       }
-      if (typ[c] == 10) {
-        if (end - begin != 4) {
-          fail(types->line, "cell " + std::to_string(c) + " of type 10 (tetra) has " +
-                                std::to_string(end - begin) + " points, not 4");
+      const bool tet = typ[c] == 10, triangle = typ[c] == 5;
+      if (tet || triangle) {
+        const std::uint64_t per = tet ? 4 : 3;
+        if (end - begin != per) {
+          fail(types->line,
+               "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
+                   " has " + std::to_string(end - begin) + " points, not " + std::to_string(per));
         }
+        std::vector<std::uint32_t>& cells = tet ? mesh.tets : mesh.triangles;
         for (std::uint64_t k = begin; k < end; ++k) {
           const double v = idx[static_cast<std::size_t>(k)];
           if (v < 0 || v >= static_cast<double>(nb_points)) {
             fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
                                  " is out of range 0.." + std::to_string(nb_points - 1));
           }
-          mesh.tets.push_back(static_cast<std::uint32_t>(v));
+          cells.push_back(static_cast<std::uint32_t>(v));
         }
-        mesh.tet_line.push_back(conn->line);
+        if (tet) {
+          mesh.tet_line.push_back(conn->line);
+          if (region != nullptr) mesh.tet_ref.push_back(tag(*region, c, region_values[c]));
+        } else if (patch != nullptr) {
+          mesh.triangle_ref.push_back(tag(*patch, c, patch_values[c]));
+        }
       }
       begin = end;
+    }
+    for (std::vector<std::int32_t>* ref : {&mesh.tet_ref, &mesh.triangle_ref}) {
+      if (std::all_of(ref->begin(), ref->end(), [](std::int32_t r) { return r == 0; })) {
+        ref->clear();
+      }
     }
     if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10)");
     return mesh;
@@ -265,6 +336,15 @@ class VtuReader {
  private:
   [[noreturn]] void fail(std::uint32_t line, const std::string& what) const {
     throw Error(path_ + ":" + std::to_string(line) + ": " + what);
+  }
+
+  // The value of a tag array (region, patch) for cell c: a 32-bit integer.
+  std::int32_t tag(const XmlElement& a, std::size_t c, double v) const {
+    if (!(v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0)) {
+      fail(a.line, "DataArray " + *a.attribute("Name") + ": cell " + std::to_string(c) + ": " +
+                       fmt(v) + " is not a tag (a 32-bit integer)");
+    }
+    return static_cast<std::int32_t>(v);
   }
 
   static std::string fmt(double v) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tagged_mesh.h"
 #include "voroclip/core.h"
 
 using voroclip::TetMeshFormat;
@@ -122,6 +123,15 @@ TEST_CASE("read_tet_mesh reads every shared model with the README's counts", "[c
   CHECK(sphere.xyz[1] == -1.0);
   CHECK(sphere.xyz[3] == 0.723607);
   CHECK(sphere.xyz[5] == 0.525725);
+  // Its boundary Triangles (ref 1) are read, its tets' refs (all 0) give no tags.
+  CHECK(sphere.nb_triangles() == 1280);
+  CHECK(sphere.triangle_ref == std::vector<std::int32_t>(1280, 1));
+  CHECK(sphere.tet_ref.empty());
+  CHECK(sphere.tag_names.empty());
+  CHECK(voroclip::tet_mesh_boundary(sphere).nb_triangles() == 1280);
+  const TetMeshInput fine = voroclip::read_tet_mesh(kData + "sphere-fine.mesh");
+  CHECK(fine.tet_ref == std::vector<std::int32_t>(105250, 1));
+  CHECK(fine.nb_triangles() == 20480);
 }
 
 TEST_CASE("write_tet_mesh round-trips every model in every format", "[core]") {
@@ -142,6 +152,9 @@ TEST_CASE("write_tet_mesh round-trips every model in every format", "[core]") {
       CHECK(back.xyz == mesh.xyz);  // bitwise: shortest round-trip decimals
       CHECK(back.tets == mesh.tets);
       CHECK(back.tet_line.size() == mesh.nb_tets());
+      CHECK(back.tet_ref == mesh.tet_ref);
+      CHECK(back.triangles == mesh.triangles);
+      CHECK(back.triangle_ref == mesh.triangle_ref);
     }
   }
 }
@@ -210,6 +223,9 @@ TEST_CASE("read_tet_mesh: Medit keywords, comments and skipped sections", "[core
   CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 2.5, -0.0, 1e-3});
   CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
   CHECK(mesh.tet_line == std::vector<std::uint32_t>{22, 24});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{3, 3});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3});
+  CHECK(mesh.triangle_ref.empty());  // all 0
 }
 
 TEST_CASE("read_tet_mesh: TetGen .node/.ele from either name, numbered from 0 or 1", "[core]") {
@@ -232,6 +248,8 @@ TEST_CASE("read_tet_mesh: TetGen .node/.ele from either name, numbered from 0 or
     CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
     CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
     CHECK(mesh.tet_line == std::vector<std::uint32_t>{2, 4});
+    CHECK(mesh.tet_ref == std::vector<std::int32_t>{1, 1});  // the region attribute
+    CHECK(mesh.triangles.empty());                           // no .face file
   }
   // From 1, no attributes.
   write_temp("tg1.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
@@ -264,6 +282,11 @@ TEST_CASE("read_tet_mesh: Gmsh 2.2 with other elements and sparse node tags", "[
   CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 1, 1, 1});
   CHECK(mesh.tets == std::vector<std::uint32_t>{0, 2, 1, 3, 2, 1, 3, 4});
   CHECK(mesh.tet_line == std::vector<std::uint32_t>{21, 22});
+  // Physical tags: element 4's first tag, none for element 9; the triangle's is 0.
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{1, 0});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 2, 1});
+  CHECK(mesh.triangle_ref.empty());
+  CHECK(mesh.tag_names == std::vector<TetMeshInput::TagName>{{3, 1, "volume"}});
 }
 
 TEST_CASE("read_tet_mesh: Gmsh 4.1 with entities, blocks and parametric nodes", "[core]") {
@@ -300,6 +323,10 @@ TEST_CASE("read_tet_mesh: Gmsh 4.1 with entities, blocks and parametric nodes", 
   CHECK(mesh.xyz == std::vector<double>{1, 1, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1});
   CHECK(mesh.tets == std::vector<std::uint32_t>{1, 2, 3, 4, 2, 3, 4, 0});
   CHECK(mesh.tet_line == std::vector<std::uint32_t>{29, 30});
+  // The triangle's surface 1 is not in $Entities, volume 1 has no physical tag.
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{1, 2, 3});
+  CHECK(mesh.triangle_ref.empty());
+  CHECK(mesh.tet_ref.empty());
 }
 
 TEST_CASE("read_tet_mesh: legacy VTK, classic and 5.1 cell layouts", "[core]") {
@@ -323,6 +350,8 @@ TEST_CASE("read_tet_mesh: legacy VTK, classic and 5.1 cell layouts", "[core]") {
   CHECK(mesh.xyz == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
   CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
   CHECK(mesh.tet_line == std::vector<std::uint32_t>{10, 11});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(mesh.tet_ref.empty());  // the cell data "id" is not a tag
   const std::string v51 = write_temp("v51.vtk",
                                      "# vtk DataFile Version 5.1\n"
                                      "vtk output\n"
@@ -410,9 +439,14 @@ TEST_CASE("read_tet_mesh: truncated sections name the section and the counts", "
                               ":11: section Tetrahedra is truncated: expected 1 tetrahedra, "
                               "found 0 before the end of the file");
   // A skipped section too.
-  path = write_temp("trunc3.mesh", "MeshVersionFormatted 2\nTriangles\n2\n1 2 3 0\nEnd\n");
+  path = write_temp("trunc3.mesh", "MeshVersionFormatted 2\nEdges\n2\n1 2 0\nEnd\n");
   CHECK(error_of(path) == path +
-                              ":5: section Triangles is truncated: expected 2 entries, found 1 "
+                              ":5: section Edges is truncated: expected 2 entries, found 1 "
+                              "before 'End'");
+  // Triangles, a tag missing.
+  path = write_temp("trunc4.mesh", "MeshVersionFormatted 2\nTriangles\n2\n1 2 3 0\n1 2 3\nEnd\n");
+  CHECK(error_of(path) == path +
+                              ":6: section Triangles is truncated: expected 2 triangles, found 1 "
                               "before 'End'");
   // Gmsh: $EndNodes comes early.
   path = write_temp("trunc.msh",
@@ -591,6 +625,7 @@ TEST_CASE("read_tet_mesh: VTK XML .vtu in ASCII, inline binary and appended raw"
     CHECK(mesh.xyz == kVtuXyz);
     CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
     CHECK(mesh.tet_line == std::vector<std::uint32_t>{10, 10});
+    CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
   }
   for (const bool big : {false, true}) {
     SECTION(std::string("inline binary, header and data in one base64 stream, ") +
@@ -694,4 +729,365 @@ TEST_CASE("read_tet_mesh: .vtu errors name the file, the line and the defect", "
   CHECK(error_of(bad_index) == bad_index + ":10: cell 1: point 5 is out of range 0..4");
   const std::string mismatch = write_temp("m.vtu", "<VTKFile>\n<Piece>\n</VTKFile>\n");
   CHECK(error_of(mismatch) == mismatch + ":3: closing tag </VTKFile> does not match <Piece>");
+}
+
+// ---------------------------------------------------------------------------------------
+// Triangles and tags.
+
+namespace {
+
+const std::vector<std::pair<TetMeshFormat, std::string>> kTagFormats = {
+    {TetMeshFormat::kMedit, "tag.mesh"},    {TetMeshFormat::kTetGen, "tag.ele"},
+    {TetMeshFormat::kGmsh22, "tag22.msh"},  {TetMeshFormat::kGmsh41, "tag41.msh"},
+    {TetMeshFormat::kVtk, "tag.vtk"},       {TetMeshFormat::kVtu, "tag.vtu"},
+    {TetMeshFormat::kVtuAscii, "taga.vtu"},
+};
+
+bool is_gmsh(TetMeshFormat f) { return f == TetMeshFormat::kGmsh22 || f == TetMeshFormat::kGmsh41; }
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string write_error(const std::string& path, const TetMeshInput& mesh, TetMeshFormat f) {
+  try {
+    voroclip::write_tet_mesh(path, mesh, f);
+  } catch (const voroclip::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("write_tet_mesh round-trips triangles, tags and names in every format", "[core]") {
+  TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  SECTION("two regions, three patches, names") {}
+  SECTION("untagged triangles, tagged tets, no names") {
+    mesh.triangle_ref.clear();
+    mesh.tag_names.clear();
+  }
+  SECTION("tagged triangles, untagged tets (Gmsh: physical group 0 for the tets)") {
+    mesh.tet_ref.clear();
+  }
+  SECTION("tets only") {
+    mesh.triangles.clear();
+    mesh.triangle_ref.clear();
+    mesh.tet_ref.clear();
+    mesh.tag_names.clear();
+  }
+  for (const auto& [format, name] : kTagFormats) {
+    INFO(name);
+    const std::string path = temp().file(name);
+    voroclip::write_tet_mesh(path, mesh, format);
+    const TetMeshInput back = voroclip::read_tet_mesh(path);
+    CHECK(back.xyz == mesh.xyz);
+    CHECK(back.tets == mesh.tets);
+    CHECK(back.tet_line.size() == mesh.nb_tets());
+    CHECK(back.tet_ref == mesh.tet_ref);
+    CHECK(back.triangles == mesh.triangles);
+    CHECK(back.triangle_ref == mesh.triangle_ref);
+    if (is_gmsh(format)) {
+      CHECK(back.tag_names == mesh.tag_names);
+    } else {
+      CHECK(back.tag_names.empty());  // only Gmsh files carry names
+    }
+  }
+}
+
+TEST_CASE("write_tet_mesh: tags of zeros read back empty, negative tags outside Gmsh", "[core]") {
+  TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  mesh.tag_names.clear();
+  mesh.tet_ref.assign(mesh.nb_tets(), 0);
+  mesh.triangle_ref.assign(mesh.nb_triangles(), 0);
+  for (const auto& [format, name] : kTagFormats) {
+    INFO(name);
+    voroclip::write_tet_mesh(temp().file(name), mesh, format);
+    const TetMeshInput back = voroclip::read_tet_mesh(temp().file(name));
+    CHECK(back.tet_ref.empty());
+    CHECK(back.triangle_ref.empty());
+    CHECK(back.triangles == mesh.triangles);
+  }
+  mesh.tet_ref = {-1, 2147483647, 0, -2147483647 - 1, 5, 5};
+  mesh.triangle_ref.assign(mesh.nb_triangles(), -3);
+  for (const auto& [format, name] : kTagFormats) {
+    INFO(name);
+    const std::string path = temp().file("neg_" + name);
+    if (is_gmsh(format)) {
+      CHECK(write_error(path, mesh, format) ==
+            "cannot write '" + path +
+                "' (Gmsh): tet 0 has the tag -1: physical tags are positive (0: none)");
+      CHECK_FALSE(std::filesystem::exists(path));
+      continue;
+    }
+    voroclip::write_tet_mesh(path, mesh, format);
+    const TetMeshInput back = voroclip::read_tet_mesh(path);
+    CHECK(back.tet_ref == mesh.tet_ref);
+    CHECK(back.triangle_ref == mesh.triangle_ref);
+  }
+}
+
+TEST_CASE("write_tet_mesh: what each format's file says about tags", "[core]") {
+  const TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  voroclip::write_tet_mesh(temp().file("facts.mesh"), mesh, TetMeshFormat::kMedit);
+  const std::string medit = file_text(temp().file("facts.mesh"));
+  CHECK(medit.find("Triangles\n12\n1 3 7 10\n1 5 7 10\n1 2 6 11\n") != std::string::npos);
+  CHECK(medit.find("Tetrahedra\n6\n1 2 4 8 1\n1 3 4 8 2\n") != std::string::npos);
+  CHECK(medit.find("Triangles") < medit.find("Tetrahedra"));
+
+  voroclip::write_tet_mesh(temp().file("facts.node"), mesh, TetMeshFormat::kTetGen);
+  CHECK(file_text(temp().file("facts.ele")).rfind("6 4 1\n1 1 2 4 8 1\n2 1 3 4 8 2\n", 0) == 0);
+  CHECK(file_text(temp().file("facts.face")).rfind("12 1\n1 1 3 7 10\n", 0) == 0);
+
+  voroclip::write_tet_mesh(temp().file("facts22.msh"), mesh, TetMeshFormat::kGmsh22);
+  const std::string g22 = file_text(temp().file("facts22.msh"));
+  CHECK(g22.find("$PhysicalNames\n4\n3 1 \"steel\"\n3 2 \"copper region\"\n2 10 \"x faces\"\n"
+                 "2 12 \"z\"\n$EndPhysicalNames\n") != std::string::npos);
+  // Tet 2: region 2, volume entity 2; triangle 1 (element 7): patch 10, surface entity 1.
+  CHECK(g22.find("\n2 4 2 2 2 1 3 4 8\n") != std::string::npos);
+  CHECK(g22.find("\n7 2 2 10 1 1 3 7\n") != std::string::npos);
+
+  voroclip::write_tet_mesh(temp().file("facts41.msh"), mesh, TetMeshFormat::kGmsh41);
+  const std::string g41 = file_text(temp().file("facts41.msh"));
+  // Surfaces 1..3 for patches 10, 11, 12, volumes 1..2 for regions 1, 2, each in the
+  // physical group of its tag.
+  CHECK(g41.find("$Entities\n0 0 3 2\n") != std::string::npos);
+  CHECK(g41.find(" 1 12 0\n1 ") != std::string::npos);  // surface 3, then volume 1
+  // Runs of equal tags: tets 1 | 2 | 1 | 2 2 | 1, triangles 10 10 | 11 11 | 12 12 | ...
+  CHECK(g41.find("$Elements\n11 18 1 18\n3 1 4 1\n1 1 2 4 8\n3 2 4 1\n2 1 3 4 8\n") !=
+        std::string::npos);
+  CHECK(g41.find("3 2 4 2\n4 1 3 7 8\n5 1 5 6 8\n3 1 4 1\n6 1 5 7 8\n2 1 2 2\n7 1 3 7\n") !=
+        std::string::npos);
+
+  voroclip::write_tet_mesh(temp().file("facts.vtk"), mesh, TetMeshFormat::kVtk);
+  const std::string vtk = file_text(temp().file("facts.vtk"));
+  CHECK(vtk.find("CELLS 18 78\n4 0 1 3 7\n") != std::string::npos);
+  CHECK(vtk.find("CELL_TYPES 18\n10\n10\n10\n10\n10\n10\n5\n") != std::string::npos);
+  CHECK(vtk.find("SCALARS region int 1\nLOOKUP_TABLE default\n1\n2\n1\n2\n2\n1\n0\n") !=
+        std::string::npos);
+  CHECK(vtk.find("SCALARS patch int 1\nLOOKUP_TABLE default\n0\n0\n0\n0\n0\n0\n10\n10\n11\n") !=
+        std::string::npos);
+
+  voroclip::write_tet_mesh(temp().file("facts.vtu"), mesh, TetMeshFormat::kVtuAscii);
+  const std::string vtu = file_text(temp().file("facts.vtu"));
+  CHECK(vtu.find("NumberOfCells=\"18\"") != std::string::npos);
+  CHECK(vtu.find(
+            "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n1\n2\n1\n2\n2\n1\n0\n") !=
+        std::string::npos);
+  CHECK(vtu.find("<DataArray type=\"Int32\" Name=\"patch\" format=\"ascii\">\n0\n") !=
+        std::string::npos);
+  CHECK(vtu.find("Name=\"offsets\" format=\"ascii\">\n4\n8\n12\n16\n20\n24\n27\n30\n") !=
+        std::string::npos);
+}
+
+TEST_CASE("read_tet_mesh: Medit Triangles and Tetrahedra refs", "[core]") {
+  const std::string path = write_temp("refs.mesh",
+                                      "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
+                                      "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\n"
+                                      "Tetrahedra\n2\n1 2 3 4 -4\n2 3 4 5 +7\n"
+                                      "Triangles\n3\n1 2 3 5\n2 3 4 0\n4 3 2 2147483647\n"
+                                      "End\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{-4, 7});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 1, 2, 3, 3, 2, 1});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{5, 0, 2147483647});
+}
+
+TEST_CASE("read_tet_mesh: TetGen .face with markers and extra columns, from 0", "[core]") {
+  write_temp("tf.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
+  write_temp("tf.ele", "2 4 2\n0 0 1 2 3 -1 0.5\n1 1 2 3 4 4.0 7\n");
+  write_temp("tf.face", "# faces\n3 1\n0 0 1 2 5 0 -1\n1 1 2 3 -6\n2 3 2 1 0 # comment\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(temp().file("tf.node"));
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{-1, 4});  // the first attribute
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 1, 2, 3, 3, 2, 1});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{5, -6, 0});
+  // Without markers.
+  write_temp("tf.face", "1 0\n1 0 1 2\n");
+  const TetMeshInput plain = voroclip::read_tet_mesh(temp().file("tf.ele"));
+  CHECK(plain.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(plain.triangle_ref.empty());
+}
+
+TEST_CASE("read_tet_mesh: Gmsh 4.1 physical tags by entity, names, sections in any order",
+          "[core]") {
+  const std::string path = write_temp(
+      "phys41.msh",
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+      "$Nodes\n1 5 1 5\n3 4 0 5\n1\n2\n3\n4\n5\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n$EndNodes\n"
+      "$Elements\n5 6 1 6\n"
+      "3 4 4 1\n1 1 2 3 4\n"         // volume 4: physical 7
+      "3 9 4 1\n2 2 3 4 5\n"         // volume 9: no physical tag
+      "2 3 2 2\n3 1 2 3\n4 1 3 4\n"  // surface 3: physicals 20 and 21 (the first counts)
+      "2 5 2 1\n5 2 3 4\n"           // surface 5: not in $Entities
+      "1 1 1 1\n6 1 2\n"             // a line, skipped
+      "$EndElements\n"
+      "$Entities\n1 0 1 2\n"
+      "1 0 0 0 1 99\n"
+      "3 0 0 0 1 1 0 2 20 21 0\n"
+      "4 0 0 0 1 1 1 1 7 1 3\n"
+      "9 0 0 0 1 1 1 0 2 3 -5\n"
+      "$EndEntities\n"
+      "$PhysicalNames\n3\n3 7 \"inner  region\"\n2 20 \"wall\"\n0 99 \"\"\n$EndPhysicalNames\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{7, 0});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 1, 2, 3});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{20, 20, 0});
+  CHECK(mesh.tag_names ==
+        std::vector<TetMeshInput::TagName>{{3, 7, "inner  region"}, {2, 20, "wall"}, {0, 99, ""}});
+}
+
+TEST_CASE("read_tet_mesh: VTK region and patch cell data, .vtk and .vtu", "[core]") {
+  // Legacy: POINT_DATA first, region as SCALARS, patch as a FIELD array, other data read
+  // past by its size.
+  const std::string vtk = write_temp("tags.vtk",
+                                     "# vtk DataFile Version 3.0\nt\nASCII\n"
+                                     "DATASET UNSTRUCTURED_GRID\n"
+                                     "FIELD FieldData 2\nTIME 1 1 double\n0.5\n"
+                                     "Names 1 2 string\nCELL DATA%20x\nfoo\n"
+                                     "POINTS 5 double\n0 0 0 1 0 0 0 1 0 0 0 1 1 1 1\n"
+                                     "CELLS 4 18\n3 0 1 2\n4 0 1 2 3\n3 1 2 3\n4 1 2 3 4\n"
+                                     "CELL_TYPES 4\n5 10 5 10\n"
+                                     "POINT_DATA 5\nVECTORS v double\n"
+                                     "0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n"
+                                     "SCALARS region int 1\nLOOKUP_TABLE default\n1 2 3 4 5\n"
+                                     "CELL_DATA 4\n"
+                                     "SCALARS q float 2\nLOOKUP_TABLE default\n0 0 0 0 0 0 0 0\n"
+                                     "COLOR_SCALARS c 3\n0 0 0 0 0 0 0 0 0 0 0 0\n"
+                                     "SCALARS region int\nLOOKUP_TABLE my_table\n-9 3 -9 -4\n"
+                                     "LOOKUP_TABLE my_table 1\n0 0 0 1\n"
+                                     "FIELD FieldData 2\nother 1 4 int\n1 1 1 1\n"
+                                     "patch 1 4 vtktypeint64\n6 0 8 0\n");
+  TetMeshInput mesh = voroclip::read_tet_mesh(vtk);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{3, -4});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 1, 2, 3});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{6, 8});
+  // XML: region on tets only, the value on the triangle (-1) is not read.
+  const std::string vtu = write_temp(
+      "tags.vtu", vtu_file("",
+                           "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+                           "format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray>\n"
+                           "</Points>\n<Cells>\n<DataArray type=\"Int32\" "
+                           "Name=\"connectivity\" format=\"ascii\">0 1 2 3 1 2 3 4 0 1 2"
+                           "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" "
+                           "format=\"ascii\">4 8 11</DataArray>\n<DataArray type=\"UInt8\" "
+                           "Name=\"types\" format=\"ascii\">10 10 5</DataArray>\n</Cells>\n"
+                           "<CellData>\n<DataArray type=\"Float64\" Name=\"region\" "
+                           "format=\"ascii\">2 1 -1</DataArray>\n<DataArray type=\"Int8\" "
+                           "Name=\"patch\" format=\"ascii\">0 0 -3</DataArray>\n"
+                           "</CellData>\n",
+                           ""));
+  mesh = voroclip::read_tet_mesh(vtu);
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{2, 1});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{-3});
+}
+
+TEST_CASE("read_tet_mesh: triangle indices out of range name the element", "[core]") {
+  std::string path = write_temp("trirange.mesh",
+                                "MeshVersionFormatted 2\nVertices\n4\n0 0 0 0\n1 0 0 0\n"
+                                "0 1 0 0\n0 0 1 0\nTriangles\n2\n1 2 3 1\n1 2 5 1\n"
+                                "Tetrahedra\n1\n1 2 3 4 0\n");
+  CHECK(error_of(path) == path + ":11: triangle 2: vertex 5 is out of range 1..4");
+  write_temp("trirange.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+  write_temp("trirange.ele", "1 4 0\n0 0 1 2 3\n");
+  write_temp("trirange.face", "2 1\n7 0 1 2 1\n8 1 2 4 1\n");
+  CHECK(error_of(temp().file("trirange.ele")) ==
+        temp().file("trirange.face") + ":3: face 8: vertex 4 is out of range 0..3");
+  for (const char* version : {"2.2", "4.1"}) {
+    INFO(version);
+    const bool v2 = std::string(version) == "2.2";
+    path = write_temp(std::string("trirange") + version + ".msh",
+                      std::string("$MeshFormat\n") + version + " 0 8\n$EndMeshFormat\n" +
+                          (v2 ? "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+                                "$Elements\n2\n1 4 0 1 2 3 4\n12 2 2 5 1 1 2 9\n$EndElements\n"
+                              : "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n"
+                                "0 0 1\n$EndNodes\n$Elements\n2 2 1 12\n3 1 4 1\n1 1 2 3 4\n"
+                                "2 1 2 1\n12 1 2 9\n$EndElements\n"));
+    CHECK(error_of(path) ==
+          path + (v2 ? ":14" : ":21") + ": element 12: node 9 is not in section $Nodes");
+  }
+  path = write_temp("trirange.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 2 9\n4 0 1 2 3\n3 0 1 4\n"
+                    "CELL_TYPES 2\n10 5\n");
+  CHECK(error_of(path) == path + ":9: cell 1: vertex 4 is out of range 0..3");
+  const std::string vtu = write_temp(
+      "trirange.vtu",
+      vtu_file("",
+               "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+               "format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray>\n</Points>\n<Cells>\n"
+               "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 1 2 3 4 "
+               "0 1 5</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">4 "
+               "8 11</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 10 "
+               "5</DataArray>\n</Cells>\n",
+               ""));
+  CHECK(error_of(vtu) == vtu + ":10: cell 2: point 5 is out of range 0..4");
+}
+
+TEST_CASE("read_tet_mesh: tags that are not 32-bit integers", "[core]") {
+  std::string bad = kOneTetMedit;
+  bad.replace(bad.find("1 2 3 4 0"), 9, "1 2 3 4 1.5");
+  std::string path = write_temp("tag1.mesh", bad);
+  CHECK(error_of(path) == path + ":11: '1.5' is not a valid reference (an integer)");
+  bad = kOneTetMedit;
+  bad.replace(bad.find("1 2 3 4 0"), 9, "1 2 3 4 2147483648");
+  path = write_temp("tag2.mesh", bad);
+  CHECK(error_of(path) == path +
+                              ":11: '2147483648' is not a valid reference (out of the range of a "
+                              "32-bit integer)");
+  write_temp("tag.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+  write_temp("tag.ele", "1 4 1\n1 1 2 3 4 0.5\n");
+  CHECK(error_of(temp().file("tag.ele")) ==
+        temp().file("tag.ele") + ":2: '0.5' is not a valid region attribute (a 32-bit integer)");
+  path = write_temp("tag.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\n"
+                    "CELL_TYPES 1\n10\nCELL_DATA 1\nSCALARS region double\n1e10\n");
+  CHECK(error_of(path) == path +
+                              ":13: SCALARS region: cell 0: '1e10' is not a tag (a 32-bit "
+                              "integer)");
+  path = write_temp("tag_count.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\n"
+                    "CELL_TYPES 1\n10\nCELL_DATA 2\n");
+  CHECK(error_of(path) == path + ":11: CELL_DATA 2: CELLS has 1 cells");
+  path = write_temp("tag.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 volume\n"
+                    "$EndPhysicalNames\n");
+  CHECK(error_of(path) == path + ":6: physical name 'volume': expected a name in double quotes");
+}
+
+TEST_CASE("write_tet_mesh: tag and triangle errors name the file", "[core]") {
+  TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  const std::string path = temp().file("bad_tags.mesh");
+  mesh.tet_ref.pop_back();
+  CHECK(write_error(path, mesh, TetMeshFormat::kMedit) ==
+        "cannot write '" + path + "': tet_ref has 5 tags for 6 tets (empty, or one tag per tet)");
+  mesh = voroclip_test::tagged_kuhn_cube();
+  mesh.triangles[31] = 9;
+  CHECK(write_error(path, mesh, TetMeshFormat::kMedit) ==
+        "cannot write '" + path + "': triangle 10 has vertex 9, the mesh has 9 vertices");
+  mesh.triangles.pop_back();
+  CHECK(write_error(path, mesh, TetMeshFormat::kMedit) ==
+        "cannot write '" + path +
+            "': the mesh arrays hold 27 coordinates, 24 tet indices and 35 triangle indices "
+            "(multiples of 3, 4 and 3 needed)");
+  mesh = voroclip_test::tagged_kuhn_cube();
+  const std::string msh = temp().file("bad_tags.msh");
+  mesh.tag_names.push_back({2, 3, "say \"hi\""});
+  CHECK(write_error(msh, mesh, TetMeshFormat::kGmsh41) ==
+        "cannot write '" + msh +
+            "' (Gmsh): the name of tag 3 of dimension 2: a name cannot hold '\"' or a line break");
+  mesh.tag_names.back() = {3, 0, "zero"};
+  CHECK(write_error(msh, mesh, TetMeshFormat::kGmsh22) ==
+        "cannot write '" + msh +
+            "' (Gmsh): the name of tag 0 of dimension 3: physical tags are positive");
+  CHECK_FALSE(std::filesystem::exists(path));
+  CHECK_FALSE(std::filesystem::exists(msh));
 }

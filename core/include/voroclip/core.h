@@ -2,6 +2,7 @@
 // and output files that appear whole or not at all.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -115,8 +116,14 @@ PolygonRings square_with_holes(std::uint32_t k, double hole_fraction);
 // ---------------------------------------------------------------------------------------
 // Tetrahedral meshes as read, before validation (validated: voroclip::Domain3, clip.h).
 
-/// A tetrahedral mesh as given by a file: vertices (packed x y z) and tets (4 vertex
-/// indices each, 0-based, in the file's order and orientation).
+/// A tetrahedral mesh as given by a file: vertices (packed x y z), tets (4 vertex indices
+/// each, 0-based, in the file's order and orientation), and, for boundary conditions and
+/// materials, the triangles the file lists and the tags of tets and triangles.
+///
+/// Tags. A tag is a 32-bit integer, 0 meaning "untagged": Medit refs, TetGen region
+/// attributes and face markers, Gmsh physical tags, the cell data `region` and `patch` of
+/// VTK files. A tag vector is either empty (every tag 0: readers return it empty when the
+/// file has no tags or only zeros) or holds one tag per tet / triangle.
 struct TetMeshInput {
   /// Where it came from (a file name), for error messages.
   std::string source;
@@ -124,56 +131,111 @@ struct TetMeshInput {
   std::vector<std::uint32_t> tets;
   /// Per tet: the line of the file where it is defined (1-based; 0 when not known).
   std::vector<std::uint32_t> tet_line;
+  /// Per tet: its region tag (empty: all 0).
+  std::vector<std::int32_t> tet_ref;
+  /// Triangles the file lists (boundary or interface faces, or any other): 3 vertex indices
+  /// each, 0-based, in the file's order and orientation, all of them, whether or not they
+  /// are faces of tets.
+  std::vector<std::uint32_t> triangles;
+  /// Per triangle: its tag, the surface patch it belongs to (empty: all 0).
+  std::vector<std::int32_t> triangle_ref;
+
+  /// The name of a tag (Gmsh's $PhysicalNames): `dimension` 3 names a region (tet_ref), 2
+  /// a patch (triangle_ref); other dimensions are kept as read.
+  struct TagName {
+    int dimension = 3;
+    std::int32_t tag = 0;
+    std::string name;
+    bool operator==(const TagName& o) const {
+      return dimension == o.dimension && tag == o.tag && name == o.name;
+    }
+  };
+  /// Tag names in the file's order. Only Gmsh files carry them: the other formats neither
+  /// write nor read names. Writers invent no default names (Gmsh and meshio do without:
+  /// an unnamed physical group is a group all the same).
+  std::vector<TagName> tag_names;
 
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
+  std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
 };
 
 /// Reads a tetrahedral mesh, by extension (case-insensitive):
 ///   .mesh          Medit (INRIA) ASCII: keywords case-insensitive, '#' comments; the
-///                  Vertices (x y z ref) and Tetrahedra (4 indices from 1, ref) sections;
-///                  other sections (Triangles, Edges, Corners, Normals, ...) are read past
-///                  by their counts; MeshVersionFormatted 1 to 4, Dimension 3;
+///                  Vertices (x y z ref), Triangles (3 indices from 1, ref) and Tetrahedra
+///                  (4 indices from 1, ref) sections, refs as tags; other sections (Edges,
+///                  Corners, Normals, ...) are read past by their counts;
+///                  MeshVersionFormatted 1 to 4, Dimension 3;
 ///   .node / .ele   TetGen: either file may be given, the other is found beside it (same
 ///                  name, other extension); nodes numbered from 0 or 1 (the first node
-///                  decides); 4 or 10 nodes per tetrahedron (10: the first 4 are used);
-///                  attributes and markers are read and ignored; `source` is the .ele file;
+///                  decides); 4 or 10 nodes per tetrahedron (10: the first 4 are used); the
+///                  first tetrahedron attribute, an integer, is its region tag (further
+///                  attributes and node markers are read and ignored); the triangles and
+///                  their boundary markers come from the .face file beside them, when there
+///                  is one; `source` is the .ele file;
 ///   .msh           Gmsh ASCII, format 2.x (2.2) or 4.1: $Nodes and $Elements (4-node
-///                  tetrahedra, element type 4; other element types are skipped), node
-///                  tags in any order and with gaps; other sections are read past;
+///                  tetrahedra, element type 4, and 3-node triangles, type 2; other element
+///                  types are skipped), node tags in any order and with gaps; the tag of an
+///                  element is its physical tag (2.2: its first tag; 4.1: the first physical
+///                  tag of its entity in $Entities, or $PartitionedEntities in a
+///                  partitioned mesh, 0 when the entity has none or is not listed);
+///                  $PhysicalNames gives tag_names; other sections are read past;
 ///   .vtk           legacy VTK ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
 ///                  VTK 5.1 OFFSETS/CONNECTIVITY layout), CELL_TYPES; cells of type 10
-///                  (VTK_TETRA) are kept, others skipped;
+///                  (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept, others skipped; the CELL_DATA
+///                  arrays `region` (the tets' tags) and `patch` (the triangles' tags), as
+///                  SCALARS or FIELD arrays of one component, integers; other data is read
+///                  past;
 ///   .vtu           VTK XML UnstructuredGrid, one Piece: Points and the Cells arrays
-///                  connectivity, offsets, types (tetra cells kept), each ascii, binary
-///                  (inline base64) or appended (base64 or raw), UInt32 or UInt64 headers,
-///                  either byte order; compressed files are rejected; tet_line is the line
-///                  of the connectivity array.
+///                  connectivity, offsets, types (tetra and triangle cells kept), CellData
+///                  `region` and `patch` as for .vtk, each ascii, binary (inline base64) or
+///                  appended (base64 or raw), UInt32 or UInt64 headers, either byte order;
+///                  compressed files are rejected; tet_line is the line of the connectivity
+///                  array.
 /// Binary files (.meshb, binary .msh, BINARY .vtk) are rejected. Vertices keep the file's
-/// order (Gmsh: the order of $Nodes), tetrahedra the file's order and orientation.
+/// order (Gmsh: the order of $Nodes), tetrahedra and triangles the file's order and
+/// orientation.
 /// Throws Error "file:line: what" (or "file: what" for the whole file) for a missing file,
 /// an unknown extension, format or version, a truncated section (which section, expected
-/// and found counts), a value that is not a number or not finite, a vertex index out of
-/// range (naming the element as the file numbers it: Medit's 1-based tetrahedron number,
-/// TetGen's tetrahedron number, Gmsh's element tag, VTK's 0-based cell index), no
-/// tetrahedra.
+/// and found counts), a value that is not a number or not finite, a tag that is not a
+/// 32-bit integer, a vertex index out of range (naming the element as the file numbers
+/// it: Medit's 1-based tetrahedron or triangle number, TetGen's tetrahedron or face number,
+/// Gmsh's element tag, VTK's 0-based cell index), no tetrahedra.
 TetMeshInput read_tet_mesh(const std::string& path);
 
-/// Tetrahedral mesh file formats that write_tet_mesh can write.
+/// Tetrahedral mesh file formats that write_tet_mesh can write. Every format keeps the
+/// triangles and the tags; only Gmsh keeps tag_names.
 enum class TetMeshFormat {
-  kMedit,     // .mesh, MeshVersionFormatted 2, vertices and tets numbered from 1, refs 0
-  kTetGen,    // .node + .ele (both written, whichever extension `path` has), numbered from 1
-  kGmsh22,    // .msh ASCII 2.2, node and element tags 1..n
-  kGmsh41,    // .msh ASCII 4.1, one volume entity, node and element tags 1..n
-  kVtk,       // legacy ASCII .vtk (write_vtk), cell data "cell_id"
-  kVtu,       // VTK XML .vtu, binary: base64-encoded appended data (write_vtu)
-  kVtuAscii,  // VTK XML .vtu, ASCII data arrays (write_vtu)
+  kMedit,     // .mesh, MeshVersionFormatted 2, numbered from 1: Vertices (ref 0), Triangles
+              // (when there are triangles) and Tetrahedra, refs the tags
+  kTetGen,    // .node + .ele + .face (all written, whichever extension `path` has),
+              // numbered from 1; .ele has one region attribute when tet_ref is not empty,
+              // .face the triangles (maybe none), with markers when triangle_ref is not empty
+  kGmsh22,    // .msh ASCII 2.2, node tags 1..n, element tags: tets 1..nt, then triangles;
+              // each element's tags: physical = its tag, elementary = its entity (as 4.1)
+  kGmsh41,    // .msh ASCII 4.1: one surface entity per distinct triangle tag and one volume
+              // entity per distinct tet tag (increasing tags, entity tags from 1), each in
+              // the physical group of its tag; all nodes in volume entity 1; tets (element
+              // tags 1..nt) then triangles, one element block per run of equal tags
+  kVtk,       // legacy ASCII .vtk: tets (VTK_TETRA) then triangles (VTK_TRIANGLE), cell
+              // data "cell_id", "region" (when tet_ref is not empty), "patch" (when
+              // triangle_ref is not empty)
+  kVtu,       // VTK XML .vtu, binary: base64-encoded appended data (write_vtu), cells and
+              // cell data as kVtk ("region"/"patch" Int32)
+  kVtuAscii,  // VTK XML .vtu, ASCII data arrays (write_vtu), as kVtu
 };
 
-/// Writes a tetrahedral mesh (all vertices, used or not, and the tets in order and
-/// orientation) so that read_tet_mesh reads back the same coordinates (shortest round-trip
-/// decimals) and tets. The file appears whole or not at all (write_file_atomically).
-/// Throws Error naming the file for an index out of range or a write failure.
+/// Writes a tetrahedral mesh (all vertices, used or not, the tets and triangles in order
+/// and orientation, their tags) so that read_tet_mesh reads back the same coordinates
+/// (shortest round-trip decimals), tets, triangles and tags (a tag vector of zeros reads
+/// back empty), and, from Gmsh files, tag_names. In the files, a tet's region is 0 on
+/// triangles and a triangle's patch 0 on tets (VTK cell data), and tag 0 means no tag;
+/// in Gmsh files, when any tag is not 0, entities of tag 0 are in physical group 0 (so
+/// that readers such as meshio see one physical tag per element), otherwise no entity has
+/// a physical group. The file appears whole or not at all (write_file_atomically).
+/// Throws Error naming the file for an index out of range, a tag vector of the wrong size,
+/// a write failure, and, in Gmsh formats, a negative tag or a tag name that Gmsh cannot
+/// hold (a tag not above 0, a name with '"' or a line break).
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format);
 
 /// As above, the format chosen by the extension: .mesh, .node/.ele, .msh (4.1), .vtk, .vtu
@@ -186,14 +248,36 @@ struct VtuCellField {
   std::vector<double> values;
 };
 
+/// A named per-cell integer of a .vtu file (one value per cell, written as Int32): tags.
+struct VtuCellTags {
+  std::string name;
+  std::vector<std::int32_t> values;
+};
+
+/// Cells of one kind for write_vtu: `nb_cells` cells of `vertices_per_cell` point indices
+/// each (3: triangles, 4: tetrahedra) at `indices`.
+struct VtuCellBlock {
+  const std::uint32_t* indices = nullptr;
+  std::size_t nb_cells = 0;
+  int vertices_per_cell = 4;
+};
+
 /// Writes a VTK XML unstructured grid (version 1.0, UInt64 headers, little endian): the
-/// points (z = 0 when dimension is 2), the cells (`vertices_per_cell` = 3: triangles, 4:
-/// tetrahedra), the cell index as cell data "cell_id", then `fields`. With `binary` the
+/// points (z = 0 when dimension is 2), the cells of `blocks` one block after the other
+/// (VTK_TRIANGLE for 3 vertices, VTK_TETRA for 4), the cell index (counted across blocks)
+/// as cell data "cell_id", then `fields` (Float64) and `tags` (Int32). With `binary` the
 /// arrays are appended as base64 (each array: its byte count, then its bytes, each
 /// base64-encoded on its own, as VTK's reader expects); otherwise they are ASCII in place
 /// (shortest round-trip decimals). Coordinates are Float64 and indices Int64 either way,
-/// so a file read back gives the same doubles. Throws Error when a field does not have one
-/// value per cell.
+/// so a file read back gives the same doubles. Throws Error when a field or tag array does
+/// not have one value per cell.
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<VtuCellBlock>& blocks, bool binary,
+               const std::vector<VtuCellField>& fields = {},
+               const std::vector<VtuCellTags>& tags = {});
+
+/// As above, with cells of one kind: `cells` holds `vertices_per_cell` (3: triangles, 4:
+/// tetrahedra) point indices per cell.
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<std::uint32_t>& cells, int vertices_per_cell, bool binary,
                const std::vector<VtuCellField>& fields = {});
