@@ -11,19 +11,23 @@
 //    Hilbert order (boundary_chunk): their Voronoi vertices are placed inside or outside the
 //    volume from the crossings (exact, combinatorial), and the pieces of their Voronoi edges
 //    inside the volume complete the boundary of cell ∩ volume, whose cones from the site
-//    give volume, centroid and energy. A cell with a Voronoi edge that crosses the surface
-//    more than once is clipped tet by tet (sec. 4.2; clip3d_kernel.cpp), as is every
-//    boundary cell under tet_clipping or a non-constant density, and, for the exported
-//    pieces, under keep_geometry.
+//    give volume, centroid and energy. A Voronoi edge that crosses the surface more than
+//    once gives its inside parts as signed segments. Every boundary cell is clipped tet by
+//    tet instead (sec. 4.2; clip3d_kernel.cpp) under tet_clipping or a density linear per
+//    tet.
 // 3. Other cells are wholly inside or outside; boundary cells decide their neighbours,
 //    which spread it (clip3d_cells.cpp). Inner cells are the cones from the site over their
 //    Voronoi facets, from the circumcentres of the Delaunay tets: per Delaunay facet around
-//    the site, one Voronoi edge, two triangles (clip3d_internal.h, add_edge_piece). They go
+//    the site, one Voronoi edge, two triangles (clip3d_cells.h, add_edge_piece). They go
 //    in fixed chunks of consecutive cells in Hilbert order, each chunk's tets taken once
-//    (inner_chunk). Under a non-constant density inner cells are clipped tet by tet, layer
-//    after layer from the boundary cells.
+//    (inner_chunk). Under a density linear per tet inner cells are clipped tet by tet,
+//    layer after layer from the boundary cells.
 // Every loop writes per-triangle or per-cell slots and every reduction runs in index
 // order: the result does not depend on the thread count.
+//
+// Units (clip3d_internal.h): a read-only Clip3Context; SurfaceRvd (step 1) leaves a
+// RestrictedSurface that DelaunayCells (steps 2 and 3) reads; ConvexCell clips cells tet by
+// tet. Each has its own per-thread scratch; run() below orchestrates them.
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -38,7 +42,10 @@
 #include <utility>
 #include <vector>
 
+#include "clip3d_cells.h"
 #include "clip3d_internal.h"
+#include "clip3d_kernel.h"
+#include "clip3d_surface.h"
 
 namespace voroclip {
 
@@ -51,21 +58,39 @@ constexpr std::size_t kBoundaryChunk = 512;  // boundary cells per chunk (run)
 
 }  // namespace
 
+// One ClippedVoronoi3::compute(): the context, and where the results go (friend of
+// ClippedVoronoi3).
+struct Clip3Impl {
+  Clip3Impl(const Domain3& d, const Delaunay3& t, const Clip3Options& o, ClippedVoronoi3& r,
+            const std::uint32_t* input)
+      : ctx(d, t, o), out(r), input_index(input) {}
+
+  const Clip3Context ctx;
+  ClippedVoronoi3& out;
+  // Where cell i goes in the output (compute(domain, sites, n)), or nullptr: cell i.
+  const std::uint32_t* input_index;
+
+  void run();
+};
+
 void Clip3Impl::run() {
   using Clock = std::chrono::steady_clock;
-  n = dt.nb_points();
-  weighted = !options.density.is_constant();
-  linear_density = options.density.kind == Density3::Kind::kVertexLinear;
-  callback_density = options.density.kind == Density3::Kind::kCallback ? &options.density : nullptr;
-  keep_surface = options.keep_surface || options.keep_geometry;
+  const std::uint32_t n = ctx.n;
+  const Clip3Options& options = ctx.options;
+  const bool weighted = ctx.weighted, linear_density = ctx.linear_density;
   out.surface_ = {};
   out.faces_ = {};
   out.surface_.polygon_begin.push_back(0);
   out.faces_.polygon_begin.push_back(0);
-  tbb::enumerable_thread_specific<ThreadScratch> ts;
+  // Per thread: its traversals of the triangulation (the surface pass's neighbour lists and
+  // stars serve the cells again), the cells' scratch, a convex-cell kernel.
+  tbb::enumerable_thread_specific<Stars> stars;
+  tbb::enumerable_thread_specific<DelaunayCells::Scratch> cell_scratch;
+  tbb::enumerable_thread_specific<ConvexCell> kernels([this] { return ConvexCell(ctx); });
 
   const auto t0 = Clock::now();
-  surface_pass(ts);
+  const RestrictedSurface rs =
+      SurfaceRvd(ctx).compute(stars, ctx.keep_surface ? &out.surface_ : nullptr);
   const auto t1 = Clock::now();
   out.seconds_[0] = std::chrono::duration<double>(t1 - t0).count();
 
@@ -78,7 +103,7 @@ void Clip3Impl::run() {
   if (!input_index) {
     curve.resize(n);
     std::iota(curve.begin(), curve.end(), 0u);
-    hilbert_sort(site(0), 3, curve.data(), curve.data() + n);
+    hilbert_sort(ctx.site(0), 3, curve.data(), curve.data() + n);
   }
   const auto spatial = [&](auto&& take, std::vector<std::uint32_t>& order) {
     order.clear();
@@ -89,16 +114,17 @@ void Clip3Impl::run() {
   };
 
   // ---- Boundary cells (their circumcentres, like those of the inner cells, through the
-  // per-thread caches: ThreadScratch::circ).
-  const std::size_t nb_boundary = boundary_cells.size();
+  // per-thread caches: DelaunayCells::Scratch::circ).
+  DelaunayCells dcells(ctx, rs);
+  const std::size_t nb_boundary = rs.boundary_cells.size();
   std::vector<std::uint32_t> order;
-  spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, order);
+  spatial([&](std::uint32_t i) { return rs.is_boundary[i] != 0; }, order);
   std::vector<Moments> boundary_moments(nb_boundary);
   std::vector<std::uint8_t> unplaced(nb_boundary, 0);
-  const auto one_cell = [&](std::uint32_t i, ThreadScratch& s) {
-    const std::uint32_t q = boundary_slot[i];
-    Moments r = surface_moments[q];
-    if (boundary_cell(i, nullptr, s, r)) {
+  const auto one_cell = [&](std::uint32_t i, Stars& w, DelaunayCells::Scratch& s) {
+    const std::uint32_t q = rs.boundary_slot[i];
+    Moments r = rs.surface_moments[q];
+    if (dcells.boundary_cell(i, nullptr, w, s, r)) {
       boundary_moments[q] = r;
     } else {
       unplaced[q] = 1;
@@ -106,9 +132,10 @@ void Clip3Impl::run() {
   };
   if (linear_density || options.tet_clipping) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 16), [&](const auto& range) {
-      ThreadScratch& s = ts.local();
+      Stars& w = stars.local();
+      DelaunayCells::Scratch& s = cell_scratch.local();
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
-        one_cell(order[h], s);
+        one_cell(order[h], w, s);
       }
     });
   } else {
@@ -117,39 +144,39 @@ void Clip3Impl::run() {
     // tet_clipping, whose boundary cells need no pieces).
     const std::size_t nb_chunks = (order.size() + kBoundaryChunk - 1) / kBoundaryChunk;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
-      ThreadScratch& s = ts.local();
-      s.chunk_out.resize(std::max(s.chunk_out.size(), kBoundaryChunk));
+      Stars& w = stars.local();
+      DelaunayCells::Scratch& s = cell_scratch.local();
+      s.results.resize(std::max(s.results.size(), kBoundaryChunk));
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
         const std::size_t begin = h * kBoundaryChunk;
         const std::size_t end = std::min(order.size(), begin + kBoundaryChunk);
         for (std::size_t k = begin; k < end; ++k) {
-          s.chunk_out[k - begin] = surface_moments[boundary_slot[order[k]]];
+          s.results[k - begin] = rs.surface_moments[rs.boundary_slot[order[k]]];
         }
-        const bool placed = weighted
-                                ? boundary_chunk<true>(order.data() + begin,
-                                                       static_cast<std::uint32_t>(end - begin), s,
-                                                       s.chunk_out.data())
-                                : boundary_chunk<false>(order.data() + begin,
-                                                        static_cast<std::uint32_t>(end - begin), s,
-                                                        s.chunk_out.data());
+        const auto count = static_cast<std::uint32_t>(end - begin);
+        const bool placed =
+            weighted
+                ? dcells.boundary_chunk<true>(order.data() + begin, count, w, s, s.results.data())
+                : dcells.boundary_chunk<false>(order.data() + begin, count, w, s, s.results.data());
         if (placed) {
           for (std::size_t k = begin; k < end; ++k) {
-            boundary_moments[boundary_slot[order[k]]] = s.chunk_out[k - begin];
+            boundary_moments[rs.boundary_slot[order[k]]] = s.results[k - begin];
           }
         } else {
-          for (std::size_t k = begin; k < end; ++k) one_cell(order[k], s);
+          for (std::size_t k = begin; k < end; ++k) one_cell(order[k], w, s);
         }
       }
     });
   }
   std::vector<std::int8_t> global_flag;  // per tet slot, when a cell needs it
   if (std::find(unplaced.begin(), unplaced.end(), 1) != unplaced.end()) {
-    global_flags(global_flag);
-    ThreadScratch& s = ts.local();
+    dcells.global_flags(global_flag);
+    Stars& w = stars.local();
+    DelaunayCells::Scratch& s = cell_scratch.local();
     for (std::size_t q = 0; q < nb_boundary; ++q) {
       if (!unplaced[q]) continue;
-      Moments r = surface_moments[q];
-      boundary_cell(boundary_cells[q], global_flag.data(), s, r);
+      Moments r = rs.surface_moments[q];
+      dcells.boundary_cell(rs.boundary_cells[q], global_flag.data(), w, s, r);
       boundary_moments[q] = r;
     }
   }
@@ -158,7 +185,7 @@ void Clip3Impl::run() {
   std::vector<std::uint32_t> clipped;  // boundary slots
   std::uint32_t nb_multi = 0;
   for (std::size_t q = 0; q < nb_boundary; ++q) {
-    nb_multi += multi_crossed[boundary_cells[q]] != 0 ? 1 : 0;
+    nb_multi += rs.multi_crossed[rs.boundary_cells[q]] != 0 ? 1 : 0;
     if (clip_all) clipped.push_back(static_cast<std::uint32_t>(q));
   }
   std::vector<CellOut> clip_out(clipped.size());
@@ -166,15 +193,16 @@ void Clip3Impl::run() {
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seeds_out(
       linear_density ? clipped.size() : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, clipped.size(), 4), [&](const auto& range) {
-    ThreadScratch& s = ts.local();
+    ConvexCell& kernel = kernels.local();
+    std::vector<std::uint32_t> seeds;  // the tets of the cell's boundary triangles
     for (std::size_t h = range.begin(); h != range.end(); ++h) {
       const std::uint32_t q = clipped[h];
-      s.cells.clear();
-      for (std::uint32_t k = cell_tri_begin[q]; k < cell_tri_begin[q + 1]; ++k) {
-        s.cells.push_back(domain.boundary_tet(cell_tris[k]));
+      seeds.clear();
+      for (std::uint32_t k = rs.cell_tri_begin[q]; k < rs.cell_tri_begin[q + 1]; ++k) {
+        seeds.push_back(ctx.domain.boundary_tet(rs.cell_tris[k]));
       }
-      clip_cell(boundary_cells[q], s.cells.data(), s.cells.size(), s.clip, clip_out[h],
-                linear_density ? &seeds_out[h] : nullptr);
+      kernel.clip_cell(rs.boundary_cells[q], seeds.data(), seeds.size(), clip_out[h],
+                       linear_density ? &seeds_out[h] : nullptr);
       boundary_moments[q] = clip_out[h];
     }
   });
@@ -183,10 +211,11 @@ void Clip3Impl::run() {
 
   // ---- Other cells.
   std::vector<std::pair<std::uint32_t, std::int8_t>> first_layer;
-  for (ThreadScratch& s : ts) {
+  for (const DelaunayCells::Scratch& s : cell_scratch) {
     first_layer.insert(first_layer.end(), s.first_layer.begin(), s.first_layer.end());
   }
-  decide_status(first_layer, ts.local());
+  dcells.decide_status(first_layer, stars.local());
+  const std::vector<std::int8_t>& status = dcells.status();
   // Every entry is written below (Cell leaves its fields alone). Under input_index the
   // cells go in this order first and move to their input slots at the end
   // (to_input_indices): writing each to its input slot as it is finished, in random
@@ -196,7 +225,7 @@ void Clip3Impl::run() {
   // A cell's output from its integrals (r: none for a cell outside the volume).
   const auto write_cell = [&](std::uint32_t i, const Moments* r) {
     ClippedVoronoi3::Cell& cell = cells[i];
-    const double* p = site(i);
+    const double* p = ctx.site(i);
     cell.volume = r ? r->volume : 0;
     if (weighted) {
       cell.mass = r ? r->mass : 0;
@@ -209,12 +238,12 @@ void Clip3Impl::run() {
     for (int c = 0; c < 3; ++c) {
       cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
     }
-    cell.surface_area = surface_area[i];
-    cell.boundary = is_boundary[i];
+    cell.surface_area = rs.surface_area[i];
+    cell.boundary = rs.is_boundary[i];
   };
   // Inner cells write their outputs as they go (constant density); the other cells after.
   const auto written_inner = [&](std::uint32_t i) {
-    return !linear_density && !is_boundary[i] && status[i] == 1;
+    return !linear_density && !rs.is_boundary[i] && status[i] == 1;
   };
   std::vector<std::uint32_t> inner_slot(linear_density ? n : 0, kNone);
   std::vector<CellOut> inner_out;
@@ -224,7 +253,7 @@ void Clip3Impl::run() {
     // input).
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pending;
     for (const auto& v : seeds_out) pending.insert(pending.end(), v.begin(), v.end());
-    std::vector<std::uint8_t> done(is_boundary);
+    std::vector<std::uint8_t> done(rs.is_boundary);
     for (;;) {
       std::sort(pending.begin(), pending.end());
       pending.erase(std::unique(pending.begin(), pending.end()), pending.end());
@@ -248,10 +277,10 @@ void Clip3Impl::run() {
       std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> next(layer.size());
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, layer.size(), 4), [&](const auto& range) {
-            ThreadScratch& s = ts.local();
+            ConvexCell& kernel = kernels.local();
             for (std::size_t q = range.begin(); q != range.end(); ++q) {
-              clip_cell(layer[q], seed_tets.data() + begin[q], begin[q + 1] - begin[q], s.clip,
-                        inner_out[base + q], &next[q]);
+              kernel.clip_cell(layer[q], seed_tets.data() + begin[q], begin[q + 1] - begin[q],
+                               inner_out[base + q], &next[q]);
             }
           });
       for (std::size_t q = 0; q < layer.size(); ++q) {
@@ -269,19 +298,20 @@ void Clip3Impl::run() {
     // tets) did better than 512 or 2048 overall, 8192 overflow the 512 KiB L2.
     const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
-      ThreadScratch& s = ts.local();
-      s.chunk_out.resize(kInnerChunk);
+      Stars& w = stars.local();
+      DelaunayCells::Scratch& s = cell_scratch.local();
+      s.results.resize(kInnerChunk);
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
         const std::size_t begin = h * kInnerChunk;
         const std::size_t end = std::min(order.size(), begin + kInnerChunk);
         if (weighted) {
-          inner_chunk<true>(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
-                            s.chunk_out.data());
+          dcells.inner_chunk<true>(order.data() + begin, static_cast<std::uint32_t>(end - begin), w,
+                                   s, s.results.data());
         } else {
-          inner_chunk<false>(order.data() + begin, static_cast<std::uint32_t>(end - begin), s,
-                             s.chunk_out.data());
+          dcells.inner_chunk<false>(order.data() + begin, static_cast<std::uint32_t>(end - begin),
+                                    w, s, s.results.data());
         }
-        for (std::size_t q = begin; q < end; ++q) write_cell(order[q], &s.chunk_out[q - begin]);
+        for (std::size_t q = begin; q < end; ++q) write_cell(order[q], &s.results[q - begin]);
       }
     });
   }
@@ -290,8 +320,8 @@ void Clip3Impl::run() {
     for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
       if (written_inner(i)) continue;
       const Moments* r = nullptr;
-      if (is_boundary[i]) {
-        r = &boundary_moments[boundary_slot[i]];
+      if (rs.is_boundary[i]) {
+        r = &boundary_moments[rs.boundary_slot[i]];
       } else if (linear_density && inner_slot[i] != kNone) {
         r = &inner_out[inner_slot[i]];
       }
@@ -312,35 +342,38 @@ void Clip3Impl::run() {
     // cells' Voronoi facets; cells in Hilbert order of their sites, by fixed chunks (a
     // chunk's faces in one CellOut, piece = the cell's place in the chunk).
     std::vector<std::uint32_t> border;
-    if (!clip_all) spatial([&](std::uint32_t i) { return is_boundary[i] != 0; }, border);
+    if (!clip_all) spatial([&](std::uint32_t i) { return rs.is_boundary[i] != 0; }, border);
     // The Voronoi vertices placed by the search from the infinite tets: a cell alone may not
     // place its own (its chunk did).
-    if (!border.empty() && global_flag.empty()) global_flags(global_flag);
+    if (!border.empty() && global_flag.empty()) dcells.global_flags(global_flag);
     const std::size_t nb_border_chunks = (border.size() + kInnerChunk - 1) / kInnerChunk;
     std::vector<CellOut> border_faces(nb_border_chunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_border_chunks, 1),
                       [&](const auto& range) {
-                        ThreadScratch& s = ts.local();
-                        std::vector<Segment> segments;
+                        Stars& w = stars.local();
+                        DelaunayCells::Scratch& s = cell_scratch.local();
+                        std::vector<DelaunayCells::Segment> segments;
                         for (std::size_t h = range.begin(); h != range.end(); ++h) {
                           const std::size_t begin = h * kInnerChunk;
                           const std::size_t end = std::min(border.size(), begin + kInnerChunk);
                           for (std::size_t k = begin; k < end; ++k) {
-                            boundary_faces(border[k], static_cast<std::uint32_t>(k - begin),
-                                           global_flag.data(), s, segments, border_faces[h]);
+                            dcells.boundary_faces(border[k], static_cast<std::uint32_t>(k - begin),
+                                                  global_flag.data(), out.surface_, w, s, segments,
+                                                  border_faces[h]);
                           }
                         }
                       });
-    spatial([&](std::uint32_t i) { return !is_boundary[i] && status[i] == 1; }, order);
+    spatial([&](std::uint32_t i) { return !rs.is_boundary[i] && status[i] == 1; }, order);
     const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
     std::vector<CellOut> facets(nb_chunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb_chunks, 1), [&](const auto& range) {
-      ThreadScratch& s = ts.local();
+      Stars& w = stars.local();
+      DelaunayCells::Scratch& s = cell_scratch.local();
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
         const std::size_t begin = h * kInnerChunk;
         const std::size_t end = std::min(order.size(), begin + kInnerChunk);
         for (std::size_t k = begin; k < end; ++k) {
-          voronoi_facets(order[k], static_cast<std::uint32_t>(k - begin), s, facets[h]);
+          dcells.voronoi_facets(order[k], static_cast<std::uint32_t>(k - begin), w, s, facets[h]);
         }
       }
     });
@@ -362,7 +395,7 @@ void Clip3Impl::run() {
       }
     };
     for (std::size_t h = 0; h < clipped.size(); ++h) {
-      append(clip_out[h], [&](std::uint32_t) { return boundary_cells[clipped[h]]; });
+      append(clip_out[h], [&](std::uint32_t) { return rs.boundary_cells[clipped[h]]; });
     }
     for (std::size_t h = 0; h < nb_border_chunks; ++h) {
       append(border_faces[h], [&](std::uint32_t piece) { return border[h * kInnerChunk + piece]; });
@@ -370,121 +403,6 @@ void Clip3Impl::run() {
     for (std::size_t h = 0; h < nb_chunks; ++h) {
       append(facets[h], [&](std::uint32_t piece) { return order[h * kInnerChunk + piece]; });
     }
-  }
-}
-
-void Clip3Impl::boundary_faces(std::uint32_t i, std::uint32_t piece, const std::int8_t* flag,
-                               ThreadScratch& s, std::vector<Segment>& segments,
-                               CellOut& res) const {
-  segments.clear();
-  Moments unused;
-  boundary_cell(i, flag, s, unused, &segments);
-  const ClippedVoronoi3::Polygons& sp = out.surface_;
-  const auto emit_reversed = [&](const double* const* pts, std::size_t m, std::uint32_t across) {
-    for (std::size_t k = m; k-- > 0;) res.face_xyz.insert(res.face_xyz.end(), pts[k], pts[k] + 3);
-    res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
-    res.face_piece.push_back(piece);
-    res.face_across.push_back(across);
-  };
-  std::vector<const double*> pts;
-  // The restricted polygons, and their edges on bisectors (the face across runs through
-  // such an edge the other way).
-  for (std::uint32_t p = sp.site_begin[i]; p < sp.site_begin[i + 1]; ++p) {
-    const std::uint32_t b = sp.polygon_begin[p], e = sp.polygon_begin[p + 1];
-    pts.clear();
-    for (std::uint32_t v = b; v < e; ++v) pts.push_back(&sp.xyz[3 * std::size_t{v}]);
-    emit_reversed(pts.data(), pts.size(), ClippedVoronoi3::kSurface);
-    for (std::uint32_t v = b; v < e; ++v) {
-      const std::uint32_t j = surface_across[v];
-      if (j == kNone) continue;
-      const double* from = &sp.xyz[3 * std::size_t{v}];
-      const double* to = &sp.xyz[3 * std::size_t{v + 1 == e ? b : v + 1}];
-      Segment& g = segments.emplace_back();
-      g.across = j;
-      for (int c = 0; c < 3; ++c) {
-        g.a[c] = to[c];
-        g.b[c] = from[c];
-      }
-    }
-  }
-  // Per bisector, the segments chained into loops on their points' coordinates (a point is
-  // computed from its symbolic vertex wherever it is met: the same bits), each loop emitted
-  // reversed (inwards). Where several loops pass through one point, they are paired there in
-  // segment order (the loops may differ, the face they bound does not).
-  std::stable_sort(segments.begin(), segments.end(),
-                   [](const Segment& x, const Segment& y) { return x.across < y.across; });
-  using Key = std::array<std::uint64_t, 3>;
-  const auto key = [](const double* x) {
-    Key k;
-    std::memcpy(k.data(), x, sizeof k);
-    return k;
-  };
-  std::vector<std::pair<Key, std::uint32_t>> keys;
-  std::vector<std::uint32_t> seg_from, seg_to, out_begin, out_list;
-  std::vector<const double*> point_of;
-  std::vector<std::uint8_t> used;
-  for (std::size_t g0 = 0; g0 < segments.size();) {
-    std::size_t g1 = g0;
-    while (g1 < segments.size() && segments[g1].across == segments[g0].across) ++g1;
-    const std::size_t m = g1 - g0;
-    keys.clear();
-    for (std::size_t k = g0; k < g1; ++k) {
-      keys.emplace_back(key(segments[k].a), static_cast<std::uint32_t>(2 * (k - g0)));
-      keys.emplace_back(key(segments[k].b), static_cast<std::uint32_t>(2 * (k - g0) + 1));
-    }
-    std::sort(keys.begin(), keys.end());
-    seg_from.assign(m, 0);
-    seg_to.assign(m, 0);
-    point_of.clear();
-    for (std::size_t r = 0; r < keys.size(); ++r) {
-      if (r == 0 || keys[r].first != keys[r - 1].first) {
-        const std::uint32_t e = keys[r].second;
-        const Segment& sg = segments[g0 + e / 2];
-        point_of.push_back(e % 2 == 0 ? sg.a : sg.b);
-      }
-      const auto id = static_cast<std::uint32_t>(point_of.size() - 1);
-      (keys[r].second % 2 == 0 ? seg_from : seg_to)[keys[r].second / 2] = id;
-    }
-    // Outgoing segments per point, in segment order.
-    const std::size_t nb_points = point_of.size();
-    out_begin.assign(nb_points + 1, 0);
-    for (std::size_t k = 0; k < m; ++k) ++out_begin[seg_from[k] + 1];
-    for (std::size_t v = 0; v < nb_points; ++v) out_begin[v + 1] += out_begin[v];
-    out_list.resize(m);
-    {
-      std::vector<std::uint32_t> fill(out_begin.begin(), out_begin.end() - 1);
-      for (std::size_t k = 0; k < m; ++k)
-        out_list[fill[seg_from[k]]++] = static_cast<std::uint32_t>(k);
-    }
-    used.assign(m, 0);
-    // A segment of zero length (both ends equal) bounds nothing.
-    for (std::size_t k = 0; k < m; ++k) used[k] = seg_from[k] == seg_to[k] ? 1 : 0;
-    for (std::size_t k0 = 0; k0 < m; ++k0) {
-      if (used[k0]) continue;
-      pts.clear();
-      std::size_t k = k0;
-      bool closed = false;
-      for (;;) {
-        used[k] = 1;
-        pts.push_back(point_of[seg_from[k]]);
-        const std::uint32_t v = seg_to[k];
-        if (v == seg_from[k0]) {
-          closed = true;
-          break;
-        }
-        std::size_t next = m;
-        for (std::uint32_t e = out_begin[v]; e < out_begin[v + 1]; ++e) {
-          if (!used[out_list[e]]) {
-            next = out_list[e];
-            break;
-          }
-        }
-        if (next == m) break;
-        k = next;
-      }
-      if (closed && pts.size() >= 3) emit_reversed(pts.data(), pts.size(), segments[g0].across);
-    }
-    g0 = g1;
   }
 }
 
@@ -781,8 +699,7 @@ void ClippedVoronoi3::compute_impl(const Domain3& domain, const Delaunay3& dt,
     throw Error("clip3d: tet_clipping needs a domain with a tetrahedral mesh (" + domain.source() +
                 " is a surface)");
   }
-  Clip3Impl impl(domain, dt, options, *this);
-  impl.input_index = input_index;
+  Clip3Impl impl(domain, dt, options, *this, input_index);
   try {
     impl.run();
   } catch (...) {

@@ -1,5 +1,8 @@
-// Cells of the 3D clipped Voronoi diagram straight from the Delaunay triangulation
-// (clip3d.cpp gives the overview).
+// Cells of the 3D clipped Voronoi diagram straight from the Delaunay triangulation (Yan et
+// al. 2011, sec. 4, the boundary cells by the divergence theorem instead of tet by tet;
+// clip3d.cpp gives the overview): DelaunayCells (clip3d_cells.h), which reads the
+// RestrictedSurface of the surface pass; each thread has a Scratch of its own and its Stars.
+// The cells' faces for export are in clip3d_faces.cpp.
 //
 // Cones over the boundary. For a region R bounded by an outward-oriented closed surface,
 // ∫_R g = Σ over faces of the signed integral of g over the cone from p_i to the face (the
@@ -36,12 +39,13 @@
 // star places the vertices the group's cells share with it: the boundary cells report
 // those, groups reported outside are spread by a search through their neighbours, every
 // other cell is inside.
+#include "clip3d_cells.h"
+
 #include <algorithm>
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "clip3d_internal.h"
 
 namespace voroclip {
 
@@ -101,10 +105,6 @@ const std::int8_t kFaceOther[4][4][2] = {
      {kTable.v[3][3][0], kTable.v[3][3][1]}},
 };
 
-}  // namespace clip3
-
-using namespace clip3;
-
 namespace {
 
 [[noreturn]] void internal_error(const std::string& what) {
@@ -113,10 +113,9 @@ namespace {
 
 }  // namespace
 
-bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, ThreadScratch& s,
-                              Moments& r, std::vector<Segment>* segments) const {
-  Star& st = s.star;
-  pooled_star(i, s);
+bool DelaunayCells::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, Stars& stars,
+                                  Scratch& s, Moments& r, std::vector<Segment>* segments) const {
+  const Star& st = stars.pooled_star(ctx_, i);
   const std::vector<std::uint32_t>& tets = st.tets;
   const std::size_t m = tets.size();
   std::vector<std::int8_t>& flag = s.flag;
@@ -125,24 +124,24 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   // cells; a facet shared by two tets of the star is looked up once).
   std::vector<const EdgeCrossings*>& fx = s.fx;
   fx.assign(4 * m, nullptr);
-  std::vector<std::uint8_t>& known = s.beyond;
+  std::vector<std::uint8_t>& known = s.known;
   known.assign(4 * m, 0);
   constexpr std::size_t kAhead = 4;
-  for (std::size_t q = 0; q < kAhead && q < m; ++q) dt.prefetch_tet(tets[q]);
+  for (std::size_t q = 0; q < kAhead && q < m; ++q) ctx_.dt.prefetch_tet(tets[q]);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     // A pooled star's records are not in cache (its traversal was long ago): the records a
     // few tets ahead, and the circumcentres' cache entries (read below).
-    if (q + kAhead < m) dt.prefetch_tet(tets[q + kAhead]);
+    if (q + kAhead < m) ctx_.dt.prefetch_tet(tets[q + kAhead]);
     s.circ.prefetch(t);
     std::uint32_t w[4];
     int nb = 0;
     for (int k = 0; k < 4; ++k) {
-      w[k] = dt.tet_vertex(t, k);
-      nb += w[k] != Delaunay3::kInfinite && is_boundary[w[k]] ? 1 : 0;
+      w[k] = ctx_.dt.tet_vertex(t, k);
+      nb += w[k] != Delaunay3::kInfinite && rs_.is_boundary[w[k]] ? 1 : 0;
       // The tet across the facet opposite i is outside the star; the placement below reads
       // its record (is it infinite?).
-      if (w[k] == i) dt.prefetch_tet(dt.tet_adjacent(t, k));
+      if (w[k] == i) ctx_.dt.prefetch_tet(ctx_.dt.tet_adjacent(t, k));
     }
     if (nb < 3) continue;
     for (int f = 0; f < 4; ++f) {
@@ -150,14 +149,14 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
       const EdgeCrossings* x = nullptr;
       const std::uint32_t a = w[f == 0 ? 1 : 0], b = w[f <= 1 ? 2 : 1], c = w[f <= 2 ? 3 : 2];
       if (a != Delaunay3::kInfinite && b != Delaunay3::kInfinite && c != Delaunay3::kInfinite &&
-          is_boundary[a] && is_boundary[b] && is_boundary[c]) {
-        x = find_crossings(a, b, c);
+          rs_.is_boundary[a] && rs_.is_boundary[b] && rs_.is_boundary[c]) {
+        x = rs_.find_crossings(a, b, c);
       }
       fx[4 * q + f] = x;
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
       if (st.contains(t2)) {
         const std::size_t k2 =
-            4 * std::size_t{st.pos(t2)} + std::size_t(dt.tet_adjacent_facet(t, f));
+            4 * std::size_t{st.pos(t2)} + std::size_t(ctx_.dt.tet_adjacent_facet(t, f));
         fx[k2] = x;
         known[k2] = 1;
       }
@@ -176,7 +175,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   };
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) {
+    if (ctx_.infinite(t)) {
       place(q, 0);
       continue;
     }
@@ -187,14 +186,14 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
     for (int f = 0; f < 4; ++f) {
       const EdgeCrossings* x = fx[4 * q + f];
       const std::uint32_t count = x ? x->count : 0;
-      if (infinite(dt.tet_adjacent(t, f))) {
+      if (ctx_.infinite(ctx_.dt.tet_adjacent(t, f))) {
         place(q, static_cast<int>(count & 1));
       } else if (count == 1) {
         // The edge leaves t along (p_s1 - p_s0) x (p_s2 - p_s0) when (s0, s1, s2, opposite)
         // is an even permutation of t's vertices; it leaves Ω there when sigma > 0.
         int l0 = 0;
-        while (dt.tet_vertex(t, l0) != x->s[0]) ++l0;
-        const bool even = dt.tet_vertex(t, kFaceOther[l0][f][0]) == x->s[1];
+        while (ctx_.dt.tet_vertex(t, l0) != x->s[0]) ++l0;
+        const bool even = ctx_.dt.tet_vertex(t, kFaceOther[l0][f][0]) == x->s[1];
         place(q, (even ? x->sigma : -x->sigma) > 0 ? 1 : 0);
       }
     }
@@ -204,30 +203,31 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
     const std::uint32_t q = queue[h];
     const std::uint32_t t = tets[q];
     for (int f = 0; f < 4; ++f) {
-      if (dt.tet_vertex(t, f) == i) continue;
+      if (ctx_.dt.tet_vertex(t, f) == i) continue;
       const EdgeCrossings* x = fx[4 * q + f];
       const int parity = x ? static_cast<int>(x->count & 1) : 0;
-      place(st.pos(dt.tet_adjacent(t, f)), flag[q] ^ parity);
+      place(st.pos(ctx_.dt.tet_adjacent(t, f)), flag[q] ^ parity);
     }
   }
   // The non-boundary sites of the star take the flag of their tets.
-  if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
-    s.site_mark.assign(n, 0);
+  if (s.site_mark.size() != ctx_.n || s.site_gen == 0xffffffffu) {
+    s.site_mark.assign(ctx_.n, 0);
     s.site_gen = 0;
   }
   const std::uint32_t gen = ++s.site_gen;
   const auto report = [&](std::size_t q, const std::uint32_t* v) {
     for (int k = 0; k < 4; ++k) {
-      if (v[k] == Delaunay3::kInfinite || is_boundary[v[k]] || s.site_mark[v[k]] == gen) continue;
+      if (v[k] == Delaunay3::kInfinite || rs_.is_boundary[v[k]] || s.site_mark[v[k]] == gen)
+        continue;
       s.site_mark[v[k]] = gen;
       s.first_layer.emplace_back(v[k], flag[q]);
     }
   };
-  if (linear_density || options.tet_clipping) {
+  if (ctx_.linear_density || ctx_.options.tet_clipping) {
     for (std::size_t q = 0; q < m; ++q) {
       const std::uint32_t t = tets[q];
-      const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                  dt.tet_vertex(t, 3)};
+      const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                  ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
       report(q, v);
     }
     return true;
@@ -237,14 +237,14 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   // them the first-layer reports (every vertex of the star is in one of its finite tets:
   // at most two tets around an edge are infinite; all tets of a non-boundary site carry
   // the same flag, so which one reports it does not matter).
-  const double* pi = site(i);
-  if (s.chunk_c.size() < m) s.chunk_c.resize(m);
-  std::array<double, 3>* cc = s.chunk_c.data();
+  const double* pi = ctx_.site(i);
+  if (s.chunk.c.size() < m) s.chunk.c.resize(m);
+  std::array<double, 3>* cc = s.chunk.c.data();
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
+    if (ctx_.infinite(t)) continue;
+    const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
     report(q, v);
     const double* c = circumcentre(t, v, s.circ);
     cc[q] = {c[0], c[1], c[2]};
@@ -253,25 +253,25 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
   Moments weighted_sums;
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
+    if (ctx_.infinite(t)) continue;
+    const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
     int li = 0;
     while (v[li] != i) ++li;
     for (int f = 0; f < 4; ++f) {
       if (f == li) continue;
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      const bool infinite2 = infinite(t2);
+      const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
+      const bool infinite2 = ctx_.infinite(t2);
       if (!infinite2 && t2 < t) continue;
       const std::uint32_t q2 = st.pos(t2);
       const std::uint32_t vj = v[kFaceOther[li][f][0]];
       const std::uint32_t vk = v[kFaceOther[li][f][1]];
-      const double* pj = site(vj);
-      const double* pk = site(vk);
+      const double* pj = ctx_.site(vj);
+      const double* pk = ctx_.site(vk);
       inside_pieces(v, f, cc[q].data(), flag[q] != 0, infinite2 ? nullptr : cc[q2].data(),
                     flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
                       const Rel u = rel(a, pi), w = rel(b, pi);
-                      if (weighted) {
+                      if (ctx_.weighted) {
                         add_piece<true>(pi, pj, pk, u, w, weighted_sums);
                       } else {
                         add_piece<false>(pi, pj, pk, u, w, sums);
@@ -290,7 +290,7 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
                     });
     }
   }
-  if (weighted) {
+  if (ctx_.weighted) {
     r.mass += weighted_sums.mass;
     for (int c = 0; c < 3; ++c) r.moment[c] += weighted_sums.moment[c];
     r.energy += weighted_sums.energy;
@@ -302,11 +302,11 @@ bool Clip3Impl::boundary_cell(std::uint32_t i, const std::int8_t* global_flag, T
 }
 
 template <class Piece>
-[[gnu::always_inline]] inline void Clip3Impl::inside_pieces(const std::uint32_t* tv, int f,
-                                                            const double* u, bool in1,
-                                                            const double* w, bool in2,
-                                                            const EdgeCrossings* x,
-                                                            Piece&& piece) const {
+[[gnu::always_inline]] inline void DelaunayCells::inside_pieces(const std::uint32_t* tv, int f,
+                                                                const double* u, bool in1,
+                                                                const double* w, bool in2,
+                                                                const EdgeCrossings* x,
+                                                                Piece&& piece) const {
   const std::uint32_t count = x ? x->count : 0;
   if (count == 0) {
     if (in1 != in2) internal_error("a Voronoi edge with no crossing changes side");
@@ -326,9 +326,10 @@ template <class Piece>
   }
 }
 
-void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const double* u, bool in1,
-                                        const double* w, bool in2, const EdgeCrossings& edge,
-                                        std::vector<SignedSegment>& segments) const {
+void DelaunayCells::multi_crossing_segments(const std::uint32_t* tv, int f, const double* u,
+                                            bool in1, const double* w, bool in2,
+                                            const EdgeCrossings& edge,
+                                            std::vector<SignedSegment>& segments) const {
   const EdgeCrossings* x = &edge;
   const std::uint32_t count = x->count;
   segments.clear();
@@ -339,7 +340,7 @@ void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const do
   const bool even = tv[kFaceOther[l0][f][0]] == x->s[1];
   int balance = in1 ? 1 : 0;
   for (std::uint32_t k = 0; k < count; ++k) {
-    const CrossingPoint& c = multi_crossings[x->first + k];
+    const CrossingPoint& c = rs_.multi_crossings[x->first + k];
     balance += (even ? c.sigma : -c.sigma) > 0 ? -1 : 1;
   }
   if (balance != (in2 ? 1 : 0)) {
@@ -356,9 +357,9 @@ void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const do
   if (w != nullptr) {
     for (int c = 0; c < 3; ++c) dir[c] = w[c] - u[c];
   } else {
-    const double* p0 = site(x->s[0]);
-    const double* p1 = site(x->s[1]);
-    const double* p2 = site(x->s[2]);
+    const double* p0 = ctx_.site(x->s[0]);
+    const double* p1 = ctx_.site(x->s[1]);
+    const double* p2 = ctx_.site(x->s[2]);
     const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
     const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
     const double sign = even ? 1.0 : -1.0;
@@ -370,7 +371,7 @@ void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const do
   std::pair<double, std::uint32_t> sorted[kMaxSorted];
   const std::uint32_t m = std::min(count, kMaxSorted);
   for (std::uint32_t k = 0; k < m; ++k) {
-    const double* q = multi_crossings[x->first + k].x;
+    const double* q = rs_.multi_crossings[x->first + k].x;
     sorted[k] = {(q[0] - u[0]) * dir[0] + (q[1] - u[1]) * dir[1] + (q[2] - u[2]) * dir[2], k};
   }
   std::sort(sorted, sorted + m);
@@ -382,7 +383,7 @@ void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const do
   for (std::uint32_t h = 0; h < count; ++h) {
     // (Beyond kMaxSorted crossings, the rest in triangle order.)
     const std::uint32_t k = h < m ? sorted[h].second : h;
-    const CrossingPoint& c = multi_crossings[x->first + k];
+    const CrossingPoint& c = rs_.multi_crossings[x->first + k];
     emit(prev, c.x, inside);
     inside += (even ? c.sigma : -c.sigma) > 0 ? -1 : 1;
     prev = c.x;
@@ -390,33 +391,32 @@ void Clip3Impl::multi_crossing_segments(const std::uint32_t* tv, int f, const do
   if (w != nullptr) emit(prev, w, inside);
 }
 
-std::uint32_t* Clip3Impl::start_chunk(const std::uint32_t* cells, std::uint32_t count,
-                                      ThreadScratch& s) const {
-  Star& st = s.star;
-  st.reset_if_needed(dt.nb_tet_slots());
-  st.first = st.next;
-  if (s.chunk_slot.size() != n) s.chunk_slot.assign(n, 0);
-  std::uint32_t* slot = s.chunk_slot.data();
+std::uint32_t* DelaunayCells::start_chunk(const std::uint32_t* cells, std::uint32_t count,
+                                          Scratch& s) const {
+  if (s.chunk.slot.size() != ctx_.n) s.chunk.slot.assign(ctx_.n, 0);
+  std::uint32_t* slot = s.chunk.slot.data();
   for (std::uint32_t k = 0; k < count; ++k) slot[cells[k]] = k + 1;
   return slot;
 }
 
 template <bool kWeighted>
-bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
-                               Moments* result) const {
+bool DelaunayCells::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, Stars& stars,
+                                   Scratch& s, Moments* result) const {
   // As inner_chunk, over the tets with a chunk vertex (infinite ones included), each taken
   // once; then their Voronoi vertices placed inside or outside as in boundary_cell (from
   // infinite tets and single crossings, then across facets with the parity of their
   // crossings), and each Voronoi edge's piece inside the volume given to the chunk
   // vertices of its facet. False, with nothing reported, when a tet cannot be placed.
+  // (Read through a local: the loops below store bytes, which may alias rs_'s members.)
+  const std::uint8_t* is_boundary = rs_.is_boundary.data();
+  Star& st = stars.new_range(ctx_);
   std::uint32_t* slot = start_chunk(cells, count, s);
-  Star& st = s.star;
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
   std::vector<std::uint32_t>& tets = st.tets;
   tets.clear();
   for (std::uint32_t seed = 0; seed < count; ++seed) {
-    const std::uint32_t t0 = dt.vertex_tet(cells[seed]);
+    const std::uint32_t t0 = ctx_.dt.vertex_tet(cells[seed]);
     if (mark[t0] >= first) continue;
     mark[t0] = first + static_cast<std::uint32_t>(tets.size());
     tets.push_back(t0);
@@ -424,16 +424,16 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
       const std::uint32_t t = tets[q];
       unsigned in_mask = 0;  // the tet's chunk vertices
       for (int k = 0; k < 4; ++k) {
-        const std::uint32_t w = dt.tet_vertex(t, k);
+        const std::uint32_t w = ctx_.dt.tet_vertex(t, k);
         in_mask |= w != Delaunay3::kInfinite && slot[w] != 0 ? 1u << k : 0u;
       }
       for (int f = 0; f < 4; ++f) {
         if ((in_mask & ~(1u << f)) == 0) continue;  // no chunk vertex on this facet
-        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
         if (mark[t2] >= first) continue;
         mark[t2] = first + static_cast<std::uint32_t>(tets.size());
         tets.push_back(t2);
-        dt.prefetch_tet(t2);
+        ctx_.dt.prefetch_tet(t2);
       }
     }
   }
@@ -449,7 +449,7 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
   flag.assign(m, -1);
   std::vector<const EdgeCrossings*>& fx = s.fx;
   fx.assign(4 * m, nullptr);
-  std::vector<std::uint8_t>& known = s.beyond;
+  std::vector<std::uint8_t>& known = s.known;
   known.assign(4 * m, 0);
   std::vector<std::uint32_t>& queue = s.queue;
   queue.clear();
@@ -466,8 +466,8 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
   };
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    const std::uint32_t w[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
+    const std::uint32_t w[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
     if (w[3] == Delaunay3::kInfinite) {
       place(q, 0);
       continue;
@@ -476,19 +476,19 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
       const std::uint32_t a = w[f == 0 ? 1 : 0], b = w[f <= 1 ? 2 : 1], c = w[f <= 2 ? 3 : 2];
       if (!known[4 * q + f]) {
         const EdgeCrossings* x = nullptr;
-        if (is_boundary[a] && is_boundary[b] && is_boundary[c]) x = find_crossings(a, b, c);
+        if (is_boundary[a] && is_boundary[b] && is_boundary[c]) x = rs_.find_crossings(a, b, c);
         fx[4 * q + f] = x;
-        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
         if (mark[t2] >= first) {
           const std::size_t k2 = 4 * std::size_t{mark[t2] - first} +
-                                 static_cast<std::size_t>(dt.tet_adjacent_facet(t, f));
+                                 static_cast<std::size_t>(ctx_.dt.tet_adjacent_facet(t, f));
           fx[k2] = x;
           known[k2] = 1;
         }
       }
       const EdgeCrossings* x = fx[4 * q + f];
       const std::uint32_t nb_cross = x ? x->count : 0;
-      if (infinite(dt.tet_adjacent(t, f))) {
+      if (ctx_.infinite(ctx_.dt.tet_adjacent(t, f))) {
         place(q, static_cast<int>(nb_cross & 1));
       } else if (nb_cross == 1) {
         int l0 = 0;
@@ -502,7 +502,7 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
     const std::uint32_t q = queue[h];
     const std::uint32_t t = tets[q];
     for (int f = 0; f < 4; ++f) {
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
       if (mark[t2] < first) continue;  // (a facet with no chunk vertex)
       const EdgeCrossings* x = fx[4 * q + f];
       const int parity = x ? static_cast<int>(x->count & 1) : 0;
@@ -514,16 +514,16 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
     return false;
   }
   // The non-boundary sites of the tets take their flags.
-  if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
-    s.site_mark.assign(n, 0);
+  if (s.site_mark.size() != ctx_.n || s.site_gen == 0xffffffffu) {
+    s.site_mark.assign(ctx_.n, 0);
     s.site_gen = 0;
   }
   const std::uint32_t gen = ++s.site_gen;
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
+    if (ctx_.infinite(t)) continue;
     for (int k = 0; k < 4; ++k) {
-      const std::uint32_t v = dt.tet_vertex(t, k);
+      const std::uint32_t v = ctx_.dt.tet_vertex(t, k);
       if (is_boundary[v] || s.site_mark[v] == gen) continue;
       s.site_mark[v] = gen;
       s.first_layer.emplace_back(v, flag[q]);
@@ -532,34 +532,34 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
   // The pieces, each Voronoi edge from its finite tet of larger position (or its only one).
   PieceAcc<kWeighted>* sums;
   if constexpr (kWeighted) {
-    s.chunk_moments.assign(count, Moments{});
-    sums = s.chunk_moments.data();
+    s.chunk.moments.assign(count, Moments{});
+    sums = s.chunk.moments.data();
   } else {
-    s.chunk_sums.assign(count, PieceSums{});
-    sums = s.chunk_sums.data();
+    s.chunk.sums.assign(count, PieceSums{});
+    sums = s.chunk.sums.data();
   }
-  if (s.chunk_c.size() < m) s.chunk_c.resize(m);
-  std::array<double, 3>* cc = s.chunk_c.data();
+  if (s.chunk.c.size() < m) s.chunk.c.resize(m);
+  std::array<double, 3>* cc = s.chunk.c.data();
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
+    if (ctx_.infinite(t)) continue;
+    const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
     const double* c = circumcentre(t, v, s.circ);
     cc[q] = {c[0], c[1], c[2]};
   }
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
-    if (infinite(t)) continue;
-    const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                dt.tet_vertex(t, 3)};
+    if (ctx_.infinite(t)) continue;
+    const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
     unsigned in_mask = 0;
     for (int k = 0; k < 4; ++k) in_mask |= slot[v[k]] != 0 ? 1u << k : 0u;
     for (int f = 0; f < 4; ++f) {
       const unsigned facet_mask = in_mask & ~(1u << f);
       if (facet_mask == 0) continue;
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      const bool infinite2 = infinite(t2);
+      const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
+      const bool infinite2 = ctx_.infinite(t2);
       const std::size_t q2 = mark[t2] - first;
       if (!infinite2 && q2 > q) continue;
       try {
@@ -567,10 +567,10 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
                       flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
                         for (int k = 0; k < 4; ++k) {
                           if ((facet_mask >> k & 1u) == 0) continue;
-                          const double* px = site(v[k]);
-                          add_piece<kWeighted>(px, site(v[kFaceOther[k][f][0]]),
-                                               site(v[kFaceOther[k][f][1]]), rel(a, px), rel(b, px),
-                                               sums[slot[v[k]] - 1]);
+                          const double* px = ctx_.site(v[k]);
+                          add_piece<kWeighted>(px, ctx_.site(v[kFaceOther[k][f][0]]),
+                                               ctx_.site(v[kFaceOther[k][f][1]]), rel(a, px),
+                                               rel(b, px), sums[slot[v[k]] - 1]);
                         }
                       });
       } catch (...) {
@@ -594,47 +594,47 @@ bool Clip3Impl::boundary_chunk(const std::uint32_t* cells, std::uint32_t count, 
 }
 
 template <bool kWeighted>
-void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, ThreadScratch& s,
-                            Moments* result) const {
+void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Stars& stars,
+                                Scratch& s, Moments* result) const {
   // The tets with a vertex in the chunk, breadth first from each cell's vertex_tet through
   // the facets that have one (every star is connected through such facets), each taken
   // once: its circumcentre, relative to each chunk vertex. A Voronoi edge (a facet with a
   // chunk vertex, between tets at positions q2 < q) is taken when tet q is expanded, for
   // each chunk vertex of the facet. The order is a function of the chunk alone.
+  Star& st = stars.new_range(ctx_);
   std::uint32_t* slot = start_chunk(cells, count, s);
-  Star& st = s.star;
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
   PieceAcc<kWeighted>* sums;
   if constexpr (kWeighted) {
-    s.chunk_moments.assign(count, Moments{});
-    sums = s.chunk_moments.data();
+    s.chunk.moments.assign(count, Moments{});
+    sums = s.chunk.moments.data();
   } else {
-    s.chunk_sums.assign(count, PieceSums{});
-    sums = s.chunk_sums.data();
+    s.chunk.sums.assign(count, PieceSums{});
+    sums = s.chunk.sums.data();
   }
-  // st.tets, s.chunk_c and s.chunk_rel serve as fixed buffers (grown by doubling).
+  // st.tets, s.chunk.c and s.chunk.rel serve as fixed buffers (grown by doubling).
   std::vector<std::uint32_t>& tets = st.tets;
   if (tets.size() < 64) tets.resize(64);
   std::uint32_t cap = static_cast<std::uint32_t>(tets.size());
-  if (s.chunk_c.size() < cap) s.chunk_c.resize(cap);
-  if (s.chunk_rel.size() < 4 * std::size_t{cap}) s.chunk_rel.resize(4 * std::size_t{cap});
+  if (s.chunk.c.size() < cap) s.chunk.c.resize(cap);
+  if (s.chunk.rel.size() < 4 * std::size_t{cap}) s.chunk.rel.resize(4 * std::size_t{cap});
   std::uint32_t* tp = tets.data();
-  std::array<double, 3>* cc = s.chunk_c.data();
-  Rel* cr = s.chunk_rel.data();
+  std::array<double, 3>* cc = s.chunk.c.data();
+  Rel* cr = s.chunk.rel.data();
   std::uint32_t nb_tets = 0;
   const auto room_for = [&](std::uint32_t extra) {
     if (nb_tets + extra <= cap) return;
     cap *= 2;
     tets.resize(cap);
-    s.chunk_c.resize(cap);
-    s.chunk_rel.resize(4 * std::size_t{cap});
+    s.chunk.c.resize(cap);
+    s.chunk.rel.resize(4 * std::size_t{cap});
     tp = tets.data();
-    cc = s.chunk_c.data();
-    cr = s.chunk_rel.data();
+    cc = s.chunk.c.data();
+    cr = s.chunk.rel.data();
   };
   for (std::uint32_t seed = 0; seed < count; ++seed) {
-    const std::uint32_t t0 = dt.vertex_tet(cells[seed]);
+    const std::uint32_t t0 = ctx_.dt.vertex_tet(cells[seed]);
     if (mark[t0] >= first) continue;
     room_for(1);
     mark[t0] = first + nb_tets;
@@ -645,13 +645,13 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
       if (q + 1 < nb_tets) {
         const std::uint32_t tn = tp[q + 1];
         for (int k = 0; k < 4; ++k) {
-          const std::uint32_t w = dt.tet_vertex(tn, k);
-          if (w != Delaunay3::kInfinite) __builtin_prefetch(site(w));
-          __builtin_prefetch(mark + dt.tet_adjacent(tn, k));
+          const std::uint32_t w = ctx_.dt.tet_vertex(tn, k);
+          if (w != Delaunay3::kInfinite) __builtin_prefetch(ctx_.site(w));
+          __builtin_prefetch(mark + ctx_.dt.tet_adjacent(tn, k));
         }
       }
-      const std::uint32_t v[4] = {dt.tet_vertex(t, 0), dt.tet_vertex(t, 1), dt.tet_vertex(t, 2),
-                                  dt.tet_vertex(t, 3)};
+      const std::uint32_t v[4] = {ctx_.dt.tet_vertex(t, 0), ctx_.dt.tet_vertex(t, 1),
+                                  ctx_.dt.tet_vertex(t, 2), ctx_.dt.tet_vertex(t, 3)};
       if (v[3] == Delaunay3::kInfinite) {  // (an infinite tet has kInfinite as vertex 3)
         const std::uint32_t i = slot[v[0]] != 0 ? v[0] : slot[v[1]] != 0 ? v[1] : v[2];
         internal_error("inner cell " + std::to_string(i) + " is unbounded");
@@ -665,27 +665,27 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
       const double* c = circumcentre(t, v, s.circ);
       cc[q] = {c[0], c[1], c[2]};
       for (int k = 0; k < 4; ++k) {
-        if (in[k] != 0) cr[4 * std::size_t{q} + k] = rel(c, site(v[k]));
+        if (in[k] != 0) cr[4 * std::size_t{q} + k] = rel(c, ctx_.site(v[k]));
       }
       room_for(4);
       for (int f = 0; f < 4; ++f) {
         const unsigned facet_mask = in_mask & ~(1u << f);  // the facet's chunk vertices
         if (facet_mask == 0) continue;
-        const std::uint32_t t2 = dt.tet_adjacent(t, f);
+        const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
         const std::uint32_t mk = mark[t2];
         if (mk < first) {
           mark[t2] = first + nb_tets;
           tp[nb_tets++] = t2;
-          dt.prefetch_tet(t2);
+          ctx_.dt.prefetch_tet(t2);
           s.circ.prefetch(t2);
         } else if (mk - first < q) {
           const double* c2 = cc[mk - first].data();
           for (int k = 0; k < 4; ++k) {
             if ((facet_mask >> k & 1u) == 0) continue;
-            const double* px = site(v[k]);
+            const double* px = ctx_.site(v[k]);
             const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
-            add_piece<kWeighted>(px, site(vj), site(vk), cr[4 * std::size_t{q} + k], rel(c2, px),
-                                 sums[in[k] - 1]);
+            add_piece<kWeighted>(px, ctx_.site(vj), ctx_.site(vk), cr[4 * std::size_t{q} + k],
+                                 rel(c2, px), sums[in[k] - 1]);
           }
         }
       }
@@ -703,69 +703,21 @@ void Clip3Impl::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Thr
   }
 }
 
-template bool Clip3Impl::boundary_chunk<false>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
-                                               Moments*) const;
-template bool Clip3Impl::boundary_chunk<true>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
-                                              Moments*) const;
-template void Clip3Impl::inner_chunk<false>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
-                                            Moments*) const;
-template void Clip3Impl::inner_chunk<true>(const std::uint32_t*, std::uint32_t, ThreadScratch&,
-                                           Moments*) const;
+template bool DelaunayCells::boundary_chunk<false>(const std::uint32_t*, std::uint32_t, Stars&,
+                                                   Scratch&, Moments*) const;
+template bool DelaunayCells::boundary_chunk<true>(const std::uint32_t*, std::uint32_t, Stars&,
+                                                  Scratch&, Moments*) const;
+template void DelaunayCells::inner_chunk<false>(const std::uint32_t*, std::uint32_t, Stars&,
+                                                Scratch&, Moments*) const;
+template void DelaunayCells::inner_chunk<true>(const std::uint32_t*, std::uint32_t, Stars&,
+                                               Scratch&, Moments*) const;
 
-void Clip3Impl::voronoi_facets(std::uint32_t c, std::uint32_t piece, ThreadScratch& s,
-                               CellOut& res) const {
-  // Per Delaunay edge (c, j), the circumcentres of the tets around it, taken from the first
-  // star tet with that edge: crossing the facet f with kFaceOther[ic][f][0] == ij goes
-  // counter-clockwise around p_j - p_c (kFaceOther), that is, outwards; the ring is then
-  // reversed. edge_done marks every (tet, vertex) a ring has used.
-  Star& st = s.star;
-  star(c, st);
-  const std::size_t m = st.tets.size();
-  s.edge_done.assign(4 * m, 0);
-  const auto local = [&](std::uint32_t t, std::uint32_t v) {
-    int k = 0;
-    while (dt.tet_vertex(t, k) != v) ++k;  // v is a vertex of t
-    return k;
-  };
-  for (std::size_t q = 0; q < m; ++q) {
-    const std::uint32_t t = st.tets[q];
-    if (dt.is_infinite(t)) internal_error("inner cell " + std::to_string(c) + " is unbounded");
-    const int ic = local(t, c);
-    for (int ij = 0; ij < 4; ++ij) {
-      if (ij == ic || s.edge_done[4 * q + static_cast<std::size_t>(ij)] != 0) continue;
-      const std::uint32_t j = dt.tet_vertex(t, ij);
-      const std::size_t first = res.face_xyz.size();
-      std::uint32_t u = t;
-      int uc = ic, uj = ij;
-      do {  // (u is a star tet: finite)
-        const std::uint32_t v[4] = {dt.tet_vertex(u, 0), dt.tet_vertex(u, 1), dt.tet_vertex(u, 2),
-                                    dt.tet_vertex(u, 3)};
-        s.edge_done[4 * std::size_t{st.pos(u)} + static_cast<std::size_t>(uj)] = 1;
-        const double* x = circumcentre(u, v, s.circ);
-        res.face_xyz.insert(res.face_xyz.end(), x, x + 3);
-        int f = 0;
-        while (f == uc || f == uj || kFaceOther[uc][f][0] != uj) ++f;
-        u = dt.tet_adjacent(u, f);
-        uc = local(u, c);
-        uj = local(u, j);
-      } while (u != t);
-      // Reversed, point by point: inwards.
-      for (std::size_t a = first, b = res.face_xyz.size() - 3; a < b; a += 3, b -= 3) {
-        for (std::size_t k = 0; k < 3; ++k) std::swap(res.face_xyz[a + k], res.face_xyz[b + k]);
-      }
-      res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
-      res.face_piece.push_back(piece);
-      res.face_across.push_back(j);
-    }
-  }
-}
-
-void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {
-  const std::uint32_t slots = dt.nb_tet_slots();
+void DelaunayCells::global_flags(std::vector<std::int8_t>& flag) const {
+  const std::uint32_t slots = ctx_.dt.nb_tet_slots();
   flag.assign(slots, -1);
   std::vector<std::uint32_t> queue;
   for (std::uint32_t t = 0; t < slots; ++t) {
-    if (!dt.is_free(t) && infinite(t)) {
+    if (!ctx_.dt.is_free(t) && ctx_.infinite(t)) {
       flag[t] = 0;
       queue.push_back(t);
     }
@@ -778,15 +730,16 @@ void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {
       bool between_boundary_cells = true;
       for (int k = 0; k < 4; ++k) {
         if (k == f) continue;
-        w[q] = dt.tet_vertex(t, k);
+        w[q] = ctx_.dt.tet_vertex(t, k);
         between_boundary_cells =
-            between_boundary_cells && w[q] != Delaunay3::kInfinite && is_boundary[w[q]];
+            between_boundary_cells && w[q] != Delaunay3::kInfinite && rs_.is_boundary[w[q]];
         ++q;
       }
-      const EdgeCrossings* x = between_boundary_cells ? find_crossings(w[0], w[1], w[2]) : nullptr;
+      const EdgeCrossings* x =
+          between_boundary_cells ? rs_.find_crossings(w[0], w[1], w[2]) : nullptr;
       const auto want =
           static_cast<std::int8_t>(flag[t] ^ (x ? static_cast<int>(x->count & 1) : 0));
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      const std::uint32_t t2 = ctx_.dt.tet_adjacent(t, f);
       if (flag[t2] == -1) {
         flag[t2] = want;
         queue.push_back(t2);
@@ -797,35 +750,38 @@ void Clip3Impl::global_flags(std::vector<std::int8_t>& flag) const {
   }
 }
 
-void Clip3Impl::decide_status(const std::vector<std::pair<std::uint32_t, std::int8_t>>& first_layer,
-                              ThreadScratch& s) {
-  status.assign(n, -1);
+void DelaunayCells::decide_status(
+    const std::vector<std::pair<std::uint32_t, std::int8_t>>& first_layer, Stars& stars) {
+  status_.assign(ctx_.n, -1);
   std::vector<std::uint32_t> queue;
   for (const auto& [v, fl] : first_layer) {
-    if (status[v] == -1) {
-      status[v] = fl;
+    if (status_[v] == -1) {
+      status_[v] = fl;
       if (fl == 0) queue.push_back(v);
-    } else if (status[v] != fl) {
+    } else if (status_[v] != fl) {
       internal_error("site " + std::to_string(v) + " placed both inside and outside");
     }
   }
   for (std::size_t h = 0; h < queue.size(); ++h) {
-    const NeighborList nb = neighbors(queue[h], s);
+    const NeighborList nb = stars.neighbors(ctx_, queue[h]);
     for (std::uint32_t q = 0; q < nb.count; ++q) {
       const std::uint32_t w = nb.id[q];
-      if (is_boundary[w]) continue;
-      if (status[w] == -1) {
-        status[w] = 0;
+      if (rs_.is_boundary[w]) continue;
+      if (status_[w] == -1) {
+        status_[w] = 0;
         queue.push_back(w);
-      } else if (status[w] == 1) {
+      } else if (status_[w] == 1) {
         internal_error("neighbouring cells " + std::to_string(queue[h]) + " and " +
                        std::to_string(w) + " placed outside and inside");
       }
     }
   }
-  for (std::uint32_t v = 0; v < n; ++v) {
-    if (status[v] == -1 && !is_boundary[v] && dt.vertex_tet(v) != Delaunay3::kNoTet) status[v] = 1;
+  for (std::uint32_t v = 0; v < ctx_.n; ++v) {
+    if (status_[v] == -1 && !rs_.is_boundary[v] && ctx_.dt.vertex_tet(v) != Delaunay3::kNoTet)
+      status_[v] = 1;
   }
 }
+
+}  // namespace clip3
 
 }  // namespace voroclip

@@ -1,7 +1,8 @@
-// The exact clipping kernel of the 3D clipped Voronoi diagram (clip3d.cpp), and the
-// tet-by-tet integration of a cell (Yan et al. 2011, sec. 4.2) built on it, for domains with
-// a tet mesh: the path of a density linear per tet, and of tet_clipping, the reference the
-// tests check the surface-only path (clip3d_cells.cpp) against.
+// The convex-cell kernel of the 3D clipped Voronoi diagram (clip3d_kernel.h): exact
+// clipping of a tet by a cell, and the tet-by-tet integration of a cell (Yan et al. 2011,
+// sec. 4.2) built on it, for domains with a tet mesh: the path of a density linear per tet,
+// and of tet_clipping, the reference the tests check the surface-only path
+// (clip3d_cells.cpp) against.
 //
 // A convex polyhedron (or polygon) is kept as faces listing vertices, and every vertex as
 // the three planes that define it, among the four facets of the current tet and the
@@ -13,11 +14,11 @@
 // through mesh edges (Fig. 11) need no special case. Coordinates are computed for
 // integration only, each from the vertex's sorted global ids, so cells sharing a vertex
 // compute the same bits.
+#include "clip3d_kernel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include "clip3d_internal.h"
 
 namespace voroclip {
 
@@ -33,11 +34,7 @@ Plane other_common_plane(const PVertex& u, const PVertex& w, Plane face) {
   throw Error("clip3d: internal error: an edge whose ends share one plane");
 }
 
-}  // namespace clip3
-
-using namespace clip3;
-
-Sign Clip3Impl::side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::uint32_t j) const {
+Sign ConvexCell::side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::uint32_t j) const {
   int facets[3], nf = 0;
   std::uint32_t sites[3];
   int ns = 0;
@@ -48,92 +45,31 @@ Sign Clip3Impl::side(const PVertex& v, std::uint32_t t, std::uint32_t i, std::ui
       sites[ns++] = static_cast<std::uint32_t>(p);
     }
   }
-  const double* pi = site(i);
-  const double* pj = site(j);
+  const double* pi = ctx_.site(i);
+  const double* pj = ctx_.site(j);
   int others[4], no = 0;  // tet-local vertices not opposite a facet plane of v
   for (int k = 0; k < 4; ++k) {
     bool used = false;
     for (int q = 0; q < nf; ++q) used = used || facets[q] == k;
     if (!used) others[no++] = k;
   }
-  const auto mv = [&](int local) { return domain.vertex(domain.tet_vertex(t, local)); };
+  const auto mv = [&](int local) { return ctx_.domain.vertex(ctx_.domain.tet_vertex(t, local)); };
   switch (nf) {
     case 3:
       return bisector_side_vertex3d(pi, pj, mv(others[0]), i, j);
     case 2:
-      return bisector_side_edge3d(pi, site(sites[0]), pj, mv(others[0]), mv(others[1]), i, sites[0],
-                                  j);
+      return bisector_side_edge3d(pi, ctx_.site(sites[0]), pj, mv(others[0]), mv(others[1]), i,
+                                  sites[0], j);
     case 1:
-      return bisector_side_facet3d(pi, site(sites[0]), site(sites[1]), pj, mv(others[0]),
+      return bisector_side_facet3d(pi, ctx_.site(sites[0]), ctx_.site(sites[1]), pj, mv(others[0]),
                                    mv(others[1]), mv(others[2]), i, sites[0], sites[1], j);
     default:
-      return bisector_side_voronoi3d(pi, site(sites[0]), site(sites[1]), site(sites[2]), pj, i,
-                                     sites[0], sites[1], sites[2], j);
+      return bisector_side_voronoi3d(pi, ctx_.site(sites[0]), ctx_.site(sites[1]),
+                                     ctx_.site(sites[2]), pj, i, sites[0], sites[1], sites[2], j);
   }
 }
 
-// F(x) = |x - p|^2 - |x - q|^2 relative to the midpoint: 2 (x - m).(q - p), halved.
-static double bisector_f(const double* a, const double* p, const double* q) {
-  double f = 0;
-  for (int c = 0; c < 3; ++c) f += (a[c] - 0.5 * (p[c] + q[c])) * (q[c] - p[c]);
-  return f;
-}
-
-void Clip3Impl::edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0, std::uint32_t s1,
-                           double* x) const {
-  const double* a = domain.vertex(ma);
-  const double* b = domain.vertex(mb);
-  const double fa = bisector_f(a, site(s0), site(s1)), fb = bisector_f(b, site(s0), site(s1));
-  double s = fa / (fa - fb);
-  if (!(s >= 0)) s = 0;
-  if (s > 1) s = 1;
-  for (int c = 0; c < 3; ++c) x[c] = a[c] + s * (b[c] - a[c]);
-}
-
-void Clip3Impl::facet_point(const std::uint32_t* mesh, const std::uint32_t* sites,
-                            double* x) const {
-  const double* a = domain.vertex(mesh[0]);
-  const double* b = domain.vertex(mesh[1]);
-  const double* c = domain.vertex(mesh[2]);
-  const double* p0 = site(sites[0]);
-  const double* p1 = site(sites[1]);
-  const double* p2 = site(sites[2]);
-  const double k0 = bisector_f(a, p0, p1), k1 = bisector_f(b, p0, p1), k2 = bisector_f(c, p0, p1);
-  const double l0 = bisector_f(a, p0, p2), l1 = bisector_f(b, p0, p2), l2 = bisector_f(c, p0, p2);
-  // Barycentric coordinates: [1 1 1; k; l] lambda = (1, 0, 0).
-  const double ca = k1 * l2 - k2 * l1, cb = k2 * l0 - k0 * l2, cc = k0 * l1 - k1 * l0;
-  const double d = ca + cb + cc;
-  double la = ca / d, lb = cb / d, lc = cc / d;
-  if (!std::isfinite(la) || !std::isfinite(lb) || !std::isfinite(lc)) la = lb = lc = 1.0 / 3;
-  for (int q = 0; q < 3; ++q) x[q] = la * a[q] + lb * b[q] + lc * c[q];
-}
-
-void Clip3Impl::voronoi_point(const std::uint32_t* sites, double* x) const {
-  const double* p0 = site(sites[0]);
-  double r[3][3], w[3];
-  for (int k = 0; k < 3; ++k) {
-    const double* pk = site(sites[k + 1]);
-    for (int c = 0; c < 3; ++c) r[k][c] = pk[c] - p0[c];
-    w[k] = 0.5 * (r[k][0] * r[k][0] + r[k][1] * r[k][1] + r[k][2] * r[k][2]);
-  }
-  const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                     r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                     r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-  const double ux = w[0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                    r[0][1] * (w[1] * r[2][2] - r[1][2] * w[2]) +
-                    r[0][2] * (w[1] * r[2][1] - r[1][1] * w[2]);
-  const double uy = r[0][0] * (w[1] * r[2][2] - r[1][2] * w[2]) -
-                    w[0] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                    r[0][2] * (r[1][0] * w[2] - w[1] * r[2][0]);
-  const double uz = r[0][0] * (r[1][1] * w[2] - w[1] * r[2][1]) -
-                    r[0][1] * (r[1][0] * w[2] - w[1] * r[2][0]) +
-                    w[0] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-  x[0] = p0[0] + ux / det;
-  x[1] = p0[1] + uy / det;
-  x[2] = p0[2] + uz / det;
-}
-
-void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const {
+void ConvexCell::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, double* x) const {
   std::uint32_t mesh[4], sites[4];
   int nm = 0, ns = 0;
   bool facet_used[4] = {false, false, false, false};
@@ -145,32 +81,32 @@ void Clip3Impl::coords(const PVertex& v, std::uint32_t t, std::uint32_t i, doubl
     }
   }
   for (int k = 0; k < 4; ++k) {
-    if (!facet_used[k]) mesh[nm++] = domain.tet_vertex(t, k);
+    if (!facet_used[k]) mesh[nm++] = ctx_.domain.tet_vertex(t, k);
   }
   sites[ns++] = i;
   small_sort(mesh, nm);
   small_sort(sites, ns);
   if (ns == 1) {  // a mesh vertex (nm == 1)
-    const double* a = domain.vertex(mesh[0]);
+    const double* a = ctx_.domain.vertex(mesh[0]);
     x[0] = a[0];
     x[1] = a[1];
     x[2] = a[2];
     return;
   }
   if (ns == 2) {
-    edge_point(mesh[0], mesh[1], sites[0], sites[1], x);
+    ctx_.edge_point(mesh[0], mesh[1], sites[0], sites[1], x);
     return;
   }
   if (ns == 3) {
-    facet_point(mesh, sites, x);
+    ctx_.facet_point(mesh, sites, x);
     return;
   }
-  voronoi_point(sites, x);
+  ctx_.voronoi_point(sites, x);
 }
 
 // The tet t (its four facets) as a polyhedron; with only_facet >= 0, that facet alone
 // (a triangle: the boundary triangle of the restricted surface).
-void Clip3Impl::init_tet(Poly& p, int only_facet) {
+void ConvexCell::init_tet(Poly& p, int only_facet) {
   p.clear();
   for (int k = 0; k < 4; ++k) {
     PVertex v{};
@@ -198,15 +134,15 @@ void Clip3Impl::init_tet(Poly& p, int only_facet) {
 
 // Clips `in` by bisector(i, j) into `res` (keeps site i's side). Returns false when
 // nothing was cut (res untouched: use `in`).
-bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i, std::uint32_t j,
-                     Scratch& s) const {
+bool ConvexCell::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i,
+                      std::uint32_t j) {
   const std::size_t nv = in.verts.size();
-  s.sides.resize(nv);
+  buf_.sides.resize(nv);
   bool any_out = false, any_in = false;
   // Only vertices used by a face matter (a polygon clip keeps no others).
   for (std::size_t v = 0; v < nv; ++v) {
     const bool out_side = side(in.verts[v], t, i, j) == Sign::positive;
-    s.sides[v] = out_side ? 1 : 0;
+    buf_.sides[v] = out_side ? 1 : 0;
     any_out = any_out || out_side;
     any_in = any_in || !out_side;
   }
@@ -214,20 +150,20 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
   res.clear();
   if (!any_in) return true;
   // Kept vertices keep their index in a compacted list; new ones are appended.
-  std::vector<std::uint32_t>& remap = s.remap;  // old vertex -> new index
+  std::vector<std::uint32_t>& remap = buf_.remap;  // old vertex -> new index
   remap.assign(nv, kNone);
   for (std::size_t v = 0; v < nv; ++v) {
-    if (!s.sides[v]) {
+    if (!buf_.sides[v]) {
       remap[v] = static_cast<std::uint32_t>(res.verts.size());
       res.verts.push_back(in.verts[v]);
     }
   }
-  s.edge_keys.clear();
-  s.edge_new.clear();
+  buf_.edge_keys.clear();
+  buf_.edge_new.clear();
   const auto crossing = [&](std::uint32_t u, std::uint32_t w, Plane face) {
     const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
-    for (std::size_t k = 0; k < s.edge_keys.size(); ++k) {
-      if (s.edge_keys[k] == key) return s.edge_new[k];
+    for (std::size_t k = 0; k < buf_.edge_keys.size(); ++k) {
+      if (buf_.edge_keys[k] == key) return buf_.edge_new[k];
     }
     PVertex x{};
     x.p[0] = face;
@@ -235,12 +171,12 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
     x.p[2] = static_cast<Plane>(j);
     const auto idx = static_cast<std::uint32_t>(res.verts.size());
     res.verts.push_back(x);
-    s.edge_keys.push_back(key);
-    s.edge_new.push_back(idx);
+    buf_.edge_keys.push_back(key);
+    buf_.edge_new.push_back(idx);
     return idx;
   };
   // New face: edges entry -> exit, chained (indices into res.verts).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>>& cut_edges = s.cut_edges;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& cut_edges = buf_.cut_edges;
   cut_edges.clear();
   for (std::uint32_t f = 0; f < in.nb_faces(); ++f) {
     const std::uint32_t b = in.face_begin[f], e = in.face_begin[f + 1];
@@ -249,11 +185,11 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
     for (std::uint32_t k = b; k < e; ++k) {
       const std::uint32_t u = in.face_verts[k];
       const std::uint32_t w = in.face_verts[k + 1 == e ? b : k + 1];
-      if (!s.sides[u]) res.face_verts.push_back(remap[u]);
-      if (s.sides[u] != s.sides[w]) {
+      if (!buf_.sides[u]) res.face_verts.push_back(remap[u]);
+      if (buf_.sides[u] != buf_.sides[w]) {
         const std::uint32_t x = crossing(u, w, in.face_plane[f]);
         res.face_verts.push_back(x);
-        (s.sides[u] ? entry_v : exit_v) = x;
+        (buf_.sides[u] ? entry_v : exit_v) = x;
       }
     }
     if (res.face_verts.size() - start >= 3) {
@@ -266,7 +202,7 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
   }
   if (in.nb_faces() > 1 && cut_edges.size() >= 3) {
     // The face on the bisector: follow entry -> exit edges around.
-    std::vector<std::uint32_t>& next = s.chain_next;
+    std::vector<std::uint32_t>& next = buf_.chain_next;
     next.assign(res.verts.size(), kNone);
     for (const auto& [a, b2] : cut_edges) next[a] = b2;
     const std::uint32_t first = cut_edges[0].first;
@@ -283,25 +219,24 @@ bool Clip3Impl::clip(const Poly& in, Poly& res, std::uint32_t t, std::uint32_t i
   return true;
 }
 
-// Clips tet t (or its facet `only_facet`) by every bisector of cell i. The result is in
-// s.a (possibly empty).
 // A bisector with the tet's four vertices certainly on i's side (certainly_nearer) cannot
 // cut it: skipped without a predicate.
-void Clip3Impl::clip_by_cell(std::uint32_t t, int only_facet, std::uint32_t i,
-                             const std::vector<std::uint32_t>& nbrs, Scratch& s) const {
-  init_tet(s.a, only_facet);
-  const double* pi = site(i);
+const Poly& ConvexCell::clip_tet(std::uint32_t t, int only_facet, std::uint32_t i,
+                                 const std::vector<std::uint32_t>& nbrs) {
+  init_tet(a_, only_facet);
+  const double* pi = ctx_.site(i);
   const double* v[4];
-  for (int k = 0; k < 4; ++k) v[k] = domain.vertex(domain.tet_vertex(t, k));
+  for (int k = 0; k < 4; ++k) v[k] = ctx_.domain.vertex(ctx_.domain.tet_vertex(t, k));
   for (const std::uint32_t j : nbrs) {
-    const double* pj = site(j);
+    const double* pj = ctx_.site(j);
     if (certainly_nearer(v[0], pi, pj) && certainly_nearer(v[1], pi, pj) &&
         certainly_nearer(v[2], pi, pj) && certainly_nearer(v[3], pi, pj)) {
       continue;
     }
-    if (clip(s.a, s.b, t, i, j, s)) std::swap(s.a, s.b);
-    if (s.a.empty()) return;
+    if (clip(a_, b_, t, i, j)) std::swap(a_, b_);
+    if (a_.empty()) break;
   }
+  return a_;
 }
 
 // Cell c tet by tet (sec. 4.2): a FIFO of tets seeded by `seeds` (a boundary cell: the
@@ -310,16 +245,16 @@ void Clip3Impl::clip_by_cell(std::uint32_t t, int only_facet, std::uint32_t i,
 // piece of cell ∩ volume touches the boundary (a piece that did not would be the whole
 // convex cell), so this reaches all of them. With `seeds_out`, every (neighbour, tet) where
 // a piece has a face on their bisector is appended (the seeds of inner cells under a
-// non-constant density). s.stamp: per tet, the last cell (+ 1) that queued it, so that the
+// non-constant density). stamp_: per tet, the last cell (+ 1) that queued it, so that the
 // visited test costs one load (each cell is clipped once per compute).
-void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size_t nb_seeds,
-                          Scratch& s, CellOut& res,
-                          std::vector<std::pair<std::uint32_t, std::uint32_t>>* seeds_out) const {
-  dt.vertex_neighbors(c, s.nbrs);
-  const std::vector<std::uint32_t>& nbrs = s.nbrs;  // untouched by the clipping
-  std::vector<std::uint32_t>& stamp = s.stamp;
-  std::vector<std::uint32_t>& queue = s.queue;
-  if (stamp.size() != domain.nb_tets()) stamp.assign(domain.nb_tets(), 0);
+void ConvexCell::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size_t nb_seeds,
+                           CellOut& res,
+                           std::vector<std::pair<std::uint32_t, std::uint32_t>>* seeds_out) {
+  ctx_.dt.vertex_neighbors(c, nbrs_);
+  const std::vector<std::uint32_t>& nbrs = nbrs_;  // untouched by the clipping
+  std::vector<std::uint32_t>& stamp = stamp_;
+  std::vector<std::uint32_t>& queue = queue_;
+  if (stamp.size() != ctx_.domain.nb_tets()) stamp.assign(ctx_.domain.nb_tets(), 0);
   queue.clear();
   const auto push = [&](std::uint32_t t) {
     if (stamp[t] == c + 1) return;
@@ -327,20 +262,19 @@ void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size
     queue.push_back(t);
   };
   for (std::size_t q = 0; q < nb_seeds; ++q) push(seeds[q]);
-  const double* pc = site(c);
+  const double* pc = ctx_.site(c);
   for (std::size_t h = 0; h < queue.size(); ++h) {
     const std::uint32_t t = queue[h];
     ++res.pairs;
-    clip_by_cell(t, -1, c, nbrs, s);
-    const Poly& p = s.a;
+    const Poly& p = clip_tet(t, -1, c, nbrs);
     if (p.empty()) continue;
-    s.xyz.resize(3 * p.verts.size());
-    for (std::size_t v = 0; v < p.verts.size(); ++v) coords(p.verts[v], t, c, &s.xyz[3 * v]);
+    xyz_.resize(3 * p.verts.size());
+    for (std::size_t v = 0; v < p.verts.size(); ++v) coords(p.verts[v], t, c, &xyz_[3 * v]);
     for (std::uint32_t f = 0; f < p.nb_faces(); ++f) {
       const Plane plane = p.face_plane[f];
       std::uint32_t across = ClippedVoronoi3::kSurface;
       if (is_facet(plane)) {
-        const std::uint32_t t2 = domain.tet_adjacent(t, facet_of(plane));
+        const std::uint32_t t2 = ctx_.domain.tet_adjacent(t, facet_of(plane));
         if (t2 != Domain3::kNone) {
           push(t2);
           across = ClippedVoronoi3::kInterior;
@@ -351,19 +285,19 @@ void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size
       }
       // Fan from the face's first vertex, apex the site: signed tets.
       const std::uint32_t fb = p.face_begin[f], fe = p.face_begin[f + 1];
-      const double* a = &s.xyz[3 * std::size_t{p.face_verts[fb]}];
+      const double* a = &xyz_[3 * std::size_t{p.face_verts[fb]}];
       for (std::uint32_t k = fb + 1; k + 1 < fe; ++k) {
-        const double* b = &s.xyz[3 * std::size_t{p.face_verts[k]}];
-        const double* d = &s.xyz[3 * std::size_t{p.face_verts[k + 1]}];
-        if (linear_density) {
+        const double* b = &xyz_[3 * std::size_t{p.face_verts[k]}];
+        const double* d = &xyz_[3 * std::size_t{p.face_verts[k + 1]}];
+        if (ctx_.linear_density) {
           add_tet_linear(t, pc, a, b, d, res);
         } else {
           add_tet(pc, a, b, d, res);
         }
       }
-      if (options.keep_geometry) {
+      if (ctx_.options.keep_geometry) {
         for (std::uint32_t k = fb; k < fe; ++k) {
-          const double* x = &s.xyz[3 * std::size_t{p.face_verts[k]}];
+          const double* x = &xyz_[3 * std::size_t{p.face_verts[k]}];
           res.face_xyz.insert(res.face_xyz.end(), x, x + 3);
         }
         res.face_begin.push_back(static_cast<std::uint32_t>(res.face_xyz.size() / 3));
@@ -376,8 +310,8 @@ void Clip3Impl::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::size
 
 // Signed tet (o, a, b, d), faces oriented as Domain3::kTetFacetVertex (inward-facing
 // for orient3d > 0): volume = -det(a - o, b - o, d - o) / 6.
-void Clip3Impl::add_tet(const double* o, const double* a, const double* b, const double* d,
-                        Moments& res) {
+void ConvexCell::add_tet(const double* o, const double* a, const double* b, const double* d,
+                         Moments& res) {
   const double u[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
   const double v[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
   const double w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
@@ -397,8 +331,8 @@ void Clip3Impl::add_tet(const double* o, const double* a, const double* b, const
 // the domain (exact: the integrands are polynomials of degree <= 3 and the signed fan
 // is exact for polynomials). ∫ λ_i λ_j λ_k over a tet of volume V is V/20, V/60 or
 // V/120 for three, two or no equal indices; ∫ λ_i λ_j is V/10 or V/20.
-void Clip3Impl::add_tet_linear(std::uint32_t t, const double* o, const double* a, const double* b,
-                               const double* d, Moments& res) const {
+void ConvexCell::add_tet_linear(std::uint32_t t, const double* o, const double* a, const double* b,
+                                const double* d, Moments& res) const {
   const double* pts[4] = {o, a, b, d};
   double r[4];
   for (int k = 0; k < 4; ++k) r[k] = density_at(t, pts[k]);
@@ -431,11 +365,11 @@ void Clip3Impl::add_tet_linear(std::uint32_t t, const double* o, const double* a
 }
 
 // rho at x by the linear function of domain tet t (barycentric coordinates of x).
-double Clip3Impl::density_at(std::uint32_t t, const double* x) const {
-  const double* p0 = domain.vertex(domain.tet_vertex(t, 0));
+double ConvexCell::density_at(std::uint32_t t, const double* x) const {
+  const double* p0 = ctx_.domain.vertex(ctx_.domain.tet_vertex(t, 0));
   double m[3][3], rhs[3];
   for (int k = 0; k < 3; ++k) {
-    const double* pk = domain.vertex(domain.tet_vertex(t, k + 1));
+    const double* pk = ctx_.domain.vertex(ctx_.domain.tet_vertex(t, k + 1));
     for (int c = 0; c < 3; ++c) m[c][k] = pk[c] - p0[c];
   }
   for (int c = 0; c < 3; ++c) rhs[c] = x[c] - p0[c];
@@ -453,10 +387,12 @@ double Clip3Impl::density_at(std::uint32_t t, const double* x) const {
             mk[0][2] * (mk[1][0] * mk[2][1] - mk[1][1] * mk[2][0])) /
            det;
   }
-  const std::vector<double>& rho = options.density.vertex_values;
-  return rho[domain.tet_vertex(t, 0)] * (1 - l[0] - l[1] - l[2]) +
-         rho[domain.tet_vertex(t, 1)] * l[0] + rho[domain.tet_vertex(t, 2)] * l[1] +
-         rho[domain.tet_vertex(t, 3)] * l[2];
+  const std::vector<double>& rho = ctx_.options.density.vertex_values;
+  return rho[ctx_.domain.tet_vertex(t, 0)] * (1 - l[0] - l[1] - l[2]) +
+         rho[ctx_.domain.tet_vertex(t, 1)] * l[0] + rho[ctx_.domain.tet_vertex(t, 2)] * l[1] +
+         rho[ctx_.domain.tet_vertex(t, 3)] * l[2];
 }
+
+}  // namespace clip3
 
 }  // namespace voroclip

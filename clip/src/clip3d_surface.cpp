@@ -1,7 +1,9 @@
 // The restricted surface of the 3D clipped Voronoi diagram (Yan et al. 2011, sec. 4.1),
 // triangle by triangle rather than by the paper's global propagation, so that triangles go
 // in parallel and the result, concatenated in triangle order, does not depend on the
-// thread count.
+// thread count. SurfaceRvd (clip3d_surface.h) runs it over chunks of triangles, each thread
+// with a Scratch of its own (below) and its Stars (neighbour lists, kept for the cells),
+// and leaves a RestrictedSurface for DelaunayCells (clip3d_cells.h).
 //
 // 1. The cell of every boundary vertex of the mesh (the perturbed nearest site: the
 //    descent over Delaunay neighbours decides with bisector_side_vertex3d), in the order of
@@ -12,7 +14,7 @@
 //    cells of its corners, then every cell across a bisector edge of a polygon found, are
 //    clipped against the triangle (Sutherland-Hodgman on symbolic vertices: exact). A
 //    bisector is skipped without a predicate when the three corners are certainly on the
-//    cell's side of it (certainly_nearer).
+//    cell's side of it (bisector_value's bound).
 // 3. Per polygon of cell c, the divergence theorem's share of ∂(C_c ∩ Ω) that the surface
 //    knows (clip3d_cells.cpp has the rest): the cones from p_c over the polygon (outward,
 //    as the surface's triangles) and, over each polygon edge on bisector(c, j), the cone
@@ -23,6 +25,8 @@
 // 4. Per Voronoi edge, its crossings, each with the direction in which the edge crosses
 //    the surface there (voronoi_edge_direction3d): clip3d_cells.cpp turns them into the
 //    pieces of the edge inside the volume, whatever their number.
+#include "clip3d_surface.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -33,18 +37,78 @@
 #include <string>
 #include <vector>
 
-#include "clip3d_internal.h"
-
 namespace voroclip {
 
-using namespace clip3;
+namespace clip3 {
 
 namespace {
 
 constexpr std::uint32_t kTriangleChunk = 128;
-constexpr std::size_t kSums = 7;  // per polygon (SurfaceChunk::sums)
+constexpr std::size_t kSums = 7;  // per polygon (SurfaceRvd::Chunk::sums)
 
 }  // namespace
+
+// A vertex of a boundary triangle clipped by cell c: tag 0..2, corner `tag` of the triangle;
+// 3..5, the triangle edge opposite corner tag - 3 ∩ bisector(c, k); 6, the triangle's plane
+// ∩ bisector(c, k) ∩ bisector(c, l), k < l.
+// fk, fl: while the triangle is clipped by cell c, the rows of CornerValues of the
+// bisectors (c, k) and (c, l); fm: the row of FacetMinors of a point inside (tag 6).
+struct TriVertex {
+  std::int8_t tag;
+  std::uint32_t k, l;
+  std::uint32_t fk, fl, fm;
+};
+
+// F = |y - p_c|^2 - |y - p_j|^2 at the three corners of a triangle (bisector_value), each
+// within err of the exact value.
+struct CornerValues {
+  double f[3], err[3];
+};
+
+// A point of the triangle's plane on bisectors (c, k) and (c, l), from their CornerValues:
+// the 2 x 2 minors m[p] of the rows F_k, F_l (columns q, r after p), each within err[p], and
+// the sign of D = m[0] + m[1] + m[2] when decided (0 otherwise; facet_minors).
+struct FacetMinors {
+  double m[3], err[3];
+  int sign_d;
+};
+
+// A convex polygon in a boundary triangle: vertex k is v[k], and the edge from v[k] to
+// v[k + 1] lies on plane e[k] (a facet of the triangle's tet, i.e. a triangle edge, or a
+// bisector of the cell).
+// The arrays only grow (reset), so that a polygon's vertices are written without a
+// capacity check: the first n entries are the polygon.
+struct TriPoly {
+  std::vector<TriVertex> v;
+  std::vector<Plane> e;
+  std::size_t n = 0;
+  // Empty, with room for `cap` vertices.
+  void reset(std::size_t cap) {
+    if (v.size() < cap) {
+      v.resize(cap);
+      e.resize(cap);
+    }
+    n = 0;
+  }
+  void push(const TriVertex& x, Plane edge) {
+    v[n] = x;
+    e[n] = edge;
+    ++n;
+  }
+  std::size_t size() const { return n; }
+};
+
+// The same F = |v - p_c|^2 - |v - p_j|^2 as 2 r.e - |e|^2 with r = v - p_c and e = p_j - p_c
+// rounded once each (r shared by every neighbour of c, e by every point): the products and
+// sums add at most gamma_5 (2 sum |r_k e_k| + |e|^2) and the last subtraction u |F|, with
+// 2 |r_k e_k| <= r_k^2 + e_k^2, so |computed - F| <= gamma_7 (|r|^2 + 2 |e|^2) / (1 - gamma_3)
+// with rr, ee the computed squared norms: bound 1e-15 (rr + 2 ee) (> 7.2 u), plus 1e-300
+// for underflow. Returns F (rounded) and sets `bound`.
+inline double bisector_value(const double* r, double rr, const double* e, double ee,
+                             double& bound) {
+  bound = 1e-15 * (rr + 2 * ee) + 1e-300;
+  return 2 * ((r[0] * e[0] + r[1] * e[1]) + r[2] * e[2]) - ee;
+}
 
 namespace {
 
@@ -148,8 +212,47 @@ constexpr int kEdgeEnd[3][2] = {{1, 2}, {2, 0}, {0, 1}};
 
 }  // namespace
 
+// A point of a triangle on bisectors met while it is clipped (a vertex of the polygons of
+// two or three cells): tag, sorted sites (kNone past the tag's count), coordinates.
+struct TriPoint {
+  std::int8_t tag;
+  std::uint32_t s[3];
+  double x[3];
+};
+
+// One thread's scratch of the pass.
+struct SurfaceRvd::Scratch {
+  TriPoly a, b;  // the polygon being clipped, and the next one (swapped)
+  // Per polygon vertex, beyond the bisector.
+  std::vector<std::uint8_t> beyond;
+  // clip_triangle: the neighbours past the filters, and their corner values.
+  std::vector<std::uint32_t> candidates;
+  std::vector<CornerValues> candidate_values;
+  // While the triangle is clipped by a cell: the rows of TriVertex::fk, fl and fm.
+  std::vector<CornerValues> corner_values;
+  std::vector<FacetMinors> facet_minors;
+  // The cells met by the current triangle.
+  std::vector<std::uint32_t> cells;
+  // Per domain vertex: its cell, when stamp is the current chunk's (+ 1); the last cell met
+  // (a hint).
+  struct Corners {
+    std::vector<std::uint32_t> cell, stamp;
+    std::uint32_t last = kNone;
+  } corners;
+  std::vector<double> xyz, rel;  // a polygon's vertices, absolute and relative to its site
+  // The points of the current triangle on bisectors met so far.
+  std::vector<TriPoint> tri_points;
+};
+
+// A crossing of a Voronoi edge with the surface: Delaunay triangle (s[0] < s[1] < s[2]), the
+// boundary triangle, the point.
+struct Crossing {
+  std::uint32_t s[3], tri;
+  double x[3];
+};
+
 // Per chunk of triangles, its polygons in triangle order.
-struct Clip3Impl::SurfaceChunk {
+struct SurfaceRvd::Chunk {
   std::vector<std::uint32_t> cell, tri;
   std::vector<double> sums;  // per polygon: volume, moment (3), energy, area, mass
   std::vector<std::uint32_t> begin{0};
@@ -161,93 +264,14 @@ struct Clip3Impl::SurfaceChunk {
   std::vector<Crossing> crossings;
 };
 
-void Clip3Impl::star(std::uint32_t v, Star& s) const {
-  const std::uint32_t slots = dt.nb_tet_slots();
-  s.reset_if_needed(slots);
-  s.first = s.next;
-  s.tets.clear();
-  const std::uint32_t t0 = dt.vertex_tet(v);
-  s.mark[t0] = s.first;
-  s.tets.push_back(t0);
-  for (std::size_t q = 0; q < s.tets.size(); ++q) {
-    const std::uint32_t t = s.tets[q];
-    for (int f = 0; f < 4; ++f) {
-      if (dt.tet_vertex(t, f) == v) continue;  // the facet opposite v does not contain v
-      const std::uint32_t t2 = dt.tet_adjacent(t, f);
-      if (s.mark[t2] < s.first) {
-        s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
-        s.tets.push_back(t2);
-        dt.prefetch_tet(t2);
-      }
-    }
-  }
-  s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
-}
-
-void Clip3Impl::pooled_star(std::uint32_t v, ThreadScratch& s) const {
-  if (s.nbr_offset.size() != n || s.nbr_offset[v] == kNone) {
-    star(v, s.star);
-    return;
-  }
-  const std::uint32_t off = s.nbr_pool[s.nbr_offset[v] + 1];
-  Star& st = s.star;
-  const std::uint32_t slots = dt.nb_tet_slots();
-  st.reset_if_needed(slots);
-  st.first = st.next;
-  const std::uint32_t* tets = s.star_pool.data() + off + 1;
-  const std::uint32_t m = tets[-1];
-  st.tets.assign(tets, tets + m);
-  for (std::uint32_t q = 0; q < m; ++q) st.mark[tets[q]] = st.first + q;
-  st.next = st.first + m;
-}
-
-Clip3Impl::NeighborList Clip3Impl::neighbors(std::uint32_t c, ThreadScratch& s) const {
-  if (s.nbr_offset.size() != n) s.nbr_offset.assign(n, kNone);
-  std::uint32_t off = s.nbr_offset[c];
-  if (off == kNone) {
-    if (s.site_mark.size() != n || s.site_gen == 0xffffffffu) {
-      s.site_mark.assign(n, 0);
-      s.site_gen = 0;
-    }
-    const std::uint32_t gen = ++s.site_gen;
-    star(c, s.star);
-    off = static_cast<std::uint32_t>(s.nbr_pool.size());
-    s.nbr_pool.push_back(0);
-    s.nbr_pool.push_back(static_cast<std::uint32_t>(s.star_pool.size()));
-    s.nbr_geo.push_back(NbrGeo{});
-    s.nbr_geo.push_back(NbrGeo{});
-    s.star_pool.push_back(static_cast<std::uint32_t>(s.star.tets.size()));
-    s.star_pool.insert(s.star_pool.end(), s.star.tets.begin(), s.star.tets.end());
-    const double* pc = site(c);
-    for (const std::uint32_t t : s.star.tets) {
-      for (int k = 0; k < 4; ++k) {
-        const std::uint32_t w = dt.tet_vertex(t, k);
-        if (w == c || w == Delaunay3::kInfinite || s.site_mark[w] == gen) continue;
-        s.site_mark[w] = gen;
-        s.nbr_pool.push_back(w);
-        const double* pw = site(w);
-        NbrGeo g;
-        for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
-        g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
-        g.reach = 2 * std::sqrt(g.ee) * (1 + 1e-14);
-        g.ee_err = 2e-15 * g.ee;
-        s.nbr_geo.push_back(g);
-      }
-    }
-    s.nbr_pool[off] = static_cast<std::uint32_t>(s.nbr_pool.size()) - off - 2;
-    s.nbr_offset[c] = off;
-  }
-  return {s.nbr_pool.data() + off + 2, s.nbr_geo.data() + off + 2, s.nbr_pool[off]};
-}
-
 // The cell of point p (perturbed): descent from c. If p is not in cell c, a Delaunay
 // neighbour k has f_ck(p) > 0, and the power distance decreases at each step. The
 // neighbours are tried nearest first (largest F in floating point); one certainly farther
 // than c needs no predicate.
-std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch& s) const {
+std::uint32_t SurfaceRvd::descend(const double* p, std::uint32_t c, Stars& stars) const {
   for (;;) {
-    const NeighborList nb = neighbors(c, s);
-    const double* pc = site(c);
+    const NeighborList nb = stars.neighbors(ctx_, c);
+    const double* pc = ctx_.site(c);
     const double r[3] = {p[0] - pc[0], p[1] - pc[1], p[2] - pc[2]};
     const double rr = (r[0] * r[0] + r[1] * r[1]) + r[2] * r[2];
     // The neighbour nearest to p in floating point first; the others not certainly
@@ -265,14 +289,14 @@ std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch
     }
     if (best == kNone) return c;
     std::uint32_t next = kNone;
-    if (bisector_side_vertex3d(pc, site(nb.id[best]), p, c, nb.id[best]) == Sign::positive) {
+    if (bisector_side_vertex3d(pc, ctx_.site(nb.id[best]), p, c, nb.id[best]) == Sign::positive) {
       next = nb.id[best];
     } else {
       for (std::uint32_t q = 0; q < nb.count && next == kNone; ++q) {
         double bound;
         const double f = bisector_value(r, rr, nb.geo[q].e, nb.geo[q].ee, bound);
         if (q == best || f < -bound) continue;
-        if (bisector_side_vertex3d(pc, site(nb.id[q]), p, c, nb.id[q]) == Sign::positive) {
+        if (bisector_side_vertex3d(pc, ctx_.site(nb.id[q]), p, c, nb.id[q]) == Sign::positive) {
           next = nb.id[q];
         }
       }
@@ -282,34 +306,34 @@ std::uint32_t Clip3Impl::descend(const double* p, std::uint32_t c, ThreadScratch
   }
 }
 
-Sign Clip3Impl::tri_side(const Tri& tri, const TriVertex& v, std::uint32_t c,
-                         std::uint32_t j) const {
-  if (v.tag < 3) return bisector_side_vertex3d(site(c), site(j), tri.x[v.tag], c, j);
+Sign SurfaceRvd::tri_side(const Tri& tri, const TriVertex& v, std::uint32_t c,
+                          std::uint32_t j) const {
+  if (v.tag < 3) return bisector_side_vertex3d(ctx_.site(c), ctx_.site(j), tri.x[v.tag], c, j);
   if (v.tag < 6) {
     const int o = v.tag - 3;
-    return bisector_side_edge3d(site(c), site(v.k), site(j), tri.x[(o + 1) % 3], tri.x[(o + 2) % 3],
-                                c, v.k, j);
+    return bisector_side_edge3d(ctx_.site(c), ctx_.site(v.k), ctx_.site(j), tri.x[(o + 1) % 3],
+                                tri.x[(o + 2) % 3], c, v.k, j);
   }
-  return bisector_side_facet3d(site(c), site(v.k), site(v.l), site(j), tri.x[0], tri.x[1], tri.x[2],
-                               c, v.k, v.l, j);
+  return bisector_side_facet3d(ctx_.site(c), ctx_.site(v.k), ctx_.site(v.l), ctx_.site(j), tri.x[0],
+                               tri.x[1], tri.x[2], c, v.k, v.l, j);
 }
 
-void Clip3Impl::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, double* x) const {
+void SurfaceRvd::tri_coords(const Tri& tri, const TriVertex& v, std::uint32_t c, double* x) const {
   if (v.tag < 3) {
     for (int q = 0; q < 3; ++q) x[q] = tri.x[v.tag][q];
   } else if (v.tag < 6) {
     const int o = v.tag - 3;
     const std::uint32_t a = tri.mv[kEdgeEnd[o][0]], b = tri.mv[kEdgeEnd[o][1]];
-    edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
+    ctx_.edge_point(std::min(a, b), std::max(a, b), std::min(c, v.k), std::max(c, v.k), x);
   } else {
     std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
     small_sort(mesh, 3);
     small_sort(sites, 3);
-    facet_point(mesh, sites, x);
+    ctx_.facet_point(mesh, sites, x);
   }
 }
 
-ClipVertex3 Clip3Impl::tri_symbolic(const Tri& tri, const TriVertex& v, std::uint32_t c) const {
+ClipVertex3 SurfaceRvd::tri_symbolic(const Tri& tri, const TriVertex& v, std::uint32_t c) const {
   ClipVertex3 x{};
   std::uint32_t mesh[3] = {tri.mv[0], tri.mv[1], tri.mv[2]}, sites[3] = {c, v.k, v.l};
   int nm = 3, ns = 3;
@@ -338,10 +362,10 @@ ClipVertex3 Clip3Impl::tri_symbolic(const Tri& tri, const TriVertex& v, std::uin
 }
 
 // The polygon of a triangle in cell c: integrals, crossings, geometry (see the top).
-void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, ThreadScratch& s,
-                             SurfaceChunk& chunk) const {
+void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, Scratch& s,
+                              Chunk& chunk) const {
   const std::size_t m = p.size();
-  const double* pc = site(c);
+  const double* pc = ctx_.site(c);
   if (s.xyz.size() < 3 * m) {
     s.xyz.resize(3 * m);
     s.rel.resize(4 * m);
@@ -356,7 +380,7 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
       std::uint32_t ids[3] = {c, v.k, v.tag == 6 ? v.l : kNone};
       small_sort(ids, 3);
       bool found = false;
-      for (const ThreadScratch::TriPoint& tp : s.tri_points) {
+      for (const TriPoint& tp : s.tri_points) {
         if (tp.tag == v.tag && tp.s[0] == ids[0] && tp.s[1] == ids[1] && tp.s[2] == ids[2]) {
           for (int q = 0; q < 3; ++q) xk[q] = tp.x[q];
           found = true;
@@ -367,7 +391,7 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
         tri_coords(tri, v, c, xk);
         // Field by field into the new entry: a temporary's mixed-width stores copied by
         // 16-byte loads stalled on store forwarding (perf annotate).
-        ThreadScratch::TriPoint& tp = s.tri_points.emplace_back();
+        TriPoint& tp = s.tri_points.emplace_back();
         tp.tag = v.tag;
         for (int q = 0; q < 3; ++q) {
           tp.s[q] = ids[q];
@@ -407,7 +431,7 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   // 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w) (add_edge_piece).
   for (std::size_t k = 0; k < m; ++k) {
     if (is_facet(p.e[k])) continue;
-    const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
+    const double* pj = ctx_.site(static_cast<std::uint32_t>(p.e[k]));
     const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
     const double* u = x(k);
     const double* w = x(k + 1);
@@ -424,17 +448,17 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   r.volume = vol6 * (1.0 / 6);
   for (int q = 0; q < 3; ++q) r.moment[q] = mom24[q] * (1.0 / 24);
   r.energy = en120 * (1.0 / 120);
-  if (callback_density) {
+  if (ctx_.callback_density) {
     // The same cones, weighted by the density (the volume stays the closed form's).
     Moments wm;
     for (std::size_t k = 1; k + 1 < m; ++k) {
-      add_tet_weighted(*callback_density, pc, o, x(k), x(k + 1), wm);
+      add_tet_weighted(*ctx_.callback_density, pc, o, x(k), x(k + 1), wm);
     }
     for (std::size_t k = 0; k < m; ++k) {
       if (is_facet(p.e[k])) continue;
-      const double* pj = site(static_cast<std::uint32_t>(p.e[k]));
+      const double* pj = ctx_.site(static_cast<std::uint32_t>(p.e[k]));
       const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
-      add_tet_weighted(*callback_density, pc, h, x(k + 1), x(k), wm);
+      add_tet_weighted(*ctx_.callback_density, pc, h, x(k + 1), x(k), wm);
     }
     r.mass = wm.mass;
     for (int q = 0; q < 3; ++q) r.moment[q] = wm.moment[q];
@@ -462,7 +486,7 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   sums[4] = r.energy;
   sums[5] = 0.5 * std::sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
   sums[6] = r.mass;
-  if (keep_surface) {
+  if (ctx_.keep_surface) {
     for (std::size_t k = 0; k < m; ++k) {
       chunk.verts.push_back(tri_symbolic(tri, p.v[k], c));
       for (int q = 0; q < 3; ++q) chunk.xyz.push_back(s.xyz[3 * k + q]);
@@ -472,28 +496,29 @@ void Clip3Impl::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, 
   }
 }
 
-void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratch& s,
-                              SurfaceChunk& chunk) const {
+void SurfaceRvd::clip_triangle(std::uint32_t b, std::uint32_t stamp, Stars& stars, Scratch& s,
+                               Chunk& chunk) const {
   // The edge from corner k to k + 1 lies on "facet" k + 2 (the plane label of the triangle
   // edge opposite corner k + 2: facet_plane(f) with f the opposite corner).
   Tri tri{};
   tri.b = b;
   // The cells of the corners that earlier triangles of this chunk found (kNone: unknown).
-  if (s.corner_cell.size() != surface.nb_vertices()) {
-    s.corner_cell.assign(surface.nb_vertices(), kNone);
-    s.corner_stamp.assign(surface.nb_vertices(), 0);
+  if (s.corners.cell.size() != ctx_.surface.nb_vertices()) {
+    s.corners.cell.assign(ctx_.surface.nb_vertices(), kNone);
+    s.corners.stamp.assign(ctx_.surface.nb_vertices(), 0);
   }
   std::uint32_t corner[3];
   for (int k = 0; k < 3; ++k) {
-    tri.mv[k] = surface.triangle_vertex(b, k);
-    tri.x[k] = surface.vertex(tri.mv[k]);
-    corner[k] = s.corner_stamp[tri.mv[k]] == stamp ? s.corner_cell[tri.mv[k]] : kNone;
+    tri.mv[k] = ctx_.surface.triangle_vertex(b, k);
+    tri.x[k] = ctx_.surface.vertex(tri.mv[k]);
+    corner[k] = s.corners.stamp[tri.mv[k]] == stamp ? s.corners.cell[tri.mv[k]] : kNone;
   }
   if (corner[0] == kNone && corner[1] == kNone && corner[2] == kNone) {
     // From the last cell this thread met (nearby: the order follows the surface), or an
     // exact nearest-site query; the descent's result does not depend on where it starts.
-    const std::uint32_t hint = s.last_cell != kNone ? s.last_cell : dt.nearest_vertex(tri.x[0]);
-    corner[0] = descend(tri.x[0], hint, s);
+    const std::uint32_t hint =
+        s.corners.last != kNone ? s.corners.last : ctx_.dt.nearest_vertex(tri.x[0]);
+    corner[0] = descend(tri.x[0], hint, stars);
   }
   const auto init = [&](TriPoly& p) {
     p.reset(3);
@@ -505,15 +530,15 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   init(s.a);
   if (corner[0] == corner[1] && corner[1] == corner[2]) {
     emit_polygon(tri, corner[0], s.a, s, chunk);
-    s.last_cell = corner[0];
+    s.corners.last = corner[0];
     return;
   }
   const auto record_corners = [&](std::uint32_t c, const TriPoly& p) {
     for (std::size_t k = 0; k < p.size(); ++k) {
       const TriVertex& v = p.v[k];
       if (v.tag < 3) {
-        s.corner_cell[tri.mv[v.tag]] = c;
-        s.corner_stamp[tri.mv[v.tag]] = stamp;
+        s.corners.cell[tri.mv[v.tag]] = c;
+        s.corners.stamp[tri.mv[v.tag]] = stamp;
       }
     }
   };
@@ -534,7 +559,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   }
   for (std::size_t q = 0; q < s.cells.size(); ++q) {
     const std::uint32_t c = s.cells[q];
-    const double* pc = site(c);
+    const double* pc = ctx_.site(c);
     const double rg[3] = {g[0] - pc[0], g[1] - pc[1], g[2] - pc[2]};
     const double rrg = (rg[0] * rg[0] + rg[1] * rg[1]) + rg[2] * rg[2];
     double r[3][3], rr[3];
@@ -543,7 +568,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
       rr[k] = (r[k][0] * r[k][0] + r[k][1] * r[k][1]) + r[k][2] * r[k][2];
     }
     init(s.a);
-    const NeighborList nb = neighbors(c, s);
+    const NeighborList nb = stars.neighbors(ctx_, c);
     s.corner_values.clear();
     s.facet_minors.clear();
     // bisector_value's bound at g is near + ee_err: each term rounded, the sum stays above
@@ -651,7 +676,7 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
     if (empty) continue;  // (a corner's cell, or a cell across an edge, is never empty)
     emit_polygon(tri, c, s.a, s, chunk);
     record_corners(c, s.a);
-    s.last_cell = c;
+    s.corners.last = c;
     for (std::size_t h = 0; h < s.a.size(); ++h) {
       const Plane e = s.a.e[h];
       if (is_facet(e)) continue;
@@ -661,8 +686,8 @@ void Clip3Impl::clip_triangle(std::uint32_t b, std::uint32_t stamp, ThreadScratc
   }
 }
 
-const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::uint32_t b,
-                                                          std::uint32_t c) const {
+const EdgeCrossings* RestrictedSurface::find_crossings(std::uint32_t a, std::uint32_t b,
+                                                       std::uint32_t c) const {
   std::uint32_t s[3] = {a, b, c};
   small_sort(s, 3);
   for (std::uint32_t e = crossing_begin[s[0]]; e < crossing_begin[s[0] + std::size_t{1}]; ++e) {
@@ -672,29 +697,34 @@ const Clip3Impl::EdgeCrossings* Clip3Impl::find_crossings(std::uint32_t a, std::
   return nullptr;
 }
 
-void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts) {
+RestrictedSurface SurfaceRvd::compute(tbb::enumerable_thread_specific<Stars>& stars,
+                                      ClippedVoronoi3::Polygons* polygons) const {
+  const std::uint32_t n = ctx_.n;
+  RestrictedSurface rs;
+  tbb::enumerable_thread_specific<Scratch> scratch;
   // Triangles in depth-first order over the surface, in chunks: a triangle takes the
   // cells of its corners from the polygons of the chunk's triangles before it (exact facts,
   // so the order changes nothing but the work).
-  const std::uint32_t nb = surface.nb_triangles();
-  const std::vector<std::uint32_t>& order = surface.order();
+  const std::uint32_t nb = ctx_.surface.nb_triangles();
+  const std::vector<std::uint32_t>& order = ctx_.surface.order();
   const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
-  std::vector<SurfaceChunk> chunks(nb_chunks);
+  std::vector<Chunk> chunks(nb_chunks);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
-    ThreadScratch& s = ts.local();
+    Stars& w = stars.local();
+    Scratch& s = scratch.local();
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
       for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
         // In this order the triangles are scattered over the surface's arrays: the corners'
         // indices eight triangles ahead, their coordinates three ahead.
         if (h + 8 < nb) {
-          __builtin_prefetch(surface.triangle(order[h + 8]));
+          __builtin_prefetch(ctx_.surface.triangle(order[h + 8]));
         }
         if (h + 3 < nb) {
-          const std::uint32_t* v = surface.triangle(order[h + 3]);
-          for (int q = 0; q < 3; ++q) __builtin_prefetch(surface.vertex(v[q]));
+          const std::uint32_t* v = ctx_.surface.triangle(order[h + 3]);
+          for (int q = 0; q < 3; ++q) __builtin_prefetch(ctx_.surface.vertex(v[q]));
         }
-        clip_triangle(order[h], k + 1, s, chunks[k]);
+        clip_triangle(order[h], k + 1, w, s, chunks[k]);
       }
     }
   });
@@ -705,7 +735,7 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
   std::vector<std::uint32_t> count(std::size_t{n} + 1, 0);
   std::size_t nb_polygons = 0;
   for (std::uint32_t h = 0; h < nb_chunks; ++h) {
-    const SurfaceChunk& ch = chunks[h];
+    const Chunk& ch = chunks[h];
     for (std::size_t p = 0; p < ch.cell.size(); ++p) {
       const std::uint32_t b = ch.tri[p];
       if (tri_count[b]++ == 0) {
@@ -717,41 +747,41 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     nb_polygons += ch.cell.size();
   }
   for (std::uint32_t i = 0; i < n; ++i) count[i + 1] += count[i];
-  is_boundary.assign(n, 0);
-  boundary_slot.assign(n, kNone);
-  boundary_cells.clear();
+  rs.is_boundary.assign(n, 0);
+  rs.boundary_slot.assign(n, kNone);
+  rs.boundary_cells.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     if (count[i + 1] > count[i]) {
-      is_boundary[i] = 1;
-      boundary_slot[i] = static_cast<std::uint32_t>(boundary_cells.size());
-      boundary_cells.push_back(i);
+      rs.is_boundary[i] = 1;
+      rs.boundary_slot[i] = static_cast<std::uint32_t>(rs.boundary_cells.size());
+      rs.boundary_cells.push_back(i);
     }
   }
   // Polygon p of chunk h goes to position pos (cell-major); sums per cell in that order.
   std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
   std::vector<std::uint32_t> where_chunk(nb_polygons), where_index(nb_polygons);
-  cell_tris.resize(nb_polygons);
+  rs.cell_tris.resize(nb_polygons);
   for (std::uint32_t b = 0; b < nb; ++b) {
-    const SurfaceChunk& ch = chunks[tri_chunk[b]];
+    const Chunk& ch = chunks[tri_chunk[b]];
     for (std::uint32_t p = tri_first[b]; p < tri_first[b] + tri_count[b]; ++p) {
       const std::uint32_t pos = cursor[ch.cell[p]]++;
       where_chunk[pos] = tri_chunk[b];
       where_index[pos] = p;
-      cell_tris[pos] = b;
+      rs.cell_tris[pos] = b;
     }
   }
-  cell_tri_begin.assign(boundary_cells.size() + 1, 0);
-  for (std::size_t q = 0; q < boundary_cells.size(); ++q) {
-    cell_tri_begin[q + 1] = count[boundary_cells[q] + std::size_t{1}];
+  rs.cell_tri_begin.assign(rs.boundary_cells.size() + 1, 0);
+  for (std::size_t q = 0; q < rs.boundary_cells.size(); ++q) {
+    rs.cell_tri_begin[q + 1] = count[rs.boundary_cells[q] + std::size_t{1}];
   }
-  surface_area.assign(n, 0);
-  surface_moments.assign(boundary_cells.size(), Moments{});
+  rs.surface_area.assign(n, 0);
+  rs.surface_moments.assign(rs.boundary_cells.size(), Moments{});
   tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 256), [&](const auto& range) {
+      tbb::blocked_range<std::size_t>(0, rs.boundary_cells.size(), 256), [&](const auto& range) {
         for (std::size_t q = range.begin(); q != range.end(); ++q) {
-          Moments& r = surface_moments[q];
+          Moments& r = rs.surface_moments[q];
           double area = 0;
-          for (std::uint32_t pos = cell_tri_begin[q]; pos < cell_tri_begin[q + 1]; ++pos) {
+          for (std::uint32_t pos = rs.cell_tri_begin[q]; pos < rs.cell_tri_begin[q + 1]; ++pos) {
             const double* v = &chunks[where_chunk[pos]].sums[kSums * std::size_t{where_index[pos]}];
             r.volume += v[0];
             for (int c = 0; c < 3; ++c) r.moment[c] += v[1 + c];
@@ -759,25 +789,25 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
             area += v[5];
             r.mass += v[6];
           }
-          surface_area[boundary_cells[q]] = area;
+          rs.surface_area[rs.boundary_cells[q]] = area;
         }
       });
-  if (keep_surface) {
-    ClippedVoronoi3::Polygons& sp = out.surface_;
+  if (ctx_.keep_surface && polygons) {
+    ClippedVoronoi3::Polygons& sp = *polygons;
     sp.site_begin.assign(count.begin(), count.end());
     sp.site.resize(nb_polygons);
     sp.triangle.resize(nb_polygons);
     sp.polygon_begin.assign(1, 0);
-    surface_across.clear();
+    rs.surface_across.clear();
     for (std::size_t pos = 0; pos < nb_polygons; ++pos) {
-      const SurfaceChunk& ch = chunks[where_chunk[pos]];
+      const Chunk& ch = chunks[where_chunk[pos]];
       const std::uint32_t p = where_index[pos];
       sp.site[pos] = ch.cell[p];
       sp.triangle[pos] = ch.tri[p];
       sp.vertices.insert(sp.vertices.end(), ch.verts.begin() + ch.begin[p],
                          ch.verts.begin() + ch.begin[p + 1]);
-      surface_across.insert(surface_across.end(), ch.across.begin() + ch.begin[p],
-                            ch.across.begin() + ch.begin[p + 1]);
+      rs.surface_across.insert(rs.surface_across.end(), ch.across.begin() + ch.begin[p],
+                               ch.across.begin() + ch.begin[p + 1]);
       sp.xyz.insert(sp.xyz.end(), ch.xyz.begin() + 3 * std::size_t{ch.begin[p]},
                     ch.xyz.begin() + 3 * std::size_t{ch.begin[p + 1]});
       sp.polygon_begin.push_back(static_cast<std::uint32_t>(sp.vertices.size()));
@@ -786,8 +816,7 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
 
   // Crossings per Voronoi edge.
   std::vector<Crossing> all;
-  for (const SurfaceChunk& ch : chunks)
-    all.insert(all.end(), ch.crossings.begin(), ch.crossings.end());
+  for (const Chunk& ch : chunks) all.insert(all.end(), ch.crossings.begin(), ch.crossings.end());
   // The keys are distinct (a Voronoi edge meets a triangle's plane once, and the cell of
   // the smallest site has one polygon in the triangle): any sort gives the same order.
   tbb::parallel_sort(all.begin(), all.end(), [](const Crossing& x, const Crossing& y) {
@@ -804,24 +833,24 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     }
   }
   group_begin.push_back(static_cast<std::uint32_t>(all.size()));
-  crossings.resize(group_begin.size() - 1);
+  rs.crossings.resize(group_begin.size() - 1);
   // The points of the edges crossed several times go to multi_crossings, in group order.
-  std::vector<std::uint32_t> multi_first(crossings.size(), kNone);
+  std::vector<std::uint32_t> multi_first(rs.crossings.size(), kNone);
   std::uint32_t nb_multi = 0;
-  for (std::size_t g = 0; g < crossings.size(); ++g) {
+  for (std::size_t g = 0; g < rs.crossings.size(); ++g) {
     const std::uint32_t nb_in_group = group_begin[g + 1] - group_begin[g];
     if (nb_in_group < 2) continue;
     multi_first[g] = nb_multi;
     nb_multi += nb_in_group;
   }
-  multi_crossings.resize(nb_multi);
+  rs.multi_crossings.resize(nb_multi);
   // The direction of a crossing: sigma, the sign of n . N for the outward normal N of the
   // triangle crossed (Surface3's orientation).
   const auto direction = [&](const Crossing& c) -> std::int8_t {
-    const std::uint32_t* v = surface.triangle(c.tri);
-    const Sign d =
-        voronoi_edge_direction3d(site(c.s[0]), site(c.s[1]), site(c.s[2]), surface.vertex(v[0]),
-                                 surface.vertex(v[1]), surface.vertex(v[2]));
+    const std::uint32_t* v = ctx_.surface.triangle(c.tri);
+    const Sign d = voronoi_edge_direction3d(ctx_.site(c.s[0]), ctx_.site(c.s[1]), ctx_.site(c.s[2]),
+                                            ctx_.surface.vertex(v[0]), ctx_.surface.vertex(v[1]),
+                                            ctx_.surface.vertex(v[2]));
     if (d == Sign::zero) {
       throw Error("clip3d: internal error: the Voronoi edge of sites " + std::to_string(c.s[0]) +
                   ", " + std::to_string(c.s[1]) + ", " + std::to_string(c.s[2]) +
@@ -829,11 +858,11 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
     }
     return d == Sign::positive ? 1 : -1;
   };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, crossings.size(), 1024),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rs.crossings.size(), 1024),
                     [&](const auto& range) {
                       for (std::size_t g = range.begin(); g != range.end(); ++g) {
                         const Crossing& first = all[group_begin[g]];
-                        EdgeCrossings& x = crossings[g];
+                        EdgeCrossings& x = rs.crossings[g];
                         x = EdgeCrossings{};
                         for (int q = 0; q < 3; ++q) {
                           x.s[q] = first.s[q];
@@ -847,20 +876,23 @@ void Clip3Impl::surface_pass(tbb::enumerable_thread_specific<ThreadScratch>& ts)
                         }
                         for (std::uint32_t k = 0; k < x.count; ++k) {
                           const Crossing& c = all[group_begin[g] + k];
-                          CrossingPoint& point = multi_crossings[x.first + k];
+                          CrossingPoint& point = rs.multi_crossings[x.first + k];
                           for (int q = 0; q < 3; ++q) point.x[q] = c.x[q];
                           point.sigma = direction(c);
                         }
                       }
                     });
-  multi_crossed.assign(n, 0);
-  for (const EdgeCrossings& x : crossings) {
+  rs.multi_crossed.assign(n, 0);
+  for (const EdgeCrossings& x : rs.crossings) {
     if (x.count == 1) continue;
-    for (const std::uint32_t c : x.s) multi_crossed[c] = 1;
+    for (const std::uint32_t c : x.s) rs.multi_crossed[c] = 1;
   }
-  crossing_begin.assign(std::size_t{n} + 1, 0);
-  for (const EdgeCrossings& x : crossings) ++crossing_begin[x.s[0] + std::size_t{1}];
-  for (std::uint32_t i = 0; i < n; ++i) crossing_begin[i + 1] += crossing_begin[i];
+  rs.crossing_begin.assign(std::size_t{n} + 1, 0);
+  for (const EdgeCrossings& x : rs.crossings) ++rs.crossing_begin[x.s[0] + std::size_t{1}];
+  for (std::uint32_t i = 0; i < n; ++i) rs.crossing_begin[i + 1] += rs.crossing_begin[i];
+  return rs;
 }
+
+}  // namespace clip3
 
 }  // namespace voroclip

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "voroclip/cvt.h"
@@ -422,6 +423,9 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
                                              : std::numeric_limits<std::uint32_t>::max();
         bool restart = false;
         auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+          // A line search that ends without moving leaves LBFGSpp's update 0 / 0: a NaN
+          // point is the end of the progress this precision allows (as cvt3d.cpp).
+          if (!x.allFinite()) throw std::runtime_error("cvt2d: L-BFGS stopped making progress");
           problem.place(x);
           const double fx = problem.evaluate(x, &grad);
           if (fx < best_f) {

@@ -255,6 +255,12 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
       bool last_is_best = true;
       std::uint32_t accepted = 0;
       auto fun = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+        // LBFGSpp's line search can end without moving (at its evaluation limit, when every
+        // step along the direction is no better at the energy's precision); its update
+        // then divides 0 by 0 and the next point is NaN. That is the end of the progress
+        // this precision allows: stop there with the best point, as when the line search
+        // reports the failure itself (caught below).
+        if (!x.allFinite()) throw std::runtime_error("cvt3d: L-BFGS stopped making progress");
         problem.place(x);
         last_is_best = false;
         const double fx = problem.evaluate(&grad);

@@ -55,6 +55,25 @@ BigInt BigInt::from_scaled_double(double x, int shift) {
   return r;
 }
 
+double BigInt::approx(int& exponent) const {
+  exponent = 0;
+  if (mag_.empty()) return 0;
+  // The top (up to) three limbs, shifted so that the highest set bit is bit 63 of `top`;
+  // the bits below are dropped (a relative error below 2^-63, then the rounding to a
+  // double).
+  const std::size_t n = mag_.size();
+  unsigned __int128 window = 0;
+  const std::size_t take = n < 3 ? n : 3;
+  for (std::size_t k = 0; k < take; ++k) window = (window << 32) | mag_[n - 1 - k];
+  int width = 0;  // bits in window
+  for (unsigned __int128 w = window; w != 0; w >>= 1) ++width;
+  const int drop = width > 64 ? width - 64 : 0;
+  const auto top = static_cast<std::uint64_t>(window >> drop);
+  exponent = static_cast<int>(32 * (n - take)) + drop;
+  const double m = static_cast<double>(top);
+  return negative_ ? -m : m;
+}
+
 void BigInt::trim() {
   while (!mag_.empty() && mag_.back() == 0) mag_.pop_back();
   if (mag_.empty()) negative_ = false;

@@ -18,6 +18,10 @@ class BigInt {
   static BigInt from_scaled_double(double x, int shift);
 
   int sign() const { return mag_.empty() ? 0 : (negative_ ? -1 : 1); }
+  // The value as m * 2^exponent, m a double of at most 64 significant bits' magnitude
+  // (2^63 <= |m| < 2^64 for a value of that size or more), within an ulp of m (its top 64
+  // bits, rounded to a double): for quotients of huge or tiny values that no double holds.
+  double approx(int& exponent) const;
 
   friend BigInt operator+(const BigInt& a, const BigInt& b);
   friend BigInt operator-(const BigInt& a, const BigInt& b);

@@ -594,6 +594,55 @@ TEST_CASE("clip3d: integer grid sites in a grid mesh, duplicates, sites outside"
   }
 }
 
+TEST_CASE("clip3d: sites on the domain's faces to the last bits: Delaunay slivers",
+          "[clip][degenerate]") {
+  // A CVT snaps sites onto the boundary: on a cube's faces they are coplanar up to
+  // rounding, and the Delaunay tets between four such sites are slivers whose floating-
+  // point determinant is zero or noise. (The unit cube meshed with 5000 vertices had
+  // them, and their Voronoi vertices came out NaN.) Here: a grid on each face of the
+  // cube, each site moved off its face by up to 3 ulps, and random inner sites.
+  const Domain3 cube(cube_mesh(4));
+  std::mt19937_64 rng(29);
+  std::uniform_int_distribution<int> ulps(-3, 3);
+  std::uniform_real_distribution<double> u(0.1, 3.9);
+  const auto moved = [&](double x) {
+    for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) {
+      x = std::nextafter(x, k > 0 ? 10.0 : -10.0);
+    }
+    return x;
+  };
+  std::vector<double> sites;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double side : {0.0, 4.0}) {
+      for (int a = 0; a < 8; ++a) {
+        for (int b = 0; b < 8; ++b) {
+          double p[3];
+          p[axis] = moved(side);
+          p[(axis + 1) % 3] = 0.25 + 0.5 * a;
+          p[(axis + 2) % 3] = 0.25 + 0.5 * b;
+          sites.insert(sites.end(), {p[0], p[1], p[2]});
+        }
+      }
+    }
+  }
+  for (int k = 0; k < 300; ++k) sites.insert(sites.end(), {u(rng), u(rng), u(rng)});
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  for (const bool surface_only : {false, true}) {
+    INFO((surface_only ? "from the surface" : "from the tets"));
+    const Domain3 d = surface_only ? Domain3(cube.surface()) : cube;
+    const Delaunay3 dt(sites.data(), n);
+    const ClippedVoronoi3 cv = clip(d, dt);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      INFO("site " << i);
+      REQUIRE(std::isfinite(cv.volume(i)));
+      REQUIRE(std::isfinite(cv.centroid(i)[0]));
+      REQUIRE(std::isfinite(cv.centroid(i)[1]));
+      REQUIRE(std::isfinite(cv.centroid(i)[2]));
+    }
+    check_diagram(d, dt, cv, 20000, 14);
+  }
+}
+
 TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   const std::vector<double> sites = sample_volume(d, 5000, 3);

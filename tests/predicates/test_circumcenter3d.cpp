@@ -1,5 +1,5 @@
 // Tests of the circumcenter predicates (predicates.h, "Circumcenters of tetrahedra"):
-// orient3d_circumcenter and circumcenter3d_enclosure.
+// orient3d_circumcenter, circumcenter3d and circumcenter3d_enclosure.
 //
 // The oracle works from the contract alone, in rationals (GMP): the circumcenter x of
 // p0..p3 solves 2 (p_k - p0) . (x - p0) = |p_k - p0|^2 (k = 1, 2, 3) by Cramer's rule, and
@@ -403,6 +403,158 @@ TEST_CASE("circumcenter3d_enclosure holds the exact circumcenter", "[predicates]
   // Refused only for very flat tets; tight for ordinary ones.
   CHECK(refused < n / 8);
   CHECK(tight * 100 >= n_random * 99);
+}
+
+TEST_CASE("circumcenter3d is within a few ulps of the exact circumcenter, slivers included",
+          "[predicates][exact]") {
+  const std::uint64_t seed = seed_for(0xc3c3d);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  std::size_t failures = 0, coplanar = 0, slivers = 0;
+  const std::size_t n = scaled(8000);
+  for (std::size_t it = 0; it < n; ++it) {
+    std::array<P3, 4> p;
+    const int kind = static_cast<int>(it % 5);
+    if (kind == 0) {
+      for (auto& q : p) q = random_point(rng);
+    } else if (kind == 1) {
+      // p3 at height 2^-m above the plane of p0, p1, p2 (m up to 60).
+      for (auto& q : p) q = random_point(rng);
+      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60)));
+      const P3 u = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+      const P3 v = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+      const P3 nrm = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                      u[0] * v[1] - u[1] * v[0]};
+      p[3] = axpy({(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
+                   (p[0][2] + p[1][2] + p[2][2]) / 3},
+                  nrm, h);
+    } else if (kind == 2) {
+      // Slivers of the Delaunay kind: four points nearly on one sphere and nearly on one
+      // great circle (heights 2^-m, alternating signs), whose floating-point determinant
+      // is rounding error: the centre is still the sphere's, to a few ulps.
+      const P3 o = random_point(rng);
+      const double r = std::ldexp(1.0, static_cast<int>(rand_int(rng, -20, 4)));
+      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 20, 60)));
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double t = 1.5707963267948966 * (static_cast<double>(k) + uniform(rng, -0.2, 0.2));
+        const double z = (k % 2 == 0 ? h : -h) * uniform(rng, 0.5, 1);
+        p[k] = {o[0] + r * std::cos(t), o[1] + r * std::sin(t), o[2] + r * z};
+      }
+      ++slivers;
+    } else if (kind == 3) {
+      const P3 o = {random_wide(rng, -30, 30), random_wide(rng, -30, 30),
+                    random_wide(rng, -30, 30)};
+      const int e = static_cast<int>(rand_int(rng, -40, 10));
+      for (auto& q : p) q = axpy(o, random_point(rng), std::ldexp(1.0, e));
+    } else {
+      const int e = static_cast<int>(rand_int(rng, -140, 140));
+      for (auto& q : p) q = scaled_point(random_point(rng), e);
+    }
+    Q3 x;
+    if (!exact_circumcenter(p, x)) {
+      ++coplanar;
+      double c[3];
+      CHECK_THROWS_AS(circumcenter3d(p[0].data(), p[1].data(), p[2].data(), p[3].data(), c), Error);
+      continue;
+    }
+    double c[3];
+    circumcenter3d(p[0].data(), p[1].data(), p[2].data(), p[3].data(), c);
+    // The contract: within 2^-36 of the tet's size (the floating-point path, when its
+    // proven bound allows), or a few ulps of the offset from p0 and of the result.
+    double size = 0;
+    for (std::size_t k = 1; k < 4; ++k) {
+      size += std::sqrt((p[k][0] - p[0][0]) * (p[k][0] - p[0][0]) +
+                        (p[k][1] - p[0][1]) * (p[k][1] - p[0][1]) +
+                        (p[k][2] - p[0][2]) * (p[k][2] - p[0][2]));
+    }
+    for (std::size_t t = 0; t < 3; ++t) {
+      const double xt = x[t].get_d();
+      const double allowed =
+          0x1p-35 * size + 0x1p-49 * std::fabs(xt - p[0][t]) + 0x1p-52 * std::fabs(xt);
+      if (!std::isfinite(c[t]) || abs(x[t] - Q(c[t])) > Q(allowed)) {
+        ++failures;
+        FAIL_CHECK("kind " << kind << " p0 " << str(p[0]) << " p1 " << str(p[1]) << " p2 "
+                           << str(p[2]) << " p3 " << str(p[3]) << ": coordinate " << t << " is "
+                           << hex(c[t]) << ", exactly " << hex(xt));
+        break;
+      }
+    }
+  }
+  INFO(coplanar << " coplanar, " << slivers << " slivers of " << n);
+  CHECK(failures == 0);
+  CHECK(slivers > 0);
+}
+
+TEST_CASE("circumcenter3d: a sliver whose floating-point determinant is zero",
+          "[predicates][exact][degenerate]") {
+  // Four points of the unit sphere nearly on its equator (heights +-2^-40): the rounded
+  // determinant of the difference vectors is 0 or noise, the exact one is not; the centre
+  // is the origin.
+  const double h = 0x1p-40;
+  const double z2 = std::sqrt(1 - h * h);
+  const double p0[3] = {z2, 0, h}, p1[3] = {0, z2, -h}, p2[3] = {-z2, 0, h}, p3[3] = {0, -z2, -h};
+  std::array<P3, 4> p = {P3{p0[0], p0[1], p0[2]}, P3{p1[0], p1[1], p1[2]}, P3{p2[0], p2[1], p2[2]},
+                         P3{p3[0], p3[1], p3[2]}};
+  Q3 x;
+  REQUIRE(exact_circumcenter(p, x));
+  double c[3];
+  circumcenter3d(p0, p1, p2, p3, c);
+  for (std::size_t t = 0; t < 3; ++t) {
+    INFO("coordinate " << t << ": " << hex(c[t]) << ", exactly " << hex(x[t].get_d()));
+    CHECK(abs(x[t] - Q(c[t])) <= Q(0x1p-50));
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  const double far[3] = {inf, 0, 0};
+  CHECK_THROWS_AS(circumcenter3d(p0, p1, p2, far, c), Error);
+  CHECK_THROWS_AS(circumcenter3d(p0, p1, p2, p0, c), Error);
+}
+
+TEST_CASE("circumcenter3d: subnormal heights (exponents too far apart for expansions)",
+          "[predicates][exact][degenerate]") {
+  // Sites on the plane z = 0 moved off it by a few subnormal steps, as a CVT's sites
+  // snapped to a face at z = 0 and moved by ulps: the expansions cannot hold the products
+  // (the exponents span more than 1000), big integers do. The exact centre is compared
+  // where it is a double; where its offset from p0 exceeds the double range, the result
+  // must be infinite with the exact sign, never NaN.
+  const std::uint64_t seed = seed_for(0x5ab);
+  INFO("seed " << seed);
+  Rng rng(seed);
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  std::size_t finite = 0, overflow = 0;
+  for (std::size_t it = 0; it < scaled(400); ++it) {
+    std::array<P3, 4> p;
+    for (auto& q : p) {
+      const bool grid = it % 2 == 0;
+      q = {grid ? 0.25 + 0.5 * static_cast<double>(rand_int(rng, 0, 3)) : uniform(rng, 0, 2),
+           grid ? 0.25 + 0.5 * static_cast<double>(rand_int(rng, 0, 3)) : uniform(rng, 0, 2),
+           tiny * static_cast<double>(rand_int(rng, -3, 3))};
+    }
+    Q3 x;
+    if (!exact_circumcenter(p, x)) {
+      double c[3];
+      CHECK_THROWS_AS(circumcenter3d(p[0].data(), p[1].data(), p[2].data(), p[3].data(), c), Error);
+      continue;
+    }
+    double c[3];
+    circumcenter3d(p[0].data(), p[1].data(), p[2].data(), p[3].data(), c);
+    for (std::size_t t = 0; t < 3; ++t) {
+      INFO("p0 " << str(p[0]) << " p1 " << str(p[1]) << " p2 " << str(p[2]) << " p3 " << str(p[3])
+                 << " coordinate " << t << ": " << hex(c[t]));
+      REQUIRE_FALSE(std::isnan(c[t]));
+      if (abs(x[t]) > Q(std::numeric_limits<double>::max())) {
+        ++overflow;
+        CHECK(std::isinf(c[t]));
+        CHECK((c[t] > 0) == (x[t] > 0));
+      } else {
+        ++finite;
+        const double xt = x[t].get_d();
+        CHECK(abs(x[t] - Q(c[t])) <=
+              Q(0x1p-49 * std::fabs(xt - p[0][t]) + 0x1p-52 * std::fabs(xt)) + Q(tiny));
+      }
+    }
+  }
+  INFO(finite << " finite coordinates, " << overflow << " beyond the double range");
+  CHECK(finite > 0);
 }
 
 TEST_CASE("orient3d_circumcenter and the enclosure: coplanar sites and non-finite input",

@@ -511,7 +511,9 @@ Domain3 read_domain3(const std::string& path, const Surface3Options& options = {
 // surface polygons and the pieces of their Voronoi edges inside the volume (an edge that
 // crosses the surface several times contributes its inside parts as signed segments from
 // each crossing; clip3d.cpp). The tet-by-tet clipping of sec. 4.2 runs only for a tet mesh
-// domain under tet_clipping (the reference) or a density linear per tet.
+// domain under tet_clipping (the reference) or a density linear per tet. Voronoi vertices
+// are circumcenter3d's (predicates.h): within a few ulps even for Delaunay slivers whose
+// floating-point determinant is zero (sites snapped to a flat face, to the last bits).
 //
 // Threads: TBB loops into per-cell (per-triangle) slots, reduced in index order: identical
 // results for any thread count.

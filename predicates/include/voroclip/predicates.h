@@ -580,6 +580,16 @@ Sign orient3d_circumcenter(const double* a, const double* b, const double* c, co
                            const double* p1, const double* p2, const double* p3);
 Sign orient2d_circumcenter(int axis, const double* a, const double* b, const double* p0,
                            const double* p1, const double* p2, const double* p3);
+// The circumcentre of p0..p3 (not coplanar), accurately: the floating-point formula
+// p0 + Nv / (2 D) (circumcenter3d.h) when its proven error bound is below 2^-36 of the
+// tet's size (the sum of the L-infinity distances to p0) in every coordinate, else Nv and
+// D in exact arithmetic, each rounded, then divided (a few ulps of the exact offset from
+// p0). So a nearly flat tet (a sliver of nearly cospherical points, whose floating-point D
+// is all rounding error, or zero) still gets a finite, accurate centre. Throws Error for
+// coplanar points or non-finite coordinates. (When the coordinates' exponents are too far
+// apart for expansions, the floating-point formula is used.)
+void circumcenter3d(const double* p0, const double* p1, const double* p2, const double* p3,
+                    double* center);
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
                               const double* p3, double* center, double* halfwidth);
 

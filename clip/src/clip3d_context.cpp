@@ -1,0 +1,163 @@
+// The context of one 3D clipped Voronoi diagram (clip3d.cpp, clip3d_internal.h): what the
+// units share.
+//
+// Coordinates of symbolic vertices (DESIGN.md, "Exactness"; Yan et al. 2011, sec. 4: the
+// vertices of the restricted surface and of the clipped cells). A vertex is kept as what
+// defines it; its coordinates are computed here, in floating point, from its sorted
+// global ids only, so that every cell (and every unit) that meets it computes the same
+// bits: a mesh edge ∩ one bisector, a boundary triangle's plane ∩ two bisectors, a
+// Voronoi vertex (three bisectors: the circumcentre of four sites). No decision depends on
+// them.
+//
+// Stars (the Voronoi neighbours of a site are its Delaunay neighbours): the tets around a
+// site, breadth first, and per thread (Stars) the neighbour lists of the sites met, with
+// their geometry, kept for the rest of the compute.
+#include "clip3d_internal.h"
+
+#include <cmath>
+#include <vector>
+
+namespace voroclip {
+
+namespace clip3 {
+
+Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Options& o)
+    : domain(d),
+      surface(d.surface()),
+      dt(t),
+      options(o),
+      n(t.nb_points()),
+      weighted(!o.density.is_constant()),
+      linear_density(o.density.kind == Density3::Kind::kVertexLinear),
+      callback_density(o.density.kind == Density3::Kind::kCallback ? &o.density : nullptr),
+      keep_surface(o.keep_surface || o.keep_geometry) {}
+
+void Clip3Context::star(std::uint32_t v, Star& s) const {
+  const std::uint32_t slots = dt.nb_tet_slots();
+  s.reset_if_needed(slots);
+  s.first = s.next;
+  s.tets.clear();
+  const std::uint32_t t0 = dt.vertex_tet(v);
+  s.mark[t0] = s.first;
+  s.tets.push_back(t0);
+  for (std::size_t q = 0; q < s.tets.size(); ++q) {
+    const std::uint32_t t = s.tets[q];
+    for (int f = 0; f < 4; ++f) {
+      if (dt.tet_vertex(t, f) == v) continue;  // the facet opposite v does not contain v
+      const std::uint32_t t2 = dt.tet_adjacent(t, f);
+      if (s.mark[t2] < s.first) {
+        s.mark[t2] = s.first + static_cast<std::uint32_t>(s.tets.size());
+        s.tets.push_back(t2);
+        dt.prefetch_tet(t2);
+      }
+    }
+  }
+  s.next = s.first + static_cast<std::uint32_t>(s.tets.size());
+}
+
+// F(x) = |x - p|^2 - |x - q|^2 relative to the midpoint: 2 (x - m).(q - p), halved.
+static double bisector_f(const double* a, const double* p, const double* q) {
+  double f = 0;
+  for (int c = 0; c < 3; ++c) f += (a[c] - 0.5 * (p[c] + q[c])) * (q[c] - p[c]);
+  return f;
+}
+
+void Clip3Context::edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t s0,
+                              std::uint32_t s1, double* x) const {
+  const double* a = domain.vertex(ma);
+  const double* b = domain.vertex(mb);
+  const double fa = bisector_f(a, site(s0), site(s1)), fb = bisector_f(b, site(s0), site(s1));
+  double s = fa / (fa - fb);
+  if (!(s >= 0)) s = 0;
+  if (s > 1) s = 1;
+  for (int c = 0; c < 3; ++c) x[c] = a[c] + s * (b[c] - a[c]);
+}
+
+void Clip3Context::facet_point(const std::uint32_t* mesh, const std::uint32_t* sites,
+                               double* x) const {
+  const double* a = domain.vertex(mesh[0]);
+  const double* b = domain.vertex(mesh[1]);
+  const double* c = domain.vertex(mesh[2]);
+  const double* p0 = site(sites[0]);
+  const double* p1 = site(sites[1]);
+  const double* p2 = site(sites[2]);
+  const double k0 = bisector_f(a, p0, p1), k1 = bisector_f(b, p0, p1), k2 = bisector_f(c, p0, p1);
+  const double l0 = bisector_f(a, p0, p2), l1 = bisector_f(b, p0, p2), l2 = bisector_f(c, p0, p2);
+  // Barycentric coordinates: [1 1 1; k; l] lambda = (1, 0, 0).
+  const double ca = k1 * l2 - k2 * l1, cb = k2 * l0 - k0 * l2, cc = k0 * l1 - k1 * l0;
+  const double d = ca + cb + cc;
+  double la = ca / d, lb = cb / d, lc = cc / d;
+  if (!std::isfinite(la) || !std::isfinite(lb) || !std::isfinite(lc)) la = lb = lc = 1.0 / 3;
+  for (int q = 0; q < 3; ++q) x[q] = la * a[q] + lb * b[q] + lc * c[q];
+}
+
+void Clip3Context::voronoi_point(const std::uint32_t* sites, double* x) const {
+  // A Delaunay tet is never flat (the perturbation makes zero-volume tets impossible), but
+  // it can be flat to the last bits: nearly cospherical sites, such as a CVT's mirror-
+  // symmetric ones, whose floating-point determinant is rounding error or zero.
+  // circumcenter3d falls back to exact arithmetic there, so the vertex is accurate, never
+  // NaN.
+  circumcenter3d(site(sites[0]), site(sites[1]), site(sites[2]), site(sites[3]), x);
+}
+
+const Star& Stars::pooled_star(const Clip3Context& ctx, std::uint32_t v) {
+  if (nbr_offset_.size() != ctx.n || nbr_offset_[v] == kNone) {
+    ctx.star(v, star_);
+    return star_;
+  }
+  const std::uint32_t off = nbr_pool_[nbr_offset_[v] + 1];
+  Star& st = star_;
+  const std::uint32_t slots = ctx.dt.nb_tet_slots();
+  st.reset_if_needed(slots);
+  st.first = st.next;
+  const std::uint32_t* tets = star_pool_.data() + off + 1;
+  const std::uint32_t m = tets[-1];
+  st.tets.assign(tets, tets + m);
+  for (std::uint32_t q = 0; q < m; ++q) st.mark[tets[q]] = st.first + q;
+  st.next = st.first + m;
+  return star_;
+}
+
+NeighborList Stars::neighbors(const Clip3Context& ctx, std::uint32_t c) {
+  const std::uint32_t n = ctx.n;
+  if (nbr_offset_.size() != n) nbr_offset_.assign(n, kNone);
+  std::uint32_t off = nbr_offset_[c];
+  if (off == kNone) {
+    if (site_mark_.size() != n || site_gen_ == 0xffffffffu) {
+      site_mark_.assign(n, 0);
+      site_gen_ = 0;
+    }
+    const std::uint32_t gen = ++site_gen_;
+    ctx.star(c, star_);
+    off = static_cast<std::uint32_t>(nbr_pool_.size());
+    nbr_pool_.push_back(0);
+    nbr_pool_.push_back(static_cast<std::uint32_t>(star_pool_.size()));
+    nbr_geo_.push_back(NbrGeo{});
+    nbr_geo_.push_back(NbrGeo{});
+    star_pool_.push_back(static_cast<std::uint32_t>(star_.tets.size()));
+    star_pool_.insert(star_pool_.end(), star_.tets.begin(), star_.tets.end());
+    const double* pc = ctx.site(c);
+    for (const std::uint32_t t : star_.tets) {
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t w = ctx.dt.tet_vertex(t, k);
+        if (w == c || w == Delaunay3::kInfinite || site_mark_[w] == gen) continue;
+        site_mark_[w] = gen;
+        nbr_pool_.push_back(w);
+        const double* pw = ctx.site(w);
+        NbrGeo g;
+        for (int q = 0; q < 3; ++q) g.e[q] = pw[q] - pc[q];
+        g.ee = (g.e[0] * g.e[0] + g.e[1] * g.e[1]) + g.e[2] * g.e[2];
+        g.reach = 2 * std::sqrt(g.ee) * (1 + 1e-14);
+        g.ee_err = 2e-15 * g.ee;
+        nbr_geo_.push_back(g);
+      }
+    }
+    nbr_pool_[off] = static_cast<std::uint32_t>(nbr_pool_.size()) - off - 2;
+    nbr_offset_[c] = off;
+  }
+  return {nbr_pool_.data() + off + 2, nbr_geo_.data() + off + 2, nbr_pool_[off]};
+}
+
+}  // namespace clip3
+
+}  // namespace voroclip
