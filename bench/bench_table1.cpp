@@ -7,8 +7,9 @@
 //
 // --domain: the volume given by the tet mesh (default), by its surface alone (the model's
 // file in ../shared/data/surfaces, or the tet mesh's boundary for sphere-fine, which has
-// none), or both, each run with the same sites, with the ratio surface / tets of the
-// totals. The sites are drawn from the tets either way.
+// none), or both, each run with the same sites, the runs alternating between the two, with
+// the median of the runs' ratios surface / tets of the totals. The sites are drawn from the
+// tets either way.
 //
 // Site counts (x1): the paper's for its models (bunny 2k, elk 2k, homer 10k, rocker-arm
 // 3k); for the others, chosen: sphere 1k, sphere-fine 10k (the peer benchmarks'),
@@ -18,7 +19,8 @@
 // boundary cells with a Voronoi edge crossing the surface twice or more, then seconds:
 // Delaunay, surface RVD, boundary cells,
 // inner cells, clipping (the three), total; then cells/s per thread of the clipping. Each
-// figure is the median of R runs (default 3; one run at 10^6 sites and more).
+// figure is the median of R runs (default 3; one run at 10^6 sites and more, except under
+// --domain both).
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -165,44 +167,58 @@ int main(int argc, char** argv) {
       for (const std::string& sc : scales) {
         const auto n = static_cast<std::uint32_t>(m.sites * std::atof(sc.c_str()));
         const std::vector<double> xyz = sites_in(tets, n);
-        double total_tets = 0;
-        for (int which = 0; which < 2; ++which) {
-          if ((which == 0 && domain == "surface") || (which == 1 && domain == "tets")) continue;
-          const voroclip::Domain3& d = which == 0 ? tets : surface;
-          voroclip::ClippedVoronoi3 cv;
+        // Per domain (0 tets, 1 surface): the runs' figures. Under both, the runs alternate
+        // between the domains (tets first in even runs, surface first in odd ones), so that
+        // the host's drift hits both alike; the ratio is the median of the runs' ratios.
+        struct Runs {
           std::vector<double> del, surf, bnd, inn, clip, tot;
-          const int runs = n >= 1000000 ? 1 : repeat;
-          for (int r = 0; r < runs; ++r) {
+          voroclip::ClippedVoronoi3 cv;
+        } runs_of[2];
+        const bool both = domain == "both";
+        const int runs = n >= 1000000 && !both ? 1 : repeat;
+        for (int r = 0; r < runs; ++r) {
+          for (int k = 0; k < 2; ++k) {
+            const int which = both && r % 2 == 1 ? 1 - k : k;
+            if ((which == 0 && domain == "surface") || (which == 1 && domain == "tets")) continue;
+            const voroclip::Domain3& d = which == 0 ? tets : surface;
+            Runs& o = runs_of[which];
             // The sites as the CLI passes them: compute() sorts them spatially and builds
             // their Delaunay triangulation (the Delaunay column, with the sort and the copy).
             const auto t0 = std::chrono::steady_clock::now();
-            cv.compute(d, xyz.data(), n);
+            o.cv.compute(d, xyz.data(), n);
             const auto t1 = std::chrono::steady_clock::now();
             const double total = std::chrono::duration<double>(t1 - t0).count();
-            del.push_back(cv.seconds_delaunay());
-            surf.push_back(cv.seconds_surface());
-            bnd.push_back(cv.seconds_boundary_cells());
-            inn.push_back(cv.seconds_inner_cells());
-            clip.push_back(total - cv.seconds_delaunay());
-            tot.push_back(total);
+            o.del.push_back(o.cv.seconds_delaunay());
+            o.surf.push_back(o.cv.seconds_surface());
+            o.bnd.push_back(o.cv.seconds_boundary_cells());
+            o.inn.push_back(o.cv.seconds_inner_cells());
+            o.clip.push_back(total - o.cv.seconds_delaunay());
+            o.tot.push_back(total);
           }
+        }
+        for (int which = 0; which < 2; ++which) {
+          if ((which == 0 && domain == "surface") || (which == 1 && domain == "tets")) continue;
+          const voroclip::Domain3& d = which == 0 ? tets : surface;
+          Runs& o = runs_of[which];
+          const voroclip::ClippedVoronoi3& cv = o.cv;
           const double err = std::fabs(cv.total_volume() - d.volume()) / d.volume();
           if (!(err <= 1e-12)) {
             std::fprintf(stderr, "%s, %u sites: volume error %g\n", m.name, n, err);
             return 1;
           }
-          if (which == 0) total_tets = median(tot);
           char ratio[32] = "";
-          if (which == 1 && total_tets > 0) {
-            std::snprintf(ratio, sizeof ratio, "%.3f", median(tot) / total_tets);
+          if (which == 1 && both) {
+            std::vector<double> ratios;
+            for (int r = 0; r < runs; ++r) ratios.push_back(o.tot[r] / runs_of[0].tot[r]);
+            std::snprintf(ratio, sizeof ratio, "%.3f", median(ratios));
           }
           std::printf(
               "| %s | %s | %u | %u | %u | %u | %u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | "
               "%.0fk | %s |\n",
               m.name, which == 0 ? "tets" : "surface", d.nb_tets(), d.surface().nb_triangles(), n,
-              cv.nb_boundary_sites(), cv.nb_multi_crossing_cells(), median(del), median(surf),
-              median(bnd), median(inn), median(clip), median(tot),
-              n / median(clip) / threads / 1000, ratio);
+              cv.nb_boundary_sites(), cv.nb_multi_crossing_cells(), median(o.del), median(o.surf),
+              median(o.bnd), median(o.inn), median(o.clip), median(o.tot),
+              n / median(o.clip) / threads / 1000, ratio);
           std::fflush(stdout);
         }
       }
