@@ -159,11 +159,11 @@ Sign orient2d_circumcenter(int axis, const double* a, const double* b, const dou
 }
 
 namespace {
-// circumcenter3d's floating-point path: its proven error below 2^-36 of the tet's size.
-// Tighter limits send many more Delaunay tets to the exact path (their worst-case bound
-// grows as D1 D2 D3 / |D|, the inverse of the tet's shape): 2^-42 sent 1.7 % of a CVT's
-// tets there, 2^-36 a few in ten thousand.
-constexpr double kCircumcenterLimit = 0x1p-36;
+// (circumcenter3d's floating-point path, detail::circumcenter3d_fast in predicates.h, takes
+// the result when its proven error is below 2^-36 of the tet's size. Tighter limits send
+// many more Delaunay tets here, as their worst-case bound grows as D1 D2 D3 / |D|, the
+// inverse of the tet's shape: 2^-42 sent 1.7 % of a CVT's tets, 2^-36 a few in ten
+// thousand.)
 
 // Nv and D (circumcenter3d.h) in the exact arithmetic C over the differences d[k] = p_(k+1)
 // - p0; false when D == 0.
@@ -201,10 +201,9 @@ bool exact_nv_det(C& c, const typename C::Num (&d)[3][3], typename C::Num (&nv)[
 // scaled by 2^scale (Nv scales by 2^(4 scale), D by 2^(3 scale), Nv / (2 D) by 2^scale);
 // when the coordinates' exponents span too much for them, big integers on the common grid
 // 2^lowest (Nv in units of 2^(4 lowest), D of 2^(3 lowest)), whose quotient is formed from
-// mantissas and exponents so that no intermediate overflows. Out of line, so that the fast
-// path stays small.
-[[gnu::noinline]] void circumcenter3d_exact(const double* p0, const double* p1, const double* p2,
-                                            const double* p3, double* center) {
+// mantissas and exponents so that no intermediate overflows.
+void exact_circumcenter(const double* p0, const double* p1, const double* p2, const double* p3,
+                        double* center) {
   const double* const pts[4] = {p1, p2, p3, p0};
   double coords[12];
   for (int r = 0; r < 4; ++r) {
@@ -251,38 +250,12 @@ bool exact_nv_det(C& c, const typename C::Num (&d)[3][3], typename C::Num (&nv)[
 
 }  // namespace
 
-[[gnu::optimize("no-tree-slp-vectorize")]] void circumcenter3d(const double* p0, const double* p1,
-                                                               const double* p2, const double* p3,
-                                                               double* center) {
-  const detail::CircumcenterApprox x = detail::circumcenter_approx(p0, p1, p2, p3);
-  const bool in_range = x.lower >= detail::kCircumcenterLower &&
-                        x.upper <= detail::kCircumcenterUpper && std::isfinite(p0[0]) &&
-                        std::isfinite(p0[1]) && std::isfinite(p0[2]);
-  if (in_range) {
-    // The enclosure's bounds (circumcenter3d.h): |Nv~ - Nv| <= eN, |D~ - D| <= eD, so each
-    // coordinate of Nv~ / (2 D~) is within (eN + |Nv~_x| eD / |D~|) / (2 delta) of the
-    // exact one (delta = |D~| - eD > 0). That is below the limit for every coordinate when
-    // eN |D~| + max |Nv~_x| eD <= 2 delta |D~| limit, tested without a division (its own
-    // roundings, a few ulps, are covered by the factor 1 + 2^-40).
-    const double e_det = detail::kCircumcenterDetBound * x.pd;
-    const double e_num = detail::kCircumcenterNumBound * (x.pd * x.ps);
-    const double abs_det = std::fabs(x.det);
-    const double delta = abs_det - e_det;
-    const double nv_max =
-        std::max(std::max(std::fabs(x.nv[0]), std::fabs(x.nv[1])), std::fabs(x.nv[2]));
-    const double limit = kCircumcenterLimit * x.ps;
-    if (delta > 0 &&
-        (e_num * abs_det + nv_max * e_det) * (1 + 0x1p-40) <= 2 * delta * abs_det * limit) {
-      const double det2 = x.det + x.det;
-      const double q[3] = {x.nv[0] / det2, x.nv[1] / det2, x.nv[2] / det2};
-      if (std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2])) {
-        for (int k = 0; k < 3; ++k) center[k] = p0[k] + q[k];
-        return;
-      }
-    }
-  }
-  circumcenter3d_exact(p0, p1, p2, p3, center);
+namespace detail {
+void circumcenter3d_exact(const double* p0, const double* p1, const double* p2, const double* p3,
+                          double* center) {
+  exact_circumcenter(p0, p1, p2, p3, center);
 }
+}  // namespace detail
 
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
                               const double* p3, double* center, double* halfwidth) {

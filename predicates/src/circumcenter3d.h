@@ -72,10 +72,10 @@
 namespace voroclip::detail {
 
 inline constexpr double kCircumcenterSideBound = 8.00e-14;      // 720 mu, rounded up
-inline constexpr double kCircumcenterDetBound = 5.33e-15;       // 48 mu
-inline constexpr double kCircumcenterNumBound = 8.00e-15;       // 72 mu
 inline constexpr double kCircumcenterOrient2dBound = 2.14e-14;  // 192 mu
-inline constexpr double kCircumcenterLower = 0x1p-150, kCircumcenterUpper = 0x1p+150;
+// kCircumcenterDetBound (48 mu), kCircumcenterNumBound (72 mu) and the range
+// kCircumcenterLower / kCircumcenterUpper are in predicates.h (circumcenter3d's inline
+// floating-point path uses them).
 
 // The floating-point values of the reduced form (differences to p0) and their norms.
 struct CircumcenterApprox {

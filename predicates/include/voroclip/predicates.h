@@ -580,6 +580,69 @@ Sign orient3d_circumcenter(const double* a, const double* b, const double* c, co
                            const double* p1, const double* p2, const double* p3);
 Sign orient2d_circumcenter(int axis, const double* a, const double* b, const double* p0,
                            const double* p1, const double* p2, const double* p3);
+namespace detail {
+// circumcenter3d's bounds (predicates/src/circumcenter3d.h derives them): |D~ - D| <=
+// kCircumcenterDetBound D1 D2 D3 and |Nv~_x - Nv_x| <= kCircumcenterNumBound D1 D2 D3 (D1 +
+// D2 + D3) for L-infinity norms Dk of the differences in [kCircumcenterLower,
+// kCircumcenterUpper]; the floating-point result is used when its error is below
+// kCircumcenterLimit times D1 + D2 + D3.
+inline constexpr double kCircumcenterDetBound = 5.33e-15;  // 48 mu
+inline constexpr double kCircumcenterNumBound = 8.00e-15;  // 72 mu
+inline constexpr double kCircumcenterLower = 0x1p-150, kCircumcenterUpper = 0x1p+150;
+inline constexpr double kCircumcenterLimit = 0x1p-36;
+
+// The floating-point path of circumcenter3d, inline (the Voronoi vertices of a clipped
+// diagram are its hot loop): true with the centre when its bound allows. Evaluated in
+// exactly the order the bound was derived for (circumcenter_approx in circumcenter3d.h).
+inline bool circumcenter3d_fast(const double* p0, const double* p1, const double* p2,
+                                const double* p3, double* center) {
+  const double ax = p1[0] - p0[0], ay = p1[1] - p0[1], az = p1[2] - p0[2];
+  const double bx = p2[0] - p0[0], by = p2[1] - p0[1], bz = p2[2] - p0[2];
+  const double cx = p3[0] - p0[0], cy = p3[1] - p0[1], cz = p3[2] - p0[2];
+  const double n1 = std::max(std::max(std::fabs(ax), std::fabs(ay)), std::fabs(az));
+  const double n2 = std::max(std::max(std::fabs(bx), std::fabs(by)), std::fabs(bz));
+  const double n3 = std::max(std::max(std::fabs(cx), std::fabs(cy)), std::fabs(cz));
+  // (d2 x d3), (d3 x d1), (d1 x d2), |dk|^2.
+  const double c23x = by * cz - bz * cy, c23y = bz * cx - bx * cz, c23z = bx * cy - by * cx;
+  const double c31x = cy * az - cz * ay, c31y = cz * ax - cx * az, c31z = cx * ay - cy * ax;
+  const double c12x = ay * bz - az * by, c12y = az * bx - ax * bz, c12z = ax * by - ay * bx;
+  const double l1 = (ax * ax + ay * ay) + az * az;
+  const double l2 = (bx * bx + by * by) + bz * bz;
+  const double l3 = (cx * cx + cy * cy) + cz * cz;
+  const double nvx = (l1 * c23x + l2 * c31x) + l3 * c12x;
+  const double nvy = (l1 * c23y + l2 * c31y) + l3 * c12y;
+  const double nvz = (l1 * c23z + l2 * c31z) + l3 * c12z;
+  const double det = (ax * c23x + ay * c23y) + az * c23z;
+  const double pd = (n1 * n2) * n3, ps = (n1 + n2) + n3;
+  // In range. (A NaN coordinate can hide from std::max, but makes q NaN below.)
+  if (!(std::min(std::min(n1, n2), n3) >= kCircumcenterLower &&
+        std::max(std::max(n1, n2), n3) <= kCircumcenterUpper)) {
+    return false;
+  }
+  // Each coordinate of Nv~ / (2 D~) is within (eN + |Nv~_x| eD / |D~|) / (2 delta) of the
+  // exact one (delta = |D~| - eD > 0): below the limit for all three when eN |D~| +
+  // max |Nv~_x| eD <= 2 delta |D~| limit (its own roundings covered by 1 + 2^-40).
+  const double e_det = kCircumcenterDetBound * pd, e_num = kCircumcenterNumBound * (pd * ps);
+  const double abs_det = std::fabs(det), delta = abs_det - e_det;
+  const double nv_max = std::max(std::max(std::fabs(nvx), std::fabs(nvy)), std::fabs(nvz));
+  if (!(delta > 0 && (e_num * abs_det + nv_max * e_det) * (1 + 0x1p-40) <=
+                         2 * delta * abs_det * (kCircumcenterLimit * ps))) {
+    return false;
+  }
+  const double det2 = det + det;
+  const double qx = nvx / det2, qy = nvy / det2, qz = nvz / det2;
+  if (!(std::isfinite(qx) && std::isfinite(qy) && std::isfinite(qz))) return false;
+  center[0] = p0[0] + qx;
+  center[1] = p0[1] + qy;
+  center[2] = p0[2] + qz;
+  return true;
+}
+
+// Nv and D exactly, each rounded, then divided (circumcenter3d.cpp).
+void circumcenter3d_exact(const double* p0, const double* p1, const double* p2, const double* p3,
+                          double* center);
+}  // namespace detail
+
 // The circumcentre of p0..p3 (not coplanar), accurately: the floating-point formula
 // p0 + Nv / (2 D) (circumcenter3d.h) when its proven error bound is below 2^-36 of the
 // tet's size (the sum of the L-infinity distances to p0) in every coordinate, else Nv and
@@ -588,8 +651,12 @@ Sign orient2d_circumcenter(int axis, const double* a, const double* b, const dou
 // is all rounding error, or zero) still gets a finite, accurate centre. Throws Error for
 // coplanar points or non-finite coordinates. (When the coordinates' exponents are too far
 // apart for expansions, the floating-point formula is used.)
-void circumcenter3d(const double* p0, const double* p1, const double* p2, const double* p3,
-                    double* center);
+inline void circumcenter3d(const double* p0, const double* p1, const double* p2, const double* p3,
+                           double* center) {
+  if (!detail::circumcenter3d_fast(p0, p1, p2, p3, center)) {
+    detail::circumcenter3d_exact(p0, p1, p2, p3, center);
+  }
+}
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
                               const double* p3, double* center, double* halfwidth);
 
