@@ -822,8 +822,8 @@ TEST_CASE("SurfaceLocator: the six rays agree on every shared surface", "[clip][
     }
     INFO(counts[2] << " inside, " << counts[1] << " on, " << counts[0] << " outside");
     CHECK(failures == 0);
-    CHECK(counts[2] > 500);
-    CHECK(counts[0] > 500);
+    CHECK(counts[2] > scaled(500));
+    CHECK(counts[0] > scaled(500));
   }
 }
 
@@ -866,7 +866,7 @@ TEST_CASE("SurfaceLocator agrees with the tet meshes (points and circumcentres)"
     INFO(points.checked << " points: " << points.by_sign[2] << " inside, " << points.by_sign[1]
                         << " on, " << points.by_sign[0] << " outside");
     CHECK(points.failures == 0);
-    CHECK(points.by_sign[1] > 100);
+    CHECK(points.by_sign[1] > scaled(100));
 
     // Circumcentres: of the mesh's tets (the extraction's queries: near the surface, some
     // outside), of small random quadruples, and of quadruples of surface vertices.
@@ -906,7 +906,8 @@ TEST_CASE("SurfaceLocator agrees with the tet meshes (points and circumcentres)"
                                << circumcentres.by_sign[1] << " on, " << circumcentres.by_sign[0]
                                << " outside");
     CHECK(circumcentres.failures == 0);
-    CHECK(circumcentres.by_sign[2] > 100);
-    CHECK(circumcentres.by_sign[0] > 100);
+    // About a fifth of them fall outside; VOROCLIP_TEST_SCALE shrinks every count.
+    CHECK(circumcentres.by_sign[2] > scaled(100));
+    CHECK(circumcentres.by_sign[0] > scaled(50));
   }
 }
