@@ -275,6 +275,41 @@ Domain3::Domain3(const TetMeshInput& mesh) {
 
   source_tet_.resize(nt);
   for (std::uint32_t t = 0; t < nt; ++t) source_tet_[t] = t;
+
+  // ---- Tags: the tets' region tags as given; each boundary triangle takes the tag of the
+  // input triangle with its three vertices (the first one listed), 0 when none is listed.
+  if (!mesh.tet_ref.empty() && mesh.tet_ref.size() != nt) {
+    throw Error(name.source + ": " + std::to_string(mesh.tet_ref.size()) + " tet tags for " +
+                std::to_string(nt) + " tets");
+  }
+  tet_ref_ = mesh.tet_ref;
+  tag_names_ = mesh.tag_names;
+  const std::uint32_t ntri = mesh.nb_triangles();
+  if (!mesh.triangle_ref.empty() && mesh.triangle_ref.size() != ntri) {
+    throw Error(name.source + ": " + std::to_string(mesh.triangle_ref.size()) +
+                " triangle tags for " + std::to_string(ntri) + " triangles");
+  }
+  bool any_tag = false;
+  for (const std::int32_t r : mesh.triangle_ref) any_tag = any_tag || r != 0;
+  if (any_tag) {
+    using Key = std::array<std::uint32_t, 3>;
+    const auto key_of = [](const std::uint32_t* v) {
+      Key k = {v[0], v[1], v[2]};
+      std::sort(k.begin(), k.end());
+      return k;
+    };
+    std::vector<std::pair<Key, std::uint32_t>> listed(ntri);
+    for (std::uint32_t i = 0; i < ntri; ++i) {
+      listed[i] = {key_of(mesh.triangles.data() + 3 * std::size_t{i}), i};
+    }
+    std::sort(listed.begin(), listed.end());
+    boundary_ref_.assign(nb, 0);
+    for (std::uint32_t b = 0; b < nb; ++b) {
+      const Key k = key_of(surface.triangle(b));
+      const auto it = std::lower_bound(listed.begin(), listed.end(), std::make_pair(k, 0u));
+      if (it != listed.end() && it->first == k) boundary_ref_[b] = mesh.triangle_ref[it->second];
+    }
+  }
 }
 
 std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {

@@ -30,12 +30,17 @@ void unit_normal(const TriangleSurface& s, std::size_t t, double n[3]) {
 
 }  // namespace
 
-FeatureLines extract_feature_lines(const TriangleSurface& surface, double feature_angle_deg) {
+FeatureLines extract_feature_lines(const TriangleSurface& surface, double feature_angle_deg,
+                                   const std::vector<std::int32_t>& triangle_tag) {
   if (!(feature_angle_deg >= 0 && feature_angle_deg <= 180)) {
     throw Error("feature angle " + std::to_string(feature_angle_deg) +
                 " degrees: expected a value in [0, 180]");
   }
   const std::size_t nt = surface.nb_triangles();
+  if (!triangle_tag.empty() && triangle_tag.size() != nt) {
+    throw Error(surface.source + ": " + std::to_string(triangle_tag.size()) +
+                " triangle tags for " + std::to_string(nt) + " triangles");
+  }
   const std::uint32_t nv = surface.nb_vertices();
   for (const std::uint32_t v : surface.triangles) {
     if (v >= nv) throw Error(surface.source + ": a triangle has a vertex index out of range");
@@ -68,6 +73,9 @@ FeatureLines extract_feature_lines(const TriangleSurface& surface, double featur
       const bool both =
           (n1[0] != 0 || n1[1] != 0 || n1[2] != 0) && (n2[0] != 0 || n2[1] != 0 || n2[2] != 0);
       sharp = both && n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] < cos_limit;
+      if (!triangle_tag.empty() && triangle_tag[refs[i].t] != triangle_tag[refs[i + 1].t]) {
+        sharp = true;
+      }
     }
     if (refs[i].lo == refs[i].hi) sharp = false;  // an edge of a triangle with a repeated vertex
     if (sharp) {

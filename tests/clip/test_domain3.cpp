@@ -18,6 +18,7 @@
 
 #include <tbb/global_control.h>
 
+#include "../core/tagged_mesh.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/predicates.h"
@@ -510,4 +511,43 @@ TEST_CASE("Domain3 messages name the file and line of the tet", "[clip]") {
                               ":13: tet 1 has zero volume: its vertices 0 1 2 4 are coplanar "
                               "(exact orient3d)");
   std::filesystem::remove(path);
+}
+
+TEST_CASE("Domain3 keeps a tet mesh's region and boundary tags", "[clip]") {
+  const voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  const Domain3 d(in);
+  CHECK(d.tet_refs() == in.tet_ref);
+  REQUIRE(d.tag_names().size() == 4);
+  CHECK(d.tag_names()[1].name == "copper region");
+  const voroclip::Surface3& s = d.surface();
+  REQUIRE(d.boundary_refs().size() == s.nb_triangles());
+  // Each boundary triangle lies on a face of the cube: x faces 10, y faces 11, z faces 12.
+  for (std::uint32_t b = 0; b < s.nb_triangles(); ++b) {
+    int axis = -1;
+    for (int k = 0; k < 3; ++k) {
+      const double c = s.vertex(s.triangle_vertex(b, 0))[k];
+      if (s.vertex(s.triangle_vertex(b, 1))[k] == c && s.vertex(s.triangle_vertex(b, 2))[k] == c) {
+        axis = k;
+      }
+    }
+    REQUIRE(axis >= 0);
+    CHECK(d.boundary_refs()[b] == 10 + axis);
+  }
+  // A boundary triangle the file does not list gets 0; untagged files give no refs.
+  voroclip::TetMeshInput fewer = in;
+  fewer.triangles.resize(fewer.triangles.size() - 3);
+  fewer.triangle_ref.pop_back();
+  const Domain3 f(fewer);
+  CHECK(std::count(f.boundary_refs().begin(), f.boundary_refs().end(), 0) == 1);
+  voroclip::TetMeshInput plain = in;
+  plain.triangles.clear();
+  plain.triangle_ref.clear();
+  plain.tet_ref.clear();
+  const Domain3 p(plain);
+  CHECK(p.boundary_refs().empty());
+  CHECK(p.tet_refs().empty());
+  // Counts that do not match are errors.
+  voroclip::TetMeshInput bad = in;
+  bad.tet_ref.pop_back();
+  CHECK_THROWS_AS(Domain3(bad), voroclip::Error);
 }

@@ -271,6 +271,30 @@ TEST_CASE("extract_feature_lines: cube, cylinder, an open triangle", "[core]") {
   CHECK_THROWS_AS(voroclip::extract_feature_lines(one, 200), voroclip::Error);
 }
 
+TEST_CASE("extract_feature_lines: borders between triangle tags are feature edges", "[core]") {
+  // At 180 degrees no edge is sharp by its angle; the tags alone make the lines.
+  std::vector<std::int32_t> tag(12, 1);
+  CHECK(voroclip::extract_feature_lines(cube(), 180, tag).nb_feature_edges == 0);
+  // The bottom face (triangles 0 and 1, z = 0) tagged 5: its four sides, one closed loop.
+  tag[0] = tag[1] = 5;
+  const FeatureLines bottom = voroclip::extract_feature_lines(cube(), 180, tag);
+  CHECK(bottom.nb_feature_edges == 4);
+  CHECK(bottom.corners.empty());
+  REQUIRE(bottom.nb_lines() == 1);
+  CHECK(bottom.line_closed[0] == 1);
+  // Its two triangles tagged 5 and 6: the diagonal 0-3 too; 0 and 3 become corners.
+  tag[1] = 6;
+  const FeatureLines split = voroclip::extract_feature_lines(cube(), 180, tag);
+  CHECK(split.nb_feature_edges == 5);
+  CHECK(split.corners == std::vector<std::uint32_t>{0, 3});
+  CHECK(split.nb_lines() == 3);
+  // With the default angle: the cube's 12 edges and the diagonal.
+  CHECK(voroclip::extract_feature_lines(cube(), voroclip::kDefaultFeatureAngleDeg, tag)
+            .nb_feature_edges == 13);
+  tag.pop_back();
+  CHECK_THROWS_AS(voroclip::extract_feature_lines(cube(), 180, tag), voroclip::Error);
+}
+
 TEST_CASE("extract_feature_lines: fandisk's creases, stable around the default angle", "[core]") {
   const TriangleSurface s = voroclip::read_surface(kSurfaces + "fandisk.obj");
   CHECK(voroclip::extract_feature_lines(s, 1).nb_feature_edges > 1000);  // facets too

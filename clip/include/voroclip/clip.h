@@ -481,6 +481,14 @@ class Domain3 {
   // The sum of the tet volumes |det| / 6 (each in floating point), in tet order, compensated.
   double tet_volume() const { return tet_volume_; }
 
+  // ---- Tags from a tet mesh file (TetMeshInput): per tet its region tag (empty: none
+  // given); per surface triangle the tag of the file's triangle with the same three
+  // vertices, 0 when the file lists none (empty when the file tags no triangle); the tag
+  // names (Gmsh).
+  const std::vector<std::int32_t>& tet_refs() const { return tet_ref_; }
+  const std::vector<std::int32_t>& boundary_refs() const { return boundary_ref_; }
+  const std::vector<TetMeshInput::TagName>& tag_names() const { return tag_names_; }
+
  private:
   Surface3 surface_;
   std::vector<std::uint32_t> tets_;
@@ -491,6 +499,8 @@ class Domain3 {
   // Tet t's surface triangles are [tet_boundary_begin_[t], tet_boundary_begin_[t + 1]).
   std::vector<std::uint32_t> tet_boundary_begin_;
   double tet_volume_ = 0;
+  std::vector<std::int32_t> tet_ref_, boundary_ref_;
+  std::vector<TetMeshInput::TagName> tag_names_;
 };
 
 // Reads a 3D domain by extension (case-insensitive): a surface (.obj, .off, .stl, .ply:

@@ -469,9 +469,13 @@ struct FeatureLines {
 /// nothing of its smooth faces (see the tests).
 constexpr double kDefaultFeatureAngleDeg = 40.0;
 
-/// Extracts the feature lines of `surface` (see FeatureLines). O(n log n).
+/// Extracts the feature lines of `surface` (see FeatureLines). O(n log n). With
+/// `triangle_tag` (one per triangle, or empty), an edge between two triangles of different
+/// tags is a feature edge too, however flat: the borders of tagged patches (boundary
+/// conditions) become lines that a mesh keeps.
 FeatureLines extract_feature_lines(const TriangleSurface& surface,
-                                   double feature_angle_deg = kDefaultFeatureAngleDeg);
+                                   double feature_angle_deg = kDefaultFeatureAngleDeg,
+                                   const std::vector<std::int32_t>& triangle_tag = {});
 
 /// Closest points on feature lines, and their arclength parametrisation. A hierarchy of
 /// boxes over each line's segments; thread-safe const queries; ties go to the lowest
