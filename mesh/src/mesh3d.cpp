@@ -15,14 +15,18 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "mesh3d_tags.h"
 #include "voroclip/mesh.h"
 
 namespace voroclip {
@@ -31,6 +35,13 @@ namespace {
 
 using Kind = SiteConstraint3::Kind;
 using Clock = std::chrono::steady_clock;
+
+// The shortest decimal of x.
+std::string detail_number(double x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
 
 double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -206,25 +217,34 @@ FeatureLines split_at_turns(const TriangleSurface& s, const FeatureLines& lines,
   return out;
 }
 
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
+}
+
 // The feature lines at least as long as `ratio` times the local spacing of the sites at
 // their middle vertex, and the corners that end them: shorter creases (noise of a coarse
 // surface, details below the resolution) are treated as smooth surface.
+// A line with an edge of `keep` (sorted edge keys: the borders of tagged patches) is kept
+// whatever its length.
 template <class Spacing>
 FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& lines, double ratio,
-                              const Spacing& spacing) {
+                              const Spacing& spacing, const std::vector<std::uint64_t>& keep) {
   FeatureLines out;
   out.nb_feature_edges = 0;
   for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
     const std::uint32_t b = lines.line_begin[l], e = lines.line_begin[l + 1];
     double length = 0;
+    bool kept = false;
     for (std::uint32_t i = b; i + 1 < e; ++i) {
+      kept = kept || std::binary_search(keep.begin(), keep.end(),
+                                        edge_key(lines.line_vertices[i], lines.line_vertices[i + 1]));
       const double* p = &s.xyz[3 * std::size_t{lines.line_vertices[i]}];
       const double* q = &s.xyz[3 * std::size_t{lines.line_vertices[i + 1]}];
       length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
                           (p[2] - q[2]) * (p[2] - q[2]));
     }
     const double* middle = &s.xyz[3 * std::size_t{lines.line_vertices[b + (e - b) / 2]}];
-    if (length < ratio * spacing(middle)) continue;
+    if (!kept && length < ratio * spacing(middle)) continue;
     out.line_vertices.insert(out.line_vertices.end(), lines.line_vertices.begin() + b,
                              lines.line_vertices.begin() + e);
     out.line_begin.push_back(static_cast<std::uint32_t>(out.line_vertices.size()));
@@ -238,10 +258,6 @@ FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& line
   std::sort(out.corners.begin(), out.corners.end());
   out.corners.erase(std::unique(out.corners.begin(), out.corners.end()), out.corners.end());
   return out;
-}
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
 }
 
 std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines) {
@@ -642,6 +658,8 @@ const char* mesh3_phase_name(Mesh3Phase phase) {
       return "snapping";
     case Mesh3Phase::kConstrained:
       return "constrained";
+    case Mesh3Phase::kTopology:
+      return "topology";
     case Mesh3Phase::kExtraction:
       return "extraction";
     case Mesh3Phase::kSlivers:
@@ -729,13 +747,28 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     };
     const TriangleSurface surface = boundary_surface(domain);
     const SurfaceTree surface_tree(surface);
+    // The input's triangle tags (a tet mesh file's boundary triangles): the borders of
+    // their patches are feature lines too, kept however short or flat, so that every
+    // boundary triangle of the mesh lies in one patch and carries its tag.
+    const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+    std::vector<std::uint64_t> tag_borders;
+    for (std::uint32_t b = 0; b < domain.surface().nb_triangles() && !input_tags.empty(); ++b) {
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t a = domain.surface().adjacent(b, e);
+        if (a > b && input_tags[a] != input_tags[b]) {
+          tag_borders.push_back(edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
+                                         domain.surface().triangle_vertex(b, (e + 2) % 3)));
+        }
+      }
+    }
+    std::sort(tag_borders.begin(), tag_borders.end());
     FeatureLines lines;
-    if (options.features) {
+    if (options.features || !tag_borders.empty()) {
+      // Without features, only the tags' borders (no edge is sharper than 180 degrees).
+      const double angle = options.features ? options.feature_angle_deg : 180.0;
       lines = drop_short_lines(
-          surface,
-          split_at_turns(surface, extract_feature_lines(surface, options.feature_angle_deg),
-                         options.feature_angle_deg),
-          options.min_feature_length, local_spacing);
+          surface, split_at_turns(surface, extract_feature_lines(surface, angle, input_tags), angle),
+          options.min_feature_length, local_spacing, tag_borders);
     }
     const FeatureTree line_tree(surface, lines);
     const std::vector<std::uint32_t> triangle_patch = triangle_patches(domain, lines);
@@ -745,7 +778,8 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     // triangles beside it.
     std::unique_ptr<PhongSurface> smooth;
     if (options.smooth_surface) {
-      const FeatureLines sharp = extract_feature_lines(surface, options.feature_angle_deg);
+      const FeatureLines sharp =
+          extract_feature_lines(surface, options.feature_angle_deg, input_tags);
       std::vector<std::uint8_t> pinned(surface.nb_vertices(), 0);
       for (const std::uint32_t v : sharp.line_vertices) pinned[v] = 1;
       for (const std::uint32_t v : sharp.corners) pinned[v] = 1;
@@ -901,6 +935,121 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
       if (snapped == 0) break;
     }
 
+    // 5b. Topology: sites where the restricted Voronoi diagram lacks the closed-ball
+    // property (closed_ball_defects), round after round with no CVT in between (the
+    // farthest-point refinement, which converges), then a short constrained CVT to spread
+    // them, checked again; the last state without defects is the one meshed (a CVT that
+    // breaks the property is undone when more rounds cannot repair it).
+    next_phase(Mesh3Phase::kTopology);
+    {
+      Clip3Options with_surface = clip;
+      with_surface.keep_surface = true;
+      cvt.max_iterations = options.topology_iterations;
+      std::vector<double> first_points;  // where the first round found defects
+      struct State {
+        std::vector<double> sites;
+        std::vector<Kind> kinds;
+        std::vector<std::uint32_t> line_of, corner_vertex;
+        std::uint32_t n = 0, nb_topology_sites = 0, nb_boundary_sites = 0;
+      };
+      // The state with the fewest defects so far (the latest one without any): refinement
+      // near a sharp crease can feed itself (a site near a crease of dihedral angle below
+      // 90 degrees has a cell reaching across it, which the next site splits), so after
+      // max_topology_stall rounds without a better state the loop stops and meshes that one;
+      // check_mesh3_shape then decides whether the output is right.
+      State best;
+      std::uint32_t best_defects = std::numeric_limits<std::uint32_t>::max(), stall = 0;
+      bool inserted_since_cvt = false;
+      std::uint32_t cycles = 0;
+      for (std::uint32_t round = 0;; ++round) {
+        ClippedVoronoi3 cv;
+        cv.compute(domain, sites.data(), n, with_surface);
+        const ClosedBallDefects defects = closed_ball_defects(cv, sites.data());
+        const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
+        if (round == 0) first_points = defects.points;
+        Mesh3Progress p;
+        p.iteration = round;
+        p.topology_round = true;
+        p.defects = nb_defects;
+        p.added_sites = result.nb_topology_sites;
+        report(p);
+        if (nb_defects < best_defects || nb_defects == 0) {
+          best = {sites, kinds, line_of, corner_vertex, n, result.nb_topology_sites,
+                  result.nb_boundary_sites};
+          best_defects = nb_defects;
+          stall = 0;
+        } else if (++stall == options.max_topology_stall) {
+          break;
+        }
+        if (nb_defects == 0) {
+          if (!inserted_since_cvt || options.topology_iterations == 0 ||
+              cycles == options.topology_cycles) {
+            break;
+          }
+          // Spread the sites just added: a short constrained CVT; free sites whose cells
+          // now reach the surface go onto it (as after step 5).
+          cvt.constraints = kinds;
+          const CvtResult r = optimize_cvt3(domain, sites, cvt);
+          if (r.cancelled) throw Cancelled{};
+          for (std::uint32_t v = 0; v < n; ++v) {
+            if (kinds[v] != Kind::kFree || boundary[v] == 0) continue;
+            kinds[v] = Kind::kSurface;
+            double q[3], d[3];
+            project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);
+            std::copy_n(q, 3, &sites[3 * std::size_t{v}]);
+            ++result.nb_boundary_sites;
+          }
+          ++cycles;
+          inserted_since_cvt = false;
+          continue;
+        }
+        if (round == options.max_topology_rounds) break;
+        // A site at each bad cell's farthest point, each point once (two bad cells can
+        // share it), projected onto the surface.
+        std::vector<std::array<double, 3>> points;
+        for (std::size_t k = 0; k < defects.cells.size(); ++k) {
+          points.push_back({defects.points[3 * k], defects.points[3 * k + 1],
+                            defects.points[3 * k + 2]});
+        }
+        std::sort(points.begin(), points.end());
+        points.erase(std::unique(points.begin(), points.end()), points.end());
+        for (const std::array<double, 3>& x : points) {
+          double q[3], d[3];
+          project(n, Kind::kSurface, x.data(), q, d);
+          sites.insert(sites.end(), q, q + 3);
+          kinds.push_back(Kind::kSurface);
+          line_of.push_back(SurfaceTree::kNone);
+          corner_vertex.push_back(SurfaceTree::kNone);
+          ++n;
+          ++result.nb_topology_sites;
+          ++result.nb_boundary_sites;
+        }
+        result.topology_rounds = round + 1;
+        inserted_since_cvt = true;
+      }
+      sites = std::move(best.sites);
+      kinds = std::move(best.kinds);
+      line_of = std::move(best.line_of);
+      corner_vertex = std::move(best.corner_vertex);
+      n = best.n;
+      result.nb_topology_sites = best.nb_topology_sites;
+      result.nb_boundary_sites = best.nb_boundary_sites;
+      result.topology_defects_left = best_defects;
+      result.nb_sites = n;
+      if (options.vertex_count == Mesh3Options::VertexCount::kExact &&
+          result.nb_topology_sites > 0) {
+        throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
+                    " vertices do not resolve the surface of " + domain.source() +
+                    ": the restricted Voronoi cells of the sites near (" +
+                    detail_number(first_points[0]) + ", " + detail_number(first_points[1]) + ", " +
+                    detail_number(first_points[2]) + ") and " +
+                    std::to_string(first_points.size() / 3 - 1) +
+                    " other places are not disks meeting along single arcs; about " +
+                    std::to_string(options.nb_vertices + result.nb_topology_sites) +
+                    " vertices would (or let mesh3d add the sites it needs)");
+      }
+    }
+
     // 6. Extraction; 7. slivers (the perturbation extracts as it goes and returns the
     // final mesh).
     next_phase(Mesh3Phase::kExtraction);
@@ -960,7 +1109,46 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     }
     result.tets.resize(tets.size());
     for (std::size_t i = 0; i < tets.size(); ++i) result.tets[i] = index[tets[i]];
+
+    // Boundary triangles and tags: patches (the input's triangle tags, else the patches
+    // between feature lines, from 1) and regions (the input's tet tags, else one per volume
+    // component).
+    {
+      std::vector<std::uint32_t> face_tet;
+      mesh3::boundary_triangles(result.tets, result.boundary_triangles, face_tet);
+      const std::size_t nb = face_tet.size();
+      std::vector<std::uint32_t> closest(nb);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+          double c[3] = {0, 0, 0};
+          for (int k = 0; k < 3; ++k) {
+            const double* p = &result.xyz[3 * std::size_t{result.boundary_triangles[3 * b + static_cast<std::size_t>(k)]}];
+            for (int q = 0; q < 3; ++q) c[q] += p[q] / 3;
+          }
+          closest[b] = surface_tree.closest(c).triangle;
+        }
+      });
+      std::vector<std::uint32_t> vertex_patch_begin{0}, vertex_patch;
+      for (std::uint32_t s = 0; s < n; ++s) {
+        if (index[s] == SurfaceTree::kNone) continue;
+        vertex_patch.insert(vertex_patch.end(), patches.patches.begin() + patches.begin[s],
+                            patches.patches.begin() + patches.begin[std::size_t{s} + 1]);
+        vertex_patch_begin.push_back(static_cast<std::uint32_t>(vertex_patch.size()));
+      }
+      const std::uint32_t nb_patches =
+          triangle_patch.empty() ? 0 : 1 + *std::max_element(triangle_patch.begin(), triangle_patch.end());
+      std::vector<std::int32_t> patch_tag(nb_patches, 0);
+      for (std::uint32_t p = 0; p < nb_patches; ++p) patch_tag[p] = static_cast<std::int32_t>(p + 1);
+      if (!input_tags.empty()) {
+        for (std::size_t t = triangle_patch.size(); t-- > 0;) patch_tag[triangle_patch[t]] = input_tags[t];
+      }
+      result.boundary_tags = mesh3::patch_tags(result.boundary_triangles, vertex_patch_begin,
+                                               vertex_patch, patch_tag, triangle_patch, closest);
+      result.tet_tags = mesh3::region_tags(domain, result.xyz, result.tets, face_tet, closest);
+      result.tag_names = domain.tag_names();
+    }
     result.quality = tet_quality(result.xyz.data(), nv, result.tets.data(), result.nb_tets());
+    result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);
     result.seconds[static_cast<int>(phase)] += since(t_phase);
   } catch (const Cancelled&) {
     result.cancelled = true;

@@ -391,8 +391,9 @@ TEST_CASE("mesh3d: progress per phase, cancellation, errors", "[mesh]") {
   const std::vector<voroclip::Mesh3Phase> expected = {
       voroclip::Mesh3Phase::kSizing,        voroclip::Mesh3Phase::kSampling,
       voroclip::Mesh3Phase::kUnconstrained, voroclip::Mesh3Phase::kSnapping,
-      voroclip::Mesh3Phase::kConstrained,   voroclip::Mesh3Phase::kExtraction,
-      voroclip::Mesh3Phase::kSlivers,       voroclip::Mesh3Phase::kQuality};
+      voroclip::Mesh3Phase::kConstrained,   voroclip::Mesh3Phase::kTopology,
+      voroclip::Mesh3Phase::kExtraction,    voroclip::Mesh3Phase::kSlivers,
+      voroclip::Mesh3Phase::kQuality};
   CHECK(phases == expected);
   // Stop in the constrained CVT.
   o.progress = [](const voroclip::Mesh3Progress& p) {

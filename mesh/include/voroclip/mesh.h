@@ -621,12 +621,28 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      fixed site (the nearest site, or a new one);
 //   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
 //      their line (eq. 3), corners are fixed;
+//   5b. topology: sites are added where the restricted Voronoi diagram of the sites on the
+//      surface lacks the closed-ball property (closed_ball_defects, below: a restricted
+//      cell that is not a disk, two cells sharing more than one arc, a Voronoi edge crossing
+//      the surface twice), each at its bad cell's restricted point farthest from the site,
+//      round after round until there is none (at most max_topology_rounds); then a short
+//      constrained CVT spreads them and the check runs again (at most topology_cycles
+//      times); the last state without defects is kept: the restricted Delaunay
+//      triangulation that bounds the mesh is then homeomorphic to the surface. When
+//      max_topology_stall rounds bring no state with fewer defects (next to a crease
+//      sharper than 90 degrees the insertions can feed themselves), the state with the
+//      fewest is kept and the output's check (step 8) decides. The sites
+//      added raise the vertex count (or, with VertexCount::kExact, make mesh3d throw,
+//      naming where and the count that would do);
 //   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
 //      exact, manifold repair);
 //   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
 //      constraint; the mesh is extracted again;
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
-//      the tets (right-handed), the quality (tet_quality) and the timing of each phase.
+//      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
+//      output's boundary is checked against the domain's surface (check_mesh3_shape: a
+//      closed 2-manifold, one shell per input shell with its genus), and the verdict is in
+//      Mesh3Result::shape_problem (empty when right).
 // Deterministic for a given seed: the same mesh for any thread count.
 
 enum class Mesh3Phase : std::uint8_t {
@@ -635,18 +651,21 @@ enum class Mesh3Phase : std::uint8_t {
   kUnconstrained,
   kSnapping,
   kConstrained,
+  kTopology,
   kExtraction,
   kSlivers,
   kQuality,
 };
+inline constexpr int kNbMesh3Phases = 9;
 
-// "sizing", "sampling", "unconstrained", "snapping", "constrained", "extraction",
-// "slivers", "quality".
+// "sizing", "sampling", "unconstrained", "snapping", "constrained", "topology",
+// "extraction", "slivers", "quality".
 const char* mesh3_phase_name(Mesh3Phase phase);
 
 // What the progress callback receives: at the start of each phase (iteration 0), after
-// every CVT iteration (energy, gradient norm), and before every perturbation round
-// (iteration = round, slivers and min_dihedral_deg set).
+// every CVT iteration (energy, gradient norm; also those of the short CVTs of the topology
+// phase), at each topology round (topology_round, defects and added_sites set) and before
+// every perturbation round (iteration = round, slivers and min_dihedral_deg set).
 struct Mesh3Progress {
   Mesh3Phase phase = Mesh3Phase::kSizing;
   std::uint32_t iteration = 0;
@@ -654,6 +673,10 @@ struct Mesh3Progress {
   double gradient_norm = 0;
   std::uint32_t slivers = 0;
   double min_dihedral_deg = 0;
+  // kTopology, once per round (topology_round set, iteration = round): the cells that break
+  // the closed-ball property (closed_ball_defects), sites added so far.
+  bool topology_round = false;
+  std::uint32_t defects = 0, added_sites = 0;
   double seconds = 0;  // since the start of the pipeline
 };
 
@@ -768,6 +791,20 @@ struct Mesh3Options {
   // finely tessellated curved boundaries (sphere-fine: 20k triangles).
   bool smooth_surface = false;
   double smooth_shape = 0.75;
+  // Topology (step 5b): at most max_topology_rounds rounds of site insertion in all; after
+  // the rounds that remove every defect, topology_iterations constrained CVT iterations
+  // (0: none), at most topology_cycles times. When the sites of nb_vertices cannot resolve
+  // the surface, kRaise adds the sites needed (Mesh3Result::nb_topology_sites counts them),
+  // kExact throws Error naming where the surface is not resolved and about how many
+  // vertices would do. Refinement that has not lowered the number of defective cells for
+  // max_topology_stall rounds stops (next to a crease sharper than 90 degrees it can feed
+  // itself); the state with the fewest defects is meshed and check_mesh3_shape judges it.
+  enum class VertexCount : std::uint8_t { kRaise, kExact };
+  VertexCount vertex_count = VertexCount::kRaise;
+  std::uint32_t max_topology_rounds = 60;
+  std::uint32_t topology_iterations = 10;
+  std::uint32_t topology_cycles = 3;
+  std::uint32_t max_topology_stall = 8;
   // Sliver perturbation (perturb = false: none).
   bool perturb = true;
   Perturb3Options perturbation;
@@ -788,6 +825,17 @@ struct Mesh3Result {
   std::vector<Mesh3VertexKind> kinds;  // per vertex
   // 4 vertex indices per tet, det(p1 - p0, p2 - p0, p3 - p0) > 0 (exactly).
   std::vector<std::uint32_t> tets;
+  // The boundary: the faces of exactly one tet, outward (counter-clockwise seen from
+  // outside), in the order of (tet, facet), 3 vertex indices each; the patch tag of each
+  // (the input's triangle tags when a tet mesh file gives them, whose borders the mesh
+  // keeps as feature lines; otherwise the patches of the surface between the feature
+  // lines, numbered from 1 in the order of their first input triangle); the region tag of
+  // each tet (the input's tet tags, by the input tet that holds the tet's centroid; otherwise
+  // one region per volume component, numbered from 1 by its outer shell's order among the
+  // surface's outer shells); the input's tag names (Gmsh files).
+  std::vector<std::uint32_t> boundary_triangles;
+  std::vector<std::int32_t> boundary_tags, tet_tags;
+  std::vector<TetMeshInput::TagName> tag_names;
   std::uint32_t nb_sites = 0;          // sites optimised (corners added included)
   std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
   std::uint32_t nb_boundary_sites = 0, nb_feature_sites = 0, nb_corner_sites = 0;
@@ -796,8 +844,14 @@ struct Mesh3Result {
   Extract3Stats extraction;
   Perturb3Stats perturbation;
   TetQuality quality;
+  // Topology (step 5b): the sites added, the rounds run, and the defects left after them
+  // (zero when the surface is resolved).
+  std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
+  // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
+  // differs; a caller should not use a mesh with a problem as a model of the domain.
+  std::string shape_problem;
   // Wall-clock seconds per phase (Mesh3Phase order) and in all.
-  double seconds[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double seconds[kNbMesh3Phases] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   double total_seconds = 0;
   bool cancelled = false;
 
@@ -813,5 +867,30 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
 // The boundary surface of a Domain3 as a TriangleSurface (its vertices, all of them, and
 // its boundary triangles oriented outward by the right-hand rule).
 TriangleSurface boundary_surface(const Domain3& domain);
+
+// =======================================================================================
+// 3D CVT tet meshing: the topology of the boundary (mesh/src/topology3d.cpp).
+
+// The cells of a restricted Voronoi diagram on the domain's surface (a ClippedVoronoi3
+// computed with keep_surface, of the sites `sites`) that break the closed-ball property
+// (Edelsbrunner & Shah 1997): a restricted cell that is not a closed disk, a pair of cells
+// whose shared boundary is not a single arc, a Voronoi edge that crosses the surface more
+// than once. Decided on the polygons' symbolic vertices (no floating-point decision). For
+// each such cell, the vertex of its restricted region farthest from its site (where the
+// standard refinement inserts a site).
+struct ClosedBallDefects {
+  std::uint32_t nb_not_disk = 0, nb_facets = 0, nb_edges = 0;
+  std::vector<std::uint32_t> cells;  // increasing
+  std::vector<double> points;        // x y z per cell
+};
+ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites);
+
+// Whether a tet mesh (xyz, 4 indices per tet) has the shape of the domain: its tets valid
+// as a Domain3 (positive volume, no overlap, a closed 2-manifold boundary: no tets meeting
+// along an edge or at a vertex only), one boundary shell per shell of the domain's surface,
+// with the same genus and nesting (depth), matched in order of (depth, genus, volume).
+// Empty when it has, else one line saying what differs.
+std::string check_mesh3_shape(const Domain3& domain, const std::vector<double>& xyz,
+                              const std::vector<std::uint32_t>& tets);
 
 }  // namespace voroclip

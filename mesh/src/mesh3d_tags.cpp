@@ -1,0 +1,289 @@
+// Boundary triangles and tags of a 3D CVT mesh (mesh3d_tags.h).
+#include "mesh3d_tags.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "voroclip/predicates.h"
+
+namespace voroclip::mesh3 {
+
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+// The facet opposite vertex f of a right-handed tet, counter-clockwise seen from outside.
+constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+struct FaceRef {
+  std::array<std::uint32_t, 3> key;  // sorted vertices
+  std::uint32_t code;                // 4 tet + facet
+  bool operator<(const FaceRef& o) const { return key != o.key ? key < o.key : code < o.code; }
+};
+
+// Every tet facet, sorted by its vertices: a boundary facet appears once, an inner one
+// twice (consecutive).
+std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets) {
+  const std::size_t nt = tets.size() / 4;
+  std::vector<FaceRef> faces(4 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int f = 0; f < 4; ++f) {
+      FaceRef& r = faces[4 * t + static_cast<std::size_t>(f)];
+      for (int k = 0; k < 3; ++k) {
+        r.key[static_cast<std::size_t>(k)] = tets[4 * t + static_cast<std::size_t>(kOutward[f][k])];
+      }
+      std::sort(r.key.begin(), r.key.end());
+      r.code = static_cast<std::uint32_t>(4 * t + static_cast<std::size_t>(f));
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// The input tets on a uniform grid of their bounding boxes, for point location.
+class TetGrid {
+ public:
+  explicit TetGrid(const Domain3& d) : d_(d) {
+    const std::uint32_t nt = d.nb_tets();
+    for (int k = 0; k < 3; ++k) {
+      lo_[k] = d.bbox_lo()[k];
+      const double extent = d.bbox_hi()[k] - lo_[k];
+      size_[k] = extent > 0 ? extent : 1;
+    }
+    const double cells = std::max(1.0, std::cbrt(static_cast<double>(nt)));
+    for (int k = 0; k < 3; ++k) n_[k] = static_cast<std::uint32_t>(std::min(cells, 256.0));
+    begin_.assign(std::size_t{n_[0]} * n_[1] * n_[2] + 1, 0);
+    // Two passes: counts, then the tets.
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<std::uint32_t> fill;
+      if (pass == 1) {
+        for (std::size_t c = 0; c + 1 < begin_.size(); ++c) begin_[c + 1] += begin_[c];
+        fill.assign(begin_.begin(), begin_.end() - 1);
+        tets_.resize(begin_.back());
+      }
+      for (std::uint32_t t = 0; t < nt; ++t) {
+        std::uint32_t a[3], b[3];
+        for (int k = 0; k < 3; ++k) {
+          double mn = d.vertex(d.tet_vertex(t, 0))[k], mx = mn;
+          for (int q = 1; q < 4; ++q) {
+            mn = std::min(mn, d.vertex(d.tet_vertex(t, q))[k]);
+            mx = std::max(mx, d.vertex(d.tet_vertex(t, q))[k]);
+          }
+          a[k] = cell(mn, k);
+          b[k] = cell(mx, k);
+        }
+        for (std::uint32_t z = a[2]; z <= b[2]; ++z) {
+          for (std::uint32_t y = a[1]; y <= b[1]; ++y) {
+            for (std::uint32_t x = a[0]; x <= b[0]; ++x) {
+              const std::size_t c = (std::size_t{z} * n_[1] + y) * n_[0] + x;
+              if (pass == 0) {
+                ++begin_[c + 1];
+              } else {
+                tets_[fill[c]++] = t;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+
+  // The input tet that holds p (on its boundary included), the lowest such index; kNone
+  // when none does.
+  std::uint32_t locate(const double* p) const {
+    std::size_t c = 0;
+    for (int k = 2; k >= 0; --k) c = c * n_[k] + cell(p[k], k);
+    for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
+      const std::uint32_t t = tets_[i];
+      const double* v[4];
+      for (int q = 0; q < 4; ++q) v[q] = d_.vertex(d_.tet_vertex(t, q));
+      // Domain3's tets have orient3d(v0, v1, v2, v3) > 0: p is inside when replacing any
+      // vertex by p keeps the sign non-negative.
+      bool inside = true;
+      for (int q = 0; q < 4 && inside; ++q) {
+        const double* w[4] = {v[0], v[1], v[2], v[3]};
+        w[q] = p;
+        inside = orient3d(w[0], w[1], w[2], w[3]) != Sign::negative;
+      }
+      if (inside) return t;
+    }
+    return kNone;
+  }
+
+ private:
+  std::uint32_t cell(double x, int k) const {
+    const double s = (x - lo_[k]) / size_[k] * n_[k];
+    if (!(s > 0)) return 0;
+    return std::min(static_cast<std::uint32_t>(s), n_[k] - 1);
+  }
+  const Domain3& d_;
+  double lo_[3] = {0, 0, 0}, size_[3] = {1, 1, 1};
+  std::uint32_t n_[3] = {1, 1, 1};
+  std::vector<std::uint32_t> begin_, tets_;
+};
+
+}  // namespace
+
+void boundary_triangles(const std::vector<std::uint32_t>& tets,
+                        std::vector<std::uint32_t>& triangles,
+                        std::vector<std::uint32_t>& face_tet) {
+  const std::vector<FaceRef> faces = sorted_faces(tets);
+  std::vector<std::uint32_t> codes;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1) codes.push_back(faces[i].code);
+    i = j;
+  }
+  std::sort(codes.begin(), codes.end());
+  triangles.clear();
+  face_tet.clear();
+  for (const std::uint32_t code : codes) {
+    const std::size_t t = code / 4;
+    const int f = static_cast<int>(code % 4);
+    for (int k = 0; k < 3; ++k) {
+      triangles.push_back(tets[4 * t + static_cast<std::size_t>(kOutward[f][k])]);
+    }
+    face_tet.push_back(static_cast<std::uint32_t>(t));
+  }
+}
+
+std::vector<std::int32_t> patch_tags(const std::vector<std::uint32_t>& triangles,
+                                     const std::vector<std::uint32_t>& vertex_patch_begin,
+                                     const std::vector<std::uint32_t>& vertex_patch,
+                                     const std::vector<std::int32_t>& patch_tag,
+                                     const std::vector<std::uint32_t>& input_patch,
+                                     const std::vector<std::uint32_t>& closest_input) {
+  const std::size_t nb = triangles.size() / 3;
+  std::vector<std::int32_t> tags(nb, 0);
+  std::vector<std::uint32_t> common, next;
+  for (std::size_t b = 0; b < nb; ++b) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = triangles[3 * b + static_cast<std::size_t>(k)];
+      const auto first = vertex_patch.begin() + vertex_patch_begin[v];
+      const auto last = vertex_patch.begin() + vertex_patch_begin[std::size_t{v} + 1];
+      if (k == 0) {
+        common.assign(first, last);
+      } else {
+        next.clear();
+        std::set_intersection(common.begin(), common.end(), first, last, std::back_inserter(next));
+        common.swap(next);
+      }
+    }
+    const std::uint32_t patch = common.size() == 1 ? common[0] : input_patch[closest_input[b]];
+    tags[b] = patch_tag[patch];
+  }
+  return tags;
+}
+
+std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<double>& xyz,
+                                      const std::vector<std::uint32_t>& tets,
+                                      const std::vector<std::uint32_t>& face_tet,
+                                      const std::vector<std::uint32_t>& closest_input) {
+  const auto nt = static_cast<std::uint32_t>(tets.size() / 4);
+  std::vector<std::int32_t> tags(nt, 0);
+  const std::vector<std::int32_t>& input = domain.tet_refs();
+  if (!input.empty()) {
+    if (std::all_of(input.begin(), input.end(), [&](std::int32_t r) { return r == input[0]; })) {
+      std::fill(tags.begin(), tags.end(), input[0]);
+      return tags;
+    }
+    const TetGrid grid(domain);
+    std::vector<std::uint8_t> known(nt, 0);
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      double c[3] = {0, 0, 0};
+      for (int q = 0; q < 4; ++q) {
+        for (int k = 0; k < 3; ++k) c[k] += 0.25 * xyz[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(q)]} + static_cast<std::size_t>(k)];
+      }
+      const std::uint32_t i = grid.locate(c);
+      if (i != kNone) {
+        tags[t] = input[i];
+        known[t] = 1;
+      }
+    }
+    // The rest from their neighbours, breadth first (in tet order within a wave).
+    const std::vector<FaceRef> faces = sorted_faces(tets);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;  // (tet, tet) both ways
+    for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+      if (faces[i].key == faces[i + 1].key) {
+        adjacent.emplace_back(faces[i].code / 4, faces[i + 1].code / 4);
+        adjacent.emplace_back(faces[i + 1].code / 4, faces[i].code / 4);
+      }
+    }
+    std::sort(adjacent.begin(), adjacent.end());
+    for (bool changed = true; changed;) {
+      changed = false;
+      std::vector<std::pair<std::uint32_t, std::int32_t>> wave;
+      for (const auto& [a, b] : adjacent) {
+        if (known[a] == 0 && known[b] != 0) wave.emplace_back(a, tags[b]);
+      }
+      for (const auto& [t, tag] : wave) {
+        if (known[t] != 0) continue;  // the first neighbour in (tet, tet) order decides
+        tags[t] = tag;
+        known[t] = 1;
+        changed = true;
+      }
+    }
+    return tags;
+  }
+  // One region per volume component, numbered by its outer shell.
+  const Surface3& s = domain.surface();
+  std::vector<std::int32_t> outer_rank(s.shells().size(), 0);
+  std::int32_t rank = 0;
+  for (std::size_t h = 0; h < s.shells().size(); ++h) {
+    if (!s.shells()[h].cavity()) outer_rank[h] = ++rank;
+  }
+  UnionFind components(nt);
+  const std::vector<FaceRef> faces = sorted_faces(tets);
+  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+    if (faces[i].key == faces[i + 1].key) components.unite(faces[i].code / 4, faces[i + 1].code / 4);
+  }
+  // Votes (component root, outer shell); the most votes win, ties to the lower shell.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> votes;
+  for (std::size_t b = 0; b < face_tet.size(); ++b) {
+    const std::uint32_t shell = s.shell_of(closest_input[b]);
+    if (!s.shells()[shell].cavity()) votes.emplace_back(components.find(face_tet[b]), shell);
+  }
+  std::sort(votes.begin(), votes.end());
+  std::vector<std::int32_t> root_tag(nt, 0);
+  for (std::size_t i = 0; i < votes.size();) {
+    std::size_t best_count = 0;
+    std::uint32_t best = 0;
+    std::size_t j = i;
+    while (j < votes.size() && votes[j].first == votes[i].first) {
+      std::size_t k = j;
+      while (k < votes.size() && votes[k] == votes[j]) ++k;
+      if (k - j > best_count) {
+        best_count = k - j;
+        best = votes[j].second;
+      }
+      j = k;
+    }
+    root_tag[votes[i].first] = outer_rank[best];
+    i = j;
+  }
+  for (std::uint32_t t = 0; t < nt; ++t) tags[t] = root_tag[components.find(t)];
+  return tags;
+}
+
+}  // namespace voroclip::mesh3

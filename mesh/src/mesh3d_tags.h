@@ -1,0 +1,45 @@
+// The boundary triangles of a 3D CVT mesh and the tags a solver's boundary conditions and
+// materials need (mesh.h, Mesh3Result: boundary_triangles, boundary_tags, tet_tags);
+// mesh3d_tags.cpp. Internal to the mesh module.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "voroclip/clip.h"
+
+namespace voroclip::mesh3 {
+
+// The faces of exactly one tet of `tets` (4 vertex indices each, right-handed: det(p1 - p0,
+// p2 - p0, p3 - p0) > 0), oriented outward (counter-clockwise seen from outside), in the
+// order of (tet, facet opposite vertex 0..3); `face_tet` gets each one's tet.
+void boundary_triangles(const std::vector<std::uint32_t>& tets,
+                        std::vector<std::uint32_t>& triangles, std::vector<std::uint32_t>& face_tet);
+
+// The patch tag of each boundary triangle (3 vertex indices each). `vertex_patch_begin` /
+// `vertex_patch` list, per vertex, the input patches it lies on (increasing; none for an
+// interior vertex); `patch_tag` gives each patch's tag. A triangle takes the one patch its
+// three vertices share; when they share none or several (a triangle across a feature line
+// the sites did not resolve), the patch of `closest_input[b]`, the input triangle closest
+// to its centroid, through `input_patch`.
+std::vector<std::int32_t> patch_tags(const std::vector<std::uint32_t>& triangles,
+                                     const std::vector<std::uint32_t>& vertex_patch_begin,
+                                     const std::vector<std::uint32_t>& vertex_patch,
+                                     const std::vector<std::int32_t>& patch_tag,
+                                     const std::vector<std::uint32_t>& input_patch,
+                                     const std::vector<std::uint32_t>& closest_input);
+
+// The region tag of each tet. With the domain's tet tags (a tet mesh file's regions): the
+// tag of the input tet that holds the tet's centroid (exact orient3d tests), or, for a
+// centroid outside every input tet (the mesh's boundary is not the input's), the tag of a
+// face-adjacent tet, breadth first; when the input has a single tag, that tag. Otherwise
+// one region per volume component: its face-connected tets get 1 + the rank, among the
+// outer shells of the domain's surface (even depth, in shell order), of the shell that
+// bounds them from outside, found from their boundary triangles' closest input triangles
+// (`closest_input`, per triangle of `triangles` / `face_tet`).
+std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<double>& xyz,
+                                      const std::vector<std::uint32_t>& tets,
+                                      const std::vector<std::uint32_t>& face_tet,
+                                      const std::vector<std::uint32_t>& closest_input);
+
+}  // namespace voroclip::mesh3

@@ -1,0 +1,373 @@
+// Tests of what mesh3d hands to a solver (voroclip/mesh.h, Mesh3Result): the boundary
+// triangles (the faces of exactly one tet, found here by brute force, oriented outward:
+// their cones from the origin add up to the mesh's volume), the patch tags (one per face of
+// a box, or the file's triangle tags, checked against the face each triangle lies on), the
+// region tags (the input tet holding each tet's centroid, by exact orientation tests; one
+// region per volume component otherwise), the shape check (check_mesh3_shape), the
+// topology refinement (sites added, or an error with VertexCount::kExact), and the NaN of
+// sites snapped onto the faces of a cube given as six tets.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "../core/tagged_mesh.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+#include "voroclip/mesh.h"
+#include "voroclip/predicates.h"
+
+using voroclip::Domain3;
+using voroclip::Mesh3Options;
+using voroclip::Mesh3Result;
+using voroclip::Sign;
+
+namespace {
+
+const std::string kData = VOROCLIP_SHARED_DATA_DIR;
+
+Mesh3Options small_options(std::uint32_t n) {
+  Mesh3Options o;
+  o.nb_vertices = n;
+  o.unconstrained_iterations = 8;
+  o.constrained_iterations = 12;
+  o.perturbation.max_rounds = 4;
+  return o;
+}
+
+// Two triangles per face of the box [lo, hi], outward, appended to `s`.
+void add_box(voroclip::TriangleSurface& s, const double lo[3], const double hi[3],
+             bool inward = false) {
+  const auto base = static_cast<std::uint32_t>(s.xyz.size() / 3);
+  for (std::uint32_t i = 0; i < 8; ++i) {
+    s.xyz.insert(s.xyz.end(),
+                 {i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]});
+  }
+  const std::uint32_t t[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                               2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  for (std::uint32_t k = 0; k < 36; k += 3) {
+    s.triangles.insert(s.triangles.end(), {base + t[k], base + t[inward ? k + 2 : k + 1],
+                                           base + t[inward ? k + 1 : k + 2]});
+  }
+}
+
+// det(b - a, c - a, d - a) / 6, in floating point.
+double signed_volume(const double* a, const double* b, const double* c, const double* d) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+  return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+          u[2] * (v[0] * w[1] - v[1] * w[0])) /
+         6;
+}
+
+const double* point(const Mesh3Result& r, std::uint32_t v) { return &r.xyz[3 * std::size_t{v}]; }
+
+// The faces of exactly one tet, by brute force over sorted vertex triples.
+std::multiset<std::array<std::uint32_t, 3>> single_faces(const Mesh3Result& r) {
+  std::map<std::array<std::uint32_t, 3>, int> count;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> k;
+      for (int j = 0, m = 0; j < 4; ++j) {
+        if (j != f) k[m++] = r.tets[t + j];
+      }
+      std::sort(k.begin(), k.end());
+      ++count[k];
+    }
+  }
+  std::multiset<std::array<std::uint32_t, 3>> once;
+  for (const auto& [k, c] : count) {
+    if (c == 1) once.insert(k);
+  }
+  return once;
+}
+
+// Boundary triangles: the brute-force faces, each once, oriented outward.
+void check_boundary(const Mesh3Result& r) {
+  REQUIRE(r.boundary_triangles.size() % 3 == 0);
+  REQUIRE(r.boundary_tags.size() == r.boundary_triangles.size() / 3);
+  REQUIRE(r.tet_tags.size() == r.tets.size() / 4);
+  std::multiset<std::array<std::uint32_t, 3>> got;
+  double cones = 0, volume = 0;
+  const double o[3] = {0, 0, 0};
+  for (std::size_t b = 0; b < r.boundary_triangles.size(); b += 3) {
+    std::array<std::uint32_t, 3> k = {r.boundary_triangles[b], r.boundary_triangles[b + 1],
+                                      r.boundary_triangles[b + 2]};
+    cones += signed_volume(o, point(r, k[0]), point(r, k[1]), point(r, k[2]));
+    std::sort(k.begin(), k.end());
+    got.insert(k);
+  }
+  CHECK(got == single_faces(r));
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    volume += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]), point(r, r.tets[t + 2]),
+                            point(r, r.tets[t + 3]));
+  }
+  CHECK(volume > 0);
+  CHECK(cones == Approx(volume).epsilon(1e-9));
+}
+
+// Face-connected components of the tets: per tet, its component's smallest tet.
+std::vector<std::uint32_t> components(const Mesh3Result& r) {
+  const auto nt = static_cast<std::uint32_t>(r.tets.size() / 4);
+  std::vector<std::uint32_t> parent(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) parent[t] = t;
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::map<std::array<std::uint32_t, 3>, std::uint32_t> first;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> k;
+      for (int j = 0, m = 0; j < 4; ++j) {
+        if (j != f) k[m++] = r.tets[4 * std::size_t{t} + j];
+      }
+      std::sort(k.begin(), k.end());
+      const auto [it, fresh] = first.emplace(k, t);
+      if (!fresh) {
+        const std::uint32_t a = find(it->second), b = find(t);
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+  }
+  std::vector<std::uint32_t> c(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) c[t] = find(t);
+  return c;
+}
+
+// The axis (0, 1, 2) and side (0: lo, 1: hi) of the box face a triangle lies on, from its
+// centroid's distance to the face planes (snapped vertices are on them up to rounding).
+int box_face(const Mesh3Result& r, const std::uint32_t* tri, const double lo[3],
+             const double hi[3]) {
+  int face = -1;
+  for (int k = 0; k < 3; ++k) {
+    const double c = (point(r, tri[0])[k] + point(r, tri[1])[k] + point(r, tri[2])[k]) / 3;
+    const double tol = 1e-9 * (hi[k] - lo[k]);
+    if (std::abs(c - lo[k]) <= tol) face = face < 0 ? 2 * k : 99;
+    if (std::abs(c - hi[k]) <= tol) face = face < 0 ? 2 * k + 1 : 99;
+  }
+  return face;
+}
+
+}  // namespace
+
+TEST_CASE("mesh3d tags a box's six faces as six patches, one region", "[mesh]") {
+  voroclip::TriangleSurface s;
+  s.source = "box";
+  const double lo[3] = {0, 0, 0}, hi[3] = {2, 3, 1};
+  add_box(s, lo, hi);
+  const Mesh3Result r = voroclip::mesh3d(Domain3(s), small_options(400));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  // Each face's triangles carry one tag, and different faces different tags.
+  std::map<int, std::set<std::int32_t>> tags_of_face;
+  std::map<std::int32_t, std::set<int>> faces_of_tag;
+  for (std::size_t b = 0; b < r.boundary_tags.size(); ++b) {
+    const int f = box_face(r, &r.boundary_triangles[3 * b], lo, hi);
+    REQUIRE(f >= 0);
+    REQUIRE(f < 6);
+    tags_of_face[f].insert(r.boundary_tags[b]);
+    faces_of_tag[r.boundary_tags[b]].insert(f);
+  }
+  CHECK(tags_of_face.size() == 6);
+  CHECK(faces_of_tag.size() == 6);
+  for (const auto& [f, tags] : tags_of_face) CHECK(tags.size() == 1);
+  for (const auto& [t, faces] : faces_of_tag) {
+    CHECK(faces.size() == 1);
+    CHECK(t >= 1);
+    CHECK(t <= 6);
+  }
+  CHECK(std::all_of(r.tet_tags.begin(), r.tet_tags.end(), [](std::int32_t t) { return t == 1; }));
+  CHECK(r.tag_names.empty());
+}
+
+TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]") {
+  // The tagged Kuhn cube: six tets in two interleaved regions (1, 2); its faces tagged by
+  // axis (x 10, y 11, z 12); tag names.
+  const voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  const Domain3 d(in);
+  Mesh3Options o = small_options(500);
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  CHECK(r.tag_names.size() == in.tag_names.size());
+  const double lo[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double hi[3] = {0.1 + 1.0 / 3, 0.1 + 1.0 / 3, 0.1 + 1.0 / 3};
+  std::set<std::int32_t> seen;
+  for (std::size_t b = 0; b < r.boundary_tags.size(); ++b) {
+    const int f = box_face(r, &r.boundary_triangles[3 * b], lo, hi);
+    REQUIRE(f >= 0);
+    REQUIRE(f < 6);
+    CHECK(r.boundary_tags[b] == 10 + f / 2);
+    seen.insert(r.boundary_tags[b]);
+  }
+  CHECK(seen == std::set<std::int32_t>{10, 11, 12});
+  // Each tet's region: the input tet that holds its centroid (strictly, or on a face of
+  // two tets of the same region), by exact orientation tests.
+  std::size_t checked = 0;
+  std::set<std::int32_t> regions;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    double c[3] = {0, 0, 0};
+    for (int j = 0; j < 4; ++j) {
+      for (int k = 0; k < 3; ++k) c[k] += point(r, r.tets[t + j])[k] / 4;
+    }
+    std::set<std::int32_t> holders;
+    for (std::size_t u = 0; u < in.tets.size(); u += 4) {
+      const double* p[4];
+      for (int j = 0; j < 4; ++j) p[j] = &in.xyz[3 * std::size_t{in.tets[u + j]}];
+      const Sign whole = voroclip::orient3d(p[0], p[1], p[2], p[3]);
+      bool inside = true;
+      for (int j = 0; j < 4 && inside; ++j) {
+        const double* q[4] = {p[0], p[1], p[2], p[3]};
+        q[j] = c;
+        const Sign s = voroclip::orient3d(q[0], q[1], q[2], q[3]);
+        inside = s == whole || s == Sign::zero;
+      }
+      if (inside) holders.insert(in.tet_ref[u / 4]);
+    }
+    if (holders.size() == 1) {
+      CHECK(r.tet_tags[t / 4] == *holders.begin());
+      ++checked;
+    }
+    regions.insert(r.tet_tags[t / 4]);
+  }
+  CHECK(checked * 10 > r.tets.size() / 4 * 9);
+  CHECK(regions == std::set<std::int32_t>{1, 2});
+}
+
+TEST_CASE("mesh3d: one region per volume component; a cavity is no region", "[mesh]") {
+  // Two boxes apart: two components, tagged 1 and 2 in the order of their shells.
+  voroclip::TriangleSurface two;
+  two.source = "two boxes";
+  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {2, 0, 0}, b1[3] = {3, 1.5, 1};
+  add_box(two, a0, a1);
+  add_box(two, b0, b1);
+  const Domain3 d2(two);
+  const Mesh3Result r = voroclip::mesh3d(d2, small_options(500));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  const std::vector<std::uint32_t> comp = components(r);
+  std::map<std::uint32_t, std::set<std::int32_t>> tags;
+  for (std::size_t t = 0; t < comp.size(); ++t) tags[comp[t]].insert(r.tet_tags[t]);
+  REQUIRE(tags.size() == 2);
+  std::set<std::int32_t> all;
+  for (const auto& [c, ts] : tags) {
+    CHECK(ts.size() == 1);
+    all.insert(*ts.begin());
+  }
+  CHECK(all == std::set<std::int32_t>{1, 2});
+  // The component left of x = 1.5 is the first shell's: tag 1.
+  for (std::size_t t = 0; t < comp.size(); ++t) {
+    const double x = point(r, r.tets[4 * t])[0];
+    CHECK(r.tet_tags[t] == (x < 1.5 ? 1 : 2));
+  }
+
+  // A box with a box-shaped cavity: one component, one region; two boundary shells.
+  voroclip::TriangleSurface hollow;
+  hollow.source = "hollow box";
+  const double o0[3] = {0, 0, 0}, o1[3] = {3, 3, 3}, i0[3] = {1, 1, 1}, i1[3] = {2, 2, 2};
+  add_box(hollow, o0, o1);
+  add_box(hollow, i0, i1, true);
+  const Mesh3Result h = voroclip::mesh3d(Domain3(hollow), small_options(800));
+  CHECK(h.shape_problem.empty());
+  check_boundary(h);
+  CHECK(std::all_of(h.tet_tags.begin(), h.tet_tags.end(), [](std::int32_t t) { return t == 1; }));
+  // Twelve faces: twelve patch tags.
+  CHECK(std::set<std::int32_t>(h.boundary_tags.begin(), h.boundary_tags.end()).size() == 12);
+}
+
+TEST_CASE("check_mesh3_shape names a missing shell, a wrong genus and a stray tet", "[mesh]") {
+  voroclip::TriangleSurface two;
+  two.source = "two boxes";
+  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {2, 0, 0}, b1[3] = {3, 1, 1};
+  add_box(two, a0, a1);
+  add_box(two, b0, b1);
+  const Domain3 d(two);
+  // One Kuhn cube (6 tets) per box.
+  const auto kuhn = [](std::vector<double>& xyz, std::vector<std::uint32_t>& tets, double x0) {
+    const auto base = static_cast<std::uint32_t>(xyz.size() / 3);
+    for (std::uint32_t v = 0; v < 8; ++v) {
+      xyz.insert(xyz.end(), {x0 + (v & 1), double((v >> 1) & 1), double((v >> 2) & 1)});
+    }
+    const std::uint32_t t[24] = {0, 1, 3, 7, 0, 2, 3, 7, 0, 1, 5, 7,
+                                 0, 2, 6, 7, 0, 4, 5, 7, 0, 4, 6, 7};
+    for (const std::uint32_t v : t) tets.push_back(base + v);
+  };
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> tets;
+  kuhn(xyz, tets, 0);
+  // Fix orientation: make each tet right-handed.
+  const auto orient = [&]() {
+    for (std::size_t t = 0; t < tets.size(); t += 4) {
+      if (voroclip::orient3d(&xyz[3 * tets[t]], &xyz[3 * tets[t + 1]], &xyz[3 * tets[t + 2]],
+                             &xyz[3 * tets[t + 3]]) == Sign::negative) {
+        std::swap(tets[t + 2], tets[t + 3]);
+      }
+    }
+  };
+  orient();
+  const std::string one = voroclip::check_mesh3_shape(d, xyz, tets);
+  CHECK(one.find("1 shell where the domain has 2") != std::string::npos);
+  kuhn(xyz, tets, 2);
+  orient();
+  CHECK(voroclip::check_mesh3_shape(d, xyz, tets).empty());
+  // A stray tet far away: a third shell, named as the smallest.
+  xyz.insert(xyz.end(), {10, 0, 0, 10.1, 0, 0, 10, 0.1, 0, 10, 0, 0.1});
+  const auto s = static_cast<std::uint32_t>(xyz.size() / 3 - 4);
+  tets.insert(tets.end(), {s, s + 1, s + 2, s + 3});
+  orient();
+  const std::string stray = voroclip::check_mesh3_shape(d, xyz, tets);
+  CHECK(stray.find("3 shells where the domain has 2") != std::string::npos);
+  CHECK(stray.find("4 triangles") != std::string::npos);
+  CHECK(voroclip::check_mesh3_shape(d, xyz, {}) == "the mesh has no tets");
+}
+
+TEST_CASE("mesh3d adds the sites the surface's topology needs, or says how many", "[mesh]") {
+  const Domain3 bunny = voroclip::read_domain3(kData + "/surfaces/bunny.obj");
+  Mesh3Options o = small_options(400);
+  const Mesh3Result r = voroclip::mesh3d(bunny, o);
+  CHECK(r.nb_topology_sites > 0);
+  CHECK(r.topology_defects_left == 0);
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_sites >= 400 + r.nb_topology_sites);
+  check_boundary(r);
+  o.vertex_count = Mesh3Options::VertexCount::kExact;
+  try {
+    voroclip::mesh3d(bunny, o);
+    FAIL("no error with kExact");
+  } catch (const voroclip::Error& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("400 vertices do not resolve the surface of") != std::string::npos);
+    CHECK(what.find("vertices would") != std::string::npos);
+  }
+}
+
+TEST_CASE("mesh3d: sites snapped onto a cube's faces (the NaN of issue 30)", "[mesh][exact]") {
+  // The unit cube as six tets, 5000 vertices, seed 2: the constrained CVT's sites on a
+  // face are coplanar to the last bit, their Delaunay tets flat slivers whose floating
+  // circumcentre was 0/0. Too slow for the sanitizer builds' reduced scale.
+  const char* scale = std::getenv("VOROCLIP_TEST_SCALE");
+  if (scale != nullptr && *scale != '\0' && std::atof(scale) < 1) return;
+  voroclip::TetMeshInput m;
+  m.source = "unit cube";
+  for (std::uint32_t k = 0; k < 8; ++k) {
+    m.xyz.insert(m.xyz.end(), {double(k & 1), double((k >> 1) & 1), double((k >> 2) & 1)});
+  }
+  m.tets = {0, 1, 3, 7, 0, 3, 2, 7, 0, 5, 1, 7, 0, 2, 6, 7, 0, 4, 5, 7, 0, 6, 4, 7};
+  Mesh3Options o;
+  o.nb_vertices = 5000;
+  o.seed = 2;
+  const Mesh3Result r = voroclip::mesh3d(Domain3(m), o);
+  CHECK(std::all_of(r.xyz.begin(), r.xyz.end(), [](double x) { return std::isfinite(x); }));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+}
