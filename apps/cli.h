@@ -140,6 +140,8 @@ void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh
 struct Mesh3dArgs {
   std::string domain;  // closed surface or tet mesh (read_domain3)
   bool reorient = false;
+  bool exact_vertices = false;        // fail instead of adding the sites the topology needs
+  bool allow_shape_mismatch = false;  // write a mesh whose boundary differs, with a warning
   std::uint32_t vertices = 10000;
   bool adaptive = false;
   double feature_angle = 40;

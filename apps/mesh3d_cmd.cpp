@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -79,6 +80,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.smooth_surface = args.smooth_surface;
   o.smooth_shape = args.smooth_shape;
   o.perturbation.target_dihedral_deg = args.sliver_angle;
+  o.vertex_count =
+      args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
   if (out) {
     o.progress = [out](const Mesh3Progress& p) {
       if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
@@ -88,6 +91,23 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
           *out << "  " << mesh3_phase_name(p.phase) << " iteration " << p.iteration << "  energy "
                << sci(p.energy) << "  |g| " << sci(p.gradient_norm) << "  " << fixed(p.seconds, 2)
                << " s\n";
+        }
+      } else if (p.phase == Mesh3Phase::kTopology) {
+        if (!p.topology_round) {
+          // The phase's start, or an iteration of a short CVT after the rounds.
+          if (p.iteration == 0 && p.energy == 0) {
+            *out << "topology  " << fixed(p.seconds, 2) << " s\n";
+          } else if (p.iteration > 0 && p.iteration % 5 == 0) {
+            *out << "  topology CVT iteration " << p.iteration << "  energy " << sci(p.energy)
+                 << "  " << fixed(p.seconds, 2) << " s\n";
+          }
+        } else if (p.iteration == 0 && p.defects == 0) {
+          *out << "  the restricted Voronoi diagram has the closed-ball property  "
+               << fixed(p.seconds, 2) << " s\n";
+        } else {
+          *out << "  topology round " << p.iteration << ": " << p.defects
+               << " restricted cells not yet disks meeting along single arcs, " << p.added_sites
+               << " sites added  " << fixed(p.seconds, 2) << " s\n";
         }
       } else if (p.phase == Mesh3Phase::kSlivers && (p.iteration > 0 || p.slivers > 0)) {
         *out << "  slivers round " << p.iteration << ": " << p.slivers
@@ -100,11 +120,32 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     };
   }
   const Mesh3Result r = mesh3d(domain, o);
+  if (!r.shape_problem.empty() && !args.allow_shape_mismatch) {
+    throw Error("mesh3d: the mesh of " + domain.source() + " does not have its shape: " +
+                r.shape_problem + "; no file written (try more --vertices, or " +
+                "--allow-shape-mismatch to write it anyway)");
+  }
+  if (!r.shape_problem.empty()) {
+    std::cerr << "voroclip: warning: the mesh of " << domain.source()
+              << " does not have its shape: " << r.shape_problem << '\n';
+  }
+  if (r.nb_topology_sites > 0 && out) {
+    *out << "note: " << r.nb_topology_sites << " sites added (" << args.vertices << " -> "
+         << r.nb_sites << ") where " << args.vertices
+         << " did not resolve the surface (restricted Voronoi cells not disks); "
+            "--exact-vertices fails instead\n";
+  }
 
   TetMeshInput mesh;
   mesh.source = args.output.empty() ? std::string("mesh3d") : args.output;
   mesh.xyz = r.xyz;
   mesh.tets = r.tets;
+  // Tags for boundary conditions and materials: the boundary triangles with their patch
+  // tags, the tets with their region tags (every format keeps them; Gmsh also the names).
+  mesh.triangles = r.boundary_triangles;
+  mesh.triangle_ref = r.boundary_tags;
+  mesh.tet_ref = r.tet_tags;
+  mesh.tag_names = r.tag_names;
   // The Hausdorff distance between the output's boundary and the input's.
   const auto t_h = std::chrono::steady_clock::now();
   const TriangleSurface reference = boundary_surface(domain);
@@ -114,11 +155,13 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
 
   if (!args.output.empty()) {
     if (ext == ".vtu") {
-      // Per tet: its smallest dihedral angle; per vertex kind as a cell field is not
-      // possible, so the vertex kinds go with the statistics only.
+      // The tets, then the boundary triangles (as write_tet_mesh: cell data "region", 0 on
+      // triangles, and "patch", 0 on tets), and per tet its smallest dihedral angle (NaN on
+      // the triangles); the vertex kinds go with the statistics only.
+      const std::size_t nb = r.boundary_triangles.size() / 3;
       std::vector<VtuCellField> fields(1);
       fields[0].name = "q1_min_dihedral_deg";
-      fields[0].values.reserve(r.nb_tets());
+      fields[0].values.reserve(r.nb_tets() + nb);
       for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
         const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
         fields[0].values.push_back(
@@ -126,8 +169,18 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                       &r.xyz[3 * std::size_t{v[2]}], &r.xyz[3 * std::size_t{v[3]}])
                 .q1_deg);
       }
+      fields[0].values.resize(r.nb_tets() + nb, std::numeric_limits<double>::quiet_NaN());
+      std::vector<VtuCellTags> tags(2);
+      tags[0].name = "region";
+      tags[0].values = r.tet_tags;
+      tags[0].values.resize(r.nb_tets() + nb, 0);
+      tags[1].name = "patch";
+      tags[1].values.assign(r.nb_tets(), 0);
+      tags[1].values.insert(tags[1].values.end(), r.boundary_tags.begin(), r.boundary_tags.end());
+      const std::vector<VtuCellBlock> blocks = {{r.tets.data(), r.nb_tets(), 4},
+                                                {r.boundary_triangles.data(), nb, 3}};
       write_file_atomically(args.output, [&](std::ostream& os) {
-        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, r.tets, 4, true, fields);
+        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, blocks, true, fields, tags);
       });
     } else if (ext == ".msh") {
       write_tet_mesh(args.output, mesh,
@@ -150,6 +203,20 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"surface", counts[1]},
                          {"feature", counts[2]},
                          {"corner", counts[3]}};
+    j["topology"] = {{"sites_added", r.nb_topology_sites},
+                     {"rounds", r.topology_rounds},
+                     {"defects_left", r.topology_defects_left}};
+    j["shape_problem"] = r.shape_problem;
+    {
+      std::vector<std::int32_t> patches = r.boundary_tags, regions = r.tet_tags;
+      std::sort(patches.begin(), patches.end());
+      patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+      std::sort(regions.begin(), regions.end());
+      regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+      j["boundary_triangles"] = r.boundary_triangles.size() / 3;
+      j["patch_tags"] = patches;
+      j["region_tags"] = regions;
+    }
     j["feature_lines"] = r.nb_feature_lines;
     j["feature_corners"] = r.nb_feature_corners;
     j["surface"] = args.smooth_surface ? "smooth" : "flat";
@@ -176,7 +243,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"final_slivers", r.perturbation.final_slivers},
                          {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg}};
     nlohmann::json seconds = {{"read", t_read}};
-    for (int p = 0; p < 8; ++p)
+    for (int p = 0; p < kNbMesh3Phases; ++p)
       seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];
     seconds["meshing"] = r.total_seconds;
     seconds["hausdorff"] = t_hausdorff;
@@ -188,6 +255,23 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     *out << "Mesh: " << r.nb_vertices() << " vertices (" << counts[0] << " interior, " << counts[1]
          << " surface, " << counts[2] << " feature, " << counts[3] << " corner), " << r.nb_tets()
          << " tets in " << fixed(r.total_seconds, 2) << " s\n";
+    {
+      std::vector<std::int32_t> patches = r.boundary_tags, regions = r.tet_tags;
+      std::sort(patches.begin(), patches.end());
+      patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+      std::sort(regions.begin(), regions.end());
+      regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+      const auto list = [](const std::vector<std::int32_t>& v) {
+        std::string text;
+        for (std::size_t i = 0; i < v.size() && i < 12; ++i) {
+          text += (i == 0 ? "" : " ") + std::to_string(v[i]);
+        }
+        return v.size() > 12 ? text + " ..." : text;
+      };
+      *out << "Boundary: " << r.boundary_triangles.size() / 3 << " triangles in "
+           << patches.size() << " patch tag(s) [" << list(patches) << "]; "
+           << regions.size() << " region tag(s) [" << list(regions) << "]\n";
+    }
     write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,
                        &distance, domain.source());
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_run.h"
 #include "voroclip/core.h"
@@ -188,4 +190,34 @@ TEST_CASE("mesh3d from a closed surface: the mesh read back, its volume the surf
   }
   CHECK(volume < enclosed);
   CHECK(volume > 0.96 * enclosed);
+}
+
+TEST_CASE("mesh3d: sites added for the surface's topology, or an error naming the count",
+          "[apps]") {
+  const std::string domain = kData + "/surfaces/bunny.obj";
+  const std::string out = temp_path(".mesh");
+  const Run e = run_cli({"mesh3d", domain, "--vertices", "400", "--unconstrained-iterations", "8",
+                         "--constrained-iterations", "12", "-o", out, "--exact-vertices"});
+  CHECK(e.status == 1);
+  CHECK(contains(e.err, "400 vertices do not resolve the surface of"));
+  CHECK(contains(e.err, "vertices would"));
+  CHECK_FALSE(std::ifstream(out).good());
+
+  const Run r =
+      run_cli({"--stats", "json", "mesh3d", domain, "--vertices", "400",
+               "--unconstrained-iterations", "8", "--constrained-iterations", "12", "-o", out});
+  REQUIRE(r.status == 0);
+  CHECK(contains(r.err, "sites added (400 -> "));
+  const nlohmann::json s = nlohmann::json::parse(r.out);
+  CHECK(s["topology"]["sites_added"].get<int>() > 0);
+  CHECK(s["topology"]["defects_left"].get<int>() == 0);
+  CHECK(s["shape_problem"] == "");
+  CHECK(s["region_tags"] == nlohmann::json::array({1}));
+  const voroclip::TetMeshInput mesh = voroclip::read_tet_mesh(out);
+  std::remove(out.c_str());
+  CHECK(s["boundary_triangles"].get<std::uint32_t>() == mesh.nb_triangles());
+  CHECK(mesh.nb_triangles() > 0);
+  CHECK(mesh.triangle_ref.size() == mesh.nb_triangles());
+  CHECK(
+      std::all_of(mesh.tet_ref.begin(), mesh.tet_ref.end(), [](std::int32_t t) { return t == 1; }));
 }

@@ -1,0 +1,140 @@
+#!/usr/bin/python3
+"""check_mesh3d_tags.py VOROCLIP WRITER DIR DATA: what `voroclip mesh3d` writes for a
+solver, read back by meshio and Gmsh's Python module.
+
+WRITER (write_tagged_meshes) writes the tagged Kuhn cube (tests/core/tagged_mesh.h: six
+tets in regions 1 and 2, its faces tagged by axis, x 10, y 11, z 12, four tag names) into
+DIR; `voroclip mesh3d` meshes its Gmsh 4.1 file (which carries the names) with 400 vertices into .mesh, .msh 4.1, .msh 2.2 and .vtu,
+and meshes DATA/surfaces/bunny.obj into a .msh 4.1. For each file: the triangles are the
+faces of exactly one tetrahedron (numpy over sorted corner triples), oriented outward (their
+cones from the centroid add up to the volume), each triangle's tag is its cube face's axis
+tag (by its corners' coordinates), the tetrahedra's tags are {1, 2}; Gmsh finds physical
+groups of dimension 3 and 2 with the file's names. The bunny's .msh: one region, patch tags
+from 1. Prints one line per mismatch and exits with 1 when there is any.
+"""
+
+import os
+import subprocess
+import sys
+
+import gmsh
+import meshio
+import numpy as np
+
+failures = []
+
+
+def check(what, ok, detail=""):
+    if not ok:
+        failures.append(f"{what} {detail}".strip())
+
+
+def blocks(mesh, cell_type, data_names):
+    """All cells of one type and, per name, their cell data (None when absent)."""
+    idx = [i for i, b in enumerate(mesh.cells) if b.type == cell_type]
+    cells = np.concatenate([mesh.cells[i].data for i in idx]) if idx else np.zeros((0, 3), int)
+    data = {}
+    for name in data_names:
+        if name in mesh.cell_data:
+            data[name] = np.concatenate([np.asarray(mesh.cell_data[name][i]).ravel() for i in idx])
+    return cells, data
+
+
+def check_shape(what, points, tets, tris):
+    faces = np.sort(np.concatenate([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]],
+                                    tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]]), axis=1)
+    uniq, counts = np.unique(faces, axis=0, return_counts=True)
+    once = {tuple(f) for f in uniq[counts == 1]}
+    got = [tuple(f) for f in np.sort(tris, axis=1)]
+    check(f"{what}: triangles are the faces of one tet", set(got) == once and len(got) == len(once),
+          f"({len(got)} triangles, {len(once)} faces)")
+    p = points
+    v = np.einsum("ij,ij->i", p[tets[:, 1]] - p[tets[:, 0]],
+                  np.cross(p[tets[:, 2]] - p[tets[:, 0]], p[tets[:, 3]] - p[tets[:, 0]])) / 6
+    check(f"{what}: tets right-handed", bool(np.all(v > 0)))
+    c = p.mean(axis=0)
+    cones = np.einsum("ij,ij->i", p[tris[:, 0]] - c,
+                      np.cross(p[tris[:, 1]] - c, p[tris[:, 2]] - c)) / 6
+    check(f"{what}: triangles outward", abs(cones.sum() - v.sum()) <= 1e-9 * abs(v.sum()),
+          f"(cones {cones.sum()}, volume {v.sum()})")
+
+
+def check_cube(path, tri_tag_name, tet_tag_name):
+    m = meshio.read(path)
+    tets, tet_data = blocks(m, "tetra", [tet_tag_name])
+    tris, tri_data = blocks(m, "triangle", [tri_tag_name])
+    check_shape(path, m.points, tets, tris)
+    check(f"{path}: tet tags", tet_tag_name in tet_data and set(tet_data[tet_tag_name].tolist()) == {1, 2},
+          str(set(tet_data.get(tet_tag_name, np.array([])).tolist())))
+    if tri_tag_name not in tri_data:
+        check(f"{path}: triangle tags present", False)
+        return
+    lo, hi = 1.0 / 3.0, 0.1 + 1.0 / 3.0
+    wrong = 0
+    for t, tag in zip(tris, tri_data[tri_tag_name].tolist()):
+        c = m.points[t].mean(axis=0)
+        axes = [k for k in range(3) if min(abs(c[k] - lo), abs(c[k] - hi)) <= 1e-9]
+        if len(axes) != 1 or tag != 10 + axes[0]:
+            wrong += 1
+    check(f"{path}: triangle tags by cube face", wrong == 0, f"({wrong} of {len(tris)} wrong)")
+
+
+def gmsh_groups(path):
+    gmsh.initialize(["-v", "0"])
+    try:
+        gmsh.open(path)
+        return {(d, t): gmsh.model.getPhysicalName(d, t) for d, t in gmsh.model.getPhysicalGroups()}
+    finally:
+        gmsh.finalize()
+
+
+def main():
+    voroclip, writer, out, data = sys.argv[1:5]
+    os.makedirs(out, exist_ok=True)
+    subprocess.run([writer, out], check=True)
+    cube = os.path.join(out, "tagged41.msh")  # Gmsh: the tag names too
+    for name, extra in [("cube.mesh", []), ("cube41.msh", []),
+                        ("cube22.msh", ["--msh-version", "2.2"]), ("cube.vtu", [])]:
+        path = os.path.join(out, name)
+        if os.path.exists(path):
+            os.remove(path)
+        r = subprocess.run([voroclip, "mesh3d", cube, "--vertices", "400", "-o", path] + extra,
+                           capture_output=True, text=True)
+        check(f"mesh3d -o {name}: exit status", r.returncode == 0, r.stderr.strip())
+        if r.returncode != 0:
+            continue
+        if name.endswith(".mesh"):
+            check_cube(path, "medit:ref", "medit:ref")
+        elif name.endswith(".msh"):
+            check_cube(path, "gmsh:physical", "gmsh:physical")
+            groups = gmsh_groups(path)
+            expected = {(3, 1): "steel", (3, 2): "copper region", (2, 10): "x faces",
+                        (2, 11): "", (2, 12): "z"}
+            check(f"{path}: Gmsh physical groups", groups == expected, str(groups))
+        else:
+            check_cube(path, "patch", "region")
+
+    bunny = os.path.join(out, "bunny.msh")
+    r = subprocess.run([voroclip, "mesh3d", os.path.join(data, "surfaces", "bunny.obj"),
+                        "--vertices", "1000", "-o", bunny], capture_output=True, text=True)
+    check("mesh3d bunny.obj: exit status", r.returncode == 0, r.stderr.strip())
+    if r.returncode == 0:
+        m = meshio.read(bunny)
+        tets, td = blocks(m, "tetra", ["gmsh:physical"])
+        tris, fd = blocks(m, "triangle", ["gmsh:physical"])
+        check_shape(bunny, m.points, tets, tris)
+        check("bunny: one region", set(td["gmsh:physical"].tolist()) == {1})
+        patches = sorted(set(fd["gmsh:physical"].tolist()))
+        check("bunny: patch tags 1..K", patches == list(range(1, len(patches) + 1)), str(patches))
+        groups = gmsh_groups(bunny)
+        check("bunny: Gmsh finds the groups",
+              {d for d, _ in groups} == {2, 3} and (3, 1) in groups, str(groups))
+
+    for f in failures:
+        print(f)
+    print(f"{len(failures)} mismatch(es)")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
