@@ -1056,7 +1056,9 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     std::vector<std::uint32_t> tets;
     const SurfacePatches patches = site_patches(domain, lines, surface_tree, line_tree, sites,
                                                 kinds, line_of, corner_vertex, triangle_patch);
-    Extract3Options eo;
+    // The caller's extraction settings (options.perturbation.extraction), with the surface
+    // patches of these sites.
+    Extract3Options eo = options.perturbation.extraction;
     eo.surface = &patches;
     if (options.perturb) {
       next_phase(Mesh3Phase::kSlivers);

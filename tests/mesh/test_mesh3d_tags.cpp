@@ -371,3 +371,24 @@ TEST_CASE("mesh3d: sites snapped onto a cube's faces (the NaN of issue 30)", "[m
   CHECK(r.shape_problem.empty());
   check_boundary(r);
 }
+
+TEST_CASE("mesh3d uses the caller's extraction settings", "[mesh]") {
+  voroclip::TriangleSurface s;
+  s.source = "box";
+  const double lo[3] = {0, 0, 0}, hi[3] = {2, 3, 1};
+  add_box(s, lo, hi);
+  const Domain3 d(s);
+  for (const bool perturb : {false, true}) {
+    INFO("perturb " << perturb);
+    Mesh3Options o = small_options(300);
+    o.perturb = perturb;
+    const Mesh3Result def = voroclip::mesh3d(d, o);
+    CHECK(def.extraction.nb_repair_passes > 0);
+    o.perturbation.extraction.repair_manifold = false;
+    o.perturbation.extraction.max_fill_passes = 0;
+    const Mesh3Result off = voroclip::mesh3d(d, o);
+    CHECK(off.extraction.nb_repair_passes == 0);
+    CHECK(off.extraction.nb_filled == 0);
+    CHECK(off.extraction.nb_creases == 0);
+  }
+}

@@ -805,7 +805,9 @@ struct Mesh3Options {
   std::uint32_t topology_iterations = 10;
   std::uint32_t topology_cycles = 3;
   std::uint32_t max_topology_stall = 8;
-  // Sliver perturbation (perturb = false: none).
+  // Sliver perturbation (perturb = false: none). Its `extraction` settings are the ones
+  // every extraction of mesh3d uses (with or without perturbation); mesh3d only sets their
+  // `surface` to the patches of its sites.
   bool perturb = true;
   Perturb3Options perturbation;
   // Called as described at Mesh3Progress; return false to stop: the result then has
