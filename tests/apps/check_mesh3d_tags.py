@@ -114,6 +114,10 @@ def main():
         else:
             check_cube(path, "patch", "region")
 
+    # The bunny (a surface: patches between feature lines, one region) only at full scale:
+    # the sanitizer stage (VOROCLIP_TEST_SCALE < 1) runs the cube alone.
+    if float(os.environ.get("VOROCLIP_TEST_SCALE") or 1) < 1:
+        return report()
     bunny = os.path.join(out, "bunny.msh")
     r = subprocess.run([voroclip, "mesh3d", os.path.join(data, "surfaces", "bunny.obj"),
                         "--vertices", "1000", "-o", bunny], capture_output=True, text=True)
@@ -130,6 +134,10 @@ def main():
         check("bunny: Gmsh finds the groups",
               {d for d, _ in groups} == {2, 3} and (3, 1) in groups, str(groups))
 
+    return report()
+
+
+def report():
     for f in failures:
         print(f)
     print(f"{len(failures)} mismatch(es)")
