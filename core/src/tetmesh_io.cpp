@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <ostream>
 #include <sstream>
@@ -33,6 +34,7 @@
 #include <utility>
 #include <vector>
 
+#include "binary_io.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
 
@@ -65,6 +67,12 @@ struct RawCells {
   std::size_t size() const { return line.size(); }
 };
 
+// "file:line: what", or "file: what" for line 0 (binary files).
+[[noreturn]] void fail_in(const std::string& path, std::uint32_t line, const std::string& what) {
+  if (line == 0) throw Error(path + ": " + what);
+  fail_at(path, line, what);
+}
+
 // Tags as TetMeshInput keeps them: empty when all are 0.
 std::vector<std::int32_t> tags_or_empty(const std::vector<std::int32_t>& ref) {
   const bool any = std::any_of(ref.begin(), ref.end(), [](std::int32_t r) { return r != 0; });
@@ -79,7 +87,7 @@ std::vector<std::uint32_t> finish_cells(const std::string& path, const RawCells&
     for (std::size_t k = 0; k < raw.per; ++k) {
       const std::uint64_t i = raw.v[raw.per * c + k];
       if (i < base || i - base >= nv) {
-        fail_at(path, raw.line[c],
+        fail_in(path, raw.line[c],
                 std::string(raw.what) + " " + std::to_string(raw.label[c]) + ": vertex " +
                     std::to_string(i) + " is out of range " +
                     (nv == 0 ? std::string("(the file has no vertices)")
@@ -621,9 +629,11 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
       first = map.try_emplace(tag, index).first->second;
     }
     if (first != index) {
-      fail_at(path, nodes.line[i],
-              "node tag " + std::to_string(tag) + " is repeated (first at line " +
-                  std::to_string(nodes.line[first]) + ")");
+      fail_in(path, nodes.line[i],
+              "node tag " + std::to_string(tag) + " is repeated (first " +
+                  (nodes.line[first] == 0 ? "as node " + std::to_string(first + 1) + " of $Nodes"
+                                          : "at line " + std::to_string(nodes.line[first])) +
+                  ")");
     }
   }
   const auto resolve = [&](const RawCells& raw) {
@@ -638,7 +648,7 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
           index = it->second;
         }
         if (index == kAbsent) {
-          fail_at(path, raw.line[c],
+          fail_in(path, raw.line[c],
                   "element " + std::to_string(raw.label[c]) + ": node " + std::to_string(tag) +
                       (n == 0 ? std::string(" does not exist (the file has no nodes)")
                               : " is not in section $Nodes"));
@@ -654,6 +664,27 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
   mesh.triangles = resolve(triangles);
   mesh.triangle_ref = tags_or_empty(triangles.ref);
 }
+
+// The end of both readers: no tetrahedra is an error, 4.1 blocks take their entity's
+// physical tag, node tags become indices.
+void finish_gmsh_file(const std::string& path, bool have_elements, const GmshTags& tags,
+                      const GmshNodes& nodes, RawCells& tets, RawCells& triangles,
+                      TetMeshInput& mesh) {
+  if (tets.size() == 0) {
+    throw Error(path + (have_elements ? ": no tetrahedra (element type 4) in $Elements"
+                                      : ": no tetrahedra (no $Elements section)"));
+  }
+  for (const GmshTags::Block& b : tags.blocks) {
+    const auto& physical = tags.have_partitioned ? tags.partitioned[b.dim] : tags.physical[b.dim];
+    const auto it = physical.find(b.entity);
+    if (it == physical.end()) continue;
+    std::fill(b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.begin),
+              b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.end), it->second);
+  }
+  finish_gmsh(path, nodes, tets, triangles, mesh);
+}
+
+TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text);
 
 TetMeshInput read_gmsh(const std::string& path) {
   Lexer lx(path, read_whole_file(path), 0);
@@ -671,9 +702,9 @@ TetMeshInput read_gmsh(const std::string& path) {
   if (!v2 && version != "4.1") {
     lx.fail("Gmsh format version " + quote(version) + " is not supported (2.2 or 4.1)");
   }
+  if (file_type == "1") return read_gmsh_binary(path, lx.text());
   if (file_type != "0") {
-    lx.fail("binary Gmsh file (file-type " + quote(file_type) +
-            "): only ASCII .msh is read (save it with Mesh.Binary = 0)");
+    lx.fail("Gmsh file-type " + quote(file_type) + ": 0 (ASCII) or 1 (binary)");
   }
   {
     const std::string_view t = lx.next();
@@ -722,18 +753,329 @@ TetMeshInput read_gmsh(const std::string& path) {
       skip_gmsh_section(lx, t);
     }
   }
-  if (tets.size() == 0) {
-    throw Error(path + (have_elements ? ": no tetrahedra (element type 4) in $Elements"
-                                      : ": no tetrahedra (no $Elements section)"));
+  finish_gmsh_file(path, have_elements, tags, nodes, tets, triangles, mesh);
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------------
+// Gmsh .msh binary (file-type 1), 2.2 and 4.1. The section names, the $MeshFormat line,
+// $PhysicalNames and (2.2) the counts of $Nodes and $Elements are ASCII lines; the rest of
+// $Nodes, $Elements, $Entities and $PartitionedEntities is binary, in the byte order of the
+// writer, which the int 1 after the $MeshFormat line tells. 2.2: ints (4 bytes) and
+// doubles; 4.1: ints, doubles and size_t of `data-size` bytes (counts and node and element
+// tags). Elements of a type not kept are read past by the node count of their type
+// (kGmshNodesPerType), so binary files can hold only the types listed there. Each section's
+// binary data ends with '\n' before its $End line; other sections are read past up to it.
+
+// Nodes per Gmsh element type 0..140 (0: no such type), as gmsh's getElementProperties
+// gives them (Gmsh 4.8).
+constexpr std::uint16_t kGmshNodesPerType[] = {
+    0,   2,  3,  4,  4,  8,  6,  5,  3,   6,   9,   10,  27,  18,  14,   1,  8,   20,  15,  13,  9,
+    10,  12, 15, 15, 21, 4,  5,  6,  20,  35,  56,  22,  28,  0,   0,    16, 25,  36,  12,  16,  20,
+    28,  36, 45, 55, 66, 49, 64, 81, 100, 121, 18,  21,  24,  27,  30,   24, 28,  32,  36,  40,  7,
+    8,   9,  10, 11, 0,  0,  0,  0,  84,  120, 165, 220, 286, 0,   0,    0,  34,  40,  46,  52,  58,
+    1,   1,  1,  1,  1,  1,  0,  0,  64,  125, 216, 343, 512, 729, 1000, 32, 44,  56,  68,  80,  92,
+    104, 0,  0,  0,  0,  0,  0,  0,  0,   0,   0,   0,   0,   30,  55,   91, 140, 204, 285, 385, 21,
+    29,  37, 45, 53, 61, 69, 1,  0,  0,   0,   0,   16,  0,   0,   0};
+
+std::uint64_t gmsh_nodes_per_type(const ByteReader& in, std::uint64_t type, const char* section) {
+  const std::uint64_t n = type < std::size(kGmshNodesPerType) ? kGmshNodesPerType[type] : 0;
+  if (n == 0) {
+    in.fail(std::string(section) + ": element type " + std::to_string(type) +
+            " is unknown (its node count is needed to read a binary file)");
   }
-  for (const GmshTags::Block& b : tags.blocks) {
-    const auto& physical = tags.have_partitioned ? tags.partitioned[b.dim] : tags.physical[b.dim];
-    const auto it = physical.find(b.entity);
-    if (it == physical.end()) continue;
-    std::fill(b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.begin),
-              b.cells->ref.begin() + static_cast<std::ptrdiff_t>(b.end), it->second);
+  return n;
+}
+
+// A binary .msh being read: the cursor, the format's integer sizes.
+struct GmshBinary {
+  ByteReader in;
+  std::size_t size_t_bytes = 8;  // 4.1: the data-size of $MeshFormat
+
+  std::uint64_t i32(const char* section) {
+    const std::int64_t v = in.sint(4, section);
+    if (v < 0) in.fail(std::string(section) + ": negative value " + std::to_string(v));
+    return static_cast<std::uint64_t>(v);
   }
-  finish_gmsh(path, nodes, tets, triangles, mesh);
+  std::uint64_t size(const char* section) { return in.uint(size_t_bytes, section); }
+
+  // The $End line after a section's binary data.
+  void expect_end(const char* section, const char* end) {
+    const std::string_view t = in.token();
+    if (t != end) {
+      in.fail(std::string("section ") + section + ": expected " + end + " after its data, found " +
+              (t.empty() ? std::string("the end of the file") : quote(t)));
+    }
+  }
+};
+
+// $Nodes, 2.2 binary: "count\n", then per node int tag, 3 doubles.
+void read_gmsh2_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes) {
+  const char* section = "section $Nodes";
+  const std::string_view t = f.in.token();
+  std::uint64_t n = 0;
+  if (std::from_chars(t.data(), t.data() + t.size(), n).ptr != t.data() + t.size() || t.empty()) {
+    f.in.fail(std::string(section) + ": the node count " + quote(t) + " is not a number");
+  }
+  f.in.end_line();
+  if (n > kMaxVertices) f.in.fail(std::to_string(n) + " vertices: more than 2^32 - 1");
+  f.in.need(n, 28, std::string(section) + ": " + std::to_string(n) + " nodes");
+  nodes.tag.reserve(static_cast<std::size_t>(n));
+  mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+  for (std::uint64_t i = 0; i < n; ++i) {
+    nodes.tag.push_back(f.i32(section));
+    nodes.line.push_back(0);
+    for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+  }
+  f.expect_end("$Nodes", "$EndNodes");
+}
+
+// $Elements, 2.2 binary: "count\n", then blocks: int type, int count, int ntags, then per
+// element int number, ntags ints (the first the physical tag), the node tags (ints).
+void read_gmsh2_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangles) {
+  const char* section = "section $Elements";
+  const std::string_view t = f.in.token();
+  std::uint64_t n = 0;
+  if (std::from_chars(t.data(), t.data() + t.size(), n).ptr != t.data() + t.size() || t.empty()) {
+    f.in.fail(std::string(section) + ": the element count " + quote(t) + " is not a number");
+  }
+  f.in.end_line();
+  for (std::uint64_t found = 0; found < n;) {
+    const std::uint64_t type = f.i32(section);
+    const std::uint64_t in_block = f.i32(section);
+    const std::uint64_t ntags = f.i32(section);
+    if (in_block > n - found) {
+      f.in.fail(std::string(section) + ": a block of " + std::to_string(in_block) +
+                " elements after " + std::to_string(found) + " of " + std::to_string(n) +
+                " elements");
+    }
+    const std::uint64_t per = gmsh_nodes_per_type(f.in, type, section);
+    f.in.need(in_block, 4 * (1 + ntags + per),
+              std::string(section) + ": a block of " + std::to_string(in_block) + " elements");
+    RawCells* cells = gmsh_cells(type, tets, triangles);
+    for (std::uint64_t e = 0; e < in_block; ++e, ++found) {
+      const std::uint64_t number = f.i32(section);
+      std::int32_t physical = 0;
+      for (std::uint64_t k = 0; k < ntags; ++k) {
+        const std::int64_t tag = f.in.sint(4, section);
+        if (k == 0) physical = static_cast<std::int32_t>(tag);
+      }
+      std::uint64_t idx[4];
+      for (std::uint64_t k = 0; k < per; ++k) {
+        const std::uint64_t node = f.i32(section);
+        if (k < 4) idx[k] = node;
+      }
+      if (cells != nullptr) cells->push(number, 0, idx, physical);
+    }
+  }
+  f.expect_end("$Elements", "$EndElements");
+}
+
+// $Entities / $PartitionedEntities, 4.1 binary: as the ASCII layout (read_gmsh4_entities),
+// counts as size_t, tags as int, coordinates as doubles.
+void read_gmsh4_binary_entities(GmshBinary& f, GmshTags& tags, bool partitioned) {
+  const char* section = partitioned ? "section $PartitionedEntities" : "section $Entities";
+  if (partitioned) {
+    f.size(section);  // partitions
+    const std::uint64_t ghosts = f.size(section);
+    f.in.skip(ghosts, 8, section);
+  }
+  std::uint64_t count[4];
+  for (auto& c : count) c = f.size(section);
+  auto& physical = partitioned ? tags.partitioned : tags.physical;
+  for (std::size_t dim = 0; dim < 4; ++dim) {
+    for (std::uint64_t e = 0; e < count[dim]; ++e) {
+      const std::int64_t tag = f.in.sint(4, section);
+      if (partitioned) {
+        f.in.skip(2, 4, section);                // parent dimension and tag
+        f.in.skip(f.size(section), 4, section);  // partitions
+      }
+      f.in.skip(dim == 0 ? 3 : 6, 8, section);  // point, or bounding box
+      const std::uint64_t nphys = f.size(section);
+      for (std::uint64_t k = 0; k < nphys; ++k) {
+        const std::int64_t phys = f.in.sint(4, section);
+        if (k == 0 && tag >= 0) {
+          physical[dim].emplace(static_cast<std::uint64_t>(tag), static_cast<std::int32_t>(phys));
+        }
+      }
+      if (dim > 0) {
+        f.in.skip(f.size(section), 4, section);  // bounding entities
+      }
+    }
+  }
+  f.expect_end(partitioned ? "$PartitionedEntities" : "$Entities",
+               partitioned ? "$EndPartitionedEntities" : "$EndEntities");
+}
+
+// $Nodes, 4.1 binary: 4 size_t (blocks, nodes, min and max tag), per block int dimension,
+// int entity, int parametric, size_t count, the count tags (size_t), then per node x y z
+// and, when parametric, `dimension` parameters (doubles).
+void read_gmsh4_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes) {
+  const char* section = "section $Nodes";
+  const std::uint64_t blocks = f.size(section);
+  const std::uint64_t n = f.size(section);
+  f.size(section);
+  f.size(section);
+  if (n > kMaxVertices) f.in.fail(std::to_string(n) + " vertices: more than 2^32 - 1");
+  f.in.need(n, f.size_t_bytes + 24, std::string(section) + ": " + std::to_string(n) + " nodes");
+  nodes.tag.reserve(static_cast<std::size_t>(n));
+  mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+  std::uint64_t found = 0;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::uint64_t dim = f.i32(section);
+    f.i32(section);  // entity
+    const std::uint64_t parametric = f.i32(section);
+    const std::uint64_t in_block = f.size(section);
+    if (in_block > n - found) {
+      f.in.fail(std::string(section) + ": a block of " + std::to_string(in_block) +
+                " nodes after " + std::to_string(found) + " of " + std::to_string(n) + " nodes");
+    }
+    const std::uint64_t extra = parametric != 0 ? std::min<std::uint64_t>(dim, 3) : 0;
+    f.in.need(in_block, f.size_t_bytes + 8 * (3 + extra),
+              std::string(section) + ": a block of " + std::to_string(in_block) + " nodes");
+    for (std::uint64_t i = 0; i < in_block; ++i) {
+      nodes.tag.push_back(f.size(section));
+      nodes.line.push_back(0);
+    }
+    for (std::uint64_t i = 0; i < in_block; ++i) {
+      for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+      f.in.skip(extra, 8, section);
+    }
+    found += in_block;
+  }
+  if (found != n) {
+    f.in.fail(std::string(section) + ": its blocks hold " + std::to_string(found) +
+              " nodes, the header " + std::to_string(n));
+  }
+  f.expect_end("$Nodes", "$EndNodes");
+}
+
+// $Elements, 4.1 binary: 4 size_t (blocks, elements, min and max tag), per block int
+// dimension, int entity, int type, size_t count, then per element its tag and its node
+// tags (size_t).
+void read_gmsh4_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangles,
+                                GmshTags& tags) {
+  const char* section = "section $Elements";
+  const std::uint64_t blocks = f.size(section);
+  const std::uint64_t n = f.size(section);
+  f.size(section);
+  f.size(section);
+  std::uint64_t found = 0;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::uint64_t dim = f.i32(section);
+    const std::uint64_t entity = f.i32(section);
+    const std::uint64_t type = f.i32(section);
+    const std::uint64_t in_block = f.size(section);
+    if (dim > 3)
+      f.in.fail(std::string(section) + ": a block of entity dimension " + std::to_string(dim));
+    if (in_block > n - found) {
+      f.in.fail(std::string(section) + ": a block of " + std::to_string(in_block) +
+                " elements after " + std::to_string(found) + " of " + std::to_string(n) +
+                " elements");
+    }
+    const std::uint64_t per = gmsh_nodes_per_type(f.in, type, section);
+    f.in.need(in_block, f.size_t_bytes * (1 + per),
+              std::string(section) + ": a block of " + std::to_string(in_block) + " elements");
+    RawCells* cells = gmsh_cells(type, tets, triangles);
+    if (cells != nullptr) {
+      tags.blocks.push_back({dim, entity, cells, cells->size(), 0});
+      cells->v.reserve(cells->v.size() + cells->per * static_cast<std::size_t>(in_block));
+    }
+    for (std::uint64_t e = 0; e < in_block; ++e) {
+      const std::uint64_t number = f.size(section);
+      std::uint64_t idx[4];
+      for (std::uint64_t k = 0; k < per; ++k) {
+        const std::uint64_t node = f.size(section);
+        if (k < 4) idx[k] = node;
+      }
+      if (cells != nullptr) cells->push(number, 0, idx, 0);
+    }
+    if (cells != nullptr) tags.blocks.back().end = cells->size();
+    found += in_block;
+  }
+  if (found != n) {
+    f.in.fail(std::string(section) + ": its blocks hold " + std::to_string(found) +
+              " elements, the header " + std::to_string(n));
+  }
+  f.expect_end("$Elements", "$EndElements");
+}
+
+TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) {
+  GmshBinary f{ByteReader(path, text), 8};
+  TetMeshInput mesh;
+  mesh.source = path;
+  f.in.token();  // $MeshFormat
+  const std::string version(f.in.token());
+  f.in.token();  // file-type 1
+  const std::string data_size(f.in.token());
+  f.in.end_line();
+  const bool v2 = version != "4.1";
+  if (data_size != "8" && !(data_size == "4" && !v2)) {
+    f.in.fail("$MeshFormat: data-size " + quote(data_size) +
+              (v2 ? ": 8 (the size of a double)" : ": 4 or 8 (the size of size_t)"));
+  }
+  f.size_t_bytes = data_size == "4" ? 4 : 8;
+  {
+    // The int 1, in the writer's byte order.
+    const std::uint64_t one = f.in.uint(4, "$MeshFormat");
+    if (one != 1 && one != 0x01000000u) {
+      f.in.fail("$MeshFormat: the binary check reads " + std::to_string(one) +
+                ", not 1 in either byte order");
+    }
+    f.in.set_big_endian(one != 1);
+    f.expect_end("$MeshFormat", "$EndMeshFormat");
+  }
+  GmshNodes nodes;
+  RawCells tets(4, "element"), triangles(3, "element");
+  GmshTags tags;
+  bool have_nodes = false, have_elements = false, have_names = false, have_entities = false;
+  for (;;) {
+    const std::string_view t = f.in.token();
+    if (t.empty()) break;
+    if (t.size() < 2 || t[0] != '$') f.in.fail("expected a section ($Name), found " + quote(t));
+    const auto once = [&](bool& have) {
+      if (have) f.in.fail("a second " + std::string(t) + " section");
+      have = true;
+    };
+    if (t == "$Nodes" || t == "$Elements" || t == "$Entities" || t == "$PartitionedEntities") {
+      f.in.end_line();  // binary data (4.1) or the count line (2.2) starts on the next line
+    }
+    if (t == "$Nodes") {
+      once(have_nodes);
+      if (v2) {
+        read_gmsh2_binary_nodes(f, mesh, nodes);
+      } else {
+        read_gmsh4_binary_nodes(f, mesh, nodes);
+      }
+    } else if (t == "$Elements") {
+      once(have_elements);
+      if (v2) {
+        read_gmsh2_binary_elements(f, tets, triangles);
+      } else {
+        read_gmsh4_binary_elements(f, tets, triangles, tags);
+      }
+    } else if (t == "$Entities" && !v2) {
+      once(have_entities);
+      read_gmsh4_binary_entities(f, tags, false);
+    } else if (t == "$PartitionedEntities" && !v2) {
+      once(tags.have_partitioned);
+      read_gmsh4_binary_entities(f, tags, true);
+    } else {
+      // ASCII ($PhysicalNames) or read past: up to the $End line.
+      const std::string end = "$End" + std::string(t.substr(1));
+      const std::size_t stop = text.find(end, f.in.pos());
+      if (stop == std::string::npos) {
+        f.in.fail("section " + std::string(t) + " has no " + end);
+      }
+      if (t == "$PhysicalNames") {
+        once(have_names);
+        Lexer lx(path, text.substr(f.in.pos(), stop + end.size() - f.in.pos()), 0, f.in.line());
+        read_gmsh_physical_names(lx, mesh);
+      }
+      f.in.seek(stop + end.size());
+    }
+  }
+  finish_gmsh_file(path, have_elements, tags, nodes, tets, triangles, mesh);
   return mesh;
 }
 
@@ -764,6 +1106,14 @@ void read_vtk_array(Lexer& lx, const std::string& name, std::uint64_t values,
   }
 }
 
+void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_begin,
+                const std::vector<std::uint64_t>& cell_index,
+                const std::vector<std::uint32_t>& cell_line,
+                const std::vector<std::uint64_t>& cell_type,
+                const std::vector<std::int32_t>& region, const std::vector<std::int32_t>& patch,
+                TetMeshInput& mesh);
+TetMeshInput read_vtk_binary(const std::string& path, const std::string& text);
+
 TetMeshInput read_vtk(const std::string& path) {
   Lexer lx(path, read_whole_file(path), 0);
   TetMeshInput mesh;
@@ -776,7 +1126,7 @@ TetMeshInput read_vtk(const std::string& path) {
     lx.next_line();
     lx.next_line();  // the title
     const std::string_view format = lx.next();
-    if (lower(format) == "binary") lx.fail("binary VTK file: only ASCII legacy .vtk is read");
+    if (lower(format) == "binary") return read_vtk_binary(path, lx.text());
     if (lower(format) != "ascii") {
       lx.fail("expected ASCII or BINARY, found " +
               (format.empty() ? std::string("the end of the file") : quote(format)));
@@ -980,6 +1330,19 @@ TetMeshInput read_vtk(const std::string& path) {
                                           : "CELL_TYPES") +
                 " section");
   }
+  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, region, patch, mesh);
+  return mesh;
+}
+
+// Cells of both readers: cell c has the points cell_index[cell_begin[c] .. cell_begin[c + 1]),
+// the type cell_type[c], stands at line cell_line[c] (0: binary) and has the tags region[c]
+// and patch[c] (when not empty); the tets and triangles go to `mesh`.
+void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_begin,
+                const std::vector<std::uint64_t>& cell_index,
+                const std::vector<std::uint32_t>& cell_line,
+                const std::vector<std::uint64_t>& cell_type,
+                const std::vector<std::int32_t>& region, const std::vector<std::int32_t>& patch,
+                TetMeshInput& mesh) {
   RawCells tets(4, "cell"), triangles(3, "cell");
   for (std::size_t c = 0; c < cell_type.size(); ++c) {
     const bool tet = cell_type[c] == kVtkTetra;
@@ -987,7 +1350,7 @@ TetMeshInput read_vtk(const std::string& path) {
     RawCells& raw = tet ? tets : triangles;
     const std::uint64_t k = cell_begin[c + 1] - cell_begin[c];
     if (k != raw.per) {
-      fail_at(path, cell_line[c],
+      fail_in(path, cell_line[c],
               "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
                   " has " + std::to_string(k) + " points, not " + std::to_string(raw.per));
     }
@@ -996,6 +1359,308 @@ TetMeshInput read_vtk(const std::string& path) {
   }
   if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10)");
   finish_mesh(path, tets, path, triangles, 0, mesh);
+}
+
+// ---------------------------------------------------------------------------------------
+// Legacy VTK BINARY: the same keywords on ASCII lines, each followed (on the next line) by
+// its values in binary, big-endian, of the type the line names; the values end with '\n'.
+// METADATA blocks are ASCII; string arrays are not read (VTK prefixes each string with a
+// variable-length size), nor `bit` arrays.
+
+// A VTK data type: its size in bytes, whether floating point, whether signed.
+struct VtkType {
+  std::size_t size = 0;
+  bool floating = false, is_signed = false;
+};
+
+VtkType vtk_type(const ByteReader& in, std::string_view name, const std::string& where) {
+  static const std::pair<const char*, VtkType> kTypes[] = {
+      {"unsigned_char", {1, false, false}},
+      {"char", {1, false, true}},
+      {"vtktypeuint8", {1, false, false}},
+      {"vtktypeint8", {1, false, true}},
+      {"unsigned_short", {2, false, false}},
+      {"short", {2, false, true}},
+      {"vtktypeuint16", {2, false, false}},
+      {"vtktypeint16", {2, false, true}},
+      {"unsigned_int", {4, false, false}},
+      {"int", {4, false, true}},
+      {"vtktypeuint32", {4, false, false}},
+      {"vtktypeint32", {4, false, true}},
+      {"vtkidtype", {4, false, true}},  // VTK writes vtkIdType arrays as int
+      {"unsigned_long", {8, false, false}},
+      {"long", {8, false, true}},
+      {"vtktypeuint64", {8, false, false}},
+      {"vtktypeint64", {8, false, true}},
+      {"float", {4, true, true}},
+      {"vtktypefloat32", {4, true, true}},
+      {"double", {8, true, true}},
+      {"vtktypefloat64", {8, true, true}},
+  };
+  const std::string l = lower(name);
+  for (const auto& [n, t] : kTypes) {
+    if (l == n) return t;
+  }
+  in.fail(where + ": data type " + quote(name) + " is not read in a binary file");
+}
+
+// a * b, or an error naming `where` when it does not fit in 64 bits.
+std::uint64_t checked_product(const ByteReader& in, std::uint64_t a, std::uint64_t b,
+                              const std::string& where) {
+  if (b != 0 && a > std::numeric_limits<std::uint64_t>::max() / b) {
+    in.fail(where + ": " + std::to_string(a) + " x " + std::to_string(b) + " values: too many");
+  }
+  return a * b;
+}
+
+// `n` binary values of type `t` as doubles (integers up to 2^53 exactly), after checking
+// that the file holds them.
+std::vector<double> vtk_binary_values(ByteReader& in, const VtkType& t, std::uint64_t n,
+                                      const std::string& where) {
+  in.need(n, t.size, where + ": " + std::to_string(n) + " values");
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>(n));
+  const std::string what = where;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const std::uint64_t raw = in.uint(t.size, what.c_str());
+    out.push_back(t.floating    ? (t.size == 8 ? bits_to_double(raw) : bits_to_float(raw))
+                  : t.is_signed ? static_cast<double>(to_signed(raw, t.size))
+                                : static_cast<double>(raw));
+  }
+  return out;
+}
+
+// Integers (counts, offsets, point indices): a non-negative integer type is needed.
+std::vector<std::uint64_t> vtk_binary_indices(ByteReader& in, std::string_view type,
+                                              std::uint64_t n, const std::string& where) {
+  const VtkType t = vtk_type(in, type, where);
+  if (t.floating) in.fail(where + ": data type " + quote(type) + ": an integer type is needed");
+  in.need(n, t.size, where + ": " + std::to_string(n) + " values");
+  std::vector<std::uint64_t> out;
+  out.reserve(static_cast<std::size_t>(n));
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const std::uint64_t raw = in.uint(t.size, where.c_str());
+    if (t.is_signed && to_signed(raw, t.size) < 0) {
+      in.fail(where + ": value " + std::to_string(i) + " is negative (" +
+              std::to_string(to_signed(raw, t.size)) + ")");
+    }
+    out.push_back(raw);
+  }
+  return out;
+}
+
+std::uint64_t vtk_word_uint(const ByteReader& in, const std::vector<std::string_view>& w,
+                            std::size_t i, const std::string& where) {
+  std::uint64_t v = 0;
+  if (i >= w.size()) in.fail(where + ": missing value on the line");
+  const std::string_view t = w[i];
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size()) {
+    in.fail(where + ": " + quote(t) + " is not a count (a non-negative integer)");
+  }
+  return v;
+}
+
+std::string_view vtk_word(const ByteReader& in, const std::vector<std::string_view>& w,
+                          std::size_t i, const std::string& where) {
+  if (i >= w.size()) in.fail(where + ": missing value on the line");
+  return w[i];
+}
+
+// A METADATA block: the lines up to and including the next blank one.
+void skip_vtk_metadata(ByteReader& in) {
+  for (;;) {
+    const std::string_view l = in.rest_of_line();
+    if (std::all_of(l.begin(), l.end(),
+                    [](char c) { return std::isspace(static_cast<unsigned char>(c)); })) {
+      return;
+    }
+  }
+}
+
+TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
+  ByteReader in(path, text);
+  in.set_big_endian(true);
+  TetMeshInput mesh;
+  mesh.source = path;
+  in.end_line();  // "# vtk DataFile Version x.y"
+  in.end_line();  // the title
+  in.end_line();  // BINARY
+  {
+    const std::vector<std::string_view> w = in.words();
+    if (w.size() < 2 || lower(w[0]) != "dataset") in.fail("expected DATASET on line 4");
+    if (lower(w[1]) != "unstructured_grid") {
+      in.fail("DATASET " + quote(w[1]) + ": only UNSTRUCTURED_GRID is read");
+    }
+  }
+  bool have_points = false, have_cells = false, have_types = false;
+  std::vector<std::uint64_t> cell_begin{0}, cell_index, cell_type;
+  std::vector<std::uint32_t> cell_line;
+  enum class Data { kNone, kPoint, kCell } data = Data::kNone;
+  std::uint64_t tuples = 0;
+  std::vector<std::int32_t> region, patch;
+  bool have_region = false, have_patch = false;
+  const auto tag_array = [&](std::string_view name,
+                             std::uint64_t components) -> std::vector<std::int32_t>* {
+    if (data != Data::kCell || components != 1) return nullptr;
+    bool& have = name == "region" ? have_region : have_patch;
+    if ((name != "region" && name != "patch") || have) return nullptr;
+    have = true;
+    return name == "region" ? &region : &patch;
+  };
+  // An array of `n` values of `type` named `where`: read as tags, or read past.
+  const auto array = [&](std::string_view type, std::uint64_t n, const std::string& where,
+                         std::vector<std::int32_t>* tags) {
+    const VtkType t = vtk_type(in, type, where);
+    if (tags == nullptr) {
+      in.skip(n, t.size, where + ": " + std::to_string(n) + " values");
+      return;
+    }
+    const std::vector<double> v = vtk_binary_values(in, t, n, where);
+    for (std::size_t c = 0; c < v.size(); ++c) {
+      if (v[c] != std::floor(v[c]) || v[c] < -2147483648.0 || v[c] > 2147483647.0) {
+        std::string value;
+        append(value, v[c]);
+        in.fail(where + ": cell " + std::to_string(c) + ": " + value +
+                " is not a tag (a 32-bit integer)");
+      }
+      tags->push_back(static_cast<std::int32_t>(v[c]));
+    }
+  };
+  const auto need_data = [&](std::string_view kw) {
+    if (data == Data::kNone) in.fail(std::string(kw) + " outside POINT_DATA and CELL_DATA");
+  };
+  for (;;) {
+    const std::vector<std::string_view> w = in.words();
+    if (w.empty()) break;
+    const std::string kw = lower(w[0]);
+    const std::string head(w[0]);
+    if (kw == "points") {
+      const std::uint64_t n = vtk_word_uint(in, w, 1, head);
+      if (n > kMaxVertices)
+        in.fail("POINTS: " + std::to_string(n) + " vertices: more than 2^32 - 1");
+      mesh.xyz = vtk_binary_values(in, vtk_type(in, vtk_word(in, w, 2, head), head), 3 * n, head);
+      for (std::size_t i = 0; i < mesh.xyz.size(); ++i) {
+        if (!std::isfinite(mesh.xyz[i])) {
+          in.fail("POINTS: point " + std::to_string(i / 3) + ": a coordinate is not finite");
+        }
+      }
+      have_points = true;
+    } else if (kw == "cells") {
+      const std::uint64_t n = vtk_word_uint(in, w, 1, head);
+      const std::uint64_t size = vtk_word_uint(in, w, 2, head);
+      cell_begin.assign(1, 0);
+      cell_index.clear();
+      if (lower(in.peek_token()) == "offsets") {
+        // VTK 5.1: n offsets (cells + 1), then `size` connectivity entries.
+        const std::vector<std::string_view> o = in.words();
+        cell_begin = vtk_binary_indices(in, vtk_word(in, o, 1, "OFFSETS"), n, "OFFSETS");
+        const std::vector<std::string_view> c = in.words();
+        if (c.empty() || lower(c[0]) != "connectivity") {
+          in.fail("expected CONNECTIVITY after the OFFSETS of CELLS");
+        }
+        cell_index =
+            vtk_binary_indices(in, vtk_word(in, c, 1, "CONNECTIVITY"), size, "CONNECTIVITY");
+        if (cell_begin.empty() || cell_begin.front() != 0 || cell_begin.back() != size ||
+            !std::is_sorted(cell_begin.begin(), cell_begin.end())) {
+          in.fail("CELLS: the offsets must rise from 0 to the connectivity size " +
+                  std::to_string(size));
+        }
+      } else {
+        // Classic layout: `size` ints, per cell its point count and its point indices.
+        const std::vector<std::uint64_t> v = vtk_binary_indices(in, "int", size, head);
+        std::size_t i = 0;
+        for (std::uint64_t c = 0; c < n; ++c) {
+          if (i >= v.size() || v[i] > v.size() - i - 1) {
+            in.fail("CELLS " + std::to_string(n) + " " + std::to_string(size) + ": cell " +
+                    std::to_string(c) + " runs past the " + std::to_string(size) + " values");
+          }
+          const auto k = static_cast<std::size_t>(v[i]);
+          cell_index.insert(cell_index.end(), v.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                            v.begin() + static_cast<std::ptrdiff_t>(i + 1 + k));
+          cell_begin.push_back(cell_index.size());
+          i += k + 1;
+        }
+        if (i != v.size()) {
+          in.fail("CELLS " + std::to_string(n) + " " + std::to_string(size) + ": the cells hold " +
+                  std::to_string(i) + " values, not " + std::to_string(size));
+        }
+      }
+      cell_line.assign(cell_begin.size() - 1, 0);
+      have_cells = true;
+    } else if (kw == "cell_types") {
+      const std::uint64_t n = vtk_word_uint(in, w, 1, head);
+      if (!have_cells) in.fail("CELL_TYPES before CELLS");
+      if (n != cell_line.size()) {
+        in.fail("CELL_TYPES " + std::to_string(n) + ": CELLS has " +
+                std::to_string(cell_line.size()) + " cells");
+      }
+      cell_type = vtk_binary_indices(in, "int", n, head);
+      have_types = true;
+    } else if (kw == "metadata") {
+      skip_vtk_metadata(in);
+    } else if (kw == "point_data" || kw == "cell_data") {
+      tuples = vtk_word_uint(in, w, 1, head);
+      data = kw == "point_data" ? Data::kPoint : Data::kCell;
+      if (data == Data::kCell && tuples != cell_line.size()) {
+        in.fail("CELL_DATA " + std::to_string(tuples) + ": CELLS has " +
+                std::to_string(cell_line.size()) + " cells");
+      }
+    } else if (kw == "scalars") {
+      need_data("SCALARS");
+      const std::string name(vtk_word(in, w, 1, head));
+      const std::string_view type = vtk_word(in, w, 2, head);
+      const std::uint64_t components = w.size() > 3 ? vtk_word_uint(in, w, 3, head) : 1;
+      if (lower(in.peek_token()) == "lookup_table") in.words();
+      array(type, checked_product(in, tuples, components, head), "SCALARS " + name,
+            tag_array(name, components));
+    } else if (kw == "lookup_table") {
+      in.skip(checked_product(in, vtk_word_uint(in, w, 2, head), 4, head), 1, head);
+    } else if (kw == "color_scalars") {
+      need_data(head);
+      in.skip(checked_product(in, tuples, vtk_word_uint(in, w, 2, head), head), 1, head);
+    } else if (kw == "vectors" || kw == "normals" || kw == "tensors" || kw == "tensors6" ||
+               kw == "texture_coordinates" || kw == "global_ids" || kw == "pedigree_ids") {
+      need_data(head);
+      const bool texture = kw == "texture_coordinates";
+      const std::uint64_t per = texture                              ? vtk_word_uint(in, w, 2, head)
+                                : kw == "vectors" || kw == "normals" ? 3
+                                : kw == "tensors"                    ? 9
+                                : kw == "tensors6"                   ? 6
+                                                                     : 1;
+      array(vtk_word(in, w, texture ? 3 : 2, head), checked_product(in, tuples, per, head), head,
+            nullptr);
+    } else if (kw == "field") {
+      const std::uint64_t arrays = vtk_word_uint(in, w, 2, head);
+      for (std::uint64_t a = 0; a < arrays; ++a) {
+        std::vector<std::string_view> h = in.words();
+        if (!h.empty() && lower(h[0]) == "metadata") {
+          skip_vtk_metadata(in);
+          h = in.words();
+        }
+        if (h.empty()) {
+          in.fail("FIELD: expected " + std::to_string(arrays) + " arrays, found " +
+                  std::to_string(a) + " before the end of the file");
+        }
+        if (h[0] == "NULL_ARRAY") continue;
+        const std::string name = "FIELD array " + std::string(h[0]);
+        const std::uint64_t components = vtk_word_uint(in, h, 1, name);
+        const std::uint64_t n = vtk_word_uint(in, h, 2, name);
+        std::vector<std::int32_t>* tags = n == tuples ? tag_array(h[0], components) : nullptr;
+        array(vtk_word(in, h, 3, name), checked_product(in, n, components, name), name, tags);
+      }
+    } else {
+      in.fail("unknown VTK keyword " + quote(w[0]));
+    }
+  }
+  if (!have_points || !have_cells || !have_types) {
+    throw Error(path + ": no " +
+                std::string(!have_points  ? "POINTS"
+                            : !have_cells ? "CELLS"
+                                          : "CELL_TYPES") +
+                " section");
+  }
+  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, region, patch, mesh);
   return mesh;
 }
 
@@ -1159,10 +1824,43 @@ std::string gmsh22_text(const TetMeshInput& mesh) {
   return s;
 }
 
+// MSH 4.1 values, as text (blank-separated, lines ended by eol()) or binary (ints as
+// int32, counts and tags as size_t of 8 bytes, doubles; little endian; eol() writes
+// nothing).
+struct Msh41Out {
+  bool binary;
+  std::string s;
+
+  void int32(std::int64_t v) {
+    if (binary) return put_le<std::int32_t>(s, static_cast<std::int32_t>(v));
+    append_int(s, v);
+    s += ' ';
+  }
+  void size(std::uint64_t v) {
+    if (binary) return put_le<std::uint64_t>(s, v);
+    append(s, v);
+    s += ' ';
+  }
+  void real(double v) {
+    if (binary) return put_le<double>(s, v);
+    append(s, v);
+    s += ' ';
+  }
+  void eol() {
+    if (!binary && !s.empty() && s.back() == ' ') s.back() = '\n';
+  }
+  // The $End line of a section (binary data is followed by a line break first).
+  void end(const char* name) {
+    if (binary) s += '\n';
+    s += name;
+    s += '\n';
+  }
+};
+
 // Surface entities for the triangle tags, volume entities for the tet tags, each entity's
 // box the mesh's bounding box (a valid, if loose, bound); every node in volume entity 1;
 // element blocks: runs of equal tags, tets first.
-std::string gmsh41_text(const TetMeshInput& mesh) {
+std::string gmsh41_file(const TetMeshInput& mesh, bool binary) {
   const GmshEntities volumes(mesh.tet_ref, mesh.nb_tets(), true);
   const GmshEntities surfaces(mesh.triangle_ref, mesh.nb_triangles(), false);
   // Physical groups for every entity, tag 0 included, as soon as one tag is not 0 (meshio
@@ -1170,79 +1868,89 @@ std::string gmsh41_text(const TetMeshInput& mesh) {
   const auto nonzero = [](std::int32_t t) { return t != 0; };
   const bool physical = std::any_of(mesh.tet_ref.begin(), mesh.tet_ref.end(), nonzero) ||
                         std::any_of(mesh.triangle_ref.begin(), mesh.triangle_ref.end(), nonzero);
-  std::string box;
-  {
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        const double x = mesh.xyz[3 * i + k];
-        lo[k] = i == 0 ? x : std::min(lo[k], x);
-        hi[k] = i == 0 ? x : std::max(hi[k], x);
-      }
-    }
-    for (const double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
-      box += ' ';
-      append(box, x);
+  double box[6] = {0, 0, 0, 0, 0, 0};  // lo, hi
+  for (std::size_t i = 0; i < mesh.nb_vertices(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double x = mesh.xyz[3 * i + k];
+      box[k] = i == 0 ? x : std::min(box[k], x);
+      box[k + 3] = i == 0 ? x : std::max(box[k + 3], x);
     }
   }
   const std::uint64_t nv = mesh.nb_vertices();
   const std::uint64_t ne = std::uint64_t{mesh.nb_tets()} + mesh.nb_triangles();
-  std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + gmsh_physical_names(mesh);
-  s += "$Entities\n0 0 " + std::to_string(surfaces.tags.size()) + " " +
-       std::to_string(volumes.tags.size()) + "\n";
+  Msh41Out out{binary, std::string("$MeshFormat\n4.1 ") + (binary ? "1" : "0") + " 8\n"};
+  if (binary) out.int32(1);  // tells the byte order
+  out.end("$EndMeshFormat");
+  out.s += gmsh_physical_names(mesh) + "$Entities\n";
+  for (const std::uint64_t count :
+       {std::uint64_t{0}, std::uint64_t{0}, std::uint64_t{surfaces.tags.size()},
+        std::uint64_t{volumes.tags.size()}}) {
+    out.size(count);
+  }
+  out.eol();
   for (const GmshEntities* entities : {&surfaces, &volumes}) {
     for (std::size_t e = 0; e < entities->tags.size(); ++e) {
-      append(s, std::uint64_t{e + 1});
-      s += box;
-      if (physical) {
-        s += " 1 ";
-        append_int(s, entities->tags[e]);
-      } else {
-        s += " 0";
-      }
-      s += " 0\n";  // no bounding entities
+      out.int32(static_cast<std::int64_t>(e + 1));
+      for (const double x : box) out.real(x);
+      out.size(physical ? 1 : 0);
+      if (physical) out.int32(entities->tags[e]);
+      out.size(0);  // no bounding entities
+      out.eol();
     }
   }
-  s += "$EndEntities\n$Nodes\n";
-  s += "1 " + std::to_string(nv) + " 1 " + std::to_string(nv) + "\n3 1 0 " + std::to_string(nv) +
-       "\n";
+  out.end("$EndEntities");
+  out.s += "$Nodes\n";
+  for (const std::uint64_t v : {std::uint64_t{1}, nv, std::uint64_t{1}, nv}) out.size(v);
+  out.eol();
+  out.int32(3);
+  out.int32(1);
+  out.int32(0);
+  out.size(nv);
+  out.eol();
   for (std::uint64_t i = 0; i < nv; ++i) {
-    append(s, i + 1);
-    s += '\n';
+    out.size(i + 1);
+    out.eol();
   }
   for (std::size_t i = 0; i < nv; ++i) {
-    append_vertex(s, mesh, i);
-    s += '\n';
+    for (std::size_t k = 0; k < 3; ++k) out.real(mesh.xyz[3 * i + k]);
+    out.eol();
   }
-  s += "$EndNodes\n$Elements\n";
-  std::string blocks;
-  std::uint64_t nb_blocks = 0, number = 1;
-  const auto elements = [&](const std::vector<std::uint32_t>& cells, std::size_t per,
-                            const std::vector<std::int32_t>& ref, const GmshEntities& entities) {
-    const std::size_t n = cells.size() / per;
+  out.end("$EndNodes");
+  out.s += "$Elements\n";
+  std::uint64_t nb_blocks = 0;
+  const auto runs = [&](const std::vector<std::int32_t>& ref, std::size_t n, auto block) {
     for (std::size_t begin = 0, end = 0; begin < n; begin = end) {
       const std::int32_t tag = tag_of(ref, begin);
       for (end = begin + 1; end < n && tag_of(ref, end) == tag; ++end) {
       }
-      ++nb_blocks;
-      blocks += per == 4 ? "3 " : "2 ";
-      append(blocks, entities.entity(tag));
-      blocks += per == 4 ? " 4 " : " 2 ";
-      append(blocks, std::uint64_t{end - begin});
-      blocks += '\n';
-      for (std::size_t c = begin; c < end; ++c, ++number) {
-        append(blocks, number);
-        blocks += ' ';
-        append_cell(blocks, cells, per, c, 1);
-        blocks += '\n';
-      }
+      block(tag, begin, end);
     }
+  };
+  const auto count_block = [&](std::int32_t, std::size_t, std::size_t) { ++nb_blocks; };
+  runs(mesh.tet_ref, mesh.nb_tets(), count_block);
+  runs(mesh.triangle_ref, mesh.nb_triangles(), count_block);
+  for (const std::uint64_t v : {nb_blocks, ne, std::uint64_t{ne == 0 ? 0u : 1u}, ne}) out.size(v);
+  out.eol();
+  std::uint64_t number = 1;
+  const auto elements = [&](const std::vector<std::uint32_t>& cells, std::size_t per,
+                            const std::vector<std::int32_t>& ref, const GmshEntities& entities) {
+    runs(ref, cells.size() / per, [&](std::int32_t tag, std::size_t begin, std::size_t end) {
+      out.int32(per == 4 ? 3 : 2);
+      out.int32(static_cast<std::int64_t>(entities.entity(tag)));
+      out.int32(per == 4 ? 4 : 2);
+      out.size(end - begin);
+      out.eol();
+      for (std::size_t c = begin; c < end; ++c, ++number) {
+        out.size(number);
+        for (std::size_t k = 0; k < per; ++k) out.size(std::uint64_t{cells[per * c + k]} + 1);
+        out.eol();
+      }
+    });
   };
   elements(mesh.tets, 4, mesh.tet_ref, volumes);
   elements(mesh.triangles, 3, mesh.triangle_ref, surfaces);
-  s += std::to_string(nb_blocks) + " " + std::to_string(ne) + " " + (ne == 0 ? "0" : "1") + " " +
-       std::to_string(ne) + "\n" + blocks + "$EndElements\n";
-  return s;
+  out.end("$EndElements");
+  return out.s;
 }
 
 // Legacy VTK: tets then triangles, cell data cell_id, region, patch (as TetMeshFormat::kVtk).
@@ -1387,11 +2095,13 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
       write_text(path, gmsh22_text(mesh));
       return;
     case TetMeshFormat::kGmsh41:
+    case TetMeshFormat::kGmsh41Binary:
       check_gmsh_tags(path, mesh);
-      write_text(path, gmsh41_text(mesh));
+      write_text(path, gmsh41_file(mesh, format == TetMeshFormat::kGmsh41Binary));
       return;
     case TetMeshFormat::kVtu:
     case TetMeshFormat::kVtuAscii:
+    case TetMeshFormat::kVtuCompressed:
       write_file_atomically(path, [&](std::ostream& out) {
         const std::size_t nt = mesh.nb_tets(), nf = mesh.nb_triangles();
         std::vector<VtuCellBlock> blocks = {{mesh.tets.data(), nt, 4}};
@@ -1407,7 +2117,10 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
                                     mesh.triangle_ref.end());
         }
         write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, blocks,
-                  format == TetMeshFormat::kVtu, {}, tags);
+                  format == TetMeshFormat::kVtuAscii        ? VtuEncoding::kAscii
+                  : format == TetMeshFormat::kVtuCompressed ? VtuEncoding::kZlibBase64
+                                                            : VtuEncoding::kBase64,
+                  {}, tags);
       });
       return;
     case TetMeshFormat::kVtk:

@@ -1,5 +1,6 @@
 // VTK XML unstructured grids (.vtu): the writer (ASCII, or binary as base64-encoded
-// appended data) and the reader behind read_tet_mesh for .vtu files.
+// appended data, zlib-compressed or not) and the reader behind read_tet_mesh for .vtu
+// files.
 //
 // Binary layout (VTK's, not spelled out by its format document): every binary array is a
 // header — the array's byte count as UInt32 (header_type="UInt32", the default) or UInt64
@@ -7,18 +8,30 @@
 // base64 data encode the header and the bytes as one base64 stream or as two (header,
 // then bytes, each padded); decoding group by group of 4 characters reads both. An
 // appended array's `offset` counts characters (base64) or bytes (raw) after the '_' that
-// opens the AppendedData section. Compressed files (a `compressor` attribute) are
-// rejected with a message.
+// opens the AppendedData section.
+//
+// Compressed files (compressor="vtkZLibDataCompressor"; VTK's vtkXMLDataParser and
+// vtkXMLWriter): the array's bytes are cut into blocks of a fixed uncompressed size, the
+// last one maybe shorter, each compressed on its own as one zlib stream. The header is
+// [number of blocks, block size, size of the last block (0: a full block), compressed size
+// of each block], each word of header_type, then the compressed blocks one after the
+// other; base64 encodes the header and the blocks as one stream or as two. The reader
+// checks the header against the bytes that follow, bounds what a block may inflate to by
+// deflate's largest ratio before allocating it, and checks each block's inflated size
+// against the header. Other compressors (LZ4, LZMA) are rejected.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include <zlib.h>
 
 #include "text_lexer.h"
 #include "voroclip/core.h"
@@ -28,6 +41,13 @@ namespace voroclip {
 namespace {
 
 using namespace detail;  // NOLINT: the shared tokenizer and helpers of text_lexer.h
+
+// Deflate's largest compression factor (zlib's documentation, "Maximum compression
+// factor": 1032:1), which bounds what a compressed block can inflate to before inflating.
+constexpr std::uint64_t kZlibMaxRatio = 1032;
+
+// The uncompressed size of the blocks write_vtu compresses (VTK's default too).
+constexpr std::size_t kVtuBlockSize = 32768;
 
 constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -71,11 +91,44 @@ struct OutArray {
   std::string ascii;                 // values (ASCII)
 };
 
+// A zlib-compressed array as VTK lays it out (see the top of the file), UInt64 header
+// words, base64-encoded: the header, then the blocks.
+void append_compressed(std::string& out, const std::vector<unsigned char>& bytes) {
+  const std::size_t nb_blocks = (bytes.size() + kVtuBlockSize - 1) / kVtuBlockSize;
+  std::vector<unsigned char> header, packed;
+  put_le<std::uint64_t>(header, nb_blocks);
+  put_le<std::uint64_t>(header, kVtuBlockSize);
+  put_le<std::uint64_t>(header, bytes.size() % kVtuBlockSize);
+  for (std::size_t b = 0; b < nb_blocks; ++b) {
+    const std::size_t begin = b * kVtuBlockSize;
+    const std::size_t size = std::min(kVtuBlockSize, bytes.size() - begin);
+    auto packed_size = compressBound(static_cast<uLong>(size));
+    const std::size_t at = packed.size();
+    packed.resize(at + packed_size);
+    if (compress2(packed.data() + at, &packed_size, bytes.data() + begin, static_cast<uLong>(size),
+                  Z_DEFAULT_COMPRESSION) != Z_OK) {
+      throw Error("write_vtu: zlib failed to compress a block");
+    }
+    packed.resize(at + packed_size);
+    put_le<std::uint64_t>(header, packed_size);
+  }
+  base64_append(out, header.data(), header.size());
+  base64_append(out, packed.data(), packed.size());
+}
+
 }  // namespace
 
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<VtuCellBlock>& blocks, bool binary,
                const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags) {
+  write_vtu(out, coords, nb_points, dimension, blocks,
+            binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii, fields, tags);
+}
+
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<VtuCellBlock>& blocks, VtuEncoding encoding,
+               const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags) {
+  const bool binary = encoding != VtuEncoding::kAscii;
   std::size_t nb_cells = 0, nb_indices = 0;
   for (const VtuCellBlock& b : blocks) {
     if (b.vertices_per_cell != 3 && b.vertices_per_cell != 4) {
@@ -173,6 +226,10 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   if (binary) {
     for (std::size_t i = 0; i < arrays.size(); ++i) {
       offset[i] = appended.size();
+      if (encoding == VtuEncoding::kZlibBase64) {
+        append_compressed(appended, arrays[i].bytes);
+        continue;
+      }
       std::vector<unsigned char> header;
       put_le<std::uint64_t>(header, arrays[i].bytes.size());
       base64_append(appended, header.data(), header.size());
@@ -181,7 +238,10 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   }
   std::string s =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece "
+      "byte_order=\"LittleEndian\" header_type=\"UInt64\"" +
+      std::string(encoding == VtuEncoding::kZlibBase64 ? " compressor=\"vtkZLibDataCompressor\""
+                                                       : "") +
+      ">\n<UnstructuredGrid>\n<Piece "
       "NumberOfPoints=\"" +
       std::to_string(nb_points) + "\" NumberOfCells=\"" + std::to_string(nb_cells) + "\">\n";
   auto data_array = [&](std::size_t i) {
@@ -248,9 +308,12 @@ class VtuReader {
       fail(file->line, "VTKFile type " + (type ? quote(*type) : std::string("(none)")) +
                            ": only UnstructuredGrid is read");
     }
-    if (file->attribute("compressor") != nullptr) {
-      fail(file->line, "compressed VTK XML file (" + *file->attribute("compressor") +
-                           "): only uncompressed data is read");
+    if (const std::string* compressor = file->attribute("compressor"); compressor != nullptr) {
+      if (*compressor != "vtkZLibDataCompressor") {
+        fail(file->line, "compressor " + quote(*compressor) +
+                             " is not read (vtkZLibDataCompressor, or no compressor)");
+      }
+      compressed_ = true;
     }
     const std::string* order = file->attribute("byte_order");
     big_endian_ = order != nullptr && *order == "BigEndian";
@@ -540,6 +603,110 @@ class VtuReader {
     return v;
   }
 
+  // Where the bytes of a binary array come from: base64 text (inline, or appended with
+  // encoding="base64") or raw appended bytes from `raw_pos`.
+  struct Source {
+    bool base64 = true;
+    Base64Stream b64{0, 0, {}};
+    std::size_t raw_pos = 0;
+  };
+
+  // The next n bytes of `in`, after checking that the file can hold them (before anything
+  // is allocated for them).
+  std::vector<unsigned char> take(Source& in, std::uint64_t n, const XmlElement& a,
+                                  const std::string& name, const char* what) {
+    const std::uint64_t left =
+        in.base64 ? in.b64.pending.size() + (in.b64.end - std::min(in.b64.pos, in.b64.end)) / 4 * 3
+                  : text_.size() - std::min(in.raw_pos, text_.size());
+    if (n > left) {
+      fail(a.line, "DataArray " + name + ": " + what + " is truncated: " + std::to_string(n) +
+                       " bytes needed, at most " + std::to_string(left) + " left");
+    }
+    if (in.base64) return base64_read(in.b64, static_cast<std::size_t>(n), a.line);
+    const auto begin = text_.begin() + static_cast<std::ptrdiff_t>(in.raw_pos);
+    in.raw_pos += static_cast<std::size_t>(n);
+    return std::vector<unsigned char>(begin, begin + static_cast<std::ptrdiff_t>(n));
+  }
+
+  // The `want` bytes of a binary or appended array, after its header: uncompressed, the
+  // byte count (at least `want`); compressed, the block table (see the top of the file),
+  // the blocks then inflated one by one up to `want` bytes.
+  std::vector<unsigned char> array_bytes(const XmlElement& a, const std::string& name,
+                                         const std::string& f, std::size_t want) {
+    Source in;
+    if (f == "binary") {
+      in.b64 = {a.content_begin, a.content_end, {}};
+    } else if (f == "appended") {
+      if (appended_ == 0) fail(a.line, "format=\"appended\" but no AppendedData section");
+      const std::uint64_t offset = count_attribute(a, "offset");
+      if (offset > text_.size() - appended_) {
+        fail(a.line, "DataArray " + name + ": offset " + std::to_string(offset) +
+                         " is past the end of the file");
+      }
+      const std::size_t pos = appended_ + static_cast<std::size_t>(offset);
+      in.base64 = appended_base64_;
+      in.b64 = {pos, text_.size(), {}};
+      in.raw_pos = pos;
+    } else {
+      fail(a.line, "DataArray " + name + ": unknown format " + quote(f));
+    }
+    const std::size_t hsize = header64_ ? 8 : 4;
+    const auto word = [&](const std::vector<unsigned char>& h, std::size_t i) {
+      return read_uint(h.data() + i * hsize, hsize);
+    };
+    if (!compressed_) {
+      const std::uint64_t count = word(take(in, hsize, a, name, "the header"), 0);
+      if (count < want) {
+        fail(a.line, "DataArray " + name + ": " + std::to_string(count) + " bytes, expected " +
+                         std::to_string(want));
+      }
+      return take(in, want, a, name, "the data");
+    }
+    const std::uint64_t nb_blocks = word(take(in, hsize, a, name, "the header"), 0);
+    if (nb_blocks > text_.size() / hsize) {
+      fail(a.line, "DataArray " + name + ": the header announces " + std::to_string(nb_blocks) +
+                       " compressed blocks, more than the file can hold");
+    }
+    const std::vector<unsigned char> h =
+        take(in, (2 + nb_blocks) * hsize, a, name, "the compression header");
+    const std::uint64_t block_size = word(h, 0), last_size = word(h, 1);
+    if (last_size > block_size) {
+      fail(a.line, "DataArray " + name + ": the last block has " + std::to_string(last_size) +
+                       " bytes, more than the block size " + std::to_string(block_size));
+    }
+    std::vector<unsigned char> out;
+    for (std::uint64_t b = 0; b < nb_blocks && out.size() < want; ++b) {
+      const std::uint64_t size = b + 1 == nb_blocks && last_size != 0 ? last_size : block_size;
+      const std::uint64_t packed = word(h, 2 + static_cast<std::size_t>(b));
+      const std::string block = "block " + std::to_string(b);
+      if (size > kZlibMaxRatio * std::min<std::uint64_t>(packed, text_.size())) {
+        fail(a.line, "DataArray " + name + ": " + block + " claims " + std::to_string(size) +
+                         " bytes from " + std::to_string(packed) +
+                         " compressed bytes, more than zlib can inflate");
+      }
+      const std::vector<unsigned char> z = take(in, packed, a, name, block.c_str());
+      const std::size_t at = out.size();
+      out.resize(at + static_cast<std::size_t>(size));
+      auto got = static_cast<uLongf>(size);
+      const int rc = uncompress(out.data() + at, &got, z.data(), static_cast<uLong>(z.size()));
+      if (rc != Z_OK || got != size) {
+        fail(a.line,
+             "DataArray " + name + ": " + block + ": " +
+                 (rc == Z_OK ? "inflates to " + std::to_string(got) + " bytes, the header says " +
+                                   std::to_string(size)
+                  : rc == Z_BUF_ERROR ? "inflates to more than the " + std::to_string(size) +
+                                            " bytes the header says"
+                                      : std::string("not valid zlib data (") + zError(rc) + ")"));
+      }
+    }
+    if (out.size() < want) {
+      fail(a.line, "DataArray " + name + ": " + std::to_string(out.size()) +
+                       " bytes once inflated, expected " + std::to_string(want));
+    }
+    out.resize(want);
+    return out;
+  }
+
   // `n` values of a DataArray, as doubles (integers up to 2^53 exactly).
   std::vector<double> values(const XmlElement& a, std::uint64_t n, int components) {
     const std::string* type = a.attribute("type");
@@ -583,35 +750,10 @@ class VtuReader {
       }
       return out;
     }
-    std::vector<unsigned char> bytes;
-    const std::size_t want = static_cast<std::size_t>(n) * size;
-    const std::size_t hsize = header64_ ? 8 : 4;
-    if (f == "binary" || (f == "appended" && appended_base64_)) {
-      Base64Stream in{a.content_begin, a.content_end, {}};
-      if (f == "appended") {
-        if (appended_ == 0) fail(a.line, "format=\"appended\" but no AppendedData section");
-        in.pos = appended_ + static_cast<std::size_t>(count_attribute(a, "offset"));
-        in.end = text_.size();
-      }
-      const std::vector<unsigned char> h = base64_read(in, hsize, a.line);
-      if (read_uint(h.data(), hsize) < want) {
-        fail(a.line, "DataArray " + name + ": " + std::to_string(read_uint(h.data(), hsize)) +
-                         " bytes, expected " + std::to_string(want));
-      }
-      bytes = base64_read(in, want, a.line);
-    } else if (f == "appended") {
-      const std::size_t pos = appended_ + static_cast<std::size_t>(count_attribute(a, "offset"));
-      if (pos + hsize + want > text_.size() || pos < appended_) {
-        fail(a.line, "DataArray " + name + ": appended data is truncated");
-      }
-      if (read_uint(reinterpret_cast<const unsigned char*>(text_.data() + pos), hsize) < want) {
-        fail(a.line, "DataArray " + name + ": its byte count is smaller than expected");
-      }
-      bytes.assign(text_.begin() + static_cast<std::ptrdiff_t>(pos + hsize),
-                   text_.begin() + static_cast<std::ptrdiff_t>(pos + hsize + want));
-    } else {
-      fail(a.line, "DataArray " + name + ": unknown format " + quote(f));
+    if (n > std::numeric_limits<std::size_t>::max() / size) {
+      fail(a.line, "DataArray " + name + ": " + std::to_string(n) + " values: too many");
     }
+    const std::vector<unsigned char> bytes = array_bytes(a, name, f, n * size);
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t raw = read_uint(bytes.data() + i * size, size);
       if (floating && size == 8) {
@@ -641,7 +783,7 @@ class VtuReader {
   std::vector<XmlElement> elements_;
   std::size_t appended_ = 0;  // first byte after the '_' (0: no AppendedData)
   bool appended_base64_ = true;
-  bool big_endian_ = false, header64_ = false;
+  bool big_endian_ = false, header64_ = false, compressed_ = false;
   std::size_t line_pos_ = 0;
   std::uint32_t line_ = 1;
 };

@@ -8,11 +8,12 @@ order, the tags: cell data medit:ref, tetgen:ref, gmsh:physical, region/patch; f
 for the Gmsh names) and the .msh files with Gmsh's Python module (physical groups, their
 names, entities and elements, the nodes). Meshio does not read TetGen's .face: the file is
 checked here against TetGen's layout. The other way round, Gmsh saves the mesh again (MSH
-4.1, 2.2, and 4.1 partitioned in two) and meshio writes what it read (.vtu, .vtk, .mesh,
-.msh 2.2, all ASCII or uncompressed), and `HELPER --read` must find the same
-tetrahedra and triangles with the same tags (compared as sets of cells by their corners'
-coordinates, as these writers renumber and print 16 digits). Prints one line per mismatch
-and exits with 1 when there is any, 0 otherwise.
+4.1, 2.2, and 4.1 partitioned in two, each ASCII and binary) and meshio writes what it read
+(.vtu ASCII, and inline base64 uncompressed or zlib-compressed (its default) with UInt32
+or UInt64 headers; .vtk ASCII and binary; .mesh; .msh 2.2 ASCII and binary), and
+`HELPER --read` must find the same tetrahedra and triangles with the same tags (compared
+as sets of cells by their corners' coordinates, as these writers renumber and print 16
+digits). Prints one line per mismatch and exits with 1 when there is any, 0 otherwise.
 
 Needs the Debian packages python3-meshio and python3-gmsh: an import error fails the test.
 """
@@ -199,28 +200,42 @@ def check_others_written(helper, directory, name, exp):
     os.makedirs(out, exist_ok=True)
     gmsh.clear()
     gmsh.open(base + "41.msh")
-    gmsh.option.setNumber("Mesh.Binary", 0)
-    for version in (4.1, 2.2):
-        gmsh.option.setNumber("Mesh.MshFileVersion", version)
-        path = os.path.join(out, f"{name}_gmsh{int(version * 10)}.msh")
-        gmsh.write(path)
-        check_read_by_voroclip(helper, path, exp)
+    written = 0
+    for binary in (0, 1):
+        gmsh.option.setNumber("Mesh.Binary", binary)
+        for version in (4.1, 2.2):
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            path = os.path.join(out, f"{name}_gmsh{int(version * 10)}{'b' if binary else ''}.msh")
+            gmsh.write(path)
+            check_read_by_voroclip(helper, path, exp)
+            written += 1
     gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
     gmsh.model.mesh.partition(2)
-    path = os.path.join(out, f"{name}_gmsh_partitioned.msh")
-    gmsh.write(path)
-    check_read_by_voroclip(helper, path, exp, extra_triangles=True)
+    for binary in (0, 1):
+        gmsh.option.setNumber("Mesh.Binary", binary)
+        path = os.path.join(out, f"{name}_gmsh_partitioned{'b' if binary else ''}.msh")
+        gmsh.write(path)
+        check_read_by_voroclip(helper, path, exp, extra_triangles=True)
+        written += 1
+    gmsh.option.setNumber("Mesh.Binary", 0)
 
     for source, target, options in (
             (".vtu", "_meshio.vtu", {"compression": None}),
+            (".vtu", "_meshio_zlib.vtu", {}),  # meshio's default: zlib, inline base64
+            (".vtu", "_meshio_zlib64.vtu", {"header_type": "UInt64"}),
+            (".vtu", "_meshio_ascii.vtu", {"binary": False}),
             (".vtu", "_meshio.vtk", {"binary": False}),
+            (".vtu", "_meshio_binary.vtk", {"binary": True}),
             (".mesh", "_meshio.mesh", {}),
-            ("22.msh", "_meshio22.msh", {"file_format": "gmsh22", "binary": False})):
+            ("22.msh", "_meshio22.msh", {"file_format": "gmsh22", "binary": False}),
+            ("22.msh", "_meshio22b.msh", {"file_format": "gmsh22", "binary": True})):
         # (meshio 5.0 writes no MSH 4.1 with tets and triangles without gmsh:dim_tags;
         # Gmsh's own 4.1 files are read above.)
         path = os.path.join(out, name + target)
         meshio.write(path, meshio.read(base + source), **options)
         check_read_by_voroclip(helper, path, exp)
+        written += 1
+    return written
 
 
 def main():
@@ -234,23 +249,27 @@ def main():
         expected = json.load(f)
     gmsh.initialize(["check_tags"], readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
-    files = 0
+    files = gmsh_files = others = 0
     for name, exp in expected.items():
         base = os.path.join(directory, name)
         for suffix, fmt in ((".mesh", "medit"), (".node", "tetgen"), ("22.msh", "gmsh22"),
-                            ("41.msh", "gmsh41"), (".vtk", "vtk"), (".vtu", "vtk"),
-                            ("_ascii.vtu", "vtk")):
+                            ("41.msh", "gmsh41"), ("41b.msh", "gmsh41"), (".vtk", "vtk"),
+                            (".vtu", "vtk"), ("_ascii.vtu", "vtk"), ("_zlib.vtu", "vtk")):
             check_with_meshio(base + suffix, fmt, exp)
             files += 1
         check_face_file(base + ".face", exp)
         check_with_gmsh(base + "22.msh", 22, exp)
         check_with_gmsh(base + "41.msh", 41, exp)
-        check_others_written(helper, directory, name, exp)
+        check_with_gmsh(base + "41b.msh", 41, exp)
+        gmsh_files += 3
+        for suffix in ("41b.msh", "_zlib.vtu"):  # voroclip's own binary files, read back
+            check_read_by_voroclip(helper, base + suffix, exp)
+        others += check_others_written(helper, directory, name, exp)
     gmsh.finalize()
     for f in failures:
         print("check_tags: MISMATCH:", f)
-    print(f"check_tags: meshio read {files} files, gmsh {2 * len(expected)}, .face checked "
-          f"{len(expected)}; voroclip read {7 * len(expected)} files written by Gmsh and "
+    print(f"check_tags: meshio read {files} files, gmsh {gmsh_files}, .face checked "
+          f"{len(expected)}; voroclip read {others} files written by Gmsh and "
           f"meshio: {len(failures)} mismatch(es)")
     return 1 if failures else 0
 

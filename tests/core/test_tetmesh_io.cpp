@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <zlib.h>
+
 #include "tagged_mesh.h"
 #include "voroclip/core.h"
 
@@ -136,10 +138,15 @@ TEST_CASE("read_tet_mesh reads every shared model with the README's counts", "[c
 
 TEST_CASE("write_tet_mesh round-trips every model in every format", "[core]") {
   const std::vector<std::pair<TetMeshFormat, std::string>> formats = {
-      {TetMeshFormat::kMedit, "rt.mesh"},    {TetMeshFormat::kTetGen, "rt.node"},
-      {TetMeshFormat::kGmsh22, "rt.msh"},    {TetMeshFormat::kGmsh41, "rt41.msh"},
-      {TetMeshFormat::kVtk, "rt.vtk"},       {TetMeshFormat::kVtu, "rt.vtu"},
+      {TetMeshFormat::kMedit, "rt.mesh"},
+      {TetMeshFormat::kTetGen, "rt.node"},
+      {TetMeshFormat::kGmsh22, "rt.msh"},
+      {TetMeshFormat::kGmsh41, "rt41.msh"},
+      {TetMeshFormat::kVtk, "rt.vtk"},
+      {TetMeshFormat::kVtu, "rt.vtu"},
       {TetMeshFormat::kVtuAscii, "rta.vtu"},
+      {TetMeshFormat::kGmsh41Binary, "rt41b.msh"},
+      {TetMeshFormat::kVtuCompressed, "rtz.vtu"},
   };
   for (const Model& m : kModels) {
     const TetMeshInput mesh = voroclip::read_tet_mesh(kData + m.name + ".mesh");
@@ -408,14 +415,18 @@ TEST_CASE("read_tet_mesh: missing files, unknown formats and versions, binary fi
 
   const std::string msh40 = write_temp("v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n");
   CHECK(error_of(msh40) == msh40 + ":2: Gmsh format version '4' is not supported (2.2 or 4.1)");
-  const std::string binary = write_temp("bin.msh", "$MeshFormat\n4.1 1 8\n\x01\0\0\0\n");
+  // Binary files are read: these are only their first lines.
+  const std::string binary =
+      write_temp("bin.msh", std::string("$MeshFormat\n4.1 1 8\n\x01\0\0\0\n", 24));
   CHECK(error_of(binary) == binary +
-                                ":2: binary Gmsh file (file-type '1'): only ASCII .msh is read "
-                                "(save it with Mesh.Binary = 0)");
+                                ": section $MeshFormat: expected $EndMeshFormat after its data, "
+                                "found the end of the file");
+  const std::string filetype = write_temp("ft.msh", "$MeshFormat\n4.1 2 8\n$EndMeshFormat\n");
+  CHECK(error_of(filetype) == filetype + ":2: Gmsh file-type '2': 0 (ASCII) or 1 (binary)");
   const std::string vtkbin = write_temp("bin.vtk",
                                         "# vtk DataFile Version 3.0\nt\nBINARY\n"
                                         "DATASET UNSTRUCTURED_GRID\n");
-  CHECK(error_of(vtkbin) == vtkbin + ":3: binary VTK file: only ASCII legacy .vtk is read");
+  CHECK(error_of(vtkbin) == vtkbin + ": no POINTS section");
   const std::string poly =
       write_temp("poly.vtk", "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\n");
   CHECK(error_of(poly) == poly + ":4: DATASET 'POLYDATA': only UNSTRUCTURED_GRID is read");
@@ -702,11 +713,11 @@ TEST_CASE("read_tet_mesh: VTK XML .vtu in ASCII, inline binary and appended raw"
 TEST_CASE("read_tet_mesh: .vtu errors name the file, the line and the defect", "[core]") {
   const std::string compressed =
       write_temp("z.vtu",
-                 "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\">\n"
+                 "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkLZ4DataCompressor\">\n"
                  "</VTKFile>\n");
   CHECK(error_of(compressed) == compressed +
-                                    ":1: compressed VTK XML file (vtkZLibDataCompressor): only "
-                                    "uncompressed data is read");
+                                    ":1: compressor 'vtkLZ4DataCompressor' is not read "
+                                    "(vtkZLibDataCompressor, or no compressor)");
   const std::string poly = write_temp("p.vtu", "<?xml?>\n<VTKFile type=\"PolyData\">\n</VTKFile>");
   CHECK(error_of(poly) == poly + ":2: VTKFile type 'PolyData': only UnstructuredGrid is read");
   const std::string short_points =
@@ -737,13 +748,21 @@ TEST_CASE("read_tet_mesh: .vtu errors name the file, the line and the defect", "
 namespace {
 
 const std::vector<std::pair<TetMeshFormat, std::string>> kTagFormats = {
-    {TetMeshFormat::kMedit, "tag.mesh"},    {TetMeshFormat::kTetGen, "tag.ele"},
-    {TetMeshFormat::kGmsh22, "tag22.msh"},  {TetMeshFormat::kGmsh41, "tag41.msh"},
-    {TetMeshFormat::kVtk, "tag.vtk"},       {TetMeshFormat::kVtu, "tag.vtu"},
+    {TetMeshFormat::kMedit, "tag.mesh"},
+    {TetMeshFormat::kTetGen, "tag.ele"},
+    {TetMeshFormat::kGmsh22, "tag22.msh"},
+    {TetMeshFormat::kGmsh41, "tag41.msh"},
+    {TetMeshFormat::kVtk, "tag.vtk"},
+    {TetMeshFormat::kVtu, "tag.vtu"},
     {TetMeshFormat::kVtuAscii, "taga.vtu"},
+    {TetMeshFormat::kGmsh41Binary, "tag41b.msh"},
+    {TetMeshFormat::kVtuCompressed, "tagz.vtu"},
 };
 
-bool is_gmsh(TetMeshFormat f) { return f == TetMeshFormat::kGmsh22 || f == TetMeshFormat::kGmsh41; }
+bool is_gmsh(TetMeshFormat f) {
+  return f == TetMeshFormat::kGmsh22 || f == TetMeshFormat::kGmsh41 ||
+         f == TetMeshFormat::kGmsh41Binary;
+}
 
 std::string file_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -1090,4 +1109,448 @@ TEST_CASE("write_tet_mesh: tag and triangle errors name the file", "[core]") {
             "' (Gmsh): the name of tag 0 of dimension 3: physical tags are positive");
   CHECK_FALSE(std::filesystem::exists(path));
   CHECK_FALSE(std::filesystem::exists(msh));
+}
+
+// ---------------------------------------------------------------------------------------
+// Compressed .vtu, binary .msh and BINARY .vtk: hand-made files for each layout, every
+// truncation and every corrupted byte of them, counts and sizes that the bytes after them
+// cannot hold.
+
+namespace {
+
+// Bytes of one value, in either byte order.
+template <class T>
+std::string bytes_one(T v, bool big_endian) {
+  return bytes_of(std::vector<T>{v}, big_endian);
+}
+
+// An array's bytes zlib-compressed as VTK lays them out: {header, blocks}, `block` bytes per
+// block, header words UInt32 or UInt64.
+std::pair<std::string, std::string> vtk_zlib(const std::string& bytes, std::size_t block,
+                                             bool header64, bool big) {
+  const auto word = [&](std::uint64_t v) {
+    return header64 ? bytes_one<std::uint64_t>(v, big)
+                    : bytes_one<std::uint32_t>(static_cast<std::uint32_t>(v), big);
+  };
+  const std::size_t nb_blocks = (bytes.size() + block - 1) / block;
+  std::string header = word(nb_blocks) + word(block) + word(bytes.size() % block), data;
+  for (std::size_t b = 0; b < nb_blocks; ++b) {
+    const std::size_t size = std::min(block, bytes.size() - b * block);
+    uLongf packed = compressBound(static_cast<uLong>(size));
+    std::string z(packed, '\0');
+    REQUIRE(compress2(reinterpret_cast<Bytef*>(z.data()), &packed,
+                      reinterpret_cast<const Bytef*>(bytes.data() + b * block),
+                      static_cast<uLong>(size), 9) == Z_OK);
+    z.resize(packed);
+    header += word(packed);
+    data += z;
+  }
+  return {header, data};
+}
+
+enum class VtuLayout { kInline, kAppendedRaw, kAppendedBase64 };
+
+// The two tets and the triangle of kVtuXyz.. with region tags {1, 2, 0}, compressed.
+std::string compressed_vtu(VtuLayout layout, bool header64, bool big, std::size_t block) {
+  const std::vector<std::int32_t> region = {1, 2, 0};
+  const std::string arrays[] = {bytes_of(kVtuXyz, big), bytes_of(kVtuConn, big),
+                                bytes_of(kVtuOffsets, big), bytes_of(kVtuTypes, big),
+                                bytes_of(region, big)};
+  const char* types[] = {"Float64", "Int32", "Int32", "UInt8", "Int32"};
+  const char* names[] = {"Points", "connectivity", "offsets", "types", "region"};
+  std::string xml[5], appended;
+  for (int i = 0; i < 5; ++i) {
+    const auto [header, data] = vtk_zlib(arrays[i], block, header64, big);
+    std::string head = std::string("<DataArray type=\"") + types[i] + "\" Name=\"" + names[i] +
+                       "\" NumberOfComponents=\"" + (i == 0 ? "3" : "1") + "\" ";
+    if (layout == VtuLayout::kInline) {
+      xml[i] = head + "format=\"binary\">\n" + base64(header) + base64(data) + "\n</DataArray>\n";
+    } else {
+      xml[i] = head + "format=\"appended\" offset=\"" + std::to_string(appended.size()) + "\"/>\n";
+      appended += layout == VtuLayout::kAppendedRaw ? header + data : base64(header) + base64(data);
+    }
+  }
+  return vtu_file(std::string("version=\"1.0\" compressor=\"vtkZLibDataCompressor\" ") +
+                      "byte_order=\"" + (big ? "Big" : "Little") + "Endian\" header_type=\"" +
+                      (header64 ? "UInt64" : "UInt32") + "\"",
+                  "<Points>\n" + xml[0] + "</Points>\n<Cells>\n" + xml[1] + xml[2] + xml[3] +
+                      "</Cells>\n<CellData>\n" + xml[4] + "</CellData>\n",
+                  layout == VtuLayout::kInline
+                      ? ""
+                      : std::string("<AppendedData encoding=\"") +
+                            (layout == VtuLayout::kAppendedRaw ? "raw" : "base64") + "\">\n_" +
+                            appended + "\n</AppendedData>\n");
+}
+
+// Every prefix of `content` and `content` with each byte set to 0xff or 0x00: read_tet_mesh
+// either throws voroclip::Error or (a prefix that still holds the whole mesh) reads `full`.
+void check_truncated_and_corrupted(const std::string& name, const std::string& content,
+                                   const TetMeshInput& full) {
+  const std::string path = temp().file(name);
+  std::size_t errors = 0;
+  for (std::size_t n = 0; n < content.size(); ++n) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << content.substr(0, n);
+    try {
+      const TetMeshInput m = voroclip::read_tet_mesh(path);
+      INFO(name << " cut to " << n << " of " << content.size() << " bytes");
+      CHECK(m.xyz == full.xyz);
+      CHECK(m.tets == full.tets);
+      CHECK(m.triangles == full.triangles);
+    } catch (const voroclip::Error&) {
+      ++errors;
+    }
+  }
+  CHECK(errors > content.size() / 2);
+  for (std::size_t i = 0; i < content.size(); ++i) {
+    for (const char c : {'\xff', '\0'}) {
+      std::string bad = content;
+      bad[i] = c;
+      std::ofstream(path, std::ios::binary | std::ios::trunc) << bad;
+      try {
+        voroclip::read_tet_mesh(path);
+      } catch (const voroclip::Error&) {
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh: zlib-compressed .vtu, inline and appended, every header", "[core]") {
+  for (const VtuLayout layout :
+       {VtuLayout::kInline, VtuLayout::kAppendedRaw, VtuLayout::kAppendedBase64}) {
+    for (const bool header64 : {false, true}) {
+      for (const bool big : {false, true}) {
+        // Blocks of 16 bytes: several blocks per array and a short last block; 32768: one.
+        for (const std::size_t block : {std::size_t{16}, std::size_t{24}, std::size_t{32768}}) {
+          INFO("layout " << static_cast<int>(layout) << ", UInt" << (header64 ? 64 : 32) << ", "
+                         << (big ? "big" : "little") << " endian, blocks of " << block);
+          const std::string path =
+              write_temp("zlib.vtu", compressed_vtu(layout, header64, big, block));
+          const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+          CHECK(mesh.xyz == kVtuXyz);
+          CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+          CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+          CHECK(mesh.tet_ref == std::vector<std::int32_t>{1, 2});
+        }
+      }
+    }
+  }
+  SECTION("the writer's compressed file: header and blocks as VTK lays them out") {
+    const TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+    const std::string path = temp().file("written_zlib.vtu");
+    voroclip::write_tet_mesh(path, mesh, TetMeshFormat::kVtuCompressed);
+    const std::string text = file_text(path);
+    CHECK(text.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
+    // The Points array at offset 0: 9 points of 24 bytes in one block of 32768 bytes.
+    const std::size_t underscore = text.find('_', text.find("<AppendedData"));
+    CHECK(text.substr(underscore + 1, 32).substr(0, 24) ==
+          base64(bytes_of(std::vector<std::uint64_t>{1, 32768, 216}, false)).substr(0, 24));
+    const TetMeshInput back = voroclip::read_tet_mesh(path);
+    CHECK(back.xyz == mesh.xyz);
+    CHECK(back.tets == mesh.tets);
+    CHECK(back.tet_ref == mesh.tet_ref);
+    CHECK(back.triangle_ref == mesh.triangle_ref);
+  }
+  SECTION("every truncation and corrupted byte: an Error or the whole mesh") {
+    TetMeshInput full;
+    full.xyz = kVtuXyz;
+    full.tets = {0, 1, 2, 3, 1, 2, 3, 4};
+    full.triangles = {0, 1, 2};
+    check_truncated_and_corrupted("cut_inline.vtu",
+                                  compressed_vtu(VtuLayout::kInline, false, false, 16), full);
+    check_truncated_and_corrupted("cut_raw.vtu",
+                                  compressed_vtu(VtuLayout::kAppendedRaw, true, true, 16), full);
+  }
+}
+
+TEST_CASE("read_tet_mesh: compressed .vtu headers checked against the data", "[core]") {
+  // One Points array (line 6) of 15 doubles, its header and blocks given by hand.
+  const auto file = [](const std::string& nb_points, const std::string& header,
+                       const std::string& data) {
+    return write_temp("zbad.vtu",
+                      "<?xml version=\"1.0\"?>\n<!-- x -->\n<VTKFile type=\"UnstructuredGrid\" "
+                      "compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n<Piece "
+                      "NumberOfPoints=\"" +
+                          nb_points +
+                          "\" NumberOfCells=\"0\">\n<Points><DataArray type=\"Float64\" "
+                          "NumberOfComponents=\"3\" format=\"binary\">" +
+                          base64(header) + base64(data) +
+                          "</DataArray></Points>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+  };
+  const auto words = [](std::vector<std::uint32_t> w) { return bytes_of(w, false); };
+  const auto [header, data] = vtk_zlib(bytes_of(kVtuXyz, false), 32768, false, false);
+  const std::string good = file("5", header, data);
+  // Points read, then what the file lacks.
+  CHECK_THROWS_WITH(voroclip::read_tet_mesh(good),
+                    good + ":5: Cells needs the data arrays connectivity, offsets and types");
+  // 4 billion points announced: 96 GB, from a file of a few hundred bytes.
+  std::string path = file("4000000000", header, data);
+  CHECK(error_of(path) ==
+        path + ":6: DataArray Points: 120 bytes once inflated, expected 96000000000");
+  // A header announcing 2^30 blocks.
+  path = file("5", words({1u << 30, 32768, 120}), data);
+  CHECK(error_of(path) == path +
+                              ":6: DataArray Points: the header announces 1073741824 "
+                              "compressed blocks, more than the file can hold");
+  // A block that claims 2^31 bytes from 20: more than deflate's 1032:1.
+  path = file("5", words({1, 0x80000000u, 0, static_cast<std::uint32_t>(data.size())}), data);
+  CHECK(error_of(path) == path + ":6: DataArray Points: block 0 claims 2147483648 bytes from " +
+                              std::to_string(data.size()) +
+                              " compressed bytes, more than zlib can inflate");
+  // A compressed size beyond the data.
+  path = file("5", words({1, 32768, 120, 5000}), data);
+  CHECK(error_of(path) ==
+        path + ":6: DataArray Points: block 0 is truncated: 5000 bytes needed, at most " +
+            std::to_string(base64(data).size() / 4 * 3) + " left");  // 3 per 4 characters
+  // The block inflates to 120 bytes, the header says 100, then 200.
+  path = file("5", words({1, 32768, 100, static_cast<std::uint32_t>(data.size())}), data);
+  CHECK(error_of(path) == path +
+                              ":6: DataArray Points: block 0: inflates to more than the 100 "
+                              "bytes the header says");
+  path = file("5", words({1, 32768, 200, static_cast<std::uint32_t>(data.size())}), data);
+  CHECK(error_of(path) ==
+        path + ":6: DataArray Points: block 0: inflates to 120 bytes, the header says 200");
+  // Not zlib data.
+  const std::string junk(data.size(), 'x');
+  path = file("5", words({1, 32768, 120, static_cast<std::uint32_t>(junk.size())}), junk);
+  CHECK(error_of(path) == path + ":6: DataArray Points: block 0: not valid zlib data (data error)");
+  // A last block larger than the block size.
+  path = file("5", words({1, 16, 120, static_cast<std::uint32_t>(data.size())}), data);
+  CHECK(error_of(path) == path +
+                              ":6: DataArray Points: the last block has 120 bytes, more than "
+                              "the block size 16");
+  // Uncompressed: a byte count from the header that the base64 text cannot hold.
+  path = write_temp("big.vtu", vtu_file("",
+                                        "<Points><DataArray type=\"Float64\" "
+                                        "NumberOfComponents=\"3\" format=\"binary\">" +
+                                            base64(words({120})) + "</DataArray></Points>\n",
+                                        ""));
+  CHECK(error_of(path) ==
+        path + ":6: DataArray Points: the data is truncated: 120 bytes needed, at most 0 left");
+}
+
+namespace {
+
+// Binary MSH 2.2 by hand: the nodes 10, 20, .. 50 (kVtuXyz), a line (type 1, skipped), two
+// tets (physical 3 and 4) and a triangle (physical 9), in either byte order.
+std::string gmsh22_binary(bool big) {
+  const auto i32 = [&](std::int32_t v) { return bytes_one<std::int32_t>(v, big); };
+  std::string s = "$MeshFormat\n2.2 1 8\n" + i32(1) +
+                  "\n$EndMeshFormat\n$PhysicalNames\n1\n3 "
+                  "3 \"steel\"\n$EndPhysicalNames\n$Nodes\n5\n";
+  for (int i = 0; i < 5; ++i) {
+    s += i32(10 * (i + 1));
+    for (int k = 0; k < 3; ++k) s += bytes_one<double>(kVtuXyz[3 * i + k], big);
+  }
+  s += "\n$EndNodes\n$Elements\n4\n";
+  s += i32(1) + i32(1) + i32(2) + i32(7) + i32(0) + i32(0) + i32(10) + i32(20);  // a line
+  s += i32(4) + i32(2) + i32(2);                                                 // two tets
+  s += i32(1) + i32(3) + i32(1) + i32(10) + i32(20) + i32(30) + i32(40);
+  s += i32(2) + i32(4) + i32(1) + i32(20) + i32(30) + i32(40) + i32(50);
+  s += i32(2) + i32(1) + i32(2) + i32(3) + i32(9) + i32(5) + i32(10) + i32(20) + i32(30);
+  return s + "\n$EndElements\n$NodeData\n" + std::string("\n\x01$\0\n", 5) + "$EndNodeData\n";
+}
+
+// Binary MSH 4.1 by hand, size_t of `st` bytes: a surface entity 5 (physical 10) and a
+// volume 7 (physical 3); nodes in two blocks, the second parametric on the surface; a
+// triangle, a line (skipped), two tets.
+std::string gmsh41_binary(bool big, std::size_t st) {
+  const auto i32 = [&](std::int32_t v) { return bytes_one<std::int32_t>(v, big); };
+  const auto z = [&](std::uint64_t v) {
+    return st == 8 ? bytes_one<std::uint64_t>(v, big)
+                   : bytes_one<std::uint32_t>(static_cast<std::uint32_t>(v), big);
+  };
+  const auto d = [&](double v) { return bytes_one<double>(v, big); };
+  std::string s = "$MeshFormat\n4.1 1 " + std::to_string(st) + "\n" + i32(1) +
+                  "\n$EndMeshFormat\n$Entities\n" + z(0) + z(0) + z(1) + z(1);
+  s += i32(5) + d(0) + d(0) + d(0) + d(1) + d(1) + d(1) + z(1) + i32(10) + z(0);
+  s += i32(7) + d(0) + d(0) + d(0) + d(1) + d(1) + d(1) + z(1) + i32(3) + z(1) + i32(5);
+  s += "\n$EndEntities\n$Nodes\n" + z(2) + z(5) + z(10) + z(50);
+  s += i32(3) + i32(7) + i32(0) + z(3) + z(10) + z(20) + z(30);
+  for (int i = 0; i < 3; ++i)
+    s += d(kVtuXyz[3 * i]) + d(kVtuXyz[3 * i + 1]) + d(kVtuXyz[3 * i + 2]);
+  s += i32(2) + i32(5) + i32(1) + z(2) + z(40) + z(50);
+  for (int i = 3; i < 5; ++i) {
+    s += d(kVtuXyz[3 * i]) + d(kVtuXyz[3 * i + 1]) + d(kVtuXyz[3 * i + 2]) + d(0.5) + d(0.25);
+  }
+  s += "\n$EndNodes\n$Elements\n" + z(3) + z(4) + z(1) + z(4);
+  s += i32(2) + i32(5) + i32(2) + z(1) + z(1) + z(10) + z(20) + z(30);
+  s += i32(1) + i32(9) + i32(1) + z(1) + z(2) + z(10) + z(20);
+  s += i32(3) + i32(7) + i32(4) + z(2) + z(3) + z(10) + z(20) + z(30) + z(40) + z(4) + z(20) +
+       z(30) + z(40) + z(50);
+  return s + "\n$EndElements\n";
+}
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh: binary Gmsh 2.2 and 4.1, either byte order", "[core]") {
+  for (const bool big : {false, true}) {
+    INFO((big ? "big" : "little") << " endian");
+    const TetMeshInput m22 = voroclip::read_tet_mesh(write_temp("b22.msh", gmsh22_binary(big)));
+    CHECK(m22.xyz == kVtuXyz);
+    CHECK(m22.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+    CHECK(m22.tet_ref == std::vector<std::int32_t>{3, 4});
+    CHECK(m22.tet_line == std::vector<std::uint32_t>{0, 0});
+    CHECK(m22.triangles == std::vector<std::uint32_t>{0, 1, 2});
+    CHECK(m22.triangle_ref == std::vector<std::int32_t>{9});
+    CHECK(m22.tag_names == std::vector<TetMeshInput::TagName>{{3, 3, "steel"}});
+    for (const std::size_t st : {std::size_t{4}, std::size_t{8}}) {
+      INFO("size_t of " << st << " bytes");
+      const TetMeshInput m41 =
+          voroclip::read_tet_mesh(write_temp("b41.msh", gmsh41_binary(big, st)));
+      CHECK(m41.xyz == kVtuXyz);
+      CHECK(m41.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+      CHECK(m41.tet_ref == std::vector<std::int32_t>{3, 3});
+      CHECK(m41.triangles == std::vector<std::uint32_t>{0, 1, 2});
+      CHECK(m41.triangle_ref == std::vector<std::int32_t>{10});
+    }
+  }
+  TetMeshInput full;
+  full.xyz = kVtuXyz;
+  full.tets = {0, 1, 2, 3, 1, 2, 3, 4};
+  full.triangles = {0, 1, 2};
+  check_truncated_and_corrupted("cut22.msh", gmsh22_binary(true), full);
+  check_truncated_and_corrupted("cut41.msh", gmsh41_binary(false, 8), full);
+}
+
+TEST_CASE("read_tet_mesh: binary Gmsh errors name the section and the element", "[core]") {
+  const auto at = [](const std::string& s, const std::string& from, const std::string& with) {
+    std::string out = s;
+    const std::size_t p = out.find(from);
+    REQUIRE(p != std::string::npos);
+    return out.replace(p, from.size(), with);
+  };
+  const std::string s22 = gmsh22_binary(false);
+  std::string path = write_temp("e1.msh", at(s22, "$Nodes\n5\n", "$Nodes\n50000000\n"));
+  CHECK(error_of(path) == path +
+                              ": section $Nodes: 50000000 nodes needs 1400000000 bytes, the "
+                              "file has " +
+                              std::to_string(s22.size() - s22.find("$Nodes\n5\n") - 9) + " left");
+  // Node 50 replaced by 60 in the second tet.
+  const std::string tet2 = bytes_of(std::vector<std::int32_t>{40, 50}, false);
+  path = write_temp("e2.msh", at(s22, tet2, bytes_of(std::vector<std::int32_t>{40, 60}, false)));
+  CHECK(error_of(path) == path + ": element 2: node 60 is not in section $Nodes");
+  // An element type Gmsh does not know.
+  const std::string line = bytes_of(std::vector<std::int32_t>{1, 1, 2, 7}, false);
+  path =
+      write_temp("e3.msh", at(s22, line, bytes_of(std::vector<std::int32_t>{77, 1, 2, 7}, false)));
+  CHECK(error_of(path) == path +
+                              ": section $Elements: element type 77 is unknown (its node count "
+                              "is needed to read a binary file)");
+  path = write_temp("e4.msh", at(s22, "$EndNodes", "$EndNode$"));
+  CHECK(error_of(path) ==
+        path + ": section $Nodes: expected $EndNodes after its data, found '$EndNode$'");
+  path = write_temp("e5.msh",
+                    at(s22, std::string("8\n\x01\0\0\0", 6), std::string("8\n\x02\0\0\0", 6)));
+  CHECK(error_of(path) ==
+        path + ": $MeshFormat: the binary check reads 2, not 1 in either byte order");
+  // 4.1: 2^40 nodes in a block, a file cut in $Elements.
+  const std::string s41 = gmsh41_binary(false, 8);
+  const std::string block1 =
+      bytes_of(std::vector<std::int32_t>{3, 7, 0}, false) + bytes_one<std::uint64_t>(3, false);
+  path = write_temp("e6.msh", at(s41, block1,
+                                 bytes_of(std::vector<std::int32_t>{3, 7, 0}, false) +
+                                     bytes_one<std::uint64_t>(std::uint64_t{1} << 40, false)));
+  CHECK(error_of(path) ==
+        path + ": section $Nodes: a block of 1099511627776 nodes after 0 of 5 nodes");
+  path = write_temp("e7.msh", s41.substr(0, s41.size() - 30));
+  CHECK(error_of(path) ==
+        path + ": section $Elements: a block of 2 elements needs 80 bytes, the file has 64 left");
+  path = write_temp("e9.msh", s41.substr(0, s41.find("$Elements\n") + 13));
+  CHECK(error_of(path) == path + ": section $Elements is truncated: 8 more bytes needed, 3 left");
+  path = write_temp("e8.msh", at(s41, "4.1 1 8", "4.1 1 2"));
+  CHECK(error_of(path) == path + ": $MeshFormat: data-size '2': 4 or 8 (the size of size_t)");
+}
+
+TEST_CASE("write_tet_mesh: binary Gmsh 4.1 as Gmsh lays it out", "[core]") {
+  const TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  const std::string path = temp().file("facts41b.msh");
+  voroclip::write_tet_mesh(path, mesh, TetMeshFormat::kGmsh41Binary);
+  const std::string b = file_text(path);
+  CHECK(b.rfind(std::string("$MeshFormat\n4.1 1 8\n\x01\0\0\0\n$EndMeshFormat\n", 40), 0) == 0);
+  // $Entities: 0 points, 0 curves, 3 surfaces, 2 volumes, as size_t.
+  CHECK(b.find("$Entities\n" + bytes_of(std::vector<std::uint64_t>{0, 0, 3, 2}, false)) !=
+        std::string::npos);
+  // $Nodes: one block of the 9 nodes in volume 1, tags 1..9.
+  CHECK(b.find("$Nodes\n" + bytes_of(std::vector<std::uint64_t>{1, 9, 1, 9}, false) +
+               bytes_of(std::vector<std::int32_t>{3, 1, 0}, false) +
+               bytes_of(std::vector<std::uint64_t>{9, 1, 2, 3, 4, 5, 6, 7, 8, 9}, false) +
+               bytes_of(std::vector<double>(mesh.xyz.begin(), mesh.xyz.begin() + 3), false)) !=
+        std::string::npos);
+  // The first element block: volume entity 1 (tag 1), tets, one element: 1, nodes 1 2 4 8.
+  CHECK(b.find("$Elements\n" + bytes_of(std::vector<std::uint64_t>{11, 18, 1, 18}, false) +
+               bytes_of(std::vector<std::int32_t>{3, 1, 4}, false) +
+               bytes_of(std::vector<std::uint64_t>{1, 1, 1, 2, 4, 8}, false)) != std::string::npos);
+  CHECK(b.size() >= 14);
+  CHECK(b.substr(b.size() - 14) == "\n$EndElements\n");
+}
+
+namespace {
+
+// BINARY legacy VTK by hand (big endian): kVtuXyz as float, the two tets and the triangle,
+// classic or VTK 5.1 cells, CELL_DATA with SCALARS region and a FIELD with patch.
+std::string vtk_binary(bool layout51) {
+  std::string s = "# vtk DataFile Version " + std::string(layout51 ? "5.1" : "3.0") +
+                  "\nmade by hand\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 float\n";
+  s += bytes_of(std::vector<float>(kVtuXyz.begin(), kVtuXyz.end()), true) + "\n";
+  if (layout51) {
+    s += "CELLS 4 11\nOFFSETS vtktypeint64\n" +
+         bytes_of(std::vector<std::int64_t>{0, 4, 8, 11}, true) + "\nCONNECTIVITY vtktypeint32\n" +
+         bytes_of(kVtuConn, true) + "\n";
+  } else {
+    s += "CELLS 3 14\n" +
+         bytes_of(std::vector<std::int32_t>{4, 0, 1, 2, 3, 4, 1, 2, 3, 4, 3, 0, 1, 2}, true) + "\n";
+  }
+  s += "CELL_TYPES 3\n" + bytes_of(std::vector<std::int32_t>{10, 10, 5}, true) + "\n";
+  s += "POINT_DATA 5\nVECTORS v double\n" + bytes_of(std::vector<double>(15, 0.5), true) + "\n";
+  s += "CELL_DATA 3\nSCALARS region int 1\nLOOKUP_TABLE default\n" +
+       bytes_of(std::vector<std::int32_t>{6, 7, 0}, true) + "\n";
+  if (layout51) s += "METADATA\nINFORMATION 0\n\n";
+  s += "FIELD FieldData 2\nnames 2 3 unsigned_char\nabcdef\npatch 1 3 vtktypeint16\n" +
+       bytes_of(std::vector<std::int16_t>{0, 0, -5}, true) + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh: BINARY legacy VTK, classic and 5.1 cell layouts", "[core]") {
+  for (const bool layout51 : {false, true}) {
+    INFO((layout51 ? "5.1" : "classic"));
+    const std::string path = write_temp("bin_ok.vtk", vtk_binary(layout51));
+    const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+    CHECK(mesh.xyz == kVtuXyz);
+    CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+    CHECK(mesh.tet_line == std::vector<std::uint32_t>{0, 0});
+    CHECK(mesh.tet_ref == std::vector<std::int32_t>{6, 7});
+    CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+    CHECK(mesh.triangle_ref == std::vector<std::int32_t>{-5});
+  }
+  TetMeshInput full;
+  full.xyz = kVtuXyz;
+  full.tets = {0, 1, 2, 3, 1, 2, 3, 4};
+  full.triangles = {0, 1, 2};
+  check_truncated_and_corrupted("cut_classic.vtk", vtk_binary(false), full);
+  check_truncated_and_corrupted("cut_51.vtk", vtk_binary(true), full);
+
+  const auto with = [](const std::string& from, const std::string& to) {
+    std::string s = vtk_binary(false);
+    const std::size_t p = s.find(from);
+    REQUIRE(p != std::string::npos);
+    return write_temp("bin_bad.vtk", s.replace(p, from.size(), to));
+  };
+  std::string path = with("POINTS 5 float", "POINTS 4000000000 float");
+  CHECK(error_of(path) == path +
+                              ": POINTS: 12000000000 values needs 48000000000 bytes, the file "
+                              "has " +
+                              std::to_string(vtk_binary(false).size() - 88) +
+                              " left");  // after POINTS
+  path = with("CELL_TYPES 3\n" + bytes_of(std::vector<std::int32_t>{10}, true),
+              "CELL_TYPES 3\n" + bytes_of(std::vector<std::int32_t>{5}, true));
+  CHECK(error_of(path) == path + ": cell 0 of type 5 (triangle) has 4 points, not 3");
+  path = with(bytes_of(std::vector<std::int32_t>{4, 1, 2, 3, 4}, true),
+              bytes_of(std::vector<std::int32_t>{4, 1, 2, 3, 9}, true));
+  CHECK(error_of(path) == path + ": cell 1: vertex 9 is out of range 0..4");
+  path = with("SCALARS region int 1", "SCALARS region bit 1");
+  CHECK(error_of(path) == path + ": SCALARS region: data type 'bit' is not read in a binary file");
 }

@@ -1,7 +1,8 @@
 // write_tagged_meshes DIR: writes the tagged Kuhn cube of tagged_mesh.h in every tet mesh
 // format, and a variant whose tets are untagged, into DIR, with expected.json, what
 // check_tags.py compares third-party readers (meshio, Gmsh) against:
-//   DIR/<name>.mesh, .node/.ele/.face, 22.msh, 41.msh, .vtk, .vtu, _ascii.vtu
+//   DIR/<name>.mesh, .node/.ele/.face, 22.msh, 41.msh, 41b.msh (binary), .vtk, .vtu,
+//   _ascii.vtu, _zlib.vtu (compressed)
 //   DIR/expected.json  {"<name>": {"points": [[x, y, z]...], "tets": [[a, b, c, d]...],
 //                      "tet_ref": [...], "triangles": [...], "triangle_ref": [...],
 //                      "names": [[dimension, tag, name]...]}, ...}  (indices from 0; tag
@@ -110,6 +111,8 @@ int main(int argc, char** argv) {
       voroclip::write_tet_mesh(file(".vtk"), mesh, TetMeshFormat::kVtk);
       voroclip::write_tet_mesh(file(".vtu"), mesh, TetMeshFormat::kVtu);
       voroclip::write_tet_mesh(file("_ascii.vtu"), mesh, TetMeshFormat::kVtuAscii);
+      voroclip::write_tet_mesh(file("41b.msh"), mesh, TetMeshFormat::kGmsh41Binary);
+      voroclip::write_tet_mesh(file("_zlib.vtu"), mesh, TetMeshFormat::kVtuCompressed);
       json += (json.size() == 1 ? "" : ",\n") + json_string(name) + ": " + json_mesh(mesh);
     }
     voroclip::write_file_atomically((dir / "expected.json").string(),

@@ -173,14 +173,19 @@ struct TetMeshInput {
 ///                  attributes and node markers are read and ignored); the triangles and
 ///                  their boundary markers come from the .face file beside them, when there
 ///                  is one; `source` is the .ele file;
-///   .msh           Gmsh ASCII, format 2.x (2.2) or 4.1: $Nodes and $Elements (4-node
+///   .msh           Gmsh ASCII or binary, format 2.x (2.2) or 4.1: $Nodes and $Elements (4-node
 ///                  tetrahedra, element type 4, and 3-node triangles, type 2; other element
 ///                  types are skipped), node tags in any order and with gaps; the tag of an
 ///                  element is its physical tag (2.2: its first tag; 4.1: the first physical
 ///                  tag of its entity in $Entities, or $PartitionedEntities in a
 ///                  partitioned mesh, 0 when the entity has none or is not listed);
 ///                  $PhysicalNames gives tag_names; other sections are read past;
-///   .vtk           legacy VTK ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
+///                  binary files (file-type 1) in either byte order (the int 1 after the
+///                  version line tells), 4.1 with a data-size (size_t) of 4 or 8; in them,
+///                  elements of other types are read past by their type's node count, so
+///                  types unknown to Gmsh 4.8 are rejected;
+///   .vtk           legacy VTK ASCII or BINARY (big endian, of the types the lines name; no
+///                  string or bit arrays), DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
 ///                  VTK 5.1 OFFSETS/CONNECTIVITY layout), CELL_TYPES; cells of type 10
 ///                  (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept, others skipped; the CELL_DATA
 ///                  arrays `region` (the tets' tags) and `patch` (the triangles' tags), as
@@ -189,40 +194,48 @@ struct TetMeshInput {
 ///   .vtu           VTK XML UnstructuredGrid, one Piece: Points and the Cells arrays
 ///                  connectivity, offsets, types (tetra and triangle cells kept), CellData
 ///                  `region` and `patch` as for .vtk, each ascii, binary (inline base64) or
-///                  appended (base64 or raw), UInt32 or UInt64 headers, either byte order;
-///                  compressed files are rejected; tet_line is the line of the connectivity
+///                  appended (base64 or raw), UInt32 or UInt64 headers, either byte order,
+///                  uncompressed or zlib-compressed (compressor="vtkZLibDataCompressor";
+///                  LZ4 and LZMA are rejected); tet_line is the line of the connectivity
 ///                  array.
-/// Binary files (.meshb, binary .msh, BINARY .vtk) are rejected. Vertices keep the file's
-/// order (Gmsh: the order of $Nodes), tetrahedra and triangles the file's order and
-/// orientation.
-/// Throws Error "file:line: what" (or "file: what" for the whole file) for a missing file,
+/// Binary Medit files (.meshb) are rejected. Vertices keep the file's order (Gmsh: the
+/// order of $Nodes), tetrahedra and triangles the file's order and orientation; tet_line is
+/// 0 in binary .msh and .vtk files.
+/// Throws Error "file:line: what" (or "file: what" for the whole file and in binary .msh
+/// and .vtk files, naming the section, the element or the cell) for a missing file,
 /// an unknown extension, format or version, a truncated section (which section, expected
 /// and found counts), a value that is not a number or not finite, a tag that is not a
 /// 32-bit integer, a vertex index out of range (naming the element as the file numbers
 /// it: Medit's 1-based tetrahedron or triangle number, TetGen's tetrahedron or face number,
-/// Gmsh's element tag, VTK's 0-based cell index), no tetrahedra.
+/// Gmsh's element tag, VTK's 0-based cell index), no tetrahedra; in binary data, a count or
+/// a size that the bytes after it cannot hold (checked before anything is allocated), a
+/// compressed block that does not inflate to the size its header gives.
 TetMeshInput read_tet_mesh(const std::string& path);
 
 /// Tetrahedral mesh file formats that write_tet_mesh can write. Every format keeps the
 /// triangles and the tags; only Gmsh keeps tag_names.
 enum class TetMeshFormat {
-  kMedit,     // .mesh, MeshVersionFormatted 2, numbered from 1: Vertices (ref 0), Triangles
-              // (when there are triangles) and Tetrahedra, refs the tags
-  kTetGen,    // .node + .ele + .face (all written, whichever extension `path` has),
-              // numbered from 1; .ele has one region attribute when tet_ref is not empty,
-              // .face the triangles (maybe none), with markers when triangle_ref is not empty
-  kGmsh22,    // .msh ASCII 2.2, node tags 1..n, element tags: tets 1..nt, then triangles;
-              // each element's tags: physical = its tag, elementary = its entity (as 4.1)
-  kGmsh41,    // .msh ASCII 4.1: one surface entity per distinct triangle tag and one volume
-              // entity per distinct tet tag (increasing tags, entity tags from 1), each in
-              // the physical group of its tag; all nodes in volume entity 1; tets (element
-              // tags 1..nt) then triangles, one element block per run of equal tags
-  kVtk,       // legacy ASCII .vtk: tets (VTK_TETRA) then triangles (VTK_TRIANGLE), cell
-              // data "cell_id", "region" (when tet_ref is not empty), "patch" (when
-              // triangle_ref is not empty)
-  kVtu,       // VTK XML .vtu, binary: base64-encoded appended data (write_vtu), cells and
-              // cell data as kVtk ("region"/"patch" Int32)
-  kVtuAscii,  // VTK XML .vtu, ASCII data arrays (write_vtu), as kVtu
+  kMedit,          // .mesh, MeshVersionFormatted 2, numbered from 1: Vertices (ref 0), Triangles
+                   // (when there are triangles) and Tetrahedra, refs the tags
+  kTetGen,         // .node + .ele + .face (all written, whichever extension `path` has),
+                   // numbered from 1; .ele has one region attribute when tet_ref is not empty,
+                   // .face the triangles (maybe none), with markers when triangle_ref is not empty
+  kGmsh22,         // .msh ASCII 2.2, node tags 1..n, element tags: tets 1..nt, then triangles;
+                   // each element's tags: physical = its tag, elementary = its entity (as 4.1)
+  kGmsh41,         // .msh ASCII 4.1: one surface entity per distinct triangle tag and one volume
+                   // entity per distinct tet tag (increasing tags, entity tags from 1), each in
+                   // the physical group of its tag; all nodes in volume entity 1; tets (element
+                   // tags 1..nt) then triangles, one element block per run of equal tags
+  kVtk,            // legacy ASCII .vtk: tets (VTK_TETRA) then triangles (VTK_TRIANGLE), cell
+                   // data "cell_id", "region" (when tet_ref is not empty), "patch" (when
+                   // triangle_ref is not empty)
+  kVtu,            // VTK XML .vtu, binary: base64-encoded appended data (write_vtu), cells and
+                   // cell data as kVtk ("region"/"patch" Int32)
+  kVtuAscii,       // VTK XML .vtu, ASCII data arrays (write_vtu), as kVtu
+  kGmsh41Binary,   // .msh binary 4.1 (file-type 1, little endian, size_t of 8 bytes): as
+                   // kGmsh41, $PhysicalNames in ASCII as Gmsh writes it
+  kVtuCompressed,  // VTK XML .vtu, zlib-compressed appended data (VtuEncoding::kZlibBase64,
+                   // compressor="vtkZLibDataCompressor"), as kVtu
 };
 
 /// Writes a tetrahedral mesh (all vertices, used or not, the tets and triangles in order
@@ -262,15 +275,30 @@ struct VtuCellBlock {
   int vertices_per_cell = 4;
 };
 
+/// How write_vtu stores its data arrays.
+enum class VtuEncoding {
+  kAscii,       // in place, shortest round-trip decimals
+  kBase64,      // appended, base64: per array its byte count, then its bytes, each
+                // base64-encoded on its own, as VTK's reader expects
+  kZlibBase64,  // appended, base64, compressor="vtkZLibDataCompressor" (meshio's and
+                // ParaView's usual output): per array a header (number of blocks, block
+                // size 32768, size of the last block, compressed size of each block), then
+                // the blocks, each one zlib stream
+};
+
 /// Writes a VTK XML unstructured grid (version 1.0, UInt64 headers, little endian): the
 /// points (z = 0 when dimension is 2), the cells of `blocks` one block after the other
 /// (VTK_TRIANGLE for 3 vertices, VTK_TETRA for 4), the cell index (counted across blocks)
-/// as cell data "cell_id", then `fields` (Float64) and `tags` (Int32). With `binary` the
-/// arrays are appended as base64 (each array: its byte count, then its bytes, each
-/// base64-encoded on its own, as VTK's reader expects); otherwise they are ASCII in place
-/// (shortest round-trip decimals). Coordinates are Float64 and indices Int64 either way,
-/// so a file read back gives the same doubles. Throws Error when a field or tag array does
-/// not have one value per cell.
+/// as cell data "cell_id", then `fields` (Float64) and `tags` (Int32), the arrays stored as
+/// `encoding` says. Coordinates are Float64 and indices Int64 in every encoding, so a file
+/// read back gives the same doubles. Throws Error when a field or tag array does not have
+/// one value per cell.
+void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
+               const std::vector<VtuCellBlock>& blocks, VtuEncoding encoding,
+               const std::vector<VtuCellField>& fields = {},
+               const std::vector<VtuCellTags>& tags = {});
+
+/// As above: `binary` is VtuEncoding::kBase64, otherwise kAscii.
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<VtuCellBlock>& blocks, bool binary,
                const std::vector<VtuCellField>& fields = {},
