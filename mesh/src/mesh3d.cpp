@@ -946,6 +946,18 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
       with_surface.keep_surface = true;
       cvt.max_iterations = options.topology_iterations;
       std::vector<double> first_points;  // where the first round found defects
+      // Edges where the normals differ by more than 90 degrees (closed_ball_defects).
+      std::vector<std::uint64_t> knife_edges;
+      {
+        const FeatureLines knives = extract_feature_lines(surface, 90.0);
+        for (std::uint32_t l = 0; l < knives.nb_lines(); ++l) {
+          for (std::uint32_t i = knives.line_begin[l]; i + 1 < knives.line_begin[l + 1]; ++i) {
+            knife_edges.push_back(edge_key(knives.line_vertices[i], knives.line_vertices[i + 1]));
+          }
+        }
+        std::sort(knife_edges.begin(), knife_edges.end());
+        knife_edges.erase(std::unique(knife_edges.begin(), knife_edges.end()), knife_edges.end());
+      }
       struct State {
         std::vector<double> sites;
         std::vector<Kind> kinds;
@@ -964,7 +976,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
       for (std::uint32_t round = 0;; ++round) {
         ClippedVoronoi3 cv;
         cv.compute(domain, sites.data(), n, with_surface);
-        const ClosedBallDefects defects = closed_ball_defects(cv, sites.data());
+        const ClosedBallDefects defects = closed_ball_defects(cv, sites.data(), knife_edges);
         const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
         if (round == 0) first_points = defects.points;
         Mesh3Progress p;

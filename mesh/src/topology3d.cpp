@@ -84,10 +84,31 @@ struct CellScratch {
   std::vector<std::uint32_t> arc_vertices;
 };
 
-int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScratch& s) {
+// Whether a restricted vertex lies on a knife edge (on it, or at one of its ends).
+bool on_knife_edge(const ClipVertex3& v, const std::vector<std::uint64_t>& knife_edges,
+                   const std::vector<std::uint32_t>& knife_vertices) {
+  if (v.kind == ClipVertex3::Kind::kMeshVertex) {
+    return std::binary_search(knife_vertices.begin(), knife_vertices.end(), v.mesh[0]);
+  }
+  if (v.kind == ClipVertex3::Kind::kEdgeBisector) {
+    const std::uint64_t key =
+        std::uint64_t{std::min(v.mesh[0], v.mesh[1])} << 32 | std::max(v.mesh[0], v.mesh[1]);
+    return std::binary_search(knife_edges.begin(), knife_edges.end(), key);
+  }
+  return false;
+}
+
+int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScratch& s,
+                 const std::vector<std::uint64_t>& knife_edges,
+                 const std::vector<std::uint32_t>& knife_vertices) {
   const std::uint32_t p0 = sp.site_begin[i], p1 = sp.site_begin[i + 1];
   if (p0 == p1) return 0;
   const std::uint32_t c0 = sp.polygon_begin[p0], c1 = sp.polygon_begin[p1];
+  if (!knife_edges.empty()) {
+    for (std::uint32_t c = c0; c < c1; ++c) {
+      if (on_knife_edge(sp.vertices[c], knife_edges, knife_vertices)) return 0;
+    }
+  }
   // Vertex ids by key.
   s.keys.clear();
   for (std::uint32_t c = c0; c < c1; ++c) s.keys.emplace_back(key_of(sp.vertices[c]), c - c0);
@@ -180,7 +201,19 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
 
 }  // namespace
 
-ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites) {
+ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites,
+                                      const std::vector<std::uint64_t>& knife_edges) {
+  if (!std::is_sorted(knife_edges.begin(), knife_edges.end())) {
+    throw Error("closed_ball_defects: the knife edges are not sorted");
+  }
+  std::vector<std::uint32_t> knife_vertices;
+  for (const std::uint64_t e : knife_edges) {
+    knife_vertices.push_back(static_cast<std::uint32_t>(e >> 32));
+    knife_vertices.push_back(static_cast<std::uint32_t>(e & 0xffffffffu));
+  }
+  std::sort(knife_vertices.begin(), knife_vertices.end());
+  knife_vertices.erase(std::unique(knife_vertices.begin(), knife_vertices.end()),
+                       knife_vertices.end());
   const ClippedVoronoi3::Polygons& sp = cv.surface_polygons();
   if (sp.site_begin.size() != std::size_t{cv.nb_sites()} + 1) {
     throw Error("closed_ball_defects: the diagram was computed without keep_surface");
@@ -190,7 +223,7 @@ ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* s
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 256), [&](const auto& range) {
     CellScratch s;
     for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-      defect[i] = static_cast<std::int8_t>(cell_defects(sp, i, s));
+      defect[i] = static_cast<std::int8_t>(cell_defects(sp, i, s, knife_edges, knife_vertices));
     }
   });
   ClosedBallDefects d;

@@ -885,7 +885,14 @@ struct ClosedBallDefects {
   std::vector<std::uint32_t> cells;  // increasing
   std::vector<double> points;        // x y z per cell
 };
-ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites);
+//
+// `knife_edges` (sorted keys min(a, b) << 32 | max(a, b) of surface vertex pairs, maybe
+// empty): edges of the surface where its triangles' normals differ by more than 90
+// degrees. The surface has no positive reach there, so no sampling gives the cells that
+// touch such an edge the property (a site near it owns a strip across it, which the next
+// site splits): those cells are not counted; the output's shape check judges them.
+ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites,
+                                      const std::vector<std::uint64_t>& knife_edges = {});
 
 // Whether a tet mesh (xyz, 4 indices per tet) has the shape of the domain: its tets valid
 // as a Domain3 (positive volume, no overlap, a closed 2-manifold boundary: no tets meeting
