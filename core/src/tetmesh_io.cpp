@@ -1089,6 +1089,22 @@ TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) 
 constexpr std::uint64_t kVtkTetra = 10;
 constexpr std::uint64_t kVtkTriangle = 5;
 
+// The tag arrays of a legacy VTK file (ASCII or binary): the first CELL_DATA array of one
+// component named `region` (the tets' tags) and the first named `patch` (the triangles').
+struct VtkCellTags {
+  std::vector<std::int32_t> region, patch;
+  bool have_region = false, have_patch = false;
+  // The array to fill with an array `name` of `components` components (nullptr: none).
+  std::vector<std::int32_t>* array(bool cell_data, std::string_view name,
+                                   std::uint64_t components) {
+    if (!cell_data || components != 1 || (name != "region" && name != "patch")) return nullptr;
+    bool& have = name == "region" ? have_region : have_patch;
+    if (have) return nullptr;
+    have = true;
+    return name == "region" ? &region : &patch;
+  }
+};
+
 // One array of a VTK attribute section: `values` of it, read (as tags) or read past.
 void read_vtk_array(Lexer& lx, const std::string& name, std::uint64_t values,
                     std::vector<std::int32_t>* tags) {
@@ -1150,16 +1166,12 @@ TetMeshInput read_vtk(const std::string& path) {
   // (none before the first), and the tag arrays found in CELL_DATA, per cell.
   enum class Data { kNone, kPoint, kCell } data = Data::kNone;
   std::uint64_t tuples = 0;
-  std::vector<std::int32_t> region, patch;
-  bool have_region = false, have_patch = false;
+  VtkCellTags cell_tags;
+  std::vector<std::int32_t>& region = cell_tags.region;
+  std::vector<std::int32_t>& patch = cell_tags.patch;
   // The tag array an array of CELL_DATA named `name` with `components` fills (nullptr: none).
-  const auto tag_array = [&](std::string_view name,
-                             std::uint64_t components) -> std::vector<std::int32_t>* {
-    if (data != Data::kCell || components != 1) return nullptr;
-    bool& have = name == "region" ? have_region : have_patch;
-    if ((name != "region" && name != "patch") || have) return nullptr;
-    have = true;
-    return name == "region" ? &region : &patch;
+  const auto tag_array = [&](std::string_view name, std::uint64_t components) {
+    return cell_tags.array(data == Data::kCell, name, components);
   };
   const auto need_data = [&](std::string_view kw) {
     if (data == Data::kNone) {
@@ -1498,15 +1510,12 @@ TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
   std::vector<std::uint32_t> cell_line;
   enum class Data { kNone, kPoint, kCell } data = Data::kNone;
   std::uint64_t tuples = 0;
-  std::vector<std::int32_t> region, patch;
-  bool have_region = false, have_patch = false;
-  const auto tag_array = [&](std::string_view name,
-                             std::uint64_t components) -> std::vector<std::int32_t>* {
-    if (data != Data::kCell || components != 1) return nullptr;
-    bool& have = name == "region" ? have_region : have_patch;
-    if ((name != "region" && name != "patch") || have) return nullptr;
-    have = true;
-    return name == "region" ? &region : &patch;
+  VtkCellTags cell_tags;
+  std::vector<std::int32_t>& region = cell_tags.region;
+  std::vector<std::int32_t>& patch = cell_tags.patch;
+  // The tag array an array of CELL_DATA named `name` with `components` fills (nullptr: none).
+  const auto tag_array = [&](std::string_view name, std::uint64_t components) {
+    return cell_tags.array(data == Data::kCell, name, components);
   };
   // An array of `n` values of `type` named `where`: read as tags, or read past.
   const auto array = [&](std::string_view type, std::uint64_t n, const std::string& where,

@@ -236,8 +236,9 @@ FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& line
     double length = 0;
     bool kept = false;
     for (std::uint32_t i = b; i + 1 < e; ++i) {
-      kept = kept || std::binary_search(keep.begin(), keep.end(),
-                                        edge_key(lines.line_vertices[i], lines.line_vertices[i + 1]));
+      kept =
+          kept || std::binary_search(keep.begin(), keep.end(),
+                                     edge_key(lines.line_vertices[i], lines.line_vertices[i + 1]));
       const double* p = &s.xyz[3 * std::size_t{lines.line_vertices[i]}];
       const double* q = &s.xyz[3 * std::size_t{lines.line_vertices[i + 1]}];
       length += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
@@ -767,7 +768,8 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
       // Without features, only the tags' borders (no edge is sharper than 180 degrees).
       const double angle = options.features ? options.feature_angle_deg : 180.0;
       lines = drop_short_lines(
-          surface, split_at_turns(surface, extract_feature_lines(surface, angle, input_tags), angle),
+          surface,
+          split_at_turns(surface, extract_feature_lines(surface, angle, input_tags), angle),
           options.min_feature_length, local_spacing, tag_borders);
     }
     const FeatureTree line_tree(surface, lines);
@@ -904,6 +906,21 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     // they would become boundary vertices inside the volume.
     next_phase(Mesh3Phase::kConstrained);
     cvt.project = project;
+    // Free sites whose cells reach the boundary in the CVT's last diagram go onto the
+    // surface (they would become boundary vertices inside the volume); their number.
+    const auto snap_boundary_free_sites = [&]() {
+      std::uint32_t snapped = 0;
+      for (std::uint32_t v = 0; v < n; ++v) {
+        if (kinds[v] != Kind::kFree || boundary[v] == 0) continue;
+        kinds[v] = Kind::kSurface;
+        double q[3], d[3];
+        project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);
+        std::copy_n(q, 3, &sites[3 * std::size_t{v}]);
+        ++snapped;
+      }
+      result.nb_boundary_sites += snapped;
+      return snapped;
+    };
     const std::uint32_t total = options.constrained_iterations;
     const std::uint32_t stages[3] = {total - total / 3, std::max<std::uint32_t>(total / 3, 1), 5};
     for (int stage = 0; stage < 3; ++stage) {
@@ -922,17 +939,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         result.constrained.converged = r.converged;
       }
       if (stage == 2) break;
-      std::uint32_t snapped = 0;
-      for (std::uint32_t v = 0; v < n; ++v) {
-        if (kinds[v] != Kind::kFree || boundary[v] == 0) continue;
-        kinds[v] = Kind::kSurface;
-        double q[3], d[3];
-        project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);
-        std::copy_n(q, 3, &sites[3 * std::size_t{v}]);
-        ++snapped;
-      }
-      result.nb_boundary_sites += snapped;
-      if (snapped == 0) break;
+      if (snap_boundary_free_sites() == 0) break;
     }
 
     // 5b. Topology: sites where the restricted Voronoi diagram lacks the closed-ball
@@ -986,7 +993,12 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         p.added_sites = result.nb_topology_sites;
         report(p);
         if (nb_defects < best_defects || nb_defects == 0) {
-          best = {sites, kinds, line_of, corner_vertex, n, result.nb_topology_sites,
+          best = {sites,
+                  kinds,
+                  line_of,
+                  corner_vertex,
+                  n,
+                  result.nb_topology_sites,
                   result.nb_boundary_sites};
           best_defects = nb_defects;
           stall = 0;
@@ -1003,14 +1015,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
           cvt.constraints = kinds;
           const CvtResult r = optimize_cvt3(domain, sites, cvt);
           if (r.cancelled) throw Cancelled{};
-          for (std::uint32_t v = 0; v < n; ++v) {
-            if (kinds[v] != Kind::kFree || boundary[v] == 0) continue;
-            kinds[v] = Kind::kSurface;
-            double q[3], d[3];
-            project(v, kinds[v], &sites[3 * std::size_t{v}], q, d);
-            std::copy_n(q, 3, &sites[3 * std::size_t{v}]);
-            ++result.nb_boundary_sites;
-          }
+          snap_boundary_free_sites();
           ++cycles;
           inserted_since_cvt = false;
           continue;
@@ -1020,8 +1025,8 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         // share it), projected onto the surface.
         std::vector<std::array<double, 3>> points;
         for (std::size_t k = 0; k < defects.cells.size(); ++k) {
-          points.push_back({defects.points[3 * k], defects.points[3 * k + 1],
-                            defects.points[3 * k + 2]});
+          points.push_back(
+              {defects.points[3 * k], defects.points[3 * k + 1], defects.points[3 * k + 2]});
         }
         std::sort(points.begin(), points.end());
         points.erase(std::unique(points.begin(), points.end()), points.end());
@@ -1136,7 +1141,10 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
           double c[3] = {0, 0, 0};
           for (int k = 0; k < 3; ++k) {
-            const double* p = &result.xyz[3 * std::size_t{result.boundary_triangles[3 * b + static_cast<std::size_t>(k)]}];
+            const double* p =
+                &result
+                     .xyz[3 * std::size_t{
+                                  result.boundary_triangles[3 * b + static_cast<std::size_t>(k)]}];
             for (int q = 0; q < 3; ++q) c[q] += p[q] / 3;
           }
           closest[b] = surface_tree.closest(c).triangle;
@@ -1150,11 +1158,15 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
         vertex_patch_begin.push_back(static_cast<std::uint32_t>(vertex_patch.size()));
       }
       const std::uint32_t nb_patches =
-          triangle_patch.empty() ? 0 : 1 + *std::max_element(triangle_patch.begin(), triangle_patch.end());
+          triangle_patch.empty()
+              ? 0
+              : 1 + *std::max_element(triangle_patch.begin(), triangle_patch.end());
       std::vector<std::int32_t> patch_tag(nb_patches, 0);
-      for (std::uint32_t p = 0; p < nb_patches; ++p) patch_tag[p] = static_cast<std::int32_t>(p + 1);
+      for (std::uint32_t p = 0; p < nb_patches; ++p)
+        patch_tag[p] = static_cast<std::int32_t>(p + 1);
       if (!input_tags.empty()) {
-        for (std::size_t t = triangle_patch.size(); t-- > 0;) patch_tag[triangle_patch[t]] = input_tags[t];
+        for (std::size_t t = triangle_patch.size(); t-- > 0;)
+          patch_tag[triangle_patch[t]] = input_tags[t];
       }
       result.boundary_tags = mesh3::patch_tags(result.boundary_triangles, vertex_patch_begin,
                                                vertex_patch, patch_tag, triangle_patch, closest);

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "union_find.h"
 #include "voroclip/predicates.h"
 
 namespace voroclip::mesh3 {
@@ -45,20 +46,6 @@ std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets) {
   std::sort(faces.begin(), faces.end());
   return faces;
 }
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // The input tets on a uniform grid of their bounding boxes, for point location.
 class TetGrid {
@@ -213,7 +200,10 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
     for (std::uint32_t t = 0; t < nt; ++t) {
       double c[3] = {0, 0, 0};
       for (int q = 0; q < 4; ++q) {
-        for (int k = 0; k < 3; ++k) c[k] += 0.25 * xyz[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(q)]} + static_cast<std::size_t>(k)];
+        for (int k = 0; k < 3; ++k)
+          c[k] +=
+              0.25 * xyz[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(q)]} +
+                         static_cast<std::size_t>(k)];
       }
       const std::uint32_t i = grid.locate(c);
       if (i != kNone) {
@@ -256,7 +246,8 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
   UnionFind components(nt);
   const std::vector<FaceRef> faces = sorted_faces(tets);
   for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-    if (faces[i].key == faces[i + 1].key) components.unite(faces[i].code / 4, faces[i + 1].code / 4);
+    if (faces[i].key == faces[i + 1].key)
+      components.unite(faces[i].code / 4, faces[i + 1].code / 4);
   }
   // Votes (component root, outer shell); the most votes win, ties to the lower shell.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> votes;

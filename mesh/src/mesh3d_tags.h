@@ -14,7 +14,8 @@ namespace voroclip::mesh3 {
 // p2 - p0, p3 - p0) > 0), oriented outward (counter-clockwise seen from outside), in the
 // order of (tet, facet opposite vertex 0..3); `face_tet` gets each one's tet.
 void boundary_triangles(const std::vector<std::uint32_t>& tets,
-                        std::vector<std::uint32_t>& triangles, std::vector<std::uint32_t>& face_tet);
+                        std::vector<std::uint32_t>& triangles,
+                        std::vector<std::uint32_t>& face_tet);
 
 // The patch tag of each boundary triangle (3 vertex indices each). `vertex_patch_begin` /
 // `vertex_patch` list, per vertex, the input patches it lies on (increasing; none for an

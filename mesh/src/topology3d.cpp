@@ -27,57 +27,42 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "union_find.h"
 #include "voroclip/mesh.h"
 
 namespace voroclip {
 
 namespace {
 
+using mesh3::UnionFind;
 using Key = std::array<std::uint32_t, 7>;
 
 Key key_of(const ClipVertex3& v) {
-  return {static_cast<std::uint32_t>(v.kind), v.mesh[0], v.mesh[1], v.mesh[2],
-          v.site[0],                          v.site[1], v.site[2]};
+  return {static_cast<std::uint32_t>(v.kind),
+          v.mesh[0],
+          v.mesh[1],
+          v.mesh[2],
+          v.site[0],
+          v.site[1],
+          v.site[2]};
 }
 
 bool has_site(const ClipVertex3& v, std::uint32_t s) {
   return v.site[0] == s || v.site[1] == s || v.site[2] == s;
 }
 
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  void reset(std::size_t n) {
-    parent.resize(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-  std::uint32_t count() {
-    std::uint32_t c = 0;
-    for (std::uint32_t x = 0; x < parent.size(); ++x) c += find(x) == x ? 1 : 0;
-    return c;
-  }
-};
-
 // What is wrong with one cell: bit 0 not a disk, bit 1 a facet not an arc, bit 2 a Voronoi
 // edge crossing S twice or more.
 struct CellScratch {
-  std::vector<std::pair<Key, std::uint32_t>> keys;  // (key, corner index)
-  std::vector<std::uint32_t> id;                    // per corner: its vertex id
+  std::vector<std::pair<Key, std::uint32_t>> keys;             // (key, corner index)
+  std::vector<std::uint32_t> id;                               // per corner: its vertex id
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (vertex pair, polygon)
   std::vector<std::pair<std::uint32_t, std::uint64_t>> arcs;   // (site across, vertex pair)
   UnionFind uf;
@@ -121,10 +106,12 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
     s.id[s.keys[r].second] = nv;
     // Two crossings of one Voronoi edge: facet-bisectors vertices with the same sites in
     // two triangles (their keys differ by the mesh triangle).
-    if (r > 0 && s.keys[r].first[0] == static_cast<std::uint32_t>(ClipVertex3::Kind::kFacetBisectors) &&
-        s.keys[r - 1].first[0] == s.keys[r].first[0] && s.keys[r - 1].first[4] == s.keys[r].first[4] &&
-        s.keys[r - 1].first[5] == s.keys[r].first[5] && s.keys[r - 1].first[6] == s.keys[r].first[6] &&
-        s.keys[r - 1].first != s.keys[r].first) {
+    if (r > 0 &&
+        s.keys[r].first[0] == static_cast<std::uint32_t>(ClipVertex3::Kind::kFacetBisectors) &&
+        s.keys[r - 1].first[0] == s.keys[r].first[0] &&
+        s.keys[r - 1].first[4] == s.keys[r].first[4] &&
+        s.keys[r - 1].first[5] == s.keys[r].first[5] &&
+        s.keys[r - 1].first[6] == s.keys[r].first[6] && s.keys[r - 1].first != s.keys[r].first) {
       defects |= 4;
     }
   }
@@ -240,14 +227,15 @@ ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* s
     for (std::uint32_t c = sp.polygon_begin[sp.site_begin[i]];
          c < sp.polygon_begin[sp.site_begin[i + 1]]; ++c) {
       const double* x = &sp.xyz[3 * std::size_t{c}];
-      const double d2 =
-          (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]);
+      const double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
+                        (x[2] - p[2]) * (x[2] - p[2]);
       if (d2 > best) {
         best = d2;
         arg = c;
       }
     }
-    d.points.insert(d.points.end(), &sp.xyz[3 * std::size_t{arg}], &sp.xyz[3 * std::size_t{arg}] + 3);
+    d.points.insert(d.points.end(), &sp.xyz[3 * std::size_t{arg}],
+                    &sp.xyz[3 * std::size_t{arg}] + 3);
   }
   return d;
 }

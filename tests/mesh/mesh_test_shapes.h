@@ -21,6 +21,16 @@ namespace voroclip_test {
 
 using voroclip_test::icosphere;
 
+// Mesh3Options for n vertices with short CVT and perturbation phases (the tests' budget).
+inline voroclip::Mesh3Options small_options(std::uint32_t n) {
+  voroclip::Mesh3Options o;
+  o.nb_vertices = n;
+  o.unconstrained_iterations = 8;
+  o.constrained_iterations = 12;
+  o.perturbation.max_rounds = 4;
+  return o;
+}
+
 // mesh3d on `domain` gives the same vertices, tets and vertex kinds with 1 and 2 threads;
 // returns the one-thread result.
 inline voroclip::Mesh3Result check_same_mesh3d_with_1_and_2_threads(

@@ -24,6 +24,7 @@ using voroclip::Mesh3Options;
 using voroclip::Mesh3Result;
 using voroclip::Mesh3VertexKind;
 using voroclip::Sign;
+using voroclip_test::small_options;
 
 namespace {
 
@@ -162,15 +163,6 @@ double diagonal(const Domain3& d) {
   for (int c = 0; c < 3; ++c)
     s += (d.bbox_hi()[c] - d.bbox_lo()[c]) * (d.bbox_hi()[c] - d.bbox_lo()[c]);
   return std::sqrt(s);
-}
-
-Mesh3Options small_options(std::uint32_t n) {
-  Mesh3Options o;
-  o.nb_vertices = n;
-  o.unconstrained_iterations = 8;
-  o.constrained_iterations = 12;
-  o.perturbation.max_rounds = 4;
-  return o;
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../core/tagged_mesh.h"
+#include "mesh_test_shapes.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -28,19 +29,11 @@ using voroclip::Domain3;
 using voroclip::Mesh3Options;
 using voroclip::Mesh3Result;
 using voroclip::Sign;
+using voroclip_test::small_options;
 
 namespace {
 
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
-
-Mesh3Options small_options(std::uint32_t n) {
-  Mesh3Options o;
-  o.nb_vertices = n;
-  o.unconstrained_iterations = 8;
-  o.constrained_iterations = 12;
-  o.perturbation.max_rounds = 4;
-  return o;
-}
 
 // Two triangles per face of the box [lo, hi], outward, appended to `s`.
 void add_box(voroclip::TriangleSurface& s, const double lo[3], const double hi[3],
