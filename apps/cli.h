@@ -152,8 +152,10 @@ struct Mesh3dArgs {
   bool smooth_surface = false;
   double smooth_shape = 0.75;
   double sliver_angle = 30;
-  std::string output;  // .mesh, .msh, .vtu; empty: no file
+  std::string output;  // .mesh, .msh, .vtu, .node / .ele; empty: no file
   std::string msh_version = "4.1";
+  bool binary = false;    // .msh: Gmsh 4.1 binary
+  bool compress = false;  // .vtu: zlib-compressed data
 };
 
 /// CVT tetrahedral meshing of a volume (mesh3d), with the quality report.

@@ -224,7 +224,8 @@ int main(int argc, char** argv) {
   const std::string domain3_help =
       "The volume: a closed surface (.obj, .off, .stl, .ply; validated exactly: closed, "
       "manifold, oriented outward, no self-intersection; several shells and cavities allowed) "
-      "or a tet mesh (Medit .mesh, TetGen .node/.ele, Gmsh .msh 2.2 or 4.1 ASCII, legacy VTK "
+      "or a tet mesh (Medit .mesh, TetGen .node/.ele, Gmsh .msh 2.2 or 4.1 ASCII or binary, legacy "
+      "VTK "
       ".vtk or VTK XML .vtu)";
   const std::string reorient_help =
       "Reverse the shells of a surface that face the wrong way (inside out) instead of "
@@ -335,13 +336,19 @@ int main(int argc, char** argv) {
       ->type_name("F");
   mesh3d
       ->add_option("-o,--output", mesh3d_args.output,
-                   "Write the mesh: .mesh (Medit), .msh (Gmsh) or .vtu (VTK XML, with the "
-                   "smallest dihedral angle per tet)")
+                   "Write the mesh with its boundary triangles and tags: .mesh (Medit), .msh "
+                   "(Gmsh), .vtu (VTK XML, with the smallest dihedral angle per tet) or .node / "
+                   ".ele (TetGen: .node, .ele and .face written together)")
       ->type_name("FILE");
   mesh3d
       ->add_option("--msh-version", mesh3d_args.msh_version,
                    "Gmsh format of a .msh output: 4.1 (default) or 2.2")
       ->type_name("V");
+  mesh3d->add_flag("--binary", mesh3d_args.binary,
+                   "Write a .msh output as Gmsh 4.1 binary (little endian)");
+  mesh3d->add_flag("--compress", mesh3d_args.compress,
+                   "Compress a .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
+                   "and ParaView write it)");
 
   voroclip::cli::CheckSurfaceArgs check_args;
   CLI::App* check_surface = app.add_subcommand(

@@ -42,13 +42,21 @@ std::string sci(double x) {
 
 void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   const std::string ext = lower_extension(args.output);
-  if (!args.output.empty() && ext != ".mesh" && ext != ".msh" && ext != ".vtu") {
+  if (!args.output.empty() && ext != ".mesh" && ext != ".msh" && ext != ".vtu" && ext != ".node" &&
+      ext != ".ele") {
     throw UsageError(
-        "-o: the output must end in .mesh (Medit), .msh (Gmsh) or .vtu (VTK XML), got '" +
+        "-o: the output must end in .mesh (Medit), .msh (Gmsh), .vtu (VTK XML) or .node / .ele "
+        "(TetGen), got '" +
         args.output + "'");
   }
   if (args.msh_version != "2.2" && args.msh_version != "4.1") {
     throw UsageError("--msh-version: expected 2.2 or 4.1, got '" + args.msh_version + "'");
+  }
+  if (args.binary && (ext != ".msh" || args.msh_version != "4.1")) {
+    throw UsageError("--binary: only a .msh output in Gmsh 4.1 is written in binary");
+  }
+  if (args.compress && ext != ".vtu") {
+    throw UsageError("--compress: only a .vtu output is compressed");
   }
   if (args.vertices < 4) throw UsageError("--vertices: needs at least 4 vertices");
   if (!(args.feature_angle >= 0 && args.feature_angle <= 180)) {
@@ -180,11 +188,16 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       const std::vector<VtuCellBlock> blocks = {{r.tets.data(), r.nb_tets(), 4},
                                                 {r.boundary_triangles.data(), nb, 3}};
       write_file_atomically(args.output, [&](std::ostream& os) {
-        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, blocks, true, fields, tags);
+        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, blocks,
+                  args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64, fields, tags);
       });
     } else if (ext == ".msh") {
       write_tet_mesh(args.output, mesh,
-                     args.msh_version == "2.2" ? TetMeshFormat::kGmsh22 : TetMeshFormat::kGmsh41);
+                     args.msh_version == "2.2" ? TetMeshFormat::kGmsh22
+                     : args.binary             ? TetMeshFormat::kGmsh41Binary
+                                               : TetMeshFormat::kGmsh41);
+    } else if (ext == ".node" || ext == ".ele") {
+      write_tet_mesh(args.output, mesh, TetMeshFormat::kTetGen);
     } else {
       write_tet_mesh(args.output, mesh, TetMeshFormat::kMedit);
     }
@@ -268,9 +281,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
         }
         return v.size() > 12 ? text + " ..." : text;
       };
-      *out << "Boundary: " << r.boundary_triangles.size() / 3 << " triangles in "
-           << patches.size() << " patch tag(s) [" << list(patches) << "]; "
-           << regions.size() << " region tag(s) [" << list(regions) << "]\n";
+      *out << "Boundary: " << r.boundary_triangles.size() / 3 << " triangles in " << patches.size()
+           << " patch tag(s) [" << list(patches) << "]; " << regions.size() << " region tag(s) ["
+           << list(regions) << "]\n";
     }
     write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,
                        &distance, domain.source());

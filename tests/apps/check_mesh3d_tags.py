@@ -4,15 +4,17 @@ solver, read back by meshio and Gmsh's Python module.
 
 WRITER (write_tagged_meshes) writes the tagged Kuhn cube (tests/core/tagged_mesh.h: six
 tets in regions 1 and 2, its faces tagged by axis, x 10, y 11, z 12, four tag names) into
-DIR; `voroclip mesh3d` meshes its Gmsh 4.1 file (which carries the names) with 400 vertices into .mesh, .msh 4.1, .msh 2.2 and .vtu,
-and meshes DATA/surfaces/bunny.obj into a .msh 4.1. For each file: the triangles are the
-faces of exactly one tetrahedron (numpy over sorted corner triples), oriented outward (their
-cones from the centroid add up to the volume), each triangle's tag is its cube face's axis
-tag (by its corners' coordinates), the tetrahedra's tags are {1, 2}; Gmsh finds physical
-groups of dimension 3 and 2 with the file's names. The bunny's .msh: one region, patch tags
+DIR; `voroclip mesh3d` meshes its Gmsh 4.1 file (which carries the names) with 400 vertices
+into .mesh, .msh 4.1, .msh 2.2 and .vtu (also binary 4.1, compressed .vtu and TetGen
+.node/.ele/.face), and meshes DATA/surfaces/bunny.obj into a .msh 4.1. For each file: the
+triangles are the faces of exactly one tetrahedron (numpy over sorted corner triples),
+oriented outward (their cones from the centroid add up to the volume), each triangle's tag
+is its cube face's axis tag (by its corners' coordinates), the tetrahedra's tags are {1,
+2}; Gmsh finds physical groups of dimension 3 and 2 with the file's names. The bunny's .msh: one region, patch tags
 from 1. Prints one line per mismatch and exits with 1 when there is any.
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -79,6 +81,25 @@ def check_cube(path, tri_tag_name, tet_tag_name):
     check(f"{path}: triangle tags by cube face", wrong == 0, f"({wrong} of {len(tris)} wrong)")
 
 
+def check_tetgen(path, writer):
+    """TetGen: meshio reads the .node and .ele (tets, tetgen:ref); the .face (boundary
+    triangles, markers) through `WRITER --read`, voroclip's reader, checked the same way."""
+    m = meshio.read(path)
+    tets, data = blocks(m, "tetra", ["tetgen:ref"])
+    check(f"{path}: tet tags", set(data.get("tetgen:ref", np.array([])).tolist()) == {1, 2})
+    r = subprocess.run([writer, "--read", path[:-5] + ".ele"], capture_output=True, text=True)
+    check(f"{path}: read back by voroclip", r.returncode == 0, r.stderr.strip())
+    if r.returncode != 0:
+        return
+    mesh = json.loads(r.stdout)
+    points = np.asarray(mesh["points"], dtype=float)
+    check(f"{path}: the same points as meshio's", np.array_equal(points, m.points))
+    tris = np.asarray(mesh["triangles"], dtype=int).reshape(-1, 3)
+    check_shape(path + " (.face)", points, tets, tris)
+    check(f"{path}: .face markers", sorted(set(mesh["triangle_ref"])) == [10, 11, 12],
+          str(sorted(set(mesh["triangle_ref"]))))
+
+
 def gmsh_groups(path):
     gmsh.initialize(["-v", "0"])
     try:
@@ -94,7 +115,9 @@ def main():
     subprocess.run([writer, out], check=True)
     cube = os.path.join(out, "tagged41.msh")  # Gmsh: the tag names too
     for name, extra in [("cube.mesh", []), ("cube41.msh", []),
-                        ("cube22.msh", ["--msh-version", "2.2"]), ("cube.vtu", [])]:
+                        ("cube22.msh", ["--msh-version", "2.2"]), ("cube.vtu", []),
+                        ("cube41b.msh", ["--binary"]), ("cube_zlib.vtu", ["--compress"]),
+                        ("cube.node", [])]:
         path = os.path.join(out, name)
         if os.path.exists(path):
             os.remove(path)
@@ -103,7 +126,9 @@ def main():
         check(f"mesh3d -o {name}: exit status", r.returncode == 0, r.stderr.strip())
         if r.returncode != 0:
             continue
-        if name.endswith(".mesh"):
+        if name.endswith(".node"):
+            check_tetgen(path, writer)
+        elif name.endswith(".mesh"):
             check_cube(path, "medit:ref", "medit:ref")
         elif name.endswith(".msh"):
             check_cube(path, "gmsh:physical", "gmsh:physical")

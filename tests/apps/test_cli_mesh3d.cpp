@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_run.h"
@@ -116,6 +117,22 @@ TEST_CASE("mesh3d: errors name the problem, leave no file", "[apps]") {
     check_one_error_line(run);
     CHECK(contains(run.err, ".xyz"));
     CHECK_FALSE(exists(bad));
+  }
+  SECTION("--binary or --compress for a format that has no such encoding") {
+    for (const auto& [option, file] : {std::pair<std::string, std::string>{"--binary", ".mesh"},
+                                       {"--binary", ".vtu"},
+                                       {"--compress", ".msh"}}) {
+      INFO(option << " " << file);
+      const std::string bad = temp_path(file);
+      const Run run = run_cli({"mesh3d", domain, "--vertices", "100", option, "-o", bad});
+      CHECK(run.status == 2);
+      check_one_error_line(run);
+      CHECK(contains(run.err, option));
+      CHECK_FALSE(exists(bad));
+    }
+    const Run v22 = run_cli({"mesh3d", domain, "--vertices", "100", "--binary", "--msh-version",
+                             "2.2", "-o", temp_path(".msh")});
+    CHECK(v22.status == 2);
   }
   SECTION("a feature angle out of range") {
     const Run run = run_cli({"mesh3d", domain, "--vertices", "100", "--feature-angle", "200"});
