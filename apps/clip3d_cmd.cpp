@@ -154,6 +154,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
         "surface) or .json (per cell), got '" +
         args.output + "'");
   }
+  check_output_path(args.output);
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }

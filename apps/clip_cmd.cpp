@@ -320,6 +320,7 @@ std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain) {
 
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, false);
+  check_output_path(args.output);
   const Domain2 domain = load_domain(args.domain);
   const std::vector<double> sites = load_sites(args, domain);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
@@ -358,6 +359,7 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
 
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, true);
+  check_output_path(args.output);
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }

@@ -85,6 +85,7 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
       (args.output.size() < 4 || args.output.compare(args.output.size() - 4, 4, ".vtk") != 0)) {
     throw UsageError("-o: only legacy VTK output (.vtk) is supported, got '" + args.output + "'");
   }
+  check_output_path(args.output);
   const std::vector<double> points =
       args.random_set ? random_points(args.random, args.seed, dim) : read_points(args.input, dim);
   const auto n = static_cast<std::uint32_t>(points.size() / static_cast<std::size_t>(dim));

@@ -167,6 +167,7 @@ CubeResult run_cube_example() {
 
 void run_demo(const DemoArgs& args, const GlobalOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  check_output_path(args.svg_path);
   const ClassroomResult classroom = run_classroom_example();
   const CubeResult cube = run_cube_example();
   const MeshDemoResult mesh = run_mesh_demo();

@@ -141,16 +141,6 @@ void write_mesh_gmsh(std::ostream& out, const Mesh2& mesh) {
 }
 
 // Fails before a long computation when a file could not be written at its end.
-void check_directory_of(const std::string& path) {
-  if (path.empty()) return;
-  std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  if (dir.empty()) dir = ".";
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) {
-    throw Error("cannot write '" + path + "': no directory '" + dir.string() + "'");
-  }
-}
-
 }  // namespace
 
 // Triangles filled by their smallest angle (red below 30 degrees, through yellow to green at
@@ -256,8 +246,8 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }
-  check_directory_of(args.output);
-  check_directory_of(args.histogram);
+  check_output_path(args.output);
+  check_output_path(args.histogram);
   const Domain2 domain = load_domain(args.domain);
   Mesh2Options o;
   o.nb_vertices = args.vertices;

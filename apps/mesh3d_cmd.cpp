@@ -58,6 +58,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (args.compress && ext != ".vtu") {
     throw UsageError("--compress: only a .vtu output is compressed");
   }
+  check_output_path(args.output);
   if (args.vertices < 4) throw UsageError("--vertices: needs at least 4 vertices");
   if (!(args.feature_angle >= 0 && args.feature_angle <= 180)) {
     throw UsageError("--feature-angle: expected degrees in [0, 180], got " +

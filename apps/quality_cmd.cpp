@@ -41,6 +41,8 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
     throw UsageError("-o: the output must end in .vtu (the mesh with Q1..Q4 per tet), got '" +
                      args.output + "'");
   }
+  check_output_path(args.output);
+  check_output_path(args.histogram);
   const std::string ref_ext = lower_extension(args.surface);
   if (!args.surface.empty() && !is_surface_file(ref_ext) && !is_tet_mesh_file(ref_ext)) {
     throw UsageError("--surface: unknown format " +

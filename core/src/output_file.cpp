@@ -1,8 +1,12 @@
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include "voroclip/core.h"
 
@@ -36,6 +40,28 @@ void write_file_atomically(const std::string& path,
     const int err = errno;
     std::remove(tmp.c_str());
     throw Error("cannot write '" + path + "': " + std::strerror(err));
+  }
+}
+
+void check_output_path(const std::string& path) {
+  if (path.empty()) return;
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    throw Error("cannot write '" + path + "': no directory '" + dir.string() + "'");
+  }
+  if (!fs::is_directory(dir, ec)) {
+    throw Error("cannot write '" + path + "': '" + dir.string() + "' is not a directory");
+  }
+  if (fs::is_directory(fs::path(path), ec)) {
+    throw Error("cannot write '" + path + "': it is a directory");
+  }
+  // The temporary file goes beside `path`: the directory must take new files.
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw Error("cannot write '" + path + "': directory '" + dir.string() + "' is not writable (" +
+                std::strerror(errno) + ")");
   }
 }
 

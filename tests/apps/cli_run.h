@@ -14,6 +14,7 @@
 #include <initializer_list>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -44,7 +45,7 @@ std::string slurp(const std::string& path) {
 
 bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
 
-Run run_cli(std::initializer_list<std::string> args) {
+Run run_cli(const std::vector<std::string>& args) {
   char err_path[] = "test_cli_stderr_XXXXXX";
   const int fd = mkstemp(err_path);
   REQUIRE(fd >= 0);
@@ -67,6 +68,10 @@ Run run_cli(std::initializer_list<std::string> args) {
   UNSCOPED_INFO("command: " << command << "\nstatus: " << run.status << "\nstdout: " << run.out
                             << "\nstderr: " << run.err);
   return run;
+}
+
+Run run_cli(std::initializer_list<std::string> args) {
+  return run_cli(std::vector<std::string>(args));
 }
 
 // A failure prints exactly one line "voroclip: error: ..." on stderr and nothing on stdout.

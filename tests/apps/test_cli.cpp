@@ -357,3 +357,22 @@ TEST_CASE("delaunay3d reports bad input with file and line, and writes nothing",
   check_one_error_line(run);
   std::remove(in.c_str());
 }
+
+TEST_CASE("an output in a missing directory fails before any work", "[apps]") {
+  const std::string data = VOROCLIP_SHARED_DATA_DIR;
+  const std::string bunny = data + "/surfaces/bunny.obj";
+  const std::vector<std::vector<std::string>> commands = {
+      {"mesh3d", bunny, "--vertices", "2000", "-o", "/nonexistent/dir/out.mesh"},
+      {"clip3d", bunny, "--random", "1000", "-o", "/nonexistent/dir/cells.vtu"},
+      {"delaunay3d", "--random", "1000", "-o", "/nonexistent/dir/dt.vtk"},
+      {"demo", "-o", "/nonexistent/dir/demo.svg"},
+  };
+  for (const std::vector<std::string>& c : commands) {
+    INFO(c[0]);
+    const Run run = run_cli(c);
+    CHECK(run.status == 1);
+    CHECK(contains(run.err, "cannot write '/nonexistent/dir/"));
+    CHECK(contains(run.err, "no directory '/nonexistent/dir'"));
+    CHECK(run.out.empty());  // no progress, no report: nothing was computed
+  }
+}

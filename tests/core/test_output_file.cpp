@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -59,6 +61,41 @@ TEST_CASE("write_file_atomically names the file when the directory is missing", 
   } catch (const voroclip::Error& e) {
     CHECK(std::string(e.what()).find("no/such/dir/out.txt") != std::string::npos);
   }
+}
+
+TEST_CASE("check_output_path: a missing, unwritable or file directory, a directory path",
+          "[core]") {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::temp_directory_path() / "voroclip_check_output_path";
+  fs::remove_all(base);
+  fs::create_directories(base / "dir");
+  const auto message = [](const std::string& path) -> std::string {
+    try {
+      voroclip::check_output_path(path);
+    } catch (const voroclip::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(message("") == "");
+  CHECK(message((base / "out.mesh").string()) == "");
+  CHECK(message("relative.mesh") == "");
+  CHECK(message((base / "no" / "out.mesh").string()) ==
+        "cannot write '" + (base / "no" / "out.mesh").string() + "': no directory '" +
+            (base / "no").string() + "'");
+  CHECK(message((base / "dir").string()).find("it is a directory") != std::string::npos);
+  std::ofstream((base / "file").string()) << "x";
+  CHECK(message((base / "file" / "out.mesh").string()).find("is not a directory") !=
+        std::string::npos);
+  // Read-only directories stop writers other than root; skip when running as root.
+  fs::create_directories(base / "ro");
+  fs::permissions(base / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+  if (::geteuid() != 0) {
+    CHECK(message((base / "ro" / "out.mesh").string()).find("is not writable") !=
+          std::string::npos);
+  }
+  fs::permissions(base / "ro", fs::perms::owner_all);
+  fs::remove_all(base);
 }
 
 TEST_CASE("version is MAJOR.MINOR.PATCH", "[core]") {

@@ -31,6 +31,11 @@ class Error : public std::runtime_error {
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
 
+/// Checks, before any work, that write_file_atomically can create `path`: its directory
+/// exists and is writable, and `path` is not a directory. Throws Error "cannot write
+/// 'path': ..." naming what is wrong. An empty path (no output) passes.
+void check_output_path(const std::string& path);
+
 /// Reads points of `dimension` (2 or 3) coordinates, returned packed (x y [z] per point),
 /// from either format, recognised by the first non-blank character:
 ///   - JSON: an array of points, each an array of `dimension` numbers: [[0, 1.5], [2, 3]]
