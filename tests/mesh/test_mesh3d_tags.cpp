@@ -61,6 +61,16 @@ double signed_volume(const double* a, const double* b, const double* c, const do
          6;
 }
 
+// The unit cube and, apart from it, the box [2, 3] x [0, y] x [0, 1]: two shells.
+voroclip::TriangleSurface two_boxes(double y) {
+  voroclip::TriangleSurface s;
+  s.source = "two boxes";
+  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {2, 0, 0}, b1[3] = {3, y, 1};
+  add_box(s, a0, a1);
+  add_box(s, b0, b1);
+  return s;
+}
+
 const double* point(const Mesh3Result& r, std::uint32_t v) { return &r.xyz[3 * std::size_t{v}]; }
 
 // The faces of exactly one tet, by brute force over sorted vertex triples.
@@ -238,12 +248,7 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
 
 TEST_CASE("mesh3d: one region per volume component; a cavity is no region", "[mesh]") {
   // Two boxes apart: two components, tagged 1 and 2 in the order of their shells.
-  voroclip::TriangleSurface two;
-  two.source = "two boxes";
-  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {2, 0, 0}, b1[3] = {3, 1.5, 1};
-  add_box(two, a0, a1);
-  add_box(two, b0, b1);
-  const Domain3 d2(two);
+  const Domain3 d2(two_boxes(1.5));
   const Mesh3Result r = voroclip::mesh3d(d2, small_options(500));
   CHECK(r.shape_problem.empty());
   check_boundary(r);
@@ -277,13 +282,8 @@ TEST_CASE("mesh3d: one region per volume component; a cavity is no region", "[me
   CHECK(std::set<std::int32_t>(h.boundary_tags.begin(), h.boundary_tags.end()).size() == 12);
 }
 
-TEST_CASE("check_mesh3_shape names a missing shell, a wrong genus and a stray tet", "[mesh]") {
-  voroclip::TriangleSurface two;
-  two.source = "two boxes";
-  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {2, 0, 0}, b1[3] = {3, 1, 1};
-  add_box(two, a0, a1);
-  add_box(two, b0, b1);
-  const Domain3 d(two);
+TEST_CASE("check_mesh3_shape names a missing shell and a stray tet", "[mesh]") {
+  const Domain3 d(two_boxes(1));
   // One Kuhn cube (6 tets) per box.
   const auto kuhn = [](std::vector<double>& xyz, std::vector<std::uint32_t>& tets, double x0) {
     const auto base = static_cast<std::uint32_t>(xyz.size() / 3);

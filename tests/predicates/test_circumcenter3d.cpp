@@ -237,6 +237,20 @@ Case make_case(Family fam, Rng& rng) {
   return k;
 }
 
+// Three random points and a fourth at height h times |(p1 - p0) x (p2 - p0)| above their
+// centroid: flatter and flatter tets as h goes to 0.
+std::array<P3, 4> flat_tet(Rng& rng, double h) {
+  std::array<P3, 4> p;
+  for (auto& q : p) q = random_point(rng);
+  const P3 u = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+  const P3 v = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+  const P3 nrm = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  p[3] = axpy({(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
+               (p[0][2] + p[1][2] + p[2][2]) / 3},
+              nrm, h);
+  return p;
+}
+
 }  // namespace
 
 TEST_CASE("orient3d_circumcenter: hand-derived cases", "[predicates][exact]") {
@@ -351,15 +365,7 @@ TEST_CASE("circumcenter3d_enclosure holds the exact circumcenter", "[predicates]
       for (auto& q : p) q = random_point(rng);
     } else if (kind == 1) {
       // Flatter and flatter: p3 at height 2^-m above the plane of p0, p1, p2.
-      for (auto& q : p) q = random_point(rng);
-      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60)));
-      p[3] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
-              (p[0][2] + p[1][2] + p[2][2]) / 3};
-      const P3 u = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-      const P3 v = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-      const P3 nrm = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                      u[0] * v[1] - u[1] * v[0]};
-      p[3] = axpy(p[3], nrm, h);
+      p = flat_tet(rng, std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60))));
     } else if (kind == 2) {
       // Mixed magnitudes, offset far from the origin.
       const P3 o = {random_wide(rng, -30, 30), random_wide(rng, -30, 30),
@@ -419,15 +425,7 @@ TEST_CASE("circumcenter3d is within a few ulps of the exact circumcenter, sliver
       for (auto& q : p) q = random_point(rng);
     } else if (kind == 1) {
       // p3 at height 2^-m above the plane of p0, p1, p2 (m up to 60).
-      for (auto& q : p) q = random_point(rng);
-      const double h = std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60)));
-      const P3 u = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-      const P3 v = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-      const P3 nrm = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                      u[0] * v[1] - u[1] * v[0]};
-      p[3] = axpy({(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
-                   (p[0][2] + p[1][2] + p[2][2]) / 3},
-                  nrm, h);
+      p = flat_tet(rng, std::ldexp(1.0, -static_cast<int>(rand_int(rng, 1, 60))));
     } else if (kind == 2) {
       // Slivers of the Delaunay kind: four points nearly on one sphere and nearly on one
       // great circle (heights 2^-m, alternating signs), whose floating-point determinant
