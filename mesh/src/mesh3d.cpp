@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -1172,6 +1173,21 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
                                                vertex_patch, patch_tag, triangle_patch, closest);
       result.tet_tags = mesh3::region_tags(domain, result.xyz, result.tets, face_tet, closest);
       result.tag_names = domain.tag_names();
+      // Triangles grouped by patch tag (stable: (tet, facet) order within a patch), so that
+      // a file has one block per patch rather than one per run of the tet order.
+      std::vector<std::uint32_t> order(result.boundary_tags.size());
+      std::iota(order.begin(), order.end(), 0u);
+      std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return result.boundary_tags[a] < result.boundary_tags[b];
+      });
+      std::vector<std::uint32_t> triangles(result.boundary_triangles.size());
+      std::vector<std::int32_t> tags(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        std::copy_n(&result.boundary_triangles[3 * std::size_t{order[i]}], 3, &triangles[3 * i]);
+        tags[i] = result.boundary_tags[order[i]];
+      }
+      result.boundary_triangles = std::move(triangles);
+      result.boundary_tags = std::move(tags);
     }
     result.quality = tet_quality(result.xyz.data(), nv, result.tets.data(), result.nb_tets());
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);

@@ -153,6 +153,10 @@ def main():
         tris, fd = blocks(m, "triangle", ["gmsh:physical"])
         check_shape(bunny, m.points, tets, tris)
         check("bunny: one region", set(td["gmsh:physical"].tolist()) == {1})
+        tri_blocks = sum(1 for b in m.cells if b.type == "triangle")
+        patches_found = len(set(fd["gmsh:physical"].tolist()))
+        check("bunny: one triangle block per patch", tri_blocks == patches_found,
+              f"({tri_blocks} blocks, {patches_found} patches)")
         patches = sorted(set(fd["gmsh:physical"].tolist()))
         check("bunny: patch tags 1..K", patches == list(range(1, len(patches) + 1)), str(patches))
         groups = gmsh_groups(bunny)

@@ -98,6 +98,8 @@ void check_boundary(const Mesh3Result& r) {
   REQUIRE(r.boundary_triangles.size() % 3 == 0);
   REQUIRE(r.boundary_tags.size() == r.boundary_triangles.size() / 3);
   REQUIRE(r.tet_tags.size() == r.tets.size() / 4);
+  // Grouped by patch tag, increasing (one block per patch in a file).
+  CHECK(std::is_sorted(r.boundary_tags.begin(), r.boundary_tags.end()));
   std::multiset<std::array<std::uint32_t, 3>> got;
   double cones = 0, volume = 0;
   const double o[3] = {0, 0, 0};

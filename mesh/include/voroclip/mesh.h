@@ -828,7 +828,8 @@ struct Mesh3Result {
   // 4 vertex indices per tet, det(p1 - p0, p2 - p0, p3 - p0) > 0 (exactly).
   std::vector<std::uint32_t> tets;
   // The boundary: the faces of exactly one tet, outward (counter-clockwise seen from
-  // outside), in the order of (tet, facet), 3 vertex indices each; the patch tag of each
+  // outside), grouped by patch tag (increasing; in the order of (tet, facet) within a
+  // patch), 3 vertex indices each; the patch tag of each
   // (the input's triangle tags when a tet mesh file gives them, whose borders the mesh
   // keeps as feature lines; otherwise the patches of the surface between the feature
   // lines, numbered from 1 in the order of their first input triangle); the region tag of
