@@ -93,10 +93,11 @@ struct Mesh2dArgs {
   double edge_length = 0;
   bool fix_input_vertices = false;
   bool keep_gaps = false;
+  bool circumcenter_rule = false;
   std::uint32_t repair_rounds = 4;
   std::uint64_t seed = 1;
   double gradation = 0.3;
-  double corner_angle = 20;
+  double corner_angle = 0;
   double sharp_angle = 30;
   std::string method = "lbfgs";
   std::uint32_t iterations = 200;  // constrained CVT budget

@@ -181,9 +181,12 @@ int main(int argc, char** argv) {
       ->type_name("H");
   mesh2d->add_flag("--fix-input-vertices", mesh_args.fix_input_vertices,
                    "Make every vertex of the domain a mesh vertex (sharp corners are still cut)");
+  mesh2d->add_flag("--circumcenter-rule", mesh_args.circumcenter_rule,
+                   "The paper's extraction instead of the conforming one: keep the Delaunay "
+                   "triangles whose circumcenter is inside (leaves notches at the boundary)");
   mesh2d->add_flag("--keep-gaps", mesh_args.keep_gaps,
-                   "Also keep the triangles inside the domain whose circumcenter is outside "
-                   "(obtuse triangles against the boundary), for full coverage");
+                   "With --circumcenter-rule: also keep the triangles inside the domain whose "
+                   "circumcenter is outside");
   mesh2d
       ->add_option("--repair-rounds", mesh_args.repair_rounds,
                    "Rounds removing the vertex at the largest angle of triangles with an angle "
@@ -199,7 +202,8 @@ int main(int argc, char** argv) {
   mesh2d
       ->add_option("--corner-angle", mesh_args.corner_angle,
                    "Convex vertices turning by at least this many degrees are fixed corners "
-                   "(default 20); reflex vertices are always fixed")
+                   "(default 0: every corner; above 0 the mesh may cut the smaller bends, "
+                   "coarsening curved-looking input); reflex vertices are always fixed")
       ->type_name("DEG");
   mesh2d
       ->add_option("--sharp-angle", mesh_args.sharp_angle,

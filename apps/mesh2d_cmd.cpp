@@ -257,6 +257,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   o.sharp_angle_deg = args.sharp_angle;
   o.fix_input_vertices = args.fix_input_vertices;
   o.keep_gaps = args.keep_gaps;
+  o.conforming = !args.circumcenter_rule;
   o.repair_rounds = args.repair_rounds;
   o.seed = args.seed;
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
@@ -279,6 +280,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   const Mesh2 mesh = mesh_domain2(domain, o, &st);
   if (mesh.nb_triangles() == 0) {
     throw Error("mesh2d: " + domain.source() + ": no triangle (too few vertices for the domain?)");
+  }
+  if (!st.check.empty()) {
+    throw Error("mesh2d: " + domain.source() + ": the mesh failed its own check (" + st.check +
+                "); no file written. This is a defect of voroclip: please report it with the "
+                "input and the command");
   }
   const TriangleQuality2 q = triangle_quality2(mesh, 2.0);
   if (!args.output.empty()) write_mesh2_file(args.output, domain, mesh);

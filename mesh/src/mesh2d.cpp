@@ -389,6 +389,13 @@ struct CutDomain {
   // Per edge of the cut domain: the original edge containing it, or kNone for a chord.
   std::vector<std::uint32_t> edge;
   std::uint32_t nb_cut = 0;
+  // Per cut corner: the corner (a vertex of the domain that was cut) and the vertices of
+  // the cut domain at either side of its chord, before and after it in ring order. The
+  // tip (side[0], corner, side[1]) is a counter-clockwise triangle.
+  struct Tip {
+    std::uint32_t corner, side[2];
+  };
+  std::vector<Tip> tips;
 };
 
 // Cuts every sharp corner c at arclength r_c = factor * h(c) / (2 sin(angle / 2)) on
@@ -412,6 +419,42 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
     return std::hypot(domain.vertex(w)[0] - domain.vertex(v)[0],
                       domain.vertex(w)[1] - domain.vertex(v)[1]);
   };
+  // The cut point at arclength `target` from corner c in direction dir (or the fixed vertex
+  // before it); returns the arclength where it lands. `removed` (optional) gets the
+  // vertices passed.
+  const auto walk = [&](std::uint32_t c, int dir, double target, Side& out,
+                        std::vector<std::uint8_t>* passed) {
+    out = Side{};
+    double travelled = 0;
+    std::uint32_t v = c;
+    for (;;) {
+      const std::uint32_t w = step(v, dir);
+      const double len = dist(v, w);
+      if (b.sharp[w]) {
+        // Another sharp corner ahead: meet it half-way at most.
+        target = std::min(target, 0.5 * (travelled + len));
+      }
+      if (b.fixed[w] && !b.sharp[w] && travelled + len <= target) {
+        out.at_vertex = true;
+        out.vertex = w;
+        return travelled + len;
+      }
+      if (travelled + len < target && !b.sharp[w] && !b.fixed[w]) {
+        travelled += len;
+        if (passed) (*passed)[w] = 1;
+        v = w;
+        continue;
+      }
+      const double t = std::clamp((target - travelled) / len, 0.0, 1.0);
+      const double* x = domain.vertex(v);
+      const double* y = domain.vertex(w);
+      out.p[0] = x[0] + t * (y[0] - x[0]);
+      out.p[1] = x[1] + t * (y[1] - x[1]);
+      out.edge = dir > 0 ? v : w;
+      round_into_domain(domain, out.edge, out.p);
+      return travelled + t * len;
+    }
+  };
   for (std::uint32_t c = 0; c < nv; ++c) {
     if (!b.sharp[c]) continue;
     removed[c] = 1;
@@ -421,43 +464,17 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
       ring_length += dist(v, domain.next(v));
     }
     const double half = std::max(b.interior_angle[c], 1e-3) * kPi / 360;
-    const double r = std::min(
+    double r = std::min(
         factor * model.size(domain.vertex(c)[0], domain.vertex(c)[1]) / (2 * std::sin(half)),
         0.45 * ring_length);
-    for (int side = 0; side < 2; ++side) {
-      const int dir = side == 0 ? -1 : 1;
-      Side& out = sides[2 * std::size_t{c} + static_cast<std::size_t>(side)];
-      double travelled = 0, target = r;
-      std::uint32_t v = c;
-      for (;;) {
-        const std::uint32_t w = step(v, dir);
-        const double len = dist(v, w);
-        if (b.sharp[w]) {
-          // Another sharp corner ahead: meet it half-way at most.
-          double total = travelled + len;
-          target = std::min(target, 0.5 * total);
-        }
-        if (b.fixed[w] && !b.sharp[w] && travelled + len <= target) {
-          out.at_vertex = true;
-          out.vertex = w;
-          break;
-        }
-        if (travelled + len < target && !b.sharp[w] && !b.fixed[w]) {
-          travelled += len;
-          removed[w] = 1;
-          v = w;
-          continue;
-        }
-        const double t = std::clamp((target - travelled) / len, 0.0, 1.0);
-        const double* x = domain.vertex(v);
-        const double* y = domain.vertex(w);
-        out.p[0] = x[0] + t * (y[0] - x[0]);
-        out.p[1] = x[1] + t * (y[1] - x[1]);
-        out.edge = dir > 0 ? v : w;
-        round_into_domain(domain, out.edge, out.p);
-        break;
-      }
-    }
+    // Both sides at the same arclength (the shorter landing), so that the tip is an
+    // isosceles triangle whose smallest angle is the corner's.
+    Side* out = &sides[2 * std::size_t{c}];
+    const double d0 = walk(c, -1, r, out[0], nullptr);
+    const double d1 = walk(c, 1, r, out[1], nullptr);
+    r = std::min({r, d0, d1});
+    walk(c, -1, r, out[0], &removed);
+    walk(c, 1, r, out[1], &removed);
   }
   PolygonRings rings;
   rings.source = domain.source();
@@ -469,15 +486,20 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
     point_edge.push_back(e);
   };
   CutDomain cut;
+  std::vector<std::uint32_t> vertex_point(nv, kNone), side_point(2 * std::size_t{nv}, kNone);
   for (std::uint32_t ring = 0; ring < domain.nb_rings(); ++ring) {
     for (std::uint32_t v = domain.ring_begin(ring); v < domain.ring_end(ring); ++v) {
       if (b.sharp[v]) {
         ++cut.nb_cut;
         for (int side = 0; side < 2; ++side) {
           const Side& k = sides[2 * std::size_t{v} + static_cast<std::size_t>(side)];
-          if (!k.at_vertex) add_point(k.p, kNone, k.edge);
+          if (k.at_vertex) continue;
+          side_point[2 * std::size_t{v} + static_cast<std::size_t>(side)] =
+              static_cast<std::uint32_t>(point_vertex.size());
+          add_point(k.p, kNone, k.edge);
         }
       } else if (!removed[v]) {
+        vertex_point[v] = static_cast<std::uint32_t>(point_vertex.size());
         add_point(domain.vertex(v), v, kNone);
       }
     }
@@ -513,6 +535,35 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
     }
     cut.edge[v] = e;
   }
+  // Tips: the cut domain's vertex of each side point (a point dropped as a repeat of its
+  // neighbour is found by its coordinates).
+  std::vector<std::uint32_t> point_to_vertex(point_vertex.size(), kNone);
+  for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) point_to_vertex[d.source_vertex(v)] = v;
+  const auto vertex_of_point = [&](std::uint32_t p) {
+    if (point_to_vertex[p] != kNone) return point_to_vertex[p];
+    for (std::uint32_t v = 0; v < d.nb_vertices(); ++v) {
+      if (d.vertex(v)[0] == rings.xy[2 * std::size_t{p}] &&
+          d.vertex(v)[1] == rings.xy[2 * std::size_t{p} + 1]) {
+        return v;
+      }
+    }
+    throw Error("mesh2d: internal error: a cut point is lost");
+  };
+  for (std::uint32_t c = 0; c < nv; ++c) {
+    if (!b.sharp[c]) continue;
+    CutDomain::Tip tip{c, {kNone, kNone}};
+    for (int side = 0; side < 2; ++side) {
+      const Side& k = sides[2 * std::size_t{c} + static_cast<std::size_t>(side)];
+      const std::uint32_t p = k.at_vertex
+                                  ? vertex_point[k.vertex]
+                                  : side_point[2 * std::size_t{c} + static_cast<std::size_t>(side)];
+      tip.side[side] = vertex_of_point(p);
+    }
+    if (orient2d(d.vertex(tip.side[0]), domain.vertex(c), d.vertex(tip.side[1])) ==
+        Sign::positive) {
+      cut.tips.push_back(tip);
+    }
+  }
   return cut;
 }
 
@@ -537,9 +588,12 @@ struct SiteSet {
   }
 };
 
+// `no_sliding`: per path, 1 when it takes no sliding site (the chord of a cut corner,
+// which must stay one mesh edge for the tip triangle).
 SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel& model,
                       const EdgeGrid2& grid, const std::vector<PathParam2>& params,
-                      const std::vector<double>& sites) {
+                      const std::vector<double>& sites,
+                      const std::vector<std::uint8_t>& no_sliding) {
   SiteSet set;
   for (std::uint32_t v = 0; v < domain.nb_vertices(); ++v) {
     if (b.fixed[v]) {
@@ -590,7 +644,9 @@ SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel&
       s += step;
     }
     const auto wanted =
-        static_cast<std::size_t>(std::max(0.0, std::round(segments) - (closed ? 0.0 : 1.0)));
+        no_sliding[q]
+            ? std::size_t{0}
+            : static_cast<std::size_t>(std::max(0.0, std::round(segments) - (closed ? 0.0 : 1.0)));
     std::vector<double>& kept = on_path[q];
     std::sort(kept.begin(), kept.end());
     // The gaps on either side of kept[k] (open paths end at fixed sites at 0 and len).
@@ -829,7 +885,20 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
   std::vector<PathParam2> params;
   for (const BoundaryPath2& path : b.paths) params.emplace_back(*domain, path);
   st.nb_paths = static_cast<std::uint32_t>(params.size());
-  SiteSet set = boundary_step(*domain, b, model, *grid, params, sites);
+  // Chords of cut corners (of any round) take no sliding site.
+  std::vector<std::uint8_t> chord(original.nb_edges(), 0);
+  for (const CutDomain& cut : cuts) {
+    std::vector<std::uint8_t> next(cut.domain.nb_edges(), 0);
+    for (std::uint32_t e = 0; e < cut.domain.nb_edges(); ++e) {
+      next[e] = cut.edge[e] == kNone ? 1 : chord[cut.edge[e]];
+    }
+    chord = std::move(next);
+  }
+  std::vector<std::uint8_t> no_sliding(b.paths.size(), 1);
+  for (std::uint32_t e = 0; e < domain->nb_edges(); ++e) {
+    if (!chord[e]) no_sliding[b.edge_path[e]] = 0;
+  }
+  SiteSet set = boundary_step(*domain, b, model, *grid, params, sites, no_sliding);
   st.nb_gap_sites = fill_gaps(*domain, model, *grid, set);
   sites = std::move(set.xy);
   for (const SiteConstraint2& c : set.constraints) {
@@ -873,8 +942,11 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
       st.cancelled = true;
     }
     Extract2Stats round_stats;
-    Mesh2 round_mesh = extract_mesh2(*domain, sites, set.kinds, set.domain_vertex, set.edge,
-                                     &round_stats, o.keep_gaps);
+    Mesh2 round_mesh = o.conforming
+                           ? extract_conforming_mesh2(*domain, sites, set.kinds, set.domain_vertex,
+                                                      set.edge, &round_stats)
+                           : extract_mesh2(*domain, sites, set.kinds, set.domain_vertex, set.edge,
+                                           &round_stats, o.keep_gaps);
     // Keep the best mesh of the rounds: the largest smallest angle, then the larger mean.
     const TriangleQuality2 quality = triangle_quality2(round_mesh);
     if (round == 0 || quality.min_angle > best_min ||
@@ -937,17 +1009,42 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
     st.energy = r.energy;
     st.cancelled = r.cancelled;
   }
-  // Vertex data in the original domain's numbering, through the successive cuts.
+  // Vertex data in the original domain's numbering, through the successive cuts; the
+  // tips of the cut corners become triangles (conforming extraction).
   for (std::size_t k = cuts.size(); k-- > 0;) {
     const CutDomain& cut = cuts[k];
+    const Domain2& parent = k == 0 ? original : cuts[k - 1].domain;
+    std::vector<std::uint32_t> at(cut.domain.nb_vertices(), kNone);  // mesh vertex per vertex
     for (std::uint32_t i = 0; i < mesh.nb_vertices(); ++i) {
       if (mesh.vertex_domain[i] != kNone) {
         const std::uint32_t v = mesh.vertex_domain[i];
+        at[v] = i;
         mesh.vertex_domain[i] = cut.vertex[v];
         if (cut.vertex[v] == kNone) mesh.vertex_edge[i] = cut.cut_edge[v];  // a cut point
       } else if (mesh.vertex_edge[i] != kNone) {
         mesh.vertex_edge[i] = cut.edge[mesh.vertex_edge[i]];
       }
+    }
+    if (!o.conforming) continue;
+    const auto add_vertex = [&](const double* p, std::uint32_t domain_vertex, std::uint32_t edge) {
+      mesh.xy.insert(mesh.xy.end(), p, p + 2);
+      mesh.vertex_kind.push_back(Mesh2::VertexKind::kFixed);
+      mesh.vertex_domain.push_back(domain_vertex);
+      mesh.vertex_edge.push_back(edge);
+      mesh.vertex_site.push_back(kNone);
+      return mesh.nb_vertices() - 1;
+    };
+    for (const CutDomain::Tip& tip : cut.tips) {
+      std::uint32_t side[2];
+      for (int j = 0; j < 2; ++j) {
+        const std::uint32_t v = tip.side[j];
+        side[j] = at[v] != kNone ? at[v]
+                                 : add_vertex(cut.domain.vertex(v), cut.vertex[v],
+                                              cut.vertex[v] == kNone ? cut.cut_edge[v] : kNone);
+      }
+      const std::uint32_t corner = add_vertex(parent.vertex(tip.corner), tip.corner, kNone);
+      mesh.triangles.insert(mesh.triangles.end(), {side[0], corner, side[1]});
+      ++st.nb_tip_triangles;
     }
   }
   st.nb_sites = best_sites;
@@ -962,6 +1059,11 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
   st.covered_fraction = area / original.area();
   st.dropped_outside = es.dropped_outside;
   st.removed_vertices = es.removed_vertices;
+  // The mesh checks itself: valid always, conforming when every corner is kept.
+  st.check = check_mesh2(original, mesh);
+  if (st.check.empty() && o.conforming && o.corner_angle_deg == 0 && mesh.nb_triangles() > 0) {
+    st.check = check_mesh2_conforming(original, mesh, true);
+  }
   st.seconds_extraction = seconds_since(t3);
   return finish(std::move(mesh));
 }

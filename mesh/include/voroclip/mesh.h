@@ -355,7 +355,7 @@ struct Mesh2Options {
   double gradation = 0.3;
   // Convex domain vertices where the boundary turns by at least this many degrees are
   // fixed corners.
-  double corner_angle_deg = 20;
+  double corner_angle_deg = 0;
   // Convex corners with an interior angle below this many degrees are cut (see above).
   double sharp_angle_deg = 30;
   // Every domain vertex becomes a fixed mesh vertex (paper Fig. 13).
@@ -365,6 +365,11 @@ struct Mesh2Options {
   // notches): the mesh then covers the domain wherever the boundary is recovered, at the
   // price of some angles above 90 degrees.
   bool keep_gaps = false;
+  // Conforming extraction (extract_conforming_mesh2, the default): the union of the
+  // triangles is the domain, every corner a vertex (with corner_angle_deg = 0), the tips
+  // of cut sharp corners one triangle each. false: the paper's circumcenter rule
+  // (extract_mesh2, with keep_gaps).
+  bool conforming = true;
   // Optional density rho for the CVT instead of the sizing field's uniform part: the size
   // is then h = min(c rho^(-1/4), feature sizes) with c set by nb_vertices / edge_length.
   // Must be positive on the domain. Constant (the default): uniform.
@@ -393,6 +398,7 @@ struct Mesh2Stats {
   std::uint32_t nb_fixed = 0;          // fixed sites: domain vertices and cut points
   std::uint32_t nb_sliding = 0;        // sliding sites
   std::uint32_t nb_sharp_corners = 0;  // corners cut (sharp_angle_deg)
+  std::uint32_t nb_tip_triangles = 0;  // their tips, one triangle each (conforming)
   std::uint32_t nb_gap_sites = 0;      // free sites added in gaps after the boundary step
   std::uint32_t nb_paths = 0;
   double edge_length = 0;  // H
@@ -409,6 +415,9 @@ struct Mesh2Stats {
   double seconds_sampling = 0, seconds_unconstrained = 0, seconds_constrained = 0,
          seconds_extraction = 0, seconds = 0;
   bool cancelled = false;
+  // The mesh's own check: empty when it passed check_mesh2 and (conforming extraction,
+  // corner_angle_deg == 0) check_mesh2_conforming, else the first defect found.
+  std::string check;
 };
 
 // Meshes the domain. Throws Error for impossible options (no size given, a non-positive
@@ -422,6 +431,9 @@ struct Extract2Stats {
   std::uint32_t nb_circumcenter_outside = 0;
   std::uint32_t dropped_outside = 0;  // circumcenter inside but triangle not contained
   std::uint32_t removed_vertices = 0;
+  // Conforming extraction: boundary chain segments, the flips that made them edges of the
+  // triangulation, and the flips that made it constrained Delaunay again.
+  std::uint32_t nb_boundary_segments = 0, nb_recovery_flips = 0, nb_delaunay_flips = 0;
   // Gaps: triangles in the closed domain whose circumcenter is outside (obtuse triangles
   // against the boundary, which the rule leaves out), as site indices, 3 per triangle.
   std::vector<std::uint32_t> gap_triangles;
@@ -431,6 +443,21 @@ Mesh2 extract_mesh2(const Domain2& domain, const std::vector<double>& sites,
                     const std::vector<std::uint32_t>& site_domain = {},
                     const std::vector<std::uint32_t>& site_edge = {},
                     Extract2Stats* stats = nullptr, bool keep_gaps = false);
+
+// Step 6, conforming: the constrained Delaunay triangulation of the sites with the
+// boundary chains as segments, restricted to their inside (see extract2d_conforming.cpp).
+// A boundary site is one with site_domain (it sits at that domain vertex) or site_edge (on
+// that edge, in the closed domain, at most a few ulps off the edge); the boundary sites of
+// each ring, in ring order, make its chain. The union of the triangles is the polygon of
+// the chains: the domain exactly when every corner of it is a site, else the domain less
+// the convex bends the chains cut (a reflex vertex must be a site: a chain cutting one
+// would leave the domain). All three per-site arrays are required. Throws Error when a
+// ring has fewer than 3 boundary sites or chains cross.
+Mesh2 extract_conforming_mesh2(const Domain2& domain, const std::vector<double>& sites,
+                               const std::vector<Mesh2::VertexKind>& kinds,
+                               const std::vector<std::uint32_t>& site_domain,
+                               const std::vector<std::uint32_t>& site_edge,
+                               Extract2Stats* stats = nullptr);
 
 // Exact location of the circumcenter of the Delaunay triangle (i, k, l) of `dt` (the
 // Voronoi vertex of the three sites, with the symbolic perturbation of the Voronoi
@@ -444,6 +471,15 @@ Sign circumcenter_location2(const Domain2& domain, const Delaunay2& dt, std::uin
 // and its interior is inside), edges shared by at most two triangles with opposite
 // orientations, every vertex used. Empty when valid, else the first defect.
 std::string check_mesh2(const Domain2& domain, const Mesh2& mesh);
+
+// Exact checks that a valid mesh (check_mesh2) conforms to its domain: every boundary edge
+// of the mesh (an edge of one triangle) lies along the domain's boundary — both ends
+// within 16 ulps (per coordinate; the closed box meets the edge, decided by orient2d) of
+// edges of one straight part of it (edges joined at vertices that are not corners); with
+// `corners`, every corner of the domain (Domain2::is_corner) is a mesh vertex with its
+// exact coordinates; and the triangles' areas sum to the domain's area to 1e-12 relative.
+// Empty when all hold, else the first failure.
+std::string check_mesh2_conforming(const Domain2& domain, const Mesh2& mesh, bool corners = true);
 
 // ---------------------------------------------------------------------------------------
 // Quality of a triangle mesh (angles in degrees, computed in floating point).
