@@ -94,6 +94,7 @@ struct Mesh2dArgs {
   bool fix_input_vertices = false;
   bool keep_gaps = false;
   bool circumcenter_rule = false;
+  std::string msh_version = "4.1";
   std::uint32_t repair_rounds = 4;
   std::uint64_t seed = 1;
   double gradation = 0.3;
@@ -136,7 +137,8 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options);
 void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh);
 /// Writes a 2D mesh by extension: .svg (triangles coloured by their smallest angle), .vtu,
 /// .mesh (Medit), .msh (Gmsh 2.2), atomically.
-void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh);
+void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
+                      bool msh22 = false);
 
 struct Mesh3dArgs {
   std::string domain;  // closed surface or tet mesh (read_domain3)

@@ -181,6 +181,10 @@ int main(int argc, char** argv) {
       ->type_name("H");
   mesh2d->add_flag("--fix-input-vertices", mesh_args.fix_input_vertices,
                    "Make every vertex of the domain a mesh vertex (sharp corners are still cut)");
+  mesh2d
+      ->add_option("--msh-version", mesh_args.msh_version,
+                   "Gmsh format of a .msh output: 4.1 (default) or 2.2")
+      ->type_name("V");
   mesh2d->add_flag("--circumcenter-rule", mesh_args.circumcenter_rule,
                    "The paper's extraction instead of the conforming one: keep the Delaunay "
                    "triangles whose circumcenter is inside (leaves notches at the boundary)");
@@ -218,7 +222,9 @@ int main(int argc, char** argv) {
   mesh2d
       ->add_option("-o,--output", mesh_args.output,
                    "Write the mesh: .svg picture (triangles coloured by their smallest angle), "
-                   ".vtu, .mesh (Medit) or .msh (Gmsh 2.2)")
+                   ".vtu, .mesh (Medit) or .msh (Gmsh 4.1 or 2.2); boundary edges carry their "
+                   "tags (.poly segment markers, else 1 outer, 2, 3, ... holes), triangles "
+                   "their region (.poly regional attributes, else 1)")
       ->type_name("FILE");
   mesh2d
       ->add_option("--histogram", mesh_args.histogram,

@@ -822,6 +822,7 @@ void Domain2Impl::nest_and_orient() {
 
   // Orientation: outer counter-clockwise, holes clockwise.
   bool reversed = false;
+  std::vector<std::uint8_t> ring_reversed(nb_rings, 0);
   for (std::uint32_t r = 0; r < nb_rings; ++r) {
     const std::uint32_t b = d.ring_begin_[r], e = d.ring_begin_[r + 1];
     std::uint32_t low = b;
@@ -837,9 +838,27 @@ void Domain2Impl::nest_and_orient() {
         std::swap(d.source_vertex_[i], d.source_vertex_[j]);
       }
       reversed = true;
+      ring_reversed[r] = 1;
     }
   }
   if (reversed) build_bands();  // edge numbers changed
+
+  // Edge tags: the .poly segment markers, else the ring's (outer 1, holes 2, 3, ...).
+  const bool markers = in.segment_marker.size() == in.xy.size() / 2;
+  std::int32_t next_hole_tag = 2;
+  d.edge_tag_.resize(d.nb_vertices());
+  for (std::uint32_t r = 0; r < nb_rings; ++r) {
+    const std::int32_t ring_tag = d.ring_hole_[r] ? next_hole_tag++ : 1;
+    const std::uint32_t first = in.ring_begin[r], end = in.ring_begin[r + 1];
+    // The input segment ending at input point i starts at its predecessor in the ring.
+    const auto before = [&](std::uint32_t i) { return i == first ? end - 1 : i - 1; };
+    for (std::uint32_t v = d.ring_begin_[r]; v < d.ring_begin_[r + 1]; ++v) {
+      const std::uint32_t i = d.source_vertex_[v], j = d.source_vertex_[d.next(v)];
+      d.edge_tag_[v] = !markers ? ring_tag : in.segment_marker[before(ring_reversed[r] ? i : j)];
+    }
+  }
+  d.region_points_ = in.region_points;
+  d.region_attributes_ = in.region_attributes;
 }
 
 // The signed area of each ring, relative to its first vertex: the coordinate differences

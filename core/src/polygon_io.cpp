@@ -133,7 +133,7 @@ PolygonRings read_json_polygon(std::istream& in, const std::string& path) {
 //     <i> <v1> <v2> [marker]
 //   <#holes>
 //     <i> <x> <y>
-//   [<#regions>                               (optional; read and ignored)
+//   [<#regions>                               (optional; attributes kept, areas ignored)
 //     <i> <x> <y> <attribute> [<maximum area>]]
 // Vertices are numbered from 0 or 1, as the first vertex line says, then consecutively.
 // A vertex count of 0 means the vertices are in a separate .node file: not supported.
@@ -276,6 +276,7 @@ PolygonRings PolyReader::read() {
   const auto ns = static_cast<std::size_t>(nb_segments);
   constexpr std::uint32_t kNone = UINT32_MAX;
   std::vector<std::uint32_t> seg_end, seg_line;
+  std::vector<std::int32_t> seg_marker;
   std::vector<std::uint32_t> incident(2 * nv, kNone);  // the (at most) two segments of a vertex
   std::vector<std::uint8_t> degree(nv, 0);
   const auto vertex_name = [base](std::size_t v) {
@@ -298,7 +299,10 @@ PolygonRings PolyReader::read() {
       }
       seg_end[2 * s + static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(id - base);
     }
-    if (t.fields.size() > 3) integer(t, 3, "the boundary marker", INT32_MIN, INT32_MAX);
+    seg_marker.push_back(
+        t.fields.size() > 3
+            ? static_cast<std::int32_t>(integer(t, 3, "the boundary marker", INT32_MIN, INT32_MAX))
+            : 0);
     if (seg_end[2 * s] == seg_end[2 * s + 1]) {
       fail(t.number, "the segment joins vertex " + t.fields[1] + " to itself");
     }
@@ -339,7 +343,7 @@ PolygonRings PolyReader::read() {
     out.hole_line.push_back(t.number);
   }
 
-  // Optional regional attributes and area constraints: checked, then ignored.
+  // Optional regional attributes (kept) and area constraints (checked, then ignored).
   if (!at_end()) {
     const TextLine& region_header = take("the region count '<#regions>'", 1, 1);
     const long long nb_regions = integer(region_header, 0, "the region count", 0, kMaxCount);
@@ -349,6 +353,9 @@ PolygonRings PolyReader::read() {
                    ": '<i> <x> <y> <attribute> [<maximum area>]'",
                4, 5);
       for (std::size_t f = 1; f < t.fields.size(); ++f) number(t, f, "the region value");
+      out.region_points.push_back(number(t, 1, "x"));
+      out.region_points.push_back(number(t, 2, "y"));
+      out.region_attributes.push_back(number(t, 3, "the regional attribute"));
     }
     if (!at_end()) {
       fail(lines_[next_].number, "unexpected data after the last section (regions)");
@@ -368,6 +375,7 @@ PolygonRings PolyReader::read() {
       out.xy.push_back(vertex_xy[2 * std::size_t{v}]);
       out.xy.push_back(vertex_xy[2 * std::size_t{v} + 1]);
       out.point_number.push_back(static_cast<std::uint32_t>(v + base));
+      if (nb_segment_markers > 0) out.segment_marker.push_back(seg_marker[s]);
       const std::uint32_t w = seg_end[2 * s] == v ? seg_end[2 * s + 1] : seg_end[2 * s];
       s = incident[2 * w] == s ? incident[2 * w + 1] : incident[2 * w];
       v = w;

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -343,6 +344,110 @@ std::string check_mesh2_conforming(const Domain2& domain, const Mesh2& mesh, boo
     return s.str();
   }
   return "";
+}
+
+}  // namespace voroclip
+
+namespace voroclip {
+
+void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
+  const std::uint32_t nt = mesh.nb_triangles();
+  std::unordered_map<std::uint64_t, std::uint32_t> directed;  // edge -> 3 t + k
+  directed.reserve(3 * std::size_t{nt});
+  const auto tri = [&](std::uint32_t t, int k) { return mesh.triangles[3 * std::size_t{t} + k]; };
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      directed.emplace(std::uint64_t{tri(t, k)} << 32 | tri(t, (k + 1) % 3),
+                       3 * t + static_cast<std::uint32_t>(k));
+    }
+  }
+  // Boundary edges in triangle order, with the domain edge under each.
+  mesh.boundary_edges.clear();
+  mesh.boundary_tags.clear();
+  std::unique_ptr<mesh2d::EdgeGrid2> grid;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = tri(t, k), b = tri(t, (k + 1) % 3);
+      if (directed.count(std::uint64_t{b} << 32 | a)) continue;
+      std::uint32_t e = kNone;
+      if (mesh.vertex_domain[a] != kNone) {
+        e = mesh.vertex_domain[a];
+      } else if (mesh.vertex_edge[a] != kNone) {
+        e = mesh.vertex_edge[a];
+      } else if (mesh.vertex_edge[b] != kNone) {
+        e = mesh.vertex_edge[b];
+      } else if (mesh.vertex_domain[b] != kNone) {
+        e = domain.prev(mesh.vertex_domain[b]);
+      } else {
+        // A vertex without boundary data (a free site that ended on the boundary): the
+        // nearest domain edge to the edge's midpoint (tags change only at mesh vertices).
+        if (!grid) grid = std::make_unique<mesh2d::EdgeGrid2>(domain);
+        const double m[2] = {
+            0.5 * (mesh.xy[2 * std::size_t{a}] + mesh.xy[2 * std::size_t{b}]),
+            0.5 * (mesh.xy[2 * std::size_t{a} + 1] + mesh.xy[2 * std::size_t{b} + 1])};
+        double d2 = 0;
+        grid->nearest(
+            m,
+            [&](std::uint32_t f) {
+              return mesh2d::segment_distance2(m, domain.vertex(f), domain.vertex(domain.next(f)));
+            },
+            &e, &d2);
+      }
+      mesh.boundary_edges.push_back(a);
+      mesh.boundary_edges.push_back(b);
+      mesh.boundary_tags.push_back(e == kNone ? 0 : domain.edge_tag(e));
+    }
+  }
+  // Regions: parts of the mesh connected across edges.
+  std::vector<std::uint32_t> part(nt, kNone);
+  std::uint32_t nb_parts = 0;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed = 0; seed < nt; ++seed) {
+    if (part[seed] != kNone) continue;
+    part[seed] = nb_parts;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::uint32_t t = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const auto it = directed.find(std::uint64_t{tri(t, (k + 1) % 3)} << 32 | tri(t, k));
+        if (it == directed.end()) continue;
+        const std::uint32_t u = it->second / 3;
+        if (part[u] == kNone) {
+          part[u] = nb_parts;
+          stack.push_back(u);
+        }
+      }
+    }
+    ++nb_parts;
+  }
+  std::vector<std::int32_t> region(nb_parts, 1);
+  const std::vector<double>& points = domain.region_points();
+  for (std::size_t r = 0; r < domain.region_attributes().size(); ++r) {
+    const double value = domain.region_attributes()[r];
+    if (!(value == std::floor(value) && std::fabs(value) < 2147483647.0)) {
+      throw Error(domain.source() + ": regional attribute " + std::to_string(r + 1) + " (" +
+                  std::to_string(value) + ") is not an integer; mesh tags are integers");
+    }
+    const double* p = &points[2 * r];
+    std::uint32_t found = kNone;
+    for (std::uint32_t t = 0; t < nt && found == kNone; ++t) {
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        inside = orient2d(&mesh.xy[2 * std::size_t{tri(t, k)}],
+                          &mesh.xy[2 * std::size_t{tri(t, (k + 1) % 3)}], p) != Sign::negative;
+      }
+      if (inside) found = t;
+    }
+    if (found == kNone) {
+      throw Error(domain.source() + ": regional attribute " + std::to_string(r + 1) +
+                  ": its point (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                  ") lies in no triangle of the mesh (outside the domain?)");
+    }
+    region[part[found]] = static_cast<std::int32_t>(value);
+  }
+  mesh.triangle_regions.resize(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) mesh.triangle_regions[t] = region[part[t]];
 }
 
 }  // namespace voroclip

@@ -87,7 +87,9 @@ Boundary analyse_boundary(const Domain2& domain, const Mesh2Options& o, double s
     const bool corner = convex && angle >= o.corner_angle_deg;
     b.sharp[v] = convex && b.interior_angle[v] < sharp_angle;
     b.any_sharp = b.any_sharp || b.sharp[v];
-    b.fixed[v] = !b.sharp[v] && (reflex || corner || o.fix_input_vertices);
+    // A vertex where the edge tag changes is a mesh vertex, so that every mesh edge has one.
+    const bool tag_change = domain.edge_tag(domain.prev(v)) != domain.edge_tag(v);
+    b.fixed[v] = !b.sharp[v] && (reflex || corner || tag_change || o.fix_input_vertices);
     brk[v] = b.fixed[v] || b.sharp[v];
   }
   b.edge_path.assign(nv, kNone);
@@ -480,8 +482,10 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
   rings.source = domain.source();
   rings.ring_begin.push_back(0);
   std::vector<std::uint32_t> point_vertex, point_edge;  // per point of `rings`
-  const auto add_point = [&](const double* p, std::uint32_t v, std::uint32_t e) {
+  // `tag`: the tag of the edge from this point to the next (chords take their first end's).
+  const auto add_point = [&](const double* p, std::uint32_t v, std::uint32_t e, std::int32_t tag) {
     rings.xy.insert(rings.xy.end(), p, p + 2);
+    rings.segment_marker.push_back(tag);
     point_vertex.push_back(v);
     point_edge.push_back(e);
   };
@@ -496,11 +500,11 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
           if (k.at_vertex) continue;
           side_point[2 * std::size_t{v} + static_cast<std::size_t>(side)] =
               static_cast<std::uint32_t>(point_vertex.size());
-          add_point(k.p, kNone, k.edge);
+          add_point(k.p, kNone, k.edge, domain.edge_tag(k.edge));
         }
       } else if (!removed[v]) {
         vertex_point[v] = static_cast<std::uint32_t>(point_vertex.size());
-        add_point(domain.vertex(v), v, kNone);
+        add_point(domain.vertex(v), v, kNone, domain.edge_tag(v));
       }
     }
     rings.ring_begin.push_back(static_cast<std::uint32_t>(rings.xy.size() / 2));
@@ -753,6 +757,147 @@ std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const Edg
     if (chosen.empty()) break;
   }
   return added;
+}
+
+// Step 8 (conforming extraction): Delaunay refinement of the triangles whose smallest angle
+// is still below `angle` (Ruppert 1995, in rounds). Per bad triangle, its circumcenter is
+// added as a free site, unless it lies within the diametral circle of a boundary edge of
+// the mesh (it "encroaches" it) — that edge is then split at its midpoint (a sliding site
+// on its domain edge, rounded into the domain) — or outside the domain (skipped).
+// Candidates closer than half their circumradius to one already taken in the round wait
+// for the next round. Triangles at a domain vertex whose interior angle is below `angle`
+// are left alone (no refinement can lift them). The mesh is extracted again after each
+// round; stops when no triangle is left to refine or after `rounds` rounds.
+// `chord`: per domain edge, 1 for the chord of a cut corner, never split (its tip triangle
+// is added on it).
+Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<std::uint8_t>& chord,
+                   Mesh2 mesh, double angle, std::uint32_t rounds, std::uint32_t* added) {
+  const auto vertex = [&](std::uint32_t v) { return &mesh.xy[2 * std::size_t{v}]; };
+  for (std::uint32_t round = 0; round < rounds; ++round) {
+    // Boundary edges and the domain edge under each.
+    std::unordered_map<std::uint64_t, std::uint32_t> directed;
+    for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        directed.emplace(std::uint64_t{mesh.triangles[3 * std::size_t{t} + k]} << 32 |
+                             mesh.triangles[3 * std::size_t{t} + (k + 1) % 3],
+                         t);
+      }
+    }
+    struct BoundaryEdge {
+      std::uint32_t a, b, edge;
+    };
+    std::vector<BoundaryEdge> boundary;
+    for (const auto& [key, t] : directed) {
+      const auto a = static_cast<std::uint32_t>(key >> 32);
+      const auto c = static_cast<std::uint32_t>(key & 0xffffffffu);
+      if (directed.count(std::uint64_t{c} << 32 | a)) continue;
+      std::uint32_t e =
+          mesh.vertex_domain[a] != kNone ? mesh.vertex_domain[a] : mesh.vertex_edge[a];
+      if (e == kNone) {
+        e = mesh.vertex_edge[c] != kNone     ? mesh.vertex_edge[c]
+            : mesh.vertex_domain[c] != kNone ? domain.prev(mesh.vertex_domain[c])
+                                             : kNone;
+      }
+      if (e != kNone) boundary.push_back({a, c, e});
+    }
+    std::sort(boundary.begin(), boundary.end(), [](const BoundaryEdge& x, const BoundaryEdge& y) {
+      return x.a < y.a || (x.a == y.a && x.b < y.b);
+    });
+    struct Candidate {
+      double worst, r, p[2];
+      std::uint32_t edge;  // kNone: a circumcenter; else the domain edge of a midpoint
+    };
+    std::vector<Candidate> candidates;
+    std::vector<std::uint8_t> split(boundary.size(), 0);
+    for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+      const std::uint32_t* v = &mesh.triangles[3 * std::size_t{t}];
+      double smallest = 180;
+      bool at_sharp = false;
+      for (int k = 0; k < 3; ++k) {
+        const double* a = vertex(v[k]);
+        const double* p = vertex(v[(k + 1) % 3]);
+        const double* q = vertex(v[(k + 2) % 3]);
+        const double ux = p[0] - a[0], uy = p[1] - a[1], wx = q[0] - a[0], wy = q[1] - a[1];
+        smallest = std::min(
+            smallest, std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi);
+        const std::uint32_t dv = mesh.vertex_domain[v[k]];
+        at_sharp = at_sharp || (dv != kNone && b.interior_angle[dv] < angle);
+      }
+      if (smallest >= angle || at_sharp) continue;
+      const double* a = vertex(v[0]);
+      const double bx = vertex(v[1])[0] - a[0], by = vertex(v[1])[1] - a[1];
+      const double cx = vertex(v[2])[0] - a[0], cy = vertex(v[2])[1] - a[1];
+      const double d = 2 * (bx * cy - by * cx);
+      const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+      const double ox = (cy * b2 - by * c2) / d, oy = (bx * c2 - cx * b2) / d;
+      const double c[2] = {a[0] + ox, a[1] + oy};
+      const double r = std::hypot(ox, oy);
+      if (!std::isfinite(r)) continue;
+      bool encroaches = false;
+      for (std::size_t k = 0; k < boundary.size(); ++k) {
+        const double* p = vertex(boundary[k].a);
+        const double* q = vertex(boundary[k].b);
+        const double mx = 0.5 * (p[0] + q[0]), my = 0.5 * (p[1] + q[1]);
+        const double l2 = 0.25 * ((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]));
+        if ((c[0] - mx) * (c[0] - mx) + (c[1] - my) * (c[1] - my) >= l2) continue;
+        encroaches = true;
+        if (split[k] || chord[boundary[k].edge]) continue;
+        split[k] = 1;
+        // The midpoint, on the domain edge of the run from p to q nearest to it.
+        double m[2] = {mx, my};
+        std::uint32_t e = boundary[k].edge, best = e;
+        double best_d2 = kInf;
+        for (std::uint32_t f = e, steps = 0; steps < 64; f = domain.next(f), ++steps) {
+          const double d2 =
+              mesh2d::segment_distance2(m, domain.vertex(f), domain.vertex(domain.next(f)));
+          if (d2 < best_d2) {
+            best_d2 = d2;
+            best = f;
+          }
+          if (domain.next(f) == mesh.vertex_domain[boundary[k].b] ||
+              domain.is_corner(domain.next(f))) {
+            break;
+          }
+        }
+        round_into_domain(domain, best, m);
+        candidates.push_back({0, 0, {m[0], m[1]}, best});
+      }
+      if (!encroaches && domain.locate(c) == Sign::positive) {
+        candidates.push_back({smallest, r, {c[0], c[1]}, kNone});
+      }
+    }
+    if (candidates.empty()) break;
+    // Midpoints first, then circumcenters, worst triangle first; spacing between the latter.
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& x, const Candidate& y) {
+                       return (x.edge != kNone) > (y.edge != kNone) ||
+                              ((x.edge != kNone) == (y.edge != kNone) && x.worst < y.worst);
+                     });
+    std::vector<const Candidate*> taken;
+    for (const Candidate& c : candidates) {
+      if (c.edge == kNone) {
+        bool close = false;
+        for (const Candidate* o : taken) {
+          close = close || std::hypot(c.p[0] - o->p[0], c.p[1] - o->p[1]) < 0.5 * c.r;
+        }
+        if (close) continue;
+      }
+      taken.push_back(&c);
+    }
+    std::vector<double> xy = mesh.xy;
+    std::vector<Mesh2::VertexKind> kinds = mesh.vertex_kind;
+    std::vector<std::uint32_t> at = mesh.vertex_domain, on = mesh.vertex_edge;
+    for (const Candidate* c : taken) {
+      xy.insert(xy.end(), c->p, c->p + 2);
+      kinds.push_back(c->edge == kNone ? Mesh2::VertexKind::kInterior
+                                       : Mesh2::VertexKind::kBoundary);
+      at.push_back(kNone);
+      on.push_back(c->edge);
+    }
+    *added += static_cast<std::uint32_t>(taken.size());
+    mesh = extract_conforming_mesh2(domain, xy, kinds, at, on);
+  }
+  return mesh;
 }
 
 // Sizing of a domain: its boundary, feature samples and size model.
@@ -1009,6 +1154,10 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
     st.energy = r.energy;
     st.cancelled = r.cancelled;
   }
+  if (o.conforming && !st.cancelled && o.refine_rounds > 0) {
+    mesh = refine_mesh2(*domain, b, chord, std::move(mesh), o.repair_angle_deg, o.refine_rounds,
+                        &st.refine_added);
+  }
   // Vertex data in the original domain's numbering, through the successive cuts; the
   // tips of the cut corners become triangles (conforming extraction).
   for (std::size_t k = cuts.size(); k-- > 0;) {
@@ -1059,6 +1208,7 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
   st.covered_fraction = area / original.area();
   st.dropped_outside = es.dropped_outside;
   st.removed_vertices = es.removed_vertices;
+  tag_mesh2(original, mesh);
   // The mesh checks itself: valid always, conforming when every corner is kept.
   st.check = check_mesh2(original, mesh);
   if (st.check.empty() && o.conforming && o.corner_angle_deg == 0 && mesh.nb_triangles() > 0) {

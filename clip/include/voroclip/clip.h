@@ -94,6 +94,13 @@ class Domain2 {
   std::uint32_t source_ring(std::uint32_t r) const { return source_ring_[r]; }
   // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
   bool is_corner(std::uint32_t v) const;
+  // The tag of edge e, for boundary conditions: the .poly segment marker of the input
+  // segment it is, else its ring's tag: 1 for an outer ring, 2, 3, ... for the holes in
+  // ring order.
+  std::int32_t edge_tag(std::uint32_t e) const { return edge_tag_[e]; }
+  // The .poly regional attributes: points (packed x y) and their attribute, as read.
+  const std::vector<double>& region_points() const { return region_points_; }
+  const std::vector<double>& region_attributes() const { return region_attributes_; }
 
   // Area (outer rings minus holes), summed in floating point: shoelace terms relative to
   // each ring's first vertex, with error-free differences and products, compensated sums
@@ -120,6 +127,8 @@ class Domain2 {
   std::vector<std::uint32_t> ring_of_;
   std::vector<std::uint32_t> source_vertex_;
   std::vector<std::uint32_t> source_ring_;
+  std::vector<std::int32_t> edge_tag_;
+  std::vector<double> region_points_, region_attributes_;
   double area_ = 0;
   double bbox_[4] = {0, 0, 0, 0};
   std::uint32_t nb_dropped_ = 0;

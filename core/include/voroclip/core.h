@@ -81,6 +81,11 @@ struct PolygonRings {
   /// position in its ring), and per hole marker, the line of the file where it stands.
   std::vector<std::uint32_t> point_number;
   std::vector<std::uint32_t> hole_line;
+  /// .poly with segment markers: per point, the marker of the segment from it to the next
+  /// point of its ring (empty otherwise).
+  std::vector<std::int32_t> segment_marker;
+  /// .poly regional attributes: points (packed x y) and their attribute.
+  std::vector<double> region_points, region_attributes;
 
   std::uint32_t nb_rings() const {
     return ring_begin.empty() ? 0u : static_cast<std::uint32_t>(ring_begin.size() - 1);
@@ -98,8 +103,10 @@ struct PolygonRings {
 ///          closed rings, each starting at the first segment not yet used, in its direction;
 ///          every vertex used must end exactly two segments, unused vertices are ignored.
 ///          Roles follow from nesting (ring_polygon = -1); point_number keeps the vertex
-///          numbers and hole_line the marker lines. Attributes, markers and regions are
-///          read and ignored; '#' starts a comment. A vertex count of 0 (vertices in a
+///          numbers and hole_line the marker lines; segment markers go to
+///          segment_marker, regional attributes to region_points/region_attributes (vertex
+///          attributes and markers, and maximum areas, are read and ignored); '#' starts a
+///          comment. A vertex count of 0 (vertices in a
 ///          separate .node file) is not supported.
 /// Throws Error naming the file, the line (or JSON ring/point) and what is wrong: a missing
 /// file, a value that is not a finite number, a wrong number of fields, a truncated file, a

@@ -248,16 +248,26 @@ class SizingField3 {
 //      from the boundary, largest first.
 //   5. Constrained CVT: fixed sites stay, sliding sites move along their path (tangential
 //      gradient, eq. 3), the others are free.
-//   6. Extraction (extract_mesh2): the Delaunay triangles of the final sites whose
-//      circumcenter lies inside the domain, decided exactly; then every kept triangle is
-//      checked exactly to lie in the closed domain (one that does not is dropped and
-//      counted, so the result is always valid); vertices used by no triangle are removed.
+//   6. Extraction (extract_conforming_mesh2, the default): the constrained Delaunay
+//      triangulation of the sites with the boundary chains (each ring's boundary sites
+//      in ring order) as segments, restricted to their inside: the union of the
+//      triangles is the domain (every corner is a fixed site), each tip of a cut sharp
+//      corner is added back as one triangle. With `conforming` false, the paper's rule
+//      (extract_mesh2): the Delaunay triangles whose circumcenter lies inside the domain,
+//      decided exactly, each then checked exactly to lie in the closed domain; this
+//      leaves notches at the boundary (Mesh2Stats::covered_fraction < 1).
 //   7. Repair: while some triangle has an angle below `repair_angle_deg` (at most
 //      `repair_rounds` times), the non-fixed vertex at the largest angle of each such
 //      triangle is removed (an end of a needle's short edge, a cap's apex) and a short
 //      constrained CVT follows, then step 6 again. The result is the best mesh of the
 //      rounds (largest smallest angle, then largest mean smallest angle): repair never
 //      makes it worse.
+//   8. Refinement (conforming only): Delaunay refinement (Ruppert) of the triangles
+//      still below `repair_angle_deg`, in up to `refine_rounds` rounds: circumcenters,
+//      or midpoints of the boundary edges they encroach (never a chord of a cut corner);
+//      triangles at a domain corner sharper than that angle are left as they are.
+//   Tags (tag_mesh2): boundary edges carry the .poly segment marker of their side, else
+//   1 (outer rings) or 2, 3, ... (holes); a vertex where the tag changes is fixed.
 // The vertex count is approximate: the sampling gives `nb_vertices`, the boundary and
 // gap steps change it (parts of the domain a few cells wide take more vertices than
 // their area suggests: +28% on shared/data hilbert.json), the repair removes a few.
@@ -324,6 +334,14 @@ struct Mesh2 {
   std::vector<std::uint32_t> vertex_edge;    // boundary vertices not at a domain vertex: the
                                              // domain edge (vertex v to next(v)), or kNone
   std::vector<std::uint32_t> vertex_site;    // index of its site in the optimised site array
+                                             // (kNone for the corner of a cut tip)
+  // Tags (tag_mesh2): boundary edges, 2 vertices each with the domain on their left, and
+  // each one's tag (Domain2::edge_tag: the .poly segment marker, else 1 on outer rings and
+  // 2, 3, ... on the holes); per triangle, its region: the .poly regional attribute of its
+  // part of the domain (a part: triangles connected across edges), else 1.
+  std::vector<std::uint32_t> boundary_edges;
+  std::vector<std::int32_t> boundary_tags;
+  std::vector<std::int32_t> triangle_regions;
 
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xy.size() / 2); }
   std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
@@ -386,6 +404,9 @@ struct Mesh2Options {
   std::uint32_t repair_rounds = 4;
   double repair_angle_deg = 30;
   std::uint32_t repair_iterations = 40;
+  // Refinement (step 8, conforming extraction only): rounds of Delaunay refinement of the
+  // triangles still below repair_angle_deg. 0: none.
+  std::uint32_t refine_rounds = 30;
   // Called at the start of each phase (iteration 0) and after every CVT iteration; return
   // false to stop: the mesh is then extracted from the sites reached (valid, lower
   // quality; an empty mesh when stopped at the start of the sampling) and
@@ -399,6 +420,7 @@ struct Mesh2Stats {
   std::uint32_t nb_sliding = 0;        // sliding sites
   std::uint32_t nb_sharp_corners = 0;  // corners cut (sharp_angle_deg)
   std::uint32_t nb_tip_triangles = 0;  // their tips, one triangle each (conforming)
+  std::uint32_t refine_added = 0;      // vertices added by the refinement (step 8)
   std::uint32_t nb_gap_sites = 0;      // free sites added in gaps after the boundary step
   std::uint32_t nb_paths = 0;
   double edge_length = 0;  // H
@@ -471,6 +493,11 @@ Sign circumcenter_location2(const Domain2& domain, const Delaunay2& dt, std::uin
 // and its interior is inside), edges shared by at most two triangles with opposite
 // orientations, every vertex used. Empty when valid, else the first defect.
 std::string check_mesh2(const Domain2& domain, const Mesh2& mesh);
+
+// Fills the mesh's tags (Mesh2::boundary_edges, boundary_tags, triangle_regions) from its
+// vertices' domain data (vertex_domain / vertex_edge; mesh_domain2 calls it). Throws Error
+// for a regional attribute that is not an integer or a region point in no triangle.
+void tag_mesh2(const Domain2& domain, Mesh2& mesh);
 
 // Exact checks that a valid mesh (check_mesh2) conforms to its domain: every boundary edge
 // of the mesh (an edge of one triangle) lies along the domain's boundary — both ends
