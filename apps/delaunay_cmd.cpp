@@ -115,8 +115,9 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
     std::cout << stats.dump() << '\n';
   }
   if (std::ostream* out = human_stream(options)) {
-    *out << "Delaunay " << dim << "D: " << n << " points (" << r.unique << " distinct), "
-         << nb_cells << ' ' << cells_key << ", " << r.hull_vertices << " hull vertices, "
+    *out << "Delaunay " << dim << "D: " << count_of(n, "point") << " (" << r.unique
+         << " distinct), " << nb_cells << ' ' << cells_key << ", "
+         << count_of(r.hull_vertices, "hull vertex", "hull vertices") << ", "
          << format_double(seconds) << " s\n";
     if (args.check) *out << "Exact checks (topology, orientation, local Delaunay): passed\n";
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';
