@@ -44,16 +44,7 @@ int report_error(const std::string& what, int status) {
 // The message for a command line without a valid command: the word taken for one (the first
 // argument that is neither a global option nor its value) and the list of commands; "" when
 // that word is a command (the parse failed for another reason).
-std::string no_command(const CLI::App& app, int argc, char** argv) {
-  std::string word;
-  for (int k = 1; k < argc && word.empty(); ++k) {
-    const std::string a = argv[k];
-    if (a == "--threads" || a == "--stats" || a == "--progress") {
-      ++k;  // its value
-    } else if (a.empty() || a[0] != '-') {
-      word = a;
-    }
-  }
+std::string no_command(const CLI::App& app, const std::string& word) {
   std::string commands;
   bool word_is_command = false;
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
@@ -63,6 +54,19 @@ std::string no_command(const CLI::App& app, int argc, char** argv) {
   if (word_is_command) return "";  // the parse failed for another reason
   return (word.empty() ? std::string("no command given") : "unknown command '" + word + "'") +
          "; the commands are: " + commands + " (voroclip --help describes them)";
+}
+
+// The first argument that is neither a global option nor its value: the command.
+std::string command_word(int argc, char** argv) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--threads" || a == "--stats" || a == "--progress") {
+      ++k;  // its value
+    } else if (a.empty() || a[0] != '-') {
+      return a;
+    }
+  }
+  return "";
 }
 
 }  // namespace
@@ -446,13 +450,18 @@ int main(int argc, char** argv) {
       ->type_name("");
   check_surface->add_flag("--reorient", check_args.reorient, reorient_help);
 
+  std::string help_topic;
+  CLI::App* help = app.add_subcommand(
+      "help", "Print the help of a command (voroclip help clip3d), or of the tool without one");
+  help->add_option("COMMAND", help_topic, "The command")->type_name("");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::string what = e.what();
     if (app.get_subcommands().empty()) {
-      const std::string message = no_command(app, argc, argv);
+      const std::string message = no_command(app, command_word(argc, argv));
       if (!message.empty()) return report_error(message, kUsageError);
     }
     if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && predicate->parsed()) {
@@ -465,6 +474,21 @@ int main(int argc, char** argv) {
   }
   global.stats_json = stats_format == "json";
   predicate_args.sos = sos->count() > 0;
+
+  if (*help) {
+    if (help_topic.empty() || help_topic == "help") {
+      // (app.help() would show the selected subcommand's, help's own.)
+      std::cout << app.get_formatter()->make_help(&app, "voroclip", CLI::AppFormatMode::Normal);
+      return 0;
+    }
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == help_topic) {
+        std::cout << sub->help("voroclip");
+        return 0;
+      }
+    }
+    return report_error(no_command(app, help_topic), kUsageError);
+  }
 
   try {
     std::unique_ptr<tbb::global_control> parallelism;

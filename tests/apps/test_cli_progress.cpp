@@ -168,3 +168,17 @@ TEST_CASE("help text: no CLI11 artefacts", "[apps]") {
   CHECK(contains(clip.out, "site,x,y,area,centroid_x,centroid_y,energy,boundary,neighbors"));
   CHECK(contains(clip.out, "--neighbors"));
 }
+
+TEST_CASE("voroclip help COMMAND prints that command's help", "[apps]") {
+  const Run clip = run_cli({"help", "clip3d"});
+  CHECK(clip.status == 0);
+  CHECK(clip.out == run_cli({"clip3d", "--help"}).out);
+  CHECK(contains(clip.out, "--neighbors"));
+  const Run top = run_cli({"help"});
+  CHECK(top.status == 0);
+  CHECK(contains(top.out, "mesh3d"));
+  const Run bad = run_cli({"help", "clip4d"});
+  CHECK(bad.status == 2);
+  check_one_error_line(bad);
+  CHECK(contains(bad.err, "unknown command 'clip4d'; the commands are: "));
+}
