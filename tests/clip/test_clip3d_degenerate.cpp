@@ -3,6 +3,7 @@
 // slabs at the midpoints; sites in a plane make prisms over their 2D Voronoi cells, checked
 // against ClippedVoronoi2 of the same sites in the box's cross-section.
 #include <catch2/catch.hpp>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdint>
@@ -132,4 +133,22 @@ TEST_CASE("clip3d: coplanar sites make prisms over their 2D cells", "[clip][dege
       CHECK(std::fabs(t3.measure[r] - 2 * t2.measure[r]) <= 1e-9);
     }
   }
+}
+
+TEST_CASE("clip3d: coplanar sites give the same bits with 1 and 2 threads", "[clip][degenerate]") {
+  const Domain3 sphere(
+      voroclip::read_surface(std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj"));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  std::vector<double> sites;
+  for (int i = 0; i < 500; ++i) sites.insert(sites.end(), {u(rng), u(rng), 0.25});
+  std::vector<double> volumes[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(threads));
+    const ClippedVoronoi3 cv = clip(sphere, sites);
+    for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) volumes[threads - 1].push_back(cv.volume(i));
+    CHECK(std::fabs(cv.total_volume() - sphere.volume()) <= 1e-12 * sphere.volume());
+  }
+  CHECK(volumes[0] == volumes[1]);
 }
