@@ -98,6 +98,7 @@ void Progress::phase(const std::string& name, std::uint32_t budget) {
   budget_ = budget;
   iteration_ = 0;
   has_iteration_ = false;
+  spoke_ = false;
   energy_ = 0;
   gradient_norm_ = -1;
   phase_start_ = last_output_ = Clock::now();
@@ -124,6 +125,7 @@ void Progress::iteration(std::uint32_t iteration, double energy, double gradient
   if (line_every == 0 || iteration % line_every == 0 || iteration <= 1) {
     *out_ << "  " << name_ << ' ' << status_locked(false) << std::endl;
     last_output_ = now;
+    spoke_ = true;
   }
 }
 
@@ -133,6 +135,7 @@ void Progress::note(const std::string& text) {
   clear_bar_locked();
   *out_ << "  " << text << std::endl;
   last_output_ = Clock::now();
+  spoke_ = true;
   if (mode_ == Mode::kBar && !name_.empty()) draw_bar_locked(false);
 }
 
@@ -148,7 +151,7 @@ void Progress::end_phase_locked() {
     draw_bar_locked(true);
     *out_ << std::endl;
     bar_width_ = 0;
-  } else {
+  } else if (spoke_) {
     *out_ << name_ << ": " << duration_text(seconds_between(phase_start_, Clock::now()));
     if (has_iteration_) {
       *out_ << ", " << iteration_ << (iteration_ == 1 ? " iteration" : " iterations");
@@ -202,9 +205,10 @@ void Progress::clear_bar_locked() {
 
 void Progress::heartbeat_loop() {
   std::unique_lock<std::mutex> lock(mutex_);
-  const auto period = std::chrono::duration<double>(heartbeat_seconds_);
+  // Woken often enough that a silent phase gets its line at most 0.5 s late.
+  const auto poll = std::chrono::duration<double>(std::min(heartbeat_seconds_, 0.5));
   while (!stop_) {
-    wake_.wait_for(lock, period);
+    wake_.wait_for(lock, poll);
     if (stop_) break;
     if (name_.empty()) continue;
     const Clock::time_point now = Clock::now();
@@ -215,6 +219,7 @@ void Progress::heartbeat_loop() {
       *out_ << "  " << name_ << ": still running, "
             << duration_text(seconds_between(phase_start_, now)) << std::endl;
       last_output_ = now;
+      spoke_ = true;
     }
   }
 }

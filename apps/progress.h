@@ -4,7 +4,8 @@
 //
 // Two renderings of the same calls:
 //   - lines (stderr is not a terminal, or --progress lines): one line per event, flushed
-//     at once, so that a log file grows as the work goes on;
+//     at once, so that a log file grows as the work goes on; a phase that has nothing to
+//     say (short) prints nothing;
 //   - bar (stderr is a terminal, or --progress bar): one live line per phase, redrawn in
 //     place ('\r'), with a bar when the phase's iteration budget is known, the iteration,
 //     energy, |g|, the elapsed time and an estimate of the time left (ETA, from the mean
@@ -57,7 +58,9 @@ class Progress {
   /// A line of news inside the current phase ("topology round 2: ..."): printed as a line
   /// in both modes (above the bar).
   void note(const std::string& text);
-  /// Ends the current phase: "name  1.23 s" (lines), the bar's last state (bar).
+  /// Ends the current phase: "name: 1.2 s, 30 iterations" (lines; only after the phase
+  /// printed something, so that a short run, or one failing on its input, prints no
+  /// progress at all), the bar's last state (bar).
   void done();
 
  private:
@@ -82,6 +85,7 @@ class Progress {
   std::uint32_t budget_ = 0;
   std::uint32_t iteration_ = 0;
   bool has_iteration_ = false;
+  bool spoke_ = false;  // lines: the phase printed something (then done() closes it)
   double energy_ = 0, gradient_norm_ = -1;
   Clock::time_point phase_start_, last_output_, last_draw_;
   std::size_t bar_width_ = 0;  // characters of the live line on screen (bar mode)
