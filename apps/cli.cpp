@@ -8,6 +8,8 @@
 #include <numeric>
 #include <system_error>
 
+#include "progress.h"
+
 namespace voroclip::cli {
 
 std::ostream* human_stream(const GlobalOptions& options) {
@@ -99,7 +101,7 @@ std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int 
 }
 
 void report_sites(const std::string& source, const std::vector<std::uint32_t>& outside,
-                  const std::vector<std::uint32_t>& repeated, bool strict) {
+                  const std::vector<std::uint32_t>& repeated, bool strict, Progress& progress) {
   const auto list = [](const std::vector<std::uint32_t>& v) {
     constexpr std::size_t kShown = 5;
     std::string text;
@@ -123,6 +125,7 @@ void report_sites(const std::string& source, const std::vector<std::uint32_t>& o
   }
   if (message.empty()) return;
   if (strict) throw Error(message + " (--strict)");
+  progress.done();
   std::cout.flush();
   std::cerr << "voroclip: warning: " << message << "; --strict makes this an error" << std::endl;
 }

@@ -56,11 +56,14 @@ std::string lower_extension(const std::string& path);
 /// input order): their cells are empty. `sites` holds `dimension` values per site.
 std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension);
 
+class Progress;
+
 /// Sites that are outside the domain or repeat an earlier site (input indices from 0):
-/// one warning line on stderr per kind, with the count and the first indices, or, with
-/// `strict`, an Error naming them. Nothing when both are empty.
+/// one warning line on stderr, with the counts and the first indices (the current phase of
+/// `progress` ended first, so that a live bar does not run into it), or, with `strict`, an
+/// Error naming them. Nothing when both are empty.
 void report_sites(const std::string& source, const std::vector<std::uint32_t>& outside,
-                  const std::vector<std::uint32_t>& repeated, bool strict);
+                  const std::vector<std::uint32_t>& repeated, bool strict, Progress& progress);
 
 struct DemoArgs {
   std::string svg_path;  // empty: no picture

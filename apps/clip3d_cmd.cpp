@@ -165,7 +165,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
       if (domain.locate(&sites[3 * std::size_t{i}]) == Sign::negative) outside.push_back(i);
     }
     repeated = repeated_sites(sites, 3);
-    report_sites(domain.source(), outside, repeated, args.strict);
+    report_sites(domain.source(), outside, repeated, args.strict, progress);
   }
   ClippedVoronoi3 cv;
   Clip3Options o;

@@ -334,7 +334,8 @@ struct SiteCheck {
   std::size_t outside = 0, repeated = 0;
 };
 
-std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check) {
+std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check,
+                               Progress& progress) {
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
@@ -348,7 +349,7 @@ std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, Site
     }
   }
   const std::vector<std::uint32_t> repeated = repeated_sites(sites, 2);
-  report_sites(domain.source(), outside, repeated, args.strict);
+  report_sites(domain.source(), outside, repeated, args.strict, progress);
   check.outside = outside.size();
   check.repeated = repeated.size();
   return sites;
@@ -366,7 +367,7 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
   SiteCheck site_check;
-  const std::vector<double> sites = load_sites(args, domain, site_check);
+  const std::vector<double> sites = load_sites(args, domain, site_check, progress);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
   progress.phase("Delaunay");
   const auto t0 = std::chrono::steady_clock::now();
@@ -427,7 +428,7 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
   SiteCheck site_check;
-  std::vector<double> sites = load_sites(args, domain, site_check);
+  std::vector<double> sites = load_sites(args, domain, site_check, progress);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
   Cvt2Options o;
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
