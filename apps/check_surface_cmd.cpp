@@ -25,8 +25,9 @@ void note_reoriented(const Domain3& domain, const GlobalOptions& options) {
   const std::vector<Surface3::Shell>& shells = domain.surface().shells();
   for (std::size_t s = 0; s < shells.size(); ++s) {
     if (!shells[s].reoriented) continue;
-    *out << "note: " << domain.source() << ": shell " << s << " (" << shells[s].nb_triangles
-         << " triangles, the first " << domain.surface().triangle_name(shells[s].first_triangle)
+    *out << "note: " << domain.source() << ": shell " << s << " ("
+         << count_of(shells[s].nb_triangles, "triangle") << ", the first "
+         << domain.surface().triangle_name(shells[s].first_triangle)
          << ") was inside out and has been reoriented (--reorient)\n";
   }
 }
@@ -123,16 +124,16 @@ void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& option
               << '\n';
   }
   if (std::ostream* out = human_stream(options)) {
-    *out << s.source() << ": a valid closed surface: " << s.nb_triangles() << " triangles, " << used
-         << " vertices";
+    *out << s.source() << ": a valid closed surface: " << count_of(s.nb_triangles(), "triangle")
+         << ", " << count_of(used, "vertex", "vertices");
     if (s.nb_welded_vertices() > 0) {
       *out << " (" << s.nb_welded_vertices() << " duplicates welded)";
     }
     *out << ", " << s.shells().size() << (s.shells().size() == 1 ? " shell" : " shells") << '\n';
     for (std::size_t k = 0; k < s.shells().size(); ++k) {
       const Surface3::Shell& sh = s.shells()[k];
-      *out << "  shell " << k << ": " << sh.nb_triangles << " triangles, " << sh.nb_vertices
-           << " vertices, genus " << sh.genus << ", "
+      *out << "  shell " << k << ": " << count_of(sh.nb_triangles, "triangle") << ", "
+           << count_of(sh.nb_vertices, "vertex", "vertices") << ", genus " << sh.genus << ", "
            << (sh.cavity() ? "a cavity in shell " + std::to_string(sh.parent)
                : sh.parent == Surface3::kNone
                    ? std::string("outer boundary")

@@ -1,10 +1,14 @@
 #include "cli.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <iostream>
+#include <numeric>
 #include <system_error>
+
+#include "progress.h"
 
 namespace voroclip::cli {
 
@@ -73,6 +77,57 @@ std::string lower_extension(const std::string& path) {
   std::string ext = path.substr(dot);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
+}
+
+std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension) {
+  const auto d = static_cast<std::size_t>(dimension);
+  std::vector<std::uint32_t> order(sites.size() / d);
+  std::iota(order.begin(), order.end(), 0u);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::size_t k = 0; k < d; ++k) {
+      if (sites[d * a + k] != sites[d * b + k]) return sites[d * a + k] < sites[d * b + k];
+    }
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> repeated;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    if (std::equal(&sites[d * order[k]], &sites[d * order[k]] + d, &sites[d * order[k - 1]])) {
+      repeated.push_back(order[k]);  // the runs are in input order: all but the first repeat
+    }
+  }
+  std::sort(repeated.begin(), repeated.end());
+  return repeated;
+}
+
+void report_sites(const std::string& source, const std::vector<std::uint32_t>& outside,
+                  const std::vector<std::uint32_t>& repeated, bool strict, Progress& progress) {
+  const auto list = [](const std::vector<std::uint32_t>& v) {
+    constexpr std::size_t kShown = 5;
+    std::string text;
+    for (std::size_t k = 0; k < v.size() && k < kShown; ++k) {
+      text += (k == 0 ? "" : ", ") + std::to_string(v[k]);
+    }
+    return text + (v.size() > kShown ? ", ..." : "");
+  };
+  std::string message;
+  if (!outside.empty()) {
+    message += count_of(outside.size(), "site") + " outside the domain " + source + " (" +
+               (outside.size() == 1 ? "index " : "indices ") + list(outside) +
+               ", from 0 in input order)";
+  }
+  if (!repeated.empty()) {
+    message += (message.empty() ? "" : "; ") + count_of(repeated.size(), "site") +
+               (repeated.size() == 1 ? " repeats" : " repeat") + " an earlier site (" +
+               (repeated.size() == 1 ? "index " : "indices ") + list(repeated) +
+               ", from 0 in input order; " +
+               (repeated.size() == 1 ? "its cell is" : "their cells are") + " empty)";
+  }
+  if (message.empty()) return;
+  if (strict) throw Error(message + " (--strict)");
+  progress.done();
+  std::cout.flush();
+  std::cerr << "voroclip: warning: " << message << "; --strict makes this an error" << std::endl;
 }
 
 }  // namespace voroclip::cli

@@ -26,6 +26,7 @@ struct GlobalOptions {
   int threads = 0;  // 0: TBB's default, all cores
   bool stats_json = false;
   bool quiet = false;
+  std::string progress = "auto";  // --progress: auto, bar, lines or none (progress.h)
 };
 
 /// Human-readable text goes to stdout, or to stderr when stdout carries the JSON statistics
@@ -50,6 +51,19 @@ const char* sign_name(Sign s);
 /// The extension of a file name in lower case, with its dot (".vtu"); "" when it has none
 /// (a dot in a directory name does not count).
 std::string lower_extension(const std::string& path);
+
+/// Input indices (0-based) of the sites that repeat the coordinates of an earlier site (in
+/// input order): their cells are empty. `sites` holds `dimension` values per site.
+std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension);
+
+class Progress;
+
+/// Sites that are outside the domain or repeat an earlier site (input indices from 0):
+/// one warning line on stderr, with the counts and the first indices (the current phase of
+/// `progress` ended first, so that a live bar does not run into it), or, with `strict`, an
+/// Error naming them. Nothing when both are empty.
+void report_sites(const std::string& source, const std::vector<std::uint32_t>& outside,
+                  const std::vector<std::uint32_t>& repeated, bool strict, Progress& progress);
 
 struct DemoArgs {
   std::string svg_path;  // empty: no picture
@@ -78,8 +92,12 @@ struct ClipArgs {
   std::uint32_t random = 0;
   bool random_set = false;
   std::uint64_t seed = 1;
-  std::string output;     // .svg, .vtu, .json (cvt2d also .txt); empty: no file
+  std::string output;     // .svg, .vtu, .json, .csv (cvt2d also .txt); empty: no file
+  std::string neighbors;  // .csv or .json table of neighbouring cells; empty: none
   bool reorient = false;  // clip3d: reorient inside-out shells of a surface domain
+  bool strict = false;    // sites outside the domain or repeated: an error, not a warning
+  bool binary = false;    // .vtu: base64 appended data (default: ASCII)
+  bool compress = false;  // .vtu: zlib-compressed data
   // cvt2d
   std::string method = "lbfgs";
   std::uint32_t iterations = 100;
@@ -126,6 +144,7 @@ struct QualityArgs {
   std::string output;     // .vtu with Q1..Q4 per tet; empty: none
   std::uint64_t samples = 100000;  // minimum samples per surface for the distance
   bool samples_set = false;
+  bool compress = false;  // -o .vtu: zlib-compressed data
 };
 
 /// The quality report of a tet mesh (and the Hausdorff distance to a reference surface).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -20,11 +21,6 @@
 namespace voroclip::cli {
 
 namespace {
-
-bool has_suffix(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 // A colour per cell for the OBJ materials: a hue from a hash of the index.
 void cell_rgb(std::uint32_t i, double* rgb) {
@@ -90,46 +86,33 @@ void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv) {
 // Every cell's boundary (cell_boundaries()) as VTK XML polygons, each shrunk towards its
 // cell's centroid by 10 % so that cells stand apart, with site_id and across (the site on
 // the other side, -1 for the domain's surface).
-void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv) {
+void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv, VtuEncoding encoding) {
   const ClippedVoronoi3::Polygons f = cv.cell_boundaries();
   const std::size_t nf = f.site.size();
   const std::size_t nv = f.polygon_begin.back();
-  out << std::setprecision(17);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << nv << "\" NumberOfCells=\"" << nf << "\">\n<Points>\n<DataArray type=\"Float64\" "
-      << "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  std::vector<double> xyz(3 * nv);
+  std::vector<std::uint32_t> indices(nv);
+  std::vector<VtuCellTags> tags(2);
+  tags[0].name = "site_id";
+  tags[1].name = "across";
   for (std::size_t k = 0; k < nf; ++k) {
     const double* c = cv.centroid(f.site[k]);
     for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
-      for (int q = 0; q < 3; ++q)
-        out << c[q] + 0.9 * (f.xyz[3 * std::size_t{v} + static_cast<std::size_t>(q)] - c[q])
-            << (q < 2 ? ' ' : '\n');
+      indices[v] = v;
+      for (std::size_t q = 0; q < 3; ++q) {
+        xyz[3 * std::size_t{v} + q] = c[q] + 0.9 * (f.xyz[3 * std::size_t{v} + q] - c[q]);
+      }
     }
+    tags[0].values.push_back(static_cast<std::int32_t>(f.site[k]));
+    tags[1].values.push_back(
+        f.across[k] == ClippedVoronoi3::kSurface ? -1 : static_cast<std::int32_t>(f.across[k]));
   }
-  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-         "format=\"ascii\">\n";
-  for (std::size_t v = 0; v < nv; ++v) out << v << '\n';
-  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << f.polygon_begin[k + 1] << '\n';
-  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << "7\n";
-  out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
-         "Name=\"site_id\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) out << f.site[k] << '\n';
-  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"across\" format=\"ascii\">\n";
-  for (std::size_t k = 0; k < nf; ++k) {
-    if (f.across[k] == ClippedVoronoi3::kSurface) {
-      out << "-1\n";
-    } else {
-      out << f.across[k] << '\n';
-    }
-  }
-  out << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  const VtuCellBlock faces{indices.data(), nf, 0, f.polygon_begin.data()};
+  write_vtu(out, xyz.data(), static_cast<std::uint32_t>(nv), 3, {faces}, encoding, {}, tags);
 }
 
 void write_cells_json(std::ostream& out, const std::vector<double>& sites,
-                      const ClippedVoronoi3& cv) {
+                      const ClippedVoronoi3& cv, const CellTable& table) {
   nlohmann::json cells = nlohmann::json::array();
   for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
     const double* c = cv.centroid(i);
@@ -139,7 +122,8 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
                      {"centroid", {c[0], c[1], c[2]}},
                      {"energy", cv.energy(i)},
                      {"surface_area", cv.surface_area(i)},
-                     {"boundary", cv.is_boundary(i)}});
+                     {"boundary", cv.is_boundary(i)},
+                     {"neighbors", table.nb_neighbors[i]}});
   }
   out << nlohmann::json{{"cells", std::move(cells)}}.dump(1) << '\n';
 }
@@ -147,49 +131,91 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
 }  // namespace
 
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
-  if (!args.output.empty() && !has_suffix(args.output, ".vtu") &&
-      !has_suffix(args.output, ".obj") && !has_suffix(args.output, ".json")) {
+  const std::string ext = lower_extension(args.output);
+  if (!args.output.empty() && ext != ".vtu" && ext != ".obj" && ext != ".json" && ext != ".csv") {
     throw UsageError(
         "-o: the output must end in .vtu (cell faces), .obj (restricted "
-        "surface) or .json (per cell), got '" +
+        "surface), .json or .csv (per cell), got '" +
         args.output + "'");
   }
+  const std::string neighbors_ext = lower_extension(args.neighbors);
+  if (!args.neighbors.empty() && neighbors_ext != ".csv" && neighbors_ext != ".json") {
+    throw UsageError("--neighbors: the table must end in .csv or .json, got '" + args.neighbors +
+                     "'");
+  }
+  if ((args.binary || args.compress) && ext != ".vtu") {
+    throw UsageError(std::string(args.compress ? "--compress" : "--binary") +
+                     ": only a .vtu output (-o FILE.vtu) is written in binary or compressed");
+  }
   check_output_path(args.output);
+  check_output_path(args.neighbors);
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
-  if (args.random_set && args.random < 4) throw UsageError("--random: needs at least 4 sites");
+  if (args.random_set && args.random < 1) throw UsageError("--random: needs at least 1 site");
+  Progress progress(options);
+  progress.phase("reading");
   const Domain3 domain = load_domain3(args.domain, args.reorient, options);
   const std::vector<double> sites =
       args.random_set ? random_points3(domain, args.random, args.seed) : read_points(args.sites, 3);
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  std::vector<std::uint32_t> outside, repeated;
+  if (!args.random_set) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (domain.locate(&sites[3 * std::size_t{i}]) == Sign::negative) outside.push_back(i);
+    }
+    repeated = repeated_sites(sites, 3);
+    report_sites(domain.source(), outside, repeated, args.strict, progress);
+  }
   ClippedVoronoi3 cv;
   Clip3Options o;
-  o.keep_surface = has_suffix(args.output, ".obj");
-  o.keep_geometry = has_suffix(args.output, ".vtu");
+  const bool tables = ext == ".json" || ext == ".csv" || !args.neighbors.empty();
+  o.keep_surface = ext == ".obj";
+  o.keep_geometry = ext == ".vtu" || tables;
   // The Delaunay triangulation is built by compute(), of the sites in spatial order.
+  progress.phase("Delaunay and clipping");
   const auto t0 = std::chrono::steady_clock::now();
   cv.compute(domain, sites.data(), n, o);
   const double t_total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double t_delaunay = cv.seconds_delaunay();
+  if (!args.output.empty() || tables) progress.phase("writing");
+  NeighborTable neighbors;
+  if (tables) neighbors = cell_neighbors(cv);
   if (!args.output.empty()) {
     write_file_atomically(args.output, [&](std::ostream& out) {
-      if (has_suffix(args.output, ".obj")) {
+      if (ext == ".obj") {
         write_surface_obj(out, cv);
-      } else if (has_suffix(args.output, ".vtu")) {
-        write_cells_vtu(out, cv);
+      } else if (ext == ".vtu") {
+        write_cells_vtu(out, cv,
+                        args.compress ? VtuEncoding::kZlibBase64
+                                      : (args.binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii));
+      } else if (ext == ".csv") {
+        write_cell_table_csv(out, cell_table(cv, sites.data(), &neighbors));
       } else {
-        write_cells_json(out, sites, cv);
+        write_cells_json(out, sites, cv, cell_table(cv, sites.data(), &neighbors));
       }
     });
   }
+  if (!args.neighbors.empty()) {
+    write_file_atomically(args.neighbors, [&](std::ostream& out) {
+      if (neighbors_ext == ".json") {
+        write_neighbor_table_json(out, neighbors);
+      } else {
+        write_neighbor_table_csv(out, neighbors);
+      }
+    });
+  }
+  progress.done();
   if (options.stats_json) {
     std::cout << nlohmann::json{{"tets", domain.nb_tets()},
                                 {"boundary_triangles", domain.surface().nb_triangles()},
                                 {"shells", domain.surface().shells().size()},
                                 {"sites", n},
-                                {"unique_sites", cv.delaunay().nb_unique_points()},
+                                {"unique_sites",
+                                 cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
+                                {"sites_outside", outside.size()},
+                                {"duplicate_sites", repeated.size()},
                                 {"boundary_sites", cv.nb_boundary_sites()},
                                 {"domain_volume", domain.volume()},
                                 {"cells_volume_sum", cv.total_volume()},
@@ -206,16 +232,17 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
               << '\n';
   }
   if (std::ostream* out = human_stream(options)) {
-    *out << "Clipped Voronoi diagram: " << n << " sites (" << cv.nb_boundary_sites()
-         << " boundary cells) in " << domain.source() << " ("
-         << (domain.has_tets() ? std::to_string(domain.nb_tets()) + " tets, " : std::string())
-         << domain.surface().nb_triangles() << " boundary triangles); cells' volume "
+    *out << "Clipped Voronoi diagram: " << count_of(n, "site") << " ("
+         << count_of(cv.nb_boundary_sites(), "boundary cell") << ") in " << domain.source() << " ("
+         << (domain.has_tets() ? count_of(domain.nb_tets(), "tet") + ", " : std::string())
+         << count_of(domain.surface().nb_triangles(), "boundary triangle") << "); cells' volume "
          << format_double(cv.total_volume()) << " (domain " << format_double(domain.volume())
          << "); Delaunay " << format_double(t_delaunay) << " s, surface "
          << format_double(cv.seconds_surface()) << " s, boundary cells "
          << format_double(cv.seconds_boundary_cells()) << " s, inner cells "
          << format_double(cv.seconds_inner_cells()) << " s\n";
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';
+    if (!args.neighbors.empty()) *out << "Neighbour pairs written to " << args.neighbors << '\n';
   }
 }
 

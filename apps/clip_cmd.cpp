@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -21,11 +22,6 @@
 namespace voroclip::cli {
 
 namespace {
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -200,8 +196,8 @@ std::vector<std::vector<std::uint32_t>> group_rings(const ClippedVoronoi2& cv, s
   return polygons;
 }
 
-void write_clip_json(std::ostream& out, const std::vector<double>& sites,
-                     const ClippedVoronoi2& cv) {
+void write_clip_json(std::ostream& out, const std::vector<double>& sites, const ClippedVoronoi2& cv,
+                     const CellTable& table) {
   const std::vector<double>& xy = cv.vertex_coords();
   nlohmann::json cells = nlohmann::json::array();
   for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
@@ -224,56 +220,42 @@ void write_clip_json(std::ostream& out, const std::vector<double>& sites,
                      {"centroid", {cv.centroid(i)[0], cv.centroid(i)[1]}},
                      {"energy", cv.energy(i)},
                      {"boundary", cv.is_boundary(i)},
+                     {"neighbors", table.nb_neighbors[i]},
                      {"polygons", std::move(polygons)}});
   }
   out << nlohmann::json{{"cells", std::move(cells)}}.dump(1) << '\n';
 }
 
-// VTK XML polydata-style unstructured grid: one VTK_POLYGON per ring, with the cell's
-// site index ("site_id") and the ring's orientation ("hole": 1 for a clockwise ring).
-void write_clip_vtu(std::ostream& out, const ClippedVoronoi2& cv) {
+// VTK XML unstructured grid: one VTK_POLYGON per ring, with the cell's site index
+// ("site_id") and the ring's orientation ("hole": 1 for a clockwise ring).
+void write_clip_vtu(std::ostream& out, const ClippedVoronoi2& cv, VtuEncoding encoding) {
   const std::vector<double>& xy = cv.vertex_coords();
-  const std::uint32_t nv = static_cast<std::uint32_t>(cv.vertices().size());
-  std::uint32_t nr = 0;
-  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
-    nr += cv.cell_ring_begin(i + 1) - cv.cell_ring_begin(i);
-  }
-  out << std::setprecision(17);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << nv << "\" NumberOfCells=\"" << nr << "\">\n<Points>\n<DataArray type=\"Float64\" "
-      << "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (std::uint32_t k = 0; k < nv; ++k) out << xy[2 * k] << ' ' << xy[2 * k + 1] << " 0\n";
-  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-         "format=\"ascii\">\n";
-  for (std::uint32_t k = 0; k < nv; ++k) out << k << '\n';
-  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  const auto nv = static_cast<std::uint32_t>(cv.vertices().size());
+  std::vector<std::uint32_t> indices(nv), ring_begin;
+  for (std::uint32_t k = 0; k < nv; ++k) indices[k] = k;
+  std::vector<VtuCellTags> tags(2);
+  tags[0].name = "site_id";
+  tags[1].name = "hole";
   for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
     for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
-      out << cv.ring_vertex_begin(r + 1) << '\n';
-    }
-  }
-  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::uint32_t r = 0; r < nr; ++r) out << "7\n";
-  out << "</DataArray>\n</Cells>\n<CellData Scalars=\"site_id\">\n<DataArray type=\"UInt32\" "
-         "Name=\"site_id\" format=\"ascii\">\n";
-  std::vector<std::uint8_t> hole;
-  for (std::uint32_t i = 0; i < cv.nb_sites(); ++i) {
-    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
-      out << i << '\n';
       const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+      if (ring_begin.empty()) ring_begin.push_back(b);
+      ring_begin.push_back(e);
       double a = 0;
       for (std::uint32_t k = b; k < e; ++k) {
         const std::uint32_t l = k + 1 == e ? b : k + 1;
         a += (xy[2 * k] - xy[2 * b]) * (xy[2 * l + 1] - xy[2 * b + 1]) -
              (xy[2 * l] - xy[2 * b]) * (xy[2 * k + 1] - xy[2 * b + 1]);
       }
-      hole.push_back(a < 0 ? 1 : 0);
+      tags[0].values.push_back(static_cast<std::int32_t>(i));
+      tags[1].values.push_back(a < 0 ? 1 : 0);
     }
   }
-  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"hole\" format=\"ascii\">\n";
-  for (const std::uint8_t h : hole) out << int{h} << '\n';
-  out << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  if (ring_begin.empty()) ring_begin.push_back(0);
+  const std::uint32_t first = ring_begin[0];  // 0: the rings are stored cell by cell
+  for (std::uint32_t& r : ring_begin) r -= first;
+  const VtuCellBlock rings{indices.data() + first, ring_begin.size() - 1, 0, ring_begin.data()};
+  write_vtu(out, xy.data(), nv, 2, {rings}, encoding, {}, tags);
 }
 
 void write_sites(std::ostream& out, const std::vector<double>& sites) {
@@ -285,58 +267,129 @@ void write_sites(std::ostream& out, const std::vector<double>& sites) {
 
 void check_output_name(const std::string& path, bool sites_ok) {
   if (path.empty()) return;
-  if (ends_with(path, ".svg") || ends_with(path, ".vtu") || ends_with(path, ".json")) return;
-  if (sites_ok && ends_with(path, ".txt")) return;
-  throw UsageError("-o: the output must end in .svg, .vtu or .json" +
+  const std::string ext = lower_extension(path);
+  if (ext == ".svg" || ext == ".vtu" || ext == ".json" || ext == ".csv") return;
+  if (sites_ok && ext == ".txt") return;
+  throw UsageError("-o: the output must end in .svg, .vtu, .json or .csv" +
                    std::string(sites_ok ? " (or .txt for the sites)" : "") + ", got '" + path +
                    "'");
 }
 
-void write_output(const std::string& path, const Domain2& domain, const std::vector<double>& sites,
-                  const ClippedVoronoi2& cv) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    if (ends_with(path, ".svg")) {
-      write_clip_svg(out, domain, sites, cv);
-    } else if (ends_with(path, ".vtu")) {
-      write_clip_vtu(out, cv);
-    } else if (ends_with(path, ".json")) {
-      write_clip_json(out, sites, cv);
-    } else {
-      write_sites(out, sites);
-    }
-  });
+void check_encoding(const ClipArgs& args) {
+  if ((args.binary || args.compress) && lower_extension(args.output) != ".vtu") {
+    throw UsageError(std::string(args.compress ? "--compress" : "--binary") +
+                     ": only a .vtu output (-o FILE.vtu) is written in binary or compressed");
+  }
 }
 
-std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain) {
+VtuEncoding vtu_encoding(const ClipArgs& args) {
+  return args.compress ? VtuEncoding::kZlibBase64
+                       : (args.binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii);
+}
+
+void check_neighbors_name(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (!path.empty() && ext != ".csv" && ext != ".json") {
+    throw UsageError("--neighbors: the table must end in .csv or .json, got '" + path + "'");
+  }
+}
+
+// -o and --neighbors. The tables need the cells' geometry (the diagram computed with
+// keep_geometry).
+void write_output(const ClipArgs& args, const Domain2& domain, const std::vector<double>& sites,
+                  const ClippedVoronoi2& cv) {
+  const std::string ext = lower_extension(args.output);
+  NeighborTable neighbors;
+  const bool tables = ext == ".csv" || ext == ".json" || !args.neighbors.empty();
+  if (tables) neighbors = cell_neighbors(cv);
+  if (!args.output.empty()) {
+    write_file_atomically(args.output, [&](std::ostream& out) {
+      if (ext == ".svg") {
+        write_clip_svg(out, domain, sites, cv);
+      } else if (ext == ".vtu") {
+        write_clip_vtu(out, cv, vtu_encoding(args));
+      } else if (ext == ".json") {
+        write_clip_json(out, sites, cv, cell_table(cv, sites.data(), &neighbors));
+      } else if (ext == ".csv") {
+        write_cell_table_csv(out, cell_table(cv, sites.data(), &neighbors));
+      } else {
+        write_sites(out, sites);
+      }
+    });
+  }
+  if (!args.neighbors.empty()) {
+    write_file_atomically(args.neighbors, [&](std::ostream& out) {
+      if (lower_extension(args.neighbors) == ".json") {
+        write_neighbor_table_json(out, neighbors);
+      } else {
+        write_neighbor_table_csv(out, neighbors);
+      }
+    });
+  }
+}
+
+// Given sites outside the domain or repeated: a warning (an error with --strict); their
+// numbers for --stats json.
+struct SiteCheck {
+  std::size_t outside = 0, repeated = 0;
+};
+
+std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check,
+                               Progress& progress) {
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
   if (args.random_set && args.random < 3) throw UsageError("--random: needs at least 3 sites");
-  return args.random_set ? random_sites_in(domain, args.random, args.seed)
-                         : read_points(args.sites, 2);
+  if (args.random_set) return random_sites_in(domain, args.random, args.seed);
+  std::vector<double> sites = read_points(args.sites, 2);
+  std::vector<std::uint32_t> outside;
+  for (std::size_t i = 0; i < sites.size() / 2; ++i) {
+    if (domain.locate(&sites[2 * i]) == Sign::negative) {
+      outside.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  const std::vector<std::uint32_t> repeated = repeated_sites(sites, 2);
+  report_sites(domain.source(), outside, repeated, args.strict, progress);
+  check.outside = outside.size();
+  check.repeated = repeated.size();
+  return sites;
 }
 
 }  // namespace
 
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, false);
+  check_encoding(args);
+  check_neighbors_name(args.neighbors);
   check_output_path(args.output);
+  check_output_path(args.neighbors);
+  Progress progress(options);
+  progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
-  const std::vector<double> sites = load_sites(args, domain);
+  SiteCheck site_check;
+  const std::vector<double> sites = load_sites(args, domain, site_check, progress);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
+  progress.phase("Delaunay");
   const auto t0 = std::chrono::steady_clock::now();
   const Delaunay2 dt(sites.data(), n);
   const double t_delaunay = seconds_since(t0);
   ClippedVoronoi2 cv;
   Clip2Options o;
-  o.keep_geometry = !args.output.empty();
+  o.keep_geometry = !args.output.empty() || !args.neighbors.empty();
+  progress.phase("clipping");
   const auto t1 = std::chrono::steady_clock::now();
   cv.compute(domain, dt, o);
   const double t_clip = seconds_since(t1);
-  if (!args.output.empty()) write_output(args.output, domain, sites, cv);
+  if (o.keep_geometry) {
+    progress.phase("writing");
+    write_output(args, domain, sites, cv);
+  }
+  progress.done();
   if (options.stats_json) {
     std::cout << nlohmann::json{{"sites", n},
                                 {"unique_sites", dt.nb_unique_points()},
+                                {"sites_outside", site_check.outside},
+                                {"duplicate_sites", site_check.repeated},
                                 {"boundary_sites", cv.nb_boundary_sites()},
                                 {"domain_area", domain.area()},
                                 {"cells_area_sum", cv.total_area()},
@@ -348,52 +401,61 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
               << '\n';
   }
   if (std::ostream* out = human_stream(options)) {
-    *out << "Clipped Voronoi diagram: " << n << " sites (" << cv.nb_boundary_sites()
-         << " boundary cells) in " << domain.source() << ", " << domain.nb_rings()
-         << " rings; cells' area " << format_double(cv.total_area()) << " (domain "
-         << format_double(domain.area()) << "); Delaunay " << format_double(t_delaunay)
-         << " s, clipping " << format_double(t_clip) << " s\n";
+    *out << "Clipped Voronoi diagram: " << count_of(n, "site") << " ("
+         << count_of(cv.nb_boundary_sites(), "boundary cell") << ") in " << domain.source() << ", "
+         << count_of(domain.nb_rings(), "ring") << "; cells' area "
+         << format_double(cv.total_area()) << " (domain " << format_double(domain.area())
+         << "); Delaunay " << format_double(t_delaunay) << " s, clipping " << format_double(t_clip)
+         << " s\n";
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';
+    if (!args.neighbors.empty()) *out << "Neighbour pairs written to " << args.neighbors << '\n';
   }
 }
 
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, true);
+  check_encoding(args);
+  check_neighbors_name(args.neighbors);
   check_output_path(args.output);
+  check_output_path(args.neighbors);
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }
   if (!(args.tolerance >= 0) || !std::isfinite(args.tolerance)) {
     throw UsageError("--tolerance: expected a finite number >= 0");
   }
+  Progress progress(options);
+  progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
-  std::vector<double> sites = load_sites(args, domain);
+  SiteCheck site_check;
+  std::vector<double> sites = load_sites(args, domain, site_check, progress);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
   Cvt2Options o;
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
   o.max_iterations = args.iterations;
   o.gradient_tolerance = args.tolerance;
   std::ostream* human = human_stream(options);
+  progress.phase("CVT (" + args.method + ")", args.iterations);
   o.progress = [&](const CvtProgress& p) {
-    if (human) {
-      *human << "iteration " << std::setw(4) << p.iteration << "  energy " << std::setprecision(12)
-             << p.energy << "  |g| " << std::setprecision(4) << p.gradient_norm << "  "
-             << std::setprecision(3) << p.seconds << " s\n";
-    }
+    progress.iteration(p.iteration, p.energy, p.gradient_norm);
     return true;
   };
   const Cvt2Result r = optimize_cvt2(domain, sites, o);
-  if (!args.output.empty()) {
+  if (!args.output.empty() || !args.neighbors.empty()) {
+    progress.phase("writing");
     const Delaunay2 dt(sites.data(), n);
     ClippedVoronoi2 cv;
     Clip2Options co;
     co.keep_geometry = true;
     cv.compute(domain, dt, co);
-    write_output(args.output, domain, sites, cv);
+    write_output(args, domain, sites, cv);
   }
+  progress.done();
   if (options.stats_json) {
     std::cout << nlohmann::json{{"sites", n},
                                 {"method", args.method},
+                                {"sites_outside", site_check.outside},
+                                {"duplicate_sites", site_check.repeated},
                                 {"iterations", r.iterations},
                                 {"evaluations", r.evaluations},
                                 {"energy", r.energy},
@@ -405,12 +467,13 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
               << '\n';
   }
   if (human) {
-    *human << "CVT (" << args.method << "): " << r.iterations << " iterations, " << r.evaluations
-           << " diagrams, energy " << std::setprecision(12) << r.energy << ", |g|/|g0| "
-           << std::setprecision(3)
+    *human << "CVT (" << args.method << "): " << count_of(r.iterations, "iteration") << ", "
+           << count_of(r.evaluations, "diagram") << ", energy " << std::setprecision(12) << r.energy
+           << ", |g|/|g0| " << std::setprecision(3)
            << (r.initial_gradient_norm > 0 ? r.gradient_norm / r.initial_gradient_norm : 0)
            << (r.converged ? " (converged)" : "") << ", " << r.seconds << " s\n";
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
+    if (!args.neighbors.empty()) *human << "Neighbour pairs written to " << args.neighbors << '\n';
   }
 }
 

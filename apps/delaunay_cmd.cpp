@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 
@@ -86,26 +87,32 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
     throw UsageError("-o: only legacy VTK output (.vtk) is supported, got '" + args.output + "'");
   }
   check_output_path(args.output);
+  Progress progress(options);
+  progress.phase("reading");
   const std::vector<double> points =
       args.random_set ? random_points(args.random, args.seed, dim) : read_points(args.input, dim);
   const auto n = static_cast<std::uint32_t>(points.size() / static_cast<std::size_t>(dim));
 
+  progress.phase("Delaunay");
   const auto start = std::chrono::steady_clock::now();
   Result r = dim == 2 ? triangulate_2d(points, false) : triangulate_3d(points, false);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.check) {
+    progress.phase("exact check");
     r = dim == 2 ? triangulate_2d(points, true) : triangulate_3d(points, true);
     if (!r.check.empty()) throw Error("the exact check failed: " + r.check);
   }
   const std::size_t per_cell = static_cast<std::size_t>(dim) + 1;
   const std::size_t nb_cells = r.cells.size() / per_cell;
   if (!args.output.empty()) {
+    progress.phase("writing " + args.output);
     write_file_atomically(args.output, [&](std::ostream& out) {
       write_vtk(out, "voroclip delaunay" + std::to_string(dim) + "d", points.data(), n, dim,
                 r.cells, dim + 1);
     });
   }
+  progress.done();
   const char* cells_key = dim == 2 ? "triangles" : "tetrahedra";
   if (options.stats_json) {
     nlohmann::json stats = {
@@ -115,8 +122,9 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
     std::cout << stats.dump() << '\n';
   }
   if (std::ostream* out = human_stream(options)) {
-    *out << "Delaunay " << dim << "D: " << n << " points (" << r.unique << " distinct), "
-         << nb_cells << ' ' << cells_key << ", " << r.hull_vertices << " hull vertices, "
+    *out << "Delaunay " << dim << "D: " << count_of(n, "point") << " (" << r.unique
+         << " distinct), " << nb_cells << ' ' << cells_key << ", "
+         << count_of(r.hull_vertices, "hull vertex", "hull vertices") << ", "
          << format_double(seconds) << " s\n";
     if (args.check) *out << "Exact checks (topology, orientation, local Delaunay): passed\n";
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';

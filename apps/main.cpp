@@ -16,6 +16,17 @@
 
 namespace {
 
+// The columns of the cell tables (core.h, "Tables of the cells"), for the help.
+constexpr const char* kCells2Columns =
+    "site,x,y,area,centroid_x,centroid_y,energy,boundary,neighbors; site is the 0-based input "
+    "index, boundary 1 when the cell meets the domain's boundary, neighbors the number of "
+    "cells sharing an edge";
+constexpr const char* kCells3Columns =
+    "site,x,y,z,volume,centroid_x,centroid_y,centroid_z,energy,boundary,neighbors,"
+    "surface_area; site is the 0-based input index, boundary 1 when the cell meets the "
+    "surface, neighbors the number of cells sharing a face, surface_area its area on the "
+    "surface";
+
 constexpr int kRuntimeError = 1;
 constexpr int kUsageError = 2;
 
@@ -30,6 +41,34 @@ int report_error(const std::string& what, int status) {
   return status;
 }
 
+// The message for a command line without a valid command: the word taken for one (the first
+// argument that is neither a global option nor its value) and the list of commands; "" when
+// that word is a command (the parse failed for another reason).
+std::string no_command(const CLI::App& app, const std::string& word) {
+  std::string commands;
+  bool word_is_command = false;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    commands += (commands.empty() ? "" : ", ") + sub->get_name();
+    if (sub->get_name() == word) word_is_command = true;
+  }
+  if (word_is_command) return "";  // the parse failed for another reason
+  return (word.empty() ? std::string("no command given") : "unknown command '" + word + "'") +
+         "; the commands are: " + commands + " (voroclip --help describes them)";
+}
+
+// The first argument that is neither a global option nor its value: the command.
+std::string command_word(int argc, char** argv) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--threads" || a == "--stats" || a == "--progress") {
+      ++k;  // its value
+    } else if (a.empty() || a[0] != '-') {
+      return a;
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,6 +79,8 @@ int main(int argc, char** argv) {
       "voroclip"};
   app.set_version_flag("--version", std::string("voroclip ") + voroclip::version(),
                        "Print the version and exit");
+  // Positionals are named once ("DOMAIN (required)", not CLI11's "DOMAIN DOMAIN REQUIRED").
+  app.get_formatter()->label("REQUIRED", "(required)");
   app.require_subcommand(1);
   app.fallthrough();  // global options may also follow the subcommand
 
@@ -60,11 +101,26 @@ int main(int argc, char** argv) {
           },
           ""));
   app.add_option("--stats", stats_format,
-                 "Print machine-readable statistics on stdout as one JSON object (human "
-                 "text then goes to stderr)")
+                 "Print machine-readable statistics on stdout as one JSON object (json is the "
+                 "only format; the human report then goes to stderr)")
       ->type_name("json")
-      ->check(CLI::IsMember({"json"}));
-  app.add_flag("-q,--quiet", global.quiet, "Print no human-readable text");
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return text == "json" ? "" : "expected 'json', got '" + text + "'";
+          },
+          ""));
+  app.add_flag("-q,--quiet", global.quiet, "Print no human-readable text (no progress either)");
+  app.add_option("--progress", global.progress,
+                 "Progress on stderr: auto (default: a live bar per phase on a terminal, plain "
+                 "lines otherwise), bar, lines or none")
+      ->type_name("MODE")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return text == "auto" || text == "bar" || text == "lines" || text == "none"
+                       ? ""
+                       : "expected auto, bar, lines or none, got '" + text + "'";
+          },
+          ""));
 
   voroclip::cli::DemoArgs demo_args;
   CLI::App* demo = app.add_subcommand(
@@ -85,7 +141,8 @@ int main(int argc, char** argv) {
       "are Shewchuk's: orient2d > 0 for counter-clockwise points, incircle/insphere > 0 when "
       "the last point is inside the circle/sphere of the others (positively oriented)");
   predicate->add_option("NAME", predicate_args.name, "orient2d, incircle, orient3d or insphere")
-      ->required();
+      ->required()
+      ->type_name("");
   predicate
       ->add_option("COORDS", predicate_args.coordinates,
                    "Coordinates of the points in order: 6, 8, 12 or 15 numbers, decimal or "
@@ -139,7 +196,7 @@ int main(int argc, char** argv) {
                     "Polygon file (.json rings as in shared/data/polygons, or Triangle .poly), "
                     "or a generator: annulus:R_IN,R_OUT,SEGMENTS or square-holes:K,FRACTION")
         ->required()
-        ->type_name("DOMAIN");
+        ->type_name("");
     cmd->add_option("--sites", a.sites,
                     "Site file: one 'x y' per line ('#' comments) or a JSON array [[x,y],...]")
         ->type_name("FILE");
@@ -148,8 +205,20 @@ int main(int argc, char** argv) {
     cmd->add_option("--seed", a.seed, "Seed of --random (default 1)")->type_name("S");
     cmd->add_option("-o,--output", a.output,
                     std::string("Write the cells: .svg picture, .vtu polygons with site_id, "
-                                ".json per-cell site/area/centroid/polygons") +
+                                ".csv one row per cell (") +
+                        kCells2Columns + "), .json the same per cell with mass and polygons" +
                         (c == 1 ? ", or .txt the final sites" : ""))
+        ->type_name("FILE");
+    cmd->add_flag("--binary", a.binary, "Write a .vtu output's data in binary (base64, appended)");
+    cmd->add_flag("--compress", a.compress,
+                  "Compress a .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
+                  "and ParaView write it)");
+    cmd->add_flag("--strict", a.strict,
+                  "Given sites outside the domain or repeating an earlier site are an error "
+                  "(default: a warning naming them)");
+    cmd->add_option("--neighbors", a.neighbors,
+                    "Write the pairs of neighbouring cells, .csv (site_a,site_b,length: the "
+                    "length of their common edge; site_a < site_b) or .json")
         ->type_name("FILE");
     if (c == 1) {
       cmd->add_option("--method", a.method, "lbfgs (default) or lloyd")->type_name("NAME");
@@ -172,7 +241,7 @@ int main(int argc, char** argv) {
                    "Polygon file (.json rings, Triangle .poly) or a generator: "
                    "annulus:R_IN,R_OUT,SEGMENTS or square-holes:K,FRACTION")
       ->required()
-      ->type_name("DOMAIN");
+      ->type_name("");
   mesh2d->add_option("--vertices", mesh_args.vertices, "Target number of mesh vertices")
       ->type_name("N");
   mesh2d
@@ -245,7 +314,7 @@ int main(int argc, char** argv) {
   CLI::App* clip3d = app.add_subcommand(
       "clip3d",
       "Voronoi diagram of sites clipped to a volume given by its surface or a tet mesh (exact)");
-  clip3d->add_option("DOMAIN", clip3d_args.domain, domain3_help)->required()->type_name("DOMAIN");
+  clip3d->add_option("DOMAIN", clip3d_args.domain, domain3_help)->required()->type_name("");
   clip3d->add_flag("--reorient", clip3d_args.reorient, reorient_help);
   clip3d
       ->add_option("--sites", clip3d_args.sites,
@@ -256,10 +325,24 @@ int main(int argc, char** argv) {
   clip3d->add_option("--seed", clip3d_args.seed, "Seed of --random (default 1)")->type_name("S");
   clip3d
       ->add_option("-o,--output", clip3d_args.output,
-                   "Write .vtu (every cell's faces, shrunk towards its centroid, with site_id "
-                   "and across: the neighbouring site, -1 on the surface), .obj (the "
-                   "restricted surface coloured by cell) or .json (per cell: site, volume, "
-                   "centroid, boundary)")
+                   std::string("Write .vtu (every cell's faces, shrunk towards its centroid, "
+                               "with site_id and across: the neighbouring site, -1 on the "
+                               "surface), .obj (the restricted surface coloured by cell), .csv "
+                               "one row per cell (") +
+                       kCells3Columns + ") or .json (the same per cell)")
+      ->type_name("FILE");
+  clip3d->add_flag("--binary", clip3d_args.binary,
+                   "Write a .vtu output's data in binary (base64, appended)");
+  clip3d->add_flag("--compress", clip3d_args.compress,
+                   "Compress a .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
+                   "and ParaView write it)");
+  clip3d->add_flag("--strict", clip3d_args.strict,
+                   "Given sites outside the volume or repeating an earlier site are an error "
+                   "(default: a warning naming them)");
+  clip3d
+      ->add_option("--neighbors", clip3d_args.neighbors,
+                   "Write the pairs of neighbouring cells, .csv (site_a,site_b,area: the area "
+                   "of their common face; site_a < site_b) or .json")
       ->type_name("FILE");
 
   voroclip::cli::QualityArgs quality_args;
@@ -273,7 +356,7 @@ int main(int argc, char** argv) {
                    "Tet mesh: Medit .mesh, TetGen .node/.ele, Gmsh .msh, legacy .vtk or .vtu; "
                    "inverted and zero-volume tets are reported, not rejected")
       ->required()
-      ->type_name("MESH");
+      ->type_name("");
   quality
       ->add_option("--surface", quality_args.surface,
                    "Reference surface (.obj, .off, .stl, .ply), or a tet mesh whose boundary "
@@ -286,6 +369,9 @@ int main(int argc, char** argv) {
       ->add_option("-o,--output", quality_args.output,
                    "Write the mesh as .vtu with Q1..Q4 per tet as cell data")
       ->type_name("FILE.vtu");
+  quality->add_flag("--compress", quality_args.compress,
+                    "Compress the .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
+                    "and ParaView write it)");
   quality
       ->add_option("--samples", quality_args.samples,
                    "Minimum number of samples on each surface for the distance (default "
@@ -299,7 +385,7 @@ int main(int argc, char** argv) {
       "tessellation (Yan et "
       "al. 2011, sec. 5.2): CVT, boundary and feature sites constrained, exact extraction, "
       "sliver perturbation; progress per phase and the quality report");
-  mesh3d->add_option("DOMAIN", mesh3d_args.domain, domain3_help)->required()->type_name("DOMAIN");
+  mesh3d->add_option("DOMAIN", mesh3d_args.domain, domain3_help)->required()->type_name("");
   mesh3d->add_flag("--reorient", mesh3d_args.reorient, reorient_help);
   mesh3d->add_flag("--exact-vertices", mesh3d_args.exact_vertices,
                    "Fail, naming where and how many vertices would do, when --vertices cannot "
@@ -371,14 +457,23 @@ int main(int argc, char** argv) {
       ->add_option("FILE", check_args.path,
                    "A surface (.obj, .off, .stl, .ply), or a tet mesh (its boundary is checked)")
       ->required()
-      ->type_name("FILE");
+      ->type_name("");
   check_surface->add_flag("--reorient", check_args.reorient, reorient_help);
+
+  std::string help_topic;
+  CLI::App* help = app.add_subcommand(
+      "help", "Print the help of a command (voroclip help clip3d), or of the tool without one");
+  help->add_option("COMMAND", help_topic, "The command")->type_name("");
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::string what = e.what();
+    if (app.get_subcommands().empty()) {
+      const std::string message = no_command(app, command_word(argc, argv));
+      if (!message.empty()) return report_error(message, kUsageError);
+    }
     if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && predicate->parsed()) {
       what += " (write -- before the coordinates to pass one like -.5 or -inf)";
     }
@@ -389,6 +484,21 @@ int main(int argc, char** argv) {
   }
   global.stats_json = stats_format == "json";
   predicate_args.sos = sos->count() > 0;
+
+  if (*help) {
+    if (help_topic.empty() || help_topic == "help") {
+      // (app.help() would show the selected subcommand's, help's own.)
+      std::cout << app.get_formatter()->make_help(&app, "voroclip", CLI::AppFormatMode::Normal);
+      return 0;
+    }
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == help_topic) {
+        std::cout << sub->help("voroclip");
+        return 0;
+      }
+    }
+    return report_error(no_command(app, help_topic), kUsageError);
+  }
 
   try {
     std::unique_ptr<tbb::global_control> parallelism;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
 
@@ -354,16 +355,23 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
   o.constrained_iterations = args.iterations;
   std::ostream* human = human_stream(options);
+  Progress progress(options);
+  bool started = false;
+  Mesh2Phase phase = Mesh2Phase::kSampling;
   o.progress = [&](const Mesh2Progress& p) {
-    // Every 10th iteration, and the start of each phase.
-    if (human && (p.iteration % 10 == 0)) {
-      *human << std::left << std::setw(18) << phase_name(p.phase) << std::right << " iteration "
-             << std::setw(4) << p.iteration;
-      if (p.phase == Mesh2Phase::kUnconstrained || p.phase == Mesh2Phase::kConstrained) {
-        *human << "  energy " << std::setprecision(10) << p.energy << "  |g| "
-               << std::setprecision(4) << p.gradient_norm;
-      }
-      *human << "  " << std::setprecision(3) << p.seconds << " s\n";
+    // A new phase at a change of phase, and at each repair round (its CVT starts over).
+    if (!started || p.phase != phase || p.iteration == 0) {
+      const std::uint32_t budget = p.phase == Mesh2Phase::kUnconstrained
+                                       ? o.unconstrained_iterations
+                                   : p.phase == Mesh2Phase::kConstrained ? o.constrained_iterations
+                                                                         : 0;
+      progress.phase(phase_name(p.phase), budget);
+      started = true;
+      phase = p.phase;
+    }
+    if (p.phase == Mesh2Phase::kUnconstrained || p.phase == Mesh2Phase::kConstrained ||
+        p.phase == Mesh2Phase::kRepair) {
+      if (p.iteration > 0) progress.iteration(p.iteration, p.energy, p.gradient_norm, 10);
     }
     return true;
   };
@@ -377,13 +385,19 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
                 "); no file written. This is a defect of voroclip: please report it with the "
                 "input and the command");
   }
+  progress.phase("quality");
   const TriangleQuality2 q = triangle_quality2(mesh, 2.0);
-  if (!args.output.empty()) write_mesh2_file(args.output, domain, mesh, args.msh_version == "2.2");
+  if (!args.output.empty()) {
+    progress.phase("writing " + args.output);
+    write_mesh2_file(args.output, domain, mesh, args.msh_version == "2.2");
+  }
   if (!args.histogram.empty()) {
+    progress.phase("writing " + args.histogram);
     write_file_atomically(args.histogram, [&](std::ostream& out) {
       write_quality_svg(out, q, "voroclip mesh2d: " + domain.source());
     });
   }
+  progress.done();
   if (options.stats_json) {
     nlohmann::ordered_json s;
     s["vertices"] = mesh.nb_vertices();

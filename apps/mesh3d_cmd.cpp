@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -29,12 +30,6 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 std::string fixed(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
-std::string sci(double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4e", x);
   return buf;
 }
 
@@ -73,6 +68,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      format_double(args.smooth_shape));
   }
   const auto start = std::chrono::steady_clock::now();
+  Progress progress(options);
+  progress.phase("reading");
   const Domain3 domain = load_domain3(args.domain, args.reorient, options);
   const double t_read = seconds_since(start);
 
@@ -91,44 +88,47 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.perturbation.target_dihedral_deg = args.sliver_angle;
   o.vertex_count =
       args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
-  if (out) {
-    o.progress = [out](const Mesh3Progress& p) {
+  if (progress.mode() != Progress::Mode::kNone) {
+    o.progress = [&progress, &args](const Mesh3Progress& p) {
+      const std::string name = mesh3_phase_name(p.phase);
+      const bool begins = p.iteration == 0 && p.energy == 0 && !p.topology_round;
       if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
-        if (p.iteration == 0 && p.energy == 0) {
-          *out << mesh3_phase_name(p.phase) << " CVT\n";
+        if (begins) {
+          progress.phase(name + " CVT", p.phase == Mesh3Phase::kUnconstrained
+                                            ? args.unconstrained_iterations
+                                            : args.constrained_iterations);
         } else {
-          *out << "  " << mesh3_phase_name(p.phase) << " iteration " << p.iteration << "  energy "
-               << sci(p.energy) << "  |g| " << sci(p.gradient_norm) << "  " << fixed(p.seconds, 2)
-               << " s\n";
+          progress.iteration(p.iteration, p.energy, p.gradient_norm);
         }
       } else if (p.phase == Mesh3Phase::kTopology) {
         if (!p.topology_round) {
           // The phase's start, or an iteration of a short CVT after the rounds.
-          if (p.iteration == 0 && p.energy == 0) {
-            *out << "topology  " << fixed(p.seconds, 2) << " s\n";
-          } else if (p.iteration > 0 && p.iteration % 5 == 0) {
-            *out << "  topology CVT iteration " << p.iteration << "  energy " << sci(p.energy)
-                 << "  " << fixed(p.seconds, 2) << " s\n";
+          if (begins) {
+            progress.phase("topology");
+          } else if (p.iteration > 0) {
+            progress.iteration(p.iteration, p.energy, -1, 5);
           }
         } else if (p.iteration == 0 && p.defects == 0) {
-          *out << "  the restricted Voronoi diagram has the closed-ball property  "
-               << fixed(p.seconds, 2) << " s\n";
+          progress.note("the restricted Voronoi diagram has the closed-ball property");
         } else {
-          *out << "  topology round " << p.iteration << ": " << p.defects
-               << " restricted cells not yet disks meeting along single arcs, " << p.added_sites
-               << " sites added  " << fixed(p.seconds, 2) << " s\n";
+          progress.note("topology round " + std::to_string(p.iteration) + ": " +
+                        std::to_string(p.defects) +
+                        " restricted cells not yet disks meeting along single arcs, " +
+                        std::to_string(p.added_sites) + " sites added");
         }
       } else if (p.phase == Mesh3Phase::kSlivers && (p.iteration > 0 || p.slivers > 0)) {
-        *out << "  slivers round " << p.iteration << ": " << p.slivers
-             << " tets below the target, smallest dihedral angle " << fixed(p.min_dihedral_deg, 2)
-             << " deg  " << fixed(p.seconds, 2) << " s\n";
+        progress.note("slivers round " + std::to_string(p.iteration) + ": " +
+                      std::to_string(p.slivers) + (p.slivers == 1 ? " tet" : " tets") +
+                      " below the target, smallest dihedral angle " + fixed(p.min_dihedral_deg, 2) +
+                      " deg");
       } else if (p.iteration == 0) {
-        *out << mesh3_phase_name(p.phase) << "  " << fixed(p.seconds, 2) << " s\n";
+        progress.phase(name);
       }
       return true;
     };
   }
   const Mesh3Result r = mesh3d(domain, o);
+  progress.done();
   if (!r.shape_problem.empty() && !args.allow_shape_mismatch) {
     throw Error("mesh3d: the mesh of " + domain.source() + " does not have its shape: " +
                 r.shape_problem + "; no file written (try more --vertices, or " +
@@ -156,6 +156,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   mesh.tet_ref = r.tet_tags;
   mesh.tag_names = r.tag_names;
   // The Hausdorff distance between the output's boundary and the input's.
+  progress.phase("Hausdorff distance");
   const auto t_h = std::chrono::steady_clock::now();
   const TriangleSurface reference = boundary_surface(domain);
   const TriangleSurface boundary = tet_mesh_boundary(mesh);
@@ -163,6 +164,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   const double t_hausdorff = seconds_since(t_h);
 
   if (!args.output.empty()) {
+    progress.phase("writing " + args.output);
     if (ext == ".vtu") {
       // The tets, then the boundary triangles (as write_tet_mesh: cell data "region", 0 on
       // triangles, and "patch", 0 on tets), and per tet its smallest dihedral angle (NaN on
@@ -204,6 +206,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     }
   }
 
+  progress.done();
   std::uint32_t counts[4] = {0, 0, 0, 0};
   for (const Mesh3VertexKind k : r.kinds) ++counts[static_cast<int>(k)];
   if (options.stats_json) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "progress.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
 
@@ -51,11 +52,27 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
                      "': expected a surface (.obj, .off, .stl, .ply) or a tet mesh (.mesh, "
                      ".node/.ele, .msh, .vtk, .vtu) whose boundary is used");
   }
+  if (args.compress && args.output.empty()) {
+    throw UsageError("--compress: needs -o FILE.vtu (it compresses the .vtu output)");
+  }
   const auto start = std::chrono::steady_clock::now();
+  Progress progress(options);
+  progress.phase("reading");
   const TetMeshInput mesh = read_tet_mesh(args.mesh);
+  // Every input is read before any work (a bad reference is reported alone, at once).
+  TriangleSurface reference, boundary;
+  if (!args.surface.empty()) {
+    reference = is_surface_file(ref_ext) ? read_surface(args.surface)
+                                         : tet_mesh_boundary(read_tet_mesh(args.surface));
+    boundary = tet_mesh_boundary(mesh);
+    if (boundary.nb_triangles() == 0) {
+      throw Error(args.mesh + ": the mesh has no boundary triangle to compare");
+    }
+  }
   const double t_read = seconds_since(start);
   TetQualityOptions qo;
   qo.keep_per_tet = !args.output.empty();
+  progress.phase("quality");
   const auto t1 = std::chrono::steady_clock::now();
   const TetQuality q = tet_quality(mesh, qo);
   const double t_quality = seconds_since(t1);
@@ -63,13 +80,7 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
   HausdorffDistance distance;
   double t_hausdorff = 0;
   if (!args.surface.empty()) {
-    const TriangleSurface reference = is_surface_file(ref_ext)
-                                          ? read_surface(args.surface)
-                                          : tet_mesh_boundary(read_tet_mesh(args.surface));
-    const TriangleSurface boundary = tet_mesh_boundary(mesh);
-    if (boundary.nb_triangles() == 0) {
-      throw Error(args.mesh + ": the mesh has no boundary triangle to compare");
-    }
+    progress.phase("Hausdorff distance");
     HausdorffOptions ho;
     if (args.samples_set) ho.min_samples = args.samples;
     const auto t2 = std::chrono::steady_clock::now();
@@ -79,6 +90,7 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
   const HausdorffDistance* d = args.surface.empty() ? nullptr : &distance;
 
   if (!args.histogram.empty()) {
+    progress.phase("writing " + args.histogram);
     write_file_atomically(args.histogram,
                           [&](std::ostream& out) { write_quality_svg(out, q, args.mesh); });
   }
@@ -95,10 +107,14 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
       fields[2].values.push_back(s.q3);
       fields[3].values.push_back(s.q4);
     }
+    progress.phase("writing " + args.output);
     write_file_atomically(args.output, [&](std::ostream& out) {
-      write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3, mesh.tets, 4, true, fields);
+      write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3,
+                {{mesh.tets.data(), mesh.nb_tets(), 4}},
+                args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64, fields);
     });
   }
+  progress.done();
   if (options.stats_json) {
     std::ostringstream text;
     write_quality_json(text, q, d);

@@ -559,9 +559,51 @@ void ClippedVoronoi3::compute(const Domain3& domain, const Delaunay3& dt,
   compute_impl(domain, dt, options, nullptr);
 }
 
+namespace {
+
+// The dimension of the affine hull of the sites (0: one point, 1: a line, 2: a plane, 3),
+// decided exactly, and the first sites that span it (as Delaunay3::initial_tetrahedron).
+int affine_dimension(const double* sites, std::uint32_t n, std::uint32_t chosen[3]) {
+  const auto point = [&](std::uint32_t i) { return sites + 3 * std::size_t{i}; };
+  const auto same = [](const double* a, const double* b) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+  };
+  chosen[0] = 0;
+  std::uint32_t i = 1;
+  while (i < n && same(point(i), point(0))) ++i;
+  if (i == n) return 0;
+  chosen[1] = i;
+  for (++i; i < n && collinear3d(point(chosen[0]), point(chosen[1]), point(i)); ++i) {
+  }
+  if (i == n) return 1;
+  chosen[2] = i;
+  for (++i; i < n; ++i) {
+    if (orient3d(point(chosen[0]), point(chosen[1]), point(chosen[2]), point(i)) != Sign::zero) {
+      return 3;
+    }
+  }
+  return 2;
+}
+
+void normalize(double* v) {
+  const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  v[0] /= l;
+  v[1] /= l;
+  v[2] /= l;
+}
+
+void cross(const double* a, const double* b, double* c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+}  // namespace
+
 void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::uint32_t n,
                               const Clip3Options& options) {
   cells_.clear();
+  nb_auxiliary_ = 0;
   seconds_delaunay_ = 0;
   if (n == 0) throw Error("clip3d: no sites");
   const auto t0 = std::chrono::steady_clock::now();
@@ -572,6 +614,70 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
     throw Error("clip3d: site " + std::to_string(bad) + " has a non-finite coordinate (" +
                 std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
                 ")");
+  }
+  std::uint32_t chosen[3] = {0, 0, 0};
+  const int dimension = affine_dimension(sites, n, chosen);
+  if (dimension < 3 && domain.surface().nb_triangles() > 0) {
+    // Fewer than 4 affinely independent sites: the clipped diagram is still well defined
+    // (one site: the whole domain; sites on a line: slabs; in a plane: prisms). It is
+    // computed as that of the sites and 2 (plane) or 4 (line, point) auxiliary sites far
+    // off their hull, at distance L >= 4 D from the centre c of the bounding box B of the
+    // domain and the sites (diagonal D): a point x of the domain is within D of every
+    // site, and at least L - D/2 > D from an auxiliary site, so the auxiliary cells miss
+    // the domain and every cell of a site is what it is without them, exactly (the
+    // predicates decide on the sites as given; the auxiliary coordinates are only
+    // required to be far, not exact). Their cells are dropped from the result.
+    double blo[3], bhi[3];
+    for (int k = 0; k < 3; ++k) {
+      blo[k] = std::min(lo[k], domain.bbox_lo()[k]);
+      bhi[k] = std::max(hi[k], domain.bbox_hi()[k]);
+    }
+    const double c[3] = {0.5 * (blo[0] + bhi[0]), 0.5 * (blo[1] + bhi[1]), 0.5 * (blo[2] + bhi[2])};
+    const double diagonal =
+        std::sqrt((bhi[0] - blo[0]) * (bhi[0] - blo[0]) + (bhi[1] - blo[1]) * (bhi[1] - blo[1]) +
+                  (bhi[2] - blo[2]) * (bhi[2] - blo[2]));
+    const double far = std::ldexp(1.0, std::ilogb(std::max(diagonal, 1e-300)) + 3);  // >= 4 D
+    std::vector<std::array<double, 3>> directions;
+    const auto point = [&](std::uint32_t i) { return sites + 3 * std::size_t{i}; };
+    if (dimension == 2) {
+      const double* a = point(chosen[0]);
+      const double u[3] = {point(chosen[1])[0] - a[0], point(chosen[1])[1] - a[1],
+                           point(chosen[1])[2] - a[2]};
+      const double v[3] = {point(chosen[2])[0] - a[0], point(chosen[2])[1] - a[1],
+                           point(chosen[2])[2] - a[2]};
+      std::array<double, 3> normal;
+      cross(u, v, normal.data());
+      normalize(normal.data());
+      directions = {normal, {-normal[0], -normal[1], -normal[2]}};
+    } else {
+      // Two directions across the line (or any two for a point), both ways.
+      double d[3] = {1, 0, 0};
+      if (dimension == 1) {
+        for (int k = 0; k < 3; ++k) d[k] = point(chosen[1])[k] - point(chosen[0])[k];
+      }
+      normalize(d);
+      int axis = 0;  // the axis least along d
+      for (int k = 1; k < 3; ++k) {
+        if (std::fabs(d[k]) < std::fabs(d[axis])) axis = k;
+      }
+      double e[3] = {0, 0, 0};
+      e[axis] = 1;
+      std::array<double, 3> u, w;
+      cross(d, e, u.data());
+      normalize(u.data());
+      cross(d, u.data(), w.data());
+      normalize(w.data());
+      directions = {u, w, {-u[0], -u[1], -u[2]}, {-w[0], -w[1], -w[2]}};
+      if (dimension == 0) directions[2] = {d[0], d[1], d[2]};  // not coplanar with u, w
+    }
+    std::vector<double> extended(sites, sites + 3 * std::size_t{n});
+    for (const auto& dir : directions) {
+      for (int k = 0; k < 3; ++k) extended.push_back(c[k] + far * dir[static_cast<std::size_t>(k)]);
+    }
+    const auto k = static_cast<std::uint32_t>(directions.size());
+    compute(domain, extended.data(), n + k, options);
+    drop_auxiliary_sites(n, k);
+    return;
   }
   // The sites along a Hilbert curve: the cells' order (Clip3Impl::run) and, presorted, the
   // Delaunay's BRIO rounds (which then need no sort of their own).
@@ -595,6 +701,20 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   seconds_delaunay_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   compute_impl(domain, dt_, options, site_order_.data());
   to_input_indices();
+}
+
+void ClippedVoronoi3::drop_auxiliary_sites(std::uint32_t n, std::uint32_t k) {
+  // Their cells are empty (outside the domain, see compute): nothing else refers to them
+  // but the triangulation and site_order(), which keep them.
+  for (std::uint32_t i = n; i < n + k; ++i) {
+    if (cells_[i].volume != 0 || cells_[i].boundary != 0) {
+      throw Error("clip3d: internal error: an auxiliary site's cell meets the domain");
+    }
+  }
+  cells_.resize(n);
+  if (!surface_.site_begin.empty()) surface_.site_begin.resize(std::size_t{n} + 1);
+  nb_auxiliary_ = k;
+  sum_totals();
 }
 
 void ClippedVoronoi3::sum_totals() {

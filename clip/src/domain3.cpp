@@ -54,8 +54,9 @@ using detail::Keyed;
 using detail::point;
 using detail::sort3;
 
-// Names what a message is about, as in the input: the source, tets by their index in the
-// TetMeshInput (the file's order, from 0) with their line in the file.
+// Names what a message is about as the file does (TetMeshInput's tet_noun, tet_label,
+// vertex_label / vertex_base, numbering): "tetrahedron 6 (line 40)" in a Medit file, "tet
+// 5" from 0 for a mesh built in code; numbering() is the note that says which.
 struct Namer {
   const TetMeshInput& mesh;
   std::string source;
@@ -63,23 +64,36 @@ struct Namer {
   std::uint32_t line(std::uint32_t t) const {
     return t < mesh.tet_line.size() ? mesh.tet_line[t] : 0u;
   }
+  // "tetrahedron 6", "element 12", "tet 5".
+  std::string tet_number(std::uint32_t t) const {
+    return (mesh.tet_noun.empty() ? std::string("tet") : mesh.tet_noun) + " " +
+           std::to_string(t < mesh.tet_label.size() ? mesh.tet_label[t] : std::uint64_t{t});
+  }
   // "tet 5 (line 40)", or "tet 5" when the line is not known.
   std::string tet(std::uint32_t t) const {
     const std::uint32_t l = line(t);
-    return "tet " + std::to_string(t) + (l != 0 ? " (line " + std::to_string(l) + ")" : "");
+    return tet_number(t) + (l != 0 ? " (line " + std::to_string(l) + ")" : "");
   }
   // "source:40: tet 5", the start of a message about tet t.
   std::string at(std::uint32_t t) const {
     const std::uint32_t l = line(t);
-    return source + (l != 0 ? ":" + std::to_string(l) : "") + ": tet " + std::to_string(t);
+    return source + (l != 0 ? ":" + std::to_string(l) : "") + ": " + tet_number(t);
   }
-  // "0 1 2 3": the vertices of tet t as given.
+  std::string vertex(std::uint32_t v) const {
+    return std::to_string(v < mesh.vertex_label.size() ? mesh.vertex_label[v]
+                                                       : mesh.vertex_base + v);
+  }
+  // "1 2 3 4": the vertices of tet t as the file numbers them.
   std::string vertices(std::uint32_t t) const {
     std::string s;
     for (std::size_t k = 0; k < 4; ++k) {
-      s += (k ? " " : "") + std::to_string(mesh.tets[4 * static_cast<std::size_t>(t) + k]);
+      s += (k ? " " : "") + vertex(mesh.tets[4 * static_cast<std::size_t>(t) + k]);
     }
     return s;
+  }
+  // "Medit numbering, from 1": how the numbers above count.
+  std::string numbering() const {
+    return mesh.numbering.empty() ? std::string("numbered from 0") : mesh.numbering;
   }
 };
 
@@ -115,7 +129,8 @@ Domain3::Domain3(const TetMeshInput& mesh) {
       const std::uint32_t v = tet_vertex(t, k);
       if (v >= nv) {
         throw Error(name.at(t) + ": vertex index " + std::to_string(v) +
-                    " is out of range (the mesh has " + std::to_string(nv) + " vertices)");
+                    " is out of range (the mesh has " + count_of(nv, "vertex", "vertices") +
+                    "; tets and vertices " + name.numbering() + ")");
       }
       if (first_tet[v] == kNone) first_tet[v] = t;
     }
@@ -124,8 +139,8 @@ Domain3::Domain3(const TetMeshInput& mesh) {
     if (first_tet[v] == kNone) continue;
     const double* p = vertex(v);
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      throw Error(name.at(first_tet[v]) + ": vertex " + std::to_string(v) +
-                  " has a non-finite coordinate " + point(p));
+      throw Error(name.at(first_tet[v]) + ": vertex " + name.vertex(v) +
+                  " has a non-finite coordinate " + point(p) + " (" + name.numbering() + ")");
     }
   }
 
@@ -153,11 +168,12 @@ Domain3::Domain3(const TetMeshInput& mesh) {
   });
   for (std::uint32_t t = 0; t < nt; ++t) {
     if (sign[t] == kRepeated) {
-      throw Error(name.at(t) + " has a repeated vertex (vertices " + name.vertices(t) + ")");
+      throw Error(name.at(t) + " has a repeated vertex (vertices " + name.vertices(t) + "; " +
+                  name.numbering() + ")");
     }
     if (sign[t] == 0) {
       throw Error(name.at(t) + " has zero volume: its vertices " + name.vertices(t) +
-                  " are coplanar (exact orient3d)");
+                  " are coplanar (exact orient3d; " + name.numbering() + ")");
     }
     if (sign[t] < 0) std::swap(tets_[4 * static_cast<std::size_t>(t) + 2], tets_[4 * t + 3]);
   }
@@ -183,10 +199,10 @@ Domain3::Domain3(const TetMeshInput& mesh) {
       const std::uint32_t u = used[i - 1], v = used[i];
       const double *p = vertex(u), *q = vertex(v);
       if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2] && error.wants(u)) {
-        error.set(u, name.source + ": vertices " + std::to_string(u) + " and " + std::to_string(v) +
+        error.set(u, name.source + ": vertices " + name.vertex(u) + " and " + name.vertex(v) +
                          " have the same coordinates " + point(p) +
                          " (duplicate vertices), used by " + name.tet(first_tet[u]) + " and " +
-                         name.tet(first_tet[v]));
+                         name.tet(first_tet[v]) + " (" + name.numbering() + ")");
       }
     }
     error.raise();
@@ -217,8 +233,8 @@ Domain3::Domain3(const TetMeshInput& mesh) {
         while (j < begin[a + 1] && keys[j].hi0 == keys[i].hi0 && keys[j].hi1 == keys[i].hi1) ++j;
         const std::uint32_t t0 = keys[i].code / 4;
         const auto facet = [&] {
-          return "(vertices " + std::to_string(a) + " " + std::to_string(keys[i].hi0) + " " +
-                 std::to_string(keys[i].hi1) + ")";
+          return "(vertices " + name.vertex(a) + " " + name.vertex(keys[i].hi0) + " " +
+                 name.vertex(keys[i].hi1) + "; " + name.numbering() + ")";
         };
         if (j - i == 1) {
           boundary_codes.push_back(keys[i].code);
@@ -271,6 +287,10 @@ Domain3::Domain3(const TetMeshInput& mesh) {
   }
   for (std::size_t t = 0; t < nt; ++t) tet_boundary_begin_[t + 1] += tet_boundary_begin_[t];
   surface.naming_ = Surface3::Naming::kTetFacet;
+  surface.tet_noun_ = mesh.tet_noun.empty() ? std::string("tet") : mesh.tet_noun;
+  surface.tet_label_ = mesh.tet_label;
+  surface.vertex_label_ = mesh.vertex_label;
+  surface.vertex_base_ = static_cast<std::uint32_t>(mesh.vertex_base);  // 0 or 1
   surface.build(Surface3Options{});
 
   source_tet_.resize(nt);
@@ -279,15 +299,15 @@ Domain3::Domain3(const TetMeshInput& mesh) {
   // ---- Tags: the tets' region tags as given; each boundary triangle takes the tag of the
   // input triangle with its three vertices (the first one listed), 0 when none is listed.
   if (!mesh.tet_ref.empty() && mesh.tet_ref.size() != nt) {
-    throw Error(name.source + ": " + std::to_string(mesh.tet_ref.size()) + " tet tags for " +
-                std::to_string(nt) + " tets");
+    throw Error(name.source + ": " + count_of(mesh.tet_ref.size(), "tet tag") + " for " +
+                count_of(nt, "tet"));
   }
   tet_ref_ = mesh.tet_ref;
   tag_names_ = mesh.tag_names;
   const std::uint32_t ntri = mesh.nb_triangles();
   if (!mesh.triangle_ref.empty() && mesh.triangle_ref.size() != ntri) {
-    throw Error(name.source + ": " + std::to_string(mesh.triangle_ref.size()) +
-                " triangle tags for " + std::to_string(ntri) + " triangles");
+    throw Error(name.source + ": " + count_of(mesh.triangle_ref.size(), "triangle tag") + " for " +
+                count_of(ntri, "triangle"));
   }
   bool any_tag = false;
   for (const std::int32_t r : mesh.triangle_ref) any_tag = any_tag || r != 0;

@@ -58,14 +58,19 @@ std::string Surface3::triangle_name(std::uint32_t t) const {
     case Naming::kFace:
       return "face " + std::to_string(triangle_face_[t]) + at_line;
     case Naming::kTetFacet:
-      return "the boundary facet of tet " + std::to_string(triangle_face_[t]) + at_line;
+      return "the boundary facet of " + tet_name(triangle_face_[t]) + at_line;
     case Naming::kIndex:
       break;
   }
   return "triangle " + std::to_string(t);
 }
 
+std::string Surface3::tet_name(std::uint32_t t) const {
+  return tet_noun_ + " " + std::to_string(t < tet_label_.size() ? tet_label_[t] : std::uint64_t{t});
+}
+
 std::string Surface3::vertex_name(std::uint32_t v) const {
+  if (v < vertex_label_.size()) return "vertex " + std::to_string(vertex_label_[v]);
   return "vertex " + std::to_string(std::uint64_t{v} + vertex_base_);
 }
 
@@ -76,7 +81,7 @@ std::string Surface3::at(std::uint32_t t) const {
     case Naming::kFace:
       return where + "face " + std::to_string(triangle_face_[t]);
     case Naming::kTetFacet:
-      return where + "the boundary facet of tet " + std::to_string(triangle_face_[t]);
+      return where + "the boundary facet of " + tet_name(triangle_face_[t]);
     case Naming::kIndex:
       break;
   }
@@ -227,8 +232,8 @@ void Surface3::build(const Surface3Options& options) {
   const std::uint32_t nv = nb_vertices();
   const std::uint32_t nt = nb_triangles();
   const auto edge_text = [&](std::uint32_t a, std::uint32_t b) {
-    return "(vertices " + std::to_string(std::uint64_t{a} + vertex_base_) + " " +
-           std::to_string(std::uint64_t{b} + vertex_base_) + ")";
+    // vertex_name without its noun: the file's numbers (labels, or from vertex_base_).
+    return "(vertices " + vertex_name(a).substr(7) + " " + vertex_name(b).substr(7) + ")";
   };
 
   // ---- 5. Edges: edge e of t runs from corner e + 1 to corner e + 2.

@@ -38,8 +38,8 @@ FeatureLines extract_feature_lines(const TriangleSurface& surface, double featur
   }
   const std::size_t nt = surface.nb_triangles();
   if (!triangle_tag.empty() && triangle_tag.size() != nt) {
-    throw Error(surface.source + ": " + std::to_string(triangle_tag.size()) +
-                " triangle tags for " + std::to_string(nt) + " triangles");
+    throw Error(surface.source + ": " + count_of(triangle_tag.size(), "triangle tag") + " for " +
+                count_of(nt, "triangle"));
   }
   const std::uint32_t nv = surface.nb_vertices();
   for (const std::uint32_t v : surface.triangles) {

@@ -670,7 +670,7 @@ void check_surface_arrays(const std::string& path, const TriangleSurface& s) {
     if (s.triangles[i] >= s.nb_vertices()) {
       throw Error("cannot write '" + path + "': triangle " + std::to_string(i / 3) +
                   " has vertex " + std::to_string(s.triangles[i]) + ", the surface has " +
-                  std::to_string(s.nb_vertices()) + " vertices");
+                  count_of(s.nb_vertices(), "vertex", "vertices"));
     }
   }
 }

@@ -106,6 +106,9 @@ void finish_mesh(const std::string& tets_path, const RawCells& tets,
   const std::uint64_t nv = mesh.nb_vertices();
   mesh.tets = finish_cells(tets_path, tets, base, nv);
   mesh.tet_line = tets.line;
+  mesh.tet_noun = tets.what;
+  mesh.tet_label = tets.label;
+  mesh.vertex_base = base;
   mesh.tet_ref = tags_or_empty(tets.ref);
   mesh.triangles = finish_cells(triangles_path, triangles, base, nv);
   mesh.triangle_ref = tags_or_empty(triangles.ref);
@@ -236,6 +239,7 @@ TetMeshInput read_medit(const std::string& path) {
                                      : ": no tetrahedra (no Tetrahedra section)"));
   }
   finish_mesh(path, tets, path, triangles, 1, mesh);
+  mesh.numbering = "Medit numbering, from 1";
   return mesh;
 }
 
@@ -357,6 +361,7 @@ TetMeshInput read_tetgen(const std::string& base) {
     }
   }
   finish_mesh(mesh.source, tets, face_path, faces, first_node, mesh);
+  mesh.numbering = "TetGen numbering, nodes from " + std::to_string(first_node);
   return mesh;
 }
 
@@ -660,6 +665,10 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
   };
   mesh.tets = resolve(tets);
   mesh.tet_line = tets.line;
+  mesh.tet_noun = tets.what;
+  mesh.tet_label = tets.label;
+  mesh.vertex_label = nodes.tag;
+  mesh.numbering = "Gmsh element and node tags";
   mesh.tet_ref = tags_or_empty(tets.ref);
   mesh.triangles = resolve(triangles);
   mesh.triangle_ref = tags_or_empty(triangles.ref);
@@ -1249,7 +1258,7 @@ TetMeshInput read_vtk(const std::string& path) {
       if (!have_cells) lx.fail("CELL_TYPES before CELLS");
       if (s.expected != cell_line.size()) {
         lx.fail("CELL_TYPES " + std::to_string(s.expected) + ": CELLS has " +
-                std::to_string(cell_line.size()) + " cells");
+                count_of(cell_line.size(), "cell"));
       }
       for (; s.found < s.expected; ++s.found) cell_type.push_back(entry_uint(lx, s, "cell type"));
       have_types = true;
@@ -1261,7 +1270,7 @@ TetMeshInput read_vtk(const std::string& path) {
       data = kw == "point_data" ? Data::kPoint : Data::kCell;
       if (data == Data::kCell && tuples != cell_line.size()) {
         lx.fail("CELL_DATA " + std::to_string(tuples) + ": CELLS has " +
-                std::to_string(cell_line.size()) + " cells");
+                count_of(cell_line.size(), "cell"));
       }
     } else if (kw == "scalars") {
       // SCALARS name type [components], then LOOKUP_TABLE name (optional here).
@@ -1364,13 +1373,14 @@ void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_
     if (k != raw.per) {
       fail_in(path, cell_line[c],
               "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
-                  " has " + std::to_string(k) + " points, not " + std::to_string(raw.per));
+                  " has " + count_of(k, "point") + ", not " + std::to_string(raw.per));
     }
     const std::vector<std::int32_t>& ref = tet ? region : patch;
     raw.push(c, cell_line[c], cell_index.data() + cell_begin[c], ref.empty() ? 0 : ref[c]);
   }
   if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10)");
   finish_mesh(path, tets, path, triangles, 0, mesh);
+  mesh.numbering = "VTK numbering, from 0";
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1602,7 +1612,7 @@ TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
       if (!have_cells) in.fail("CELL_TYPES before CELLS");
       if (n != cell_line.size()) {
         in.fail("CELL_TYPES " + std::to_string(n) + ": CELLS has " +
-                std::to_string(cell_line.size()) + " cells");
+                count_of(cell_line.size(), "cell"));
       }
       cell_type = vtk_binary_indices(in, "int", n, head);
       have_types = true;
@@ -1613,7 +1623,7 @@ TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
       data = kw == "point_data" ? Data::kPoint : Data::kCell;
       if (data == Data::kCell && tuples != cell_line.size()) {
         in.fail("CELL_DATA " + std::to_string(tuples) + ": CELLS has " +
-                std::to_string(cell_line.size()) + " cells");
+                count_of(cell_line.size(), "cell"));
       }
     } else if (kw == "scalars") {
       need_data("SCALARS");

@@ -130,13 +130,23 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
                const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags) {
   const bool binary = encoding != VtuEncoding::kAscii;
   std::size_t nb_cells = 0, nb_indices = 0;
+  // Per block its number of indices.
+  const auto block_indices = [](const VtuCellBlock& b) {
+    return b.vertices_per_cell == 0 ? std::size_t{b.polygon_begin[b.nb_cells]}
+                                    : b.nb_cells * static_cast<std::size_t>(b.vertices_per_cell);
+  };
   for (const VtuCellBlock& b : blocks) {
-    if (b.vertices_per_cell != 3 && b.vertices_per_cell != 4) {
+    const bool polygons = b.vertices_per_cell == 0 && b.polygon_begin != nullptr;
+    if (b.vertices_per_cell != 3 && b.vertices_per_cell != 4 && !polygons) {
       throw Error("write_vtu: " + std::to_string(b.vertices_per_cell) +
-                  " vertices per cell: 3 (triangles) or 4 (tetrahedra)");
+                  " vertices per cell: 3 (triangles), 4 (tetrahedra), or 0 with polygon_begin "
+                  "(polygons)");
+    }
+    if (polygons && b.polygon_begin[0] != 0) {
+      throw Error("write_vtu: polygon_begin must start at 0");
     }
     nb_cells += b.nb_cells;
-    nb_indices += b.nb_cells * static_cast<std::size_t>(b.vertices_per_cell);
+    nb_indices += block_indices(b);
   }
   const auto dim = static_cast<std::size_t>(dimension);
   const auto check_size = [&](const std::string& name, std::size_t size) {
@@ -185,8 +195,7 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   std::vector<std::size_t> block_begin{0}, index_begin{0};
   for (const VtuCellBlock& b : blocks) {
     block_begin.push_back(block_begin.back() + b.nb_cells);
-    index_begin.push_back(index_begin.back() +
-                          b.nb_cells * static_cast<std::size_t>(b.vertices_per_cell));
+    index_begin.push_back(index_begin.back() + block_indices(b));
   }
   add_doubles("Float64", "Points", 3, 3 * std::size_t{nb_points}, [&](std::size_t i) {
     const std::size_t p = i / 3, c = i % 3;
@@ -199,19 +208,28 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
       return static_cast<std::int64_t>(blocks[b].indices[i - index_begin[b]]);
     });
   }
-  std::vector<int> cell_size(nb_cells);
+  // Per cell its number of points and its VTK type (VTK_TETRA 10, VTK_TRIANGLE 5,
+  // VTK_POLYGON 7).
+  std::vector<std::int64_t> cell_size(nb_cells);
+  std::vector<std::uint8_t> cell_type(nb_cells);
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    std::fill(cell_size.begin() + static_cast<std::ptrdiff_t>(block_begin[b]),
-              cell_size.begin() + static_cast<std::ptrdiff_t>(block_begin[b + 1]),
-              blocks[b].vertices_per_cell);
+    const VtuCellBlock& block = blocks[b];
+    for (std::size_t c = 0; c < block.nb_cells; ++c) {
+      const std::size_t k = block_begin[b] + c;
+      if (block.vertices_per_cell == 0) {
+        cell_size[k] = std::int64_t{block.polygon_begin[c + 1]} - block.polygon_begin[c];
+        cell_type[k] = 7;
+      } else {
+        cell_size[k] = block.vertices_per_cell;
+        cell_type[k] = block.vertices_per_cell == 4 ? 10 : 5;
+      }
+    }
   }
   {
     std::int64_t end = 0;
     add_ints("Int64", "offsets", nb_cells, [&](std::size_t c) { return end += cell_size[c]; });
   }
-  // VTK_TETRA, VTK_TRIANGLE.
-  add_ints("UInt8", "types", nb_cells,
-           [&](std::size_t c) { return std::int64_t{cell_size[c] == 4 ? 10 : 5}; });
+  add_ints("UInt8", "types", nb_cells, [&](std::size_t c) { return std::int64_t{cell_type[c]}; });
   add_ints("Int64", "cell_id", nb_cells,
            [&](std::size_t c) { return static_cast<std::int64_t>(c); });
   for (const VtuCellField& f : fields) {
@@ -365,9 +383,9 @@ class VtuReader {
       if (tet || triangle) {
         const std::uint64_t per = tet ? 4 : 3;
         if (end - begin != per) {
-          fail(types->line,
-               "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
-                   " has " + std::to_string(end - begin) + " points, not " + std::to_string(per));
+          fail(types->line, "cell " + std::to_string(c) + " of type " +
+                                (tet ? "10 (tetra)" : "5 (triangle)") + " has " +
+                                count_of(end - begin, "point") + ", not " + std::to_string(per));
         }
         std::vector<std::uint32_t>& cells = tet ? mesh.tets : mesh.triangles;
         for (std::uint64_t k = begin; k < end; ++k) {
@@ -380,6 +398,7 @@ class VtuReader {
         }
         if (tet) {
           mesh.tet_line.push_back(conn->line);
+          mesh.tet_label.push_back(c);
           if (region != nullptr) mesh.tet_ref.push_back(tag(*region, c, region_values[c]));
         } else if (patch != nullptr) {
           mesh.triangle_ref.push_back(tag(*patch, c, patch_values[c]));
@@ -393,6 +412,8 @@ class VtuReader {
       }
     }
     if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10)");
+    mesh.tet_noun = "cell";
+    mesh.numbering = "VTK numbering, from 0";
     return mesh;
   }
 

@@ -83,8 +83,9 @@ nlohmann::json histogram_json(const std::vector<std::uint64_t>& h, double lo, do
 
 void write_quality_text(std::ostream& out, const TetQuality& q, const std::string& title,
                         const HausdorffDistance* distance, const std::string& reference) {
-  out << "Tet mesh quality of " << title << ": " << q.nb_tets << " tets, " << q.nb_vertices
-      << " vertices (" << q.nb_used_vertices << " used)\n";
+  out << "Tet mesh quality of " << title << ": " << count_of(q.nb_tets, "tet") << ", "
+      << count_of(q.nb_vertices, "vertex", "vertices") << " (" << q.nb_used_vertices
+      << " used); tets below are numbered from 0 in the file's order\n";
   if (q.inverted.empty() && q.degenerate.empty()) {
     out << "Orientation: every tet has the same orientation (det(p1-p0, p2-p0, p3-p0) "
         << (q.nb_positive >= q.nb_negative ? "> 0" : "< 0") << "), none has zero volume\n";

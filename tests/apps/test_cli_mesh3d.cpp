@@ -49,7 +49,7 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
   CHECK(s["seconds"]["constrained"].get<double>() > 0);
   // Human text goes to stderr with --stats json: progress per phase, then the report.
   CHECK(contains(run.err, "unconstrained CVT"));
-  CHECK(contains(run.err, "constrained iteration"));
+  CHECK(contains(run.err, "constrained CVT iteration"));
   CHECK(contains(run.err, "|g|"));
   CHECK(contains(run.err, "slivers"));
 

@@ -142,3 +142,22 @@ TEST_CASE("quality: errors name the file and line, leave no file", "[apps]") {
   }
   CHECK_FALSE(exists(svg));
 }
+
+TEST_CASE("quality --compress: a zlib .vtu that reads back the same", "[apps]") {
+  const std::string mesh = kData + "/tetmeshes/sphere.mesh";
+  const std::string vtu = temp_path(".vtu");
+  const Run run = run_cli({"-q", "quality", mesh, "-o", vtu, "--compress"});
+  REQUIRE(run.status == 0);
+  const std::string text = slurp(vtu);
+  CHECK(contains(text, "compressor=\"vtkZLibDataCompressor\""));
+  CHECK(contains(text, "Name=\"q4\""));
+  const voroclip::TetMeshInput back = voroclip::read_tet_mesh(vtu);
+  const voroclip::TetMeshInput input = voroclip::read_tet_mesh(mesh);
+  CHECK(back.xyz == input.xyz);
+  CHECK(back.tets == input.tets);
+  std::remove(vtu.c_str());
+  const Run bad = run_cli({"quality", mesh, "--compress"});
+  CHECK(bad.status == 2);
+  check_one_error_line(bad);
+  CHECK(contains(bad.err, "--compress"));
+}

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -414,15 +415,17 @@ TEST_CASE("Domain3: a non-convex mesh (a Kuhn cube without one tet) is accepted"
 
 TEST_CASE("Domain3 rejects zero-volume tets and repeated vertices", "[clip][degenerate]") {
   CHECK(error_of(make(tet_and(0.5, 0.5, 0), {0, 1, 2, 4})) ==
-        "hand:100: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d)");
+        "hand:100: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d; "
+        "numbered from 0)");
   // Coplanar only exactly: 1e-300 off the plane is a valid (tiny) tet.
   CHECK(error_of(make(tet_and(0.5, 0.5, 1e-300), {0, 1, 2, 4})) == "(no error)");
   // Nearly coplanar in floating point, exactly coplanar: (1/3, 1/3, 1/3) is not a double,
   // but 0.25 + 0.25 + 0.5 = 1 is, on the plane x + y + z = 1.
   CHECK(error_of(make(tet_and(0.25, 0.25, 0.5), {0, 1, 2, 3, 1, 2, 3, 4})) ==
-        "hand:101: tet 1 has zero volume: its vertices 1 2 3 4 are coplanar (exact orient3d)");
+        "hand:101: tet 1 has zero volume: its vertices 1 2 3 4 are coplanar (exact orient3d; "
+        "numbered from 0)");
   CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 1, 2, 1, 3})) ==
-        "hand:101: tet 1 has a repeated vertex (vertices 1 2 1 3)");
+        "hand:101: tet 1 has a repeated vertex (vertices 1 2 1 3; numbered from 0)");
 }
 
 TEST_CASE("Domain3 rejects duplicate vertices", "[clip][degenerate]") {
@@ -431,23 +434,24 @@ TEST_CASE("Domain3 rejects duplicate vertices", "[clip][degenerate]") {
   m.xyz.insert(m.xyz.end(), {1, 0, 0});
   CHECK(error_of(m) ==
         "hand: vertices 1 and 5 have the same coordinates (1, 0, 0) (duplicate vertices), "
-        "used by tet 0 (line 100) and tet 1 (line 101)");
+        "used by tet 0 (line 100) and tet 1 (line 101) (numbered from 0)");
 }
 
 TEST_CASE("Domain3 rejects overlapping tets and facets of three tets", "[clip][degenerate]") {
   // (0, 1, 2, 4) is on the same side of (0, 1, 2) as the unit tet.
   CHECK(error_of(make(tet_and(0.2, 0.2, 0.2), {0, 1, 2, 3, 0, 1, 2, 4})) ==
         "hand:100: tet 0 and tet 1 (line 101) overlap: both lie on the same side of their "
-        "shared facet (vertices 0 1 2)");
+        "shared facet (vertices 0 1 2; numbered from 0)");
   // The same tet twice.
   CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 3, 1, 2, 0})) ==
         "hand:100: tet 0 and tet 1 (line 101) overlap: both lie on the same side of their "
-        "shared facet (vertices 0 1 2)");
+        "shared facet (vertices 0 1 2; numbered from 0)");
   // Three tets on the facet (0, 1, 2): z = 1, z = -1 and z = -2.
   TetMeshInput m = make(tet_and(0.1, 0.1, -1), {0, 1, 2, 3, 0, 1, 2, 4, 0, 1, 2, 5});
   m.xyz.insert(m.xyz.end(), {0.2, 0.2, -2});
   CHECK(error_of(m) ==
-        "hand:100: tet 0: the facet (vertices 0 1 2) is shared by 3 tets (at most 2): tet 0 "
+        "hand:100: tet 0: the facet (vertices 0 1 2; numbered from 0) is shared by 3 tets (at "
+        "most 2): tet 0 "
         "(line 100), tet 1 (line 101) and tet 2 (line 102)");
 }
 
@@ -482,9 +486,11 @@ TEST_CASE("Domain3 rejects a boundary that is not a closed 2-manifold", "[clip][
 TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][degenerate]") {
   const double nan = std::nan("");
   CHECK(error_of(make(tet_and(0, 0, 0), {0, 1, 2, 3, 1, 2, 3, 9})) ==
-        "hand:101: tet 1: vertex index 9 is out of range (the mesh has 5 vertices)");
+        "hand:101: tet 1: vertex index 9 is out of range (the mesh has 5 vertices; tets and "
+        "vertices numbered from 0)");
   TetMeshInput m = make(tet_and(nan, 0, 0), {0, 1, 2, 4});
-  CHECK(error_of(m) == "hand:100: tet 0: vertex 4 has a non-finite coordinate (nan, 0, 0)");
+  CHECK(error_of(m) ==
+        "hand:100: tet 0: vertex 4 has a non-finite coordinate (nan, 0, 0) (numbered from 0)");
   // Unused: ignored.
   m.tets = {0, 1, 2, 3};
   CHECK(error_of(m) == "(no error)");
@@ -492,7 +498,8 @@ TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][dege
   TetMeshInput n = make(tet_and(0.5, 0.5, 0), {0, 1, 2, 4});
   n.tet_line.clear();
   CHECK(error_of(n) ==
-        "hand: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d)");
+        "hand: tet 0 has zero volume: its vertices 0 1 2 4 are coplanar (exact orient3d; numbered "
+        "from 0)");
   // An empty mesh is an empty domain.
   const Domain3 empty{TetMeshInput{}};
   CHECK(empty.nb_tets() == 0);
@@ -500,16 +507,19 @@ TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][dege
   CHECK(empty.volume() == 0);
 }
 
-TEST_CASE("Domain3 messages name the file and line of the tet", "[clip]") {
+TEST_CASE("Domain3 messages name the file and line of the tet, numbered as the file does",
+          "[clip]") {
   const auto dir = std::filesystem::temp_directory_path();
   const std::string path = (dir / "voroclip_test_domain3_flat.mesh").string();
   std::ofstream(path) << "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
                          "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n"
                          "Tetrahedra\n2\n1 2 3 4 0\n1 2 3 5 0\nEnd\n";
   const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  // Medit counts tetrahedra and vertices from 1: the second tetrahedron, on the first three
+  // vertices and the fifth.
   CHECK(error_of(mesh) == path +
-                              ":13: tet 1 has zero volume: its vertices 0 1 2 4 are coplanar "
-                              "(exact orient3d)");
+                              ":13: tetrahedron 2 has zero volume: its vertices 1 2 3 5 are "
+                              "coplanar (exact orient3d; Medit numbering, from 1)");
   std::filesystem::remove(path);
 }
 
@@ -550,4 +560,25 @@ TEST_CASE("Domain3 keeps a tet mesh's region and boundary tags", "[clip]") {
   voroclip::TetMeshInput bad = in;
   bad.tet_ref.pop_back();
   CHECK_THROWS_AS(Domain3(bad), voroclip::Error);
+}
+
+TEST_CASE("Domain3 names Gmsh elements and nodes by their tags", "[clip][degenerate]") {
+  // Gmsh: element and node tags, whatever they are.
+  const std::string gmsh = "test_domain3_numbering.msh";
+  std::string error = "(no error)";
+  {
+    std::ofstream out(gmsh);
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n10 0 0 0\n20 1 0 0\n30 0 1 0\n40 0 "
+           "0 1\n50 0.5 0.5 0\n$EndNodes\n$Elements\n2\n7 4 0 10 20 30 40\n9 4 0 30 20 10 "
+           "50\n$EndElements\n";
+  }
+  try {
+    const Domain3 d(voroclip::read_tet_mesh(gmsh));
+  } catch (const voroclip::Error& e) {
+    error = e.what();
+  }
+  std::remove(gmsh.c_str());
+  CHECK(error == gmsh +
+                     ":15: element 9 has zero volume: its vertices 30 20 10 50 are coplanar "
+                     "(exact orient3d; Gmsh element and node tags)");
 }

@@ -1075,7 +1075,7 @@ TEST_CASE("read_tet_mesh: tags that are not 32-bit integers", "[core]") {
                     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                     "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\n"
                     "CELL_TYPES 1\n10\nCELL_DATA 2\n");
-  CHECK(error_of(path) == path + ":11: CELL_DATA 2: CELLS has 1 cells");
+  CHECK(error_of(path) == path + ":11: CELL_DATA 2: CELLS has 1 cell");
   path = write_temp("tag.msh",
                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 volume\n"
                     "$EndPhysicalNames\n");

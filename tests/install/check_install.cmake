@@ -1,7 +1,7 @@
 # Run by ctest as `cmake -P` (see CMakeLists.txt here). Installs BUILD_DIR into a fresh
 # prefix under WORK_DIR, builds the consumer project against it and checks its output.
 
-foreach(var BUILD_DIR CONFIG WORK_DIR CONSUMER_SOURCE_DIR GENERATOR CXX_COMPILER
+foreach(var BUILD_DIR CONFIG WORK_DIR CONSUMER_SOURCE_DIR EXAMPLES_DIR GENERATOR CXX_COMPILER
             EXPECTED_VERSION)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "check_install.cmake: -D${var}=... is required")
@@ -41,6 +41,7 @@ endif()
 
 set(configure_args -S "${CONSUMER_SOURCE_DIR}" -B "${consumer_build}" -G "${GENERATOR}"
     "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_PREFIX_PATH=${prefix}"
+    "-DVOROCLIP_EXAMPLES_DIR=${EXAMPLES_DIR}"
     -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
 if(CONFIG)
   list(APPEND configure_args "-DCMAKE_BUILD_TYPE=${CONFIG}")
@@ -81,6 +82,16 @@ string(CONCAT expected "voroclip ${EXPECTED_VERSION}\n"
        "insphere_sos cospherical: nonzero\n")
 if(NOT step_output STREQUAL expected)
   message(FATAL_ERROR "install test: the consumer printed\n${step_output}\nexpected\n${expected}")
+endif()
+
+# The README's example: the cells of 27 sites fill the box.
+set(example "${consumer_build}/clip_cells")
+if(NOT EXISTS "${example}" AND CONFIG)
+  set(example "${consumer_build}/${CONFIG}/clip_cells")
+endif()
+run_step("running the example clip_cells" "${example}")
+if(NOT step_output MATCHES "\n27 cells, [0-9]+ neighbour pairs, volume 9 \\(domain 9\\), 26 boundary cells\n$")
+  message(FATAL_ERROR "install test: the example clip_cells printed\n${step_output}")
 endif()
 
 if(WITH_CLI)

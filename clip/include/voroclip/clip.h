@@ -375,6 +375,7 @@ class Surface3 {
   // For messages: triangle t as the input names it ("face 12 (line 40)"), and vertex v.
   std::string triangle_name(std::uint32_t t) const;
   std::string vertex_name(std::uint32_t v) const;
+  std::string tet_name(std::uint32_t t) const;  // kTetFacet
 
  private:
   friend class Domain3;
@@ -398,6 +399,10 @@ class Surface3 {
   std::vector<std::uint32_t> triangle_face_;  // kFace: the face number; kTetFacet: the tet
   std::vector<std::uint32_t> triangle_line_;  // (0: not known)
   std::uint32_t vertex_base_ = 0;
+  // kTetFacet: how the tet mesh's file names tets and vertices (TetMeshInput).
+  std::string tet_noun_ = "tet";
+  std::vector<std::uint64_t> tet_label_;
+  std::vector<std::uint64_t> vertex_label_;
   double area_ = 0, volume_ = 0;
   double bbox_[6] = {0, 0, 0, 0, 0, 0};
   std::uint32_t nb_welded_ = 0;
@@ -619,6 +624,12 @@ class ClippedVoronoi3 {
   // vertex k is input site site_order()[k]), and the seconds spent on the sort, the copy
   // and the triangulation.
   const Delaunay3& delaunay() const { return dt_; }
+  // Sites with fewer than 4 affinely independent points among them (one site, sites on a
+  // line or in a plane) have a well-defined clipped diagram too (the whole domain, slabs,
+  // prisms): compute(domain, sites, n) then adds 2 or 4 auxiliary sites far outside the
+  // domain (input indices n, n + 1, ...: in delaunay() and site_order() only; their cells
+  // miss the domain and are dropped), and this is their number (0 otherwise).
+  std::uint32_t nb_auxiliary_sites() const { return nb_auxiliary_; }
   const std::vector<std::uint32_t>& site_order() const { return site_order_; }
   double seconds_delaunay() const { return seconds_delaunay_; }
 
@@ -725,6 +736,31 @@ class ClippedVoronoi3 {
   // ranked_cells_, the polygons' sites and the grouping of surface_ to input indices.
   void to_input_indices();
   void sum_totals();
+  void drop_auxiliary_sites(std::uint32_t n, std::uint32_t k);
+  std::uint32_t nb_auxiliary_ = 0;
 };
+
+// ---------------------------------------------------------------------------------------
+// Tables of cells (core.h, "Tables of the cells"; clip/src/cell_table.cpp): what clip2d and
+// clip3d write with -o cells.csv and --neighbors.
+
+// The pairs of cells that share a boundary piece of the clipped diagram (an edge in 2D, a
+// face in 3D, on their bisector), each pair once (site_a < site_b, sorted), with the
+// length (2D) or area (3D) of what they share, summed over its pieces and measured on
+// site_a's side. Read from the cells' geometry: the diagram must have been computed with
+// keep_geometry (throws Error otherwise). In 2D an edge of cell i lies on bisector(i, j)
+// when both its end vertices are defined by i and j (ClipVertex2); in 3D a face is on
+// bisector(i, j) when its `across` is j (cell_boundaries()), its area the norm of the sum
+// of its loops' vector areas (hole loops turn the other way and subtract). Every pair is
+// an edge of the Delaunay triangulation of the sites.
+NeighborTable cell_neighbors(const ClippedVoronoi2& cv);
+NeighborTable cell_neighbors(const ClippedVoronoi3& cv);
+
+// The per-cell table of a diagram of the sites `sites` (x y [z] per site, input order, as
+// given to compute), with the neighbour counts of `neighbors` when given.
+CellTable cell_table(const ClippedVoronoi2& cv, const double* sites,
+                     const NeighborTable* neighbors = nullptr);
+CellTable cell_table(const ClippedVoronoi3& cv, const double* sites,
+                     const NeighborTable* neighbors = nullptr);
 
 }  // namespace voroclip

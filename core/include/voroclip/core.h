@@ -23,6 +23,10 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// "1 point", "2 points", "0 vertices": a count with its noun, singular for exactly one.
+/// `plural` defaults to `singular` + "s".
+std::string count_of(std::uint64_t n, const std::string& singular, const std::string& plural = "");
+
 /// Writes a file so that it is either complete or absent: the content goes to a temporary
 /// file beside `path`, which is renamed over `path` only after `write` returned and the
 /// stream was flushed without error. If `write` throws, or anything fails, the temporary is
@@ -167,6 +171,17 @@ struct TetMeshInput {
   /// an unnamed physical group is a group all the same).
   std::vector<TagName> tag_names;
 
+  /// How the file numbers its tets and vertices, so that messages (Domain3's) name them
+  /// with the file's own numbers: tet t is "<tet_noun> <tet_label[t]>", vertex v is
+  /// vertex_label[v] (Gmsh node tags), or v + vertex_base when vertex_label is empty;
+  /// `numbering` says which for the messages ("Medit numbering, from 1"). The readers set
+  /// them; a mesh built in code may leave them empty: "tet t" and vertex v, from 0.
+  std::string tet_noun;                  // "tetrahedron", "element" (Gmsh), "cell" (VTK)
+  std::vector<std::uint64_t> tet_label;  // per tet (empty: t)
+  std::uint64_t vertex_base = 0;
+  std::vector<std::uint64_t> vertex_label;  // per vertex (empty: v + vertex_base)
+  std::string numbering;                    // empty: "numbered from 0"
+
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
   std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
@@ -280,11 +295,14 @@ struct VtuCellTags {
 };
 
 /// Cells of one kind for write_vtu: `nb_cells` cells of `vertices_per_cell` point indices
-/// each (3: triangles, 4: tetrahedra) at `indices`.
+/// each (3: triangles, 4: tetrahedra) at `indices`; or, with vertices_per_cell 0, polygons
+/// (VTK_POLYGON): cell c has the indices [polygon_begin[c], polygon_begin[c + 1]) of
+/// `indices` (polygon_begin: nb_cells + 1 offsets, the first 0).
 struct VtuCellBlock {
   const std::uint32_t* indices = nullptr;
   std::size_t nb_cells = 0;
   int vertices_per_cell = 4;
+  const std::uint32_t* polygon_begin = nullptr;
 };
 
 /// How write_vtu stores its data arrays.
@@ -560,5 +578,45 @@ class FeatureTree {
   std::vector<std::uint32_t> line_node_;  // root node of each line's tree
   std::vector<std::uint32_t> segments_;   // leaf order -> segment (global first point index)
 };
+
+// ---------------------------------------------------------------------------------------
+// Tables of the cells of a clipped Voronoi diagram (cell_table_io.cpp), as clip2d and
+// clip3d write them (-o cells.csv, --neighbors pairs.csv); clip.h fills them (cell_table,
+// cell_neighbors). The columns, by name (2D | 3D), in order:
+//   cells      site (the cell's index = the site's, 0-based, in input order), x, y[, z]
+//              (the site), area | volume, centroid_x, centroid_y[, centroid_z] (mass
+//              centroid; the site for an empty cell), energy (the CVT energy term
+//              ∫rho |x - site|^2 over the cell), boundary (1 when the cell meets the domain's
+//              boundary, else 0), neighbors (the number of cells it shares an edge | a face
+//              with), and in 3D surface_area (its area on the domain's boundary);
+//   neighbors  site_a, site_b (site_a < site_b: each pair once), length | area (of the
+//              boundary the two cells share, on their bisector).
+// Numbers are written as the shortest decimals that read back as the same doubles.
+
+struct CellTable {
+  int dimension = 2;
+  std::vector<double> sites;      // `dimension` values per cell
+  std::vector<double> measure;    // area (2D) or volume (3D)
+  std::vector<double> centroids;  // `dimension` values per cell
+  std::vector<double> energy;
+  std::vector<std::uint8_t> boundary;
+  std::vector<std::uint32_t> nb_neighbors;  // empty: the column is not written
+  std::vector<double> surface_area;         // 3D; empty: the column is not written
+  std::uint32_t nb_cells() const { return static_cast<std::uint32_t>(measure.size()); }
+};
+
+struct NeighborTable {
+  int dimension = 2;
+  std::vector<std::uint32_t> pairs;  // site_a, site_b per row, site_a < site_b, sorted
+  std::vector<double> measure;       // per row: length (2D) or area (3D)
+  std::uint32_t nb_pairs() const { return static_cast<std::uint32_t>(measure.size()); }
+};
+
+/// CSV with a header line, one row per cell, columns as above.
+void write_cell_table_csv(std::ostream& out, const CellTable& table);
+/// CSV with a header line, one row per pair.
+void write_neighbor_table_csv(std::ostream& out, const NeighborTable& table);
+/// JSON: {"neighbors": [{"site_a": 0, "site_b": 3, "length": 0.25}, ...]} ("area" in 3D).
+void write_neighbor_table_json(std::ostream& out, const NeighborTable& table);
 
 }  // namespace voroclip
