@@ -306,6 +306,40 @@ void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh
   });
 }
 
+// Triangles with an angle below 30 degrees, each with the sharpest domain corner among its
+// vertices (interior angle below 60 degrees; -1 when none): the bound there is
+// min(30, that corner's angle).
+struct LowAngle {
+  std::uint32_t triangle;
+  double min_angle;
+  std::uint32_t corner;  // domain vertex, or Mesh2::kNone
+  double corner_angle;
+};
+std::vector<LowAngle> low_angles(const Domain2& domain, const Mesh2& mesh) {
+  std::vector<LowAngle> out;
+  const std::vector<double> angles = min_angles(mesh);
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    if (angles[t] >= 30) continue;
+    LowAngle low{t, angles[t], Mesh2::kNone, 180};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v =
+          mesh.vertex_domain[mesh.triangles[3 * t + static_cast<std::uint32_t>(k)]];
+      if (v == Mesh2::kNone) continue;
+      const double* a = domain.vertex(domain.prev(v));
+      const double* p = domain.vertex(v);
+      const double* c = domain.vertex(domain.next(v));
+      const double ux = p[0] - a[0], uy = p[1] - a[1], wx = c[0] - p[0], wy = c[1] - p[1];
+      const double interior = 180 - std::atan2(ux * wy - uy * wx, ux * wx + uy * wy) * 180 / M_PI;
+      if (interior < 60 && interior < low.corner_angle) {
+        low.corner = v;
+        low.corner_angle = interior;
+      }
+    }
+    out.push_back(low);
+  }
+  return out;
+}
+
 void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() && !ends_with(args.output, ".svg") && !ends_with(args.output, ".vtu") &&
       !ends_with(args.output, ".mesh") && !ends_with(args.output, ".msh")) {
@@ -387,6 +421,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   }
   progress.phase("quality");
   const TriangleQuality2 q = triangle_quality2(mesh, 2.0);
+  const std::vector<LowAngle> lows = low_angles(domain, mesh);
   if (!args.output.empty()) {
     progress.phase("writing " + args.output);
     write_mesh2_file(args.output, domain, mesh, args.msh_version == "2.2");
@@ -409,6 +444,26 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     s["min_radius_ratio"] = q.min_radius_ratio;
     s["mean_radius_ratio"] = q.mean_radius_ratio;
     s["triangles_below_30_deg"] = q.nb_below_30;
+    nlohmann::ordered_json below = nlohmann::ordered_json::array();
+    for (const LowAngle& l : lows) {
+      nlohmann::ordered_json j;
+      j["triangle"] = l.triangle;
+      j["min_angle_deg"] = l.min_angle;
+      if (l.corner != Mesh2::kNone) {
+        j["corner"] = {domain.vertex(l.corner)[0], domain.vertex(l.corner)[1]};
+        j["corner_angle_deg"] = l.corner_angle;
+        j["bound_met"] = l.min_angle >= std::min(30.0, l.corner_angle) - 1e-9;
+      } else {
+        j["corner"] = nullptr;
+        j["bound_met"] = false;
+      }
+      below.push_back(j);
+    }
+    s["below_30"] = below;
+    s["requested_vertices"] = st.requested_vertices;
+    s["vertex_count_runs"] = st.vertex_count_runs;
+    s["refined_vertices"] = st.refine_added;
+    s["tip_triangles"] = st.nb_tip_triangles;
     s["sites"] = st.nb_sites;
     s["fixed_sites"] = st.nb_fixed;
     s["sliding_sites"] = st.nb_sliding;
@@ -442,6 +497,36 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     *human << "; " << std::setprecision(4) << 100 * st.covered_fraction
            << "% of the domain's area covered\n"
            << quality_text(q);
+    if (!lows.empty()) {
+      std::size_t at_corner = 0, met = 0;
+      double worst_elsewhere = 180;
+      for (const LowAngle& l : lows) {
+        if (l.corner != Mesh2::kNone) {
+          ++at_corner;
+          met += l.min_angle >= std::min(30.0, l.corner_angle) - 1e-9;
+        } else {
+          worst_elsewhere = std::min(worst_elsewhere, l.min_angle);
+        }
+      }
+      *human << count_of(lows.size(), "triangle") << " below 30 degrees: " << at_corner
+             << " at input corners sharper than 60 degrees (" << met
+             << " reaching min(30, the corner's angle))";
+      if (at_corner < lows.size()) {
+        *human << ", " << lows.size() - at_corner << " elsewhere (smallest " << std::setprecision(3)
+               << worst_elsewhere << " degrees; --stats json lists them)";
+      }
+      *human << '\n';
+    }
+    if (st.requested_vertices > 0 && std::fabs(double(mesh.nb_vertices()) - st.requested_vertices) >
+                                         0.1 * st.requested_vertices) {
+      *human << "note: " << mesh.nb_vertices() << " vertices for --vertices "
+             << st.requested_vertices << " (" << std::showpos << std::setprecision(3)
+             << 100.0 * (double(mesh.nb_vertices()) - st.requested_vertices) / st.requested_vertices
+             << std::noshowpos << "%, after " << count_of(st.vertex_count_runs + 1, "run")
+             << "): the domain's corners and small features need more (" << st.nb_fixed
+             << " fixed vertices at its corners; smallest feature " << std::setprecision(3)
+             << st.min_size << " against the edge length " << st.edge_length << ")\n";
+    }
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.histogram.empty()) *human << "Histogram written to " << args.histogram << '\n';
   }

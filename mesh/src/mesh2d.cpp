@@ -916,9 +916,7 @@ Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_an
   return z;
 }
 
-}  // namespace
-
-Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* stats_out) {
+Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Stats* stats_out) {
   const auto t0 = std::chrono::steady_clock::now();
   if (original.nb_rings() == 0) throw Error("mesh2d: the domain is empty");
   if (o.nb_vertices == 0 && !(o.edge_length > 0 && std::isfinite(o.edge_length))) {
@@ -1216,6 +1214,45 @@ Mesh2 mesh_domain2(const Domain2& original, const Mesh2Options& o, Mesh2Stats* s
   }
   st.seconds_extraction = seconds_since(t3);
   return finish(std::move(mesh));
+}
+
+}  // namespace
+
+// The vertex count: the boundary, the small features and the refinement change it from
+// the sampling's, so a run whose count misses nb_vertices by more than the tolerance is
+// redone (at most twice) with the sampling scaled by the miss; the closest run is kept.
+Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stats* stats) {
+  Mesh2Stats st;
+  Mesh2 mesh = mesh_domain2_once(domain, options, &st);
+  const std::uint32_t wanted = options.nb_vertices;
+  st.requested_vertices = wanted;
+  const auto miss = [&](const Mesh2& m) {
+    return std::fabs(static_cast<double>(m.nb_vertices()) - wanted) / wanted;
+  };
+  Mesh2Options o = options;
+  for (int attempt = 0; wanted > 0 && attempt < 2 && !st.cancelled && mesh.nb_vertices() > 0 &&
+                        miss(mesh) > options.vertex_tolerance;
+       ++attempt) {
+    const double scale = static_cast<double>(wanted) / mesh.nb_vertices();
+    const auto n = static_cast<std::uint32_t>(std::max(3.0, std::round(o.nb_vertices * scale)));
+    if (n == o.nb_vertices) break;
+    o.nb_vertices = n;
+    Mesh2Stats again;
+    Mesh2 other = mesh_domain2_once(domain, o, &again);
+    ++st.vertex_count_runs;
+    const double seconds = st.seconds + again.seconds;
+    if (other.nb_vertices() > 0 && miss(other) < miss(mesh)) {
+      const std::uint32_t runs = st.vertex_count_runs;
+      st = again;
+      st.vertex_count_runs = runs;
+      mesh = std::move(other);
+    }
+    st.seconds = seconds;
+    st.requested_vertices = wanted;
+    if (st.cancelled) break;
+  }
+  if (stats) *stats = st;
+  return mesh;
 }
 
 }  // namespace voroclip

@@ -365,8 +365,12 @@ struct Mesh2Progress {
 };
 
 struct Mesh2Options {
-  // Target number of mesh vertices (approximate, see above). 0: use edge_length.
+  // Target number of mesh vertices. 0: use edge_length. A run whose count misses it by
+  // more than `vertex_tolerance` (relative) is redone, at most twice, with the sampling
+  // scaled by the miss, and the closest kept (Mesh2Stats::vertex_count_runs); a domain
+  // whose small features need more vertices gets more (the count says by how much).
   std::uint32_t nb_vertices = 0;
+  double vertex_tolerance = 0.1;
   // Target edge length H far from small features, used when nb_vertices == 0.
   double edge_length = 0;
   // Slope g of the sizing field away from small features (h grows by g per unit length).
@@ -415,13 +419,15 @@ struct Mesh2Options {
 };
 
 struct Mesh2Stats {
-  std::uint32_t nb_sites = 0;          // after the boundary step
-  std::uint32_t nb_fixed = 0;          // fixed sites: domain vertices and cut points
-  std::uint32_t nb_sliding = 0;        // sliding sites
-  std::uint32_t nb_sharp_corners = 0;  // corners cut (sharp_angle_deg)
-  std::uint32_t nb_tip_triangles = 0;  // their tips, one triangle each (conforming)
-  std::uint32_t refine_added = 0;      // vertices added by the refinement (step 8)
-  std::uint32_t nb_gap_sites = 0;      // free sites added in gaps after the boundary step
+  std::uint32_t nb_sites = 0;            // after the boundary step
+  std::uint32_t nb_fixed = 0;            // fixed sites: domain vertices and cut points
+  std::uint32_t nb_sliding = 0;          // sliding sites
+  std::uint32_t nb_sharp_corners = 0;    // corners cut (sharp_angle_deg)
+  std::uint32_t nb_tip_triangles = 0;    // their tips, one triangle each (conforming)
+  std::uint32_t refine_added = 0;        // vertices added by the refinement (step 8)
+  std::uint32_t requested_vertices = 0;  // options.nb_vertices
+  std::uint32_t vertex_count_runs = 0;   // runs redone to land near it (0 to 2)
+  std::uint32_t nb_gap_sites = 0;        // free sites added in gaps after the boundary step
   std::uint32_t nb_paths = 0;
   double edge_length = 0;  // H
   double min_size = 0;     // smallest h of the feature samples
