@@ -15,7 +15,9 @@
 //      default: up to 1000 iterations, convergence 0.001, freeze bound 0.001). Its mesh is
 //      the faces marked in the domain. CGAL's vertex count C is the target of step 3.
 //   3. voroclip at nb_vertices = C, then rescaled by C / (vertices it gave) until its count
-//      is within 10 % of C (at most kMaxTries runs; the row's note says when not).
+//      is within 10 % of C (at most kMaxTries runs). Where voroclip's count is set by the
+//      domain's small features and stays above C, CGAL's size bound is rescaled instead,
+//      to voroclip's count (see compare_polygon); the row's note says so.
 // The two final configurations are then run R times each, round robin (best_time.h), and
 // the best wall and CPU times reported; CGAL's time covers building the triangulation from
 // the domain's rings, refinement and Lloyd; voroclip's is mesh_domain2. Both run on T
@@ -30,7 +32,11 @@
 // centroid (rounded) is not strictly inside the domain (Domain2::locate, exact), and
 // check_mesh2 (exact: counter-clockwise, non-degenerate, inside the closed domain,
 // conforming edges; its first defect goes to the note).
-// Exit status 1 when a mesher failed on some polygon or a mesh fails check_mesh2.
+// CGAL's meshes can fail check_mesh2: with Epick the points it inserts on a constrained
+// edge (midpoints, then Lloyd keeps them) are rounded, a few ulps off the domain's edge,
+// so a domain edge may cross a triangle next to it by that much.
+// Exit status 1 when a mesher failed (threw, or gave no triangle) on some polygon or
+// voroclip's mesh fails check_mesh2.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
@@ -127,9 +133,9 @@ std::vector<CgalPoint> hole_seeds(const voroclip::Domain2& domain, const Cdt& cd
       Cdt::Face_handle f;
       int i = 0;
       if (!cdt.is_edge(handle[v], handle[domain.next(v)], f, i)) continue;
-      // f's edge i runs from f->vertex(cw(i)) to f->vertex(ccw(i)) counter-clockwise in f,
-      // so f is on the left of that direction; we want the face on the right of v->next(v).
-      if (f->vertex(Cdt::cw(i)) == handle[v]) f = f->neighbor(i);
+      // Counter-clockwise in f, its edge i runs from f->vertex(ccw(i)) to f->vertex(cw(i)),
+      // with f on its left; the hole is on the right of v -> next(v).
+      if (f->vertex(Cdt::ccw(i)) == handle[v]) f = f->neighbor(i);
       if (cdt.is_infinite(f)) continue;
       const CgalPoint c =
           CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
@@ -221,16 +227,51 @@ struct Row {
 
 struct PolygonResult {
   std::string name;
-  double edge_length = 0;                // voroclip's H at --vertices, CGAL's size bound
+  double edge_length = 0;                // voroclip's H at --vertices
+  double cgal_size = 0;                  // CGAL's size bound (H, or rescaled: see above)
   std::uint32_t nb_vertices_option = 0;  // voroclip's final nb_vertices
   std::vector<Row> rows;                 // voroclip, CGAL; empty on an error
   std::string error;
 };
 
+bool within(double count, double wanted) {
+  return std::fabs(count - wanted) <= kCountTolerance * wanted;
+}
+
+// Rescales CGAL's size bound until its vertex count is within 10 % of `wanted`: count ~
+// size^-2 first, then the slope of the last two runs. `cgal` holds the run at `size` on
+// entry and the last run on return; false when the count is not reached in kMaxTries runs.
+bool match_cgal(const voroclip::Domain2& domain, double wanted, int lloyd_iterations,
+                const std::string& name, double& size, CgalResult& cgal) {
+  double last_size = 0, last_n = 0;
+  for (int attempt = 0; attempt < kMaxTries; ++attempt) {
+    const double n = cgal.mesh.nb_vertices();
+    if (within(n, wanted)) return true;
+    double slope = -2;
+    if (last_n > 0 && last_n != n && n > 0) {
+      slope = std::clamp(std::log(n / last_n) / std::log(size / last_size), -4.0, -0.5);
+    }
+    last_size = size;
+    last_n = n;
+    size *= std::pow(wanted / std::max(n, 1.0), 1 / slope);
+    cgal = run_cgal(domain, size, lloyd_iterations);
+    std::fprintf(stderr, "  %s: CGAL at size %.6g: %u vertices (Lloyd: %s)\n", name.c_str(), size,
+                 cgal.mesh.nb_vertices(), cgal.lloyd.c_str());
+  }
+  return within(cgal.mesh.nb_vertices(), wanted);
+}
+
+// The vertex counts are matched as follows. voroclip at nb_vertices = N gives V0 and its
+// edge length H; CGAL at size bound H gives C. When V0 > 1.1 C already (voroclip's count
+// is set by the domain's small features, not by N), voroclip stays at N and CGAL's size
+// bound is rescaled to V0. Otherwise voroclip's nb_vertices is rescaled toward C (C, then
+// times C / count, at most kMaxTries runs), and if that fails CGAL's size bound is
+// rescaled to voroclip's last count.
 PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices, int runs,
                               int lloyd_iterations) {
   PolygonResult result;
   result.name = stem(path);
+  const char* name = result.name.c_str();
   const voroclip::Domain2 domain(voroclip::read_polygon(path));
 
   voroclip::Mesh2Options options;
@@ -238,28 +279,36 @@ PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices
   voroclip::Mesh2Stats stats;
   voroclip::Mesh2 ours = voroclip::mesh_domain2(domain, options, &stats);
   result.edge_length = stats.edge_length;
-  std::fprintf(stderr, "  %s: voroclip at %u: %u vertices, H = %.6g\n", result.name.c_str(),
-               nb_vertices, ours.nb_vertices(), stats.edge_length);
+  std::fprintf(stderr, "  %s: voroclip at %u: %u vertices, H = %.6g\n", name, nb_vertices,
+               ours.nb_vertices(), stats.edge_length);
 
-  CgalResult cgal = run_cgal(domain, result.edge_length, lloyd_iterations);
-  const std::uint32_t wanted = cgal.mesh.nb_vertices();
-  std::fprintf(stderr, "  %s: CGAL at size %.6g: %u vertices (Lloyd: %s)\n", result.name.c_str(),
-               result.edge_length, wanted, cgal.lloyd.c_str());
+  result.cgal_size = result.edge_length;
+  CgalResult cgal = run_cgal(domain, result.cgal_size, lloyd_iterations);
+  const double cgal_first = cgal.mesh.nb_vertices();
+  std::fprintf(stderr, "  %s: CGAL at size %.6g: %u vertices (Lloyd: %s)\n", name, result.cgal_size,
+               cgal.mesh.nb_vertices(), cgal.lloyd.c_str());
 
   std::string ours_note;
-  double option = wanted;
-  for (int attempt = 0;; ++attempt) {
-    options.nb_vertices = static_cast<std::uint32_t>(std::lround(option));
-    ours = voroclip::mesh_domain2(domain, options, &stats);
-    const double got = ours.nb_vertices();
-    std::fprintf(stderr, "  %s: voroclip at %u: %u vertices\n", result.name.c_str(),
-                 options.nb_vertices, ours.nb_vertices());
-    if (std::fabs(got - wanted) <= kCountTolerance * wanted) break;
-    if (attempt + 1 == kMaxTries || got == 0) {
-      ours_note = "count not within 10 % of CGAL's after " + std::to_string(kMaxTries) + " runs";
-      break;
+  bool matched = within(ours.nb_vertices(), cgal_first);
+  if (!matched && ours.nb_vertices() < (1 + kCountTolerance) * cgal_first) {
+    double option = cgal_first;
+    for (int attempt = 0; attempt < kMaxTries && !matched; ++attempt) {
+      options.nb_vertices = static_cast<std::uint32_t>(std::max(4L, std::lround(option)));
+      ours = voroclip::mesh_domain2(domain, options, &stats);
+      std::fprintf(stderr, "  %s: voroclip at %u: %u vertices\n", name, options.nb_vertices,
+                   ours.nb_vertices());
+      matched = within(ours.nb_vertices(), cgal_first);
+      if (ours.nb_vertices() == 0) break;
+      option *= cgal_first / ours.nb_vertices();
     }
-    option *= wanted / got;
+  }
+  std::string cgal_note;
+  if (!matched) {
+    cgal_note = "rescaled to voroclip's count";
+    if (!match_cgal(domain, ours.nb_vertices(), lloyd_iterations, result.name, result.cgal_size,
+                    cgal)) {
+      cgal_note += "; counts not within 10 % after " + std::to_string(kMaxTries) + " runs";
+    }
   }
   result.nb_vertices_option = options.nb_vertices;
 
@@ -280,7 +329,8 @@ PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices
     }
   }
   bool cgal_repeats = true;
-  Measures lo = measure(domain, cgal.mesh), hi = lo;
+  const Measures cgal_measures = measure(domain, cgal.mesh);
+  Measures lo = cgal_measures, hi = cgal_measures;
   for (const voroclip::Mesh2& mesh : cgal_timed) {
     if (mesh.xy == cgal.mesh.xy && mesh.triangles == cgal.mesh.triangles) continue;
     cgal_repeats = false;
@@ -301,18 +351,20 @@ PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices
     cgal.lloyd += range;
   }
 
-  Row row_ours{"voroclip", measure(domain, ours), best[0], ours_note, false};
+  Row row_ours{"voroclip", measure(domain, ours), best[0], "", false};
   char text[160];
   std::snprintf(text, sizeof text, "nb_vertices %u; H %.4g; %u repair rounds", options.nb_vertices,
                 stats.edge_length, stats.repair_rounds);
   row_ours.note = text + (ours_note.empty() ? "" : "; " + ours_note);
-  Row row_cgal{"CGAL", measure(domain, cgal.mesh), best[1], "", false};
-  std::snprintf(text, sizeof text, "size bound %.4g; Lloyd: ", result.edge_length);
-  row_cgal.note = text + cgal.lloyd;
+  Row row_cgal{"CGAL", cgal_measures, best[1], "", false};
+  std::snprintf(text, sizeof text, "size bound %.4g", result.cgal_size);
+  row_cgal.note =
+      text + (cgal_note.empty() ? "" : " (" + cgal_note + ")") + "; Lloyd: " + cgal.lloyd;
   for (Row* row : {&row_ours, &row_cgal}) {
-    row->ok = row->m.nb_triangles > 0 && row->m.check.empty();
     if (!row->m.check.empty()) row->note += "; check_mesh2: " + row->m.check;
   }
+  row_ours.ok = row_ours.m.nb_triangles > 0 && row_ours.m.check.empty();
+  row_cgal.ok = row_cgal.m.nb_triangles > 0;
   result.rows = {row_ours, row_cgal};
   return result;
 }
@@ -353,9 +405,10 @@ void print_json(const std::vector<PolygonResult>& results, std::uint32_t nb_vert
   for (std::size_t i = 0; i < results.size(); ++i) {
     const PolygonResult& r = results[i];
     std::printf(
-        "%s\n    {\"polygon\": %s, \"edge_length\": %.17g, \"nb_vertices_option\": %u, "
+        "%s\n    {\"polygon\": %s, \"edge_length\": %.17g, \"cgal_size_bound\": %.17g, "
+        "\"nb_vertices_option\": %u, "
         "\"error\": %s, \"meshers\": [",
-        i ? "," : "", json_string(r.name).c_str(), r.edge_length, r.nb_vertices_option,
+        i ? "," : "", json_string(r.name).c_str(), r.edge_length, r.cgal_size, r.nb_vertices_option,
         json_string(r.error).c_str());
     for (std::size_t k = 0; k < r.rows.size(); ++k) {
       const Row& row = r.rows[k];
@@ -423,7 +476,8 @@ int main(int argc, char** argv) {
   if (!json) {
     std::printf(
         "voroclip mesh_domain2 (default options, nb_vertices matched to 10 %% of CGAL's count) "
-        "against CGAL Mesh_2 (criteria %g / voroclip's edge length at %u vertices, then "
+        "against CGAL Mesh_2 (criteria %g / voroclip's edge length at %u vertices, or rescaled "
+        "to voroclip's count where its small features set it; then "
         "lloyd_optimize_mesh_2), %d thread(s), best of %d; coverage = sum of triangle areas / "
         "domain area; outside = triangles whose centroid is not inside; seconds\n\n",
         kShapeBound, nb_vertices, threads, runs);
@@ -442,7 +496,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       result.name = stem(path);
       result.error = e.what();
-      std::fprintf(stderr, "compare_mesh2: %s: %s\n", path.c_str(), e.what());
+      std::fprintf(stderr, "compare_mesh2: %s\n", e.what());
     }
     ok = ok && result.error.empty();
     for (const Row& row : result.rows) ok = ok && row.ok;
