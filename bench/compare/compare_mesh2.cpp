@@ -321,7 +321,7 @@ PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices
   const std::vector<voroclip::bench::Best> best = voroclip::bench::best_times(
       runs,
       {[&] { ours_timed.push_back(voroclip::mesh_domain2(domain, options)); },
-       [&] { cgal_timed.push_back(run_cgal(domain, result.edge_length, lloyd_iterations).mesh); }});
+       [&] { cgal_timed.push_back(run_cgal(domain, result.cgal_size, lloyd_iterations).mesh); }});
   for (const voroclip::Mesh2& mesh : ours_timed) {
     if (mesh.xy != ours.xy || mesh.triangles != ours.triangles) {
       ours_note += (ours_note.empty() ? "" : "; ") + std::string("timed run gave another mesh");
