@@ -42,8 +42,12 @@ bool Progress::check(const std::function<py::dict()>& info) {
   try {
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     if (!callback_.is_none()) {
+      // None (no return statement) continues; otherwise the truth value decides.
       const py::object r = callback_(info());
-      if (!r.is_none() && !r.cast<bool>()) return false;
+      if (r.is_none()) return true;
+      const int truth = PyObject_IsTrue(r.ptr());
+      if (truth < 0) throw py::error_already_set();
+      return truth != 0;
     }
   } catch (py::error_already_set& e) {
     error_ = std::make_unique<py::error_already_set>(std::move(e));

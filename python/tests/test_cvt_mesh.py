@@ -43,6 +43,18 @@ def test_cvt_threads_and_callback_stop():
 
     c = voroclip.cvt3d((CUBE_V, CUBE_T), sites, iterations=10, callback=stop_at_3)
     assert c.cancelled and not c.converged and seen[-1] == 3 and c.iterations == 3
+    # Any truth value: 0 stops at the start; an object whose truth raises, raises.
+    z = voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: 0)
+    assert z.cancelled and z.iterations == 0 and np.array_equal(z.sites, sites[:, :2])
+
+    class NoTruth:
+        def __bool__(self):
+            raise TypeError("no truth")
+
+    with pytest.raises(TypeError, match="no truth"):
+        voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: NoTruth())
+    with pytest.raises(voroclip.Error, match="threads"):
+        voroclip.cvt2d(SQUARE, sites[:, :2], threads=-1)
     with pytest.raises(RuntimeError, match="boom"):
         voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: (_ for _ in ()).throw(
             RuntimeError("boom")))
