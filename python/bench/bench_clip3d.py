@@ -1,6 +1,6 @@
 """The cost of calling clip3d from Python against the C++ call it wraps.
 
-    PYTHONPATH=build/rel/python /usr/bin/python3 python/bench_clip3d.py \\
+    PYTHONPATH=build/rel/python /usr/bin/python3 python/bench/bench_clip3d.py \\
         [--domain ../shared/data/tetmeshes/sphere-fine.mesh] [--sites 1000000] [--runs 5] \\
         [--cli build/rel/bin/voroclip]
 
@@ -37,7 +37,7 @@ def sites_in(domain, n, seed):
 
 
 def main():
-    here = pathlib.Path(__file__).resolve().parents[1]
+    here = pathlib.Path(__file__).resolve().parents[2]
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--domain", default=str(here.parent / "shared/data/tetmeshes/sphere-fine.mesh"))
     ap.add_argument("--sites", type=int, default=1000000)
