@@ -254,7 +254,7 @@ py::dict mesh3d(const Domain3& domain, std::uint32_t vertices, bool adaptive, bo
   return r;
 }
 
-py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets) {
+py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets, int threads) {
   const std::uint32_t nv = rows(points, 3, "points");
   if (tets.ndim() != 2 || tets.shape(1) != 4) throw Error("tets: expected an (n, 4) array");
   const auto nt = static_cast<std::uint32_t>(tets.shape(0));
@@ -270,10 +270,7 @@ py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets) {
   TetQualityOptions o;
   o.keep_per_tet = true;
   TetQuality q;
-  {
-    py::gil_scoped_release release;
-    q = tet_quality(points.data(), nv, t.data(), nt, o);
-  }
+  run_released(threads, [&] { q = tet_quality(points.data(), nv, t.data(), nt, o); });
   std::vector<double> q1(nt), q2(nt), q3(nt), q4(nt), volume(nt), dihedral(6 * std::size_t{nt});
   for (std::uint32_t i = 0; i < nt; ++i) {
     const TetShape& s = q.per_tet[i];
@@ -339,7 +336,7 @@ void bind_cvt_mesh(py::module_& m) {
         py::arg("smooth_surface") = false, py::arg("smooth_shape") = 0.75,
         py::arg("exact_vertices") = false, py::arg("callback") = py::none(),
         py::arg("threads") = 0);
-  m.def("tet_quality", &tet_quality_py, py::arg("points"), py::arg("tets"));
+  m.def("tet_quality", &tet_quality_py, py::arg("points"), py::arg("tets"), py::arg("threads") = 0);
   m.def("triangle_quality", &triangle_quality_py, py::arg("points"), py::arg("triangles"));
 }
 

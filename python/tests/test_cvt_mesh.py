@@ -109,6 +109,8 @@ def test_mesh3d_sphere_round_trips_and_quality(data, tmp_path):
     assert q.q3.min() == q.report["min_q3"] and q.q4.min() == q.report["min_q4"]
     assert q.dihedral.min() == q.report["min_dihedral_deg"]
     np.testing.assert_allclose(q.volume, det / 6, rtol=1e-12)
+    q1 = voroclip.quality(m.points, m.cells, threads=1)
+    assert np.array_equal(q1.q4, q.q4) and q1.report == q.report
     one = voroclip.mesh3d(data / "surfaces" / "sphere.obj", vertices=400, threads=1)
     assert np.array_equal(one.points, m.points) and np.array_equal(one.cells, m.cells)
     for ext in (".msh", ".vtu", ".mesh"):

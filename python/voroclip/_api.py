@@ -374,9 +374,10 @@ def _triangle_measures(points, triangles):
     return angles.min(axis=1), angles.max(axis=1), ratio, cross / 2
 
 
-def quality(mesh, cells=None) -> Quality:
+def quality(mesh, cells=None, *, threads: Optional[int] = None) -> Quality:
     """The quality of a tet mesh or a triangle mesh: a :class:`Mesh`, a meshio.Mesh, or
-    ``(points, cells)`` with (m, 4) tets or (m, 3) triangles. Returns :class:`Quality`."""
+    ``(points, cells)`` with (m, 4) tets or (m, 3) triangles. Returns :class:`Quality`
+    (the same for any ``threads``)."""
     if cells is not None:
         points = mesh
     elif isinstance(mesh, Mesh):
@@ -393,7 +394,7 @@ def quality(mesh, cells=None) -> Quality:
     points = np.ascontiguousarray(points, dtype=np.float64)
     cells = np.ascontiguousarray(cells, dtype=np.int64)
     if cells.ndim == 2 and cells.shape[1] == 4:
-        r = _core.tet_quality(points, cells)
+        r = _core.tet_quality(points, cells, _threads(threads))
         return Quality(r["q1"], r["q2"], r["q3"], r["q4"], r["volume"], r["dihedral"],
                        json.loads(r["report_json"]))
     if cells.ndim == 2 and cells.shape[1] == 3:
