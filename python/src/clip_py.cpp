@@ -6,6 +6,7 @@
 
 #include "common.h"
 #include "voroclip/clip.h"
+#include "voroclip/cvt.h"
 #include "voroclip/mesh.h"
 
 namespace voroclip::python {
@@ -472,6 +473,19 @@ void bind_domains(py::module_& m) {
 void bind_clip(py::module_& m) {
   m.def("clip2d", &clip2d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
         py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
+  m.def(
+      "random_points3",
+      [](const Domain3& domain, std::uint32_t n, std::uint64_t seed, const py::object& density,
+         int threads) {
+        std::shared_ptr<PyDensity> callback;
+        const Density3 rho = density3(density, callback);
+        std::vector<double> xyz;
+        run_released(threads, [&] { xyz = random_points3(domain, n, seed, rho); });
+        if (callback) callback->rethrow();
+        return to_array(std::move(xyz), {py::ssize_t{n}, 3});
+      },
+      py::arg("domain"), py::arg("n"), py::arg("seed") = 1, py::arg("density") = py::none(),
+      py::arg("threads") = 0);
   m.def("clip3d", &clip3d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
         py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
 }

@@ -81,3 +81,15 @@ def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
     assert np.array_equal(back.cells_dict["tetra"], m.cells)
     assert np.array_equal(back.cells_dict["triangle"], m.boundary_triangles)
     assert stats["vertices"] == len(m.points)
+
+
+def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):
+    domain = data / "surfaces" / "sphere.obj"
+    stats = run(cli, "clip3d", domain, "--random", 3000, "--seed", 7, "-o", tmp_path / "c.json")
+    sites = voroclip.random_points(domain, 3000, seed=7)
+    d = voroclip.domain3(domain)
+    assert (d.locate(sites) > 0).all()
+    ref = json.loads((tmp_path / "c.json").read_text())["cells"]
+    assert [c["site"] for c in ref] == sites.tolist()
+    cells = voroclip.clip3d(d, sites)
+    assert stats["cells_volume_sum"] == cells.total_measure

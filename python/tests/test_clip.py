@@ -173,6 +173,15 @@ def test_domain2_input_forms(data, tmp_path):
                     "1\n0 0.5 0.5\n")
     c = voroclip.clip2d(str(path), sites)
     assert np.array_equal(a.areas, b.areas) and np.array_equal(a.areas, c.areas)
+
+    class FakeMulti:  # shapely's MultiPolygon: .geoms
+        geoms = [FakePolygon([(0, 0), (1, 0), (1, 1), (0, 1)]),
+                 FakePolygon([(2, 0), (3, 0), (3, 1), (2, 1)], [[(2.4, 0.4), (2.6, 0.4),
+                                                                (2.6, 0.6), (2.4, 0.6)]])]
+
+    m = voroclip.clip2d(FakeMulti(), sites * [3, 1])
+    assert m.total_measure == pytest.approx(2 - 0.04, rel=1e-14)
+    assert voroclip.domain2(FakeMulti.geoms).area == pytest.approx(2 - 0.04, rel=1e-15)
     assert a.total_measure == pytest.approx(0.75, rel=1e-14)
     for f in sorted((data / "polygons" / "valid").glob("*.json")):
         d = voroclip.domain2(f)

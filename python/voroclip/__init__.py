@@ -7,7 +7,7 @@ triangle) is exact; only constructed coordinates are rounded. Bad input raises
 take ``threads=`` (None: all cores) and give the same bits for any thread count.
 
 Main entry points: :func:`clip2d`, :func:`clip3d`, :func:`cvt2d`, :func:`cvt3d`,
-:func:`mesh2d`, :func:`mesh3d`, :func:`quality`, :class:`Delaunay2`, :class:`Delaunay3`,
+:func:`mesh2d`, :func:`mesh3d`, :func:`quality`, :func:`random_points`, :class:`Delaunay2`, :class:`Delaunay3`,
 the predicates :func:`orient2d`, :func:`incircle`, :func:`orient3d`, :func:`insphere`,
 and :func:`domain2` / :func:`domain3` to validate a domain once for several calls.
 """
@@ -28,6 +28,7 @@ from ._api import (
     mesh2d,
     mesh3d,
     quality,
+    random_points,
 )
 from ._core import Domain2, Domain3, Error
 from ._domains import domain2, domain3
@@ -37,7 +38,7 @@ __version__ = _core.__version__
 __all__ = [
     "CSR", "Cells", "CvtResult", "Delaunay2", "Delaunay3", "Domain2", "Domain3", "Error",
     "Mesh", "Quality", "clip2d", "clip3d", "cvt2d", "cvt3d", "domain2", "domain3",
-    "incircle", "insphere", "mesh2d", "mesh3d", "orient2d", "orient3d", "quality",
+    "incircle", "insphere", "mesh2d", "mesh3d", "orient2d", "orient3d", "quality", "random_points",
 ]
 
 

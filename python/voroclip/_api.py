@@ -172,6 +172,16 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     return Cells(3, s, r)
 
 
+def random_points(domain, n: int, seed: int = 1, density=None, *,
+                  threads: Optional[int] = None) -> np.ndarray:
+    """(n, 3) points strictly inside a 3D domain (anything :func:`domain3` takes), drawn
+    independently with density ``density`` (None: uniform; a callable rho(x, y, z); one
+    value per vertex of the domain's tet mesh), decided inside exactly. The library's
+    generator (std::mt19937_64(seed), turned into doubles bit by bit): the same points on
+    every platform, and the CLI's ``--random n --seed seed`` sites."""
+    return _core.random_points3(domain3(domain), int(n), int(seed), density, _threads(threads))
+
+
 class CvtResult(NamedTuple):
     """The outcome of a CVT optimisation.
 
