@@ -1,6 +1,8 @@
 // python/src/cvt_mesh_py.cpp — CVT (cvt2d, cvt3d), meshing (mesh2d, mesh3d) and quality,
 // with progress callbacks that can stop a run and Ctrl-C that cancels it.
+#include <algorithm>
 #include <sstream>
+#include <utility>
 
 #include "common.h"
 #include "voroclip/cvt.h"
@@ -110,27 +112,71 @@ py::array_t<std::int32_t> as_int32(const std::vector<T>& v, py::ssize_t cols = 0
   return to_array(std::move(out), {n, cols});
 }
 
-py::dict mesh2d(const Domain2& domain, std::uint32_t vertices, double edge_length, double gradation,
-                double corner_angle, double sharp_angle, bool fix_input_vertices, bool keep_gaps,
-                std::uint64_t seed, const std::string& method,
-                std::uint32_t unconstrained_iterations, std::uint32_t constrained_iterations,
-                std::uint32_t repair_rounds, const py::object& density, const py::object& callback,
-                int threads) {
+// Options given by name (a dict from Python): each sets its field of the library's
+// default-constructed options struct, so that an option not given keeps the library's
+// default. An unknown name or a value of the wrong type throws Error naming it.
+template <class Options>
+class OptionSetter {
+ public:
+  using Setter = std::function<void(Options&, const py::handle&)>;
+  OptionSetter(const char* what, std::vector<std::pair<std::string, Setter>> setters)
+      : what_(what), setters_(std::move(setters)) {}
+  template <class T, class Field>
+  static Setter field(Field Options::*member) {
+    return
+        [member](Options& o, const py::handle& v) { o.*member = static_cast<Field>(v.cast<T>()); };
+  }
+  void apply(Options& o, const py::dict& options) const {
+    for (const auto& [key, value] : options) {
+      const auto name = py::cast<std::string>(key);
+      const auto it = std::find_if(setters_.begin(), setters_.end(),
+                                   [&](const auto& s) { return s.first == name; });
+      if (it == setters_.end()) {
+        std::string known;
+        for (const auto& s : setters_) known += (known.empty() ? "" : ", ") + s.first;
+        throw Error(std::string(what_) + ": unknown option '" + name + "' (known: " + known + ")");
+      }
+      try {
+        it->second(o, value);
+      } catch (py::cast_error&) {
+        throw Error(std::string(what_) + ": option '" + name + "': a value of the wrong type (" +
+                    py::str(py::type::of(value)).cast<std::string>() + ")");
+      }
+    }
+  }
+
+ private:
+  const char* what_;
+  std::vector<std::pair<std::string, Setter>> setters_;
+};
+
+py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object& density,
+                const py::object& callback, int threads) {
+  using S = OptionSetter<Mesh2Options>;
+  static const S setter(
+      "mesh2d",
+      {{"vertices", S::field<std::uint32_t>(&Mesh2Options::nb_vertices)},
+       {"edge_length", S::field<double>(&Mesh2Options::edge_length)},
+       {"gradation", S::field<double>(&Mesh2Options::gradation)},
+       {"corner_angle", S::field<double>(&Mesh2Options::corner_angle_deg)},
+       {"sharp_angle", S::field<double>(&Mesh2Options::sharp_angle_deg)},
+       {"fix_input_vertices", S::field<bool>(&Mesh2Options::fix_input_vertices)},
+       {"keep_gaps", S::field<bool>(&Mesh2Options::keep_gaps)},
+       {"seed", S::field<std::uint64_t>(&Mesh2Options::seed)},
+       {"method", [](Mesh2Options& o,
+                     const py::handle& v) { o.method = parse_method(v.cast<std::string>()); }},
+       {"unconstrained_iterations",
+        S::field<std::uint32_t>(&Mesh2Options::unconstrained_iterations)},
+       {"constrained_iterations", S::field<std::uint32_t>(&Mesh2Options::constrained_iterations)},
+       {"unconstrained_tolerance", S::field<double>(&Mesh2Options::unconstrained_tolerance)},
+       {"constrained_tolerance", S::field<double>(&Mesh2Options::constrained_tolerance)},
+       {"repair_rounds", S::field<std::uint32_t>(&Mesh2Options::repair_rounds)},
+       {"repair_angle", S::field<double>(&Mesh2Options::repair_angle_deg)},
+       {"repair_iterations", S::field<std::uint32_t>(&Mesh2Options::repair_iterations)}});
   Mesh2Options o;
-  o.nb_vertices = vertices;
-  o.edge_length = edge_length;
-  o.gradation = gradation;
-  o.corner_angle_deg = corner_angle;
-  o.sharp_angle_deg = sharp_angle;
-  o.fix_input_vertices = fix_input_vertices;
-  o.keep_gaps = keep_gaps;
-  o.seed = seed;
-  o.method = parse_method(method);
-  o.unconstrained_iterations = unconstrained_iterations;
-  o.constrained_iterations = constrained_iterations;
-  o.repair_rounds = repair_rounds;
+  setter.apply(o, options);
   std::shared_ptr<PyDensity> rho;
-  o.density = density2(density, rho);
+  if (!density.is_none()) o.density = density2(density, rho);
   Progress progress(callback);
   o.progress = [&](const Mesh2Progress& p) {
     return progress.check([&] {
@@ -182,25 +228,43 @@ py::dict mesh2d(const Domain2& domain, std::uint32_t vertices, double edge_lengt
   return r;
 }
 
-py::dict mesh3d(const Domain3& domain, std::uint32_t vertices, bool adaptive, bool features,
-                double feature_angle, std::uint64_t seed, std::uint32_t unconstrained_iterations,
-                std::uint32_t constrained_iterations, bool perturb, double sliver_angle,
-                bool smooth_surface, double smooth_shape, bool exact_vertices,
-                const py::object& callback, int threads) {
+py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object& callback,
+                int threads) {
+  using S = OptionSetter<Mesh3Options>;
+  static const S setter(
+      "mesh3d",
+      {{"vertices", S::field<std::uint32_t>(&Mesh3Options::nb_vertices)},
+       {"adaptive", S::field<bool>(&Mesh3Options::adaptive)},
+       {"features", S::field<bool>(&Mesh3Options::features)},
+       {"feature_angle", S::field<double>(&Mesh3Options::feature_angle_deg)},
+       {"min_feature_length", S::field<double>(&Mesh3Options::min_feature_length)},
+       {"sampling",
+        [](Mesh3Options& o, const py::handle& v) {
+          const auto s = v.cast<std::string>();
+          if (s != "lattice" && s != "random") {
+            throw Error("mesh3d: sampling: expected 'lattice' or 'random', got '" + s + "'");
+          }
+          o.sampling = s == "lattice" ? Mesh3Sampling::kLattice : Mesh3Sampling::kRandom;
+        }},
+       {"seed", S::field<std::uint64_t>(&Mesh3Options::seed)},
+       {"unconstrained_iterations",
+        S::field<std::uint32_t>(&Mesh3Options::unconstrained_iterations)},
+       {"constrained_iterations", S::field<std::uint32_t>(&Mesh3Options::constrained_iterations)},
+       {"gradient_tolerance", S::field<double>(&Mesh3Options::gradient_tolerance)},
+       {"smooth_surface", S::field<bool>(&Mesh3Options::smooth_surface)},
+       {"smooth_shape", S::field<double>(&Mesh3Options::smooth_shape)},
+       {"exact_vertices",
+        [](Mesh3Options& o, const py::handle& v) {
+          o.vertex_count = v.cast<bool>() ? Mesh3Options::VertexCount::kExact
+                                          : Mesh3Options::VertexCount::kRaise;
+        }},
+       {"max_topology_rounds", S::field<std::uint32_t>(&Mesh3Options::max_topology_rounds)},
+       {"perturb", S::field<bool>(&Mesh3Options::perturb)},
+       {"sliver_angle", [](Mesh3Options& o, const py::handle& v) {
+          o.perturbation.target_dihedral_deg = v.cast<double>();
+        }}});
   Mesh3Options o;
-  o.nb_vertices = vertices;
-  o.adaptive = adaptive;
-  o.features = features;
-  o.feature_angle_deg = feature_angle;
-  o.seed = seed;
-  o.unconstrained_iterations = unconstrained_iterations;
-  o.constrained_iterations = constrained_iterations;
-  o.perturb = perturb;
-  o.perturbation.target_dihedral_deg = sliver_angle;
-  o.smooth_surface = smooth_surface;
-  o.smooth_shape = smooth_shape;
-  o.vertex_count =
-      exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
+  setter.apply(o, options);
   Progress progress(callback);
   o.progress = [&](const Mesh3Progress& p) {
     return progress.check([&] {
@@ -322,20 +386,10 @@ void bind_cvt_mesh(py::module_& m) {
   m.def("cvt3d", &cvt3d, py::arg("domain"), py::arg("sites"), py::arg("method") = "lbfgs",
         py::arg("iterations") = 100, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
-  m.def("mesh2d", &mesh2d, py::arg("domain"), py::arg("vertices") = 0, py::arg("edge_length") = 0.0,
-        py::arg("gradation") = 0.3, py::arg("corner_angle") = 20.0, py::arg("sharp_angle") = 30.0,
-        py::arg("fix_input_vertices") = false, py::arg("keep_gaps") = false, py::arg("seed") = 1,
-        py::arg("method") = "lbfgs", py::arg("unconstrained_iterations") = 100,
-        py::arg("constrained_iterations") = 200, py::arg("repair_rounds") = 4,
+  m.def("mesh2d", &mesh2d, py::arg("domain"), py::arg("options") = py::dict(),
         py::arg("density") = py::none(), py::arg("callback") = py::none(), py::arg("threads") = 0);
-  m.def("mesh3d", &mesh3d, py::arg("domain"), py::arg("vertices") = 10000,
-        py::arg("adaptive") = false, py::arg("features") = true,
-        py::arg("feature_angle") = kDefaultFeatureAngleDeg, py::arg("seed") = 1,
-        py::arg("unconstrained_iterations") = 16, py::arg("constrained_iterations") = 30,
-        py::arg("perturb") = true, py::arg("sliver_angle") = 30.0,
-        py::arg("smooth_surface") = false, py::arg("smooth_shape") = 0.75,
-        py::arg("exact_vertices") = false, py::arg("callback") = py::none(),
-        py::arg("threads") = 0);
+  m.def("mesh3d", &mesh3d, py::arg("domain"), py::arg("options") = py::dict(),
+        py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("tet_quality", &tet_quality_py, py::arg("points"), py::arg("tets"), py::arg("threads") = 0);
   m.def("triangle_quality", &triangle_quality_py, py::arg("points"), py::arg("triangles"));
 }

@@ -306,44 +306,48 @@ class Mesh:
         self.to_meshio("medit" if name.endswith(".mesh") else "gmsh").write(path, **kwargs)
 
 
-def mesh2d(domain, vertices: int = 0, edge_length: float = 0.0, *, gradation: float = 0.3,
-           corner_angle: float = 20.0, sharp_angle: float = 30.0,
-           fix_input_vertices: bool = False, keep_gaps: bool = False, seed: int = 1,
-           method: str = "lbfgs", unconstrained_iterations: int = 100,
-           constrained_iterations: int = 200, repair_rounds: int = 4, density=None,
-           callback: Optional[Callable[[dict], object]] = None,
-           threads: Optional[int] = None) -> Mesh:
-    """A CVT triangle mesh of a polygonal domain of about ``vertices`` vertices, or with
-    edge length ``edge_length`` far from small features (give one). Angles in degrees.
-    ``callback(info)`` gets phase, iteration, energy, gradient_norm, seconds; returning
-    False stops early (a valid mesh of lower quality; ``stats['cancelled']``); Ctrl-C
-    raises KeyboardInterrupt. The same mesh for any ``threads``."""
-    r = _core.mesh2d(domain2(domain), int(vertices), float(edge_length), float(gradation),
-                     float(corner_angle), float(sharp_angle), bool(fix_input_vertices),
-                     bool(keep_gaps), int(seed), method, int(unconstrained_iterations),
-                     int(constrained_iterations), int(repair_rounds), density, callback,
-                     _threads(threads))
+def _given(**options) -> dict:
+    return {k: v for k, v in options.items() if v is not None}
+
+
+def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] = None, *,
+           density=None, callback: Optional[Callable[[dict], object]] = None,
+           threads: Optional[int] = None, **options) -> Mesh:
+    """A CVT triangle mesh of a polygonal domain (anything :func:`domain2` takes) of about
+    ``vertices`` vertices, or with edge length ``edge_length`` (L) far from small features;
+    give one. Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
+    the library's default, so Python and the CLI agree): ``gradation``, ``corner_angle``,
+    ``sharp_angle``, ``repair_angle`` (degrees), ``fix_input_vertices``, ``keep_gaps``,
+    ``seed``, ``method`` ('lbfgs' | 'lloyd'), ``unconstrained_iterations``,
+    ``constrained_iterations``, ``unconstrained_tolerance``, ``constrained_tolerance``,
+    ``repair_rounds``, ``repair_iterations``; an unknown name raises :class:`Error`.
+    ``density``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
+    gradient_norm, seconds; returning False stops early (a valid mesh of lower quality;
+    ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
+    ``threads``."""
+    r = _core.mesh2d(domain2(domain), _given(vertices=vertices, edge_length=edge_length,
+                                             **options),
+                     density, callback, _threads(threads))
     return Mesh(2, r)
 
 
-def mesh3d(domain, vertices: int = 10000, *, adaptive: bool = False, features: bool = True,
-           feature_angle: float = 40.0, seed: int = 1, unconstrained_iterations: int = 16,
-           constrained_iterations: int = 30, perturb: bool = True, sliver_angle: float = 30.0,
-           smooth_surface: bool = False, smooth_shape: float = 0.75,
-           exact_vertices: bool = False, callback: Optional[Callable[[dict], object]] = None,
-           threads: Optional[int] = None) -> Mesh:
+def mesh3d(domain, vertices: Optional[int] = None, *,
+           callback: Optional[Callable[[dict], object]] = None, threads: Optional[int] = None,
+           **options) -> Mesh:
     """A CVT tetrahedral mesh of a 3D domain (anything :func:`domain3` takes) of about
-    ``vertices`` vertices: sharp features kept (edges whose normals differ by more than
-    ``feature_angle`` degrees), boundary topology resolved, slivers below ``sliver_angle``
-    degrees perturbed away. Tags: the input's (tet mesh files) or one patch per surface
-    region between feature lines and one region per volume component. ``callback(info)``
-    gets phase, iteration, energy, ...; returning False stops (no tets,
-    ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
-    ``threads`` and a given ``seed``."""
-    r = _core.mesh3d(domain3(domain), int(vertices), bool(adaptive), bool(features),
-                     float(feature_angle), int(seed), int(unconstrained_iterations),
-                     int(constrained_iterations), bool(perturb), float(sliver_angle),
-                     bool(smooth_surface), float(smooth_shape), bool(exact_vertices), callback,
+    ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
+    topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
+    Mesh3Options (an option not given keeps the library's default): ``adaptive``,
+    ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
+    ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
+    ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
+    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``perturb``,
+    ``sliver_angle`` (degrees); an unknown name raises :class:`Error`. Tags: the input's
+    (tet mesh files) or one patch per surface region between feature lines and one region
+    per volume component. ``callback(info)`` gets phase, iteration, energy, ...; returning
+    False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The
+    same mesh for any ``threads`` and a given ``seed``."""
+    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options), callback,
                      _threads(threads))
     return Mesh(3, r)
 

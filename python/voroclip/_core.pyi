@@ -116,17 +116,9 @@ def cvt2d(domain: Domain2, sites: ArrayLike, method: str = "lbfgs", iterations: 
 def cvt3d(domain: Domain3, sites: ArrayLike, method: str = "lbfgs", iterations: int = 100,
           tolerance: float = 1e-4, density: Any = None,
           callback: Optional[Callable[[dict], Any]] = None, threads: int = 0) -> dict[str, Any]: ...
-def mesh2d(domain: Domain2, vertices: int = 0, edge_length: float = 0.0,
-           gradation: float = 0.3, corner_angle: float = 20.0, sharp_angle: float = 30.0,
-           fix_input_vertices: bool = False, keep_gaps: bool = False, seed: int = 1,
-           method: str = "lbfgs", unconstrained_iterations: int = 100,
-           constrained_iterations: int = 200, repair_rounds: int = 4, density: Any = None,
+def mesh2d(domain: Domain2, options: dict[str, Any] = ..., density: Any = None,
            callback: Optional[Callable[[dict], Any]] = None, threads: int = 0) -> dict[str, Any]: ...
-def mesh3d(domain: Domain3, vertices: int = 10000, adaptive: bool = False,
-           features: bool = True, feature_angle: float = 40.0, seed: int = 1,
-           unconstrained_iterations: int = 16, constrained_iterations: int = 30,
-           perturb: bool = True, sliver_angle: float = 30.0, smooth_surface: bool = False,
-           smooth_shape: float = 0.75, exact_vertices: bool = False,
+def mesh3d(domain: Domain3, options: dict[str, Any] = ...,
            callback: Optional[Callable[[dict], Any]] = None, threads: int = 0) -> dict[str, Any]: ...
 def tet_quality(points: ArrayLike, tets: ArrayLike, threads: int = 0) -> dict[str, Any]: ...
 def triangle_quality(points: ArrayLike, triangles: ArrayLike) -> dict[str, Any]: ...
