@@ -162,6 +162,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
        {"sharp_angle", S::field<double>(&Mesh2Options::sharp_angle_deg)},
        {"fix_input_vertices", S::field<bool>(&Mesh2Options::fix_input_vertices)},
        {"keep_gaps", S::field<bool>(&Mesh2Options::keep_gaps)},
+       {"conforming", S::field<bool>(&Mesh2Options::conforming)},
        {"seed", S::field<std::uint64_t>(&Mesh2Options::seed)},
        {"method", [](Mesh2Options& o,
                      const py::handle& v) { o.method = parse_method(v.cast<std::string>()); }},
@@ -209,6 +210,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   s["fixed_sites"] = st.nb_fixed;
   s["sliding_sites"] = st.nb_sliding;
   s["sharp_corners"] = st.nb_sharp_corners;
+  s["tip_triangles"] = st.nb_tip_triangles;
   s["edge_length"] = st.edge_length;
   s["min_feature_size"] = st.min_size;
   s["unconstrained_iterations"] = st.unconstrained_iterations;
@@ -224,6 +226,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   s["removed_vertices"] = st.removed_vertices;
   s["seconds"] = st.seconds;
   s["cancelled"] = st.cancelled;
+  s["check"] = st.check;
   r["stats"] = s;
   return r;
 }

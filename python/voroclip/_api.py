@@ -318,6 +318,7 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
     give one. Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
     the library's default, so Python and the CLI agree): ``gradation``, ``corner_angle``,
     ``sharp_angle``, ``repair_angle`` (degrees), ``fix_input_vertices``, ``keep_gaps``,
+    ``conforming`` (False: the paper's circumcentre rule instead of the conforming mesh),
     ``seed``, ``method`` ('lbfgs' | 'lloyd'), ``unconstrained_iterations``,
     ``constrained_iterations``, ``unconstrained_tolerance``, ``constrained_tolerance``,
     ``repair_rounds``, ``repair_iterations``; an unknown name raises :class:`Error`.
