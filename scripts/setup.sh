@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages voroclip needs, then configures and builds build/release.
 #
-#   bash scripts/setup.sh              packages + Release build (build/release/bin/voroclip)
+#   bash scripts/setup.sh              packages + Release build (build/release/bin/voroclip
+#                                      and the Python package in build/release/python)
 #   bash scripts/setup.sh --deps-only  packages only (scripts/test.sh uses this)
 #
 # apt is skipped entirely when every package is already installed. Installing needs root:
@@ -14,6 +15,10 @@ packages=(
   catch2 libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev voro++-dev
   clang-format
   python3-meshio python3-gmsh
+  # The Python package (python/): pybind11 and numpy to build it, pytest, scipy and
+  # matplotlib for its tests and examples, pip and setuptools for `pip install .`.
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-scipy
+  python3-matplotlib python3-setuptools python3-pip
 )
 
 deps_only=0
@@ -72,11 +77,14 @@ if [[ $deps_only -eq 1 ]]; then
   exit 0
 fi
 
-# The library and the command-line tool; scripts/test.sh builds the tests and benchmarks
-# in build trees of its own.
-echo "==> setup: configuring build/release (Release, library and CLI)"
+# The library, the command-line tool and the Python package; scripts/test.sh builds the
+# tests and benchmarks in build trees of its own. The Python package is built for Debian's
+# /usr/bin/python3 (the one its pybind11 and numpy belong to), whatever python3 is first on
+# PATH.
+echo "==> setup: configuring build/release (Release, library, CLI and Python package)"
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVOROCLIP_BUILD_TESTS=OFF \
-  -DVOROCLIP_BUILD_BENCH=OFF
+  -DVOROCLIP_BUILD_BENCH=OFF -DVOROCLIP_BUILD_PYTHON=ON -DPython_EXECUTABLE=/usr/bin/python3
 echo "==> setup: building (cmake --build build/release -j2)"
 cmake --build build/release -j2
-echo "==> setup: done; the tool is build/release/bin/voroclip"
+echo "==> setup: done; the tool is build/release/bin/voroclip, the Python package" \
+  "build/release/python/voroclip (PYTHONPATH=build/release/python /usr/bin/python3)"

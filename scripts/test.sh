@@ -2,8 +2,10 @@
 # The whole test suite, as CI runs it (.ci/run calls this script verbatim):
 #   1. dependencies          bash scripts/setup.sh --deps-only
 #   2. formatting            clang-format --dry-run --Werror on every .h/.cpp
-#   3. Release build         build/test, warnings as errors, benchmarks built; full ctest
-#   4. ASan + UBSan build    build/asan, without the CGAL tests and the benchmarks; ctest
+#   3. Release build         build/test, warnings as errors, benchmarks and the Python
+#                            package built; full ctest
+#   4. Python tests          pytest python/tests against build/test's package and CLI
+#   5. ASan + UBSan build    build/asan, without the CGAL tests and the benchmarks; ctest
 #                            without the install test
 # Stops at the first failure with a non-zero exit status.
 set -euo pipefail
@@ -18,12 +20,12 @@ stage() {
 }
 trap 'echo "==== test.sh: FAILED in stage: $stage_name" >&2' ERR
 
-stage "1/4 dependencies (scripts/setup.sh --deps-only)"
+stage "1/5 dependencies (scripts/setup.sh --deps-only)"
 bash scripts/setup.sh --deps-only
 
-stage "2/4 clang-format check"
+stage "2/5 clang-format check"
 dirs=()
-for d in core predicates delaunay clip cvt mesh apps bench tests; do
+for d in core predicates delaunay clip cvt mesh apps bench tests python; do
   if [[ -d "$d" ]]; then dirs+=("$d"); fi
 done
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
@@ -39,12 +41,19 @@ done
 echo "checking ${#files[@]} files against .clang-format ($(clang-format --version))"
 clang-format --dry-run --Werror "${files[@]}"
 
-stage "3/4 Release build (build/test, -DVOROCLIP_WERROR=ON) and ctest"
-cmake -S . -B build/test -DCMAKE_BUILD_TYPE=Release -DVOROCLIP_WERROR=ON
+stage "3/5 Release build (build/test, -DVOROCLIP_WERROR=ON) and ctest"
+cmake -S . -B build/test -DCMAKE_BUILD_TYPE=Release -DVOROCLIP_WERROR=ON \
+  -DVOROCLIP_BUILD_PYTHON=ON -DPython_EXECUTABLE=/usr/bin/python3
 cmake --build build/test -j2
 ctest --test-dir build/test --output-on-failure -j2
 
-stage "4/4 ASan+UBSan build (build/asan) and ctest without the install test"
+stage "4/5 Python tests (pytest python/tests on build/test/python)"
+# Debian's /usr/bin/python3: the `python3` first on PATH may not see Debian's numpy, scipy,
+# meshio and pytest. The tests run the examples and compare with build/test's CLI.
+PYTHONPATH="$PWD/build/test/python" VOROCLIP_CLI="$PWD/build/test/bin/voroclip" \
+  MPLBACKEND=Agg /usr/bin/python3 -m pytest -q -p no:cacheprovider python/tests
+
+stage "5/5 ASan+UBSan build (build/asan) and ctest without the install test"
 # -O1 -g1 (line tables, enough for the sanitizers' stack traces): test_clip3d.cpp compiles
 # in 27 s instead of 71 s with RelWithDebInfo's -O2 -g (2.0 GHz EPYC host), and this stage's
 # build was 18 of the suite's 30 minutes there.
@@ -58,5 +67,5 @@ cmake --build build/asan -j2
 VOROCLIP_TEST_SCALE=0.3 UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir build/asan --output-on-failure -j2 -E install
 
 echo
-echo "==== test.sh: PASSED: format (${#files[@]} files), Release build + ctest," \
+echo "==== test.sh: PASSED: format (${#files[@]} files), Release build + ctest, pytest," \
   "ASan/UBSan build + ctest, in ${SECONDS}s"

@@ -1,0 +1,493 @@
+// python/src/clip_py.cpp — Domain2 / Domain3 and the clipped Voronoi diagrams (clip2d,
+// clip3d) as dicts of owned numpy arrays.
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+
+#include "common.h"
+#include "voroclip/clip.h"
+#include "voroclip/cvt.h"
+#include "voroclip/mesh.h"
+
+namespace voroclip::python {
+
+namespace {
+
+std::vector<std::uint32_t> as_u32(const IndexArray& a, std::size_t limit, const char* what) {
+  std::vector<std::uint32_t> out(static_cast<std::size_t>(a.size()));
+  const std::int64_t* p = a.data();
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    if (p[k] < 0 || static_cast<std::uint64_t>(p[k]) >= limit) {
+      throw Error(std::string(what) + ": index " + std::to_string(p[k]) + " at position " +
+                  std::to_string(k) + " is out of range [0, " + std::to_string(limit) + ")");
+    }
+    out[k] = static_cast<std::uint32_t>(p[k]);
+  }
+  return out;
+}
+
+std::vector<std::int32_t> as_tags(const IndexArray& a, std::size_t count, const char* what) {
+  if (a.size() == 0) return {};
+  if (static_cast<std::size_t>(a.size()) != count) {
+    throw Error(std::string(what) + ": expected " + std::to_string(count) + " tags, got " +
+                std::to_string(a.size()));
+  }
+  std::vector<std::int32_t> out(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::int64_t t = a.data()[k];
+    if (t < INT32_MIN || t > INT32_MAX) {
+      throw Error(std::string(what) + ": tag " + std::to_string(t) + " at position " +
+                  std::to_string(k) + " is not a 32-bit integer");
+    }
+    out[k] = static_cast<std::int32_t>(t);
+  }
+  return out;
+}
+
+std::uint32_t index_rows(const IndexArray& a, int dim, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != dim) {
+    throw Error(std::string(what) + ": expected an (n, " + std::to_string(dim) +
+                ") array of indices");
+  }
+  return static_cast<std::uint32_t>(a.shape(0));
+}
+
+py::array_t<std::int8_t> locate_all(const DoubleArray& points, int dim,
+                                    const std::function<Sign(const double*)>& locate) {
+  const std::uint32_t n = rows(points, dim, "points");
+  std::vector<std::int8_t> out(n);
+  const double* p = points.data();
+  {
+    py::gil_scoped_release release;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      out[i] = static_cast<std::int8_t>(locate(p + static_cast<std::size_t>(dim) * i));
+    }
+  }
+  return to_array(std::move(out));
+}
+
+}  // namespace
+
+Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callback) {
+  if (density.is_none()) return Density2::constant(1.0);
+  if (py::isinstance<py::float_>(density) || py::isinstance<py::int_>(density)) {
+    const double v = density.cast<double>();
+    if (!(v > 0) || !std::isfinite(v)) throw Error("density: expected a finite number > 0");
+    return Density2::constant(v);
+  }
+  if (py::isinstance<py::tuple>(density)) {
+    // (values (ny, nx), lo (2,), hi (2,)): piecewise linear on a grid.
+    const auto t = density.cast<py::tuple>();
+    if (t.size() != 3) throw Error("density: a grid is (values[ny, nx], lo[2], hi[2])");
+    const auto values = t[0].cast<DoubleArray>();
+    const auto lo = t[1].cast<DoubleArray>();
+    const auto hi = t[2].cast<DoubleArray>();
+    if (values.ndim() != 2 || values.shape(0) < 2 || values.shape(1) < 2 || lo.size() != 2 ||
+        hi.size() != 2) {
+      throw Error("density: a grid is (values[ny, nx] with nx, ny >= 2, lo[2], hi[2])");
+    }
+    const double l[2] = {lo.data()[0], lo.data()[1]};
+    const double h[2] = {hi.data()[0], hi.data()[1]};
+    return Density2::linear_grid(static_cast<std::uint32_t>(values.shape(1)),
+                                 static_cast<std::uint32_t>(values.shape(0)), l, h,
+                                 std::vector<double>(values.data(), values.data() + values.size()));
+  }
+  if (PyCallable_Check(density.ptr()) != 0) {
+    callback = std::make_shared<PyDensity>(density);
+    auto c = callback;
+    return Density2::function([c](double x, double y) { return (*c)(x, y, 0, 2); });
+  }
+  throw Error("density: expected None, a number, a callable rho(x, y) or a grid tuple");
+}
+
+Density3 density3(const py::object& density, std::shared_ptr<PyDensity>& callback) {
+  if (density.is_none()) return Density3::constant(1.0);
+  if (py::isinstance<py::float_>(density) || py::isinstance<py::int_>(density)) {
+    const double v = density.cast<double>();
+    if (!(v > 0) || !std::isfinite(v)) throw Error("density: expected a finite number > 0");
+    return Density3::constant(v);
+  }
+  if (PyCallable_Check(density.ptr()) != 0) {
+    callback = std::make_shared<PyDensity>(density);
+    auto c = callback;
+    return Density3::function([c](double x, double y, double z) { return (*c)(x, y, z, 3); });
+  }
+  const auto values = density.cast<DoubleArray>();
+  if (values.ndim() != 1) {
+    throw Error(
+        "density: expected None, a number, a callable rho(x, y, z) or one value per "
+        "vertex of the tet mesh");
+  }
+  return Density3::vertex_linear(std::vector<double>(values.data(), values.data() + values.size()));
+}
+
+namespace {
+
+// 2D neighbours from the cells' rings: the edge from ring vertex u to w of cell i lies on
+// the domain's boundary when both are on a common domain edge, else on bisector(i, j) for
+// the one site j other than i that both vertices are defined by (ClipVertex2).
+void neighbors2(const Domain2& domain, const ClippedVoronoi2& cv, std::vector<std::int32_t>& indptr,
+                std::vector<std::int32_t>& indices) {
+  const std::uint32_t n = cv.nb_sites();
+  const auto& vs = cv.vertices();
+  const auto sites = [](const ClipVertex2& v, std::uint32_t s[3]) {
+    switch (v.kind) {
+      case ClipVertex2::Kind::kDomainVertex:
+        return 0;
+      case ClipVertex2::Kind::kEdgeBisector:
+        s[0] = v.b, s[1] = v.c;
+        return 2;
+      case ClipVertex2::Kind::kVoronoi:
+        s[0] = v.a, s[1] = v.b, s[2] = v.c;
+        return 3;
+    }
+    return 0;
+  };
+  const auto edges = [&](const ClipVertex2& v, std::uint32_t e[2]) {
+    switch (v.kind) {
+      case ClipVertex2::Kind::kDomainVertex:
+        e[0] = v.a, e[1] = domain.prev(v.a);
+        return 2;
+      case ClipVertex2::Kind::kEdgeBisector:
+        e[0] = v.a;
+        return 1;
+      case ClipVertex2::Kind::kVoronoi:
+        return 0;
+    }
+    return 0;
+  };
+  indptr.assign(std::size_t{n} + 1, 0);
+  std::vector<std::uint32_t> cell;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    cell.clear();
+    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+      const std::uint32_t b = cv.ring_vertex_begin(r), e = cv.ring_vertex_begin(r + 1);
+      for (std::uint32_t k = b; k < e; ++k) {
+        const ClipVertex2& u = vs[k];
+        const ClipVertex2& w = vs[k + 1 == e ? b : k + 1];
+        std::uint32_t eu[2], ew[2], su[3], sw[3];
+        const int neu = edges(u, eu), new_ = edges(w, ew);
+        bool on_boundary = false;
+        for (int x = 0; x < neu; ++x) {
+          for (int y = 0; y < new_; ++y) on_boundary = on_boundary || eu[x] == ew[y];
+        }
+        if (on_boundary) continue;
+        const int nsu = sites(u, su), nsw = sites(w, sw);
+        for (int x = 0; x < nsu; ++x) {
+          if (su[x] == i) continue;
+          for (int y = 0; y < nsw; ++y) {
+            if (su[x] == sw[y]) cell.push_back(su[x]);
+          }
+        }
+      }
+    }
+    std::sort(cell.begin(), cell.end());
+    cell.erase(std::unique(cell.begin(), cell.end()), cell.end());
+    for (const std::uint32_t j : cell) indices.push_back(static_cast<std::int32_t>(j));
+    indptr[i + 1] = static_cast<std::int32_t>(indices.size());
+  }
+}
+
+// 3D neighbours: the sites across the faces of each cell's boundary.
+void neighbors3(const ClippedVoronoi3& cv, const ClippedVoronoi3::Polygons& faces,
+                std::vector<std::int32_t>& indptr, std::vector<std::int32_t>& indices) {
+  const std::uint32_t n = cv.nb_sites();
+  std::vector<std::vector<std::uint32_t>> adj(n);
+  for (std::size_t f = 0; f < faces.site.size(); ++f) {
+    const std::uint32_t j = faces.across[f];
+    if (j < n) adj[faces.site[f]].push_back(j);
+  }
+  indptr.assign(std::size_t{n} + 1, 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::sort(adj[i].begin(), adj[i].end());
+    adj[i].erase(std::unique(adj[i].begin(), adj[i].end()), adj[i].end());
+    for (const std::uint32_t j : adj[i]) indices.push_back(static_cast<std::int32_t>(j));
+    indptr[i + 1] = static_cast<std::int32_t>(indices.size());
+  }
+}
+
+py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::object& density,
+                bool geometry, bool neighbors, int threads) {
+  const std::uint32_t n = rows(sites, 2, "sites");
+  if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
+  std::shared_ptr<PyDensity> callback;
+  Clip2Options o;
+  o.density = density2(density, callback);
+  o.keep_geometry = geometry || neighbors;
+  ClippedVoronoi2 cv;
+  run_released(threads, [&] {
+    const Delaunay2 dt(sites.data(), n);
+    cv.compute(domain, dt, o);
+  });
+  if (callback) callback->rethrow();
+  std::vector<double> area(n), mass(n), energy(n), centroid(2 * std::size_t{n});
+  std::vector<std::uint8_t> boundary(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    area[i] = cv.area(i);
+    mass[i] = cv.mass(i);
+    energy[i] = cv.energy(i);
+    centroid[2 * std::size_t{i}] = cv.centroid(i)[0];
+    centroid[2 * std::size_t{i} + 1] = cv.centroid(i)[1];
+    boundary[i] = cv.is_boundary(i) ? 1 : 0;
+  }
+  py::dict r;
+  r["areas"] = to_array(std::move(area));
+  r["masses"] = to_array(std::move(mass));
+  r["energies"] = to_array(std::move(energy));
+  r["centroids"] = to_array(std::move(centroid), {py::ssize_t{n}, 2});
+  r["boundary"] = to_array(std::move(boundary)).attr("astype")("bool");
+  r["total_area"] = cv.total_area();
+  r["total_mass"] = cv.total_mass();
+  r["total_energy"] = cv.total_energy();
+  r["nb_boundary"] = cv.nb_boundary_sites();
+  if (neighbors) {
+    std::vector<std::int32_t> indptr, indices;
+    neighbors2(domain, cv, indptr, indices);
+    r["neighbors_indptr"] = to_array(std::move(indptr));
+    r["neighbors_indices"] = to_array(std::move(indices));
+  }
+  if (geometry) {
+    std::vector<std::int32_t> cell_ring(std::size_t{n} + 1), ring_vertex;
+    for (std::uint32_t i = 0; i <= n; ++i) {
+      cell_ring[i] = static_cast<std::int32_t>(cv.cell_ring_begin(i));
+    }
+    const std::uint32_t nr = cv.cell_ring_begin(n);
+    ring_vertex.resize(std::size_t{nr} + 1);
+    for (std::uint32_t k = 0; k <= nr; ++k) {
+      ring_vertex[k] = static_cast<std::int32_t>(cv.ring_vertex_begin(k));
+    }
+    std::vector<double> xy = cv.vertex_coords();
+    const auto nv = static_cast<py::ssize_t>(xy.size() / 2);
+    r["cell_ring_begin"] = to_array(std::move(cell_ring));
+    r["ring_vertex_begin"] = to_array(std::move(ring_vertex));
+    r["vertices"] = to_array(std::move(xy), {nv, 2});
+  }
+  return r;
+}
+
+py::dict clip3d(const Domain3& domain, const DoubleArray& sites, const py::object& density,
+                bool geometry, bool neighbors, int threads) {
+  const std::uint32_t n = rows(sites, 3, "sites");
+  if (n < 4) throw Error("sites: at least 4 sites are needed, got " + std::to_string(n));
+  std::shared_ptr<PyDensity> callback;
+  Clip3Options o;
+  o.density = density3(density, callback);
+  o.keep_geometry = geometry || neighbors;
+  ClippedVoronoi3 cv;
+  ClippedVoronoi3::Polygons faces;
+  double seconds_compute = 0;
+  run_released(threads, [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    cv.compute(domain, sites.data(), n, o);
+    seconds_compute = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (o.keep_geometry) faces = cv.cell_boundaries();
+  });
+  if (callback) callback->rethrow();
+  std::vector<double> volume(n), mass(n), energy(n), surface(n), centroid(3 * std::size_t{n});
+  std::vector<std::uint8_t> boundary(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    volume[i] = cv.volume(i);
+    mass[i] = cv.mass(i);
+    energy[i] = cv.energy(i);
+    surface[i] = cv.surface_area(i);
+    for (int k = 0; k < 3; ++k) {
+      centroid[3 * std::size_t{i} + static_cast<std::size_t>(k)] = cv.centroid(i)[k];
+    }
+    boundary[i] = cv.is_boundary(i) ? 1 : 0;
+  }
+  py::dict r;
+  r["volumes"] = to_array(std::move(volume));
+  r["masses"] = to_array(std::move(mass));
+  r["energies"] = to_array(std::move(energy));
+  r["surface_areas"] = to_array(std::move(surface));
+  r["centroids"] = to_array(std::move(centroid), {py::ssize_t{n}, 3});
+  r["boundary"] = to_array(std::move(boundary)).attr("astype")("bool");
+  r["total_volume"] = cv.total_volume();
+  r["total_mass"] = cv.total_mass();
+  r["total_energy"] = cv.total_energy();
+  r["total_surface_area"] = cv.total_surface_area();
+  r["nb_boundary"] = cv.nb_boundary_sites();
+  r["unique_sites"] = cv.delaunay().nb_unique_points();
+  py::dict seconds;
+  seconds["delaunay"] = cv.seconds_delaunay();
+  seconds["surface_rvd"] = cv.seconds_surface();
+  seconds["boundary_cells"] = cv.seconds_boundary_cells();
+  seconds["inner_cells"] = cv.seconds_inner_cells();
+  // The C++ call alone (ClippedVoronoi3::compute), as the CLI's --stats json "total".
+  seconds["total"] = seconds_compute;
+  r["seconds"] = seconds;
+  if (neighbors) {
+    std::vector<std::int32_t> indptr, indices;
+    neighbors3(cv, faces, indptr, indices);
+    r["neighbors_indptr"] = to_array(std::move(indptr));
+    r["neighbors_indices"] = to_array(std::move(indices));
+  }
+  if (geometry) {
+    const std::size_t nf = faces.site.size();
+    std::vector<std::int32_t> site(nf), across(nf), begin(faces.polygon_begin.size());
+    for (std::size_t f = 0; f < nf; ++f) {
+      site[f] = static_cast<std::int32_t>(faces.site[f]);
+      across[f] = faces.across[f] < n ? static_cast<std::int32_t>(faces.across[f]) : -1;
+    }
+    for (std::size_t k = 0; k < begin.size(); ++k) {
+      begin[k] = static_cast<std::int32_t>(faces.polygon_begin[k]);
+    }
+    const auto np = static_cast<py::ssize_t>(faces.xyz.size() / 3);
+    r["face_site"] = to_array(std::move(site));
+    r["face_across"] = to_array(std::move(across));
+    r["face_begin"] = to_array(std::move(begin));
+    r["face_points"] = to_array(std::move(faces.xyz), {np, 3});
+  }
+  return r;
+}
+
+TriangleSurface make_surface(const DoubleArray& vertices, const IndexArray& triangles,
+                             const std::string& source) {
+  const std::uint32_t nv = rows(vertices, 3, "vertices");
+  const std::uint32_t nt = index_rows(triangles, 3, "triangles");
+  TriangleSurface s;
+  s.source = source;
+  s.xyz.assign(vertices.data(), vertices.data() + 3 * std::size_t{nv});
+  s.triangles = as_u32(triangles, nv, "triangles");
+  (void)nt;
+  return s;
+}
+
+}  // namespace
+
+void bind_domains(py::module_& m) {
+  py::class_<Domain2>(m, "Domain2")
+      .def(py::init([](const DoubleArray& xy, const IndexArray& ring_begin,
+                       const IndexArray& ring_polygon, const std::string& source) {
+             const std::uint32_t n = rows(xy, 2, "rings");
+             PolygonRings rings;
+             rings.source = source;
+             rings.xy.assign(xy.data(), xy.data() + 2 * std::size_t{n});
+             rings.ring_begin = as_u32(ring_begin, std::size_t{n} + 1, "ring_begin");
+             if (rings.ring_begin.size() < 2 || rings.ring_begin.front() != 0 ||
+                 rings.ring_begin.back() != n ||
+                 !std::is_sorted(rings.ring_begin.begin(), rings.ring_begin.end())) {
+               throw Error(source + ": ring offsets must increase from 0 to the point count");
+             }
+             const std::size_t nr = rings.ring_begin.size() - 1;
+             rings.ring_polygon = as_tags(ring_polygon, nr, "ring_polygon");
+             if (rings.ring_polygon.empty()) rings.ring_polygon.assign(nr, -1);
+             rings.ring_line.assign(nr, 0);
+             return Domain2(rings);
+           }),
+           py::arg("xy"), py::arg("ring_begin"), py::arg("ring_polygon"), py::arg("source"))
+      .def_static(
+          "read", [](const std::string& path) { return Domain2(read_polygon(path)); },
+          py::arg("path"))
+      .def_property_readonly("source", &Domain2::source)
+      .def_property_readonly("area", &Domain2::area)
+      .def_property_readonly("nb_rings", &Domain2::nb_rings)
+      .def_property_readonly("bounds",
+                             [](const Domain2& d) {
+                               return py::make_tuple(d.bbox_lo()[0], d.bbox_lo()[1], d.bbox_hi()[0],
+                                                     d.bbox_hi()[1]);
+                             })
+      .def("ring",
+           [](const Domain2& d, std::uint32_t r) {
+             if (r >= d.nb_rings()) throw Error("ring: no ring " + std::to_string(r));
+             const double* b = d.vertex(d.ring_begin(r));
+             std::vector<double> xy(b, b + 2 * std::size_t{d.ring_end(r) - d.ring_begin(r)});
+             const auto nv = static_cast<py::ssize_t>(xy.size() / 2);
+             return to_array(std::move(xy), {nv, 2});
+           })
+      .def("is_hole", &Domain2::is_hole)
+      .def("locate", [](const Domain2& d, const DoubleArray& p) {
+        return locate_all(p, 2, [&](const double* q) { return d.locate(q); });
+      });
+
+  py::class_<Domain3>(m, "Domain3")
+      .def_static(
+          "from_surface",
+          [](const DoubleArray& vertices, const IndexArray& triangles, const std::string& source,
+             bool reorient) {
+            const TriangleSurface s = make_surface(vertices, triangles, source);
+            Surface3Options o;
+            o.reorient = reorient;
+            py::gil_scoped_release release;
+            return Domain3(s, o);
+          },
+          py::arg("vertices"), py::arg("triangles"), py::arg("source"), py::arg("reorient") = false)
+      .def_static(
+          "from_tets",
+          [](const DoubleArray& vertices, const IndexArray& tets, const IndexArray& triangles,
+             const IndexArray& tet_tags, const IndexArray& triangle_tags,
+             const std::string& source) {
+            const std::uint32_t nv = rows(vertices, 3, "vertices");
+            const std::uint32_t nt = index_rows(tets, 4, "tets");
+            TetMeshInput mesh;
+            mesh.source = source;
+            mesh.xyz.assign(vertices.data(), vertices.data() + 3 * std::size_t{nv});
+            mesh.tets = as_u32(tets, nv, "tets");
+            mesh.tet_line.assign(nt, 0);
+            if (triangles.size() > 0) {
+              index_rows(triangles, 3, "triangles");
+              mesh.triangles = as_u32(triangles, nv, "triangles");
+            }
+            mesh.tet_ref = as_tags(tet_tags, nt, "tet_tags");
+            mesh.triangle_ref = as_tags(triangle_tags, mesh.nb_triangles(), "triangle_tags");
+            py::gil_scoped_release release;
+            return Domain3(mesh);
+          },
+          py::arg("vertices"), py::arg("tets"), py::arg("triangles"), py::arg("tet_tags"),
+          py::arg("triangle_tags"), py::arg("source"))
+      .def_static(
+          "read",
+          [](const std::string& path, bool reorient) {
+            Surface3Options o;
+            o.reorient = reorient;
+            py::gil_scoped_release release;
+            return read_domain3(path, o);
+          },
+          py::arg("path"), py::arg("reorient") = false)
+      .def_property_readonly("source", &Domain3::source)
+      .def_property_readonly("volume", &Domain3::volume)
+      .def_property_readonly("area", [](const Domain3& d) { return d.surface().area(); })
+      .def_property_readonly("has_tets", &Domain3::has_tets)
+      .def_property_readonly("nb_tets", &Domain3::nb_tets)
+      .def_property_readonly("nb_shells",
+                             [](const Domain3& d) { return d.surface().shells().size(); })
+      .def_property_readonly("bounds",
+                             [](const Domain3& d) {
+                               const double *lo = d.bbox_lo(), *hi = d.bbox_hi();
+                               return py::make_tuple(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+                             })
+      .def("surface",
+           [](const Domain3& d) {
+             TriangleSurface s = boundary_surface(d);
+             const auto nv = static_cast<py::ssize_t>(s.xyz.size() / 3);
+             const auto nt = static_cast<py::ssize_t>(s.triangles.size() / 3);
+             std::vector<std::int32_t> t(s.triangles.begin(), s.triangles.end());
+             return py::make_tuple(to_array(std::move(s.xyz), {nv, 3}),
+                                   to_array(std::move(t), {nt, 3}));
+           })
+      .def("locate", [](const Domain3& d, const DoubleArray& p) {
+        return locate_all(p, 3, [&](const double* q) { return d.locate(q); });
+      });
+}
+
+void bind_clip(py::module_& m) {
+  m.def("clip2d", &clip2d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
+        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
+  m.def(
+      "random_points3",
+      [](const Domain3& domain, std::uint32_t n, std::uint64_t seed, const py::object& density,
+         int threads) {
+        std::shared_ptr<PyDensity> callback;
+        const Density3 rho = density3(density, callback);
+        std::vector<double> xyz;
+        run_released(threads, [&] { xyz = random_points3(domain, n, seed, rho); });
+        if (callback) callback->rethrow();
+        return to_array(std::move(xyz), {py::ssize_t{n}, 3});
+      },
+      py::arg("domain"), py::arg("n"), py::arg("seed") = 1, py::arg("density") = py::none(),
+      py::arg("threads") = 0);
+  m.def("clip3d", &clip3d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
+        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
+}
+
+}  // namespace voroclip::python

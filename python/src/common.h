@@ -1,0 +1,119 @@
+// python/src/common.h — what the binding's source files share: numpy conversions (zero-copy
+// in, owned arrays out), the thread-count arena, and the bridge from C++ progress callbacks
+// to Python (callbacks, Ctrl-C).
+#pragma once
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <mutex>
+
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
+
+namespace voroclip::python {
+
+namespace py = pybind11;
+
+// A float64 C-contiguous array: pybind11 passes such an array through without copying and
+// converts anything else (other dtypes, strides, lists) to a new one.
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IndexArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// Checks that `a` is an (n, dim) array with n < 2^32 and returns n. Throws voroclip::Error
+// "what: expected an (n, dim) array, got shape (...)" otherwise.
+std::uint32_t rows(const py::array& a, int dim, const char* what);
+
+// An owned numpy array that takes over `v` (no copy): its base is a capsule holding the
+// vector.
+template <class T>
+py::array_t<T> to_array(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
+  auto* owner = new std::vector<T>(std::move(v));
+  py::capsule base(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(std::move(shape), owner->data(), base);
+}
+template <class T>
+py::array_t<T> to_array(std::vector<T>&& v) {
+  const auto n = static_cast<py::ssize_t>(v.size());
+  return to_array(std::move(v), {n});
+}
+
+// Runs f with the GIL released, on `threads` TBB threads (0: TBB's default, all cores).
+// Every parallel loop of the library runs inside that arena.
+void run_released(int threads, const std::function<void()>& f);
+
+// The bridge between a C++ progress callback (called on the computing thread, the GIL
+// released) and Python: check() takes the GIL, runs the user's callback if any (a false
+// return stops the run) and PyErr_CheckSignals (Ctrl-C stops it and is re-raised by
+// rethrow()). Any Python exception stops the run and is re-raised.
+class Progress {
+ public:
+  explicit Progress(py::object callback) : callback_(std::move(callback)) {}
+  // Returns false to stop. `info` builds the dict handed to the callback.
+  bool check(const std::function<py::dict()>& info);
+  // After the run, with the GIL held: raises the stored Python exception, if any.
+  void rethrow();
+  bool stopped_by_error() const { return static_cast<bool>(error_); }
+
+ private:
+  py::object callback_;
+  std::unique_ptr<py::error_already_set> error_;
+};
+
+// A Python density callback called from the library's worker threads: each call takes the
+// GIL. The first Python exception is kept (and 1.0 returned from then on) and re-raised by
+// rethrow() after the computation.
+class PyDensity {
+ public:
+  explicit PyDensity(py::object f) : f_(std::move(f)) {}
+  double operator()(double x, double y, double z, int dim) {
+    py::gil_scoped_acquire acquire;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (error_) return 1.0;
+    try {
+      return (dim == 2 ? f_(x, y) : f_(x, y, z)).cast<double>();
+    } catch (py::error_already_set& e) {
+      error_ = std::make_unique<py::error_already_set>(std::move(e));
+    } catch (py::cast_error&) {
+      PyErr_SetString(PyExc_TypeError, "density: the function must return a number");
+      error_ = std::make_unique<py::error_already_set>();
+    }
+    return 1.0;
+  }
+  void rethrow() {
+    if (error_) {
+      py::error_already_set e = std::move(*error_);
+      error_.reset();
+      throw e;
+    }
+  }
+
+ private:
+  py::object f_;
+  std::mutex mutex_;
+  std::unique_ptr<py::error_already_set> error_;
+};
+
+// The library's density from a Python value: None (1), a number, a callable rho(x, y[, z])
+// (called from worker threads; kept alive in `callback`, whose rethrow() the caller must
+// call after the computation), in 2D a grid tuple (values[ny, nx], lo, hi), in 3D one
+// value per vertex of the tet mesh.
+Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callback);
+Density3 density3(const py::object& density, std::shared_ptr<PyDensity>& callback);
+
+void bind_delaunay(py::module_& m);
+void bind_domains(py::module_& m);
+void bind_clip(py::module_& m);
+void bind_cvt_mesh(py::module_& m);
+void bind_predicates(py::module_& m);
+
+}  // namespace voroclip::python

@@ -1,0 +1,83 @@
+// python/src/module.cpp — the compiled core of the `voroclip` Python package
+// (voroclip._core): the error type, shared helpers, and the module definition. The Python
+// layer (python/voroclip/*.py) turns user inputs into the arrays these functions take and
+// their dicts of arrays into result objects.
+#include <tbb/task_arena.h>
+
+#include <sstream>
+
+#include "common.h"
+
+namespace voroclip::python {
+
+std::uint32_t rows(const py::array& a, int dim, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != dim) {
+    std::ostringstream s;
+    s << what << ": expected an (n, " << dim << ") array, got shape (";
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) s << (k ? ", " : "") << a.shape(k);
+    s << (a.ndim() == 1 ? ",)" : ")");
+    throw Error(s.str());
+  }
+  if (a.shape(0) >= py::ssize_t{0xffffffff}) {
+    throw Error(std::string(what) + ": more than 2^32 - 2 points");
+  }
+  return static_cast<std::uint32_t>(a.shape(0));
+}
+
+void run_released(int threads, const std::function<void()>& f) {
+  if (threads < 0)
+    throw Error("threads: expected a number >= 0 (0: all cores), got " + std::to_string(threads));
+  py::gil_scoped_release release;
+  if (threads == 0) {
+    f();
+  } else {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  }
+}
+
+bool Progress::check(const std::function<py::dict()>& info) {
+  py::gil_scoped_acquire acquire;
+  if (error_) return false;
+  try {
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!callback_.is_none()) {
+      // None (no return statement) continues; otherwise the truth value decides.
+      const py::object r = callback_(info());
+      if (r.is_none()) return true;
+      const int truth = PyObject_IsTrue(r.ptr());
+      if (truth < 0) throw py::error_already_set();
+      return truth != 0;
+    }
+  } catch (py::error_already_set& e) {
+    error_ = std::make_unique<py::error_already_set>(std::move(e));
+    return false;
+  }
+  return true;
+}
+
+void Progress::rethrow() {
+  if (error_) {
+    py::error_already_set e = std::move(*error_);
+    error_.reset();
+    throw e;
+  }
+}
+
+}  // namespace voroclip::python
+
+PYBIND11_MODULE(_core, m) {
+  namespace vp = voroclip::python;
+  m.doc() =
+      "The compiled core of voroclip: exact clipped Voronoi diagrams, CVT and CVT meshing. "
+      "Use the functions of the `voroclip` package, which wrap these.";
+  m.attr("__version__") = voroclip::version();
+  // voroclip::Error -> voroclip.Error, a ValueError: bad input or an impossible request,
+  // with the library's message.
+  vp::py::register_exception<voroclip::Error>(m, "Error", PyExc_ValueError);
+  vp::bind_predicates(m);
+  vp::bind_delaunay(m);
+  vp::bind_domains(m);
+  vp::bind_clip(m);
+  vp::bind_cvt_mesh(m);
+}

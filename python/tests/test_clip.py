@@ -1,0 +1,244 @@
+"""clip2d / clip3d: cell measures against scipy (Voronoi cells cut by the box with a
+half-space intersection, measured by ConvexHull), partition of the domain, 1 vs N threads
+bit for bit, geometry and neighbours consistent with the measures, every domain input
+form, and the errors bad input gets."""
+
+import numpy as np
+import pytest
+from scipy.spatial import ConvexHull, HalfspaceIntersection, Voronoi
+
+import voroclip
+
+CUBE_V = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+# Outward triangles of the unit cube (vertex index = 4x + 2y + z).
+CUBE_T = np.array([
+    (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+    (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+
+
+def box_cells(sites):
+    """Per site: the volume (area) of its Voronoi cell cut by the unit box, from the
+    half-spaces of its Voronoi ridges (scipy.spatial.Voronoi) and of the box."""
+    n, dim = sites.shape
+    vor = Voronoi(sites)
+    nbrs = [[] for _ in range(n)]
+    for i, j in vor.ridge_points:
+        nbrs[i].append(j)
+        nbrs[j].append(i)
+    out = np.empty(n)
+    eye = np.eye(dim)
+    for i in range(n):
+        p = sites[i]
+        # Half-spaces A x + b <= 0: (pj - pi) . x <= (|pj|^2 - |pi|^2) / 2, and the box.
+        q = sites[nbrs[i]]
+        a = np.vstack([q - p, -eye, eye])
+        b = np.concatenate([-(q * q - p * p).sum(1) / 2, np.zeros(dim), -np.ones(dim)])
+        hs = HalfspaceIntersection(np.column_stack([a, b]), p)
+        out[i] = ConvexHull(hs.intersections).volume
+    return out
+
+
+def test_clip3d_unit_cube_matches_scipy():
+    rng = np.random.default_rng(2024)
+    sites = rng.random((1000, 3))
+    cells = voroclip.clip3d((CUBE_V, CUBE_T), sites)
+    ref = box_cells(sites)
+    err = np.abs(cells.volumes - ref).max()
+    print(f"max |volume - scipy| = {err:.3g}")
+    assert err <= 1e-9
+    assert cells.total_measure == pytest.approx(1.0, rel=1e-12, abs=0)
+    # Centroids inside their cells' box and the energy positive.
+    assert (cells.energies > 0).all()
+    assert cells.boundary.dtype == bool and 0 < cells.boundary.sum() < 1000
+
+
+def test_clip2d_unit_square_matches_scipy():
+    rng = np.random.default_rng(99)
+    sites = rng.random((1000, 2))
+    square = [np.array([(0, 0), (1, 0), (1, 1), (0, 1)], float)]
+    cells = voroclip.clip2d(square, sites)
+    ref = box_cells(sites)
+    err = np.abs(cells.areas - ref).max()
+    print(f"max |area - scipy| = {err:.3g}")
+    assert err <= 1e-12
+    assert cells.total_measure == pytest.approx(1.0, rel=1e-13, abs=0)
+
+
+def test_sites_are_read_in_place_and_converted_otherwise():
+    sites = np.random.default_rng(1).random((50, 3))
+    cells = voroclip.clip3d((CUBE_V, CUBE_T), sites)
+    assert cells.sites is sites  # C-contiguous float64: no copy
+    f32 = sites.astype(np.float32)
+    strided = np.asfortranarray(sites)
+    a = voroclip.clip3d((CUBE_V, CUBE_T), f32)
+    b = voroclip.clip3d((CUBE_V, CUBE_T), strided)
+    assert a.sites is not f32 and a.sites.dtype == np.float64
+    assert np.array_equal(b.volumes, cells.volumes)
+
+
+def test_one_and_two_threads_identical():
+    rng = np.random.default_rng(5)
+    sites3 = rng.random((20000, 3))
+    a = voroclip.clip3d((CUBE_V, CUBE_T), sites3, threads=1)
+    b = voroclip.clip3d((CUBE_V, CUBE_T), sites3, threads=2)
+    for key in ("volumes", "centroids", "energies", "surface_areas", "boundary"):
+        assert np.array_equal(getattr(a, key), getattr(b, key)), key
+    sites2 = rng.random((20000, 2))
+    ring = [[(0, 0), (1, 0), (1, 1), (0, 1)], [(0.3, 0.3), (0.3, 0.6), (0.6, 0.6), (0.6, 0.3)]]
+    a = voroclip.clip2d(ring, sites2, threads=1, neighbors=True)
+    b = voroclip.clip2d(ring, sites2, threads=2, neighbors=True)
+    for key in ("areas", "centroids", "energies", "boundary"):
+        assert np.array_equal(getattr(a, key), getattr(b, key)), key
+    assert np.array_equal(a.neighbors.indices, b.neighbors.indices)
+
+
+def signed_area(ring):
+    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
+    return 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum()
+
+
+def test_clip2d_geometry_and_neighbors():
+    rng = np.random.default_rng(8)
+    outer = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]  # an L: not convex
+    hole = [(0.2, 0.2), (0.4, 0.2), (0.4, 0.4), (0.2, 0.4)]
+    d = voroclip.domain2([outer, hole])
+    assert d.area == pytest.approx(3 - 0.04, rel=1e-15)
+    sites = rng.random((400, 2)) * 2
+    cells = voroclip.clip2d(d, sites, geometry=True, neighbors=True)
+    assert cells.total_measure == pytest.approx(d.area, rel=1e-13)
+    for i in range(len(cells)):
+        area = sum(signed_area(r) for r in cells.polygons(i))
+        assert area == pytest.approx(cells.areas[i], abs=1e-13)
+    ip, ix = cells.neighbors
+    pairs = {(i, j) for i in range(len(cells)) for j in ix[ip[i]:ip[i + 1]]}
+    assert all((j, i) in pairs for i, j in pairs)  # symmetric
+    dt = voroclip.Delaunay2(sites)
+    dip, dix = dt.vertex_neighbor_vertices
+    for i in range(len(cells)):
+        delaunay = set(dix[dip[i]:dip[i + 1]])
+        mine = set(ix[ip[i]:ip[i + 1]])
+        assert mine <= delaunay
+        if cells.areas[i] > 0 and not cells.boundary[i]:
+            assert mine == delaunay  # an inner cell keeps every Voronoi edge
+    # A site outside the L: its (convex) cell is empty or crosses the boundary.
+    outside = (sites[:, 0] > 1) & (sites[:, 1] > 1)
+    assert (cells.areas[outside] == 0).any()
+    assert (cells.boundary[outside] | (cells.areas[outside] == 0)).all()
+
+
+def test_clip3d_geometry_and_neighbors():
+    rng = np.random.default_rng(4)
+    sites = rng.random((300, 3))
+    cells = voroclip.clip3d((CUBE_V, CUBE_T), sites, geometry=True, neighbors=True)
+    for i in range(len(cells)):
+        vol = 0.0
+        for pts, across in cells.faces(i):
+            c = pts.mean(0)
+            for k in range(len(pts)):
+                a, b = pts[k] - c, pts[(k + 1) % len(pts)] - c
+                vol += np.dot(c, np.cross(a, b)) / 6
+        assert abs(vol) == pytest.approx(cells.volumes[i], rel=1e-9)
+    ip, ix = cells.neighbors
+    pairs = {(i, j) for i in range(len(cells)) for j in ix[ip[i]:ip[i + 1]]}
+    assert all((j, i) in pairs for i, j in pairs)
+    vor_pairs = {tuple(p) for p in Voronoi(sites).ridge_points.tolist()}
+    vor_pairs |= {(j, i) for i, j in vor_pairs}
+    assert pairs <= vor_pairs
+    across = set(zip(cells.face_site.tolist(), cells.face_across.tolist()))
+    assert {(i, j) for i, j in across if j >= 0} == pairs
+    assert all(cells.boundary[i] for i, j in across if j == -1)
+
+
+class FakeRing:
+    def __init__(self, pts):
+        self.coords = [tuple(p) for p in pts] + [tuple(pts[0])]  # closed, like shapely
+
+
+class FakePolygon:
+    def __init__(self, exterior, interiors=()):
+        self.exterior = FakeRing(exterior)
+        self.interiors = [FakeRing(r) for r in interiors]
+
+
+def test_domain2_input_forms(data, tmp_path):
+    outer = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    hole = [(0.25, 0.25), (0.75, 0.25), (0.75, 0.75), (0.25, 0.75)]
+    sites = np.random.default_rng(3).random((200, 2))
+    a = voroclip.clip2d([np.array(outer), np.array(hole)], sites)
+    b = voroclip.clip2d(FakePolygon(outer, [hole]), sites)
+    path = tmp_path / "square.poly"
+    path.write_text("8 2 0 0\n" + "".join(f"{k} {x} {y}\n" for k, (x, y) in
+                                        enumerate(outer + hole)) +
+                    "8 0\n0 0 1\n1 1 2\n2 2 3\n3 3 0\n4 4 5\n5 5 6\n6 6 7\n7 7 4\n"
+                    "1\n0 0.5 0.5\n")
+    c = voroclip.clip2d(str(path), sites)
+    assert np.array_equal(a.areas, b.areas) and np.array_equal(a.areas, c.areas)
+
+    class FakeMulti:  # shapely's MultiPolygon: .geoms
+        geoms = [FakePolygon([(0, 0), (1, 0), (1, 1), (0, 1)]),
+                 FakePolygon([(2, 0), (3, 0), (3, 1), (2, 1)], [[(2.4, 0.4), (2.6, 0.4),
+                                                                (2.6, 0.6), (2.4, 0.6)]])]
+
+    m = voroclip.clip2d(FakeMulti(), sites * [3, 1])
+    assert m.total_measure == pytest.approx(2 - 0.04, rel=1e-14)
+    assert voroclip.domain2(FakeMulti.geoms).area == pytest.approx(2 - 0.04, rel=1e-15)
+    assert a.total_measure == pytest.approx(0.75, rel=1e-14)
+    for f in sorted((data / "polygons" / "valid").glob("*.json")):
+        d = voroclip.domain2(f)
+        lo = np.array(d.bounds[:2])
+        hi = np.array(d.bounds[2:])
+        s = lo + np.random.default_rng(1).random((500, 2)) * (hi - lo)
+        cells = voroclip.clip2d(d, s)
+        assert cells.total_measure == pytest.approx(d.area, rel=1e-12), f.name
+
+
+def test_domain3_input_forms(data):
+    import meshio
+
+    sites = np.random.default_rng(6).random((3000, 3)) * 1.6 - 0.8
+    by_surface = voroclip.clip3d(data / "surfaces" / "sphere.obj", sites)
+    by_tets = voroclip.clip3d(str(data / "tetmeshes" / "sphere.mesh"), sites)
+    by_meshio = voroclip.clip3d(meshio.read(data / "tetmeshes" / "sphere.mesh"), sites)
+    d = voroclip.domain3(data / "surfaces" / "sphere.obj")
+    v, t = d.surface()
+    by_pair = voroclip.clip3d((v, t), sites)
+    assert by_surface.total_measure == pytest.approx(d.volume, rel=1e-12)
+    # The same surface (the tet mesh's boundary is the OBJ's triangles): the same cells.
+    np.testing.assert_allclose(by_tets.volumes, by_surface.volumes, rtol=0, atol=1e-14)
+    assert np.array_equal(by_meshio.volumes, by_tets.volumes)
+    assert np.array_equal(by_pair.volumes, by_surface.volumes)
+
+
+def test_density():
+    sites = np.random.default_rng(2).random((200, 2))
+    sq = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+    c2 = voroclip.clip2d(sq, sites, density=2.0)
+    c1 = voroclip.clip2d(sq, sites)
+    assert np.array_equal(c2.masses, 2 * c1.masses)
+    # Linear rho = 1 + x on a grid is integrated exactly; the callable with the 6-point rule
+    # is exact for it too.
+    grid = (np.array([[1.0, 2.0], [1.0, 2.0]]), (0, 0), (1, 1))
+    g = voroclip.clip2d(sq, sites, density=grid)
+    f = voroclip.clip2d(sq, sites, density=lambda x, y: 1 + x)
+    assert g.total_mass == pytest.approx(1.5, rel=1e-13)
+    np.testing.assert_allclose(f.masses, g.masses, rtol=1e-12, atol=1e-15)
+    with pytest.raises(ZeroDivisionError):
+        voroclip.clip2d(sq, sites, density=lambda x, y: 1 / 0)
+
+
+def test_bad_input_raises_error():
+    sites = np.random.default_rng(1).random((20, 3))
+    bad = sites.copy()
+    bad[7, 1] = np.nan
+    with pytest.raises(voroclip.Error, match="finite"):
+        voroclip.clip3d((CUBE_V, CUBE_T), bad)
+    with pytest.raises(voroclip.Error, match=r"sites: expected an \(n, 3\) array"):
+        voroclip.clip3d((CUBE_V, CUBE_T), sites[:, :2])
+    with pytest.raises(voroclip.Error, match="edge"):
+        voroclip.clip3d((CUBE_V, CUBE_T[:-1]), sites)  # an open surface
+    with pytest.raises(voroclip.Error, match="out of range"):
+        voroclip.domain3((CUBE_V, CUBE_T + 1))
+    with pytest.raises(voroclip.Error, match="ring"):
+        voroclip.clip2d([[(0, 0), (1, 1), (1, 0), (0, 1)]], sites[:, :2])  # a bow tie
+    with pytest.raises(voroclip.Error, match="neighbors=True"):
+        voroclip.clip2d([[(0, 0), (1, 0), (0, 1)]], sites[:, :2]).neighbors

@@ -1,0 +1,156 @@
+"""cvt2d / cvt3d, mesh2d / mesh3d, to_meshio round trips, quality, callbacks and Ctrl-C."""
+
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import voroclip
+
+SQUARE = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+CUBE_V = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+CUBE_T = np.array([
+    (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+    (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+
+
+@pytest.mark.parametrize("method", ["lbfgs", "lloyd"])
+def test_cvt2d_lowers_the_energy_to_a_centroidal_configuration(method):
+    sites = np.random.default_rng(1).random((100, 2))
+    r = voroclip.cvt2d(SQUARE, sites, method=method, iterations=300, tolerance=1e-3)
+    assert r.sites.shape == (100, 2) and not np.shares_memory(r.sites, sites)
+    assert r.energy_history[0] > r.energy_history[-1] == r.energy
+    assert r.converged and r.gradient_norm <= 1e-3 * r.initial_gradient_norm
+    # Centroidal: each site near its cell's centroid, by the clipped diagram itself.
+    cells = voroclip.clip2d(SQUARE, r.sites)
+    assert cells.total_energy == pytest.approx(r.energy, rel=1e-12)
+    assert np.abs(cells.centroids - r.sites).max() < 0.01
+    assert len(r.energy_history) == r.iterations + 1
+
+
+def test_cvt_threads_and_callback_stop():
+    sites = np.random.default_rng(2).random((300, 3))
+    a = voroclip.cvt3d((CUBE_V, CUBE_T), sites, iterations=10, threads=1)
+    b = voroclip.cvt3d((CUBE_V, CUBE_T), sites, iterations=10, threads=2)
+    assert np.array_equal(a.sites, b.sites) and a.energy == b.energy
+    seen = []
+
+    def stop_at_3(info):
+        seen.append(info["iteration"])
+        return info["iteration"] < 3
+
+    c = voroclip.cvt3d((CUBE_V, CUBE_T), sites, iterations=10, callback=stop_at_3)
+    assert c.cancelled and not c.converged and seen[-1] == 3 and c.iterations == 3
+    # Any truth value: 0 stops at the start; an object whose truth raises, raises.
+    z = voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: 0)
+    assert z.cancelled and z.iterations == 0 and np.array_equal(z.sites, sites[:, :2])
+
+    class NoTruth:
+        def __bool__(self):
+            raise TypeError("no truth")
+
+    with pytest.raises(TypeError, match="no truth"):
+        voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: NoTruth())
+    with pytest.raises(voroclip.Error, match="threads"):
+        voroclip.cvt2d(SQUARE, sites[:, :2], threads=-1)
+    with pytest.raises(RuntimeError, match="boom"):
+        voroclip.cvt2d(SQUARE, sites[:, :2], callback=lambda info: (_ for _ in ()).throw(
+            RuntimeError("boom")))
+
+
+def test_ctrl_c_cancels_a_long_run():
+    sites = np.random.default_rng(3).random((3000, 3))
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            voroclip.cvt3d((CUBE_V, CUBE_T), sites, iterations=100000, tolerance=0)
+    finally:
+        timer.cancel()
+
+
+def test_mesh2d_to_meshio_round_trip(tmp_path):
+    import meshio
+
+    ring = [[(0, 0), (2, 0), (2, 1), (0, 1)], [(0.5, 0.4), (0.5, 0.6), (0.7, 0.6), (0.7, 0.4)]]
+    m = voroclip.mesh2d(ring, vertices=300)
+    assert m.points.shape[1] == 2 and m.cells.shape[1] == 3 and len(m.cells) > 300
+    p = m.points[m.cells]
+    area = ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+            - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1])) / 2
+    assert (area > 0).all()
+    # Conforming (the library's default): the triangles cover the domain exactly, up to the
+    # rounding of the boundary vertices; the mesh passed its own checks.
+    assert area.sum() == pytest.approx(2 - 0.04, rel=1e-12)
+    assert m.stats["check"] == ""
+    paper = voroclip.mesh2d(ring, vertices=300, conforming=False)
+    assert paper.stats["covered_fraction"] < 1
+    q = voroclip.quality(m)
+    assert q.report["nb_triangles"] == len(m.cells)
+    assert q.q1.min() == pytest.approx(q.report["min_angle_deg"], rel=1e-9)
+    for ext in (".msh", ".vtu"):
+        f = tmp_path / ("m2" + ext)
+        m.write(f)
+        back = meshio.read(f, file_format="gmsh" if ext == ".msh" else None)
+        assert np.array_equal(back.points[:, :2], m.points)
+        assert np.array_equal(back.cells_dict["triangle"], m.cells)
+
+
+def test_mesh3d_sphere_round_trips_and_quality(data, tmp_path):
+    import meshio
+
+    m = voroclip.mesh3d(data / "surfaces" / "sphere.obj", vertices=400, threads=2)
+    assert m.shape_problem == ""
+    assert len(m.points) >= 300 and m.cells.shape[1] == 4
+    p = m.points[m.cells]
+    det = np.linalg.det(p[:, 1:] - p[:, :1])
+    assert (det > 0).all()
+    assert len(m.boundary_triangles) == len(m.boundary_tags) and len(m.cell_tags) == len(m.cells)
+    q = voroclip.quality(m)
+    assert q.report["tets"] == len(m.cells) and q.report["inverted_tets"] == 0
+    assert q.q1.min() == q.report["min_min_dihedral_deg"]
+    assert q.q3.min() == q.report["min_q3"] and q.q4.min() == q.report["min_q4"]
+    assert q.dihedral.min() == q.report["min_dihedral_deg"]
+    np.testing.assert_allclose(q.volume, det / 6, rtol=1e-12)
+    q1 = voroclip.quality(m.points, m.cells, threads=1)
+    assert np.array_equal(q1.q4, q.q4) and q1.report == q.report
+    one = voroclip.mesh3d(data / "surfaces" / "sphere.obj", vertices=400, threads=1)
+    assert np.array_equal(one.points, m.points) and np.array_equal(one.cells, m.cells)
+    for ext in (".msh", ".vtu", ".mesh"):
+        f = tmp_path / ("m3" + ext)
+        m.write(f)
+        back = meshio.read(f, file_format="gmsh" if ext == ".msh" else None)
+        assert np.array_equal(back.points, m.points)
+        assert np.array_equal(back.cells_dict["tetra"], m.cells)
+        assert np.array_equal(back.cells_dict["triangle"], m.boundary_triangles)
+        if ext != ".vtu":
+            tags = back.cell_data_dict["gmsh:physical" if ext == ".msh" else "medit:ref"]
+            assert np.array_equal(tags["tetra"], m.cell_tags)
+            assert np.array_equal(tags["triangle"], m.boundary_tags)
+    # The .msh file read back by voroclip as a domain (its own Gmsh reader).
+    d = voroclip.domain3(tmp_path / "m3.msh")
+    assert d.has_tets and d.nb_tets == len(m.cells)
+    cells = voroclip.clip3d(d, m.points)
+    assert cells.total_measure == pytest.approx(d.volume, rel=1e-12)
+
+
+def test_mesh_callback_and_errors():
+    phases = set()
+
+    def cb(info):
+        phases.add(info["phase"])
+
+    voroclip.mesh2d(SQUARE, vertices=50, callback=cb)
+    assert {"sampling", "unconstrained CVT", "constrained CVT"} <= phases
+    with pytest.raises(voroclip.Error):
+        voroclip.mesh2d(SQUARE)  # neither vertices nor edge_length
+    with pytest.raises(voroclip.Error):
+        voroclip.mesh3d((CUBE_V, CUBE_T), vertices=2)
+    with pytest.raises(voroclip.Error, match="unknown option 'vertex'"):
+        voroclip.mesh2d(SQUARE, vertex=50)
+    with pytest.raises(voroclip.Error, match="option 'seed': a value of the wrong type"):
+        voroclip.mesh3d((CUBE_V, CUBE_T), vertices=50, seed="one")
+    with pytest.raises(voroclip.Error, match="method"):
+        voroclip.cvt2d(SQUARE, np.random.default_rng(0).random((10, 2)), method="newton")

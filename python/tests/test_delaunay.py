@@ -1,0 +1,102 @@
+"""Delaunay2 / Delaunay3 against scipy.spatial.Delaunay (Qhull) on generic random input:
+the same simplices as sets, the same neighbour structure, the same point location; and the
+exact checker on degenerate input, where Qhull and voroclip may legitimately differ."""
+
+import numpy as np
+import pytest
+from scipy.spatial import Delaunay as ScipyDelaunay
+
+import voroclip
+
+
+def simplex_set(simplices):
+    return {tuple(sorted(s)) for s in simplices.tolist()}
+
+
+@pytest.mark.parametrize("dim,n", [(2, 2000), (3, 1000)])
+def test_same_simplices_as_scipy(dim, n):
+    rng = np.random.default_rng(7 + dim)
+    pts = rng.random((n, dim))
+    ours = (voroclip.Delaunay2 if dim == 2 else voroclip.Delaunay3)(pts)
+    ref = ScipyDelaunay(pts)
+    assert ours.check() == ""
+    assert ours.simplices.dtype == np.int32 and ours.simplices.shape[1] == dim + 1
+    assert simplex_set(ours.simplices) == simplex_set(ref.simplices)
+
+    # neighbors: the simplex opposite vertex k, -1 on the hull, mapped through the sets.
+    index = {tuple(sorted(s)): i for i, s in enumerate(ref.simplices.tolist())}
+    to_ref = np.array([index[tuple(sorted(s))] for s in ours.simplices.tolist()])
+    for t, s in enumerate(ours.simplices):
+        for k in range(dim + 1):
+            nb = ours.neighbors[t, k]
+            r = to_ref[t]
+            kr = list(ref.simplices[r]).index(s[k])
+            expected = ref.neighbors[r, kr]
+            assert (nb == -1) == (expected == -1)
+            if nb != -1:
+                assert to_ref[nb] == expected
+    # Hull facets = neighbours -1: a closed hull needs dim-1 faces with -1 exactly on it.
+    assert (ours.neighbors == -1).sum() == (ref.neighbors == -1).sum()
+
+    # Point location: generic queries, inside and outside.
+    q = rng.random((500, dim)) * 1.2 - 0.1
+    found = ours.find_simplex(q)
+    expected = ref.find_simplex(q)
+    assert ((found == -1) == (expected == -1)).all()
+    inside = found >= 0
+    assert (to_ref[found[inside]] == expected[inside]).all()
+
+    # Vertex neighbours: scipy's (indptr, indices) as sets per vertex.
+    ip, ix = ours.vertex_neighbor_vertices
+    rip, rix = ref.vertex_neighbor_vertices
+    for v in range(n):
+        assert set(ix[ip[v]:ip[v + 1]]) == set(rix[rip[v]:rip[v + 1]])
+        assert sorted(ours.vertex_neighbors(v)) == sorted(rix[rip[v]:rip[v + 1]])
+
+
+def test_nearest_vertex_is_exact_nearest():
+    rng = np.random.default_rng(3)
+    pts = rng.random((300, 2))
+    d = voroclip.Delaunay2(pts)
+    q = rng.random((200, 2))
+    brute = np.argmin(((q[:, None, :] - pts[None]) ** 2).sum(-1), axis=1)
+    assert (d.nearest_vertex(q) == brute).all()
+
+
+def test_degenerate_grid_and_duplicates():
+    g = np.array([(x, y) for x in range(20) for y in range(20)], dtype=float)
+    pts = np.vstack([g, g[:10]])  # 10 duplicates at the end
+    d = voroclip.Delaunay2(pts)
+    assert d.check() == ""
+    # A 20 x 20 grid: 2 * 19 * 19 triangles; duplicates are not vertices.
+    assert len(d.simplices) == 2 * 19 * 19
+    assert (d.duplicate_of[400:] == np.arange(10)).all()
+    assert len(d.vertex_neighbors(405)) == 0
+    cube = np.array([(x, y, z) for x in range(5) for y in range(5) for z in range(5)], float)
+    d3 = voroclip.Delaunay3(cube)
+    assert d3.check() == ""
+    # The tets tile the cube: volumes sum to 4^3 exactly (integer coordinates).
+    p = cube[d3.simplices]
+    vol = np.abs(np.linalg.det(p[:, 1:] - p[:, :1])).sum() / 6
+    assert vol == pytest.approx(64, abs=1e-12)
+
+
+def test_same_result_any_thread_count():
+    pts = np.random.default_rng(11).random((50000, 2))
+    a = voroclip.Delaunay2(pts, threads=1)
+    b = voroclip.Delaunay2(pts, threads=2)
+    assert np.array_equal(a.simplices, b.simplices)
+    assert np.array_equal(a.neighbors, b.neighbors)
+
+
+@pytest.mark.parametrize("cls,dim", [(voroclip.Delaunay2, 2), (voroclip.Delaunay3, 3)])
+def test_bad_input_raises(cls, dim):
+    with pytest.raises(voroclip.Error, match=r"expected an \(n, %d\) array" % dim):
+        cls(np.zeros((5, dim + 1)))
+    pts = np.random.default_rng(1).random((10, dim))
+    pts[4, 0] = np.nan
+    with pytest.raises(voroclip.Error, match="finite"):
+        cls(pts)
+    with pytest.raises(voroclip.Error):
+        cls(np.zeros((10, dim)))  # all points equal: no triangulation
+    assert issubclass(voroclip.Error, ValueError)

@@ -1,0 +1,421 @@
+"""The functions of the voroclip package: clipped Voronoi diagrams, CVT, meshing and
+quality, as numpy arrays in and out. Units: the input's length unit L throughout (areas
+L^2, volumes L^3, energies L^4 in 2D and L^5 in 3D, times a density's unit)."""
+
+from __future__ import annotations
+
+import json
+from typing import Callable, NamedTuple, Optional
+
+import numpy as np
+
+from . import _core
+from ._core import Error
+from ._domains import domain2, domain3
+
+
+def _threads(threads: Optional[int]) -> int:
+    return 0 if threads is None else int(threads)
+
+
+class CSR(NamedTuple):
+    """Neighbour lists in compressed sparse row form: the neighbours of cell i are
+    ``indices[indptr[i]:indptr[i + 1]]``, increasing (scipy.sparse's layout)."""
+
+    indptr: np.ndarray
+    indices: np.ndarray
+
+
+class Cells:
+    """The cells of a clipped Voronoi diagram, one per input site (a duplicate site, and a
+    site whose cell misses the domain, has an empty cell: measure 0, centroid = the site).
+
+    Attributes (n sites, d = 2 or 3):
+
+    * ``sites`` (n, d): the sites, as given;
+    * ``areas`` (2D) / ``volumes`` (3D), also ``measures``: (n,) L^d;
+    * ``masses`` (n,): integral of the density over the cell (= measures for density 1);
+    * ``centroids`` (n, d): mass centroids;
+    * ``energies`` (n,): integral of rho |x - site|^2 over the cell, the CVT energy terms;
+    * ``boundary`` (n,) bool: the cell meets the domain's boundary;
+    * ``surface_areas`` (3D, (n,)): area of the cell's part of the boundary surface;
+    * ``total_measure``, ``total_mass``, ``total_energy``: sums in index order.
+
+    With ``neighbors=True``: ``neighbors``, a :class:`CSR` of the cells sharing an edge (2D)
+    or a face (3D) inside the domain. With ``geometry=True``, flat arrays:
+
+    * 2D: ``vertices`` (m, 2), ``ring_vertex_begin`` (R + 1,), ``cell_ring_begin`` (n + 1,):
+      cell i has the rings ``cell_ring_begin[i]:cell_ring_begin[i+1]``, ring r the vertices
+      ``vertices[ring_vertex_begin[r]:ring_vertex_begin[r+1]]``, counter-clockwise around
+      pieces and clockwise around holes; :meth:`polygons` gives them per cell;
+    * 3D: ``face_points`` (m, 3), ``face_begin`` (F + 1,), ``face_site`` (F,), ``face_across``
+      (F,): face f is the polygon ``face_points[face_begin[f]:face_begin[f+1]]`` of cell
+      ``face_site[f]``, on the bisector with site ``face_across[f]`` or, -1, on the domain's
+      boundary; :meth:`faces` gives them per cell.
+    """
+
+    def __init__(self, dim: int, sites: np.ndarray, r: dict):
+        self.dim = dim
+        self.sites = sites
+        self.measures = r["areas"] if dim == 2 else r["volumes"]
+        if dim == 2:
+            self.areas = self.measures
+            self.total_measure = r["total_area"]
+        else:
+            self.volumes = self.measures
+            self.surface_areas = r["surface_areas"]
+            self.total_measure = r["total_volume"]
+            self.total_surface_area = r["total_surface_area"]
+            self.seconds = r["seconds"]
+        self.masses = r["masses"]
+        self.centroids = r["centroids"]
+        self.energies = r["energies"]
+        self.boundary = r["boundary"]
+        self.total_mass = r["total_mass"]
+        self.total_energy = r["total_energy"]
+        self.nb_boundary = r["nb_boundary"]
+        self._neighbors = (
+            CSR(r["neighbors_indptr"], r["neighbors_indices"]) if "neighbors_indptr" in r else None
+        )
+        self.has_geometry = ("vertices" in r) or ("face_points" in r)
+        for key in ("vertices", "ring_vertex_begin", "cell_ring_begin", "face_points",
+                    "face_begin", "face_site", "face_across"):
+            if key in r:
+                setattr(self, key, r[key])
+        self._faces_by_cell = None
+
+    def __len__(self) -> int:
+        return len(self.measures)
+
+    def __repr__(self) -> str:
+        what = "areas" if self.dim == 2 else "volumes"
+        return (f"<voroclip.Cells: {len(self)} cells in {self.dim}D, {self.nb_boundary} at the "
+                f"boundary, sum of {what} {self.total_measure:.17g}>")
+
+    @property
+    def neighbors(self) -> CSR:
+        if self._neighbors is None:
+            raise Error("neighbors: not computed; pass neighbors=True to clip2d/clip3d")
+        return self._neighbors
+
+    def _need_geometry(self):
+        if not self.has_geometry:
+            raise Error("geometry: not computed; pass geometry=True to clip2d/clip3d")
+
+    def polygons(self, i: int) -> list:
+        """2D: the rings of cell i, a list of (k, 2) arrays (pieces counter-clockwise,
+        holes clockwise)."""
+        self._need_geometry()
+        if self.dim != 2:
+            raise Error("polygons: a 2D diagram's; use faces(i) in 3D")
+        b, e = self.cell_ring_begin[i], self.cell_ring_begin[i + 1]
+        return [self.vertices[self.ring_vertex_begin[r]:self.ring_vertex_begin[r + 1]]
+                for r in range(b, e)]
+
+    def faces(self, i: int) -> list:
+        """3D: the faces of cell i as (points (k, 3), across) pairs, ``across`` the site on
+        the other side or -1 on the domain's boundary."""
+        self._need_geometry()
+        if self.dim != 3:
+            raise Error("faces: a 3D diagram's; use polygons(i) in 2D")
+        if self._faces_by_cell is None:
+            order = np.argsort(self.face_site, kind="stable")
+            starts = np.searchsorted(self.face_site[order], np.arange(len(self) + 1))
+            self._faces_by_cell = (order, starts)
+        order, starts = self._faces_by_cell
+        return [(self.face_points[self.face_begin[f]:self.face_begin[f + 1]],
+                 int(self.face_across[f])) for f in order[starts[i]:starts[i + 1]]]
+
+
+def _sites(sites, dim):
+    # A C-contiguous float64 array passes through without a copy (the C++ side reads it in
+    # place); anything else is converted once here.
+    a = np.ascontiguousarray(sites, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] != dim:
+        raise Error(f"sites: expected an (n, {dim}) array, got shape {a.shape}")
+    return a
+
+
+def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
+           threads: Optional[int] = None) -> Cells:
+    """The Voronoi diagram of ``sites`` ((n, 2) array, n >= 3) clipped to a polygonal
+    domain (anything :func:`domain2` takes), every combinatorial decision exact.
+
+    ``density``: None (1), a number, a callable ``rho(x, y) -> float`` (integrated with a
+    degree-4 rule per fan triangle; called from worker threads, slow), or a grid tuple
+    ``(values[ny, nx], (xmin, ymin), (xmax, ymax))`` interpolated linearly.
+    ``geometry``/``neighbors``: also return the cells' rings / the neighbour lists.
+    ``threads``: TBB threads (None: all cores); the result is the same for any count.
+    Returns :class:`Cells`."""
+    d = domain2(domain)
+    s = _sites(sites, 2)
+    r = _core.clip2d(d, s, density, geometry, neighbors, _threads(threads))
+    return Cells(2, s, r)
+
+
+def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
+           threads: Optional[int] = None) -> Cells:
+    """The Voronoi diagram of ``sites`` ((n, 3) array, n >= 4) clipped to the volume of a
+    3D domain (anything :func:`domain3` takes: a surface, a tet mesh, a file, a
+    meshio.Mesh). Inner cells come from the Delaunay triangulation; boundary cells are
+    clipped by the surface exactly.
+
+    ``density``: None (1), a number, a callable ``rho(x, y, z)`` (finite and positive on
+    every cell that meets the volume), or one value per vertex of the domain's tet mesh
+    (linear per tet). ``geometry``: also the faces of every cell (with the site across each
+    face); ``neighbors``: the neighbour lists (both cost a few times the plain call).
+    ``threads``: TBB threads (None: all cores); the result is the same for any count.
+    Returns :class:`Cells` (``seconds``: the phases' wall times)."""
+    d = domain3(domain)
+    s = _sites(sites, 3)
+    r = _core.clip3d(d, s, density, geometry, neighbors, _threads(threads))
+    return Cells(3, s, r)
+
+
+def random_points(domain, n: int, seed: int = 1, density=None, *,
+                  threads: Optional[int] = None) -> np.ndarray:
+    """(n, 3) points strictly inside a 3D domain (anything :func:`domain3` takes), drawn
+    independently with density ``density`` (None: uniform; a callable rho(x, y, z); one
+    value per vertex of the domain's tet mesh), decided inside exactly. The library's
+    generator (std::mt19937_64(seed), turned into doubles bit by bit): the same points on
+    every platform, and the CLI's ``--random n --seed seed`` sites."""
+    return _core.random_points3(domain3(domain), int(n), int(seed), density, _threads(threads))
+
+
+class CvtResult(NamedTuple):
+    """The outcome of a CVT optimisation.
+
+    ``sites`` (n, d) the optimised sites; ``energy_history`` / ``gradient_history``: the
+    energy and gradient norm at iteration 0 (start) and after every iteration;
+    ``iterations``, ``evaluations`` (clipped diagrams computed), ``energy`` (final),
+    ``gradient_norm``, ``initial_gradient_norm``, ``converged`` (|g| <= tolerance |g0|),
+    ``cancelled`` (the callback returned False), ``seconds``."""
+
+    sites: np.ndarray
+    energy_history: np.ndarray
+    gradient_history: np.ndarray
+    iterations: int
+    evaluations: int
+    energy: float
+    gradient_norm: float
+    initial_gradient_norm: float
+    converged: bool
+    cancelled: bool
+    seconds: float
+
+
+def _cvt_result(r: dict) -> CvtResult:
+    return CvtResult(*(r[k] for k in CvtResult._fields))
+
+
+def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance: float = 1e-4,
+          density=None, callback: Optional[Callable[[dict], object]] = None, *,
+          threads: Optional[int] = None) -> CvtResult:
+    """Centroidal Voronoi tessellation in a polygonal domain: minimises the CVT energy
+    (sum of the cells' energies) from ``sites`` ((n, 2), not modified) by ``method``
+    'lbfgs' (L-BFGS-B) or 'lloyd', for at most ``iterations`` iterations or until
+    |gradient| <= ``tolerance`` x |initial gradient|. ``callback(info)``: called at the start
+    and after every iteration with a dict (iteration, energy, gradient_norm, seconds);
+    returning False stops (``cancelled``). Ctrl-C stops the run and raises
+    KeyboardInterrupt. Deterministic for any ``threads``."""
+    r = _core.cvt2d(domain2(domain), _sites(sites, 2), method, int(iterations), float(tolerance),
+                    density, callback, _threads(threads))
+    return _cvt_result(r)
+
+
+def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance: float = 1e-4,
+          density=None, callback: Optional[Callable[[dict], object]] = None, *,
+          threads: Optional[int] = None) -> CvtResult:
+    """Centroidal Voronoi tessellation in a 3D volume; as :func:`cvt2d` with (n, 3)
+    sites."""
+    r = _core.cvt3d(domain3(domain), _sites(sites, 3), method, int(iterations), float(tolerance),
+                    density, callback, _threads(threads))
+    return _cvt_result(r)
+
+
+class Mesh:
+    """A triangle (2D) or tetrahedral (3D) mesh made by :func:`mesh2d` / :func:`mesh3d`.
+
+    * ``points`` (n, d) float64; ``cells`` (m, d + 1) int32 vertex indices (2D triangles
+      counter-clockwise; 3D tets with det(p1 - p0, p2 - p0, p3 - p0) > 0, exactly);
+    * ``vertex_kind`` (n,) uint8: 2D 0 interior, 1 sliding on the boundary, 2 fixed;
+      3D 0 interior, 1 surface, 2 feature line, 3 corner;
+    * 3D: ``boundary_triangles`` (k, 3) outward, ``boundary_tags`` (k,) patch tags,
+      ``cell_tags`` (m,) region tags, ``tag_names`` [(dimension, tag, name)],
+      ``shape_problem`` ('' when the boundary has the domain's shape);
+      2D: ``vertex_domain``, ``vertex_edge`` (the domain vertex / edge a boundary vertex
+      lies on, -1 if none);
+    * ``stats``: a dict of the pipeline's figures (sites, iterations, energy, seconds...).
+    """
+
+    def __init__(self, dim: int, r: dict):
+        self.dim = dim
+        self.points = r["points"]
+        self.cells = r["triangles"] if dim == 2 else r["tets"]
+        self.vertex_kind = r["vertex_kind"]
+        self.stats = r["stats"]
+        if dim == 2:
+            self.vertex_domain = r["vertex_domain"]
+            self.vertex_edge = r["vertex_edge"]
+        else:
+            self.boundary_triangles = r["boundary_triangles"]
+            self.boundary_tags = r["boundary_tags"]
+            self.cell_tags = r["tet_tags"]
+            self.tag_names = r["tag_names"]
+            self.shape_problem = r["shape_problem"]
+
+    def __repr__(self) -> str:
+        kind = "triangles" if self.dim == 2 else "tets"
+        return f"<voroclip.Mesh: {len(self.points)} vertices, {len(self.cells)} {kind}>"
+
+    def to_meshio(self, tags: str = "gmsh"):
+        """A ``meshio.Mesh``: 2D triangles (z = 0 added, as meshio's writers expect) or 3D
+        tets and boundary triangles with the region / patch tags as cell data:
+        ``tags="gmsh"``: ``gmsh:physical`` and ``gmsh:geometrical`` (Gmsh files, and any
+        other format under those names), ``"medit"``: ``medit:ref`` (Medit .mesh).
+        Note: meshio reads and writes ``.msh`` as ANSYS unless told ``file_format="gmsh"``
+        (or ``"gmsh22"``); :meth:`write` does that."""
+        import meshio
+
+        if self.dim == 2:
+            points = np.column_stack([self.points, np.zeros(len(self.points))])
+            return meshio.Mesh(points, [("triangle", self.cells)])
+        t = [self.cell_tags, self.boundary_tags]
+        if tags == "gmsh":
+            cell_data = {"gmsh:physical": t, "gmsh:geometrical": t}
+        elif tags == "medit":
+            cell_data = {"medit:ref": t}
+        else:
+            raise Error(f"tags: expected 'gmsh' or 'medit', got {tags!r}")
+        return meshio.Mesh(self.points,
+                           [("tetra", self.cells), ("triangle", self.boundary_triangles)],
+                           cell_data=cell_data)
+
+    def write(self, path, **kwargs) -> None:
+        """Writes the mesh with meshio, the format from the extension; ``.msh`` as Gmsh 2.2
+        ASCII, which every Gmsh-reading tool takes (meshio alone would take ``.msh`` for
+        ANSYS's format, and its Gmsh 4.1 writer cannot write tets and triangles together
+        without node entities); the tags as :meth:`to_meshio` names them for Gmsh and
+        Medit. ``kwargs`` go to ``meshio.write``."""
+        import os
+
+        name = str(os.fspath(path)).lower()
+        if name.endswith(".msh"):
+            kwargs.setdefault("file_format", "gmsh22")
+            kwargs.setdefault("binary", False)
+        self.to_meshio("medit" if name.endswith(".mesh") else "gmsh").write(path, **kwargs)
+
+
+def _given(**options) -> dict:
+    return {k: v for k, v in options.items() if v is not None}
+
+
+def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] = None, *,
+           density=None, callback: Optional[Callable[[dict], object]] = None,
+           threads: Optional[int] = None, **options) -> Mesh:
+    """A CVT triangle mesh of a polygonal domain (anything :func:`domain2` takes) of about
+    ``vertices`` vertices, or with edge length ``edge_length`` (L) far from small features;
+    give one. Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
+    the library's default, so Python and the CLI agree): ``gradation``, ``corner_angle``,
+    ``sharp_angle``, ``repair_angle`` (degrees), ``fix_input_vertices``, ``keep_gaps``,
+    ``conforming`` (False: the paper's circumcentre rule instead of the conforming mesh),
+    ``seed``, ``method`` ('lbfgs' | 'lloyd'), ``unconstrained_iterations``,
+    ``constrained_iterations``, ``unconstrained_tolerance``, ``constrained_tolerance``,
+    ``repair_rounds``, ``repair_iterations``; an unknown name raises :class:`Error`.
+    ``density``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
+    gradient_norm, seconds; returning False stops early (a valid mesh of lower quality;
+    ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
+    ``threads``."""
+    r = _core.mesh2d(domain2(domain), _given(vertices=vertices, edge_length=edge_length,
+                                             **options),
+                     density, callback, _threads(threads))
+    return Mesh(2, r)
+
+
+def mesh3d(domain, vertices: Optional[int] = None, *,
+           callback: Optional[Callable[[dict], object]] = None, threads: Optional[int] = None,
+           **options) -> Mesh:
+    """A CVT tetrahedral mesh of a 3D domain (anything :func:`domain3` takes) of about
+    ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
+    topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
+    Mesh3Options (an option not given keeps the library's default): ``adaptive``,
+    ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
+    ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
+    ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
+    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``perturb``,
+    ``sliver_angle`` (degrees); an unknown name raises :class:`Error`. Tags: the input's
+    (tet mesh files) or one patch per surface region between feature lines and one region
+    per volume component. ``callback(info)`` gets phase, iteration, energy, ...; returning
+    False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The
+    same mesh for any ``threads`` and a given ``seed``."""
+    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options), callback,
+                     _threads(threads))
+    return Mesh(3, r)
+
+
+class Quality(NamedTuple):
+    """Element quality. 3D: per tet ``q1`` (smallest dihedral angle, degrees), ``q2``
+    (largest, degrees), ``q3`` (3 r_in / r_circ), ``q4`` (12 (9 V^2)^(1/3) / sum of squared
+    edge lengths), ``volume`` (signed, L^3), ``dihedral`` (m, 6) degrees. 2D: per triangle
+    ``q1`` smallest and ``q2`` largest angle (degrees), ``q3`` 2 r_in / r_circ, ``q4`` None,
+    ``volume`` signed area. ``report``: the library's summary (the CLI's ``quality --stats
+    json`` figures: min/mean/max, histograms, inverted and degenerate elements)."""
+
+    q1: np.ndarray
+    q2: np.ndarray
+    q3: np.ndarray
+    q4: Optional[np.ndarray]
+    volume: np.ndarray
+    dihedral: Optional[np.ndarray]
+    report: dict
+
+
+def _triangle_measures(points, triangles):
+    p = points[triangles]  # (m, 3, 2)
+    e = [p[:, (k + 2) % 3] - p[:, (k + 1) % 3] for k in range(3)]  # edge opposite k
+    length = np.stack([np.hypot(v[:, 0], v[:, 1]) for v in e], axis=1)
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - \
+            (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1])
+    angles = []
+    for k in range(3):
+        u = p[:, (k + 1) % 3] - p[:, k]
+        v = p[:, (k + 2) % 3] - p[:, k]
+        angles.append(np.degrees(np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]),
+                                            (u * v).sum(axis=1))))
+    angles = np.stack(angles, axis=1)
+    a, b, c = length[:, 0], length[:, 1], length[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(cross != 0, 4 * cross ** 2 / (a * b * c * (a + b + c)), 0.0)
+    return angles.min(axis=1), angles.max(axis=1), ratio, cross / 2
+
+
+def quality(mesh, cells=None, *, threads: Optional[int] = None) -> Quality:
+    """The quality of a tet mesh or a triangle mesh: a :class:`Mesh`, a meshio.Mesh, or
+    ``(points, cells)`` with (m, 4) tets or (m, 3) triangles. Returns :class:`Quality`
+    (the same for any ``threads``)."""
+    if cells is not None:
+        points = mesh
+    elif isinstance(mesh, Mesh):
+        points, cells = mesh.points, mesh.cells
+    elif hasattr(mesh, "points") and hasattr(mesh, "cells"):
+        points = mesh.points
+        blocks = [b.data for b in mesh.cells if b.type == "tetra"] or \
+                 [b.data for b in mesh.cells if b.type == "triangle"]
+        if not blocks:
+            raise Error("quality: the meshio.Mesh has neither tetra nor triangle cells")
+        cells = np.concatenate(blocks)
+    else:
+        points, cells = mesh
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    cells = np.ascontiguousarray(cells, dtype=np.int64)
+    if cells.ndim == 2 and cells.shape[1] == 4:
+        r = _core.tet_quality(points, cells, _threads(threads))
+        return Quality(r["q1"], r["q2"], r["q3"], r["q4"], r["volume"], r["dihedral"],
+                       json.loads(r["report_json"]))
+    if cells.ndim == 2 and cells.shape[1] == 3:
+        if points.ndim == 2 and points.shape[1] == 3:
+            points = np.ascontiguousarray(points[:, :2])
+        r = _core.triangle_quality(points, cells)
+        q1, q2, q3, area = _triangle_measures(points, cells)
+        return Quality(q1, q2, q3, None, area, None, json.loads(r["report_json"]))
+    raise Error(f"quality: expected (m, 4) tets or (m, 3) triangles, got shape {cells.shape}")

@@ -1,0 +1,139 @@
+"""Conversions of what users hold (arrays, files, shapely and meshio objects) to the
+library's validated domains, :class:`Domain2` and :class:`Domain3`."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from . import _core
+from ._core import Error
+
+
+def _ring_array(ring, where):
+    coords = getattr(ring, "coords", ring)  # shapely LinearRing or an array
+    a = np.asarray(coords, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] not in (2, 3) or a.shape[0] < 3:
+        raise Error(f"{where}: expected an (n, 2) array of n >= 3 points, got shape {a.shape}")
+    return a[:, :2]
+
+
+def domain2(domain) -> _core.Domain2:
+    """A validated polygonal domain (with holes) from
+
+    * a :class:`Domain2` (returned as it is);
+    * a path (``str`` or ``os.PathLike``) to a ``.poly`` (Triangle) or ``.json`` file;
+    * a list of rings, each an (n, 2) array-like of points: ring 0 is the outer boundary,
+      the others are holes (orientation free; a repeated closing point is dropped);
+    * a shapely-like polygon (``.exterior`` and ``.interiors`` with ``.coords``), a list of
+      them, or a multi-polygon (``.geoms``).
+
+    Raises :class:`voroclip.Error` naming the ring and points for an invalid polygon (self
+    intersections, rings that touch, a hole outside its polygon, a non-finite coordinate).
+    """
+    if isinstance(domain, _core.Domain2):
+        return domain
+    if isinstance(domain, (str, os.PathLike)):
+        return _core.Domain2.read(os.fspath(domain))
+    if hasattr(domain, "geoms"):
+        polygons = list(domain.geoms)
+    elif hasattr(domain, "exterior"):
+        polygons = [domain]
+    else:
+        try:
+            items = list(domain)
+        except TypeError:
+            raise Error(
+                "domain: expected a Domain2, a path, a list of rings or a shapely-like "
+                f"polygon, got {type(domain).__name__}"
+            ) from None
+        if items and all(hasattr(p, "exterior") for p in items):
+            polygons = items
+        else:
+            polygons = [items]
+    xy, begin, polygon = [], [0], []
+    for p, poly in enumerate(polygons):
+        if hasattr(poly, "exterior"):
+            rings = [poly.exterior, *list(poly.interiors)]
+        else:
+            rings = poly
+        if len(rings) == 0:
+            raise Error(f"domain: polygon {p} has no ring")
+        for r, ring in enumerate(rings):
+            a = _ring_array(ring, f"domain: polygon {p}, ring {r}" if len(polygons) > 1
+                            else f"domain: ring {r}")
+            xy.append(a)
+            begin.append(begin[-1] + a.shape[0])
+            polygon.append(p)
+    return _core.Domain2(np.concatenate(xy), np.asarray(begin, dtype=np.int64),
+                         np.asarray(polygon, dtype=np.int64), "rings")
+
+
+_TET_TAGS = ("gmsh:physical", "medit:ref", "region", "cell_tags")
+_TRI_TAGS = ("gmsh:physical", "medit:ref", "patch", "cell_tags")
+
+
+def _meshio_domain(mesh, reorient):
+    points = np.asarray(mesh.points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise Error(f"domain: a meshio.Mesh with 3D points is needed, got shape {points.shape}")
+    blocks = {"tetra": [], "triangle": []}
+    tags = {"tetra": [], "triangle": []}
+    for k, block in enumerate(mesh.cells):
+        if block.type in blocks:
+            blocks[block.type].append(np.asarray(block.data, dtype=np.int64))
+            names = _TET_TAGS if block.type == "tetra" else _TRI_TAGS
+            name = next((n for n in names if n in mesh.cell_data), None)
+            tags[block.type].append(
+                None if name is None else np.asarray(mesh.cell_data[name][k], dtype=np.int64))
+
+    def join(kind, width):
+        if not blocks[kind]:
+            return np.zeros((0, width), dtype=np.int64), np.zeros(0, dtype=np.int64)
+        cells = np.concatenate(blocks[kind])
+        if any(t is None for t in tags[kind]):
+            return cells, np.zeros(0, dtype=np.int64)
+        return cells, np.concatenate(tags[kind])
+
+    tets, tet_tags = join("tetra", 4)
+    triangles, tri_tags = join("triangle", 3)
+    if len(tets):
+        return _core.Domain3.from_tets(points, tets, triangles, tet_tags, tri_tags, "meshio.Mesh")
+    if len(triangles):
+        return _core.Domain3.from_surface(points, triangles, "meshio.Mesh", reorient)
+    raise Error("domain: the meshio.Mesh has neither tetra nor triangle cells")
+
+
+def domain3(domain, reorient: bool = False) -> _core.Domain3:
+    """A validated 3D domain (a volume bounded by a closed triangle surface, possibly with a
+    tet mesh of it) from
+
+    * a :class:`Domain3` (returned as it is);
+    * a path to a surface (``.obj``, ``.off``, ``.stl``, ``.ply``) or a tet mesh (``.mesh``,
+      ``.node``/``.ele``, ``.msh``, ``.vtk``, ``.vtu``);
+    * a ``(vertices, triangles)`` pair: (n, 3) float coordinates and (m, 3) vertex indices
+      from 0, the triangles oriented outward (``reorient=True`` fixes inside-out shells);
+    * a ``meshio.Mesh`` with ``tetra`` cells (a tet mesh; ``triangle`` cells and the
+      ``gmsh:physical`` / ``medit:ref`` tags come along) or only ``triangle`` cells.
+
+    Raises :class:`voroclip.Error` for an open, non-manifold or self-intersecting surface,
+    naming the faces.
+    """
+    if isinstance(domain, _core.Domain3):
+        return domain
+    if isinstance(domain, (str, os.PathLike)):
+        return _core.Domain3.read(os.fspath(domain), reorient)
+    if hasattr(domain, "points") and hasattr(domain, "cells"):
+        return _meshio_domain(domain, reorient)
+    if isinstance(domain, (tuple, list)) and len(domain) == 2:
+        vertices = np.asarray(domain[0], dtype=np.float64)
+        triangles = np.asarray(domain[1])
+        if triangles.dtype.kind not in "iu":
+            raise Error(f"triangles: expected integer vertex indices, got dtype {triangles.dtype}")
+        return _core.Domain3.from_surface(vertices, triangles.astype(np.int64, copy=False),
+                                          "surface", reorient)
+    raise Error(
+        "domain: expected a Domain3, a path, a (vertices, triangles) pair or a meshio.Mesh, "
+        f"got {type(domain).__name__}"
+    )
