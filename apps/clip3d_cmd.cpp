@@ -136,6 +136,7 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
     cells.push_back({{"index", i},
                      {"site", {sites[3 * i], sites[3 * i + 1], sites[3 * i + 2]}},
                      {"volume", cv.volume(i)},
+                     {"mass", cv.mass(i)},
                      {"centroid", {c[0], c[1], c[2]}},
                      {"energy", cv.energy(i)},
                      {"surface_area", cv.surface_area(i)},
@@ -145,6 +146,19 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
 }
 
 }  // namespace
+
+void write_cells3_file(const std::string& path, const std::vector<double>& sites,
+                       const ClippedVoronoi3& cv) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    if (has_suffix(path, ".obj")) {
+      write_surface_obj(out, cv);
+    } else if (has_suffix(path, ".vtu")) {
+      write_cells_vtu(out, cv);
+    } else {
+      write_cells_json(out, sites, cv);
+    }
+  });
+}
 
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() && !has_suffix(args.output, ".vtu") &&
@@ -173,17 +187,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   const double t_total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double t_delaunay = cv.seconds_delaunay();
-  if (!args.output.empty()) {
-    write_file_atomically(args.output, [&](std::ostream& out) {
-      if (has_suffix(args.output, ".obj")) {
-        write_surface_obj(out, cv);
-      } else if (has_suffix(args.output, ".vtu")) {
-        write_cells_vtu(out, cv);
-      } else {
-        write_cells_json(out, sites, cv);
-      }
-    });
-  }
+  if (!args.output.empty()) write_cells3_file(args.output, sites, cv);
   if (options.stats_json) {
     std::cout << nlohmann::json{{"tets", domain.nb_tets()},
                                 {"boundary_triangles", domain.surface().nb_triangles()},
