@@ -6,6 +6,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -371,7 +372,11 @@ struct Expression::Impl {
   };
   std::string text;
   int dimension;
+  // Distinct for every Expression ever made in the process (never reused, unlike an
+  // address): the key of the per-thread cache below.
+  std::uint64_t id = next_id.fetch_add(1, std::memory_order_relaxed);
   mutable tbb::enumerable_thread_specific<std::unique_ptr<Slot>> slots;
+  static std::atomic<std::uint64_t> next_id;
 
   std::unique_ptr<Slot> make() const {
     auto slot = std::make_unique<Slot>();
@@ -409,11 +414,24 @@ Expression::Expression(const std::string& text, int dimension, const std::string
   }
 }
 
+std::atomic<std::uint64_t> Expression::Impl::next_id{1};
+
 Expression::~Expression() = default;
 
 double Expression::operator()(const double* p) const {
-  std::unique_ptr<Impl::Slot>& slot = impl_->slots.local();
-  if (!slot) slot = impl_->make();
+  // The thread's slot of the expression it evaluated last, found without the hash lookup
+  // of enumerable_thread_specific::local() (measured: about a tenth of an evaluation).
+  // The id, never reused, tells whether the cached slot is this expression's.
+  thread_local std::uint64_t cached_id = 0;
+  thread_local Impl::Slot* cached_slot = nullptr;
+  Impl::Slot* slot = cached_slot;
+  if (cached_id != impl_->id) {
+    std::unique_ptr<Impl::Slot>& owned = impl_->slots.local();
+    if (!owned) owned = impl_->make();
+    slot = owned.get();
+    cached_id = impl_->id;
+    cached_slot = slot;
+  }
   slot->v[0] = p[0];
   slot->v[1] = p[1];
   slot->v[2] = dimension_ == 3 ? p[2] : 0.0;
