@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "density_options.h"
 #include "voroclip/clip.h"
 #include "voroclip/mesh.h"
 #include "voroclip/predicates.h"
@@ -102,6 +103,7 @@ struct ClipArgs {
   std::string method = "lbfgs";
   std::uint32_t iterations = 100;
   double tolerance = 1e-4;
+  DensityArgs density;  // cvt2d
 };
 
 struct Mesh2dArgs {
@@ -122,10 +124,18 @@ struct Mesh2dArgs {
   std::uint32_t iterations = 200;  // constrained CVT budget
   std::string output;              // .svg, .vtu, .mesh, .msh; empty: no file
   std::string histogram;           // .svg angle histograms; empty: none
+  DensityArgs density;
 };
 
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options);
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options);
+/// Writes a 3D clipped diagram by extension, atomically: .obj the restricted surface
+/// (keep_surface), .vtu every cell's faces (keep_geometry; in `encoding`), .csv / .json
+/// the per-cell table (keep_geometry, for the neighbour counts: `neighbors`, computed
+/// when not given).
+void write_cells3_file(const std::string& path, const std::vector<double>& sites,
+                       const ClippedVoronoi3& cv, VtuEncoding encoding = VtuEncoding::kAscii,
+                       const NeighborTable* neighbors = nullptr);
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
 
 /// The domain of a 2D command: a polygon file (.json, .poly) or a built-in generator,
@@ -178,6 +188,7 @@ struct Mesh3dArgs {
   std::string msh_version = "4.1";
   bool binary = false;    // .msh: Gmsh 4.1 binary
   bool compress = false;  // .vtu: zlib-compressed data
+  DensityArgs density;
 };
 
 /// CVT tetrahedral meshing of a volume (mesh3d), with the quality report.

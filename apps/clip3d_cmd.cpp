@@ -119,6 +119,7 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
     cells.push_back({{"index", i},
                      {"site", {sites[3 * i], sites[3 * i + 1], sites[3 * i + 2]}},
                      {"volume", cv.volume(i)},
+                     {"mass", cv.mass(i)},
                      {"centroid", {c[0], c[1], c[2]}},
                      {"energy", cv.energy(i)},
                      {"surface_area", cv.surface_area(i)},
@@ -129,6 +130,28 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
 }
 
 }  // namespace
+
+void write_cells3_file(const std::string& path, const std::vector<double>& sites,
+                       const ClippedVoronoi3& cv, VtuEncoding encoding,
+                       const NeighborTable* neighbors) {
+  const std::string ext = lower_extension(path);
+  NeighborTable local;
+  if ((ext == ".csv" || ext == ".json") && !neighbors) {
+    local = cell_neighbors(cv);
+    neighbors = &local;
+  }
+  write_file_atomically(path, [&](std::ostream& out) {
+    if (ext == ".obj") {
+      write_surface_obj(out, cv);
+    } else if (ext == ".vtu") {
+      write_cells_vtu(out, cv, encoding);
+    } else if (ext == ".csv") {
+      write_cell_table_csv(out, cell_table(cv, sites.data(), neighbors));
+    } else {
+      write_cells_json(out, sites, cv, cell_table(cv, sites.data(), neighbors));
+    }
+  });
+}
 
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   const std::string ext = lower_extension(args.output);
@@ -183,19 +206,10 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   NeighborTable neighbors;
   if (tables) neighbors = cell_neighbors(cv);
   if (!args.output.empty()) {
-    write_file_atomically(args.output, [&](std::ostream& out) {
-      if (ext == ".obj") {
-        write_surface_obj(out, cv);
-      } else if (ext == ".vtu") {
-        write_cells_vtu(out, cv,
-                        args.compress ? VtuEncoding::kZlibBase64
-                                      : (args.binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii));
-      } else if (ext == ".csv") {
-        write_cell_table_csv(out, cell_table(cv, sites.data(), &neighbors));
-      } else {
-        write_cells_json(out, sites, cv, cell_table(cv, sites.data(), &neighbors));
-      }
-    });
+    write_cells3_file(args.output, sites, cv,
+                      args.compress ? VtuEncoding::kZlibBase64
+                                    : (args.binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii),
+                      tables ? &neighbors : nullptr);
   }
   if (!args.neighbors.empty()) {
     write_file_atomically(args.neighbors, [&](std::ostream& out) {

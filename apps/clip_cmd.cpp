@@ -434,6 +434,7 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
   o.max_iterations = args.iterations;
   o.gradient_tolerance = args.tolerance;
+  o.density = make_density2(args.density, domain);
   std::ostream* human = human_stream(options);
   progress.phase("CVT (" + args.method + ")", args.iterations);
   o.progress = [&](const CvtProgress& p) {
@@ -447,6 +448,7 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
     ClippedVoronoi2 cv;
     Clip2Options co;
     co.keep_geometry = true;
+    co.density = o.density;
     cv.compute(domain, dt, co);
     write_output(args, domain, sites, cv);
   }
@@ -462,6 +464,8 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
                                 {"gradient_norm", r.gradient_norm},
                                 {"initial_gradient_norm", r.initial_gradient_norm},
                                 {"converged", r.converged},
+                                {"stop", cvt_stop_name(r.stop)},
+                                {"density", args.density.describe()},
                                 {"seconds", r.seconds}}
                      .dump()
               << '\n';
@@ -471,7 +475,7 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
            << count_of(r.evaluations, "diagram") << ", energy " << std::setprecision(12) << r.energy
            << ", |g|/|g0| " << std::setprecision(3)
            << (r.initial_gradient_norm > 0 ? r.gradient_norm / r.initial_gradient_norm : 0)
-           << (r.converged ? " (converged)" : "") << ", " << r.seconds << " s\n";
+           << "; stopped: " << cvt_stop_name(r.stop) << ", " << r.seconds << " s\n";
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.neighbors.empty()) *human << "Neighbour pairs written to " << args.neighbors << '\n';
   }

@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 
 #include "cli.h"
+#include "cvt3d_cmd.h"
 #include "voroclip/core.h"
 
 namespace {
@@ -227,6 +228,7 @@ int main(int argc, char** argv) {
       cmd->add_option("--tolerance", a.tolerance,
                       "Stop when |gradient| <= tolerance * initial |gradient| (default 1e-4)")
           ->type_name("T");
+      voroclip::cli::add_density_options(cmd, a.density, 2, false);
     }
     clip_cmd[c] = cmd;
   }
@@ -299,6 +301,7 @@ int main(int argc, char** argv) {
       ->add_option("--histogram", mesh_args.histogram,
                    "Write the angle histograms as an SVG bar chart")
       ->type_name("FILE.svg");
+  voroclip::cli::add_density_options(mesh2d, mesh_args.density, 2, true);
 
   const std::string domain3_help =
       "The volume: a closed surface (.obj, .off, .stl, .ply; validated exactly: closed, "
@@ -344,6 +347,9 @@ int main(int argc, char** argv) {
                    "Write the pairs of neighbouring cells, .csv (site_a,site_b,area: the area "
                    "of their common face; site_a < site_b) or .json")
       ->type_name("FILE");
+
+  voroclip::cli::Cvt3dArgs cvt3d_args;
+  CLI::App* cvt3d = voroclip::cli::add_cvt3d_command(app, cvt3d_args, domain3_help, reorient_help);
 
   voroclip::cli::QualityArgs quality_args;
   CLI::App* quality = app.add_subcommand(
@@ -445,6 +451,7 @@ int main(int argc, char** argv) {
   mesh3d->add_flag("--compress", mesh3d_args.compress,
                    "Compress a .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
                    "and ParaView write it)");
+  voroclip::cli::add_density_options(mesh3d, mesh3d_args.density, 3, true);
 
   voroclip::cli::CheckSurfaceArgs check_args;
   CLI::App* check_surface = app.add_subcommand(
@@ -523,6 +530,10 @@ int main(int argc, char** argv) {
     if (*clip3d) {
       clip3d_args.random_set = clip3d->get_option("--random")->count() > 0;
       voroclip::cli::run_clip3d(clip3d_args, global);
+    }
+    if (*cvt3d) {
+      cvt3d_args.random_set = cvt3d->get_option("--random")->count() > 0;
+      voroclip::cli::run_cvt3d(cvt3d_args, global);
     }
     for (int c = 0; c < 2; ++c) {
       if (*clip_cmd[c]) {

@@ -350,7 +350,10 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     throw UsageError("--histogram: the picture must end in .svg, got '" + args.histogram + "'");
   }
   const bool by_length = args.edge_length != 0;
-  if (args.vertices_set == by_length) {
+  // A sizing field alone is the target edge length itself (--edge-length 1 scales it by 1).
+  const bool sizing_alone = !args.vertices_set && !by_length &&
+                            (!args.density.sizing.empty() || !args.density.sizing_file.empty());
+  if (args.vertices_set == by_length && !sizing_alone) {
     throw UsageError("give exactly one of --vertices N and --edge-length H");
   }
   if (args.msh_version != "2.2" && args.msh_version != "4.1") {
@@ -377,7 +380,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   const Domain2 domain = load_domain(args.domain);
   Mesh2Options o;
   o.nb_vertices = args.vertices;
-  o.edge_length = args.edge_length;
+  o.edge_length = sizing_alone ? 1.0 : args.edge_length;
   o.gradation = args.gradation;
   o.corner_angle_deg = args.corner_angle;
   o.sharp_angle_deg = args.sharp_angle;
@@ -388,6 +391,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   o.seed = args.seed;
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
   o.constrained_iterations = args.iterations;
+  o.density = make_density2(args.density, domain);
   std::ostream* human = human_stream(options);
   Progress progress(options);
   bool started = false;

@@ -77,6 +77,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   Mesh3Options o;
   o.nb_vertices = args.vertices;
   o.adaptive = args.adaptive;
+  if (args.adaptive && args.density.given()) {
+    throw UsageError("--adaptive and " + args.density.describe() + " exclude each other");
+  }
+  o.density = make_density3(args.density, domain);
   o.features = !args.no_features;
   o.feature_angle_deg = args.feature_angle;
   o.seed = args.seed;

@@ -24,6 +24,8 @@ endif()
 
 if(VOROCLIP_BUILD_APPS)
   voroclip_require_package(CLI11 libcli11-dev CONFIG)
+  # Formulas of --density / --sizing (apps/density_options.h says why muparser; MIT).
+  voroclip_require_package(muparser libmuparser-dev CONFIG)
   voroclip_require_package(nlohmann_json nlohmann-json3-dev 3.2 CONFIG)
 endif()
 

@@ -11,7 +11,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake git
-  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev liblbfgspp-dev zlib1g-dev
+  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev liblbfgspp-dev zlib1g-dev libmuparser-dev
   catch2 libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev voro++-dev
   clang-format
   python3-meshio python3-gmsh

@@ -33,4 +33,16 @@ Density3 Density3::vertex_linear(std::vector<double> values) {
   return d;
 }
 
+double Density3::operator()(double x, double y, double z) const {
+  switch (kind) {
+    case Kind::kConstant:
+      return value;
+    case Kind::kCallback:
+      return callback(x, y, z);
+    case Kind::kVertexLinear:
+      break;
+  }
+  throw Error("density: a density linear per tet is evaluated per tet, not at a point");
+}
+
 }  // namespace voroclip

@@ -377,6 +377,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
       throw Cancelled{};
     }
   };
+  bool stalled = false;  // L-BFGS: the last line search made no progress
 
   try {
     report(0, f, result.gradient_norm);
@@ -401,6 +402,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
       std::uint32_t accepted = 0;
       bool stop = false;
       while (!stop) {
+        stalled = false;
         if (options.precondition) {
           problem.set_scales();
           problem.bounds(lo, hi);
@@ -453,7 +455,9 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
         } catch (const std::runtime_error&) {
           // The line search could not make progress (at the precision of the energy): the
           // best point so far is the answer.
+          stalled = true;
         } catch (const std::logic_error&) {
+          stalled = true;
         }
         z = best_z;
         problem.place(z);
@@ -467,6 +471,10 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
   } catch (const Cancelled&) {
     result.cancelled = true;
   }
+  result.stop = result.cancelled                                        ? CvtStop::kCancelled
+                : result.converged                                      ? CvtStop::kConverged
+                : stalled && result.iterations < options.max_iterations ? CvtStop::kNoProgress
+                                                                        : CvtStop::kIterationBudget;
   result.evaluations = problem.evaluations();
   result.seconds = seconds_since(t0);
   return result;

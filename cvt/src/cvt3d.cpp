@@ -180,6 +180,20 @@ double tet_det(const Domain3& d, std::uint32_t t) {
 
 }  // namespace
 
+const char* cvt_stop_name(CvtStop stop) {
+  switch (stop) {
+    case CvtStop::kConverged:
+      return "converged";
+    case CvtStop::kIterationBudget:
+      return "iteration budget";
+    case CvtStop::kNoProgress:
+      return "no progress";
+    case CvtStop::kCancelled:
+      return "cancelled";
+  }
+  return "unknown";
+}
+
 double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
                    const Clip3Options& options, std::vector<double>* gradient) {
   if (sites.size() % 3 != 0) throw Error("cvt3d: the site array's length is not a multiple of 3");
@@ -219,6 +233,7 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
       throw Cancelled3{};
     }
   };
+  bool stalled = false;  // L-BFGS: the line search made no progress
 
   try {
     report(0, f, result.gradient_norm);
@@ -287,7 +302,9 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
         // The line search could not make progress at the precision of the energy (or the
         // direction stopped being one of descent, below): the best point so far is the
         // answer.
+        stalled = true;
       } catch (const std::logic_error&) {
+        stalled = true;
       }
       problem.place(best_z);
       if (last_is_best) {
@@ -304,6 +321,10 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
   } catch (const Cancelled3&) {
     result.cancelled = true;
   }
+  result.stop = result.cancelled                                        ? CvtStop::kCancelled
+                : result.converged                                      ? CvtStop::kConverged
+                : stalled && result.iterations < options.max_iterations ? CvtStop::kNoProgress
+                                                                        : CvtStop::kIterationBudget;
   result.evaluations = problem.evaluations();
   result.seconds = seconds_since3(t0);
   return result;

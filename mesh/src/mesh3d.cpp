@@ -730,7 +730,21 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     // with n sites of density h^-3 in the volume, spacing_scale^3 = (integral of h^-3) / n.
     std::unique_ptr<SizingField3> field;
     double integral = domain.volume();
-    if (options.adaptive) {
+    const Density3& user_density = options.density;
+    const bool graded = options.adaptive || !user_density.is_constant();
+    if (!user_density.is_constant()) {
+      if (options.adaptive) throw Error("mesh3d: a density and adaptive sizing exclude each other");
+      if (user_density.kind != Density3::Kind::kCallback || !user_density.callback) {
+        throw Error(
+            "mesh3d: the density must be a function (a density linear per tet is not "
+            "supported here)");
+      }
+      // rho = h^-5 and n sites of density h^-3: h = rho^(-1/5), h^-3 = rho^(3/5).
+      clip.density = user_density;
+      integral = integrate_over_volume(domain, [&user_density](const double* p) {
+        return std::pow(user_density.callback(p[0], p[1], p[2]), 0.6);
+      });
+    } else if (options.adaptive) {
       field = std::make_unique<SizingField3>(domain, options.sizing);
       const SizingField3* h = field.get();
       clip.density = Density3::function([h](double x, double y, double z) {
@@ -745,6 +759,9 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     }
     const auto local_spacing = [&](const double* x) {
       const double scale = std::cbrt(integral / options.nb_vertices);
+      if (!user_density.is_constant()) {
+        return scale * std::pow(user_density.callback(x[0], x[1], x[2]), -0.2);
+      }
       return field ? scale * field->size(x) : scale;
     };
     const TriangleSurface surface = boundary_surface(domain);
@@ -796,9 +813,15 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     next_phase(Mesh3Phase::kSampling);
     const TetExtractor3 extractor(domain);
     std::vector<double> sites =
-        options.sampling == Mesh3Sampling::kLattice && !options.adaptive
+        options.sampling == Mesh3Sampling::kLattice && !graded
             ? lattice_sites(domain, extractor, options.nb_vertices, options.seed)
-            : random_points3(domain, options.nb_vertices, options.seed, clip.density);
+            : random_points3(
+                  domain, options.nb_vertices, options.seed,
+                  user_density.is_constant()
+                      ? clip.density
+                      : Density3::function([&user_density](double x, double y, double z) {
+                          return std::pow(user_density.callback(x, y, z), 0.6);
+                        }));
 
     // 3. Unconstrained CVT.
     next_phase(Mesh3Phase::kUnconstrained);

@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <unistd.h>
+
 #include <filesystem>
 #include <map>
 #include <string>
@@ -136,11 +138,13 @@ inline voroclip::TriangleSurface merged(voroclip::TriangleSurface a,
   return a;
 }
 
-// A directory of its own under the system's temporary directory, removed with its files.
+// A directory of its own under the system's temporary directory, removed with its files;
+// the process id in its name keeps concurrent test runs (other worktrees) apart.
 class TempDir {
  public:
   explicit TempDir(const std::string& name)
-      : path_(std::filesystem::temp_directory_path() / ("voroclip_test_" + name)) {
+      : path_(std::filesystem::temp_directory_path() /
+              ("voroclip_test_" + name + "_" + std::to_string(::getpid()))) {
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

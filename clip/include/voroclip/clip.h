@@ -148,9 +148,10 @@ class Domain2 {
 // ---------------------------------------------------------------------------------------
 // Density for the cell integrals.
 //   constant   rho = value everywhere (closed forms);
-//   callback   rho(x, y) given by the user, integrated with a degree-4 rule (6 points) on
-//              the triangles of each cell's fan from its site; must be defined on the
-//              convex hull of each cell piece;
+//   callback   rho(x, y) given by the user, integrated with a degree-5 rule (7 points,
+//              positive weights) on the triangles of each cell's fan: exact for rho a
+//              polynomial of degree <= 3; must be defined on the convex hull of each cell
+//              piece, deterministic and safe to call from several threads at once;
 //   grid       piecewise linear on a regular grid of nx x ny nodes over [lo, hi] (each
 //              grid square split along its diagonal from (i, j) to (i+1, j+1)), evaluated
 //              at the fan's vertices and integrated exactly as a linear function on each
@@ -170,6 +171,7 @@ struct Density2 {
                               const double hi[2], std::vector<double> values);
   // rho at (x, y) (grid: the piecewise-linear interpolant; constant: value).
   double operator()(double x, double y) const;
+  bool is_constant() const { return kind == Kind::kConstant; }
 };
 
 struct Clip2Options {
@@ -564,6 +566,9 @@ struct Density3 {
   static Density3 constant(double rho);
   static Density3 function(std::function<double(double, double, double)> rho);
   static Density3 vertex_linear(std::vector<double> values);
+  // rho at (x, y, z) for a constant or callback density, as Density2's; vertex_linear
+  // needs the tet that holds the point and throws Error here.
+  double operator()(double x, double y, double z) const;
   bool is_constant() const { return kind == Kind::kConstant; }
 };
 

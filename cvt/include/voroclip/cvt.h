@@ -98,6 +98,17 @@ struct Cvt2Options {
   std::vector<BoundaryPath2> paths;
 };
 
+// Why a CVT optimisation stopped (2D and 3D).
+enum class CvtStop : std::uint8_t {
+  kConverged,        // |g| <= gradient_tolerance * |g_0|
+  kIterationBudget,  // max_iterations iterations done
+  kNoProgress,       // L-BFGS: the line search found no lower energy at the energy's
+                     // precision (the best point so far is returned)
+  kCancelled,        // the progress callback returned false
+};
+// "converged", "iteration budget", "no progress", "cancelled".
+const char* cvt_stop_name(CvtStop stop);
+
 // The outcome of a CVT optimisation (2D and 3D).
 struct CvtResult {
   std::uint32_t iterations = 0;
@@ -107,6 +118,7 @@ struct CvtResult {
   double seconds = 0;
   bool converged = false;
   bool cancelled = false;
+  CvtStop stop = CvtStop::kIterationBudget;  // converged / cancelled agree with it
 };
 using Cvt2Result = CvtResult;
 

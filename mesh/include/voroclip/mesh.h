@@ -819,6 +819,10 @@ struct Mesh3Options {
   // Density from the local feature size (SizingField3 with `sizing`) instead of uniform.
   bool adaptive = false;
   Sizing3Options sizing;
+  // Or the user's density rho (a function; excludes adaptive): elements of size h about
+  // rho^(-1/5) (rho = h^-5), scaled so that about nb_vertices sites fill the volume; the
+  // sites are then drawn with density rho^(3/5), a CVT's (random_points3), not on the lattice.
+  Density3 density;
   // Sharp features: an edge is sharp when its triangles' normals differ by more than this
   // (extract_feature_lines). features = false: the surface alone.
   bool features = true;

@@ -1,0 +1,505 @@
+// The user's density and sizing field on the command line (see density_options.h).
+#include "density_options.h"
+
+#include <CLI/CLI.hpp>
+#include <muParser.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli.h"
+#include "voroclip/core.h"
+
+namespace voroclip::cli {
+
+namespace {
+
+// rho = h^-(d+2): n CVT sites of density rho have a local spacing ~ rho^(-1/(d+2)) (Gersho's
+// asymptotics, the paper's sec. 5).
+double density_of_size(double h, int dimension) {
+  return std::pow(h, -static_cast<double>(dimension + 2));
+}
+
+std::string point_text(const double* p, int dimension) {
+  std::string s = "(" + format_double(p[0]) + ", " + format_double(p[1]);
+  if (dimension == 3) s += ", " + format_double(p[2]);
+  return s + ")";
+}
+
+// A density given by a formula: rho(p), or h(p) with rho = h^-(d+2); a value that is not
+// finite and positive throws Error naming the option and the point.
+class FormulaDensity {
+ public:
+  FormulaDensity(const std::string& text, int dimension, bool sizing)
+      : expression_(text, dimension, sizing ? "--sizing" : "--density"),
+        dimension_(dimension),
+        sizing_(sizing) {}
+
+  double operator()(const double* p) const {
+    const double v = expression_(p);
+    if (!(v > 0) || !std::isfinite(v)) {
+      throw Error(std::string(sizing_ ? "--sizing" : "--density") + " \"" + expression_.text() +
+                  "\" is " + format_double(v) + " at " + point_text(p, dimension_) + ": the " +
+                  (sizing_ ? "size" : "density") + " must be finite and positive");
+    }
+    if (!sizing_) return v;
+    const double rho = density_of_size(v, dimension_);
+    if (!(rho > 0) || !std::isfinite(rho)) {
+      throw Error("--sizing \"" + expression_.text() + "\" is " + format_double(v) + " at " +
+                  point_text(p, dimension_) + ": h^-" + std::to_string(dimension_ + 2) +
+                  " is out of the range of doubles");
+    }
+    return rho;
+  }
+
+ private:
+  Expression expression_;
+  int dimension_;
+  bool sizing_;
+};
+
+// ---- Files.
+
+// Whitespace-separated tokens of a text file with their line numbers; '#' starts a comment.
+struct Tokens {
+  std::string path;
+  std::vector<std::string> words;
+  std::vector<std::uint32_t> lines;
+  std::size_t next = 0;
+
+  explicit Tokens(const std::string& file) : path(file) {
+    std::ifstream in(file);
+    if (!in) throw Error(file + ": cannot open the file");
+    std::string line;
+    std::uint32_t number = 0;
+    while (std::getline(in, line)) {
+      ++number;
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      std::istringstream ss(line);
+      std::string w;
+      while (ss >> w) {
+        words.push_back(w);
+        lines.push_back(number);
+      }
+    }
+  }
+  bool done() const { return next >= words.size(); }
+  std::string where() const {
+    return path + ":" + std::to_string(done() ? (lines.empty() ? 0 : lines.back()) : lines[next]);
+  }
+  [[noreturn]] void fail(const std::string& what) const { throw Error(where() + ": " + what); }
+  const std::string& word(const std::string& what) {
+    if (done()) fail("the file ends where " + what + " was expected");
+    return words[next++];
+  }
+  double number(const std::string& what) {
+    const std::string& w = word(what);
+    try {
+      return parse_finite_double(w, what);
+    } catch (const UsageError&) {
+      --next;
+      fail("expected " + what + " (a finite number), got '" + w + "'");
+    }
+  }
+  std::uint64_t count(const std::string& what) {
+    const std::string& w = word(what);
+    std::uint64_t v = 0;
+    bool ok = !w.empty() && w.size() < 19;
+    for (const char c : w) ok = ok && std::isdigit(static_cast<unsigned char>(c));
+    if (ok) v = std::stoull(w);
+    if (!ok) {
+      --next;
+      fail("expected " + what + " (a whole number), got '" + w + "'");
+    }
+    return v;
+  }
+};
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Checks a value read from a file: finite and positive (a density may be 0 for a grid),
+// naming the file's line and the value's number (from 1, as the file counts).
+double checked_value(Tokens& t, const std::string& what, bool sizing) {
+  const std::string where = t.where();
+  const double v = t.number(what);
+  if (!(v > 0)) {
+    throw Error(where + ": " + what + " is " + format_double(v) + ": a " +
+                (sizing ? "size" : "density") + " must be positive");
+  }
+  return v;
+}
+
+// A regular grid of values (legacy VTK STRUCTURED_POINTS, ASCII).
+struct Grid {
+  std::uint32_t n[3] = {1, 1, 1};
+  double origin[3] = {0, 0, 0}, spacing[3] = {1, 1, 1};
+  std::vector<double> values;  // x fastest, then y, then z (VTK's order)
+};
+
+Grid read_vtk_grid(const std::string& path, bool sizing, int dimension) {
+  Tokens t(path);
+  // The header: "# vtk DataFile Version x.y" (a comment to Tokens) and a title line.
+  {
+    std::ifstream in(path);
+    std::string first;
+    std::getline(in, first);
+    if (first.rfind("# vtk DataFile", 0) != 0) {
+      throw Error(path + ":1: not a legacy VTK file (expected '# vtk DataFile Version ...')");
+    }
+    std::string title;
+    std::getline(in, title);
+    // Skip the title's words.
+    std::istringstream ss(title.substr(0, title.find('#')));
+    std::string w;
+    while (ss >> w) ++t.next;
+  }
+  if (upper(t.word("ASCII")) != "ASCII") {
+    --t.next;
+    t.fail("only ASCII legacy VTK files are read");
+  }
+  if (upper(t.word("DATASET")) != "DATASET" ||
+      upper(t.word("STRUCTURED_POINTS")) != "STRUCTURED_POINTS") {
+    --t.next;
+    t.fail("expected 'DATASET STRUCTURED_POINTS' (a regular grid)");
+  }
+  Grid g;
+  bool have_dimensions = false;
+  std::uint64_t nb_values = 0;
+  while (true) {
+    const std::string key = upper(t.word("DIMENSIONS, ORIGIN, SPACING or POINT_DATA"));
+    if (key == "DIMENSIONS") {
+      for (int c = 0; c < 3; ++c) {
+        const std::uint64_t k = t.count("a grid dimension");
+        if (k < 1 || k > (1u << 20)) t.fail("a grid dimension must be between 1 and 2^20");
+        g.n[c] = static_cast<std::uint32_t>(k);
+      }
+      have_dimensions = true;
+    } else if (key == "ORIGIN") {
+      for (double& o : g.origin) o = t.number("an origin coordinate");
+    } else if (key == "SPACING" || key == "ASPECT_RATIO") {
+      for (double& s : g.spacing) {
+        s = t.number("a grid spacing");
+        if (!(s > 0)) {
+          --t.next;
+          t.fail("the grid spacing must be positive");
+        }
+      }
+    } else if (key == "POINT_DATA") {
+      nb_values = t.count("the number of point values");
+      break;
+    } else {
+      --t.next;
+      t.fail("unexpected '" + t.words[t.next] +
+             "' (expected DIMENSIONS, ORIGIN, SPACING or POINT_DATA)");
+    }
+  }
+  if (!have_dimensions) t.fail("POINT_DATA before DIMENSIONS");
+  const std::uint64_t expected = std::uint64_t{g.n[0]} * g.n[1] * g.n[2];
+  if (nb_values != expected) {
+    --t.next;
+    t.fail("POINT_DATA " + std::to_string(nb_values) + " does not match the grid's " +
+           std::to_string(expected) + " points");
+  }
+  if (dimension == 2 && g.n[2] != 1) t.fail("a 2D density grid must have DIMENSIONS nx ny 1");
+  if (dimension == 2 && (g.n[0] < 2 || g.n[1] < 2)) t.fail("the grid needs at least 2 x 2 points");
+  if (dimension == 3 && (g.n[0] < 2 || g.n[1] < 2 || g.n[2] < 2)) {
+    t.fail("a 3D grid needs at least 2 x 2 x 2 points");
+  }
+  const std::string kind = upper(t.word("SCALARS"));
+  if (kind != "SCALARS") {
+    --t.next;
+    t.fail("expected 'SCALARS name type' (one value per grid point)");
+  }
+  t.word("the name of the scalars");
+  t.word("the type of the scalars");
+  // Optional number of components (must be 1), then an optional LOOKUP_TABLE line.
+  if (!t.done() && upper(t.words[t.next]) != "LOOKUP_TABLE" &&
+      t.words[t.next].find_first_not_of("0123456789") == std::string::npos) {
+    if (t.count("the number of components") != 1) {
+      --t.next;
+      t.fail("only one component per point is read");
+    }
+  }
+  if (!t.done() && upper(t.words[t.next]) == "LOOKUP_TABLE") {
+    t.next += 2;
+  }
+  g.values.resize(expected);
+  for (std::uint64_t k = 0; k < expected; ++k) {
+    double v = checked_value(t, "value " + std::to_string(k + 1), sizing);
+    if (sizing) {
+      v = density_of_size(v, dimension);
+      if (!std::isfinite(v)) t.fail("value " + std::to_string(k + 1) + ": h^-(d+2) overflows");
+    }
+    g.values[k] = v;
+  }
+  return g;
+}
+
+// A Medit .sol: one scalar per vertex (SolAtVertices, type 1), keywords case-insensitive.
+std::vector<double> read_sol(const std::string& path, bool sizing, std::uint32_t nb_vertices) {
+  Tokens t(path);
+  std::vector<double> values;
+  bool found = false;
+  while (!t.done()) {
+    const std::string key = upper(t.word("a keyword"));
+    if (key == "MESHVERSIONFORMATTED") {
+      t.count("the format version");
+    } else if (key == "DIMENSION") {
+      const std::uint64_t d = t.count("the dimension");
+      if (d != 3) {
+        --t.next;
+        t.fail("expected Dimension 3, got " + std::to_string(d));
+      }
+    } else if (key == "SOLATVERTICES") {
+      const std::uint64_t n = t.count("the number of vertices");
+      if (n != nb_vertices) {
+        --t.next;
+        t.fail("SolAtVertices has " + std::to_string(n) + " values, the domain's mesh " +
+               std::to_string(nb_vertices) + " vertices");
+      }
+      const std::uint64_t fields = t.count("the number of solution fields");
+      const std::uint64_t type = t.count("the solution type");
+      if (fields != 1 || type != 1) {
+        --t.next;
+        t.fail("only one scalar field (\"1 1\") is read");
+      }
+      values.resize(nb_vertices);
+      for (std::uint32_t v = 0; v < nb_vertices; ++v) {
+        double x = checked_value(t, "the value of vertex " + std::to_string(v + 1), sizing);
+        if (sizing) {
+          x = density_of_size(x, 3);
+          if (!std::isfinite(x)) t.fail("h^-5 overflows at vertex " + std::to_string(v + 1));
+        }
+        values[v] = x;
+      }
+      found = true;
+    } else if (key == "END") {
+      break;
+    } else {
+      --t.next;
+      t.fail("unexpected '" + t.words[t.next] + "' (expected SolAtVertices)");
+    }
+  }
+  if (!found) throw Error(path + ": no SolAtVertices section");
+  return values;
+}
+
+// Trilinear interpolation in a grid (values clamped to the grid outside it).
+double trilinear(const Grid& g, const double* p) {
+  std::uint32_t i[3];
+  double u[3];
+  for (int c = 0; c < 3; ++c) {
+    const double t = std::clamp((p[c] - g.origin[c]) / g.spacing[c], 0.0, g.n[c] - 1.0);
+    i[c] = std::min(static_cast<std::uint32_t>(t), g.n[c] - 2);
+    u[c] = t - i[c];
+  }
+  const auto at = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return g.values[(std::size_t{c} * g.n[1] + b) * g.n[0] + a];
+  };
+  double v = 0;
+  for (int k = 0; k < 8; ++k) {
+    const std::uint32_t a = k & 1, b = (k >> 1) & 1, c = (k >> 2) & 1;
+    const double w = (a ? u[0] : 1 - u[0]) * (b ? u[1] : 1 - u[1]) * (c ? u[2] : 1 - u[2]);
+    v += w * at(i[0] + a, i[1] + b, i[2] + c);
+  }
+  return v;
+}
+
+}  // namespace
+
+std::string DensityArgs::describe() const {
+  if (!density.empty()) return "--density \"" + density + "\"";
+  if (!sizing.empty()) return "--sizing \"" + sizing + "\"";
+  if (!density_file.empty()) return "--density-file " + density_file;
+  if (!sizing_file.empty()) return "--sizing-file " + sizing_file;
+  return "";
+}
+
+void add_density_options(CLI::App* command, DensityArgs& args, int dimension, bool sizing) {
+  const std::string vars = dimension == 2 ? "x and y" : "x, y and z";
+  const std::string files = dimension == 2
+                                ? ".vtk STRUCTURED_POINTS grid (nx ny 1), linear per half square"
+                                : "Medit .sol (one value per vertex of the domain's tet mesh, "
+                                  "linear per tet) or .vtk STRUCTURED_POINTS grid (trilinear)";
+  CLI::Option* d =
+      command
+          ->add_option("--density", args.density,
+                       "Density rho of the CVT: a formula in " + vars +
+                           " (muparser: + - * / ^, sqrt, exp, log, sin, min, max, a<b?c:d, "
+                           "_pi ...), e.g. \"1 + 10*x\"; it must be finite and positive")
+          ->type_name("EXPR");
+  CLI::Option* df =
+      command->add_option("--density-file", args.density_file, "Density values from a " + files)
+          ->type_name("FILE");
+  d->excludes(df);
+  if (sizing) {
+    const std::string power = std::to_string(dimension + 2);
+    CLI::Option* s = command
+                         ->add_option("--sizing", args.sizing,
+                                      "Target edge length h as a formula in " + vars +
+                                          " (as --density); the density is rho = h^-" + power +
+                                          " (only relative sizes matter: --vertices sets the "
+                                          "scale)")
+                         ->type_name("EXPR");
+    CLI::Option* sf =
+        command
+            ->add_option("--sizing-file", args.sizing_file,
+                         "Target edge length h (rho = h^-" + power + ") from a " + files)
+            ->type_name("FILE");
+    s->excludes(d)->excludes(df)->excludes(sf);
+    sf->excludes(d)->excludes(df);
+  }
+}
+
+// ---- Expression: one muparser Parser per thread.
+
+struct Expression::Impl {
+  struct Slot {
+    mu::Parser parser;
+    double v[3] = {0, 0, 0};
+  };
+  std::string text;
+  int dimension;
+  // Distinct for every Expression ever made in the process (never reused, unlike an
+  // address): the key of the per-thread cache below.
+  std::uint64_t id = next_id.fetch_add(1, std::memory_order_relaxed);
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<Slot>> slots;
+  static std::atomic<std::uint64_t> next_id;
+
+  std::unique_ptr<Slot> make() const {
+    auto slot = std::make_unique<Slot>();
+    slot->parser.DefineVar("x", &slot->v[0]);
+    slot->parser.DefineVar("y", &slot->v[1]);
+    if (dimension == 3) slot->parser.DefineVar("z", &slot->v[2]);
+    slot->parser.SetExpr(text);
+    return slot;
+  }
+};
+
+Expression::Expression(const std::string& text, int dimension, const std::string& option)
+    : text_(text), dimension_(dimension), impl_(std::make_unique<Impl>()) {
+  impl_->text = text;
+  impl_->dimension = dimension;
+  if (text.find_first_not_of(" \t") == std::string::npos) {
+    throw UsageError(option + ": the formula is empty");
+  }
+  try {
+    // muparser parses at the first evaluation: evaluate once to report syntax errors now.
+    std::unique_ptr<Impl::Slot> slot = impl_->make();
+    slot->parser.Eval();
+    if (slot->parser.GetNumResults() != 1) {
+      throw UsageError(option + " \"" + text + "\": expected one formula, not a list");
+    }
+  } catch (const mu::Parser::exception_type& e) {
+    std::string message = e.GetMsg();
+    while (!message.empty() && (message.back() == '.' || message.back() == ' ')) message.pop_back();
+    // muparser's messages say "at position N" (from 0) where it knows one.
+    if (message.find("position") == std::string::npos && e.GetPos() >= 0) {
+      message += " at position " + std::to_string(e.GetPos());
+    }
+    throw UsageError(option + " \"" + text + "\": " + message + " (variables: x, y" +
+                     (dimension == 3 ? ", z" : "") + ")");
+  }
+}
+
+std::atomic<std::uint64_t> Expression::Impl::next_id{1};
+
+Expression::~Expression() = default;
+
+double Expression::operator()(const double* p) const {
+  // The thread's slot of the expression it evaluated last, found without the hash lookup
+  // of enumerable_thread_specific::local() (measured: about a tenth of an evaluation).
+  // The id, never reused, tells whether the cached slot is this expression's.
+  thread_local std::uint64_t cached_id = 0;
+  thread_local Impl::Slot* cached_slot = nullptr;
+  Impl::Slot* slot = cached_slot;
+  if (cached_id != impl_->id) {
+    std::unique_ptr<Impl::Slot>& owned = impl_->slots.local();
+    if (!owned) owned = impl_->make();
+    slot = owned.get();
+    cached_id = impl_->id;
+    cached_slot = slot;
+  }
+  slot->v[0] = p[0];
+  slot->v[1] = p[1];
+  slot->v[2] = dimension_ == 3 ? p[2] : 0.0;
+  return slot->parser.Eval();
+}
+
+// ---- Densities.
+
+Density2 make_density2(const DensityArgs& args, const Domain2& domain) {
+  (void)domain;
+  if (!args.density.empty() || !args.sizing.empty()) {
+    const bool sizing = args.density.empty();
+    auto f = std::make_shared<const FormulaDensity>(sizing ? args.sizing : args.density, 2, sizing);
+    return Density2::function([f](double x, double y) {
+      const double p[2] = {x, y};
+      return (*f)(p);
+    });
+  }
+  if (!args.density_file.empty() || !args.sizing_file.empty()) {
+    const bool sizing = args.density_file.empty();
+    const std::string& path = sizing ? args.sizing_file : args.density_file;
+    if (lower_extension(path) != ".vtk") {
+      throw UsageError(std::string(sizing ? "--sizing-file" : "--density-file") +
+                       ": in 2D the file must be a legacy .vtk STRUCTURED_POINTS grid, got '" +
+                       path + "'");
+    }
+    Grid g = read_vtk_grid(path, sizing, 2);
+    const double lo[2] = {g.origin[0], g.origin[1]};
+    const double hi[2] = {g.origin[0] + (g.n[0] - 1) * g.spacing[0],
+                          g.origin[1] + (g.n[1] - 1) * g.spacing[1]};
+    return Density2::linear_grid(g.n[0], g.n[1], lo, hi, std::move(g.values));
+  }
+  return Density2{};
+}
+
+Density3 make_density3(const DensityArgs& args, const Domain3& domain) {
+  if (!args.density.empty() || !args.sizing.empty()) {
+    const bool sizing = args.density.empty();
+    auto f = std::make_shared<const FormulaDensity>(sizing ? args.sizing : args.density, 3, sizing);
+    return Density3::function([f](double x, double y, double z) {
+      const double p[3] = {x, y, z};
+      return (*f)(p);
+    });
+  }
+  if (!args.density_file.empty() || !args.sizing_file.empty()) {
+    const bool sizing = args.density_file.empty();
+    const std::string option = sizing ? "--sizing-file" : "--density-file";
+    const std::string& path = sizing ? args.sizing_file : args.density_file;
+    const std::string ext = lower_extension(path);
+    if (ext == ".sol") {
+      if (!domain.has_tets()) {
+        throw UsageError(option + ": a .sol gives values at the vertices of a tet mesh, and " +
+                         domain.source() + " is a surface; use a .vtk grid");
+      }
+      return Density3::vertex_linear(read_sol(path, sizing, domain.nb_vertices()));
+    }
+    if (ext == ".vtk") {
+      auto g = std::make_shared<const Grid>(read_vtk_grid(path, sizing, 3));
+      return Density3::function([g](double x, double y, double z) {
+        const double p[3] = {x, y, z};
+        return trilinear(*g, p);
+      });
+    }
+    throw UsageError(option +
+                     ": expected a Medit .sol or a legacy .vtk STRUCTURED_POINTS grid, got '" +
+                     path + "'");
+  }
+  return Density3{};
+}
+
+}  // namespace voroclip::cli
