@@ -205,6 +205,9 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   r["vertex_kind"] = to_array(std::move(kind));
   r["vertex_domain"] = as_int32(mesh.vertex_domain);
   r["vertex_edge"] = as_int32(mesh.vertex_edge);
+  r["boundary_edges"] = as_int32(mesh.boundary_edges, 2);
+  r["boundary_tags"] = as_int32(mesh.boundary_tags);
+  r["triangle_regions"] = as_int32(mesh.triangle_regions);
   py::dict s;
   s["sites"] = st.nb_sites;
   s["fixed_sites"] = st.nb_fixed;

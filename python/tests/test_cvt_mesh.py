@@ -154,3 +154,32 @@ def test_mesh_callback_and_errors():
         voroclip.mesh3d((CUBE_V, CUBE_T), vertices=50, seed="one")
     with pytest.raises(voroclip.Error, match="method"):
         voroclip.cvt2d(SQUARE, np.random.default_rng(0).random((10, 2)), method="newton")
+
+
+def test_mesh2d_tags_reach_python_and_meshio(tmp_path):
+    import meshio
+
+    poly = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "apps", "tagged_square.poly")
+    m = voroclip.mesh2d(poly, vertices=400)
+    # Markers of tagged_square.poly: bottom halves 5 and 7, other outer sides 3, hole 9;
+    # regional attribute 42.
+    assert set(m.boundary_tags.tolist()) == {3, 5, 7, 9}
+    assert set(m.cell_tags.tolist()) == {42}
+    assert m.boundary_edges.shape == (len(m.boundary_tags), 2)
+    # Boundary edges = the triangles' edges used once.
+    e = np.sort(np.concatenate([m.cells[:, [0, 1]], m.cells[:, [1, 2]], m.cells[:, [2, 0]]]), axis=1)
+    uniq, count = np.unique(e, axis=0, return_counts=True)
+    assert {tuple(x) for x in uniq[count == 1]} == {tuple(sorted(x)) for x in m.boundary_edges.tolist()}
+    lengths = {}
+    for (i, j), t in zip(m.boundary_edges.tolist(), m.boundary_tags.tolist()):
+        lengths[t] = lengths.get(t, 0) + float(np.hypot(*(m.points[i] - m.points[j])))
+    for t, total in {5: 2, 7: 2, 3: 12, 9: 8}.items():
+        assert lengths[t] == pytest.approx(total, rel=1e-12)
+    for ext, fmt, key in ((".msh", "gmsh", "gmsh:physical"), (".mesh", None, "medit:ref")):
+        f = tmp_path / ("tagged" + ext)
+        m.write(f)
+        back = meshio.read(f, file_format=fmt)
+        lines = np.concatenate([d for c, d in zip(back.cells, back.cell_data[key]) if c.type == "line"])
+        tris = np.concatenate([d for c, d in zip(back.cells, back.cell_data[key]) if c.type == "triangle"])
+        assert set(lines.tolist()) == {3, 5, 7, 9}
+        assert set(tris.tolist()) == {42}

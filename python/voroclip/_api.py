@@ -244,7 +244,10 @@ class Mesh:
       ``cell_tags`` (m,) region tags, ``tag_names`` [(dimension, tag, name)],
       ``shape_problem`` ('' when the boundary has the domain's shape);
       2D: ``vertex_domain``, ``vertex_edge`` (the domain vertex / edge a boundary vertex
-      lies on, -1 if none);
+      lies on, -1 if none), ``boundary_edges`` (k, 2) int32 (the domain on their left),
+      ``boundary_tags`` (k,) (the .poly segment marker of their side, else 1 on outer
+      rings and 2, 3, ... on holes), ``cell_tags`` (m,) (the .poly regional attribute,
+      else 1);
     * ``stats``: a dict of the pipeline's figures (sites, iterations, energy, seconds...).
     """
 
@@ -257,6 +260,9 @@ class Mesh:
         if dim == 2:
             self.vertex_domain = r["vertex_domain"]
             self.vertex_edge = r["vertex_edge"]
+            self.boundary_edges = r["boundary_edges"]
+            self.boundary_tags = r["boundary_tags"]
+            self.cell_tags = r["triangle_regions"]
         else:
             self.boundary_triangles = r["boundary_triangles"]
             self.boundary_tags = r["boundary_tags"]
@@ -277,19 +283,20 @@ class Mesh:
         (or ``"gmsh22"``); :meth:`write` does that."""
         import meshio
 
+        t = [self.cell_tags, self.boundary_tags]
         if self.dim == 2:
             points = np.column_stack([self.points, np.zeros(len(self.points))])
-            return meshio.Mesh(points, [("triangle", self.cells)])
-        t = [self.cell_tags, self.boundary_tags]
+            blocks = [("triangle", self.cells), ("line", self.boundary_edges)]
+        else:
+            points = self.points
+            blocks = [("tetra", self.cells), ("triangle", self.boundary_triangles)]
         if tags == "gmsh":
             cell_data = {"gmsh:physical": t, "gmsh:geometrical": t}
         elif tags == "medit":
             cell_data = {"medit:ref": t}
         else:
             raise Error(f"tags: expected 'gmsh' or 'medit', got {tags!r}")
-        return meshio.Mesh(self.points,
-                           [("tetra", self.cells), ("triangle", self.boundary_triangles)],
-                           cell_data=cell_data)
+        return meshio.Mesh(points, blocks, cell_data=cell_data)
 
     def write(self, path, **kwargs) -> None:
         """Writes the mesh with meshio, the format from the extension; ``.msh`` as Gmsh 2.2
