@@ -859,6 +859,14 @@ void Domain2Impl::nest_and_orient() {
   }
   d.region_points_ = in.region_points;
   d.region_attributes_ = in.region_attributes;
+  // A region point names the part of the domain it lies in: it must lie inside.
+  for (std::size_t k = 0; 2 * k + 1 < d.region_points_.size(); ++k) {
+    const double* q = &d.region_points_[2 * k];
+    if (d.locate(q) != Sign::positive) {
+      fail("regional attribute " + std::to_string(k + 1) + ": its point " + point_text(q) +
+           " is not inside the domain");
+    }
+  }
 }
 
 // The signed area of each ring, relative to its first vertex: the coordinate differences

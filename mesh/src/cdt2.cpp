@@ -110,15 +110,27 @@ void Cdt2::star(std::uint32_t a, std::vector<std::uint32_t>& out) const {
 }
 
 std::uint32_t Cdt2::find_edge(std::uint32_t a, std::uint32_t b, int* k) const {
-  std::vector<std::uint32_t> tris;
-  star(a, tris);
-  for (const std::uint32_t t : tris) {
-    const std::size_t bt = 3 * std::size_t{t};
-    const int i = v_[bt] == a ? 0 : v_[bt + 1] == a ? 1 : 2;
-    if (v_[bt + next3(i)] == b) {
-      *k = prev3(i);
-      return t;
-    }
+  // Around a, one way then the other (on the hull the fan is open), no allocation.
+  const std::uint32_t t0 = vtri_[a];
+  if (t0 == kNone) return kNone;
+  for (int dir = 0; dir < 2; ++dir) {
+    std::uint32_t t = t0;
+    bool open = false;
+    do {
+      const std::size_t bt = 3 * std::size_t{t};
+      const int i = v_[bt] == a ? 0 : v_[bt + 1] == a ? 1 : 2;
+      if (v_[bt + next3(i)] == b) {
+        *k = prev3(i);
+        return t;
+      }
+      const std::uint32_t code = adj_[bt + (dir == 0 ? next3(i) : prev3(i))];
+      if (code == kNone) {
+        open = true;
+        break;
+      }
+      t = code / 3;
+    } while (t != t0);
+    if (!open) break;  // a full cycle: a is inside the hull
   }
   return kNone;
 }

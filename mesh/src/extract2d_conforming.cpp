@@ -24,6 +24,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "boundary_edge2d.h"
 #include "cdt2.h"
 #include "edge_grid2.h"
 #include "voroclip/mesh.h"
@@ -369,16 +370,8 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = tri(t, k), b = tri(t, (k + 1) % 3);
       if (directed.count(std::uint64_t{b} << 32 | a)) continue;
-      std::uint32_t e = kNone;
-      if (mesh.vertex_domain[a] != kNone) {
-        e = mesh.vertex_domain[a];
-      } else if (mesh.vertex_edge[a] != kNone) {
-        e = mesh.vertex_edge[a];
-      } else if (mesh.vertex_edge[b] != kNone) {
-        e = mesh.vertex_edge[b];
-      } else if (mesh.vertex_domain[b] != kNone) {
-        e = domain.prev(mesh.vertex_domain[b]);
-      } else {
+      std::uint32_t e = mesh2d::domain_edge_under(domain, mesh, a, b);
+      if (e == kNone) {
         // A vertex without boundary data (a free site that ended on the boundary): the
         // nearest domain edge to the edge's midpoint (tags change only at mesh vertices).
         if (!grid) grid = std::make_unique<mesh2d::EdgeGrid2>(domain);

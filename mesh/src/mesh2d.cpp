@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "boundary_edge2d.h"
 #include "edge_grid2.h"
 #include "sizing2d.h"
 #include "voroclip/mesh.h"
@@ -791,13 +792,7 @@ Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<s
       const auto a = static_cast<std::uint32_t>(key >> 32);
       const auto c = static_cast<std::uint32_t>(key & 0xffffffffu);
       if (directed.count(std::uint64_t{c} << 32 | a)) continue;
-      std::uint32_t e =
-          mesh.vertex_domain[a] != kNone ? mesh.vertex_domain[a] : mesh.vertex_edge[a];
-      if (e == kNone) {
-        e = mesh.vertex_edge[c] != kNone     ? mesh.vertex_edge[c]
-            : mesh.vertex_domain[c] != kNone ? domain.prev(mesh.vertex_domain[c])
-                                             : kNone;
-      }
+      const std::uint32_t e = mesh2d::domain_edge_under(domain, mesh, a, c);
       if (e != kNone) boundary.push_back({a, c, e});
     }
     std::sort(boundary.begin(), boundary.end(), [](const BoundaryEdge& x, const BoundaryEdge& y) {

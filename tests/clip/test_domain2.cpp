@@ -986,3 +986,41 @@ TEST_CASE("Domain2 verdicts do not depend on the scale (x 2^-400, x 2^400)", "[c
     }
   }
 }
+
+TEST_CASE("Domain2 keeps edge tags and regions; a region point outside is refused",
+          "[clip][exact]") {
+  // A square with a square hole: ring tags 1 (outer) and 2 (hole) without markers.
+  PolygonRings r = make_rings({{0, 0, 4, 0, 4, 4, 0, 4}, {1, 1, 1, 3, 3, 3, 3, 1}});
+  const Domain2 plain(r);
+  for (std::uint32_t e = 0; e < plain.nb_edges(); ++e) {
+    CHECK(plain.edge_tag(e) == (plain.is_hole(plain.ring_of(e)) ? 2 : 1));
+  }
+  // Markers per input segment follow their segment through the hole's reversal.
+  r.segment_marker = {10, 11, 12, 13, 20, 21, 22, 23};
+  const Domain2 marked(r);
+  for (std::uint32_t e = 0; e < marked.nb_edges(); ++e) {
+    const double* a = marked.vertex(e);
+    const double* b = marked.vertex(marked.next(e));
+    // The input segment from point i to i + 1 has marker 10 + i (outer) or 20 + i (hole).
+    bool found = false;
+    for (std::uint32_t ring = 0; ring < 2; ++ring) {
+      for (std::uint32_t i = 0; i < 4; ++i) {
+        const double* p = &r.xy[2 * (4 * ring + i)];
+        const double* q = &r.xy[2 * (4 * ring + (i + 1) % 4)];
+        const bool same = (p[0] == a[0] && p[1] == a[1] && q[0] == b[0] && q[1] == b[1]) ||
+                          (p[0] == b[0] && p[1] == b[1] && q[0] == a[0] && q[1] == a[1]);
+        if (same) {
+          CHECK(marked.edge_tag(e) == static_cast<std::int32_t>(10 * (ring + 1) + i));
+          found = true;
+        }
+      }
+    }
+    CHECK(found);
+  }
+  r.region_points = {0.5, 0.5};
+  r.region_attributes = {7};
+  CHECK(Domain2(r).region_attributes().size() == 1);
+  r.region_points = {2, 2};  // in the hole
+  CHECK_THROWS_WITH(Domain2(r), Catch::Contains("regional attribute 1") &&
+                                    Catch::Contains("not inside the domain"));
+}
