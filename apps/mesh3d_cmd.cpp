@@ -229,6 +229,18 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      {"defects_left", r.topology_defects_left}};
     j["shape_problem"] = r.shape_problem;
     {
+      const char* names[3] = {"4", "3", "0-2"};
+      nlohmann::json classes = nlohmann::json::array();
+      for (int c = 0; c < 3; ++c) {
+        const Mesh3Result::Q1Class& q = r.q1_by_boundary_vertices[c];
+        classes.push_back({{"boundary_vertices", names[c]},
+                           {"tets", q.nb_tets},
+                           {"min_deg", q.min_deg},
+                           {"mean_deg", q.mean_deg}});
+      }
+      j["q1_by_boundary_vertices"] = classes;
+    }
+    {
       std::vector<std::int32_t> patches = r.boundary_tags, regions = r.tet_tags;
       std::sort(patches.begin(), patches.end());
       patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
@@ -295,6 +307,19 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     }
     write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,
                        &distance, domain.source());
+    *out << "Smallest dihedral angle (Q1) by boundary vertices per tet:";
+    const char* names[3] = {"4", "3", "0-2"};
+    for (int c = 0; c < 3; ++c) {
+      const Mesh3Result::Q1Class& q = r.q1_by_boundary_vertices[c];
+      *out << (c == 0 ? " " : "; ") << names[c] << ": ";
+      if (q.nb_tets == 0) {
+        *out << "no tets";
+      } else {
+        *out << "min " << fixed(q.min_deg, 2) << ", mean " << fixed(q.mean_deg, 2) << " degrees ("
+             << count_of(q.nb_tets, "tet") << ")";
+      }
+    }
+    *out << '\n';
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';
   }
 }

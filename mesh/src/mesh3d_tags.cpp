@@ -1,6 +1,9 @@
 // Boundary triangles and tags of a 3D CVT mesh (mesh3d_tags.h).
 #include "mesh3d_tags.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -275,6 +278,63 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
   }
   for (std::uint32_t t = 0; t < nt; ++t) tags[t] = root_tag[components.find(t)];
   return tags;
+}
+
+void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
+               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& index, Mesh3Result& result) {
+  const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+  std::vector<std::uint32_t> face_tet;
+  boundary_triangles(result.tets, result.boundary_triangles, face_tet);
+  const std::size_t nb = face_tet.size();
+  std::vector<std::uint32_t> closest(nb);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](const auto& range) {
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      double c[3] = {0, 0, 0};
+      for (int k = 0; k < 3; ++k) {
+        const double* p =
+            &result.xyz[3 * std::size_t{
+                                result.boundary_triangles[3 * b + static_cast<std::size_t>(k)]}];
+        for (int q = 0; q < 3; ++q) c[q] += p[q] / 3;
+      }
+      closest[b] = surface_tree.closest(c).triangle;
+    }
+  });
+  std::vector<std::uint32_t> vertex_patch_begin{0}, vertex_patch;
+  for (std::size_t s = 0; s < index.size(); ++s) {
+    if (index[s] == SurfaceTree::kNone) continue;
+    vertex_patch.insert(vertex_patch.end(), patches.patches.begin() + patches.begin[s],
+                        patches.patches.begin() + patches.begin[std::size_t{s} + 1]);
+    vertex_patch_begin.push_back(static_cast<std::uint32_t>(vertex_patch.size()));
+  }
+  const std::uint32_t nb_patches =
+      triangle_patch.empty() ? 0
+                             : 1 + *std::max_element(triangle_patch.begin(), triangle_patch.end());
+  std::vector<std::int32_t> patch_tag(nb_patches, 0);
+  for (std::uint32_t p = 0; p < nb_patches; ++p) patch_tag[p] = static_cast<std::int32_t>(p + 1);
+  if (!input_tags.empty()) {
+    for (std::size_t t = triangle_patch.size(); t-- > 0;)
+      patch_tag[triangle_patch[t]] = input_tags[t];
+  }
+  result.boundary_tags = patch_tags(result.boundary_triangles, vertex_patch_begin, vertex_patch,
+                                    patch_tag, triangle_patch, closest);
+  result.tet_tags = region_tags(domain, result.xyz, result.tets, face_tet, closest);
+  result.tag_names = domain.tag_names();
+  // Triangles grouped by patch tag (stable: (tet, facet) order within a patch), so that
+  // a file has one block per patch rather than one per run of the tet order.
+  std::vector<std::uint32_t> order(result.boundary_tags.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return result.boundary_tags[a] < result.boundary_tags[b];
+  });
+  std::vector<std::uint32_t> triangles(result.boundary_triangles.size());
+  std::vector<std::int32_t> tags(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    std::copy_n(&result.boundary_triangles[3 * std::size_t{order[i]}], 3, &triangles[3 * i]);
+    tags[i] = result.boundary_tags[order[i]];
+  }
+  result.boundary_triangles = std::move(triangles);
+  result.boundary_tags = std::move(tags);
 }
 
 }  // namespace voroclip::mesh3

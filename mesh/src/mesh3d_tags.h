@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "voroclip/clip.h"
+#include "voroclip/mesh.h"
 
 namespace voroclip::mesh3 {
 
@@ -42,5 +42,14 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
                                       const std::vector<std::uint32_t>& tets,
                                       const std::vector<std::uint32_t>& face_tet,
                                       const std::vector<std::uint32_t>& closest_input);
+
+// The boundary triangles of `result.tets` (outward), grouped by patch tag, with their tags,
+// and the tets' region tags and the tag names (Mesh3Result). `triangle_patch`: the patch of
+// each input boundary triangle (the input's triangle tags, when it has them, tag the
+// patches; else patch p gets tag p + 1); `patches`: the surface patches of the sites;
+// `index`: each site's vertex in result.xyz, SurfaceTree::kNone for a site no tet uses.
+void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
+               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& index, Mesh3Result& result);
 
 }  // namespace voroclip::mesh3

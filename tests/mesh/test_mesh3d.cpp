@@ -212,6 +212,31 @@ TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surfa
   }
   CHECK(volume == Approx(6).epsilon(1e-9));
   CHECK(r.quality.q1_deg.min > 10);
+  // Q1 by the number of boundary vertices, recomputed tet by tet.
+  double min_deg[3] = {180, 180, 180}, sum_deg[3] = {0, 0, 0};
+  std::uint32_t count[3] = {0, 0, 0};
+  for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
+    const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
+    int on_boundary = 0;
+    for (int k = 0; k < 4; ++k) on_boundary += r.kinds[v[k]] != Mesh3VertexKind::kInterior ? 1 : 0;
+    const int c = on_boundary == 4 ? 0 : on_boundary == 3 ? 1 : 2;
+    const double q1 =
+        voroclip::tet_shape(&r.xyz[3 * v[0]], &r.xyz[3 * v[1]], &r.xyz[3 * v[2]], &r.xyz[3 * v[3]])
+            .q1_deg;
+    min_deg[c] = std::min(min_deg[c], q1);
+    sum_deg[c] += q1;
+    ++count[c];
+  }
+  double overall = 180;
+  for (int c = 0; c < 3; ++c) {
+    const Mesh3Result::Q1Class& q = r.q1_by_boundary_vertices[c];
+    REQUIRE(q.nb_tets == count[c]);
+    REQUIRE(count[c] > 0);  // a box of 600 vertices has tets of every class
+    CHECK(q.min_deg == min_deg[c]);
+    CHECK(q.mean_deg == Approx(sum_deg[c] / count[c]).epsilon(1e-12));
+    overall = std::min(overall, q.min_deg);
+  }
+  CHECK(overall == r.quality.q1_deg.min);
 }
 
 TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[mesh][exact]") {

@@ -920,6 +920,14 @@ struct Mesh3Result {
   Extract3Stats extraction;
   Perturb3Stats perturbation;
   TetQuality quality;
+  // Q1 (the smallest dihedral angle, degrees) of the tets by how many of their vertices are
+  // on the boundary (surface, feature or corner vertices): [0] all four, [1] three, [2] two
+  // or fewer. Slivers of a CVT mesh sit at the boundary, where the sites cannot move freely.
+  struct Q1Class {
+    std::uint32_t nb_tets = 0;
+    double min_deg = 0, mean_deg = 0;  // 0 without tets
+  };
+  Q1Class q1_by_boundary_vertices[3];
   // Topology (step 5b): the sites added, the rounds run, and the defects left after them
   // (zero when the surface is resolved).
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;

@@ -1,0 +1,133 @@
+// The state of one mesh3d() run and the files of its steps (mesh.h lists the steps):
+//   mesh3d.cpp               the pipeline: sizing, sampling, the CVTs, extraction, output;
+//   features3d.cpp           feature lines, surface patches and the constraints of the sites
+//                            (step 4: corners, feature and surface sites);
+//   topology_repair3d.cpp    step 5b: sites added until the restricted Voronoi diagram has
+//                            the closed-ball property (topology3d.cpp checks it);
+//   phong3d.cpp              the smooth surface the surface sites are projected onto;
+//   slivers3d.cpp            step 7: sliver perturbation;
+//   mesh3d_tags.cpp          boundary triangles, patch and region tags.
+// Internal to the mesh module.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "voroclip/mesh.h"
+
+namespace voroclip::mesh3 {
+
+using Kind = SiteConstraint3::Kind;
+
+// Thrown by Pipeline::report when the caller's progress callback asks to stop.
+struct Cancelled {};
+
+// The local spacing of the sites at a point (model units).
+using Spacing = std::function<double(const double*)>;
+
+// The key of the undirected edge (a, b).
+inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
+}
+
+// Projection onto the boundary surface (closest point, pseudo-normal) or onto a site's
+// feature line (closest point, tangent). Const queries: thread-safe.
+struct Projection {
+  const SurfaceTree* surface = nullptr;
+  const FeatureTree* lines = nullptr;
+  const std::vector<std::uint32_t>* line_of = nullptr;  // per site (kCurve)
+  const PhongSurface* smooth = nullptr;                 // kSurface sites: lifted onto it when set
+
+  void operator()(std::uint32_t site, Kind kind, const double* p, double* q, double* d) const;
+};
+
+// Feature lines (features3d.cpp).
+
+// The sorted edge keys of the borders between the input's tagged boundary patches (a tet
+// mesh file's boundary triangle refs); empty without tags.
+std::vector<std::uint64_t> tag_border_edges(const Domain3& domain);
+
+// Feature lines cut at the vertices where they turn by more than angle_deg (the angle
+// between consecutive segments), which become corners: where a crease folds back on
+// itself two feature edges meet, yet the point is a corner of the shape.
+FeatureLines split_at_turns(const TriangleSurface& s, const FeatureLines& lines, double angle_deg);
+
+// The feature lines at least as long as `ratio` times the local spacing of the sites at
+// their middle vertex, and the corners that end them: shorter creases (noise of a coarse
+// surface, details below the resolution) are treated as smooth surface.
+// A line with an edge of `keep` (sorted edge keys: the borders of tagged patches) is kept
+// whatever its length.
+FeatureLines drop_short_lines(const TriangleSurface& s, const FeatureLines& lines, double ratio,
+                              const Spacing& spacing, const std::vector<std::uint64_t>& keep);
+
+// The edge keys of the edges of `lines`, sorted.
+std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines);
+
+// The patch of each boundary triangle: the triangles grouped by a flood fill across the
+// edges that are not feature edges, numbered in the order of their first triangle.
+std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const FeatureLines& lines);
+
+// The surface patches of the sites (SurfacePatches), `patch` the patch of each boundary
+// triangle: a surface site is on the patch of the triangle it projects onto, a feature site
+// on the patches beside the segment it projects onto, a corner on the patches around its
+// vertex.
+SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
+                            const SurfaceTree& surface, const FeatureTree& line_tree,
+                            const std::vector<double>& sites, const std::vector<Kind>& kinds,
+                            const std::vector<std::uint32_t>& line_of,
+                            const std::vector<std::uint32_t>& corner_vertex,
+                            const std::vector<std::uint32_t>& patch);
+
+// One mesh3d() run: the caller's domain and options, the result being filled, the phase
+// clock and the sites with their constraints. Each step is a member, defined in the file
+// named above.
+struct Pipeline {
+  using Clock = std::chrono::steady_clock;
+
+  Pipeline(const Domain3& d, const Mesh3Options& o, Mesh3Result& r)
+      : domain(d), options(o), result(r), t_start(Clock::now()), t_phase(t_start) {}
+
+  // Steps 1 to 8 into `result`; a cancelled run leaves result.cancelled set and no mesh.
+  void run();
+
+  // The caller's progress callback with the phase and time filled in; false when it asks to
+  // stop. report() throws Cancelled instead.
+  bool notify(Mesh3Progress p) const;
+  void report(const Mesh3Progress& p) const;
+  // Closes the current phase's time and reports the next one.
+  void next_phase(Mesh3Phase next);
+  // The CVT's progress as mesh progress (iteration, energy, |g|).
+  std::function<bool(const CvtProgress&)> cvt_progress() const;
+
+  // Step 4 (features3d.cpp): corners take the site nearest to them (a new site when that one
+  // is taken), feature lines the sites whose cells they cross, surface sites are the
+  // boundary sites left (`boundary`, per site); every constrained site is moved onto its
+  // corner, line or the surface.
+  void constrain_sites(const FeatureLines& lines, const FeatureTree& line_tree,
+                       const Spacing& local_spacing, const std::vector<std::uint8_t>& boundary,
+                       const Projection& project);
+  // Free sites whose cells reach the boundary (`boundary`, from the CVT's last diagram) go
+  // onto the surface: they would become boundary vertices inside the volume. Their number.
+  std::uint32_t snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,
+                                         const Projection& project);
+  // Step 5b (topology_repair3d.cpp).
+  void repair_topology(const TriangleSurface& surface, const Clip3Options& clip, Cvt3Options& cvt,
+                       const std::vector<std::uint8_t>& boundary, const Projection& project);
+
+  const Domain3& domain;
+  const Mesh3Options& options;
+  Mesh3Result& result;
+  Clock::time_point t_start, t_phase;
+  Mesh3Phase phase = Mesh3Phase::kSizing;
+
+  // The sites (3 coordinates each) and, per site, its constraint, its feature line (kCurve)
+  // and its corner vertex of the domain (kFixed at a corner); n sites.
+  std::vector<double> sites;
+  std::vector<Kind> kinds;
+  std::vector<std::uint32_t> line_of, corner_vertex;
+  std::uint32_t n = 0;
+};
+
+}  // namespace voroclip::mesh3

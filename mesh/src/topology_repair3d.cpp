@@ -1,0 +1,140 @@
+// Step 5b of mesh3d (mesh3d_pipeline.h): sites where the restricted Voronoi diagram lacks
+// the closed-ball property (closed_ball_defects, topology3d.cpp), round after round with no
+// CVT in between (the farthest-point refinement, which converges), then a short constrained
+// CVT to spread them, checked again; the last state without defects is the one meshed (a
+// CVT that breaks the property is undone when more rounds cannot repair it).
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "mesh3d_pipeline.h"
+
+namespace voroclip::mesh3 {
+
+namespace {
+
+// The shortest decimal of x.
+std::string shortest(double x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Options& clip,
+                               Cvt3Options& cvt, const std::vector<std::uint8_t>& boundary,
+                               const Projection& project) {
+  Clip3Options with_surface = clip;
+  with_surface.keep_surface = true;
+  cvt.max_iterations = options.topology_iterations;
+  std::vector<double> first_points;  // where the first round found defects
+  // Edges where the normals differ by more than 90 degrees (closed_ball_defects).
+  std::vector<std::uint64_t> knife_edges =
+      sorted_feature_edges(extract_feature_lines(surface, 90.0));
+  knife_edges.erase(std::unique(knife_edges.begin(), knife_edges.end()), knife_edges.end());
+  struct State {
+    std::vector<double> sites;
+    std::vector<Kind> kinds;
+    std::vector<std::uint32_t> line_of, corner_vertex;
+    std::uint32_t n = 0, nb_topology_sites = 0, nb_boundary_sites = 0;
+  };
+  // The state with the fewest defects so far (the latest one without any): refinement
+  // near a sharp crease can feed itself (a site near a crease of dihedral angle below
+  // 90 degrees has a cell reaching across it, which the next site splits), so after
+  // max_topology_stall rounds without a better state the loop stops and meshes that one;
+  // check_mesh3_shape then decides whether the output is right.
+  State best;
+  std::uint32_t best_defects = std::numeric_limits<std::uint32_t>::max(), stall = 0;
+  bool inserted_since_cvt = false;
+  std::uint32_t cycles = 0;
+  for (std::uint32_t round = 0;; ++round) {
+    ClippedVoronoi3 cv;
+    cv.compute(domain, sites.data(), n, with_surface);
+    const ClosedBallDefects defects = closed_ball_defects(cv, sites.data(), knife_edges);
+    const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
+    if (round == 0) first_points = defects.points;
+    Mesh3Progress p;
+    p.iteration = round;
+    p.topology_round = true;
+    p.defects = nb_defects;
+    p.added_sites = result.nb_topology_sites;
+    report(p);
+    if (nb_defects < best_defects || nb_defects == 0) {
+      best = {sites,
+              kinds,
+              line_of,
+              corner_vertex,
+              n,
+              result.nb_topology_sites,
+              result.nb_boundary_sites};
+      best_defects = nb_defects;
+      stall = 0;
+    } else if (++stall == options.max_topology_stall) {
+      break;
+    }
+    if (nb_defects == 0) {
+      if (!inserted_since_cvt || options.topology_iterations == 0 ||
+          cycles == options.topology_cycles) {
+        break;
+      }
+      // Spread the sites just added: a short constrained CVT; free sites whose cells
+      // now reach the surface go onto it (as after step 5).
+      cvt.constraints = kinds;
+      const CvtResult r = optimize_cvt3(domain, sites, cvt);
+      if (r.cancelled) throw Cancelled{};
+      snap_boundary_free_sites(boundary, project);
+      ++cycles;
+      inserted_since_cvt = false;
+      continue;
+    }
+    if (round == options.max_topology_rounds) break;
+    // A site at each bad cell's farthest point, each point once (two bad cells can
+    // share it), projected onto the surface.
+    std::vector<std::array<double, 3>> points;
+    for (std::size_t k = 0; k < defects.cells.size(); ++k) {
+      points.push_back(
+          {defects.points[3 * k], defects.points[3 * k + 1], defects.points[3 * k + 2]});
+    }
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+    for (const std::array<double, 3>& x : points) {
+      double q[3], d[3];
+      project(n, Kind::kSurface, x.data(), q, d);
+      sites.insert(sites.end(), q, q + 3);
+      kinds.push_back(Kind::kSurface);
+      line_of.push_back(SurfaceTree::kNone);
+      corner_vertex.push_back(SurfaceTree::kNone);
+      ++n;
+      ++result.nb_topology_sites;
+      ++result.nb_boundary_sites;
+    }
+    result.topology_rounds = round + 1;
+    inserted_since_cvt = true;
+  }
+  sites = std::move(best.sites);
+  kinds = std::move(best.kinds);
+  line_of = std::move(best.line_of);
+  corner_vertex = std::move(best.corner_vertex);
+  n = best.n;
+  result.nb_topology_sites = best.nb_topology_sites;
+  result.nb_boundary_sites = best.nb_boundary_sites;
+  result.topology_defects_left = best_defects;
+  result.nb_sites = n;
+  if (options.vertex_count == Mesh3Options::VertexCount::kExact && result.nb_topology_sites > 0) {
+    throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
+                " vertices do not resolve the surface of " + domain.source() +
+                ": the restricted Voronoi cells of the sites near (" + shortest(first_points[0]) +
+                ", " + shortest(first_points[1]) + ", " + shortest(first_points[2]) + ") and " +
+                std::to_string(first_points.size() / 3 - 1) +
+                " other places are not disks meeting along single arcs; about " +
+                std::to_string(options.nb_vertices + result.nb_topology_sites) +
+                " vertices would (or let mesh3d add the sites it needs)");
+  }
+}
+
+}  // namespace voroclip::mesh3
