@@ -393,9 +393,12 @@ int main(int argc, char** argv) {
       "sliver perturbation; progress per phase and the quality report");
   mesh3d->add_option("DOMAIN", mesh3d_args.domain, domain3_help)->required()->type_name("");
   mesh3d->add_flag("--reorient", mesh3d_args.reorient, reorient_help);
-  mesh3d->add_flag("--exact-vertices", mesh3d_args.exact_vertices,
-                   "Fail, naming where and how many vertices would do, when --vertices cannot "
-                   "resolve the surface's shape (default: add the sites needed, with a note)");
+  mesh3d->add_flag(
+      "--exact-vertices", mesh3d_args.exact_vertices,
+      "Fail, naming where and how many vertices would do, when --vertices cannot "
+      "resolve the surface's shape (default: add the sites needed and, when the mesh still "
+      "lacks the shape, mesh again with twice the vertices, up to 3 times, with a "
+      "note)");
   mesh3d->add_flag("--allow-shape-mismatch", mesh3d_args.allow_shape_mismatch,
                    "Write the mesh even when its boundary does not have the domain's shape "
                    "(another number of shells or genus), with a warning; by default that is an "

@@ -94,6 +94,11 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
   if (progress.mode() != Progress::Mode::kNone) {
     o.progress = [&progress, &args](const Mesh3Progress& p) {
+      if (p.retry_vertices > 0) {
+        progress.note("the mesh does not have the domain's shape; meshing again with " +
+                      std::to_string(p.retry_vertices) + " vertices");
+        return true;
+      }
       const std::string name = mesh3_phase_name(p.phase);
       const bool begins = p.iteration == 0 && p.energy == 0 && !p.topology_round;
       if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
@@ -134,17 +139,28 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   const Mesh3Result r = mesh3d(domain, o);
   progress.done();
   if (!r.shape_problem.empty() && !args.allow_shape_mismatch) {
-    throw Error("mesh3d: the mesh of " + domain.source() + " does not have its shape: " +
-                r.shape_problem + "; no file written (try more --vertices, or " +
-                "--allow-shape-mismatch to write it anyway)");
+    throw Error("mesh3d: the mesh of " + domain.source() +
+                " does not have its shape: " + r.shape_problem + "; no file written (" +
+                (r.shape_retries > 0
+                     ? "also with " + std::to_string(r.nb_sites) + " sites after " +
+                           count_of(r.shape_retries, "run") + " with twice the vertices; "
+                     : std::string()) +
+                "try more --vertices, or --allow-shape-mismatch to write it anyway)");
   }
   if (!r.shape_problem.empty()) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
               << " does not have its shape: " << r.shape_problem << '\n';
   }
+  if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
+    *out << "note: " << args.vertices << " vertices gave a mesh without the domain's shape ("
+         << r.raised_because << "); meshed again with " << (args.vertices << r.shape_retries)
+         << " vertices (" << count_of(r.shape_retries, "run")
+         << " with twice the vertices), which has it; --exact-vertices fails instead\n";
+  }
   if (r.nb_topology_sites > 0 && out) {
-    *out << "note: " << r.nb_topology_sites << " sites added (" << args.vertices << " -> "
-         << r.nb_sites << ") where " << args.vertices
+    const std::uint32_t asked = r.requested_vertices << r.shape_retries;
+    *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
+         << ") where " << asked
          << " did not resolve the surface (restricted Voronoi cells not disks); "
             "--exact-vertices fails instead\n";
   }
@@ -228,6 +244,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      {"rounds", r.topology_rounds},
                      {"defects_left", r.topology_defects_left}};
     j["shape_problem"] = r.shape_problem;
+    j["requested_vertices"] = r.requested_vertices;
+    j["shape_retries"] = r.shape_retries;
+    j["raised_because"] = r.raised_because;
     {
       const char* names[3] = {"4", "3", "0-2"};
       nlohmann::json classes = nlohmann::json::array();

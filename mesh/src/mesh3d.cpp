@@ -428,6 +428,35 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
   if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
   Mesh3Result result;
   mesh3::Pipeline(domain, options, result).run();
+  result.requested_vertices = options.nb_vertices;
+  if (options.vertex_count != Mesh3Options::VertexCount::kRaise) return result;
+  // A mesh of the wrong shape: features thinner than the sites' spacing. Run again with
+  // twice the vertices until the shape is right.
+  Mesh3Options raised = options;
+  double seconds = result.total_seconds;
+  for (std::uint32_t retry = 1; retry <= options.max_shape_retries && !result.cancelled &&
+                                !result.shape_problem.empty() && raised.nb_vertices <= 0x7fffffffu;
+       ++retry) {
+    raised.nb_vertices *= 2;
+    if (options.progress) {
+      Mesh3Progress p;
+      p.retry_vertices = raised.nb_vertices;
+      if (!options.progress(p)) {
+        result.cancelled = true;
+        break;
+      }
+    }
+    const std::string because =
+        result.raised_because.empty() ? result.shape_problem : result.raised_because;
+    Mesh3Result next;
+    mesh3::Pipeline(domain, raised, next).run();
+    seconds += next.total_seconds;
+    next.total_seconds = seconds;
+    next.requested_vertices = options.nb_vertices;
+    next.shape_retries = retry;
+    next.raised_because = because;
+    result = std::move(next);
+  }
   return result;
 }
 

@@ -346,6 +346,35 @@ TEST_CASE("mesh3d adds the sites the surface's topology needs, or says how many"
   }
 }
 
+TEST_CASE("mesh3d meshes again with twice the vertices when the shape is wrong", "[mesh]") {
+  // Without the topology refinement (max_topology_rounds = 0) 400 sites do not resolve the
+  // bunny's surface (the test above); kRaise then runs the pipeline again with 800, 1600, ...
+  // vertices until the boundary has the input's shape, and says so.
+  const Domain3 bunny = voroclip::read_domain3(kData + "/surfaces/bunny.obj");
+  Mesh3Options o = small_options(400);
+  o.max_topology_rounds = 0;
+  std::vector<std::uint32_t> retries;
+  o.progress = [&retries](const voroclip::Mesh3Progress& p) {
+    if (p.retry_vertices > 0) retries.push_back(p.retry_vertices);
+    return true;
+  };
+  const Mesh3Result r = voroclip::mesh3d(bunny, o);
+  INFO("retries " << r.shape_retries << ", first problem: " << r.raised_because);
+  REQUIRE(r.shape_retries >= 1);
+  CHECK(r.shape_problem.empty());
+  CHECK(!r.raised_because.empty());
+  CHECK(r.requested_vertices == 400);
+  CHECK(r.nb_sites >= (400u << r.shape_retries));
+  REQUIRE(retries.size() == r.shape_retries);
+  for (std::size_t i = 0; i < retries.size(); ++i) CHECK(retries[i] == (400u << (i + 1)));
+  check_boundary(r);
+  // kExact keeps the count: the wrong shape is reported, not repaired.
+  o.vertex_count = Mesh3Options::VertexCount::kExact;
+  const Mesh3Result exact = voroclip::mesh3d(bunny, o);
+  CHECK(exact.shape_retries == 0);
+  CHECK(exact.shape_problem == r.raised_because);
+}
+
 TEST_CASE("mesh3d: sites snapped onto a cube's faces (the NaN of issue 30)", "[mesh][exact]") {
   // The unit cube as six tets, 5000 vertices, seed 2: the constrained CVT's sites on a
   // face are coplanar to the last bit, their Delaunay tets flat slivers whose floating

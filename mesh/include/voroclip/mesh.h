@@ -711,7 +711,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
 //      closed 2-manifold, one shell per input shell with its genus), and the verdict is in
-//      Mesh3Result::shape_problem (empty when right).
+//      Mesh3Result::shape_problem (empty when right). With VertexCount::kRaise a mesh of
+//      the wrong shape makes the pipeline run again with twice the vertices (at most
+//      max_shape_retries times).
 // Deterministic for a given seed: the same mesh for any thread count.
 
 enum class Mesh3Phase : std::uint8_t {
@@ -746,6 +748,9 @@ struct Mesh3Progress {
   // the closed-ball property (closed_ball_defects), sites added so far.
   bool topology_round = false;
   std::uint32_t defects = 0, added_sites = 0;
+  // Non-zero once, at the start of a new run with this many vertices: the last run's mesh
+  // did not have the domain's shape (Mesh3Options::max_shape_retries).
+  std::uint32_t retry_vertices = 0;
   double seconds = 0;  // since the start of the pipeline
 };
 
@@ -878,6 +883,11 @@ struct Mesh3Options {
   std::uint32_t topology_iterations = 10;
   std::uint32_t topology_cycles = 3;
   std::uint32_t max_topology_stall = 8;
+  // kRaise: when the output's boundary does not have the domain's shape (check_mesh3_shape;
+  // features thinner than the sites' spacing), the whole pipeline runs again with twice the
+  // vertices, at most max_shape_retries times; the first run with the right shape is
+  // returned (Mesh3Result::requested_vertices, shape_retries, raised_because).
+  std::uint32_t max_shape_retries = 3;
   // Sliver perturbation (perturb = false: none). Its `extraction` settings are the ones
   // every extraction of mesh3d uses (with or without perturbation); mesh3d only sets their
   // `surface` to the patches of its sites.
@@ -934,6 +944,10 @@ struct Mesh3Result {
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
+  // The vertices asked for (Mesh3Options::nb_vertices), the runs redone with twice as many
+  // because the mesh did not have the domain's shape, and the first run's shape problem.
+  std::uint32_t requested_vertices = 0, shape_retries = 0;
+  std::string raised_because;
   // Wall-clock seconds per phase (Mesh3Phase order) and in all.
   double seconds[kNbMesh3Phases] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   double total_seconds = 0;
