@@ -217,16 +217,18 @@ struct Domain2Impl {
 
   Domain2Impl(Domain2& domain, const PolygonRings& rings) : d(domain), in(rings), names(rings) {}
 
-  // Every message says how it numbers: .poly vertices by the file's numbers (rings by the
-  // line where they start), otherwise rings, polygons and points by their positions in the
-  // input arrays, from 0.
+  // Every message about numbered elements says how it numbers them: .poly files by the
+  // file's vertex numbers, rings and hole markers also by their lines (and markers from 0
+  // in the file's order); other input (JSON, arrays) by positions in the arrays, from 0.
+  // Messages about the PolygonRings structure itself name no element.
   [[noreturn]] void fail(const std::string& what) const {
     const bool poly = !in.point_number.empty();
-    const bool numbered = what.find("ring ") != std::string::npos ||
-                          what.find("vert") != std::string::npos ||
-                          what.find("polygon ") != std::string::npos;
+    const bool numbered =
+        what.rfind("malformed", 0) != 0 &&
+        (what.find("ring ") != std::string::npos || what.find("vert") != std::string::npos ||
+         what.find("polygon ") != std::string::npos || what.find("marker ") != std::string::npos);
     const std::string note = !numbered ? ""
-                             : poly    ? " (vertices by the file's numbers)"
+                             : poly    ? " (.poly numbering: the file's vertex numbers and lines)"
                              : what.find("polygon ") != std::string::npos
                                  ? " (polygons, rings and points numbered from 0)"
                                  : " (rings and points numbered from 0)";
@@ -317,8 +319,8 @@ void Domain2Impl::check_structure() const {
   }
   for (std::size_t k = 0; k < in.hole_points.size(); ++k) {
     if (!std::isfinite(in.hole_points[k])) {
-      fail("hole marker " + std::to_string(k / 2 + 1) +
-           " (from 1, in the file's order) has a non-finite coordinate");
+      fail("hole marker " + std::to_string(k / 2) +
+           " (from 0, in the file's order) has a non-finite coordinate");
     }
   }
 }
