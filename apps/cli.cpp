@@ -12,6 +12,18 @@
 
 namespace voroclip::cli {
 
+std::string no_encoding_message(const std::string& flag, const std::string& ext) {
+  // OBJ, SVG, CSV, JSON and plain text have no binary or compressed form in their own
+  // specifications (a gzipped file is another file type, .obj.gz, that few readers open).
+  const std::string what =
+      ext.empty() ? std::string("no output file is given")
+                  : ext +
+                        " is a text format with no binary or compressed variant in its "
+                        "specification; gzip the file if its size matters";
+  return flag + ": only a .vtu output (-o FILE.vtu) is written in binary or compressed (" + what +
+         ")";
+}
+
 std::ostream* human_stream(const GlobalOptions& options) {
   if (options.quiet) return nullptr;
   return options.stats_json ? &std::cerr : &std::cout;

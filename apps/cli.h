@@ -53,6 +53,10 @@ const char* sign_name(Sign s);
 /// (a dot in a directory name does not count).
 std::string lower_extension(const std::string& path);
 
+// The usage error for --binary / --compress (`flag`) with an output of extension `ext`
+// that has no such variant: "<flag>: only a .vtu output ... (<ext> is a text format ...)".
+std::string no_encoding_message(const std::string& flag, const std::string& ext);
+
 /// Input indices (0-based) of the sites that repeat the coordinates of an earlier site (in
 /// input order): their cells are empty. `sites` holds `dimension` values per site.
 std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension);

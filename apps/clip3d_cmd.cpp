@@ -167,8 +167,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
                      "'");
   }
   if ((args.binary || args.compress) && ext != ".vtu") {
-    throw UsageError(std::string(args.compress ? "--compress" : "--binary") +
-                     ": only a .vtu output (-o FILE.vtu) is written in binary or compressed");
+    throw UsageError(no_encoding_message(args.compress ? "--compress" : "--binary", ext));
   }
   check_output_path(args.output);
   check_output_path(args.neighbors);
@@ -195,8 +194,17 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   const bool tables = ext == ".json" || ext == ".csv" || !args.neighbors.empty();
   o.keep_surface = ext == ".obj";
   o.keep_geometry = ext == ".vtu" || tables;
-  // The Delaunay triangulation is built by compute(), of the sites in spatial order.
+  // The Delaunay triangulation is built by compute(), of the sites in spatial order. Its
+  // phases (ClipProgress, on this thread) become the printer's: a long one shows life.
   progress.phase("Delaunay and clipping");
+  const char* last_phase = "";
+  o.progress = [&](const ClipProgress& p) {
+    if (std::string(p.phase) != last_phase) {
+      last_phase = p.phase;
+      progress.phase(std::string("clipping: ") + p.phase);
+    }
+    return true;
+  };
   const auto t0 = std::chrono::steady_clock::now();
   cv.compute(domain, sites.data(), n, o);
   const double t_total =

@@ -277,8 +277,8 @@ void check_output_name(const std::string& path, bool sites_ok) {
 
 void check_encoding(const ClipArgs& args) {
   if ((args.binary || args.compress) && lower_extension(args.output) != ".vtu") {
-    throw UsageError(std::string(args.compress ? "--compress" : "--binary") +
-                     ": only a .vtu output (-o FILE.vtu) is written in binary or compressed");
+    throw UsageError(no_encoding_message(args.compress ? "--compress" : "--binary",
+                                         lower_extension(args.output)));
   }
 }
 

@@ -83,7 +83,7 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
-  if (args.random_set && args.random < 4) throw UsageError("--random: needs at least 4 sites");
+  if (args.random_set && args.random < 1) throw UsageError("--random: needs at least 1 site");
   const Domain3 domain = load_domain3(args.domain, args.reorient, options);
   Cvt3Options o;
   o.clip.density = make_density3(args.density, domain);
@@ -99,7 +99,7 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
     sites = random_points3(domain, args.random, args.seed, draw);
   } else {
     sites = read_points(args.sites, 3);
-    if (sites.size() < 12) throw Error(args.sites + ": needs at least 4 sites");
+    if (sites.empty()) throw Error(args.sites + ": needs at least 1 site");
   }
   const auto n = static_cast<std::uint32_t>(sites.size() / 3);
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;

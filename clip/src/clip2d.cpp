@@ -44,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "clip_poll.h"
 #include "voroclip/clip.h"
 
 namespace voroclip {
@@ -213,7 +214,8 @@ struct Clip2Impl {
         ws(*r.ws_),
         circ(ws.circ),
         cell_chain_begin(ws.cell_chain_begin),
-        status(ws.status) {}
+        status(ws.status),
+        poll(o.progress, "clip2d") {}
   ClippedVoronoi2::Workspace& ws;
 
   std::uint32_t n = 0;
@@ -225,6 +227,7 @@ struct Clip2Impl {
   std::vector<std::uint32_t> boundary_cells;
   std::vector<CellOut> cell_out;     // per boundary cell, in boundary_cells order
   std::vector<std::int8_t>& status;  // per site: 1 inside, 0 outside, -1 unknown
+  detail::ClipPoll poll;             // progress and cancel, between chunks
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
 
@@ -509,12 +512,16 @@ struct Clip2Impl {
   void run() {
     n = dt.nb_points();
     const std::uint32_t nt = dt.nb_triangles();
+    poll.phase("cells", n);
     circ.resize(2 * std::size_t{nt});
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 4096), [&](const auto& range) {
+      if (!poll.running()) return;
       for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
         dt.circumcenter(t, circ.data() + 2 * std::size_t{t});
       }
+      poll.chunk(0);
     });
+    poll.check();
     walk_rings();
 
     // Assemble boundary cells.
@@ -526,11 +533,14 @@ struct Clip2Impl {
     tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boundary_cells.size(), 16),
                       [&](const auto& range) {
+                        if (!poll.running()) return;
                         Scratch& s = scratch.local();
                         for (std::size_t q = range.begin(); q != range.end(); ++q) {
                           assemble(boundary_cells[q], s.tris, s.nbrs, s.xs, cell_out[q]);
                         }
+                        poll.chunk(0);  // counted in cells below
                       });
+    poll.check();
 
     classify_inner_cells();
     integrate();
@@ -667,6 +677,7 @@ struct Clip2Impl {
     std::vector<Acc>& acc = ws.acc;
     acc.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
+      if (!poll.running()) return;
       std::vector<std::uint32_t>& tris = tri_scratch.local();
       std::vector<double>& xy = xy_scratch.local();
       for (std::uint32_t q = range.begin(); q != range.end(); ++q) {
@@ -710,7 +721,9 @@ struct Clip2Impl {
           add_ring(xy.data(), tris.size());
         }
       }
+      poll.chunk(range.size());
     });
+    poll.check();
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 4096), [&](const auto& range) {
       for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
         const Acc& a = acc[pos[i]];
@@ -787,7 +800,12 @@ void ClippedVoronoi2::compute(const Domain2& domain, const Delaunay2& dt,
   if (dt.nb_points() == 0) throw Error("clip2d: no sites");
   if (!ws_) ws_ = std::make_unique<Workspace>();  // a moved-from object
   Clip2Impl impl(domain, dt, options, *this);
-  impl.run();
+  try {
+    impl.run();
+  } catch (...) {
+    cells_.clear();  // partly written
+    throw;
+  }
 }
 
 }  // namespace voroclip

@@ -63,8 +63,9 @@ constexpr std::size_t kBoundaryChunk = 512;  // boundary cells per chunk (run)
 struct Clip3Impl {
   Clip3Impl(const Domain3& d, const Delaunay3& t, const Clip3Options& o, ClippedVoronoi3& r,
             const std::uint32_t* input)
-      : ctx(d, t, o), out(r), input_index(input) {}
+      : poll(o.progress, "clip3d"), ctx(d, t, o, &poll), out(r), input_index(input) {}
 
+  detail::ClipPoll poll;  // progress and cancel (clip_poll.h)
   const Clip3Context ctx;
   ClippedVoronoi3& out;
   // Where cell i goes in the output (compute(domain, sites, n)), or nullptr: cell i.
@@ -89,6 +90,7 @@ void Clip3Impl::run() {
   tbb::enumerable_thread_specific<ConvexCell> kernels([this] { return ConvexCell(ctx); });
 
   const auto t0 = Clock::now();
+  poll.phase("surface", ctx.surface.nb_triangles());
   const RestrictedSurface rs =
       SurfaceRvd(ctx).compute(stars, ctx.keep_surface ? &out.surface_ : nullptr);
   const auto t1 = Clock::now();
@@ -117,6 +119,7 @@ void Clip3Impl::run() {
   // per-thread caches: DelaunayCells::Scratch::circ).
   DelaunayCells dcells(ctx, rs);
   const std::size_t nb_boundary = rs.boundary_cells.size();
+  poll.phase("boundary cells", nb_boundary);
   std::vector<std::uint32_t> order;
   spatial([&](std::uint32_t i) { return rs.is_boundary[i] != 0; }, order);
   std::vector<Moments> boundary_moments(nb_boundary);
@@ -132,11 +135,13 @@ void Clip3Impl::run() {
   };
   if (linear_density || options.tet_clipping) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 16), [&](const auto& range) {
+      if (!poll.running()) return;
       Stars& w = stars.local();
       DelaunayCells::Scratch& s = cell_scratch.local();
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
         one_cell(order[h], w, s);
       }
+      poll.chunk(range.size());
     });
   } else {
     // In chunks as the inner cells (below); a chunk whose Voronoi vertices cannot all be
@@ -148,6 +153,7 @@ void Clip3Impl::run() {
       DelaunayCells::Scratch& s = cell_scratch.local();
       s.results.resize(std::max(s.results.size(), kBoundaryChunk));
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        if (!poll.running()) return;
         const std::size_t begin = h * kBoundaryChunk;
         const std::size_t end = std::min(order.size(), begin + kBoundaryChunk);
         for (std::size_t k = begin; k < end; ++k) {
@@ -165,9 +171,11 @@ void Clip3Impl::run() {
         } else {
           for (std::size_t k = begin; k < end; ++k) one_cell(order[k], w, s);
         }
+        poll.chunk(end - begin);
       }
     });
   }
+  poll.check();
   std::vector<std::int8_t> global_flag;  // per tet slot, when a cell needs it
   if (std::find(unplaced.begin(), unplaced.end(), 1) != unplaced.end()) {
     dcells.global_flags(global_flag);
@@ -193,6 +201,7 @@ void Clip3Impl::run() {
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seeds_out(
       linear_density ? clipped.size() : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, clipped.size(), 4), [&](const auto& range) {
+    if (!poll.running()) return;
     ConvexCell& kernel = kernels.local();
     std::vector<std::uint32_t> seeds;  // the tets of the cell's boundary triangles
     for (std::size_t h = range.begin(); h != range.end(); ++h) {
@@ -205,7 +214,9 @@ void Clip3Impl::run() {
                        linear_density ? &seeds_out[h] : nullptr);
       boundary_moments[q] = clip_out[h];
     }
+    poll.chunk(0);  // counted above
   });
+  poll.check();
   const auto t2 = Clock::now();
   out.seconds_[1] = std::chrono::duration<double>(t2 - t1).count();
 
@@ -216,6 +227,7 @@ void Clip3Impl::run() {
   }
   dcells.decide_status(first_layer, stars.local());
   const std::vector<std::int8_t>& status = dcells.status();
+  poll.phase("inner cells", n - nb_boundary);
   // Every entry is written below (Cell leaves its fields alone). Under input_index the
   // cells go in this order first and move to their input slots at the end
   // (to_input_indices): writing each to its input slot as it is finished, in random
@@ -277,12 +289,15 @@ void Clip3Impl::run() {
       std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> next(layer.size());
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, layer.size(), 4), [&](const auto& range) {
+            if (!poll.running()) return;
             ConvexCell& kernel = kernels.local();
             for (std::size_t q = range.begin(); q != range.end(); ++q) {
               kernel.clip_cell(layer[q], seed_tets.data() + begin[q], begin[q + 1] - begin[q],
                                inner_out[base + q], &next[q]);
             }
+            poll.chunk(range.size());
           });
+      poll.check();
       for (std::size_t q = 0; q < layer.size(); ++q) {
         inner_slot[layer[q]] = static_cast<std::uint32_t>(base + q);
       }
@@ -302,6 +317,7 @@ void Clip3Impl::run() {
       DelaunayCells::Scratch& s = cell_scratch.local();
       s.results.resize(kInnerChunk);
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        if (!poll.running()) return;
         const std::size_t begin = h * kInnerChunk;
         const std::size_t end = std::min(order.size(), begin + kInnerChunk);
         if (weighted) {
@@ -312,8 +328,10 @@ void Clip3Impl::run() {
                                     w, s, s.results.data());
         }
         for (std::size_t q = begin; q < end; ++q) write_cell(order[q], &s.results[q - begin]);
+        poll.chunk(end - begin);
       }
     });
+    poll.check();
   }
 
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 1024), [&](const auto& range) {
@@ -338,6 +356,7 @@ void Clip3Impl::run() {
   for (const CellOut& c : clip_out) out.nb_pairs_ += c.pairs;
   for (const CellOut& c : inner_out) out.nb_pairs_ += c.pairs;
   if (options.keep_geometry) {
+    poll.phase("geometry", n);
     // The boundary cells' faces from the surface (unless clipped tet by tet), then the inner
     // cells' Voronoi facets; cells in Hilbert order of their sites, by fixed chunks (a
     // chunk's faces in one CellOut, piece = the cell's place in the chunk).
@@ -354,6 +373,7 @@ void Clip3Impl::run() {
                         DelaunayCells::Scratch& s = cell_scratch.local();
                         std::vector<DelaunayCells::Segment> segments;
                         for (std::size_t h = range.begin(); h != range.end(); ++h) {
+                          if (!poll.running()) return;
                           const std::size_t begin = h * kInnerChunk;
                           const std::size_t end = std::min(border.size(), begin + kInnerChunk);
                           for (std::size_t k = begin; k < end; ++k) {
@@ -361,8 +381,10 @@ void Clip3Impl::run() {
                                                   global_flag.data(), out.surface_, w, s, segments,
                                                   border_faces[h]);
                           }
+                          poll.chunk(end - begin);
                         }
                       });
+    poll.check();
     spatial([&](std::uint32_t i) { return !rs.is_boundary[i] && status[i] == 1; }, order);
     const std::size_t nb_chunks = (order.size() + kInnerChunk - 1) / kInnerChunk;
     std::vector<CellOut> facets(nb_chunks);
@@ -370,13 +392,16 @@ void Clip3Impl::run() {
       Stars& w = stars.local();
       DelaunayCells::Scratch& s = cell_scratch.local();
       for (std::size_t h = range.begin(); h != range.end(); ++h) {
+        if (!poll.running()) return;
         const std::size_t begin = h * kInnerChunk;
         const std::size_t end = std::min(order.size(), begin + kInnerChunk);
         for (std::size_t k = begin; k < end; ++k) {
           dcells.voronoi_facets(order[k], static_cast<std::uint32_t>(k - begin), w, s, facets[h]);
         }
+        poll.chunk(end - begin);
       }
     });
+    poll.check();
     std::uint32_t pieces = 0;
     // A CellOut's faces; site_of(face_piece) is the cell of a piece.
     const auto append = [&](const CellOut& c, auto&& site_of) {
@@ -611,9 +636,9 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
   const std::uint32_t bad = finite_bounding_box(sites, n, 3, lo, hi);
   if (bad < n) {  // named by input index (the sort renumbers)
     const double* p = sites + 3 * std::size_t{bad};
-    throw Error("clip3d: site " + std::to_string(bad) + " has a non-finite coordinate (" +
-                std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) +
-                ")");
+    throw Error("clip3d: site " + std::to_string(bad) +
+                " (from 0, in input order) has a non-finite coordinate (" + std::to_string(p[0]) +
+                ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")");
   }
   std::uint32_t chosen[3] = {0, 0, 0};
   const int dimension = affine_dimension(sites, n, chosen);
@@ -694,6 +719,7 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
       q[2] = p[2];
     }
   });
+  detail::ClipPoll(options.progress, "clip3d").phase("delaunay", n);
   Delaunay3Options delaunay = options.delaunay;
   delaunay.presorted = true;
   dt_.set_options(delaunay);
@@ -809,7 +835,7 @@ void ClippedVoronoi3::compute_impl(const Domain3& domain, const Delaunay3& dt,
       }
       for (std::size_t v = 0; v < rho.vertex_values.size(); ++v) {
         if (!(rho.vertex_values[v] >= 0) || !std::isfinite(rho.vertex_values[v])) {
-          throw Error("clip3d: the density's value at vertex " + std::to_string(v) +
+          throw Error("clip3d: the density's value at vertex " + std::to_string(v) + " (from 0)" +
                       " is negative or not finite");
         }
       }

@@ -21,7 +21,8 @@ namespace voroclip {
 
 namespace clip3 {
 
-Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Options& o)
+Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Options& o,
+                           detail::ClipPoll* p)
     : domain(d),
       surface(d.surface()),
       dt(t),
@@ -30,7 +31,8 @@ Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Opti
       weighted(!o.density.is_constant()),
       linear_density(o.density.kind == Density3::Kind::kVertexLinear),
       callback_density(o.density.kind == Density3::Kind::kCallback ? &o.density : nullptr),
-      keep_surface(o.keep_surface || o.keep_geometry) {}
+      keep_surface(o.keep_surface || o.keep_geometry),
+      poll(p) {}
 
 void Clip3Context::star(std::uint32_t v, Star& s) const {
   const std::uint32_t slots = dt.nb_tet_slots();

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "clip_poll.h"
 #include "voroclip/clip.h"
 
 namespace voroclip {
@@ -174,7 +175,8 @@ struct Star {
 // density linear per tet). Units keep a copy (a few references and flags), so that their
 // hot loops reach the triangulation as directly as through their own members.
 struct Clip3Context {
-  Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Options& o);
+  Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Options& o,
+               detail::ClipPoll* p = nullptr);
 
   const Domain3& domain;
   const Surface3& surface;
@@ -189,6 +191,13 @@ struct Clip3Context {
   const Density3* callback_density;
   // The restricted surface polygons are kept (keep_surface or keep_geometry).
   bool keep_surface;
+  // Progress and cancel (clip_poll.h): chunks of the parallel loops report to it; null
+  // when none.
+  detail::ClipPoll* poll;
+  bool running() const { return !poll || poll->running(); }
+  void chunk_done(std::uint64_t count) const {
+    if (poll) poll->chunk(count);
+  }
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
   // (After a build an infinite tet has kInfinite as its vertex 3: Delaunay3.)

@@ -710,6 +710,7 @@ RestrictedSurface SurfaceRvd::compute(tbb::enumerable_thread_specific<Stars>& st
   const std::uint32_t nb_chunks = (nb + kTriangleChunk - 1) / kTriangleChunk;
   std::vector<Chunk> chunks(nb_chunks);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nb_chunks, 1), [&](const auto& range) {
+    if (!ctx_.running()) return;
     Stars& w = stars.local();
     Scratch& s = scratch.local();
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
@@ -726,8 +727,10 @@ RestrictedSurface SurfaceRvd::compute(tbb::enumerable_thread_specific<Stars>& st
         }
         clip_triangle(order[h], k + 1, w, s, chunks[k]);
       }
+      ctx_.chunk_done(end - k * kTriangleChunk);
     }
   });
+  if (ctx_.poll) ctx_.poll->check();
 
   // Polygons per triangle (each triangle's are consecutive in its chunk), then per cell in
   // triangle order.

@@ -217,8 +217,22 @@ struct Domain2Impl {
 
   Domain2Impl(Domain2& domain, const PolygonRings& rings) : d(domain), in(rings), names(rings) {}
 
+  // Every message about numbered elements says how it numbers them: .poly files by the
+  // file's vertex numbers, rings and hole markers also by their lines (and markers from 0
+  // in the file's order); other input (JSON, arrays) by positions in the arrays, from 0.
+  // Messages about the PolygonRings structure itself name no element.
   [[noreturn]] void fail(const std::string& what) const {
-    throw Error((d.source_.empty() ? std::string("polygon") : d.source_) + ": " + what);
+    const bool poly = !in.point_number.empty();
+    const bool numbered =
+        what.rfind("malformed", 0) != 0 &&
+        (what.find("ring ") != std::string::npos || what.find("vert") != std::string::npos ||
+         what.find("polygon ") != std::string::npos || what.find("marker ") != std::string::npos);
+    const std::string note = !numbered ? ""
+                             : poly    ? " (.poly numbering: the file's vertex numbers and lines)"
+                             : what.find("polygon ") != std::string::npos
+                                 ? " (polygons, rings and points numbered from 0)"
+                                 : " (rings and points numbered from 0)";
+    throw Error((d.source_.empty() ? std::string("polygon") : d.source_) + ": " + what + note);
   }
 
   const double* p(std::uint32_t v) const { return d.vertex(v); }
@@ -305,7 +319,8 @@ void Domain2Impl::check_structure() const {
   }
   for (std::size_t k = 0; k < in.hole_points.size(); ++k) {
     if (!std::isfinite(in.hole_points[k])) {
-      fail("hole marker " + std::to_string(k / 2) + " has a non-finite coordinate");
+      fail("hole marker " + std::to_string(k / 2) +
+           " (from 0, in the file's order) has a non-finite coordinate");
     }
   }
 }
@@ -863,7 +878,8 @@ void Domain2Impl::nest_and_orient() {
   for (std::size_t k = 0; 2 * k + 1 < d.region_points_.size(); ++k) {
     const double* q = &d.region_points_[2 * k];
     if (d.locate(q) != Sign::positive) {
-      fail("regional attribute " + std::to_string(k + 1) + ": its point " + point_text(q) +
+      fail("regional attribute " + std::to_string(k + 1) +
+           " (from 1, in the file's order): its point " + point_text(q) +
            " is not inside the domain");
     }
   }

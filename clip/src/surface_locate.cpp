@@ -257,7 +257,8 @@ SurfaceLocator::SurfaceLocator(const std::vector<double>& xyz,
       const std::uint32_t v = triangles[3 * t + static_cast<std::size_t>(k)];
       if (v >= nv) {
         throw Error("SurfaceLocator: triangle " + std::to_string(t) + " has vertex index " +
-                    std::to_string(v) + ", out of range (" + std::to_string(nv) + " vertices)");
+                    std::to_string(v) + ", out of range (" + std::to_string(nv) +
+                    " vertices, numbered from 0)");
       }
     }
   }
@@ -278,7 +279,8 @@ SurfaceLocator::SurfaceLocator(const std::vector<double>& xyz,
       if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(x2))) {
         const std::uint32_t v =
             triangles[3 * t + (std::isfinite(x0) ? std::isfinite(x1) ? 2 : 1 : 0)];
-        throw Error("SurfaceLocator: vertex " + std::to_string(v) + " has a non-finite coordinate");
+        throw Error("SurfaceLocator: vertex " + std::to_string(v) +
+                    " (from 0) has a non-finite coordinate");
       }
       tlo[c] = std::min(std::min(x0, x1), x2);
       thi[c] = std::max(std::max(x0, x1), x2);

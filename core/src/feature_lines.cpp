@@ -149,7 +149,7 @@ FeatureTree::FeatureTree(const TriangleSurface& surface, const FeatureLines& lin
       const std::uint32_t v = lines.line_vertices[i];
       if (v >= surface.nb_vertices()) {
         throw Error("feature line " + std::to_string(l) + ": vertex " + std::to_string(v) +
-                    " is out of range");
+                    " is out of range (lines and vertices numbered from 0)");
       }
       const double* p = &surface.xyz[3 * std::size_t{v}];
       double s = 0;

@@ -28,17 +28,18 @@ std::vector<double> read_json_points(std::istream& in, const std::string& path, 
   for (std::size_t i = 0; i < doc.size(); ++i) {
     const auto& p = doc[i];
     if (!p.is_array() || p.size() != static_cast<std::size_t>(dimension)) {
-      throw Error(path + ": point " + std::to_string(i) + " is not an array of " +
+      throw Error(path + ": point " + std::to_string(i) + " (from 0) is not an array of " +
                   std::to_string(dimension) + " numbers");
     }
     for (const auto& x : p) {
       if (!x.is_number()) {
         throw Error(path + ": point " + std::to_string(i) +
-                    " has a coordinate that is not a number");
+                    " (from 0) has a coordinate that is not a number");
       }
       const double v = x.get<double>();
       if (!std::isfinite(v)) {
-        throw Error(path + ": point " + std::to_string(i) + " has a non-finite coordinate");
+        throw Error(path + ": point " + std::to_string(i) +
+                    " (from 0) has a non-finite coordinate");
       }
       out.push_back(v);
     }

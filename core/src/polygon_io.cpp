@@ -78,25 +78,30 @@ PolygonRings read_json_polygon(std::istream& in, const std::string& path) {
                 " deep");
   }
   const bool several = depth == 4;
+  // Messages name rings, polygons and points by their positions in the arrays, from 0.
+  const std::string numbering = several ? " (polygons, rings and points numbered from 0)"
+                                        : " (rings and points numbered from 0)";
 
   PolygonRings out;
   out.source = path;
   out.ring_begin.push_back(0);
   const auto read_ring = [&](const nlohmann::json& ring, std::int32_t polygon,
                              const std::string& name) {
-    if (!ring.is_array()) throw Error(path + ": " + name + ": not an array of points");
+    if (!ring.is_array()) throw Error(path + ": " + name + ": not an array of points" + numbering);
     for (std::size_t p = 0; p < ring.size(); ++p) {
       const auto& point = ring[p];
       const std::string where = path + ": " + name + " point " + std::to_string(p) + ": ";
       if (!point.is_array() || point.size() != 2) {
-        throw Error(where + "not an array of 2 numbers [x, y]");
+        throw Error(where + "not an array of 2 numbers [x, y]" + numbering);
       }
       for (int k = 0; k < 2; ++k) {
         if (!point[static_cast<std::size_t>(k)].is_number()) {
-          throw Error(where + (k == 0 ? "x" : "y") + " is not a number");
+          throw Error(where + (k == 0 ? "x" : "y") + " is not a number" + numbering);
         }
         const double v = point[static_cast<std::size_t>(k)].get<double>();
-        if (!std::isfinite(v)) throw Error(where + (k == 0 ? "x" : "y") + " is not finite");
+        if (!std::isfinite(v)) {
+          throw Error(where + (k == 0 ? "x" : "y") + " is not finite" + numbering);
+        }
         out.xy.push_back(v);
       }
     }
@@ -113,7 +118,7 @@ PolygonRings read_json_polygon(std::istream& in, const std::string& path) {
     for (std::size_t q = 0; q < doc.size(); ++q) {
       const std::string polygon = "polygon " + std::to_string(q);
       if (!doc[q].is_array() || doc[q].empty()) {
-        throw Error(path + ": " + polygon + ": not a non-empty array of rings");
+        throw Error(path + ": " + polygon + ": not a non-empty array of rings" + numbering);
       }
       for (std::size_t r = 0; r < doc[q].size(); ++r) {
         read_ring(doc[q][r], static_cast<std::int32_t>(q), polygon + " ring " + std::to_string(r));

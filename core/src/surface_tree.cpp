@@ -158,12 +158,12 @@ SurfaceTree::SurfaceTree(const TriangleSurface& surface) {
     if (surface.triangles[i] >= nv) {
       throw Error(surface.source + ": triangle " + std::to_string(i / 3) + " has vertex " +
                   std::to_string(surface.triangles[i]) + ", the surface has " + std::to_string(nv) +
-                  " vertices");
+                  " vertices (numbered from 0)");
     }
     const double* v = &surface.xyz[3 * std::size_t{surface.triangles[i]}];
     if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
       throw Error(surface.source + ": vertex " + std::to_string(surface.triangles[i]) +
-                  " has a non-finite coordinate");
+                  " (from 0) has a non-finite coordinate");
     }
   }
   triangles_ = surface.triangles;

@@ -299,9 +299,9 @@ class Problem {
         return 2;
       case SiteConstraint2::Kind::kSlide:
         if (options_.constraints[i].path >= params_.size()) {
-          throw Error("cvt2d: site " + std::to_string(i) + " slides on path " +
-                      std::to_string(options_.constraints[i].path) + ", but there are only " +
-                      std::to_string(params_.size()));
+          throw Error("cvt2d: site " + std::to_string(i) + " (from 0) slides on path " +
+                      std::to_string(options_.constraints[i].path) +
+                      " (from 0), but there are only " + std::to_string(params_.size()));
         }
         return 1;
       case SiteConstraint2::Kind::kFixed:

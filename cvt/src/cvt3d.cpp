@@ -44,7 +44,7 @@ class Problem3 {
       const Kind3 k = kind(i);
       if ((k == Kind3::kSurface || k == Kind3::kCurve) && !options.project) {
         throw Error("cvt3d: site " + std::to_string(i) +
-                    " is constrained to a surface or curve, but no projection is given");
+                    " (from 0) is constrained to a surface or curve, but no projection is given");
       }
       offset_[i + 1] = offset_[i] + (k == Kind3::kFixed ? 0 : 3);
     }
@@ -143,7 +143,7 @@ class Problem3 {
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(len > 0) || !std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
       throw Error("cvt3d: the projection of site " + std::to_string(i) +
-                  " returned a non-finite point or a zero direction");
+                  " (from 0) returned a non-finite point or a zero direction");
     }
     for (int c = 0; c < 3; ++c) {
       p[c] = q[c];

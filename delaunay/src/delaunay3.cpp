@@ -549,19 +549,27 @@ std::uint32_t Delaunay3::initial_tetrahedron() {
   chosen[0] = 0;
   for (i = 1; i < m && same_point(point(i), point(chosen[0])); ++i) {
   }
-  if (i == m) throw Error("Delaunay3: all points coincide; need 4 affinely independent points");
+  if (i == m)
+    throw Error(
+        "Delaunay3: all points coincide; need 4 affinely independent points; for the clipped "
+        "Voronoi diagram of such sites, ClippedVoronoi3::compute(domain, sites, n) takes them");
   chosen[1] = i;
   for (++i; i < m && collinear3d(point(chosen[0]), point(chosen[1]), point(i)); ++i) {
   }
   if (i == m)
-    throw Error("Delaunay3: all points are collinear; need 4 affinely independent points");
+    throw Error(
+        "Delaunay3: all points are collinear; need 4 affinely independent points; for the clipped "
+        "Voronoi diagram of such sites, ClippedVoronoi3::compute(domain, sites, n) takes them");
   chosen[2] = i;
   Sign o = Sign::zero;
   for (++i; i < m; ++i) {
     o = orient3d(point(chosen[0]), point(chosen[1]), point(chosen[2]), point(i));
     if (o != Sign::zero) break;
   }
-  if (i == m) throw Error("Delaunay3: all points are coplanar; need 4 affinely independent points");
+  if (i == m)
+    throw Error(
+        "Delaunay3: all points are coplanar; need 4 affinely independent points; for the clipped "
+        "Voronoi diagram of such sites, ClippedVoronoi3::compute(domain, sites, n) takes them");
   chosen[3] = i;
   if (o == Sign::negative) std::swap(chosen[0], chosen[1]);
 

@@ -9,6 +9,6 @@ out = sys.argv[2] if len(sys.argv) > 2 else "mesh.msh"
 vertices = int(sys.argv[3]) if len(sys.argv) > 3 else 5000
 mesh = voroclip.mesh3d(surface, vertices=vertices)
 q = voroclip.quality(mesh)
-mesh.write(out)  # meshio: .msh as Gmsh 2.2, .vtu, .mesh, ...
+mesh.write(out)  # the library's writers: .msh (Gmsh 4.1), .mesh, .vtu, .node/.ele
 print(f"{len(mesh.points)} vertices, {len(mesh.cells)} tets, smallest dihedral angle "
       f"{q.q1.min():.1f} degrees; written to {out}")

@@ -175,13 +175,14 @@ TetQuality tet_quality(const double* xyz, std::uint32_t nb_vertices, const std::
       const std::uint32_t v = tets[4 * std::size_t{t} + k];
       if (v >= nb_vertices) {
         throw Error("tet " + std::to_string(t) + " has vertex " + std::to_string(v) +
-                    ", the mesh has " + std::to_string(nb_vertices) + " vertices");
+                    ", the mesh has " + std::to_string(nb_vertices) +
+                    " vertices (numbered from 0)");
       }
       if (!used[v]) {
         const double* p = xyz + 3 * std::size_t{v};
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
           throw Error("tet " + std::to_string(t) + ": vertex " + std::to_string(v) +
-                      " has a non-finite coordinate");
+                      " has a non-finite coordinate (numbered from 0)");
         }
         used[v] = 1;
         ++q.nb_used_vertices;

@@ -206,16 +206,42 @@ void neighbors3(const ClippedVoronoi3& cv, const ClippedVoronoi3::Polygons& face
   }
 }
 
+// The library's clipping progress as the dict handed to a Python callback.
+py::dict clip_progress_info(const ClipProgress& p) {
+  py::dict d;
+  d["phase"] = p.phase;
+  d["done"] = p.done;
+  d["total"] = p.total;
+  d["seconds"] = p.seconds;
+  return d;
+}
+
+// Runs a clipping with the GIL released; Ctrl-C or a callback's exception, which cancel it
+// (the library then throws Error "cancelled"), are re-raised as themselves.
+void run_clip(int threads, Progress& progress, const std::function<void()>& f) {
+  try {
+    run_released(threads, f);
+  } catch (const Error&) {
+    progress.rethrow();
+    throw;
+  }
+  progress.rethrow();
+}
+
 py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::object& density,
-                bool geometry, bool neighbors, int threads) {
+                bool geometry, bool neighbors, const py::object& callback_, int threads) {
   const std::uint32_t n = rows(sites, 2, "sites");
   if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
   std::shared_ptr<PyDensity> callback;
   Clip2Options o;
   o.density = density2(density, callback);
   o.keep_geometry = geometry || neighbors;
+  Progress progress(callback_);
+  o.progress = [&](const ClipProgress& p) {
+    return progress.check([&] { return clip_progress_info(p); });
+  };
   ClippedVoronoi2 cv;
-  run_released(threads, [&] {
+  run_clip(threads, progress, [&] {
     const Delaunay2 dt(sites.data(), n);
     cv.compute(domain, dt, o);
   });
@@ -240,7 +266,7 @@ py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::objec
   r["total_mass"] = cv.total_mass();
   r["total_energy"] = cv.total_energy();
   r["nb_boundary"] = cv.nb_boundary_sites();
-  if (neighbors) {
+  if (o.keep_geometry) {  // the neighbours cost a pass over the geometry
     std::vector<std::int32_t> indptr, indices;
     neighbors2(domain, cv, indptr, indices);
     r["neighbors_indptr"] = to_array(std::move(indptr));
@@ -266,17 +292,21 @@ py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::objec
 }
 
 py::dict clip3d(const Domain3& domain, const DoubleArray& sites, const py::object& density,
-                bool geometry, bool neighbors, int threads) {
+                bool geometry, bool neighbors, const py::object& callback_, int threads) {
   const std::uint32_t n = rows(sites, 3, "sites");
-  if (n < 4) throw Error("sites: at least 4 sites are needed, got " + std::to_string(n));
+  if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   std::shared_ptr<PyDensity> callback;
   Clip3Options o;
   o.density = density3(density, callback);
   o.keep_geometry = geometry || neighbors;
+  Progress progress(callback_);
+  o.progress = [&](const ClipProgress& p) {
+    return progress.check([&] { return clip_progress_info(p); });
+  };
   ClippedVoronoi3 cv;
   ClippedVoronoi3::Polygons faces;
   double seconds_compute = 0;
-  run_released(threads, [&] {
+  run_clip(threads, progress, [&] {
     const auto t0 = std::chrono::steady_clock::now();
     cv.compute(domain, sites.data(), n, o);
     seconds_compute = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -316,7 +346,7 @@ py::dict clip3d(const Domain3& domain, const DoubleArray& sites, const py::objec
   // The C++ call alone (ClippedVoronoi3::compute), as the CLI's --stats json "total".
   seconds["total"] = seconds_compute;
   r["seconds"] = seconds;
-  if (neighbors) {
+  if (o.keep_geometry) {  // the neighbours cost a pass over the geometry
     std::vector<std::int32_t> indptr, indices;
     neighbors3(cv, faces, indptr, indices);
     r["neighbors_indptr"] = to_array(std::move(indptr));
@@ -472,7 +502,8 @@ void bind_domains(py::module_& m) {
 
 void bind_clip(py::module_& m) {
   m.def("clip2d", &clip2d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
-        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
+        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("callback") = py::none(),
+        py::arg("threads") = 0);
   m.def(
       "random_points3",
       [](const Domain3& domain, std::uint32_t n, std::uint64_t seed, const py::object& density,
@@ -487,7 +518,8 @@ void bind_clip(py::module_& m) {
       py::arg("domain"), py::arg("n"), py::arg("seed") = 1, py::arg("density") = py::none(),
       py::arg("threads") = 0);
   m.def("clip3d", &clip3d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
-        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("threads") = 0);
+        py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("callback") = py::none(),
+        py::arg("threads") = 0);
 }
 
 }  // namespace voroclip::python

@@ -78,7 +78,7 @@ py::dict cvt3d(const Domain3& domain, const DoubleArray& sites, const std::strin
                std::uint32_t iterations, double tolerance, const py::object& density,
                const py::object& callback, int threads) {
   const std::uint32_t n = rows(sites, 3, "sites");
-  if (n < 4) throw Error("sites: at least 4 sites are needed, got " + std::to_string(n));
+  if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
     throw Error("tolerance: expected a finite number >= 0");
   }
@@ -385,7 +385,124 @@ py::dict triangle_quality_py(const DoubleArray& points, const IndexArray& triang
 
 }  // namespace
 
+namespace {
+
+// The library's tet mesh writer (core.h write_tet_mesh), so that a mesh written from Python
+// is the file the CLI writes, byte for byte. format: "msh" (Gmsh 4.1 ASCII), "msh-binary",
+// "msh22", "mesh" (Medit), "tetgen" (.node/.ele/.face), "vtk", "vtu", "vtu-ascii",
+// "vtu-zlib".
+void write_tet_mesh_py(const std::string& path, const DoubleArray& points, const py::array& tets,
+                       const py::array& triangles, const py::array& triangle_tags,
+                       const py::array& tet_tags, const py::list& tag_names,
+                       const std::string& format) {
+  static const std::pair<const char*, TetMeshFormat> kFormats[] = {
+      {"msh", TetMeshFormat::kGmsh41},
+      {"msh-binary", TetMeshFormat::kGmsh41Binary},
+      {"msh22", TetMeshFormat::kGmsh22},
+      {"mesh", TetMeshFormat::kMedit},
+      {"tetgen", TetMeshFormat::kTetGen},
+      {"vtk", TetMeshFormat::kVtk},
+      {"vtu", TetMeshFormat::kVtu},
+      {"vtu-ascii", TetMeshFormat::kVtuAscii},
+      {"vtu-zlib", TetMeshFormat::kVtuCompressed}};
+  const auto* f = std::find_if(std::begin(kFormats), std::end(kFormats),
+                               [&](const auto& k) { return format == k.first; });
+  if (f == std::end(kFormats)) throw Error("write: unknown tet mesh format '" + format + "'");
+  const auto u32 = [](const py::array& a, const char* what) {
+    const auto v = a.cast<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>>();
+    std::vector<std::uint32_t> out(static_cast<std::size_t>(v.size()));
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      const std::int64_t x = v.data()[k];
+      if (x < 0 || x > INT32_MAX) {
+        throw Error(std::string(what) + ": index " + std::to_string(x) + " at position " +
+                    std::to_string(k) + " (from 0) is out of range");
+      }
+      out[k] = static_cast<std::uint32_t>(x);
+    }
+    return out;
+  };
+  const auto i32 = [](const py::array& a) {
+    const auto v = a.cast<py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>>();
+    return std::vector<std::int32_t>(v.data(), v.data() + v.size());
+  };
+  const std::uint32_t n = rows(points, 3, "points");
+  TetMeshInput mesh;
+  mesh.source = path;
+  mesh.xyz.assign(points.data(), points.data() + 3 * std::size_t{n});
+  mesh.tets = u32(tets, "tets");
+  mesh.triangles = u32(triangles, "triangles");
+  mesh.triangle_ref = i32(triangle_tags);
+  mesh.tet_ref = i32(tet_tags);
+  for (const auto& t : tag_names) {
+    const auto tuple = t.cast<py::tuple>();
+    TetMeshInput::TagName name;
+    name.dimension = tuple[0].cast<int>();
+    name.tag = tuple[1].cast<std::int32_t>();
+    name.name = tuple[2].cast<std::string>();
+    mesh.tag_names.push_back(std::move(name));
+  }
+  py::gil_scoped_release release;
+  write_tet_mesh(path, mesh, f->second);
+}
+
+// The library's 2D mesh writer (mesh.h write_mesh2): the files of the CLI's mesh2d. format:
+// "vtu", "mesh" (Medit), "msh" (Gmsh 4.1), "msh22".
+void write_mesh2_py(const std::string& path, const DoubleArray& points, const py::array& triangles,
+                    const py::array& vertex_kind, const py::array& boundary_edges,
+                    const py::array& boundary_tags, const py::array& triangle_regions,
+                    const std::string& format) {
+  Mesh2FileFormat f;
+  if (format == "vtu") {
+    f = Mesh2FileFormat::kVtu;
+  } else if (format == "mesh") {
+    f = Mesh2FileFormat::kMedit;
+  } else if (format == "msh") {
+    f = Mesh2FileFormat::kGmsh41;
+  } else if (format == "msh22") {
+    f = Mesh2FileFormat::kGmsh22;
+  } else {
+    throw Error("write: unknown triangle mesh format '" + format + "'");
+  }
+  const auto u32 = [](const py::array& a) {
+    const auto v = a.cast<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>>();
+    std::vector<std::uint32_t> out(static_cast<std::size_t>(v.size()));
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      if (v.data()[k] < 0 || v.data()[k] > INT32_MAX) {
+        throw Error("write: index " + std::to_string(v.data()[k]) + " at position " +
+                    std::to_string(k) + " (from 0) is out of range");
+      }
+      out[k] = static_cast<std::uint32_t>(v.data()[k]);
+    }
+    return out;
+  };
+  const auto i32 = [](const py::array& a) {
+    const auto v = a.cast<py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>>();
+    return std::vector<std::int32_t>(v.data(), v.data() + v.size());
+  };
+  const std::uint32_t n = rows(points, 2, "points");
+  Mesh2 mesh;
+  mesh.xy.assign(points.data(), points.data() + 2 * std::size_t{n});
+  mesh.triangles = u32(triangles);
+  for (const std::uint32_t k : u32(vertex_kind)) {
+    if (k > 2) throw Error("write: a vertex kind is not 0, 1 or 2");
+    mesh.vertex_kind.push_back(static_cast<Mesh2::VertexKind>(k));
+  }
+  mesh.boundary_edges = u32(boundary_edges);
+  mesh.boundary_tags = i32(boundary_tags);
+  mesh.triangle_regions = i32(triangle_regions);
+  py::gil_scoped_release release;
+  write_file_atomically(path, [&](std::ostream& out) { write_mesh2(out, mesh, f); });
+}
+
+}  // namespace
+
 void bind_cvt_mesh(py::module_& m) {
+  m.def("write_mesh2", &write_mesh2_py, py::arg("path"), py::arg("points"), py::arg("triangles"),
+        py::arg("vertex_kind"), py::arg("boundary_edges"), py::arg("boundary_tags"),
+        py::arg("triangle_regions"), py::arg("format"));
+  m.def("write_tet_mesh", &write_tet_mesh_py, py::arg("path"), py::arg("points"), py::arg("tets"),
+        py::arg("triangles"), py::arg("triangle_tags"), py::arg("tet_tags"), py::arg("tag_names"),
+        py::arg("format"));
   m.def("cvt2d", &cvt2d, py::arg("domain"), py::arg("sites"), py::arg("method") = "lbfgs",
         py::arg("iterations") = 100, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);

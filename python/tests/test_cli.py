@@ -93,3 +93,41 @@ def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):
     assert [c["site"] for c in ref] == sites.tolist()
     cells = voroclip.clip3d(d, sites)
     assert stats["cells_volume_sum"] == cells.total_measure
+
+
+def test_mesh3d_files_are_the_cli_files_byte_for_byte(cli, data, tmp_path):
+    """Mesh.write uses the library's writers: .msh (Gmsh 4.1, ASCII and binary), .mesh and
+    TetGen files are the bytes `voroclip mesh3d -o` writes for the same mesh."""
+    import meshio
+
+    domain = data / "surfaces" / "sphere.obj"
+    m = voroclip.mesh3d(domain, vertices=300)
+    for name, flags, binary in (("m.msh", [], False), ("b.msh", ["--binary"], True),
+                                ("m.mesh", [], False), ("t.node", [], False)):
+        ours = tmp_path / ("py_" + name)
+        theirs = tmp_path / ("cli_" + name)
+        m.write(ours, binary=binary)
+        run(cli, "mesh3d", domain, "--vertices", 300, *flags, "-o", theirs)
+        assert ours.read_bytes() == theirs.read_bytes(), name
+        if name.endswith(".node"):
+            for ext in (".ele", ".face"):
+                assert ours.with_suffix(ext).read_bytes() == theirs.with_suffix(ext).read_bytes()
+    assert (tmp_path / "py_m.msh").read_text().startswith("$MeshFormat\n4.1 0 8\n")
+    back = meshio.read(tmp_path / "py_m.msh", file_format="gmsh")
+    assert np.array_equal(back.points, m.points)
+    assert np.array_equal(back.cells_dict["tetra"], m.cells)
+    with pytest.raises(voroclip.Error, match="binary"):
+        m.write(tmp_path / "x.mesh", binary=True)
+
+
+def test_mesh2d_files_are_the_cli_files_byte_for_byte(cli, tmp_path):
+    domain = tmp_path / "d.json"
+    domain.write_text("[[[0,0],[3,0],[3,2],[0,2]],[[1,0.5],[1,1.5],[2,1.5],[2,0.5]]]")
+    m = voroclip.mesh2d(domain, vertices=300)
+    for name, flags, version in (("m.msh", [], "4.1"), ("v22.msh", ["--msh-version", "2.2"], "2.2"),
+                                 ("m.mesh", [], "4.1"), ("m.vtu", [], "4.1")):
+        ours, theirs = tmp_path / ("py_" + name), tmp_path / ("cli_" + name)
+        m.write(ours, msh_version=version)
+        run(cli, "mesh2d", domain, "--vertices", 300, *flags, "-o", theirs)
+        assert ours.read_bytes() == theirs.read_bytes(), name
+    assert (tmp_path / "py_m.msh").read_text().startswith("$MeshFormat\n4.1 0 8\n")

@@ -240,5 +240,91 @@ def test_bad_input_raises_error():
         voroclip.domain3((CUBE_V, CUBE_T + 1))
     with pytest.raises(voroclip.Error, match="ring"):
         voroclip.clip2d([[(0, 0), (1, 1), (1, 0), (0, 1)]], sites[:, :2])  # a bow tie
-    with pytest.raises(voroclip.Error, match="neighbors=True"):
-        voroclip.clip2d([[(0, 0), (1, 0), (0, 1)]], sites[:, :2]).neighbors
+    with pytest.raises(voroclip.Error, match="at least 1 site"):
+        voroclip.clip3d((CUBE_V, CUBE_T), np.empty((0, 3)))
+
+
+def csr_pairs(csr):
+    ip, ix = csr
+    return {(i, int(j)) for i in range(len(ip) - 1) for j in ix[ip[i]:ip[i + 1]]}
+
+
+def brute_force_neighbors3(sites, samples):
+    """Pairs of cells that share a face inside the unit cube, by sampling: for random
+    points x, the two nearest sites i, j; where |x - s_j| - |x - s_i| is tiny, x is near
+    their bisector, so (i, j) share a face there (a subset of the true pairs; with enough
+    samples all of them for faces that are not tiny)."""
+    d = np.linalg.norm(samples[:, None, :] - sites[None, :, :], axis=2)
+    order = np.argsort(d, axis=1)[:, :2]
+    gap = np.take_along_axis(d, order, axis=1)
+    near = gap[:, 1] - gap[:, 0] < 2e-3
+    return {(int(min(a, b)), int(max(a, b))) for a, b in order[near]}
+
+
+def test_neighbors_without_the_flag_are_computed_on_first_access():
+    rng = np.random.default_rng(8)
+    sites = rng.random((40, 3))
+    plain = voroclip.clip3d((CUBE_V, CUBE_T), sites)
+    flagged = voroclip.clip3d((CUBE_V, CUBE_T), sites, neighbors=True)
+    with_geometry = voroclip.clip3d((CUBE_V, CUBE_T), sites, geometry=True)
+    lazy = csr_pairs(plain.neighbors)
+    assert lazy == csr_pairs(flagged.neighbors) == csr_pairs(with_geometry.neighbors)
+    assert np.array_equal(plain.neighbors.indptr, flagged.neighbors.indptr)
+    # Symmetric, Delaunay edges (scipy), and every pair found by sampling near bisectors.
+    assert all((j, i) in lazy for i, j in lazy)
+    vor = {tuple(sorted(p)) for p in Voronoi(sites).ridge_points.tolist()}
+    assert {(i, j) for i, j in lazy if i < j} <= vor
+    sampled = brute_force_neighbors3(sites, rng.random((200000, 3)))
+    assert sampled <= lazy
+    # 2D alike.
+    sq = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+    s2 = rng.random((50, 2))
+    assert csr_pairs(voroclip.clip2d(sq, s2).neighbors) == \
+        csr_pairs(voroclip.clip2d(sq, s2, neighbors=True).neighbors)
+
+
+def test_clip_callback_reports_phases_cancels_and_changes_nothing():
+    rng = np.random.default_rng(9)
+    sites = rng.random((5000, 3))
+    domain = voroclip.domain3((CUBE_V, CUBE_T))
+    phases = []
+    with_cb = voroclip.clip3d(domain, sites, geometry=True,
+                              callback=lambda info: phases.append(dict(info)))
+    plain = voroclip.clip3d(domain, sites, geometry=True)
+    assert [p["phase"] for p in phases if p["done"] == 0][:5] == [
+        "delaunay", "surface", "boundary cells", "inner cells", "geometry"]
+    assert all(p["done"] <= p["total"] for p in phases)
+    for key in ("volumes", "centroids", "energies", "face_points"):
+        assert np.array_equal(getattr(with_cb, key), getattr(plain, key))
+    for phase in ("delaunay", "surface", "boundary cells", "inner cells"):
+        with pytest.raises(voroclip.Error, match="clip3d: cancelled"):
+            voroclip.clip3d(domain, sites, callback=lambda info: info["phase"] != phase)
+    with pytest.raises(voroclip.Error, match="clip2d: cancelled"):
+        voroclip.clip2d([[(0, 0), (1, 0), (1, 1), (0, 1)]], sites[:, :2], callback=lambda i: False)
+    with pytest.raises(ZeroDivisionError):
+        voroclip.clip3d(domain, sites, callback=lambda info: 1 / 0)
+    # The diagram is whole again after a cancelled run.
+    again = voroclip.clip3d(domain, sites, geometry=True)
+    assert np.array_equal(again.volumes, plain.volumes)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_ctrl_c_cancels_a_long_clip(dim):
+    import os
+    import signal
+    import threading
+
+    rng = np.random.default_rng(10)
+    if dim == 3:
+        domain, sites = voroclip.domain3((CUBE_V, CUBE_T)), rng.random((200000, 3))
+        clip = voroclip.clip3d
+    else:
+        domain, sites = voroclip.domain2([[(0, 0), (1, 0), (1, 1), (0, 1)]]), rng.random((1000000, 2))
+        clip = voroclip.clip2d
+    timer = threading.Timer(0.1, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            clip(domain, sites, geometry=True)
+    finally:
+        timer.cancel()

@@ -41,8 +41,10 @@ class Cells:
     * ``surface_areas`` (3D, (n,)): area of the cell's part of the boundary surface;
     * ``total_measure``, ``total_mass``, ``total_energy``: sums in index order.
 
-    With ``neighbors=True``: ``neighbors``, a :class:`CSR` of the cells sharing an edge (2D)
-    or a face (3D) inside the domain. With ``geometry=True``, flat arrays:
+    ``neighbors``: a :class:`CSR` of the cells sharing an edge (2D) or a face (3D) inside the
+    domain, read from the cells' geometry: computed with the diagram under ``neighbors=True``
+    or ``geometry=True``, otherwise on first access (the diagram is computed again, with
+    its geometry: a few times the plain call). With ``geometry=True``, flat arrays:
 
     * 2D: ``vertices`` (m, 2), ``ring_vertex_begin`` (R + 1,), ``cell_ring_begin`` (n + 1,):
       cell i has the rings ``cell_ring_begin[i]:cell_ring_begin[i+1]``, ring r the vertices
@@ -54,8 +56,9 @@ class Cells:
       boundary; :meth:`faces` gives them per cell.
     """
 
-    def __init__(self, dim: int, sites: np.ndarray, r: dict):
+    def __init__(self, dim: int, sites: np.ndarray, r: dict, recompute=None):
         self.dim = dim
+        self._recompute = recompute  # () -> the core's dict with the neighbours
         self.sites = sites
         self.measures = r["areas"] if dim == 2 else r["volumes"]
         if dim == 2:
@@ -95,7 +98,11 @@ class Cells:
     @property
     def neighbors(self) -> CSR:
         if self._neighbors is None:
-            raise Error("neighbors: not computed; pass neighbors=True to clip2d/clip3d")
+            if self._recompute is None:
+                raise Error("neighbors: not computed; pass neighbors=True to clip2d/clip3d")
+            r = self._recompute()
+            self._neighbors = CSR(r["neighbors_indptr"], r["neighbors_indices"])
+            self._recompute = None
         return self._neighbors
 
     def _need_geometry(self):
@@ -137,6 +144,7 @@ def _sites(sites, dim):
 
 
 def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
+           callback: Optional[Callable[[dict], object]] = None,
            threads: Optional[int] = None) -> Cells:
     """The Voronoi diagram of ``sites`` ((n, 2) array, n >= 3) clipped to a polygonal
     domain (anything :func:`domain2` takes), every combinatorial decision exact.
@@ -144,18 +152,25 @@ def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     ``density``: None (1), a number, a callable ``rho(x, y) -> float`` (integrated with a
     degree-4 rule per fan triangle; called from worker threads, slow), or a grid tuple
     ``(values[ny, nx], (xmin, ymin), (xmax, ymax))`` interpolated linearly.
-    ``geometry``/``neighbors``: also return the cells' rings / the neighbour lists.
+    ``geometry``/``neighbors``: also return the cells' rings / the neighbour lists (else
+    computed on first access of ``neighbors``).
+    ``callback(info)``: called now and then (a dict: phase, done, total, seconds) on the
+    calling thread; returning False cancels (raises :class:`Error` "clip2d: cancelled").
+    Ctrl-C cancels too and raises KeyboardInterrupt.
     ``threads``: TBB threads (None: all cores); the result is the same for any count.
     Returns :class:`Cells`."""
     d = domain2(domain)
     s = _sites(sites, 2)
-    r = _core.clip2d(d, s, density, geometry, neighbors, _threads(threads))
-    return Cells(2, s, r)
+    r = _core.clip2d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    return Cells(2, s, r, lambda: _core.clip2d(d, s, density, False, True, callback,
+                                                      _threads(threads)))
 
 
 def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
+           callback: Optional[Callable[[dict], object]] = None,
            threads: Optional[int] = None) -> Cells:
-    """The Voronoi diagram of ``sites`` ((n, 3) array, n >= 4) clipped to the volume of a
+    """The Voronoi diagram of ``sites`` ((n, 3) array, n >= 1: one site, sites on a line
+    or in a plane too) clipped to the volume of a
     3D domain (anything :func:`domain3` takes: a surface, a tet mesh, a file, a
     meshio.Mesh). Inner cells come from the Delaunay triangulation; boundary cells are
     clipped by the surface exactly.
@@ -163,13 +178,17 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     ``density``: None (1), a number, a callable ``rho(x, y, z)`` (finite and positive on
     every cell that meets the volume), or one value per vertex of the domain's tet mesh
     (linear per tet). ``geometry``: also the faces of every cell (with the site across each
-    face); ``neighbors``: the neighbour lists (both cost a few times the plain call).
+    face); ``neighbors``: the neighbour lists (both cost a few times the plain call; without
+    them ``neighbors`` is computed on first access). ``callback(info)`` and Ctrl-C: as
+    :func:`clip2d` (phases 'delaunay', 'surface', 'boundary cells', 'inner cells',
+    'geometry').
     ``threads``: TBB threads (None: all cores); the result is the same for any count.
     Returns :class:`Cells` (``seconds``: the phases' wall times)."""
     d = domain3(domain)
     s = _sites(sites, 3)
-    r = _core.clip3d(d, s, density, geometry, neighbors, _threads(threads))
-    return Cells(3, s, r)
+    r = _core.clip3d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    return Cells(3, s, r, lambda: _core.clip3d(d, s, density, False, True, callback,
+                                                      _threads(threads)))
 
 
 def random_points(domain, n: int, seed: int = 1, density=None, *,
@@ -227,7 +246,7 @@ def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
           threads: Optional[int] = None) -> CvtResult:
     """Centroidal Voronoi tessellation in a 3D volume; as :func:`cvt2d` with (n, 3)
-    sites."""
+    sites, n >= 1 (one site, sites on a line or in a plane too)."""
     r = _core.cvt3d(domain3(domain), _sites(sites, 3), method, int(iterations), float(tolerance),
                     density, callback, _threads(threads))
     return _cvt_result(r)
@@ -298,15 +317,49 @@ class Mesh:
             raise Error(f"tags: expected 'gmsh' or 'medit', got {tags!r}")
         return meshio.Mesh(points, blocks, cell_data=cell_data)
 
-    def write(self, path, **kwargs) -> None:
-        """Writes the mesh with meshio, the format from the extension; ``.msh`` as Gmsh 2.2
-        ASCII, which every Gmsh-reading tool takes (meshio alone would take ``.msh`` for
-        ANSYS's format, and its Gmsh 4.1 writer cannot write tets and triangles together
-        without node entities); the tags as :meth:`to_meshio` names them for Gmsh and
-        Medit. ``kwargs`` go to ``meshio.write``."""
+    def write(self, path, binary: bool = False, compress: bool = False,
+              msh_version: str = "4.1", **kwargs) -> None:
+        """Writes the mesh, the format from the extension.
+
+        The library's own writers, the ones the CLI uses (the same mesh gives the same
+        bytes as ``voroclip mesh3d -o`` / ``mesh2d -o``): 3D ``.msh`` (Gmsh 4.1;
+        ``binary=True``: binary 4.1), ``.mesh`` (Medit), ``.node``/``.ele`` (TetGen:
+        ``.node``, ``.ele`` and ``.face``), ``.vtk`` (legacy ASCII) and ``.vtu`` (base64
+        binary; ``compress=True``: zlib; the CLI's also has a quality array): tets, the
+        boundary triangles, region / patch tags and, in Gmsh files, the tag names. 2D
+        ``.msh`` (Gmsh 4.1; ``msh_version="2.2"`` for 2.2), ``.mesh`` and ``.vtu``
+        (ASCII): triangles, boundary edges, their tags and the vertex kinds. Other
+        extensions go through meshio (``kwargs`` go to ``meshio.write``, the tags as
+        :meth:`to_meshio` names them)."""
         import os
 
         name = str(os.fspath(path)).lower()
+        ext = os.path.splitext(name)[1]
+        if self.dim == 3 and ext in (".msh", ".mesh", ".node", ".ele", ".vtk", ".vtu"):
+            if kwargs:
+                raise Error(f"write: {sorted(kwargs)}: meshio options, not taken by {ext}")
+            if binary and ext != ".msh":
+                raise Error(f"write: binary=True: {ext} has no binary variant here (.msh has)")
+            if compress and ext != ".vtu":
+                raise Error(f"write: compress=True: {ext} has no compressed variant (.vtu has)")
+            fmt = {".msh": "msh-binary" if binary else "msh", ".mesh": "mesh", ".node": "tetgen",
+                   ".ele": "tetgen", ".vtk": "vtk", ".vtu": "vtu-zlib" if compress else "vtu"}[ext]
+            _core.write_tet_mesh(os.fspath(path), self.points, self.cells,
+                                 self.boundary_triangles, self.boundary_tags, self.cell_tags,
+                                 list(self.tag_names), fmt)
+            return
+        if self.dim == 2 and ext in (".msh", ".mesh", ".vtu"):
+            if kwargs or binary or compress:
+                raise Error(f"write: {ext} of a 2D mesh takes no options but msh_version")
+            if msh_version not in ("4.1", "2.2"):
+                raise Error(f"write: msh_version: expected '4.1' or '2.2', got {msh_version!r}")
+            fmt = {".msh": "msh" if msh_version == "4.1" else "msh22", ".mesh": "mesh",
+                   ".vtu": "vtu"}[ext]
+            _core.write_mesh2(os.fspath(path), self.points, self.cells, self.vertex_kind,
+                              self.boundary_edges, self.boundary_tags, self.cell_tags, fmt)
+            return
+        if binary or compress:
+            raise Error("write: binary/compress: for the library's formats only")
         if name.endswith(".msh"):
             kwargs.setdefault("file_format", "gmsh22")
             kwargs.setdefault("binary", False)

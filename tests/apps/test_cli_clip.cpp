@@ -77,6 +77,26 @@ TEST_CASE("clip2d and cvt2d: errors name the problem, leave no file", "[apps]") 
     CHECK(run.status == 2);
     check_one_error_line(run);
   }
+  // Messages say how they number: JSON rings, points and sites by position, from 0.
+  SECTION("a JSON polygon: rings and points numbered from 0, and said so") {
+    const std::string bowtie = temp_path(".json");
+    std::ofstream(bowtie) << "[[[0,0],[2,0],[0,2],[2,2]]]";
+    const Run run = run_cli({"clip2d", bowtie, "--random", "10", "-o", out});
+    std::remove(bowtie.c_str());
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "ring 0 crosses itself: edges 1-2 and 3-0"));
+    CHECK(contains(run.err, "(rings and points numbered from 0)"));
+  }
+  SECTION("a JSON site file: points numbered from 0, and said so") {
+    const std::string sites = temp_path(".json");
+    std::ofstream(sites) << "[[0.1, 0.1], [0.2], [0.3, 0.3]]";
+    const Run run = run_cli({"clip2d", "annulus:1,2,64", "--sites", sites, "-o", out});
+    std::remove(sites.c_str());
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "point 1 (from 0) is not an array of 2 numbers"));
+  }
   CHECK(!exists(out));
 }
 
@@ -235,4 +255,23 @@ TEST_CASE("check-surface: the verdict, the shells, genus, area and volume", "[ap
   CHECK(contains(defect.err, open + ":"));
   CHECK(contains(defect.err, "face 0: the surface is not closed"));
   std::remove(open.c_str());
+}
+
+TEST_CASE("clip3d, clip2d: --binary / --compress refuse outputs without such a variant", "[apps]") {
+  // OBJ (and SVG, CSV, JSON) have no binary or compressed form in their specifications.
+  const std::string sphere = kData + "/surfaces/sphere.obj";
+  const std::string obj = temp_path(".obj");
+  const Run run = run_cli({"clip3d", sphere, "--random", "20", "--compress", "-o", obj});
+  CHECK(run.status == 2);
+  check_one_error_line(run);
+  CHECK(contains(run.err,
+                 "--compress: only a .vtu output (-o FILE.vtu) is written in binary or "
+                 "compressed (.obj is a text format with no binary or compressed variant"));
+  CHECK(!exists(obj));
+  const std::string svg = temp_path(".svg");
+  const Run run2 = run_cli({"clip2d", "annulus:1,2,64", "--random", "20", "--binary", "-o", svg});
+  CHECK(run2.status == 2);
+  CHECK(contains(run2.err, "--binary: only a .vtu output"));
+  CHECK(contains(run2.err, ".svg is a text format"));
+  CHECK(!exists(svg));
 }

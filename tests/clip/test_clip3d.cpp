@@ -855,7 +855,8 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
   REQUIRE(one.surface_polygons().vertices == two.surface_polygons().vertices);
   std::vector<double> bad = sites;
   bad[3 * 17 + 1] = NAN;
-  CHECK_THROWS_WITH(one.compute(d, bad.data(), n), Catch::Contains("site 17 has a non-finite"));
+  CHECK_THROWS_WITH(one.compute(d, bad.data(), n),
+                    Catch::Contains("site 17 (from 0, in input order) has a non-finite"));
   CHECK(one.nb_sites() == 0);
   CHECK_THROWS_AS(one.compute(d, sites.data(), 0), voroclip::Error);
 }

@@ -557,55 +557,71 @@ TEST_CASE("Domain2 names each defect of hand-made rings", "[clip][degenerate]") 
   };
   const Case cases[] = {
       {"bow-tie", make_rings({{0, 0, 2, 2, 2, 0, 0, 2}}),
-       "ring 0 crosses itself: edges 0-1 and 2-3 cross at a single point"},
+       "ring 0 crosses itself: edges 0-1 and 2-3 cross at a single point"
+       " (rings and points numbered from 0)"},
       {"two rings crossing", make_rings({{0, 0, 4, 0, 4, 4, 0, 4}, {1, 1, 5, 2, 1, 3}}),
        "ring 0 (vertices 1-2) crosses ring 1 (vertices 0-1) at a single point (edge pairs in all: "
-       "2 crossing, 0 touching: 0 folding back, 0 overlapping, 0 at a point)"},
+       "2 crossing, 0 touching: 0 folding back, 0 overlapping, 0 at a point)"
+       " (rings and points numbered from 0)"},
       {"vertex on an edge of its own ring",
        make_rings({{0, 0, 4, 0, 4, 4, 3, 4, 2, 0, 1, 4, 0, 4}}),
        "ring 0 touches itself: vertex 4 (2, 0) lies on edge 0-1 (edge pairs in all: 0 crossing, 2 "
-       "touching: 0 folding back, 0 overlapping, 2 at a point)"},
+       "touching: 0 folding back, 0 overlapping, 2 at a point)"
+       " (rings and points numbered from 0)"},
       {"hole vertex on the outer edge", make_rings({{0, 0, 4, 0, 4, 4, 0, 4}, {2, 0, 3, 1, 1, 1}}),
        "ring 1 (vertex 0) touches ring 0 (vertices 0-1): the vertex (2, 0) lies on the edge (edge "
-       "pairs in all: 0 crossing, 2 touching: 0 folding back, 0 overlapping, 2 at a point)"},
+       "pairs in all: 0 crossing, 2 touching: 0 folding back, 0 overlapping, 2 at a point)"
+       " (rings and points numbered from 0)"},
       {"collinear overlap",
        make_rings({{0, 0, 2, 0, 2, 2, 0, 2}, {2, 0.5, 4, 0.5, 4, 1.5, 2, 1.5}}, {0, 1}),
        "polygon 0 ring 0 (vertices 1-2) overlaps polygon 1 ring 0 (vertices 3-0): collinear edges "
        "sharing a segment (the rings touch along it) (edge pairs in all: 0 crossing, 3 touching: 0 "
-       "folding back, 1 overlapping, 2 at a point)"},
+       "folding back, 1 overlapping, 2 at a point)"
+       " (polygons, rings and points numbered from 0)"},
       {"spike", make_rings({{0, 0, 4, 0, 4, 4, 2, 4, 2, 6, 2, 5, 0, 4}}),
        "ring 0 (vertices 3-4-5) folds back at vertex 4: edges 3-4 and 4-5 overlap (a zero-area "
        "spike) (edge pairs in all: 0 crossing, 2 touching: 1 folding back, 0 overlapping, 1 at a "
-       "point)"},
+       "point)"
+       " (rings and points numbered from 0)"},
       {"fold back at the first vertex", make_rings({{0, 6, 0, 0, 4, 0, 4, 4, 0, 4}}),
        "ring 0 (vertices 4-0-1) folds back at vertex 0: edges 4-0 and 0-1 overlap (a zero-area "
        "spike) (edge pairs in all: 0 crossing, 2 touching: 1 folding back, 0 overlapping, 1 at a "
-       "point)"},
+       "point)"
+       " (rings and points numbered from 0)"},
       {"hole touching the outer ring at a vertex",
        make_rings({{0, 0, 4, 0, 4, 4, 0, 4}, {0, 0, 1, 2, 2, 1}}),
        "ring 1 (vertex 0) touches ring 0 (vertex 0): they share the point (0, 0) (edge pairs in "
-       "all: 0 crossing, 4 touching: 0 folding back, 0 overlapping, 4 at a point)"},
+       "all: 0 crossing, 4 touching: 0 folding back, 0 overlapping, 4 at a point)"
+       " (rings and points numbered from 0)"},
       {"ring through one point twice", make_rings({{0, 0, 2, 0, 1, 1, 2, 2, 0, 2, 1, 1}}),
        "ring 0 touches itself: vertices 2 and 5 are the same point (1, 1) (the ring passes twice "
        "through it) (edge pairs in all: 0 crossing, 4 touching: 0 folding back, 0 overlapping, 4 "
-       "at a point)"},
+       "at a point)"
+       " (rings and points numbered from 0)"},
       {"hole outside", make_rings({{0, 0, 4, 0, 4, 4, 0, 4}, {10, 10, 12, 10, 12, 12}}),
-       "ring 1 is a hole but lies outside its outer boundary, ring 0"},
+       "ring 1 is a hole but lies outside its outer boundary, ring 0"
+       " (rings and points numbered from 0)"},
       {"hole in a hole",
        make_rings({{0, 0, 10, 0, 10, 10, 0, 10}, {1, 1, 9, 1, 9, 9, 1, 9}, {3, 3, 5, 3, 5, 5}}),
-       "ring 2 is a hole but lies inside another hole, ring 1"},
+       "ring 2 is a hole but lies inside another hole, ring 1"
+       " (rings and points numbered from 0)"},
       {"outer ring inside the outer ring of another polygon",
        make_rings({{0, 0, 10, 0, 10, 10, 0, 10}, {1, 1, 2, 1, 2, 2}}, {0, 1}),
        "polygon 1 ring 0, an outer boundary, lies inside the outer boundary polygon 0 ring 0 and "
-       "not in one of its holes: the polygons overlap"},
+       "not in one of its holes: the polygons overlap"
+       " (polygons, rings and points numbered from 0)"},
       {"fewer than 3 points", make_rings({{0, 0, 1, 1, 1, 1, 0, 0}}),
-       "ring 0 has fewer than 3 distinct points (2 points once repeats are dropped)"},
+       "ring 0 has fewer than 3 distinct points (2 points once repeats are dropped)"
+       " (rings and points numbered from 0)"},
       {"empty ring", make_rings({{0, 0, 1, 0, 0, 1}, {}}),
-       "ring 1 has fewer than 3 distinct points (0 points once repeats are dropped)"},
+       "ring 1 has fewer than 3 distinct points (0 points once repeats are dropped)"
+       " (rings and points numbered from 0)"},
       {"collinear", make_rings({{0, 0, 1, 1, 3, 3, 2, 2}}),
-       "ring 0 has zero area: its 4 points are all collinear"},
+       "ring 0 has zero area: its 4 points are all collinear"
+       " (rings and points numbered from 0)"},
       {"non-finite", make_rings({{0, 0, 1, 0, INFINITY, 1}}),
-       "ring 0 (vertex 2) has a non-finite coordinate"},
+       "ring 0 (vertex 2) has a non-finite coordinate"
+       " (rings and points numbered from 0)"},
       {"no rings", make_rings({}), "no rings: the domain is empty"},
   };
   for (const Case& c : cases) {
@@ -641,7 +657,8 @@ TEST_CASE("Domain2 accepts several components, islands in lakes", "[clip]") {
   // The same rings as one polygon: the island is then a hole inside a hole.
   CHECK(domain_error(make_rings(
             {{0, 0, 10, 0, 10, 10, 0, 10}, {2, 2, 8, 2, 8, 8, 2, 8}, {4, 4, 6, 4, 6, 6, 4, 6}})) ==
-        "test: ring 2 is a hole but lies inside another hole, ring 1");
+        "test: ring 2 is a hole but lies inside another hole, ring 1 (rings and points numbered "
+        "from 0)");
 }
 
 TEST_CASE("Domain2 reads roles from nesting in .poly files, checks hole markers", "[clip]") {
@@ -677,9 +694,14 @@ TEST_CASE("Domain2 reads roles from nesting in .poly files, checks hole markers"
   const Case cases[] = {
       {"0 5 5",
        "hole marker 0 (line 28) at (5, 5) lies inside the domain (its innermost ring, "
-       "ring 2 (line 23), is an outer boundary), not in a hole"},
-      {"0 20 5", "hole marker 0 (line 28) at (20, 5) lies outside every ring, not in a hole"},
-      {"0 2 5", "hole marker 0 (line 28) at (2, 5) lies on the boundary, on ring 0 (line 15)"},
+       "ring 2 (line 23), is an outer boundary), not in a hole"
+       " (.poly numbering: the file's vertex numbers and lines)"},
+      {"0 20 5",
+       "hole marker 0 (line 28) at (20, 5) lies outside every ring, not in a hole"
+       " (.poly numbering: the file's vertex numbers and lines)"},
+      {"0 2 5",
+       "hole marker 0 (line 28) at (2, 5) lies on the boundary, on ring 0 (line 15)"
+       " (.poly numbering: the file's vertex numbers and lines)"},
   };
   for (const Case& c : cases) {
     const auto q = write_temp("island_bad.poly", body + "1\n" + c.marker + "\n");
@@ -693,7 +715,7 @@ TEST_CASE("Domain2 reads roles from nesting in .poly files, checks hole markers"
   CHECK(domain_error(voroclip::read_polygon(x)) ==
         x + ": ring 0 (line 10, vertices 2-3) crosses ring 1 (line 14, vertices 5-6) at a single "
             "point (edge pairs in all: 2 crossing, 0 touching: 0 folding back, 0 overlapping, 0 at "
-            "a point)");
+            "a point) (.poly numbering: the file's vertex numbers and lines)");
   std::remove(p.c_str());
   std::remove(x.c_str());
 }

@@ -50,9 +50,9 @@ TEST_CASE("read_points names the file, the line and the defect", "[core]") {
   p = write_temp("pts_bad4.txt", "1 nan 0\n");
   CHECK(error_of(p, 3) == p + ":1: 'nan' is not a finite number");
   p = write_temp("pts_bad5.json", "[[0, 1], [2]]");
-  CHECK(error_of(p, 2) == p + ": point 1 is not an array of 2 numbers");
+  CHECK(error_of(p, 2) == p + ": point 1 (from 0) is not an array of 2 numbers");
   p = write_temp("pts_bad6.json", "[[0, 1], [2, \"a\"]]");
-  CHECK(error_of(p, 2) == p + ": point 1 has a coordinate that is not a number");
+  CHECK(error_of(p, 2) == p + ": point 1 (from 0) has a coordinate that is not a number");
   p = write_temp("pts_bad7.json", "[[0, 1], [2, 3]");
   CHECK(error_of(p, 2).find(p + ": not valid JSON") == 0);
   p = write_temp("pts_empty.txt", "   \n");

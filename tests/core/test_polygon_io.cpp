@@ -129,12 +129,17 @@ TEST_CASE("read_polygon names the JSON ring, point and defect", "[core]") {
     const char* message;  // after "<file>: "
   };
   const Case cases[] = {
-      {"pj_bad1.json", "[[[0,0],[1,0],[1]]]", "ring 0 point 2: not an array of 2 numbers [x, y]"},
+      {"pj_bad1.json", "[[[0,0],[1,0],[1]]]",
+       "ring 0 point 2: not an array of 2 numbers [x, y]"
+       " (rings and points numbered from 0)"},
       {"pj_bad2.json", "[[[0,0],[1,0],[1,1]], [[0,0],[1,\"a\"]]]",
-       "ring 1 point 1: y is not a number"},
+       "ring 1 point 1: y is not a number (rings and points numbered from 0)"},
       {"pj_bad3.json", "[[[[0,0],[1,0],[1,1]]], [[[0,0],[1,0],[1,1,2]]]]",
-       "polygon 1 ring 0 point 2: not an array of 2 numbers [x, y]"},
-      {"pj_bad4.json", "[[[[0,0],[1,0],[1,1]]], []]", "polygon 1: not a non-empty array of rings"},
+       "polygon 1 ring 0 point 2: not an array of 2 numbers [x, y]"
+       " (polygons, rings and points numbered from 0)"},
+      {"pj_bad4.json", "[[[[0,0],[1,0],[1,1]]], []]",
+       "polygon 1: not a non-empty array of rings"
+       " (polygons, rings and points numbered from 0)"},
       {"pj_bad5.json", "[[0,0],[1,0]]",
        "expected a JSON array of rings (each an array of [x, y]) or an array of polygons (each an "
        "array of rings); found arrays nested 2 deep"},
@@ -142,7 +147,8 @@ TEST_CASE("read_polygon names the JSON ring, point and defect", "[core]") {
       {"pj_bad7.json", "{\"rings\": []}",
        "expected a JSON array of rings (each an array of [x, y]) or an array of polygons (each an "
        "array of rings)"},
-      {"pj_bad8.json", "[[[0,0],[1,0],[1e999,1]]]", "ring 0 point 2: x is not finite"},
+      {"pj_bad8.json", "[[[0,0],[1,0],[1e999,1]]]",
+       "ring 0 point 2: x is not finite (rings and points numbered from 0)"},
   };
   for (const Case& c : cases) {
     const auto p = write_temp(c.name, c.content);

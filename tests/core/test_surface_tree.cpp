@@ -204,7 +204,8 @@ TEST_CASE("SurfaceTree: degenerate triangles, empty surfaces, bad input", "[core
   const double nan[3] = {std::nan(""), 0, 0};
   CHECK(tree.closest(nan).triangle == SurfaceTree::kNone);
   s.triangles = {0, 1, 9};
-  CHECK_THROWS_WITH(SurfaceTree(s), "flat: triangle 0 has vertex 9, the surface has 5 vertices");
+  CHECK_THROWS_WITH(SurfaceTree(s),
+                    "flat: triangle 0 has vertex 9, the surface has 5 vertices (numbered from 0)");
 }
 
 TEST_CASE("SurfaceTree: concurrent queries give the sequential answers", "[core]") {

@@ -144,6 +144,49 @@ TEST_CASE("cvt3d: eight sites in a cube converge to the centres of its octants",
   }
 }
 
+TEST_CASE("cvt3d: one site, sites on a line, sites in a plane (degenerate site sets)",
+          "[cvt][degenerate]") {
+  // [0, 2]^3. The CVT of sites in a symmetric position keeps them there (their centroids
+  // lie on their line / plane), so each case has a closed-form optimum: the centre (energy
+  // 2^5 / 4 = 8), two slabs 1 x 2 x 2 (2 * 4 (1 + 4 + 4) / 12 = 6), three slabs
+  // 2/3 x 2 x 2 (3 * (8/3) (4/9 + 8) / 12 = 152/27), four prisms 1 x 1 x 2 (4 * 2 (1 + 1 + 4)
+  // / 12 = 4). Fewer than 4 affinely independent sites: ClippedVoronoi3::compute(domain,
+  // sites, n) computes their diagram exactly (auxiliary far sites).
+  const Domain3 d(kuhn_cube(2));
+  struct Case {
+    const char* name;
+    std::vector<double> start, optimum;
+    double energy;
+  };
+  const std::vector<Case> cases = {
+      {"one site", {0.3, 0.4, 0.5}, {1, 1, 1}, 8.0},
+      {"two sites on a line", {0.3, 1, 1, 1.6, 1, 1}, {0.5, 1, 1, 1.5, 1, 1}, 6.0},
+      {"three sites on a line",
+       {0.2, 1, 1, 1.1, 1, 1, 1.7, 1, 1},
+       {1.0 / 3, 1, 1, 1, 1, 1, 5.0 / 3, 1, 1},
+       152.0 / 27},
+      {"four sites in a plane",
+       {0.4, 0.6, 1, 1.7, 0.4, 1, 0.6, 1.3, 1, 1.4, 1.6, 1},
+       {0.5, 0.5, 1, 1.5, 0.5, 1, 0.5, 1.5, 1, 1.5, 1.5, 1},
+       4.0},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    std::vector<double> sites = c.start;
+    Cvt3Options o;
+    o.max_iterations = 200;
+    o.gradient_tolerance = 1e-8;
+    const auto r = voroclip::optimize_cvt3(d, sites, o);
+    REQUIRE(r.converged);
+    for (std::size_t k = 0; k < sites.size(); ++k)
+      REQUIRE(std::fabs(sites[k] - c.optimum[k]) < 1e-6);
+    REQUIRE(std::fabs(r.energy - c.energy) < 1e-9 * c.energy);
+    voroclip::ClippedVoronoi3 cv;
+    cv.compute(d, sites.data(), static_cast<std::uint32_t>(sites.size() / 3));
+    REQUIRE(std::fabs(cv.total_volume() - 8.0) < 1e-12 * 8.0);
+  }
+}
+
 TEST_CASE("cvt3d: Lloyd decreases the energy; L-BFGS goes lower in as many evaluations", "[cvt]") {
   const Domain3 d(
       voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/sphere.mesh"));

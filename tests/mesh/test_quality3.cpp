@@ -314,7 +314,7 @@ TEST_CASE("tet_quality: inverted and degenerate tets are reported, not fatal",
   // Bad indices and coordinates are errors.
   mesh.tets.back() = 8;
   CHECK_THROWS_WITH(voroclip::tet_quality(mesh),
-                    "hand: tet 7 has vertex 8, the mesh has 8 vertices");
+                    "hand: tet 7 has vertex 8, the mesh has 8 vertices (numbered from 0)");
 }
 
 TEST_CASE("tet_quality: the shared meshes' dihedral extremes of the data README",

@@ -174,8 +174,28 @@ struct Density2 {
   bool is_constant() const { return kind == Kind::kConstant; }
 };
 
+// What the progress callback of a clipped diagram (Clip2Options::progress,
+// Clip3Options::progress) receives. It is called on the thread that called compute() (never
+// from another), at the start of each phase (done = 0) and, within a phase, between chunks
+// of cells at most every 50 ms or so, when that thread finishes a chunk. Returning false
+// cancels: compute() then throws Error("clip2d: cancelled" / "clip3d: cancelled") soon
+// (the chunks under way finish, no other starts) and the diagram is left empty. The
+// callback does not change the result of a run it does not cancel (the same bits as
+// without it), and costs one test per chunk of cells when empty.
+struct ClipProgress {
+  // 2D: "cells". 3D: "delaunay" (compute(domain, sites, n) only; total = the sites),
+  // "surface" (total = the boundary triangles), "boundary cells", "inner cells",
+  // "geometry" (keep_geometry; total = the cells).
+  const char* phase = "";
+  std::uint64_t done = 0;  // items of this phase finished so far (in chunks)
+  std::uint64_t total = 0;
+  double seconds = 0;  // wall time since the clipping began (after the "delaunay" phase)
+};
+
 struct Clip2Options {
   Density2 density;
+  // Progress and cancel (ClipProgress): return false to stop.
+  std::function<bool(const ClipProgress&)> progress;
   // Keep each cell's rings (symbolic vertices and coordinates) for export and tests.
   bool keep_geometry = false;
 };
@@ -594,6 +614,8 @@ struct ClipVertex3 {
 
 struct Clip3Options {
   Density3 density;
+  // Progress and cancel (ClipProgress): return false to stop.
+  std::function<bool(const ClipProgress&)> progress;
   // Keep the restricted surface polygons (surface_polygons(): per cell, symbolic vertices
   // and coordinates). They are computed anyway: this only stores them.
   bool keep_surface = false;
@@ -610,6 +632,9 @@ struct Clip3Options {
 class ClippedVoronoi3 {
  public:
   // Throws voroclip::Error on bad input; the result is then empty (nb_sites() == 0).
+  // A Delaunay3 needs 4 affinely independent sites (its constructor throws, saying so, for
+  // one site or sites on a line or in a plane): the clipped diagram of such sites comes
+  // from compute(domain, sites, n) below, which handles them exactly.
   void compute(const Domain3& domain, const Delaunay3& dt, const Clip3Options& options = {});
   // The same for n sites (x y z each), faster: the Delaunay triangulation is built here, of
   // a copy of the sites along a Hilbert curve (hilbert_sort of the input order,

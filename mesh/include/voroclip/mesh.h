@@ -505,6 +505,25 @@ std::string check_mesh2(const Domain2& domain, const Mesh2& mesh);
 // for a regional attribute that is not an integer or a region point in no triangle.
 void tag_mesh2(const Domain2& domain, Mesh2& mesh);
 
+// File formats of a 2D triangle mesh (write_mesh2). Each holds the triangles with their
+// regions (triangle_regions) and the boundary edges with their tags (boundary_tags).
+enum class Mesh2FileFormat {
+  kVtu,     // VTK XML .vtu, ASCII: triangles (type 5) then boundary edges (type 3, lines);
+            // cell data "tag" (region / boundary tag) and "min_angle" (degrees, 0 on edges);
+            // point data "kind" (0 interior, 1 sliding, 2 fixed); z = 0
+  kMedit,   // Medit .mesh, Dimension 2, numbered from 1: Vertices (ref = kind as above),
+            // Edges (ref = boundary tag), Triangles (ref = region)
+  kGmsh22,  // Gmsh .msh 2.2 ASCII: edges (type 1) in physical groups "boundary <tag>",
+            // triangles (type 2) in groups "region <tag>", elementary = physical
+  kGmsh41,  // Gmsh .msh 4.1 ASCII: as 2.2, one curve entity per boundary tag and one surface
+            // entity per region, each in its physical group; all nodes in surface 1
+};
+
+// Writes a tagged mesh (tags filled, e.g. by mesh_domain2 / tag_mesh2) in `format`: the
+// files the CLI's mesh2d writes. Throws Error for arrays of mismatched sizes, an index out
+// of range, or (Gmsh) a negative tag.
+void write_mesh2(std::ostream& out, const Mesh2& mesh, Mesh2FileFormat format);
+
 // Exact checks that a valid mesh (check_mesh2) conforms to its domain: every boundary edge
 // of the mesh (an edge of one triangle) lies along the domain's boundary — both ends
 // within 16 ulps (per coordinate; the closed box meets the edge, decided by orient2d) of

@@ -1,0 +1,250 @@
+// mesh/src/mesh2_io.cpp — 2D triangle meshes (Mesh2) written as VTK .vtu, Medit .mesh and
+// Gmsh .msh 2.2 / 4.1 (write_mesh2, mesh.h): the one writer of each, for the CLI's mesh2d
+// and the Python package alike, so that both write the same bytes.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "voroclip/mesh.h"
+
+namespace voroclip {
+
+namespace {
+
+// Per triangle: its smallest angle in degrees.
+std::vector<double> min_angles(const Mesh2& mesh) {
+  std::vector<double> out(mesh.nb_triangles());
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    double mn = 180;
+    for (int k = 0; k < 3; ++k) {
+      const double* a = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
+      const double* b = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 1) % 3]}];
+      const double* c = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 2) % 3]}];
+      const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
+      mn = std::min(mn, std::atan2(std::fabs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI);
+    }
+    out[t] = mn;
+  }
+  return out;
+}
+
+int vertex_ref(Mesh2::VertexKind k) {
+  return k == Mesh2::VertexKind::kInterior ? 0 : k == Mesh2::VertexKind::kBoundary ? 1 : 2;
+}
+
+// VTK XML: the triangles (cell type 5) then the boundary edges (type 3, lines); cell data
+// `tag` (a triangle's region, an edge's boundary tag) and `min_angle` (degrees; 0 on
+// edges); point data `kind` (0 interior, 1 sliding, 2 fixed).
+void write_vtu2(std::ostream& out, const Mesh2& mesh) {
+  const std::vector<double> angles = min_angles(mesh);
+  const std::uint32_t nt = mesh.nb_triangles();
+  const std::size_t ne = mesh.boundary_edges.size() / 2;
+  out << std::setprecision(17);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+      << mesh.nb_vertices() << "\" NumberOfCells=\"" << nt + ne
+      << "\">\n<PointData Scalars=\"kind\">\n<DataArray type=\"UInt8\" Name=\"kind\" "
+         "format=\"ascii\">\n";
+  for (const Mesh2::VertexKind k : mesh.vertex_kind) out << vertex_ref(k) << '\n';
+  out << "</DataArray>\n</PointData>\n<CellData Scalars=\"tag\">\n<DataArray "
+         "type=\"Int32\" Name=\"tag\" format=\"ascii\">\n";
+  for (std::uint32_t t = 0; t < nt; ++t) out << mesh.triangle_regions[t] << '\n';
+  for (std::size_t e = 0; e < ne; ++e) out << mesh.boundary_tags[e] << '\n';
+  out << "</DataArray>\n<DataArray type=\"Float64\" Name=\"min_angle\" format=\"ascii\">\n";
+  for (const double a : angles) out << a << '\n';
+  for (std::size_t e = 0; e < ne; ++e) out << "0\n";
+  out << "</DataArray>\n</CellData>\n<Points>\n<DataArray type=\"Float64\" "
+         "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (std::uint32_t v = 0; v < mesh.nb_vertices(); ++v) {
+    out << mesh.xy[2 * v] << ' ' << mesh.xy[2 * v + 1] << " 0\n";
+  }
+  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+         "format=\"ascii\">\n";
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    out << mesh.triangles[3 * t] << ' ' << mesh.triangles[3 * t + 1] << ' '
+        << mesh.triangles[3 * t + 2] << '\n';
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    out << mesh.boundary_edges[2 * e] << ' ' << mesh.boundary_edges[2 * e + 1] << '\n';
+  }
+  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::uint32_t t = 0; t < nt; ++t) out << 3 * (t + 1) << '\n';
+  for (std::size_t e = 0; e < ne; ++e) out << 3 * std::size_t{nt} + 2 * (e + 1) << '\n';
+  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::uint32_t t = 0; t < nt; ++t) out << "5\n";
+  for (std::size_t e = 0; e < ne; ++e) out << "3\n";
+  out << "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+// Medit: vertices with reference 0 interior, 1 sliding, 2 fixed; the boundary edges with
+// their tags; the triangles with their regions.
+void write_medit2(std::ostream& out, const Mesh2& mesh) {
+  out << std::setprecision(17);
+  out << "MeshVersionFormatted 2\n\nDimension 2\n\nVertices\n" << mesh.nb_vertices() << '\n';
+  for (std::uint32_t v = 0; v < mesh.nb_vertices(); ++v) {
+    out << mesh.xy[2 * v] << ' ' << mesh.xy[2 * v + 1] << ' ' << vertex_ref(mesh.vertex_kind[v])
+        << '\n';
+  }
+  const std::vector<std::uint32_t>& edges = mesh.boundary_edges;
+  out << "\nEdges\n" << edges.size() / 2 << '\n';
+  for (std::size_t e = 0; e < edges.size(); e += 2) {
+    out << edges[e] + 1 << ' ' << edges[e + 1] + 1 << ' ' << mesh.boundary_tags[e / 2] << '\n';
+  }
+  out << "\nTriangles\n" << mesh.nb_triangles() << '\n';
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    out << mesh.triangles[3 * t] + 1 << ' ' << mesh.triangles[3 * t + 1] + 1 << ' '
+        << mesh.triangles[3 * t + 2] + 1 << ' ' << mesh.triangle_regions[t] << '\n';
+  }
+  out << "\nEnd\n";
+}
+
+// The distinct tags of a list, sorted.
+std::vector<std::int32_t> distinct(std::vector<std::int32_t> tags) {
+  std::sort(tags.begin(), tags.end());
+  tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  return tags;
+}
+
+// Gmsh: boundary edges (type 1) in physical groups named "boundary <tag>", triangles (type
+// 2) in groups named "region <tag>"; version 2.2 or 4.1 (one curve entity per boundary
+// tag, one surface entity per region, each in its physical group), ASCII.
+void write_gmsh2(std::ostream& out, const Mesh2& mesh, bool v41) {
+  const std::vector<std::int32_t> btags = distinct(mesh.boundary_tags);
+  const std::vector<std::int32_t> rtags = distinct(mesh.triangle_regions);
+  for (const std::int32_t t : btags) {
+    if (t < 0)
+      throw Error("write_mesh2: Gmsh files take no negative tag; boundary tag " +
+                  std::to_string(t));
+  }
+  for (const std::int32_t t : rtags) {
+    if (t < 0)
+      throw Error("write_mesh2: Gmsh files take no negative tag; region " + std::to_string(t));
+  }
+  const std::size_t ne = mesh.boundary_edges.size() / 2;
+  const std::uint32_t nt = mesh.nb_triangles(), nv = mesh.nb_vertices();
+  out << std::setprecision(17);
+  out << "$MeshFormat\n" << (v41 ? "4.1" : "2.2") << " 0 8\n$EndMeshFormat\n";
+  out << "$PhysicalNames\n" << btags.size() + rtags.size() << '\n';
+  for (const std::int32_t t : btags) out << "1 " << t << " \"boundary " << t << "\"\n";
+  for (const std::int32_t t : rtags) out << "2 " << t << " \"region " << t << "\"\n";
+  out << "$EndPhysicalNames\n";
+  const auto edge_line = [&](std::size_t e) {
+    out << mesh.boundary_edges[2 * e] + 1 << ' ' << mesh.boundary_edges[2 * e + 1] + 1 << '\n';
+  };
+  const auto triangle_line = [&](std::uint32_t t) {
+    out << mesh.triangles[3 * t] + 1 << ' ' << mesh.triangles[3 * t + 1] + 1 << ' '
+        << mesh.triangles[3 * t + 2] + 1 << '\n';
+  };
+  if (!v41) {
+    out << "$Nodes\n" << nv << '\n';
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      out << v + 1 << ' ' << mesh.xy[2 * v] << ' ' << mesh.xy[2 * v + 1] << " 0\n";
+    }
+    out << "$EndNodes\n$Elements\n" << ne + nt << '\n';
+    std::size_t id = 1;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const std::int32_t t = mesh.boundary_tags[e];
+      out << id++ << " 1 2 " << t << ' ' << t << ' ';
+      edge_line(e);
+    }
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      const std::int32_t r = mesh.triangle_regions[t];
+      out << id++ << " 2 2 " << r << ' ' << r << ' ';
+      triangle_line(t);
+    }
+    out << "$EndElements\n";
+    return;
+  }
+  // 4.1: entities (curves 1.. per boundary tag, surfaces 1.. per region) with their boxes.
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    for (int c = 0; c < 2; ++c) {
+      const double x = mesh.xy[2 * v + static_cast<std::uint32_t>(c)];
+      lo[c] = v == 0 ? x : std::min(lo[c], x);
+      hi[c] = v == 0 ? x : std::max(hi[c], x);
+    }
+  }
+  const auto box = [&] { out << lo[0] << ' ' << lo[1] << " 0 " << hi[0] << ' ' << hi[1] << " 0"; };
+  out << "$Entities\n0 " << btags.size() << ' ' << rtags.size() << " 0\n";
+  for (std::size_t k = 0; k < btags.size(); ++k) {
+    out << k + 1 << ' ';
+    box();
+    out << " 1 " << btags[k] << " 0\n";
+  }
+  for (std::size_t k = 0; k < rtags.size(); ++k) {
+    out << k + 1 << ' ';
+    box();
+    out << " 1 " << rtags[k] << " 0\n";
+  }
+  out << "$EndEntities\n";
+  // Nodes: one block, on the first surface.
+  out << "$Nodes\n1 " << nv << " 1 " << nv << "\n2 1 0 " << nv << '\n';
+  for (std::uint32_t v = 0; v < nv; ++v) out << v + 1 << '\n';
+  for (std::uint32_t v = 0; v < nv; ++v)
+    out << mesh.xy[2 * v] << ' ' << mesh.xy[2 * v + 1] << " 0\n";
+  out << "$EndNodes\n$Elements\n"
+      << btags.size() + rtags.size() << ' ' << ne + nt << " 1 " << ne + nt << '\n';
+  std::size_t id = 1;
+  for (std::size_t k = 0; k < btags.size(); ++k) {
+    const std::size_t count = static_cast<std::size_t>(
+        std::count(mesh.boundary_tags.begin(), mesh.boundary_tags.end(), btags[k]));
+    out << "1 " << k + 1 << " 1 " << count << '\n';
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (mesh.boundary_tags[e] != btags[k]) continue;
+      out << id++ << ' ';
+      edge_line(e);
+    }
+  }
+  for (std::size_t k = 0; k < rtags.size(); ++k) {
+    const std::size_t count = static_cast<std::size_t>(
+        std::count(mesh.triangle_regions.begin(), mesh.triangle_regions.end(), rtags[k]));
+    out << "2 " << k + 1 << " 2 " << count << '\n';
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      if (mesh.triangle_regions[t] != rtags[k]) continue;
+      out << id++ << ' ';
+      triangle_line(t);
+    }
+  }
+  out << "$EndElements\n";
+}
+
+}  // namespace
+
+void write_mesh2(std::ostream& out, const Mesh2& mesh, Mesh2FileFormat format) {
+  const std::size_t nt = mesh.nb_triangles(), nv = mesh.nb_vertices();
+  const bool sizes_ok = mesh.triangles.size() == 3 * nt && mesh.vertex_kind.size() == nv &&
+                        mesh.boundary_edges.size() % 2 == 0 &&
+                        mesh.boundary_tags.size() * 2 == mesh.boundary_edges.size() &&
+                        mesh.triangle_regions.size() == nt;
+  if (!sizes_ok) {
+    throw Error(
+        "write_mesh2: the mesh's arrays do not match (3 indices per triangle, a kind per "
+        "vertex, 2 indices and a tag per boundary edge, a region per triangle)");
+  }
+  for (const std::uint32_t v : mesh.triangles) {
+    if (v >= nv) throw Error("write_mesh2: a triangle's vertex index is out of range");
+  }
+  for (const std::uint32_t v : mesh.boundary_edges) {
+    if (v >= nv) throw Error("write_mesh2: a boundary edge's vertex index is out of range");
+  }
+  switch (format) {
+    case Mesh2FileFormat::kVtu:
+      write_vtu2(out, mesh);
+      break;
+    case Mesh2FileFormat::kMedit:
+      write_medit2(out, mesh);
+      break;
+    case Mesh2FileFormat::kGmsh22:
+      write_gmsh2(out, mesh, false);
+      break;
+    case Mesh2FileFormat::kGmsh41:
+      write_gmsh2(out, mesh, true);
+      break;
+  }
+}
+
+}  // namespace voroclip
