@@ -811,8 +811,8 @@ class VtuReader {
 
 }  // namespace
 
-TetMeshInput read_vtu_tet_mesh(const std::string& path) {
-  return VtuReader(path, read_whole_file(path)).read();
+TetMeshInput read_vtu_tet_mesh(const std::string& path, std::string text) {
+  return VtuReader(path, std::move(text)).read();
 }
 
 }  // namespace detail

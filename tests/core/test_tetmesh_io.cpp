@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -1553,4 +1554,86 @@ TEST_CASE("read_tet_mesh: BINARY legacy VTK, classic and 5.1 cell layouts", "[co
   CHECK(error_of(path) == path + ": cell 1: vertex 9 is out of range 0..4");
   path = with("SCALARS region int 1", "SCALARS region bit 1");
   CHECK(error_of(path) == path + ": SCALARS region: data type 'bit' is not read in a binary file");
+}
+
+// ---------------------------------------------------------------------------------------
+// The stream overloads (the fuzz targets' entry points): the same mesh as from the file.
+
+namespace {
+
+void check_same_mesh(const TetMeshInput& a, const TetMeshInput& b) {
+  CHECK(a.source == b.source);
+  CHECK(a.xyz == b.xyz);
+  CHECK(a.tets == b.tets);
+  CHECK(a.tet_line == b.tet_line);
+  CHECK(a.tet_ref == b.tet_ref);
+  CHECK(a.triangles == b.triangles);
+  CHECK(a.triangle_ref == b.triangle_ref);
+  CHECK(a.tag_names == b.tag_names);
+  CHECK(a.tet_label == b.tet_label);
+  CHECK(a.vertex_label == b.vertex_label);
+  CHECK(a.vertex_base == b.vertex_base);
+  CHECK(a.numbering == b.numbering);
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST_CASE("read_tet_mesh from a stream reads what read_tet_mesh reads from the file", "[core]") {
+  const TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  const std::pair<const char*, TetMeshFormat> cases[] = {
+      {"s.mesh", TetMeshFormat::kMedit},
+      {"s22.msh", TetMeshFormat::kGmsh22},
+      {"s41.msh", TetMeshFormat::kGmsh41},
+      {"s41b.msh", TetMeshFormat::kGmsh41Binary},
+      {"s.vtk", TetMeshFormat::kVtk},
+      {"s.vtu", TetMeshFormat::kVtu},
+      {"sz.vtu", TetMeshFormat::kVtuCompressed},
+      {"sa.vtu", TetMeshFormat::kVtuAscii},
+  };
+  for (const auto& [name, format] : cases) {
+    INFO(name);
+    const std::string path = temp().file(name);
+    voroclip::write_tet_mesh(path, mesh, format);
+    std::istringstream in(file_bytes(path));
+    check_same_mesh(voroclip::read_tet_mesh(in, path), voroclip::read_tet_mesh(path));
+  }
+  SECTION("TetGen, with and without its .face file") {
+    const std::string base = temp().file("stg");
+    voroclip::write_tet_mesh(base + ".ele", mesh, TetMeshFormat::kTetGen);
+    std::istringstream node(file_bytes(base + ".node")), ele(file_bytes(base + ".ele")),
+        face(file_bytes(base + ".face"));
+    check_same_mesh(voroclip::read_tetgen_mesh(node, ele, &face, base),
+                    voroclip::read_tet_mesh(base + ".ele"));
+    std::istringstream node2(file_bytes(base + ".node")), ele2(file_bytes(base + ".ele"));
+    const TetMeshInput no_face = voroclip::read_tetgen_mesh(node2, ele2, nullptr, base);
+    CHECK(no_face.tets == mesh.tets);
+    CHECK(no_face.triangles.empty());
+  }
+  SECTION("the name's extension tells the format; TetGen and .meshb are refused by name") {
+    const auto stream_error = [](const std::string& text, const std::string& name) {
+      std::istringstream in(text);
+      try {
+        voroclip::read_tet_mesh(in, name);
+      } catch (const voroclip::Error& e) {
+        return std::string(e.what());
+      }
+      return std::string("(no error)");
+    };
+    CHECK(stream_error("", "a.ele") ==
+          "a.ele: a TetGen mesh is several files: read it with read_tetgen_mesh");
+    CHECK(stream_error("", "a.meshb") ==
+          "a.meshb: binary Medit files (.meshb) are not read: convert to ASCII .mesh");
+    CHECK(stream_error("", "a.xyz") ==
+          "a.xyz: unknown tetrahedral mesh format '.xyz': expected "
+          ".mesh, .node/.ele, .msh, .vtk or .vtu");
+    CHECK(stream_error("", "in.mesh") ==
+          "in.mesh:1: not a Medit mesh: expected MeshVersionFormatted, found an empty file");
+  }
 }
