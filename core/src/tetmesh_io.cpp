@@ -806,6 +806,15 @@ struct GmshBinary {
     return static_cast<std::uint64_t>(v);
   }
   std::uint64_t size(const char* section) { return in.uint(size_t_bytes, section); }
+  // A coordinate of node `tag`: a finite double (as the ASCII reader requires).
+  double finite(const char* section, std::uint64_t tag) {
+    const double v = in.f64(section);
+    if (!std::isfinite(v)) {
+      in.fail(std::string(section) + ": node " + std::to_string(tag) +
+              ": a coordinate is not finite");
+    }
+    return v;
+  }
 
   // The $End line after a section's binary data.
   void expect_end(const char* section, const char* end) {
@@ -833,7 +842,7 @@ void read_gmsh2_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes
   for (std::uint64_t i = 0; i < n; ++i) {
     nodes.tag.push_back(f.i32(section));
     nodes.line.push_back(0);
-    for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+    for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.finite(section, nodes.tag.back()));
   }
   f.expect_end("$Nodes", "$EndNodes");
 }
@@ -946,7 +955,8 @@ void read_gmsh4_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes
       nodes.line.push_back(0);
     }
     for (std::uint64_t i = 0; i < in_block; ++i) {
-      for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+      const std::uint64_t tag = nodes.tag[nodes.tag.size() - in_block + i];
+      for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.finite(section, tag));
       f.in.skip(extra, 8, section);
     }
     found += in_block;

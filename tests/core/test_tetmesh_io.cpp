@@ -1637,3 +1637,33 @@ TEST_CASE("read_tet_mesh from a stream reads what read_tet_mesh reads from the f
           "in.mesh:1: not a Medit mesh: expected MeshVersionFormatted, found an empty file");
   }
 }
+
+// ---------------------------------------------------------------------------------------
+// Findings of the fuzz targets (fuzz/, scripts/fuzz.sh): each input, as the fuzzer made
+// it, in tests/core/fuzz_regressions/, with the error it must get.
+
+namespace {
+
+const std::string kFuzzRegressions =
+    std::string(VOROCLIP_SOURCE_DIR) + "/tests/core/fuzz_regressions/";
+
+}  // namespace
+
+TEST_CASE("fuzz regression: binary Gmsh nodes with a NaN coordinate are refused",
+          "[core][regression]") {
+  // fuzz_gmsh: a 2.2 binary file whose first node (tag 10) has the bits of a NaN as x; the reader
+  // returned it (the ASCII readers refuse non-finite values).
+  const std::string path = kFuzzRegressions + "gmsh22_binary_nan_coordinate.msh";
+  CHECK(error_of(path) == path + ": section $Nodes: node 10: a coordinate is not finite");
+  // The same in 4.1, node 40 (in the parametric block) with an infinite z.
+  std::string s41 = gmsh41_binary(false, 8);
+  // The second block's tags 40 and 50, then node 40's x, y, z.
+  const std::size_t tags =
+      s41.find(bytes_one<std::uint64_t>(40, false) + bytes_one<std::uint64_t>(50, false));
+  REQUIRE(tags != std::string::npos);
+  const std::size_t z = tags + 16 + 16;
+  REQUIRE(s41.substr(z, 8) == bytes_one<double>(1.0, false));
+  s41.replace(z, 8, bytes_one<double>(std::numeric_limits<double>::infinity(), false));
+  const std::string path41 = write_temp("inf41.msh", s41);
+  CHECK(error_of(path41) == path41 + ": section $Nodes: node 40: a coordinate is not finite");
+}
