@@ -33,6 +33,7 @@
 
 #include <zlib.h>
 
+#include "binary_io.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
 
@@ -362,6 +363,15 @@ class VtuReader {
       fail(piece->line, "Cells needs the data arrays connectivity, offsets and types");
     }
     const std::vector<double> off = values(*offsets, nb_cells, 1);
+    // Offsets are read as doubles: checked to be whole numbers in range before they are
+    // converted (a negative or huge double converted to an integer is undefined behaviour:
+    // fuzz regression vtu_negative_offset.vtu).
+    for (std::size_t c = 0; c < off.size(); ++c) {
+      if (!(off[c] >= 0 && off[c] <= 0x1p53 && off[c] == std::floor(off[c]))) {
+        fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
+                                ": not an offset (a whole number from 0 to 2^53)");
+      }
+    }
     const std::vector<double> typ = values(*types, nb_cells, 1);
     const std::uint64_t size = nb_cells == 0 ? 0 : static_cast<std::uint64_t>(off.back());
     const std::vector<double> idx = values(*conn, size, 1);
@@ -375,7 +385,7 @@ class VtuReader {
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);
-      if (off[c] < 0 || end < begin || end > size) {
+      if (end < begin || end > size) {
         fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
                                 ", not in " + std::to_string(begin) + ".." + std::to_string(size));
       }
@@ -390,9 +400,16 @@ class VtuReader {
         std::vector<std::uint32_t>& cells = tet ? mesh.tets : mesh.triangles;
         for (std::uint64_t k = begin; k < end; ++k) {
           const double v = idx[static_cast<std::size_t>(k)];
-          if (v < 0 || v >= static_cast<double>(nb_points)) {
+          // Negated: a NaN (from a Float64 connectivity) is out of range too.
+          if (!(v >= 0 && v < static_cast<double>(nb_points))) {
             fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
-                                 " is out of range 0.." + std::to_string(nb_points - 1));
+                                 " is out of range " +
+                                 (nb_points == 0 ? std::string("(the file has no points)")
+                                                 : "0.." + std::to_string(nb_points - 1)));
+          }
+          if (v != std::floor(v)) {
+            fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
+                                 " is not a point index (a whole number)");
           }
           cells.push_back(static_cast<std::uint32_t>(v));
         }
@@ -787,10 +804,9 @@ class VtuReader {
         std::memcpy(&x, &r32, 4);
         out.push_back(static_cast<double>(x));
       } else if (is_signed) {
-        const std::uint64_t sign = std::uint64_t{1} << (8 * size - 1);
-        const auto v = static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign);
-        out.push_back(size == 8 ? static_cast<double>(static_cast<std::int64_t>(raw))
-                                : static_cast<double>(v));
+        // to_signed: two's complement without overflow (an Int64 with the sign bit set
+        // overflowed the old arithmetic here: fuzz regression vtu_int64_negative.vtu).
+        out.push_back(static_cast<double>(to_signed(raw, size)));
       } else {
         out.push_back(static_cast<double>(raw));
       }
