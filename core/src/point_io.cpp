@@ -19,7 +19,7 @@ std::vector<double> read_json_points(std::istream& in, const std::string& path, 
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number overflow
     throw Error(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_array()) throw Error(path + ": expected a JSON array of points");

@@ -91,3 +91,15 @@ TEST_CASE("read_points and read_polygon read streams as files", "[core]") {
   CHECK_THROWS_WITH(voroclip::read_polygon(any, "p.txt"),
                     "p.txt: unknown polygon format: expected a .json or a .poly file");
 }
+
+TEST_CASE("fuzz regression: a JSON number out of the range of a double", "[core][regression]") {
+  // fuzz_points: nlohmann::json reports a number overflow ('1e3080') with out_of_range,
+  // not parse_error, and it escaped read_points as an exception other than voroclip::Error.
+  const std::string path = std::string(VOROCLIP_SOURCE_DIR) +
+                           "/tests/core/fuzz_regressions/points_json_number_overflow.json";
+  for (const int dim : {2, 3}) {
+    CHECK(error_of(path, dim) == path +
+                                     ": not valid JSON: [json.exception.out_of_range.406] number "
+                                     "overflow parsing '1e3080'");
+  }
+}
