@@ -1687,3 +1687,11 @@ TEST_CASE("fuzz regression: a negative Int64 in a .vtu array", "[core][regressio
   const std::string nan = kFuzzRegressions + "vtu_nan_point_index.vtu";
   CHECK(error_of(nan) == nan + ":7: cell 0: point nan is out of range 0..3");
 }
+
+TEST_CASE("fuzz regression: a .vtu DataArray that is never closed", "[core][regression]") {
+  // fuzz_vtu: a binary DataArray without </DataArray> had its content end at "not closed"
+  // (SIZE_MAX): the bytes left looked unbounded, 54 PB were reserved for the header it
+  // announced, and base64 decoding would have read past the end of the file.
+  const std::string path = kFuzzRegressions + "vtu_unclosed_data_array.vtu";
+  CHECK(error_of(path) == path + ":6: DataArray Points is not closed");
+}
