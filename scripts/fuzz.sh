@@ -5,8 +5,9 @@
 #   scripts/fuzz.sh list                                    the targets
 # Builds build/fuzz with clang (-DVOROCLIP_FUZZ=ON; only the fuzz targets and what they
 # link), gathers the seeds (fuzz/seeds/TARGET, meshes and surfaces written by the library's
-# own writers, small files of ../shared/data and of tests/), merges them into the corpus
-# build/fuzz/corpus/TARGET (kept between runs), then fuzzes under nice -n 19 with:
+# own writers, small files of ../shared/data and of tests/), then fuzzes under nice -n 19
+# from the corpus build/fuzz/corpus/TARGET (kept between runs, new inputs go there) and the
+# seeds, with:
 #   -max_len      per format (below), -timeout=10 (a slower input is a finding),
 #   -rss_limit_mb=2048, -malloc_limit_mb=$FUZZ_MALLOC_LIMIT_MB (default 32: no input of
 #   max_len bytes may make one allocation of more than that: counts in headers must be
@@ -20,7 +21,7 @@ set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root="$PWD"
-build="$root/build/fuzz"
+build="${FUZZ_BUILD_DIR:-$root/build/fuzz}"  # FUZZ_BUILD_DIR: another build directory
 shared="$root/../shared/data"
 
 # target  max_len  dictionary  seeds from ../shared/data and tests/ (globs, files <= 200 kB)
@@ -74,7 +75,7 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
     ${FUZZ_CMAKE_ARGS:-} >/dev/null
 fi
 if [[ -z "${FUZZ_NO_BUILD:-}" ]]; then  # FUZZ_NO_BUILD=1: run what is built
-  nice -n 19 cmake --build "$build" -j"${FUZZ_BUILD_JOBS:-2}" --target "${run[@]}" fuzz_write_seeds
+  cmake --build "$build" -j"${FUZZ_BUILD_JOBS:-2}" --target "${run[@]}" fuzz_write_seeds
 fi
 
 # ---- Seeds: build/fuzz/seeds/TARGET, rebuilt on every run (cheap).
@@ -118,16 +119,10 @@ for t in "${run[@]}"; do
   if [[ "$dict" != - ]]; then opts+=(-dict="$root/fuzz/dict/$dict.dict"); fi
   echo "==== fuzz.sh: $t for ${seconds}s ($(ls "$build/seeds/$t" | wc -l) seeds, corpus" \
     "$(ls "$corpus" | wc -l) inputs)"
-  # Seeds into the corpus (only inputs that add coverage are kept).
-  nice -n 19 "$exe" "${opts[@]}" -merge=1 "$corpus" "$build/seeds/$t" >"$build/$t.merge.log" 2>&1 ||
-    {
-      echo "fuzz.sh: $t: a seed is a finding (see $build/$t.merge.log)" >&2
-      tail -30 "$build/$t.merge.log" >&2
-      status=1
-      continue
-    }
+  # The corpus first (new inputs go there), then the seeds: each one runs once at the start,
+  # so a seed that is a finding stops the run.
   if ! nice -n 19 "$exe" "${opts[@]}" -max_total_time="$seconds" "$@" "$corpus" \
-    >"$build/$t.log" 2>&1; then
+    "$build/seeds/$t" >"$build/$t.log" 2>&1; then
     echo "fuzz.sh: $t: FINDING (log $build/$t.log, artifacts $build/artifacts/$t-*)" >&2
     grep -A30 "==ERROR\|SUMMARY\|voroclip fuzz:\|runtime error" "$build/$t.log" | head -60 >&2 || true
     status=1
