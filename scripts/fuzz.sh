@@ -124,10 +124,10 @@ for t in "${run[@]}"; do
   if ! nice -n 19 "$exe" "${opts[@]}" -max_total_time="$seconds" "$@" "$corpus" \
     "$build/seeds/$t" >"$build/$t.log" 2>&1; then
     echo "fuzz.sh: $t: FINDING (log $build/$t.log, artifacts $build/artifacts/$t-*)" >&2
-    grep -A30 "==ERROR\|SUMMARY\|voroclip fuzz:\|runtime error" "$build/$t.log" | head -60 >&2 || true
+    grep -a -A30 "==ERROR\|SUMMARY\|voroclip fuzz:\|runtime error" "$build/$t.log" | head -60 >&2 || true
     status=1
   fi
-  grep "^stat::\|^#.*DONE" "$build/$t.log" | tr '\n' ' ' || true
+  grep -a "^stat::\|^#.*DONE" "$build/$t.log" | tr '\n' ' ' || true
   echo
 done
 exit $status
