@@ -235,6 +235,14 @@ Grid read_vtk_grid(const std::string& path, bool sizing, int dimension) {
   if (!t.done() && upper(t.words[t.next]) == "LOOKUP_TABLE") {
     t.next += 2;
   }
+  // The file's words are in memory already: a grid larger than the values that follow is
+  // refused before anything is allocated for it (DIMENSIONS 1024 1024 1024 in a file of a
+  // few bytes asked for 8 GB, zero-filled).
+  const std::size_t left = t.words.size() - std::min(t.next, t.words.size());
+  if (expected > left) {
+    t.fail("POINT_DATA " + std::to_string(expected) + ": the file has " + count_of(left, "value") +
+           " left");
+  }
   g.values.resize(expected);
   for (std::uint64_t k = 0; k < expected; ++k) {
     double v = checked_value(t, "value " + std::to_string(k + 1), sizing);

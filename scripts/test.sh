@@ -7,6 +7,9 @@
 #   4. Python tests          pytest python/tests against build/test's package and CLI
 #   5. ASan + UBSan build    build/asan, without the CGAL tests and the benchmarks; ctest
 #                            without the install test
+#   fuzz. libFuzzer smoke    build/fuzz with clang (the fuzz targets and what they link
+#                            only), every target of fuzz/ for FUZZ_CI_SECONDS (default 10)
+#                            from its seeds (scripts/fuzz.sh all): whole stage <= 5 minutes
 # Stops at the first failure with a non-zero exit status.
 set -euo pipefail
 
@@ -25,7 +28,7 @@ bash scripts/setup.sh --deps-only
 
 stage "2/5 clang-format check"
 dirs=()
-for d in core predicates delaunay clip cvt mesh apps bench tests python; do
+for d in core predicates delaunay clip cvt mesh apps bench tests python fuzz; do
   if [[ -d "$d" ]]; then dirs+=("$d"); fi
 done
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
@@ -66,6 +69,12 @@ cmake --build build/asan -j2
 # tests/predicates/exact_oracle.h): same code paths, a third of the time.
 VOROCLIP_TEST_SCALE=0.3 UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir build/asan --output-on-failure -j2 -E install
 
+stage "fuzz: libFuzzer targets (build/fuzz, clang) for ${FUZZ_CI_SECONDS:-10}s each"
+# A smoke run, not a campaign (scripts/fuzz.sh TARGET SECONDS runs long ones): each target
+# builds, its seeds and corpus load without a finding, and it fuzzes briefly. The corpus
+# of earlier runs in build/fuzz/corpus is kept and grows.
+bash scripts/fuzz.sh all "${FUZZ_CI_SECONDS:-10}"
+
 echo
 echo "==== test.sh: PASSED: format (${#files[@]} files), Release build + ctest, pytest," \
-  "ASan/UBSan build + ctest, in ${SECONDS}s"
+  "ASan/UBSan build + ctest, libFuzzer smoke, in ${SECONDS}s"

@@ -19,7 +19,7 @@ std::vector<double> read_json_points(std::istream& in, const std::string& path, 
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number overflow
     throw Error(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_array()) throw Error(path + ": expected a JSON array of points");
@@ -91,6 +91,13 @@ std::vector<double> read_points(const std::string& path, int dimension) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
+  return read_points(in, path, dimension);
+}
+
+std::vector<double> read_points(std::istream& in, const std::string& path, int dimension) {
+  if (dimension != 2 && dimension != 3) {
+    throw Error("read_points: dimension must be 2 or 3, got " + std::to_string(dimension));
+  }
   char first = 0;
   while (in.get(first) && std::isspace(static_cast<unsigned char>(first))) {
   }

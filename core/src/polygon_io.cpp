@@ -394,16 +394,24 @@ PolygonRings PolyReader::read() {
 
 }  // namespace
 
-PolygonRings read_polygon(const std::string& path) {
-  const std::string ext = lower_case(path);
+PolygonRings read_polygon(std::istream& in, const std::string& name) {
+  const std::string ext = lower_case(name);
   const bool json = ends_with(ext, ".json");
   if (!json && !ends_with(ext, ".poly")) {
+    throw Error(name + ": unknown polygon format: expected a .json or a .poly file");
+  }
+  if (json) return read_json_polygon(in, name);
+  return PolyReader(in, name).read();
+}
+
+PolygonRings read_polygon(const std::string& path) {
+  const std::string ext = lower_case(path);
+  if (!ends_with(ext, ".json") && !ends_with(ext, ".poly")) {
     throw Error(path + ": unknown polygon format: expected a .json or a .poly file");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
-  if (json) return read_json_polygon(in, path);
-  return PolyReader(in, path).read();
+  return read_polygon(in, path);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -82,11 +82,11 @@ bool obj_corner(std::string_view t, std::int64_t& v) {
   return r.ec == std::errc() && r.ptr == num.data() + num.size() && v != 0;
 }
 
-TriangleSurface read_obj(const std::string& path) {
+TriangleSurface read_obj(const std::string& path, std::string text) {
   TriangleSurface s;
   s.source = path;
   RawFaces raw;
-  Lexer lx(path, read_whole_file(path), '#');
+  Lexer lx(path, std::move(text), '#');
   std::uint64_t nb_faces = 0;
   for (;;) {
     const std::string_view kw = lx.next();
@@ -148,8 +148,8 @@ TriangleSurface read_obj(const std::string& path) {
 // ---------------------------------------------------------------------------------------
 // OFF (Geomview): [ST][C][N]OFF, counts, vertices, faces; '#' comments.
 
-TriangleSurface read_off(const std::string& path) {
-  Lexer lx(path, read_whole_file(path), '#');
+TriangleSurface read_off(const std::string& path, std::string text) {
+  Lexer lx(path, std::move(text), '#');
   TriangleSurface s;
   s.source = path;
   const std::string_view header = lx.next();
@@ -362,8 +362,7 @@ TriangleSurface read_stl_ascii(const std::string& path, std::string data) {
   return s;
 }
 
-TriangleSurface read_stl(const std::string& path) {
-  std::string data = read_whole_file(path);
+TriangleSurface read_stl(const std::string& path, std::string data) {
   if (data.size() >= 84) {
     std::uint32_t n = 0;
     ByteReader(path, data, 80, false).read(&n, 4, true, "the triangle count");
@@ -460,8 +459,7 @@ std::int64_t ply_ascii_integer(Lexer& lx, std::string_view t, const char* what) 
   return v;
 }
 
-TriangleSurface read_ply(const std::string& path) {
-  std::string data = read_whole_file(path);
+TriangleSurface read_ply(const std::string& path, const std::string& data) {
   // The header is text up to and including the line "end_header".
   std::size_t header_end = std::string::npos;
   for (std::size_t pos = 0; pos < data.size();) {
@@ -549,8 +547,8 @@ TriangleSurface read_ply(const std::string& path) {
     return -1;
   };
   const bool binary = format != Format::kAscii;
-  const auto header_lines =
-      static_cast<std::uint32_t>(std::count(data.begin(), data.begin() + header_end, '\n'));
+  const auto header_lines = static_cast<std::uint32_t>(
+      std::count(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'));
   Lexer lx(path, binary ? std::string() : data.substr(header_end), 0, header_lines + 1);
   ByteReader in(path, data, header_end, format == Format::kBig);
   for (const PlyElement& e : elements) {
@@ -821,17 +819,41 @@ std::string ply_text(const TriangleSurface& s, bool binary) {
   return out;
 }
 
-}  // namespace
-
-TriangleSurface read_surface(const std::string& path) {
+// The format of `path` by its extension: 0 obj, 1 off, 2 stl, 3 ply; throws for another.
+int surface_format_of(const std::string& path) {
   const std::string ext = extension_of(path);
-  if (ext == ".obj") return read_obj(path);
-  if (ext == ".off") return read_off(path);
-  if (ext == ".stl") return read_stl(path);
-  if (ext == ".ply") return read_ply(path);
+  if (ext == ".obj") return 0;
+  if (ext == ".off") return 1;
+  if (ext == ".stl") return 2;
+  if (ext == ".ply") return 3;
   throw Error(path + ": unknown surface format " +
               (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
               ": expected .obj, .off, .stl or .ply");
+}
+
+TriangleSurface read_surface_text(const std::string& path, std::string text) {
+  switch (surface_format_of(path)) {
+    case 0:
+      return read_obj(path, std::move(text));
+    case 1:
+      return read_off(path, std::move(text));
+    case 2:
+      return read_stl(path, std::move(text));
+    default:
+      return read_ply(path, text);
+  }
+}
+
+}  // namespace
+
+TriangleSurface read_surface(const std::string& path) {
+  surface_format_of(path);
+  return read_surface_text(path, read_whole_file(path));
+}
+
+TriangleSurface read_surface(std::istream& in, const std::string& name) {
+  surface_format_of(name);
+  return read_surface_text(name, read_whole_stream(in, name));
 }
 
 void write_surface(const std::string& path, const TriangleSurface& surface, SurfaceFormat format) {

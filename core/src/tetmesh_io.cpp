@@ -176,8 +176,8 @@ int medit_skipped_section_size(const std::string& kw) {
   return 0;
 }
 
-TetMeshInput read_medit(const std::string& path) {
-  Lexer lx(path, read_whole_file(path), '#');
+TetMeshInput read_medit(const std::string& path, std::string text) {
+  Lexer lx(path, std::move(text), '#');
   TetMeshInput mesh;
   mesh.source = path;
   RawCells tets(4, "tetrahedron"), triangles(3, "triangle");
@@ -257,12 +257,11 @@ std::string_view line_field(Lexer& lx, const std::string& entry, std::size_t exp
   return t;
 }
 
-TetMeshInput read_tetgen(const std::string& base) {
+// The three files' contents (`face_text` nullptr: no .face file); `base` names them.
+TetMeshInput read_tetgen(const std::string& base, std::string node_text, std::string ele_text,
+                         const std::string* face_text) {
   TetMeshInput mesh;
   std::uint64_t first_node = 0;
-  // Both files are opened before either is parsed: a missing one is reported first.
-  std::string node_text = read_whole_file(base + ".node");
-  std::string ele_text = read_whole_file(base + ".ele");
   {
     Lexer lx(base + ".node", std::move(node_text), '#');
     const std::string h = ".node header";
@@ -337,8 +336,8 @@ TetMeshInput read_tetgen(const std::string& base) {
   // on the line (TetGen's adjacent tetrahedra) read past.
   RawCells faces(3, "face");
   const std::string face_path = base + ".face";
-  if (std::ifstream(face_path, std::ios::binary)) {
-    Lexer fx(face_path, read_whole_file(face_path), '#');
+  if (face_text != nullptr) {
+    Lexer fx(face_path, *face_text, '#');
     const std::string fh = ".face header";
     const std::uint64_t nf = to_uint(fx, header_token(fx, fh), "count");
     const std::uint64_t nmark = to_uint(fx, header_token(fx, fh), "boundary marker count");
@@ -695,8 +694,8 @@ void finish_gmsh_file(const std::string& path, bool have_elements, const GmshTag
 
 TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text);
 
-TetMeshInput read_gmsh(const std::string& path) {
-  Lexer lx(path, read_whole_file(path), 0);
+TetMeshInput read_gmsh(const std::string& path, std::string text) {
+  Lexer lx(path, std::move(text), 0);
   TetMeshInput mesh;
   mesh.source = path;
   const std::string_view first = lx.next();
@@ -807,6 +806,15 @@ struct GmshBinary {
     return static_cast<std::uint64_t>(v);
   }
   std::uint64_t size(const char* section) { return in.uint(size_t_bytes, section); }
+  // A coordinate of node `tag`: a finite double (as the ASCII reader requires).
+  double finite(const char* section, std::uint64_t tag) {
+    const double v = in.f64(section);
+    if (!std::isfinite(v)) {
+      in.fail(std::string(section) + ": node " + std::to_string(tag) +
+              ": a coordinate is not finite");
+    }
+    return v;
+  }
 
   // The $End line after a section's binary data.
   void expect_end(const char* section, const char* end) {
@@ -834,7 +842,7 @@ void read_gmsh2_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes
   for (std::uint64_t i = 0; i < n; ++i) {
     nodes.tag.push_back(f.i32(section));
     nodes.line.push_back(0);
-    for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+    for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.finite(section, nodes.tag.back()));
   }
   f.expect_end("$Nodes", "$EndNodes");
 }
@@ -947,7 +955,8 @@ void read_gmsh4_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes
       nodes.line.push_back(0);
     }
     for (std::uint64_t i = 0; i < in_block; ++i) {
-      for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.in.f64(section));
+      const std::uint64_t tag = nodes.tag[nodes.tag.size() - in_block + i];
+      for (int k = 0; k < 3; ++k) mesh.xyz.push_back(f.finite(section, tag));
       f.in.skip(extra, 8, section);
     }
     found += in_block;
@@ -1139,8 +1148,8 @@ void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_
                 TetMeshInput& mesh);
 TetMeshInput read_vtk_binary(const std::string& path, const std::string& text);
 
-TetMeshInput read_vtk(const std::string& path) {
-  Lexer lx(path, read_whole_file(path), 0);
+TetMeshInput read_vtk(const std::string& path, std::string text) {
+  Lexer lx(path, std::move(text), 0);
   TetMeshInput mesh;
   mesh.source = path;
   {
@@ -2079,21 +2088,66 @@ void check_gmsh_tags(const std::string& path, const TetMeshInput& mesh) {
   }
 }
 
+// Throws unless `path` has the extension of a single-file format (not TetGen's).
+void check_tet_mesh_extension(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext == ".mesh" || ext == ".msh" || ext == ".vtk" || ext == ".vtu") return;
+  if (ext == ".meshb") {
+    throw Error(path + ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
+  }
+  throw Error(path + ": unknown tetrahedral mesh format " +
+              (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
+              ": expected .mesh, .node/.ele, .msh, .vtk or .vtu");
+}
+
+// The single-file formats, from the file's bytes (`path` names it and its extension,
+// checked by check_tet_mesh_extension, tells the format).
+TetMeshInput read_tet_mesh_text(const std::string& path, std::string text) {
+  const std::string ext = extension_of(path);
+  if (ext == ".mesh") return read_medit(path, std::move(text));
+  if (ext == ".msh") return read_gmsh(path, std::move(text));
+  if (ext == ".vtk") return read_vtk(path, std::move(text));
+  return read_vtu_tet_mesh(path, std::move(text));
+}
+
 }  // namespace
 
 TetMeshInput read_tet_mesh(const std::string& path) {
   const std::string ext = extension_of(path);
-  if (ext == ".mesh") return read_medit(path);
-  if (ext == ".node" || ext == ".ele") return read_tetgen(without_extension(path));
-  if (ext == ".msh") return read_gmsh(path);
-  if (ext == ".vtk") return read_vtk(path);
-  if (ext == ".meshb") {
-    throw Error(path + ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
+  if (ext == ".node" || ext == ".ele") {
+    const std::string base = without_extension(path);
+    // Both files are opened before either is parsed: a missing one is reported first.
+    std::string node_text = read_whole_file(base + ".node");
+    std::string ele_text = read_whole_file(base + ".ele");
+    const std::string face_path = base + ".face";
+    if (std::ifstream(face_path, std::ios::binary)) {
+      const std::string face_text = read_whole_file(face_path);
+      return read_tetgen(base, std::move(node_text), std::move(ele_text), &face_text);
+    }
+    return read_tetgen(base, std::move(node_text), std::move(ele_text), nullptr);
   }
-  if (ext == ".vtu") return read_vtu_tet_mesh(path);
-  throw Error(path + ": unknown tetrahedral mesh format " +
-              (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-              ": expected .mesh, .node/.ele, .msh, .vtk or .vtu");
+  check_tet_mesh_extension(path);
+  return read_tet_mesh_text(path, read_whole_file(path));
+}
+
+TetMeshInput read_tet_mesh(std::istream& in, const std::string& name) {
+  const std::string ext = extension_of(name);
+  if (ext == ".node" || ext == ".ele") {
+    throw Error(name + ": a TetGen mesh is several files: read it with read_tetgen_mesh");
+  }
+  check_tet_mesh_extension(name);
+  return read_tet_mesh_text(name, read_whole_stream(in, name));
+}
+
+TetMeshInput read_tetgen_mesh(std::istream& node, std::istream& ele, std::istream* face,
+                              const std::string& base) {
+  std::string node_text = read_whole_stream(node, base + ".node");
+  std::string ele_text = read_whole_stream(ele, base + ".ele");
+  if (face != nullptr) {
+    const std::string face_text = read_whole_stream(*face, base + ".face");
+    return read_tetgen(base, std::move(node_text), std::move(ele_text), &face_text);
+  }
+  return read_tetgen(base, std::move(node_text), std::move(ele_text), nullptr);
 }
 
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format) {

@@ -37,13 +37,18 @@ inline std::string quote(std::string_view t) {
   return out + "'";
 }
 
+// The bytes of a stream up to its end; `name` stands for the file in messages.
+inline std::string read_whole_stream(std::istream& in, const std::string& name) {
+  std::ostringstream ss;
+  if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
+  if (in.bad()) throw Error(name + ": read error");
+  return ss.str();
+}
+
 inline std::string read_whole_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(path + ": read error");
-  return ss.str();
+  return read_whole_stream(in, path);
 }
 
 // Splits a text into tokens separated by blanks; `comment` (0: none) starts a comment that
@@ -280,6 +285,6 @@ inline std::string without_extension(const std::string& path) {
 }
 
 // The reader of VTK XML unstructured grids behind read_tet_mesh (vtu_io.cpp).
-TetMeshInput read_vtu_tet_mesh(const std::string& path);
+TetMeshInput read_vtu_tet_mesh(const std::string& path, std::string text);
 
 }  // namespace voroclip::detail

@@ -17,8 +17,9 @@
 // of each block], each word of header_type, then the compressed blocks one after the
 // other; base64 encodes the header and the blocks as one stream or as two. The reader
 // checks the header against the bytes that follow, bounds what a block may inflate to by
-// deflate's largest ratio before allocating it, and checks each block's inflated size
-// against the header. Other compressors (LZ4, LZMA) are rejected.
+// deflate's largest ratio, inflates it into memory that grows with what actually comes out
+// (not with what the header claims), and checks each block's inflated size against the
+// header. Other compressors (LZ4, LZMA) are rejected.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -33,6 +34,7 @@
 
 #include <zlib.h>
 
+#include "binary_io.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
 
@@ -362,6 +364,15 @@ class VtuReader {
       fail(piece->line, "Cells needs the data arrays connectivity, offsets and types");
     }
     const std::vector<double> off = values(*offsets, nb_cells, 1);
+    // Offsets are read as doubles: checked to be whole numbers in range before they are
+    // converted (a negative or huge double converted to an integer is undefined behaviour:
+    // fuzz regression vtu_negative_offset.vtu).
+    for (std::size_t c = 0; c < off.size(); ++c) {
+      if (!(off[c] >= 0 && off[c] <= 0x1p53 && off[c] == std::floor(off[c]))) {
+        fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
+                                ": not an offset (a whole number from 0 to 2^53)");
+      }
+    }
     const std::vector<double> typ = values(*types, nb_cells, 1);
     const std::uint64_t size = nb_cells == 0 ? 0 : static_cast<std::uint64_t>(off.back());
     const std::vector<double> idx = values(*conn, size, 1);
@@ -375,7 +386,7 @@ class VtuReader {
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);
-      if (off[c] < 0 || end < begin || end > size) {
+      if (end < begin || end > size) {
         fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
                                 ", not in " + std::to_string(begin) + ".." + std::to_string(size));
       }
@@ -390,9 +401,16 @@ class VtuReader {
         std::vector<std::uint32_t>& cells = tet ? mesh.tets : mesh.triangles;
         for (std::uint64_t k = begin; k < end; ++k) {
           const double v = idx[static_cast<std::size_t>(k)];
-          if (v < 0 || v >= static_cast<double>(nb_points)) {
+          // Negated: a NaN (from a Float64 connectivity) is out of range too.
+          if (!(v >= 0 && v < static_cast<double>(nb_points))) {
             fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
-                                 " is out of range 0.." + std::to_string(nb_points - 1));
+                                 " is out of range " +
+                                 (nb_points == 0 ? std::string("(the file has no points)")
+                                                 : "0.." + std::to_string(nb_points - 1)));
+          }
+          if (v != std::floor(v)) {
+            fail(conn->line, "cell " + std::to_string(c) + ": point " + fmt(v) +
+                                 " is not a point index (a whole number)");
           }
           cells.push_back(static_cast<std::uint32_t>(v));
         }
@@ -706,10 +724,8 @@ class VtuReader {
                          " compressed bytes, more than zlib can inflate");
       }
       const std::vector<unsigned char> z = take(in, packed, a, name, block.c_str());
-      const std::size_t at = out.size();
-      out.resize(at + static_cast<std::size_t>(size));
-      auto got = static_cast<uLongf>(size);
-      const int rc = uncompress(out.data() + at, &got, z.data(), static_cast<uLong>(z.size()));
+      std::uint64_t got = 0;
+      const int rc = inflate_append(z, size, out, got);
       if (rc != Z_OK || got != size) {
         fail(a.line,
              "DataArray " + name + ": " + block + ": " +
@@ -728,12 +744,65 @@ class VtuReader {
     return out;
   }
 
+  // Inflates the zlib stream `z`, which the header says holds `size` bytes, onto the end of
+  // `out`; `got` is the number of bytes it gave. Returns what uncompress() would: Z_OK when
+  // the stream ended (got may then be below size), Z_BUF_ERROR when it holds more than
+  // `size` bytes, Z_DATA_ERROR when it is invalid or incomplete. `out` grows with what
+  // actually comes out, by chunks, not by the size claimed: a header may claim up to
+  // kZlibMaxRatio times the compressed bytes, which a few bytes of garbage do not justify.
+  static int inflate_append(const std::vector<unsigned char>& z, std::uint64_t size,
+                            std::vector<unsigned char>& out, std::uint64_t& got) {
+    z_stream s{};
+    if (inflateInit(&s) != Z_OK) return Z_MEM_ERROR;
+    s.next_in = const_cast<Bytef*>(z.data());  // zlib's API is not const-correct
+    s.avail_in = static_cast<uInt>(z.size());
+    const std::size_t at = out.size();
+    std::uint64_t chunk = std::uint64_t{1} << 16;
+    int rc = Z_OK;
+    got = 0;
+    for (;;) {
+      unsigned char probe = 0;
+      const std::uint64_t step = std::min(chunk, size - got);
+      if (step > 0) {
+        out.resize(at + static_cast<std::size_t>(got + step));
+        s.next_out = out.data() + at + got;
+      } else {
+        s.next_out = &probe;  // full: one more byte means the stream holds too much
+      }
+      const uInt room = step > 0 ? static_cast<uInt>(step) : 1u;
+      s.avail_out = room;
+      rc = inflate(&s, Z_NO_FLUSH);
+      const uInt produced = room - s.avail_out;
+      if (step == 0 && produced > 0) {
+        rc = Z_BUF_ERROR;
+        break;
+      }
+      got += produced;
+      if (rc == Z_STREAM_END) {
+        rc = Z_OK;
+        break;
+      }
+      if (rc == Z_NEED_DICT || (rc == Z_BUF_ERROR && produced == 0)) {
+        rc = Z_DATA_ERROR;  // no progress: the input ended before the stream did
+        break;
+      }
+      if (rc != Z_OK && rc != Z_BUF_ERROR) break;
+      chunk = std::min<std::uint64_t>(2 * chunk, std::uint64_t{1} << 26);
+    }
+    inflateEnd(&s);
+    out.resize(at + static_cast<std::size_t>(got));
+    return rc;
+  }
+
   // `n` values of a DataArray, as doubles (integers up to 2^53 exactly).
   std::vector<double> values(const XmlElement& a, std::uint64_t n, int components) {
     const std::string* type = a.attribute("type");
     const std::string* format = a.attribute("format");
     const std::string name = a.attribute("Name") ? *a.attribute("Name") : "Points";
     if (type == nullptr) fail(a.line, "DataArray " + name + " has no type");
+    // An element left open (no </DataArray> before the end, or before AppendedData) has no
+    // end to its content: its inline data would run to the end of the file and past it.
+    if (a.content_end == kOpen) fail(a.line, "DataArray " + name + " is not closed");
     if (const std::string* nc = a.attribute("NumberOfComponents");
         nc != nullptr && *nc != std::to_string(components)) {
       fail(a.line, "DataArray " + name + ": NumberOfComponents " + quote(*nc) + ", expected " +
@@ -787,10 +856,9 @@ class VtuReader {
         std::memcpy(&x, &r32, 4);
         out.push_back(static_cast<double>(x));
       } else if (is_signed) {
-        const std::uint64_t sign = std::uint64_t{1} << (8 * size - 1);
-        const auto v = static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign);
-        out.push_back(size == 8 ? static_cast<double>(static_cast<std::int64_t>(raw))
-                                : static_cast<double>(v));
+        // to_signed: two's complement without overflow (an Int64 with the sign bit set
+        // overflowed the old arithmetic here: fuzz regression vtu_int64_negative.vtu).
+        out.push_back(static_cast<double>(to_signed(raw, size)));
       } else {
         out.push_back(static_cast<double>(raw));
       }
@@ -811,8 +879,8 @@ class VtuReader {
 
 }  // namespace
 
-TetMeshInput read_vtu_tet_mesh(const std::string& path) {
-  return VtuReader(path, read_whole_file(path)).read();
+TetMeshInput read_vtu_tet_mesh(const std::string& path, std::string text) {
+  return VtuReader(path, std::move(text)).read();
 }
 
 }  // namespace detail

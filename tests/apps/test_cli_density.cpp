@@ -308,6 +308,15 @@ TEST_CASE("--density / --sizing errors: position in the formula, the point, no f
   CHECK(run.status == 1);
   check_one_error_line(run);
   CHECK(contains(run.err, grid.path + ":13: value 3 is -3"));
+  // A grid of 2^30 points in a file of four values: refused before 8 GB are allocated.
+  const TempFile huge(".vtk",
+                      "# vtk DataFile Version 3.0\ng\nASCII\nDATASET STRUCTURED_POINTS\n"
+                      "DIMENSIONS 1024 1024 1024\nPOINT_DATA 1073741824\n"
+                      "SCALARS rho double 1\nLOOKUP_TABLE default\n1\n2\n3\n4\n");
+  const Run big = run_cli({"cvt3d", cube.path, "--random", "20", "--density-file", huge.path});
+  CHECK(big.status == 1);
+  check_one_error_line(big);
+  CHECK(contains(big.err, huge.path + ":9: POINT_DATA 1073741824: the file has 4 values left"));
 }
 
 TEST_CASE("mesh2d --sizing: edge lengths follow h(x) (median ratio within 10 %)",

@@ -72,3 +72,34 @@ TEST_CASE("write_vtk writes a legacy unstructured grid", "[core]") {
   CHECK(s.find("POINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n") != std::string::npos);
   CHECK(s.find("CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n") != std::string::npos);
 }
+
+TEST_CASE("read_points and read_polygon read streams as files", "[core]") {
+  std::istringstream text("# header\n0 1 2\n3.5 -4e-3 0x1p-2\n"), json(" [[0, 1], [2.5, -3]]");
+  CHECK(voroclip::read_points(text, "t.txt", 3) == std::vector<double>{0, 1, 2, 3.5, -4e-3, 0.25});
+  CHECK(voroclip::read_points(json, "t.json", 2) == std::vector<double>{0, 1, 2.5, -3});
+  std::istringstream bad("0 1\n2\n");
+  CHECK_THROWS_WITH(voroclip::read_points(bad, "b.txt", 2),
+                    "b.txt:2: expected 2 coordinates, found 1");
+  std::istringstream ring("[[[0, 0], [1, 0], [0, 1]]]");
+  const voroclip::PolygonRings r = voroclip::read_polygon(ring, "r.json");
+  CHECK(r.source == "r.json");
+  CHECK(r.xy == std::vector<double>{0, 0, 1, 0, 0, 1});
+  CHECK(r.ring_begin == std::vector<std::uint32_t>{0, 3});
+  std::istringstream poly("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n");
+  CHECK(voroclip::read_polygon(poly, "p.poly").xy == std::vector<double>{0, 0, 1, 0, 0, 1});
+  std::istringstream any("[]");
+  CHECK_THROWS_WITH(voroclip::read_polygon(any, "p.txt"),
+                    "p.txt: unknown polygon format: expected a .json or a .poly file");
+}
+
+TEST_CASE("fuzz regression: a JSON number out of the range of a double", "[core][regression]") {
+  // fuzz_points: nlohmann::json reports a number overflow ('1e3080') with out_of_range,
+  // not parse_error, and it escaped read_points as an exception other than voroclip::Error.
+  const std::string path = std::string(VOROCLIP_SOURCE_DIR) +
+                           "/tests/core/fuzz_regressions/points_json_number_overflow.json";
+  for (const int dim : {2, 3}) {
+    CHECK(error_of(path, dim) == path +
+                                     ": not valid JSON: [json.exception.out_of_range.406] number "
+                                     "overflow parsing '1e3080'");
+  }
+}

@@ -391,3 +391,31 @@ TEST_CASE("tet_mesh_boundary is the source surface of every shared tet mesh", "[
   one.tets.insert(one.tets.end(), {1, 2, 3, 5});
   CHECK(voroclip::tet_mesh_boundary(one).nb_triangles() == 9);
 }
+
+TEST_CASE("read_surface from a stream reads what read_surface reads from the file", "[core]") {
+  const TriangleSurface s = voroclip::read_surface(kData + "/surfaces/sphere.obj");
+  const std::pair<SurfaceFormat, const char*> formats[] = {
+      {SurfaceFormat::kObj, "st.obj"},       {SurfaceFormat::kOff, "st.off"},
+      {SurfaceFormat::kPlyAscii, "sta.ply"}, {SurfaceFormat::kPlyBinary, "st.ply"},
+      {SurfaceFormat::kStlAscii, "sta.stl"}, {SurfaceFormat::kStlBinary, "st.stl"},
+  };
+  for (const auto& [format, name] : formats) {
+    INFO(name);
+    const std::string path = temp().file(name);
+    voroclip::write_surface(path, s, format);
+    std::ifstream file(path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << file.rdbuf();
+    std::istringstream in(bytes.str());
+    const TriangleSurface a = voroclip::read_surface(in, path);
+    const TriangleSurface b = voroclip::read_surface(path);
+    CHECK(a.source == b.source);
+    CHECK(a.xyz == b.xyz);
+    CHECK(a.triangles == b.triangles);
+    CHECK(a.triangle_line == b.triangle_line);
+    CHECK(a.triangle_face == b.triangle_face);
+  }
+  std::istringstream empty;
+  CHECK_THROWS_WITH(voroclip::read_surface(empty, "x.png"),
+                    "x.png: unknown surface format '.png': expected .obj, .off, .stl or .ply");
+}

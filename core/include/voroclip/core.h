@@ -49,6 +49,9 @@ void check_output_path(const std::string& path);
 /// a missing file, a value that is not a finite number, a wrong number of coordinates.
 std::vector<double> read_points(const std::string& path, int dimension);
 
+/// As read_points(path, dimension), from a stream; `name` stands for the file in messages.
+std::vector<double> read_points(std::istream& in, const std::string& name, int dimension);
+
 /// Writes a legacy ASCII VTK unstructured grid (readable by ParaView): the points (z = 0
 /// in 2D) and the cells, `vertices_per_cell` point indices each (3: triangles, 4:
 /// tetrahedra), with the cell index as cell data "cell_id".
@@ -116,6 +119,10 @@ struct PolygonRings {
 /// file, a value that is not a finite number, a wrong number of fields, a truncated file, a
 /// vertex index out of range, segments that do not form closed rings.
 PolygonRings read_polygon(const std::string& path);
+
+/// As read_polygon(path), from a stream: `name` stands for the file, in messages and in
+/// `source`, and its extension (.json or .poly) tells the format.
+PolygonRings read_polygon(std::istream& in, const std::string& name);
 
 /// An annulus centred at the origin: outer radius r_outer, inner r_inner, each circle a
 /// regular polygon with `segments` vertices, the first at angle 0; the outer ring runs
@@ -238,6 +245,16 @@ struct TetMeshInput {
 /// a size that the bytes after it cannot hold (checked before anything is allocated), a
 /// compressed block that does not inflate to the size its header gives.
 TetMeshInput read_tet_mesh(const std::string& path);
+
+/// As read_tet_mesh(path), from the bytes of a stream (read to its end): `name` stands
+/// for the file, in messages and in `source`, and its extension tells the format (.mesh,
+/// .msh, .vtk, .vtu). A TetGen mesh is several files: read_tetgen_mesh.
+TetMeshInput read_tet_mesh(std::istream& in, const std::string& name);
+
+/// A TetGen mesh from the streams of its .node and .ele files and, when `face` is not
+/// nullptr, its .face file; `base` names them ("base.node", ...) in messages.
+TetMeshInput read_tetgen_mesh(std::istream& node, std::istream& ele, std::istream* face,
+                              const std::string& base);
 
 /// Tetrahedral mesh file formats that write_tet_mesh can write. Every format keeps the
 /// triangles and the tags; only Gmsh keeps tag_names.
@@ -392,6 +409,10 @@ struct TriangleSurface {
 /// OFF/PLY, and the index as written), no triangles. Degenerate triangles (repeated or
 /// collinear vertices) are kept: a reader does not judge geometry.
 TriangleSurface read_surface(const std::string& path);
+
+/// As read_surface(path), from the bytes of a stream (read to its end): `name` stands for
+/// the file, in messages and in `source`, and its extension tells the format.
+TriangleSurface read_surface(std::istream& in, const std::string& name);
 
 /// Triangle surface formats that write_surface can write.
 enum class SurfaceFormat {
