@@ -293,7 +293,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"moves", r.perturbation.moves},
                          {"initial_slivers", r.perturbation.initial_slivers},
                          {"final_slivers", r.perturbation.final_slivers},
-                         {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg}};
+                         {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg},
+                         {"rerun_for_shape", r.perturbation_rerun},
+                         {"round_undone", r.perturbation.undone}};
     nlohmann::json seconds = {{"read", t_read}};
     for (int p = 0; p < kNbMesh3Phases; ++p)
       seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];

@@ -106,6 +106,22 @@ double integrate_over_volume(const Domain3& domain, const F& f) {
   return total * h * h * h;
 }
 
+// check_mesh3_shape of the mesh `tets` of `sites` (the sites no tet uses left out).
+std::string shape_of(const Domain3& domain, const std::vector<double>& sites,
+                     const std::vector<std::uint32_t>& tets) {
+  std::vector<std::uint32_t> index(sites.size() / 3, SurfaceTree::kNone), renumbered(tets.size());
+  std::vector<double> xyz;
+  for (std::size_t i = 0; i < tets.size(); ++i) {
+    std::uint32_t& v = index[tets[i]];
+    if (v == SurfaceTree::kNone) {
+      v = static_cast<std::uint32_t>(xyz.size() / 3);
+      xyz.insert(xyz.end(), &sites[3 * std::size_t{tets[i]}], &sites[3 * std::size_t{tets[i]}] + 3);
+    }
+    renumbered[i] = v;
+  }
+  return check_mesh3_shape(domain, xyz, renumbered);
+}
+
 }  // namespace
 
 bool Pipeline::notify(Mesh3Progress p) const {
@@ -312,9 +328,23 @@ void Pipeline::run() {
         if (triangle_patch[surface_tree.closest(q).triangle] != patches.patches[patches.begin[s]])
           project(s, k, &sites[3 * std::size_t{s}], q, d);
       };
+      const std::vector<double> unperturbed = sites;
       result.perturbation =
           perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
       if (result.perturbation.cancelled) throw Cancelled{};
+      if (result.perturbation.moves > 0 && !shape_of(domain, sites, tets).empty()) {
+        // The moves changed the boundary's topology (next to thin parts and knife edges a
+        // surface site's move can open or close a handle): again from the unperturbed sites,
+        // each round checked and the first one that breaks the shape undone.
+        sites = unperturbed;
+        po.keep_round = [this](const std::vector<double>& at, const std::vector<std::uint32_t>& t) {
+          return shape_of(domain, at, t).empty();
+        };
+        result.perturbation =
+            perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
+        if (result.perturbation.cancelled) throw Cancelled{};
+        result.perturbation_rerun = true;
+      }
     } else {
       const Delaunay3 dt(sites.data(), n);
       tets = extractor.extract(dt, eo, &result.extraction);

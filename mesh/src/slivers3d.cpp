@@ -393,8 +393,18 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
   std::vector<std::uint32_t> candidates, chosen, left, neighbors;
   std::vector<double> moved_to;
   std::vector<std::uint8_t> moved;
+  std::vector<double> before;  // the sites before the last round's moves (keep_round)
   for (std::uint32_t round = 0;; ++round) {
     build_state(g, extractor, sites, options.extraction, extraction);
+    bool just_undone = false;
+    if (round > 0 && options.keep_round && !options.keep_round(sites, g.tets)) {
+      // Undone; the rounds go on with the surface, feature and corner vertices fixed (their
+      // moves are the ones that can change the boundary), and stop at the next refusal.
+      sites.swap(before);
+      build_state(g, extractor, sites, options.extraction, extraction);
+      if (stats.undone) break;
+      stats.undone = just_undone = true;
+    }
     const std::size_t nt = g.q1.size();
     std::uint32_t nb_slivers = 0;
     double worst = 180;
@@ -402,7 +412,7 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
       nb_slivers += g.q1[t] < options.target_dihedral_deg ? 1 : 0;
       worst = std::min(worst, g.q1[t]);
     }
-    const bool stalled = round > 0 && nb_slivers >= stats.final_slivers &&
+    const bool stalled = round > 0 && !just_undone && nb_slivers >= stats.final_slivers &&
                          worst < stats.final_min_dihedral_deg + options.min_progress_deg;
     if (round == 0) {
       stats.initial_slivers = nb_slivers;
@@ -416,13 +426,15 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
       break;
     }
     ++stats.rounds;
+    if (options.keep_round) before = sites;
 
     // Movable vertices of slivers, worst first, processed in waves: each wave takes an
     // independent set of the vertices left (no two neighbours in this round's
     // triangulation), moves them in parallel, then the next wave sees the new positions.
     candidates.clear();
     for (std::uint32_t v = 0; v < n; ++v) {
-      if (g.vertex_q1[v] < options.target_dihedral_deg && kind(v) != Kind::kFixed) {
+      if (g.vertex_q1[v] < options.target_dihedral_deg && kind(v) != Kind::kFixed &&
+          (!stats.undone || kind(v) == Kind::kFree)) {
         candidates.push_back(v);
       }
     }

@@ -668,6 +668,12 @@ struct Perturb3Options {
   // Called before each round with the round, the number of slivers and the smallest
   // dihedral angle; return false to stop.
   std::function<bool(std::uint32_t, std::uint32_t, double)> progress;
+  // When set, called with the sites and the mesh extracted after each round of moves: false
+  // undoes that round (the sites go back, the mesh is extracted again; Perturb3Stats::undone);
+  // the rounds then go on with only free (interior) sites moving, and a second refusal ends
+  // them. mesh3d uses it to keep the domain's shape.
+  std::function<bool(const std::vector<double>& sites, const std::vector<std::uint32_t>& tets)>
+      keep_round;
 };
 
 struct Perturb3Stats {
@@ -676,6 +682,7 @@ struct Perturb3Stats {
   double initial_min_dihedral_deg = 0, final_min_dihedral_deg = 0;
   double seconds = 0;
   bool cancelled = false;
+  bool undone = false;  // a round was undone (Perturb3Options::keep_round)
 };
 
 // Moves the vertices of slivers of the mesh extracted from the sites' Delaunay
@@ -948,6 +955,10 @@ struct Mesh3Result {
   CvtResult unconstrained, constrained;
   Extract3Stats extraction;
   Perturb3Stats perturbation;
+  // The sliver moves changed the boundary's shape, so the perturbation ran again from the
+  // unperturbed sites with each round checked (check_mesh3_shape), the first round that
+  // broke the shape undone (perturbation.undone).
+  bool perturbation_rerun = false;
   TetQuality quality;
   // Q1 (the smallest dihedral angle, degrees) of the tets by how many of their vertices are
   // on the boundary (surface, feature or corner vertices): [0] all four, [1] three, [2] two
