@@ -54,7 +54,17 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw UsageError("--compress: only a .vtu output is compressed");
   }
   check_output_path(args.output);
-  if (args.vertices < 4) throw UsageError("--vertices: needs at least 4 vertices");
+  // --sizing / --sizing-file alone: h is the edge length in model units and the vertex
+  // count follows from it; with --vertices, h gives the shape and --vertices the count.
+  const bool sizing = !args.density.sizing.empty() || !args.density.sizing_file.empty();
+  if (!args.vertices_set && !sizing) {
+    throw UsageError(
+        "--vertices N is required (without it only --sizing or --sizing-file, "
+        "whose h is then the edge length in model units)");
+  }
+  if (args.vertices_set && args.vertices < 4) {
+    throw UsageError("--vertices: needs at least 4 vertices");
+  }
   if (!(args.feature_angle >= 0 && args.feature_angle <= 180)) {
     throw UsageError("--feature-angle: expected degrees in [0, 180], got " +
                      format_double(args.feature_angle));
@@ -80,7 +90,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (args.adaptive && args.density.given()) {
     throw UsageError("--adaptive and " + args.density.describe() + " exclude each other");
   }
-  o.density = make_density3(args.density, domain);
+  o.density = make_density3(args.density, domain, /*pointwise=*/true);
+  if (!args.vertices_set) o.edge_length = 1;  // h itself (rho = h^-5)
   o.features = !args.no_features;
   o.feature_angle_deg = args.feature_angle;
   o.seed = args.seed;
@@ -143,8 +154,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
               << " does not have its shape: " << r.shape_problem << '\n';
   }
   if (r.nb_topology_sites > 0 && out) {
-    *out << "note: " << r.nb_topology_sites << " sites added (" << args.vertices << " -> "
-         << r.nb_sites << ") where " << args.vertices
+    const std::uint32_t asked = r.nb_sites - r.nb_topology_sites;
+    *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
+         << ") where " << asked
          << " did not resolve the surface (restricted Voronoi cells not disks); "
             "--exact-vertices fails instead\n";
   }
