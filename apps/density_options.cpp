@@ -326,12 +326,19 @@ double trilinear(const Grid& g, const double* p) {
 // of buckets whose barycentric coordinates are the least negative, with the negative
 // coordinates set to 0 (so the value is a convex combination of vertex values: positive).
 // Which tet holds a point on a shared face does not matter: the interpolant is continuous.
+// The result is a function of the point, the vertices and the tets (in their order).
 class TetInterpolant {
  public:
   TetInterpolant(std::vector<double> xyz, std::vector<std::uint32_t> tets,
                  std::vector<double> values)
       : xyz_(std::move(xyz)), tets_(std::move(tets)), values_(std::move(values)) {
     const std::size_t nt = tets_.size() / 4;
+    // Each tet's vertices in increasing order: the same bits whatever the orientation the
+    // tet was listed with (Domain3 swaps two vertices of a negative tet).
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto first = tets_.begin() + static_cast<std::ptrdiff_t>(4 * t);
+      std::sort(first, first + 4);
+    }
     for (int c = 0; c < 3; ++c) {
       lo_[c] = std::numeric_limits<double>::infinity();
       double hi = -lo_[c];

@@ -496,7 +496,8 @@ TEST_CASE("cvt3d --density-file .vtu with point data: linear in its tets, exact 
                            "--density-file", file.path, "-o", out.path});
   REQUIRE(run.status == 0);
   double mass = 0;
-  for (const nlohmann::json& c : nlohmann::json::parse(slurp(out.path))["cells"]) {
+  const nlohmann::json cells = nlohmann::json::parse(slurp(out.path))["cells"];
+  for (const nlohmann::json& c : cells) {
     mass += c["mass"].get<double>();
   }
   CHECK(mass == Approx(linear_integral(m, values)).epsilon(1e-11));
