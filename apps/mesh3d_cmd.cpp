@@ -154,7 +154,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
               << " does not have its shape: " << r.shape_problem << '\n';
   }
   if (r.nb_topology_sites > 0 && out) {
-    const std::uint32_t asked = r.nb_sites - r.nb_topology_sites;
+    // --vertices, or (an absolute --sizing) the sites before the topology's.
+    const std::uint32_t asked =
+        args.vertices_set ? args.vertices : r.nb_sites - r.nb_topology_sites;
     *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
          << ") where " << asked
          << " did not resolve the surface (restricted Voronoi cells not disks); "
