@@ -179,6 +179,7 @@ struct Mesh3dArgs {
   bool exact_vertices = false;        // fail instead of adding the sites the topology needs
   bool allow_shape_mismatch = false;  // write a mesh whose boundary differs, with a warning
   std::uint32_t vertices = 10000;
+  bool vertices_set = false;  // --vertices given (else --sizing is absolute)
   bool adaptive = false;
   double feature_angle = 40;
   bool no_features = false;

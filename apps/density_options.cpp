@@ -10,6 +10,8 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -325,6 +327,191 @@ double trilinear(const Grid& g, const double* p) {
   return v;
 }
 
+// Values at the vertices of a tet mesh, interpolated linearly in the tet that holds a
+// point. The tet is found through a uniform grid of buckets, each listing the tets whose
+// bounding box meets it (about two tets per bucket). Outside every tet (the cones of the
+// cell integrals reach a little beyond the volume): the tet of the nearest non-empty ring
+// of buckets whose barycentric coordinates are the least negative, with the negative
+// coordinates set to 0 (so the value is a convex combination of vertex values: positive).
+// Which tet holds a point on a shared face does not matter: the interpolant is continuous.
+// The result is a function of the point, the vertices and the tets (in their order).
+class TetInterpolant {
+ public:
+  TetInterpolant(std::vector<double> xyz, std::vector<std::uint32_t> tets,
+                 std::vector<double> values)
+      : xyz_(std::move(xyz)), tets_(std::move(tets)), values_(std::move(values)) {
+    const std::size_t nt = tets_.size() / 4;
+    // Each tet's vertices in increasing order: the same bits whatever the orientation the
+    // tet was listed with (Domain3 swaps two vertices of a negative tet).
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto first = tets_.begin() + static_cast<std::ptrdiff_t>(4 * t);
+      std::sort(first, first + 4);
+    }
+    for (int c = 0; c < 3; ++c) {
+      lo_[c] = std::numeric_limits<double>::infinity();
+      double hi = -lo_[c];
+      for (std::size_t v = 0; v < xyz_.size() / 3; ++v) {
+        lo_[c] = std::min(lo_[c], xyz_[3 * v + c]);
+        hi = std::max(hi, xyz_[3 * v + c]);
+      }
+      extent_[c] = std::max(hi - lo_[c], 1e-300);
+    }
+    const double volume = extent_[0] * extent_[1] * extent_[2];
+    const double cell = std::cbrt(volume / std::max<double>(1, 0.5 * static_cast<double>(nt)));
+    for (int c = 0; c < 3; ++c) {
+      n_[c] = static_cast<std::uint32_t>(std::clamp(std::ceil(extent_[c] / cell), 1.0, 512.0));
+      scale_[c] = n_[c] / extent_[c];
+    }
+    // Two passes: counts, then the tets, bucket by bucket (CSR).
+    begin_.assign(std::size_t{n_[0]} * n_[1] * n_[2] + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<std::uint32_t> fill;
+      if (pass == 1) {
+        for (std::size_t b = 1; b < begin_.size(); ++b) begin_[b] += begin_[b - 1];
+        fill.assign(begin_.begin(), begin_.end() - 1);
+        list_.resize(begin_.back());
+      }
+      for (std::uint32_t t = 0; t < nt; ++t) {
+        std::uint32_t a[3], b[3];
+        for (int c = 0; c < 3; ++c) {
+          double mn = xyz_[3 * std::size_t{tets_[4 * t]} + c], mx = mn;
+          for (int k = 1; k < 4; ++k) {
+            const double x = xyz_[3 * std::size_t{tets_[4 * t + k]} + c];
+            mn = std::min(mn, x);
+            mx = std::max(mx, x);
+          }
+          a[c] = bucket(mn, c);
+          b[c] = bucket(mx, c);
+        }
+        for (std::uint32_t k = a[2]; k <= b[2]; ++k) {
+          for (std::uint32_t j = a[1]; j <= b[1]; ++j) {
+            for (std::uint32_t i = a[0]; i <= b[0]; ++i) {
+              const std::size_t id = (std::size_t{k} * n_[1] + j) * n_[0] + i;
+              if (pass == 0) {
+                ++begin_[id + 1];
+              } else {
+                list_[fill[id]++] = t;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+
+  double operator()(const double* p) const {
+    std::uint32_t b[3];
+    for (int c = 0; c < 3; ++c) b[c] = bucket(p[c], c);
+    const std::uint32_t reach = std::max({n_[0], n_[1], n_[2]});
+    for (std::uint32_t r = 0; r <= reach; ++r) {
+      double best_min = -std::numeric_limits<double>::infinity();
+      double best_value = 0;
+      bool any = false;
+      const auto range = [&](int c, std::uint32_t& first, std::uint32_t& last) {
+        first = b[c] >= r ? b[c] - r : 0;
+        last = std::min(b[c] + r, n_[c] - 1);
+      };
+      std::uint32_t f[3], l[3];
+      for (int c = 0; c < 3; ++c) range(c, f[c], l[c]);
+      for (std::uint32_t k = f[2]; k <= l[2]; ++k) {
+        for (std::uint32_t j = f[1]; j <= l[1]; ++j) {
+          for (std::uint32_t i = f[0]; i <= l[0]; ++i) {
+            // Only the ring at distance r (the inside was searched before).
+            const std::uint32_t d = std::max({dist(i, b[0]), dist(j, b[1]), dist(k, b[2])});
+            if (d != r) continue;
+            const std::size_t id = (std::size_t{k} * n_[1] + j) * n_[0] + i;
+            for (std::uint32_t q = begin_[id]; q < begin_[id + 1]; ++q) {
+              double w[4];
+              if (!barycentric(list_[q], p, w)) continue;
+              const double m = std::min({w[0], w[1], w[2], w[3]});
+              if (m >= 0) return interpolate(list_[q], w);
+              if (m > best_min) {
+                best_min = m;
+                for (double& x : w) x = std::max(x, 0.0);
+                const double s = (w[0] + w[1]) + (w[2] + w[3]);
+                for (double& x : w) x /= s;
+                best_value = interpolate(list_[q], w);
+              }
+              any = true;
+            }
+          }
+        }
+      }
+      if (any) return best_value;
+    }
+    return values_[0];  // (not reached: every tet is in some bucket)
+  }
+
+ private:
+  std::uint32_t bucket(double x, int c) const {
+    const double t = std::floor((x - lo_[c]) * scale_[c]);
+    return static_cast<std::uint32_t>(std::clamp(t, 0.0, n_[c] - 1.0));
+  }
+  static std::uint32_t dist(std::uint32_t a, std::uint32_t b) { return a > b ? a - b : b - a; }
+  const double* vertex(std::uint32_t t, int k) const {
+    return &xyz_[3 * std::size_t{tets_[4 * std::size_t{t} + static_cast<std::size_t>(k)]}];
+  }
+  static double det3(const double* a, const double* b, const double* c) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  // Barycentric coordinates of p in tet t (false: a flat tet).
+  bool barycentric(std::uint32_t t, const double* p, double* w) const {
+    const double* a = vertex(t, 0);
+    double e[3][3], q[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) e[k][c] = vertex(t, k + 1)[c] - a[c];
+    }
+    for (int c = 0; c < 3; ++c) q[c] = p[c] - a[c];
+    const double d = det3(e[0], e[1], e[2]);
+    if (d == 0 || !std::isfinite(d)) return false;
+    w[1] = det3(q, e[1], e[2]) / d;
+    w[2] = det3(e[0], q, e[2]) / d;
+    w[3] = det3(e[0], e[1], q) / d;
+    w[0] = 1 - (w[1] + w[2] + w[3]);
+    return true;
+  }
+  double interpolate(std::uint32_t t, const double* w) const {
+    double v = 0;
+    for (int k = 0; k < 4; ++k)
+      v += w[k] * values_[tets_[4 * std::size_t{t} + static_cast<std::size_t>(k)]];
+    return v;
+  }
+
+  std::vector<double> xyz_;
+  std::vector<std::uint32_t> tets_;
+  std::vector<double> values_;
+  double lo_[3], extent_[3], scale_[3];
+  std::uint32_t n_[3];
+  std::vector<std::uint32_t> begin_, list_;
+};
+
+// A .vtu's PointData as density values (rho, or rho = h^-5 of a sizing), checked: finite and
+// positive, an error naming the file, the DataArray's line and the point (VTK numbering).
+TetMeshInput read_vtu_values(const std::string& path, bool sizing) {
+  TetMeshInput m = read_tet_mesh(path);
+  if (m.point_data.empty()) {
+    throw Error(path + ": no PointData array of one component (one value per point)");
+  }
+  const std::string where = path + ":" + std::to_string(m.point_data_line) + ": PointData " +
+                            m.point_data_name + ": point ";
+  for (std::size_t v = 0; v < m.point_data.size(); ++v) {
+    double x = m.point_data[v];
+    if (!(x > 0) || !std::isfinite(x)) {
+      throw Error(where + std::to_string(v) + " (from 0): " + format_double(x) + ": a " +
+                  (sizing ? "size" : "density") + " must be finite and positive");
+    }
+    if (sizing) {
+      x = density_of_size(x, 3);
+      if (!std::isfinite(x)) {
+        throw Error(where + std::to_string(v) + " (from 0): h^-5 overflows");
+      }
+    }
+    m.point_data[v] = x;
+  }
+  return m;
+}
+
 }  // namespace
 
 std::string DensityArgs::describe() const {
@@ -340,7 +527,8 @@ void add_density_options(CLI::App* command, DensityArgs& args, int dimension, bo
   const std::string files = dimension == 2
                                 ? ".vtk STRUCTURED_POINTS grid (nx ny 1), linear per half square"
                                 : "Medit .sol (one value per vertex of the domain's tet mesh, "
-                                  "linear per tet) or .vtk STRUCTURED_POINTS grid (trilinear)";
+                                  "linear per tet), a .vtu with PointData (linear in its tets) "
+                                  "or a .vtk STRUCTURED_POINTS grid (trilinear)";
   CLI::Option* d =
       command
           ->add_option("--density", args.density,
@@ -358,8 +546,9 @@ void add_density_options(CLI::App* command, DensityArgs& args, int dimension, bo
                          ->add_option("--sizing", args.sizing,
                                       "Target edge length h as a formula in " + vars +
                                           " (as --density); the density is rho = h^-" + power +
-                                          " (only relative sizes matter: --vertices sets the "
-                                          "scale)")
+                                          "; alone, h is the edge length in model units and "
+                                          "the vertex count follows; with --vertices, h "
+                                          "gives the shape and --vertices the count")
                          ->type_name("EXPR");
     CLI::Option* sf =
         command
@@ -475,7 +664,7 @@ Density2 make_density2(const DensityArgs& args, const Domain2& domain) {
   return Density2{};
 }
 
-Density3 make_density3(const DensityArgs& args, const Domain3& domain) {
+Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool pointwise) {
   if (!args.density.empty() || !args.sizing.empty()) {
     const bool sizing = args.density.empty();
     auto f = std::make_shared<const FormulaDensity>(sizing ? args.sizing : args.density, 3, sizing);
@@ -492,9 +681,32 @@ Density3 make_density3(const DensityArgs& args, const Domain3& domain) {
     if (ext == ".sol") {
       if (!domain.has_tets()) {
         throw UsageError(option + ": a .sol gives values at the vertices of a tet mesh, and " +
-                         domain.source() + " is a surface; use a .vtk grid");
+                         domain.source() + " is a surface; use a .vtu or .vtk file");
       }
-      return Density3::vertex_linear(read_sol(path, sizing, domain.nb_vertices()));
+      std::vector<double> values = read_sol(path, sizing, domain.nb_vertices());
+      if (!pointwise) return Density3::vertex_linear(std::move(values));
+      std::vector<double> xyz(domain.vertex(0),
+                              domain.vertex(0) + 3 * std::size_t{domain.nb_vertices()});
+      std::vector<std::uint32_t> tets(4 * std::size_t{domain.nb_tets()});
+      for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+        for (int k = 0; k < 4; ++k)
+          tets[4 * std::size_t{t} + static_cast<std::size_t>(k)] = domain.tet_vertex(t, k);
+      }
+      auto f = std::make_shared<const TetInterpolant>(std::move(xyz), std::move(tets),
+                                                      std::move(values));
+      return Density3::function([f](double x, double y, double z) {
+        const double p[3] = {x, y, z};
+        return (*f)(p);
+      });
+    }
+    if (ext == ".vtu") {
+      TetMeshInput m = read_vtu_values(path, sizing);
+      auto f = std::make_shared<const TetInterpolant>(std::move(m.xyz), std::move(m.tets),
+                                                      std::move(m.point_data));
+      return Density3::function([f](double x, double y, double z) {
+        const double p[3] = {x, y, z};
+        return (*f)(p);
+      });
     }
     if (ext == ".vtk") {
       auto g = std::make_shared<const Grid>(read_vtk_grid(path, sizing, 3));
@@ -504,7 +716,8 @@ Density3 make_density3(const DensityArgs& args, const Domain3& domain) {
       });
     }
     throw UsageError(option +
-                     ": expected a Medit .sol or a legacy .vtk STRUCTURED_POINTS grid, got '" +
+                     ": expected a Medit .sol, a .vtu with PointData or a legacy .vtk "
+                     "STRUCTURED_POINTS grid, got '" +
                      path + "'");
   }
   return Density3{};

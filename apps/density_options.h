@@ -71,8 +71,11 @@ Density2 make_density2(const DensityArgs& args, const Domain2& domain);
 
 /// The density of a 3D command, as make_density2 with rho = h^-5. Files: a Medit .sol
 /// with one scalar per vertex of the domain's tet mesh (Density3::vertex_linear: linear on
-/// each tet; a sizing is turned into rho at the vertices first), or a .vtk
-/// STRUCTURED_POINTS grid (trilinear in each grid cell, clamped outside the grid).
-Density3 make_density3(const DensityArgs& args, const Domain3& domain);
+/// each tet; a sizing is turned into rho at the vertices first; with `pointwise`, the same
+/// interpolant as a function, for mesh3d, which needs one), a .vtu with a PointData array
+/// (a function: linear in the .vtu's tet that holds the point, the nearest tet's clamped
+/// interpolant outside them), or a .vtk STRUCTURED_POINTS grid (trilinear in each grid
+/// cell, clamped outside the grid).
+Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool pointwise = false);
 
 }  // namespace voroclip::cli

@@ -403,8 +403,11 @@ int main(int argc, char** argv) {
                    "Write the mesh even when its boundary does not have the domain's shape "
                    "(another number of shells or genus), with a warning; by default that is an "
                    "error and no file is written");
-  mesh3d->add_option("--vertices", mesh3d_args.vertices, "Number of vertices (sites) wanted")
-      ->required()
+  mesh3d
+      ->add_option("--vertices", mesh3d_args.vertices,
+                   "Number of vertices (sites) wanted; required except with --sizing or "
+                   "--sizing-file alone, whose h is then the edge length in model units (with "
+                   "--vertices, h gives only the shape and N the count)")
       ->type_name("N");
   mesh3d->add_flag("--adaptive", mesh3d_args.adaptive,
                    "Size the elements by the local feature size of the boundary (density "
@@ -521,7 +524,10 @@ int main(int argc, char** argv) {
     } else if (*predicate) {
       voroclip::cli::run_predicate(predicate_args, global);
     }
-    if (*mesh3d) voroclip::cli::run_mesh3d(mesh3d_args, global);
+    if (*mesh3d) {
+      mesh3d_args.vertices_set = mesh3d->get_option("--vertices")->count() > 0;
+      voroclip::cli::run_mesh3d(mesh3d_args, global);
+    }
     if (*check_surface) voroclip::cli::run_check_surface(check_args, global);
     if (*quality) {
       quality_args.samples_set = quality->get_option("--samples")->count() > 0;

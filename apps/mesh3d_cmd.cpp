@@ -54,7 +54,17 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw UsageError("--compress: only a .vtu output is compressed");
   }
   check_output_path(args.output);
-  if (args.vertices < 4) throw UsageError("--vertices: needs at least 4 vertices");
+  // --sizing / --sizing-file alone: h is the edge length in model units and the vertex
+  // count follows from it; with --vertices, h gives the shape and --vertices the count.
+  const bool sizing = !args.density.sizing.empty() || !args.density.sizing_file.empty();
+  if (!args.vertices_set && !sizing) {
+    throw UsageError(
+        "--vertices N is required (without it only --sizing or --sizing-file, "
+        "whose h is then the edge length in model units)");
+  }
+  if (args.vertices_set && args.vertices < 4) {
+    throw UsageError("--vertices: needs at least 4 vertices");
+  }
   if (!(args.feature_angle >= 0 && args.feature_angle <= 180)) {
     throw UsageError("--feature-angle: expected degrees in [0, 180], got " +
                      format_double(args.feature_angle));
@@ -80,7 +90,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (args.adaptive && args.density.given()) {
     throw UsageError("--adaptive and " + args.density.describe() + " exclude each other");
   }
-  o.density = make_density3(args.density, domain);
+  o.density = make_density3(args.density, domain, /*pointwise=*/true);
+  if (!args.vertices_set) o.edge_length = 1;  // h itself (rho = h^-5)
   o.features = !args.no_features;
   o.feature_angle_deg = args.feature_angle;
   o.seed = args.seed;
@@ -152,8 +163,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
               << " does not have its shape: " << r.shape_problem << '\n';
   }
   if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
-    *out << "note: " << args.vertices << " vertices gave a mesh without the domain's shape ("
-         << r.raised_because << "); meshed again with " << (args.vertices << r.shape_retries)
+    *out << "note: " << r.requested_vertices << " vertices gave a mesh without the domain's shape ("
+         << r.raised_because << "); meshed again with " << (r.requested_vertices << r.shape_retries)
          << " vertices (" << count_of(r.shape_retries, "run")
          << " with twice the vertices), which has it; --exact-vertices fails instead\n";
   }

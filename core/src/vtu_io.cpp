@@ -430,6 +430,23 @@ class VtuReader {
       }
     }
     if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10)");
+    // PointData: the active scalars, else the first array of one component.
+    if (const XmlElement* pd = find("PointData"); pd != nullptr) {
+      const std::string* active = pd->attribute("Scalars");
+      const XmlElement* chosen = active ? array_in("PointData", active->c_str()) : nullptr;
+      for (const XmlElement& e : elements_) {
+        if (chosen != nullptr) break;
+        if (e.name != "DataArray" || e.parent != "PointData") continue;
+        const std::string* nc = e.attribute("NumberOfComponents");
+        if (nc == nullptr || *nc == "1") chosen = &e;
+      }
+      if (chosen != nullptr) {
+        mesh.point_data = values(*chosen, nb_points, 1);
+        const std::string* name = chosen->attribute("Name");
+        mesh.point_data_name = name ? *name : std::string();
+        mesh.point_data_line = chosen->line;
+      }
+    }
     mesh.tet_noun = "cell";
     mesh.numbering = "VTK numbering, from 0";
     return mesh;

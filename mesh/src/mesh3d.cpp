@@ -444,6 +444,38 @@ TriangleSurface boundary_surface(const Domain3& domain) {
   return s;
 }
 Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
+  if (options.edge_length != 0) {
+    // An absolute size: the vertex count it takes, then the run with that count.
+    if (!(options.edge_length > 0) || !std::isfinite(options.edge_length)) {
+      throw Error("mesh3d: edge length " + std::to_string(options.edge_length) +
+                  "; expected a positive number");
+    }
+    if (options.adaptive)
+      throw Error("mesh3d: an absolute edge length and adaptive sizing exclude each other");
+    if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
+    const Density3& rho = options.density;
+    double integral = domain.volume();
+    if (!rho.is_constant()) {
+      if (rho.kind != Density3::Kind::kCallback || !rho.callback) {
+        throw Error(
+            "mesh3d: the density must be a function (a density linear per tet is not supported "
+            "here)");
+      }
+      integral = mesh3::integrate_over_volume(domain, [&rho](const double* p) {
+        return std::pow(rho.callback(p[0], p[1], p[2]), 0.6);
+      });
+    }
+    const double h = options.edge_length;
+    const double n = std::round(kMesh3VerticesPerEdgeVolume * integral / (h * h * h));
+    if (!(n <= 2e9)) {
+      throw Error("mesh3d: the edge length asks for " + std::to_string(n) +
+                  " vertices; at most 2e9");
+    }
+    Mesh3Options o = options;
+    o.edge_length = 0;
+    o.nb_vertices = static_cast<std::uint32_t>(std::max(4.0, n));
+    return mesh3d(domain, o);
+  }
   if (options.nb_vertices < 4) {
     throw Error("mesh3d: " + std::to_string(options.nb_vertices) + " vertices; need at least 4");
   }

@@ -432,3 +432,188 @@ TEST_CASE("mesh3d --sizing-file: edge lengths follow h(x) (median ratio within 1
     CHECK(std::fabs(median(slab[s]) / global - 1) <= 0.1);
   }
 }
+
+namespace {
+
+// An ASCII .vtu of mesh m's tets with one PointData array `rho` (values), and the exact
+// integral of a function linear per tet with those values at the vertices.
+std::string vtu_with_point_data(const voroclip::TetMeshInput& m,
+                                const std::vector<double>& values) {
+  std::ostringstream s;
+  s << std::setprecision(17) << "<?xml version=\"1.0\"?>\n"
+    << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+    << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << m.nb_vertices() << "\" NumberOfCells=\""
+    << m.nb_tets() << "\">\n<PointData Scalars=\"rho\">\n"
+    << "<DataArray type=\"Float64\" Name=\"rho\" format=\"ascii\">\n";
+  for (const double v : values) s << v << '\n';
+  s << "</DataArray>\n</PointData>\n<Points>\n"
+    << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const double x : m.xyz) s << x << '\n';
+  s << "</DataArray>\n</Points>\n<Cells>\n"
+    << "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (const std::uint32_t v : m.tets) s << v << '\n';
+  s << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::uint32_t t = 1; t <= m.nb_tets(); ++t) s << 4 * t << '\n';
+  s << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::uint32_t t = 0; t < m.nb_tets(); ++t) s << "10\n";
+  s << "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  return s.str();
+}
+
+double linear_integral(const voroclip::TetMeshInput& m, const std::vector<double>& values) {
+  double exact = 0;
+  for (std::uint32_t t = 0; t < m.nb_tets(); ++t) {
+    const double* p[4];
+    double mean = 0;
+    for (int k = 0; k < 4; ++k) {
+      p[k] = &m.xyz[3 * std::size_t{m.tets[4 * t + k]}];
+      mean += values[m.tets[4 * t + k]] / 4;
+    }
+    double e[3][3];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) e[k][c] = p[k + 1][c] - p[0][c];
+    }
+    const double vol = std::fabs(e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                                 e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                                 e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+                       6;
+    exact += vol * mean;
+  }
+  return exact;
+}
+
+}  // namespace
+
+TEST_CASE("cvt3d --density-file .vtu with point data: linear in its tets, exact mass",
+          "[apps][density]") {
+  // rho = 2 + x + 0.5 y at the vertices of sphere.mesh (a convex polyhedron: every cone of
+  // the cell integrals stays in its tets), given as a .vtu over that mesh, on the same
+  // domain: the interpolant is the linear function itself, which the degree-5 rule
+  // integrates exactly.
+  const std::string mesh = kData + "/tetmeshes/sphere.mesh";
+  const voroclip::TetMeshInput m = voroclip::read_tet_mesh(mesh);
+  std::vector<double> values(m.nb_vertices());
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    values[v] = 2 + m.xyz[3 * v] + 0.5 * m.xyz[3 * v + 1];
+  }
+  const TempFile file(".vtu", vtu_with_point_data(m, values));
+  const voroclip::TetMeshInput back = voroclip::read_tet_mesh(file.path);
+  CHECK(back.point_data == values);
+  CHECK(back.point_data_name == "rho");
+  const TempFile out(".json");
+  const Run run = run_cli({"-q", "cvt3d", mesh, "--random", "200", "--iterations", "3",
+                           "--density-file", file.path, "-o", out.path});
+  REQUIRE(run.status == 0);
+  double mass = 0;
+  const nlohmann::json cells = nlohmann::json::parse(slurp(out.path))["cells"];
+  for (const nlohmann::json& c : cells) {
+    mass += c["mass"].get<double>();
+  }
+  CHECK(mass == Approx(linear_integral(m, values)).epsilon(1e-11));
+
+  // A value that is not positive: the file, the DataArray's line, the point (from 0).
+  std::vector<double> bad_values = values;
+  bad_values[7] = -1;
+  const TempFile bad(".vtu", vtu_with_point_data(m, bad_values));
+  const TempFile none(".json");
+  const Run r1 =
+      run_cli({"cvt3d", mesh, "--random", "20", "--density-file", bad.path, "-o", none.path});
+  CHECK(r1.status == 1);
+  check_one_error_line(r1);
+  CHECK(contains(r1.err, bad.path + ":6: PointData rho: point 7 (from 0): -1"));
+  CHECK(!exists(none.path));
+  // A .vtu without point data.
+  std::string text = vtu_with_point_data(m, values);
+  text.erase(text.find("<PointData"), text.find("<Points>") - text.find("<PointData"));
+  const TempFile empty(".vtu", text);
+  const Run r3 =
+      run_cli({"cvt3d", mesh, "--random", "20", "--density-file", empty.path, "-o", none.path});
+  CHECK(r3.status == 1);
+  check_one_error_line(r3);
+  CHECK(contains(r3.err, empty.path + ": no PointData array"));
+  CHECK(!exists(none.path));
+}
+
+TEST_CASE("mesh3d --sizing-file .sol and .vtu: h at the vertices of a tet mesh",
+          "[apps][density]") {
+  // h = 0.25 + 0.1 x at the vertices of sphere.mesh, as a .sol (the domain's own vertices)
+  // and as a .vtu, absolute (no --vertices): both give the same mesh (the same interpolant).
+  // A .sol on a surface domain is refused, naming the option.
+  const std::string mesh = kData + "/tetmeshes/sphere.mesh";
+  const voroclip::TetMeshInput m = voroclip::read_tet_mesh(mesh);
+  std::vector<double> h(m.nb_vertices());
+  std::ostringstream sol;
+  sol << std::setprecision(17) << "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n"
+      << m.nb_vertices() << "\n1 1\n";
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    h[v] = 0.25 + 0.1 * m.xyz[3 * v];
+    sol << h[v] << '\n';
+  }
+  sol << "End\n";
+  const TempFile sol_file(".sol", sol.str());
+  const TempFile vtu_file(".vtu", vtu_with_point_data(m, h));
+  const TempFile a(".mesh"), b(".mesh");
+  const Run ra = run_cli({"-q", "mesh3d", mesh, "--sizing-file", sol_file.path, "-o", a.path});
+  REQUIRE(ra.status == 0);
+  const Run rb = run_cli({"-q", "mesh3d", mesh, "--sizing-file", vtu_file.path, "-o", b.path});
+  REQUIRE(rb.status == 0);
+  const voroclip::TetMeshInput ma = voroclip::read_tet_mesh(a.path);
+  CHECK(ma.nb_tets() > 500);
+  CHECK(slurp(a.path) == slurp(b.path));
+  const TempFile none(".mesh");
+  const Run bad = run_cli(
+      {"mesh3d", kData + "/surfaces/sphere.obj", "--sizing-file", sol_file.path, "-o", none.path});
+  CHECK(bad.status != 0);
+  check_one_error_line(bad);
+  CHECK(contains(bad.err, "--sizing-file: a .sol gives values at the vertices of a tet mesh"));
+  CHECK(!exists(none.path));
+  // Without --vertices, --density (no unit) is refused.
+  const Run no_count = run_cli({"mesh3d", mesh, "--density", "1+x^2", "-o", none.path});
+  CHECK(no_count.status != 0);
+  CHECK(contains(no_count.err, "--vertices N is required"));
+}
+
+TEST_CASE("mesh3d --sizing alone: h is the edge length (median ratio within 10 %)",
+          "[apps][density]") {
+  // h = 0.1 + 0.12 (x + 1) on the unit sphere, in model units, no --vertices: the median of
+  // |e| / h(midpoint of e) over all edges, and in four slabs along x, each within 10 % of 1.
+  const TempFile mesh(".mesh");
+  const Run run = run_cli({"-q", "mesh3d", kData + "/surfaces/sphere.obj", "--sizing",
+                           "0.1 + 0.12*(x + 1)", "-o", mesh.path});
+  REQUIRE(run.status == 0);
+  const voroclip::TetMeshInput m = voroclip::read_tet_mesh(mesh.path);
+  REQUIRE(m.nb_tets() > 3000);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::uint32_t t = 0; t < m.nb_tets(); ++t) {
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a + 1; b < 4; ++b) {
+        const std::uint32_t u = m.tets[4 * t + a], v = m.tets[4 * t + b];
+        edges.emplace_back(std::min(u, v), std::max(u, v));
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<double> all, slab[4];
+  for (const auto& [u, v] : edges) {
+    const double* p = &m.xyz[3 * std::size_t{u}];
+    const double* q = &m.xyz[3 * std::size_t{v}];
+    const double mx = 0.5 * (p[0] + q[0]);
+    const double len = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                 (p[2] - q[2]) * (p[2] - q[2]));
+    const double r = len / (0.1 + 0.12 * (mx + 1));
+    all.push_back(r);
+    slab[std::clamp(static_cast<int>((mx + 1) * 2), 0, 3)].push_back(r);
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  INFO(m.nb_vertices() << " vertices, " << edges.size() << " edges, median ratio " << median(all));
+  CHECK(std::fabs(median(all) - 1) <= 0.1);
+  for (int s = 0; s < 4; ++s) {
+    REQUIRE(slab[s].size() > 100);
+    INFO("slab " << s << ": " << slab[s].size() << " edges, median ratio " << median(slab[s]));
+    CHECK(std::fabs(median(slab[s]) - 1) <= 0.1);
+  }
+}

@@ -234,16 +234,37 @@ namespace {
 
 // Gersho's asymptotics: a CVT of density rho has about rho^(d/(d+2)) sites per unit
 // volume. From uniform random sites in the unit square or cube, the L-BFGS CVT with
-// rho = 1 + 10x must move them there: the share of sites in each of five slabs along x
-// against the share of the integral of (1 + 10x)^(d/(d+2)), within 5 %. The uniform start
-// is far from it (the check can fail): its first slab holds 20 % of the sites against
-// the asymptotics' 9.7 % (2D) or 9.0 % (3D).
-void check_site_density(int d, std::uint32_t n, std::uint32_t iterations) {
+// rho = 1 + 10x must move them there: the share of sites in each of `slabs` slabs along x
+// against the share of the integral of (1 + 10x)^(d/(d+2)), within `tolerance`. The uniform
+// start is far from it (the check can fail): its first slab holds 1.27 (3D, window
+// [0.2, 0.8]) to 2.2 (2D, whole square) times the asymptotics' share.
+//
+// The asymptotics are those of the bulk: within about a cell's diameter of the boundary a
+// CVT's cells are cut by it, and the site density there is not rho^(d/(d+2)) (a cut cell
+// is flatter than a bulk cell and its site sits nearer the boundary, so more sites fit
+// there per unit volume). The law is therefore checked in the interior window
+// [margin, 1 - margin]^d, cut into `slabs` slabs along x; margin 0 counts the whole domain.
+// In the window the extent across x is the same for every slab, so the expected share of a
+// slab is the integral of (1 + 10x)^(d/(d+2)) over its x-range against the window's.
+// The margin is set to about 1.5 cell spacings where the cells are largest (x = 0, rho = 1:
+// spacing (n rho^(3/5) / integral of rho^(3/5))^(-1/3), 0.066 for 10^4 sites in 3D, 0.11
+// for 2000).
+struct SiteDensityCheck {
+  int d = 2;
+  std::uint32_t n = 2000, iterations = 150;
+  double margin = 0, tolerance = 0.05;
+  int slabs = 5;
+};
+
+void check_site_density(const SiteDensityCheck& c) {
+  const int d = c.d;
+  const std::uint32_t n = c.n;
   const double power = d / (d + 2.0);
   const auto primitive = [&](double x) {
     return std::pow(1 + 10 * x, power + 1) / (10 * (power + 1));
   };
-  const double whole = primitive(1) - primitive(0);
+  const double lo = c.margin, hi = 1 - c.margin;
+  const double whole = primitive(hi) - primitive(lo);
   std::vector<double> sites;
   voroclip::CvtResult r;
   if (d == 2) {
@@ -257,33 +278,49 @@ void check_site_density(int d, std::uint32_t n, std::uint32_t iterations) {
   if (d == 2) {
     voroclip::Cvt2Options o;
     o.density = voroclip::Density2::function([](double x, double) { return 1 + 10 * x; });
-    o.max_iterations = iterations;
+    o.max_iterations = c.iterations;
     o.gradient_tolerance = 1e-6;
     r = voroclip::optimize_cvt2(unit_square(), sites, o);
   } else {
     voroclip::Cvt3Options o;
     o.clip.density =
         voroclip::Density3::function([](double x, double, double) { return 1 + 10 * x; });
-    o.max_iterations = iterations;
+    o.max_iterations = c.iterations;
     o.gradient_tolerance = 1e-6;
     r = voroclip::optimize_cvt3(unit_cube(), sites, o);
   }
   INFO(d << "D, " << n << " sites, " << r.iterations << " iterations, |g|/|g0| "
          << r.gradient_norm / r.initial_gradient_norm << ", stop "
-         << voroclip::cvt_stop_name(r.stop));
-  for (int s = 0; s < 5; ++s) {
-    const double a = 0.2 * s, b = 0.2 * (s + 1);
-    std::uint32_t count = 0, count0 = 0;
+         << voroclip::cvt_stop_name(r.stop) << ", window [" << lo << ", " << hi << "]");
+  // Sites in the window (every coordinate in [lo, hi)), by slab along x.
+  const auto count_slabs = [&](const std::vector<double>& xs) {
+    std::vector<std::uint32_t> count(static_cast<std::size_t>(c.slabs), 0);
+    std::uint32_t inside = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
-      count +=
-          sites[static_cast<std::size_t>(d) * i] >= a && sites[static_cast<std::size_t>(d) * i] < b;
-      count0 +=
-          start[static_cast<std::size_t>(d) * i] >= a && start[static_cast<std::size_t>(d) * i] < b;
+      const double* p = &xs[static_cast<std::size_t>(d) * i];
+      bool in = true;
+      for (int k = 0; k < d; ++k) in = in && p[k] >= lo && p[k] < hi;
+      if (!in) continue;
+      ++inside;
+      const auto s = static_cast<std::size_t>(
+          std::min<double>(c.slabs - 1, std::floor((p[0] - lo) / (hi - lo) * c.slabs)));
+      ++count[s];
     }
-    const double expected = n * (primitive(b) - primitive(a)) / whole;
-    INFO("slab " << s << ": " << count << " sites (start " << count0 << "), expected " << expected);
-    CHECK(std::fabs(count - expected) <= 0.05 * expected);
-    if (s == 0) CHECK(count0 > 1.5 * expected);
+    return std::make_pair(count, inside);
+  };
+  const auto [count, inside] = count_slabs(sites);
+  const auto [count0, inside0] = count_slabs(start);
+  for (int s = 0; s < c.slabs; ++s) {
+    const double a = lo + (hi - lo) * s / c.slabs, b = lo + (hi - lo) * (s + 1) / c.slabs;
+    const double share = (primitive(b) - primitive(a)) / whole;
+    const double expected = inside * share;
+    const auto k = static_cast<std::size_t>(s);
+    INFO("slab " << s << " [" << a << ", " << b << "): " << count[k] << " of " << inside
+                 << " sites (start " << count0[k] << " of " << inside0 << "), expected " << expected
+                 << ", ratio " << count[k] / expected);
+    CHECK(std::fabs(count[k] - expected) <= c.tolerance * expected);
+    // The uniform start misses the first slab's share by more than three tolerances.
+    if (s == 0) CHECK(count0[k] > (1 + 3 * c.tolerance) * inside0 * share);
   }
 }
 
@@ -292,22 +329,33 @@ void check_site_density(int d, std::uint32_t n, std::uint32_t iterations) {
 TEST_CASE("density: 2D CVT sites follow rho^(1/2) within 5 % (rho = 1 + 10x)", "[cvt][density]") {
   // 2000 sites keep the test short; the hidden [.slow] case runs 10^4 in 2D and 3D.
   // Measured (2D, 10^4 sites, converged at |g|/|g0| 1e-6 after 874 iterations): slabs
-  // within 1.2 % of the asymptotics. In 3D the test-sized runs are not there yet (3000
-  // sites, 120 iterations: slab 3 holds 5.5 % fewer sites than the asymptotics).
-  check_site_density(2, 2000, 150);
+  // within 1.2 % of the asymptotics over the whole square.
+  check_site_density({2, 2000, 150, 0.0, 0.05, 5});
 }
 
 TEST_CASE("density: 10^4 CVT sites in 2D follow rho^(1/2) within 5 %", "[cvt][density][.slow]") {
-  check_site_density(2, 10000, 1500);
+  check_site_density({2, 10000, 1500, 0.0, 0.05, 5});
 }
 
-TEST_CASE("density: 10^4 CVT sites in 3D follow rho^(3/5) within 5 %",
+TEST_CASE("density: 3D CVT sites follow rho^(3/5) within 7 % in the interior", "[cvt][density]") {
+  // 2000 sites, 150 iterations (|g|/|g0| 1.3e-3; 5 s on one busy core): 421 sites in the
+  // window [0.2, 0.8]^3, 110-170 per slab, where one site is 0.6-0.9 %. Measured ratios to
+  // the asymptotics 1.028, 0.953, 1.021 (the start's first slab: 1.42), hence 7 % here;
+  // the hidden case below checks 5 % with 10^4 sites.
+  check_site_density({3, 2000, 150, 0.2, 0.07, 3});
+}
+
+TEST_CASE("density: 10^4 CVT sites in 3D follow rho^(3/5) within 5 % in the interior",
           "[cvt][density][.slow][!mayfail]") {
-  // Measured at this commit (300 iterations, |g|/|g0| 1.9e-3, about 3 minutes on 2 busy
-  // cores): slabs 1-4 within 2.7 %, slab 0 (against the face x = 0, where rho is least)
-  // 5.3 % above: the asymptotics hold in the interior; the boundary layer of a 10^4-site
-  // CVT is still a tenth of that slab.
-  check_site_density(3, 10000, 300);
+  // Over the whole cube (300 iterations, |g|/|g0| 1.9e-3): slabs 1-4 within 2.7 %, slab 0
+  // (x in [0, 0.2), against the face x = 0, where rho is least and the cells largest) 5.3 %
+  // above. In the window [0.1, 0.9]^3 (this check; 301 iterations, |g|/|g0| 1.9e-3, 6 min
+  // on 2 cores under load): 5157 sites, ratios 0.995, 1.062, 1.029, 0.934 in the four
+  // slabs: the boundary layer is gone from slab 0, but slabs 1 and 3 miss by 6 %, the
+  // shape of sites still moving from low x (where the uniform start put too many) to high
+  // x: the iteration budget, not the boundary, limits this check. Still failing (mayfail)
+  // until it runs to convergence.
+  check_site_density({3, 10000, 300, 0.1, 0.05, 4});
 }
 
 TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density)",

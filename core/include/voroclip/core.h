@@ -189,6 +189,13 @@ struct TetMeshInput {
   std::vector<std::uint64_t> vertex_label;  // per vertex (empty: v + vertex_base)
   std::string numbering;                    // empty: "numbered from 0"
 
+  /// One scalar per vertex, from a .vtu's PointData (the array its Scalars attribute names,
+  /// else its first array of one component); empty for the other formats and without one.
+  /// point_data_name is the array's Name, point_data_line the line of its DataArray.
+  std::vector<double> point_data;
+  std::string point_data_name;
+  std::uint32_t point_data_line = 0;
+
   std::uint32_t nb_vertices() const { return static_cast<std::uint32_t>(xyz.size() / 3); }
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
   std::uint32_t nb_triangles() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
@@ -231,7 +238,7 @@ struct TetMeshInput {
 ///                  appended (base64 or raw), UInt32 or UInt64 headers, either byte order,
 ///                  uncompressed or zlib-compressed (compressor="vtkZLibDataCompressor";
 ///                  LZ4 and LZMA are rejected); tet_line is the line of the connectivity
-///                  array.
+///                  array; PointData: one scalar array into point_data (see there).
 /// Binary Medit files (.meshb) are rejected. Vertices keep the file's order (Gmsh: the
 /// order of $Nodes), tetrahedra and triangles the file's order and orientation; tet_line is
 /// 0 in binary .msh and .vtk files.

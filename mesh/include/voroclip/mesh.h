@@ -843,6 +843,14 @@ enum class Mesh3Sampling : std::uint8_t {
   kRandom,   // random_points3 with the density
 };
 
+// Vertices per volume h^3 of a mesh3d mesh whose median edge length is h: N L^3 / V
+// measured on the shared models (L the median edge length, interior and boundary edges):
+// sphere.obj uniform 1.77 at 3000 vertices, 1.62 at 10^4; fandisk.obj uniform 1.97 at
+// 5000; graded (h = 0.1 + 0.12 (x + 1) on the sphere, 0.15 + 0.1 |z| on fandisk, about
+// 1000 and 3500 vertices) 2.0 and 1.9. With 1.9 the median of |e| / h is within 5 % of 1
+// on all of them (tests/apps/test_cli_density.cpp checks the sphere's graded case).
+inline constexpr double kMesh3VerticesPerEdgeVolume = 1.9;
+
 struct Mesh3Options {
   // Number of sites (about the number of vertices of the result: plus one site per
   // feature corner without a site nearby, minus the sites no tet uses).
@@ -854,6 +862,11 @@ struct Mesh3Options {
   // rho^(-1/5) (rho = h^-5), scaled so that about nb_vertices sites fill the volume; the
   // sites are then drawn with density rho^(3/5), a CVT's (random_points3), not on the lattice.
   Density3 density;
+  // > 0: the target edge length is absolute, h(x) = edge_length * rho(x)^(-1/5) in model
+  // units (edge_length itself for a constant density), and nb_vertices is replaced by the
+  // count that gives it: kMesh3VerticesPerEdgeVolume * integral of h^-3 over the volume
+  // (not with adaptive). 0: h's shape only, scaled to nb_vertices.
+  double edge_length = 0;
   // Sharp features: an edge is sharp when its triangles' normals differ by more than this
   // (extract_feature_lines). features = false: the surface alone.
   bool features = true;
