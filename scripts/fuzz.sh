@@ -36,6 +36,7 @@ fuzz_polygon   65536 polygon polygons/valid/*.json polygons/degenerate/*.json te
 fuzz_points    16384 points  -
 fuzz_surface3  4096  -       -
 fuzz_domain2   4096  -       -
+fuzz_sites     1024  -       -
 "
 
 targets() { awk 'NF { print $1 }' <<<"$table"; }

@@ -14,8 +14,9 @@ packages=(
   libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev liblbfgspp-dev zlib1g-dev libmuparser-dev
   catch2 libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev voro++-dev
   clang-format
-  # The fuzz targets (fuzz/, scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes.
-  clang libclang-rt-dev
+  # The TSan stage of scripts/test.sh and the fuzz targets: clang with its sanitizer runtimes
+  # and libFuzzer; dpkg-dev for scripts/tsan_tbb.sh's `apt-get source`.
+  clang libclang-rt-dev dpkg-dev
   python3-meshio python3-gmsh
   # The Python package (python/): pybind11 and numpy to build it, pytest, scipy and
   # matplotlib for its tests and examples, pip and setuptools for `pip install .`.

@@ -47,8 +47,6 @@ namespace voroclip {
 
 namespace {
 
-constexpr std::uint32_t kNone = Domain3::kNone;
-
 using detail::FirstError;
 using detail::Keyed;
 using detail::point;

@@ -45,12 +45,6 @@ using detail::FirstError;
 using detail::Keyed;
 using detail::point;
 
-namespace {
-
-constexpr std::uint32_t kNone = Surface3::kNone;
-
-}  // namespace
-
 std::string Surface3::triangle_name(std::uint32_t t) const {
   const std::uint32_t line = t < triangle_line_.size() ? triangle_line_[t] : 0u;
   const std::string at_line = line != 0 ? " (line " + std::to_string(line) + ")" : "";

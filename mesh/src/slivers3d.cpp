@@ -44,7 +44,6 @@ namespace voroclip {
 namespace {
 
 using Kind = SiteConstraint3::Kind;
-constexpr std::uint32_t kNone = 0xffffffffu;
 constexpr double kMinGain = 0.01;               // degrees
 constexpr std::size_t kMaxNeighbourhood = 256;  // sites (LocalScorer::set_vertex)
 constexpr double kPi = 3.14159265358979323846;

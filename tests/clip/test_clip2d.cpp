@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
@@ -263,7 +264,8 @@ TEST_CASE("clip2d: identical results with 1 and 2 threads", "[clip]") {
     one.compute(d, dt, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two.compute(d, dt, o);
   }
   for (std::uint32_t i = 0; i < one.nb_sites(); ++i) {

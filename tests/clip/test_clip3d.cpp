@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "support/surfaces.h"
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
@@ -655,7 +656,8 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
     one.compute(d, dt, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two.compute(d, dt, o);
   }
   require_same_cells(one, two);
@@ -675,7 +677,8 @@ TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
     one.compute(d, dt2, s);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two.compute(d, dt2, s);
   }
   REQUIRE(std::fabs(one.total_volume() - d.volume()) <= 1e-12 * d.volume());
@@ -846,7 +849,8 @@ TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input o
     one.compute(d, sites.data(), n, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two.compute(d, sites.data(), n, o);
   }
   require_same_cells(one, two);
@@ -1442,7 +1446,8 @@ TEST_CASE("clip3d from a surface alone: identical with 1 and 2 threads", "[clip]
     one.compute(d, sites.data(), 4000, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two.compute(d, sites.data(), 4000, o);
   }
   require_same_cells(one, two);

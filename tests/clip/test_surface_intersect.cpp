@@ -24,6 +24,7 @@
 
 #include <tbb/global_control.h>
 
+#include "support/threads.h"
 #include "surface_intersect.h"
 #include "voroclip/core.h"
 #include "voroclip/predicates.h"
@@ -632,7 +633,8 @@ TEST_CASE("first_intersecting_pair: an intersection late in the index order, 1 a
     one = as_pair(first_intersecting_pair(s.xyz, s.triangles));
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = as_pair(first_intersecting_pair(s.xyz, s.triangles));
   }
   CHECK(one == Pair{70000, n + 1});

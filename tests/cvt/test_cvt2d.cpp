@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -195,7 +196,8 @@ TEST_CASE("cvt2d: cancel from the progress callback; identical with 1 and 2 thre
     voroclip::optimize_cvt2(d, one, od);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     voroclip::optimize_cvt2(d, two, od);
   }
   REQUIRE(one == two);

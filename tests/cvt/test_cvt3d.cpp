@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -284,7 +285,8 @@ TEST_CASE("cvt3d: cancel from the progress callback; identical with 1 and 2 thre
     r1 = voroclip::optimize_cvt3(d, one, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     r2 = voroclip::optimize_cvt3(d, two, o);
   }
   REQUIRE(one == two);

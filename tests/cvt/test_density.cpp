@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -373,7 +374,8 @@ TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density
     ra = voroclip::optimize_cvt3(d, a, o);
   }
   {
-    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism,
+                            voroclip_test::test_threads());
     rb = voroclip::optimize_cvt3(d, b, o);
   }
   CHECK(a == b);

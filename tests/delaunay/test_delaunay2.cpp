@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "spatial_sort.h"
+#include "support/threads.h"
 #include "voroclip/core.h"
 #include "voroclip/delaunay.h"
 #include "voroclip/predicates.h"
@@ -571,7 +572,7 @@ TEST_CASE("Delaunay2 strips: the same arrays for any strips and threads", "[dela
     const std::vector<std::uint32_t> expected = all_arrays(reference);
     std::uint32_t deferred = 0;
     for (const std::uint32_t zones : {2u, 3u, 7u}) {
-      for (const std::size_t threads : {1u, 2u}) {
+      for (const std::size_t threads : {std::size_t{1}, voroclip_test::test_threads()}) {
         INFO("zones " << zones << ", threads " << threads);
         Delaunay2::Options options;
         options.zones = zones;

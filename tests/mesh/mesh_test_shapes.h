@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "support/surfaces.h"
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -31,7 +32,8 @@ inline voroclip::Mesh3Options small_options(std::uint32_t n) {
   return o;
 }
 
-// mesh3d on `domain` gives the same vertices, tets and vertex kinds with 1 and 2 threads;
+// mesh3d on `domain` gives the same vertices, tets and vertex kinds with 1 and N threads
+// (VOROCLIP_TEST_THREADS, support/threads.h);
 // returns the one-thread result.
 inline voroclip::Mesh3Result check_same_mesh3d_with_1_and_2_threads(
     const voroclip::Domain3& domain, const voroclip::Mesh3Options& options) {
@@ -41,7 +43,8 @@ inline voroclip::Mesh3Result check_same_mesh3d_with_1_and_2_threads(
     one = voroclip::mesh3d(domain, options);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = voroclip::mesh3d(domain, options);
   }
   CHECK(one.xyz == two.xyz);

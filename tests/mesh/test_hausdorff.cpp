@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "mesh_test_shapes.h"
+#include "support/threads.h"
 #include "voroclip/mesh.h"
 
 using voroclip::HausdorffDistance;
@@ -180,7 +181,8 @@ TEST_CASE("hausdorff_distance: the same bits for 1 and 2 threads", "[mesh][hausd
     one = voroclip::hausdorff_distance(a, b);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = voroclip::hausdorff_distance(a, b);
   }
   CHECK(one.forward.max == two.forward.max);

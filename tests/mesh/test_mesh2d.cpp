@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -285,7 +286,8 @@ TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh]") {
     one = voroclip::mesh_domain2(d, o);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = voroclip::mesh_domain2(d, o);
   }
   REQUIRE(one.nb_triangles() > 0);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -438,7 +439,8 @@ TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh]") {
     one = ex.extract(dt);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = ex.extract(dt);
   }
   CHECK(one == two);

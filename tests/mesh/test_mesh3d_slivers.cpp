@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
@@ -133,7 +134,8 @@ TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh]") {
     voroclip::perturb_slivers3(ex, one, s.kinds, on_unit_sphere);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     voroclip::perturb_slivers3(ex, two, s.kinds, on_unit_sphere);
   }
   CHECK(one == two);

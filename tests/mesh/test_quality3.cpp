@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "support/threads.h"
 #include "voroclip/mesh.h"
 
 using voroclip::TetQuality;
@@ -361,7 +362,8 @@ TEST_CASE("tet_quality: the same bits for 1 and 2 threads", "[mesh][quality]") {
     one = voroclip::tet_quality(mesh);
   }
   {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
     two = voroclip::tet_quality(mesh);
   }
   for (const auto& [a, b] : {std::pair{one.q1_deg, two.q1_deg}, std::pair{one.q2_deg, two.q2_deg},
