@@ -141,7 +141,7 @@ void check_2d(const std::vector<double>& xy, Bytes& in) {
   double sum = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     // Areas are rounded sums: a sliver cell of true area ~1e-55 may come out as -3e-55
-    // (fuzz/sites/regressions/sliver_cell_negative_area: sites packed within 1e-26 of a
+    // (fuzz/seeds/fuzz_sites/sliver_cell_negative_area: sites packed within 1e-26 of a
     // corner). Below -1e-12 of the domain's area it is a defect.
     if (!(cv.area(i) >= -1e-12 * domain.area())) fail("negative or NaN cell area", i);
     sum += cv.area(i);
