@@ -125,6 +125,58 @@ TEST_CASE("perturb_slivers3 raises the smallest dihedral angle and keeps the con
   }
 }
 
+TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
+  const Setup s = make_setup();
+  const TetExtractor3 ex(s.domain);
+  voroclip::Perturb3Options o;
+  o.target_dihedral_deg = 25;
+  // Every round refused: the first is undone, the rounds go on with the free sites only,
+  // the second refusal undoes that one too and stops: the sites are where they started.
+  std::vector<double> sites = s.sites;
+  std::uint32_t calls = 0;
+  o.keep_round = [&calls](const std::vector<double>&, const std::vector<std::uint32_t>&) {
+    ++calls;
+    return false;
+  };
+  std::vector<std::uint32_t> mesh;
+  const voroclip::Perturb3Stats none =
+      voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o, &mesh);
+  CHECK(none.undone);
+  CHECK(calls == 2);
+  CHECK(sites == s.sites);
+  const Delaunay3 dt(s.sites.data(), static_cast<std::uint32_t>(s.sites.size() / 3));
+  CHECK(mesh == ex.extract(dt));
+  // The first round refused, the others kept: the surface sites stay where they were, the
+  // free ones move, and the mesh still improves.
+  sites = s.sites;
+  calls = 0;
+  o.keep_round = [&calls](const std::vector<double>&, const std::vector<std::uint32_t>&) {
+    return ++calls > 1;
+  };
+  const voroclip::Perturb3Stats once =
+      voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o);
+  CHECK(once.undone);
+  std::uint32_t free_moved = 0;
+  for (std::uint32_t i = 0; i < s.kinds.size(); ++i) {
+    const bool same = std::equal(&sites[3 * i], &sites[3 * i] + 3, &s.sites[3 * i]);
+    if (s.kinds[i] != Kind::kFree) {
+      CHECK(same);
+    } else {
+      free_moved += same ? 0 : 1;
+    }
+  }
+  CHECK(free_moved > 0);
+  CHECK(once.final_min_dihedral_deg > once.initial_min_dihedral_deg);
+  // Every round kept: the same as without the check.
+  sites = s.sites;
+  std::vector<double> plain = s.sites;
+  o.keep_round = [](const std::vector<double>&, const std::vector<std::uint32_t>&) { return true; };
+  voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o);
+  o.keep_round = nullptr;
+  voroclip::perturb_slivers3(ex, plain, s.kinds, on_unit_sphere, o);
+  CHECK(sites == plain);
+}
+
 TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh]") {
   const Setup s = make_setup();
   const TetExtractor3 ex(s.domain);
