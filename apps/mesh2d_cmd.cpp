@@ -25,23 +25,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Per triangle: its smallest angle in degrees.
-std::vector<double> min_angles(const Mesh2& mesh) {
-  std::vector<double> out(mesh.nb_triangles());
-  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
-    double mn = 180;
-    for (int k = 0; k < 3; ++k) {
-      const double* a = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
-      const double* b = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 1) % 3]}];
-      const double* c = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 2) % 3]}];
-      const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
-      mn = std::min(mn, std::atan2(std::fabs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI);
-    }
-    out[t] = mn;
-  }
-  return out;
-}
-
 // Fails before a long computation when a file could not be written at its end.
 }  // namespace
 
@@ -63,7 +46,7 @@ void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh)
   const auto Y = [&](double y) { return (hi[1] - y) * scale; };
   const double stroke =
       std::max(0.05, std::min(0.6, 30 / std::sqrt(double(mesh.nb_vertices()) + 1)));
-  const std::vector<double> angles = min_angles(mesh);
+  const std::vector<double> angles = triangle_min_angles(mesh);
   // Group triangles by colour band (3-degree bands) to keep the file small.
   out << "<g stroke=\"#333\" stroke-width=\"" << stroke << "\" stroke-linejoin=\"round\">\n";
   for (int band = 0; band <= 20; ++band) {
@@ -139,7 +122,7 @@ struct LowAngle {
 };
 std::vector<LowAngle> low_angles(const Domain2& domain, const Mesh2& mesh) {
   std::vector<LowAngle> out;
-  const std::vector<double> angles = min_angles(mesh);
+  const std::vector<double> angles = triangle_min_angles(mesh);
   for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
     if (angles[t] >= 30) continue;
     LowAngle low{t, angles[t], Mesh2::kNone, 180};

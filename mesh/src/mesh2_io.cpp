@@ -15,23 +15,6 @@ namespace voroclip {
 
 namespace {
 
-// Per triangle: its smallest angle in degrees.
-std::vector<double> min_angles(const Mesh2& mesh) {
-  std::vector<double> out(mesh.nb_triangles());
-  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
-    double mn = 180;
-    for (int k = 0; k < 3; ++k) {
-      const double* a = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
-      const double* b = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 1) % 3]}];
-      const double* c = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 2) % 3]}];
-      const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
-      mn = std::min(mn, std::atan2(std::fabs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI);
-    }
-    out[t] = mn;
-  }
-  return out;
-}
-
 int vertex_ref(Mesh2::VertexKind k) {
   return k == Mesh2::VertexKind::kInterior ? 0 : k == Mesh2::VertexKind::kBoundary ? 1 : 2;
 }
@@ -40,7 +23,7 @@ int vertex_ref(Mesh2::VertexKind k) {
 // `tag` (a triangle's region, an edge's boundary tag) and `min_angle` (degrees; 0 on
 // edges); point data `kind` (0 interior, 1 sliding, 2 fixed).
 void write_vtu2(std::ostream& out, const Mesh2& mesh) {
-  const std::vector<double> angles = min_angles(mesh);
+  const std::vector<double> angles = triangle_min_angles(mesh);
   const std::uint32_t nt = mesh.nb_triangles();
   const std::size_t ne = mesh.boundary_edges.size() / 2;
   out << std::setprecision(17);

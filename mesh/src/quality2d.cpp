@@ -257,4 +257,20 @@ void write_quality_svg(std::ostream& out, const TriangleQuality2& q, const std::
       << "\" fill=\"none\" stroke=\"black\"/>\n</svg>\n";
 }
 
+std::vector<double> triangle_min_angles(const Mesh2& mesh) {
+  std::vector<double> out(mesh.nb_triangles());
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
+    double mn = 180;
+    for (int k = 0; k < 3; ++k) {
+      const double* a = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + k]}];
+      const double* b = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 1) % 3]}];
+      const double* c = &mesh.xy[2 * std::size_t{mesh.triangles[3 * std::size_t{t} + (k + 2) % 3]}];
+      const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
+      mn = std::min(mn, std::atan2(std::fabs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI);
+    }
+    out[t] = mn;
+  }
+  return out;
+}
+
 }  // namespace voroclip

@@ -551,6 +551,8 @@ struct TriangleQuality2 {
 };
 
 TriangleQuality2 triangle_quality2(const Mesh2& mesh, double bin_degrees = 2.0);
+// The smallest angle of each triangle, in degrees.
+std::vector<double> triangle_min_angles(const Mesh2& mesh);
 // Human-readable summary (several lines), and one JSON object with the keys
 // nb_triangles, nb_vertices, min_angle_deg, mean_angle_deg, max_angle_deg,
 // mean_min_angle_deg, mean_max_angle_deg, min_radius_ratio, mean_radius_ratio,
