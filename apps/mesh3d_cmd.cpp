@@ -306,7 +306,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"final_slivers", r.perturbation.final_slivers},
                          {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg},
                          {"rerun_for_shape", r.perturbation_rerun},
-                         {"round_undone", r.perturbation.undone}};
+                         {"round_undone", r.perturbation.undone},
+                         {"peeled_tets", r.nb_peeled}};
     nlohmann::json seconds = {{"read", t_read}};
     for (int p = 0; p < kNbMesh3Phases; ++p)
       seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];

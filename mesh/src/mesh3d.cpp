@@ -350,6 +350,14 @@ void Pipeline::run() {
       tets = extractor.extract(dt, eo, &result.extraction);
     }
 
+    // 7b. Flat tets on the boundary, which no move of their (surface) vertices fixes.
+    if (options.peel_dihedral_deg > 0) {
+      result.nb_peeled = peel_flat_boundary_tets(sites, kinds, tets, options.peel_dihedral_deg, 4,
+                                                 [this](const std::vector<std::uint32_t>& t) {
+                                                   return shape_of(domain, sites, t).empty();
+                                                 });
+    }
+
     // 8. Output: the used sites, renumbered in site order.
     next_phase(Mesh3Phase::kQuality);
     std::vector<std::uint32_t> index(n, SurfaceTree::kNone);

@@ -80,6 +80,18 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
                             const std::vector<std::uint32_t>& corner_vertex,
                             const std::vector<std::uint32_t>& patch);
 
+// Removes the flat tets lying on the boundary: tets whose four vertices are constrained
+// sites (`kinds` not kFree), with at least two faces on the boundary and a smallest dihedral
+// angle below max_q1_deg, worst first, at most one of the tets around each vertex per pass.
+// No move of the sites fixes them (their vertices stay on the surface); without them the
+// boundary runs across their inner faces. A pass whose result `keep` refuses is undone and
+// ends the peeling; at most `passes` passes. Returns the number of tets removed
+// (slivers3d.cpp).
+std::uint32_t peel_flat_boundary_tets(
+    const std::vector<double>& sites, const std::vector<Kind>& kinds,
+    std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
+    const std::function<bool(const std::vector<std::uint32_t>&)>& keep);
+
 // One mesh3d() run: the caller's domain and options, the result being filled, the phase
 // clock and the sites with their constraints. Each step is a member, defined in the file
 // named above.

@@ -37,6 +37,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh3d_pipeline.h"
+#include "mesh3d_tags.h"
 #include "voroclip/mesh.h"
 
 namespace voroclip {
@@ -504,3 +506,57 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 }
 
 }  // namespace voroclip
+
+namespace voroclip::mesh3 {
+
+std::uint32_t peel_flat_boundary_tets(
+    const std::vector<double>& sites, const std::vector<Kind>& kinds,
+    std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
+    const std::function<bool(const std::vector<std::uint32_t>&)>& keep) {
+  std::uint32_t removed = 0;
+  std::vector<std::uint32_t> triangles, face_tet, next;
+  std::vector<std::uint8_t> boundary_faces, taken;
+  std::vector<std::pair<double, std::uint32_t>> flat;
+  for (std::uint32_t pass = 0; pass < passes; ++pass) {
+    const std::size_t nt = tets.size() / 4;
+    boundary_triangles(tets, triangles, face_tet);
+    boundary_faces.assign(nt, 0);
+    for (const std::uint32_t t : face_tet) ++boundary_faces[t];
+    flat.clear();
+    for (std::size_t t = 0; t < nt; ++t) {
+      const std::uint32_t* v = &tets[4 * t];
+      if (boundary_faces[t] < 2 || kinds[v[0]] == Kind::kFree || kinds[v[1]] == Kind::kFree ||
+          kinds[v[2]] == Kind::kFree || kinds[v[3]] == Kind::kFree) {
+        continue;
+      }
+      const double q1 =
+          min_dihedral_deg(&sites[3 * std::size_t{v[0]}], &sites[3 * std::size_t{v[1]}],
+                           &sites[3 * std::size_t{v[2]}], &sites[3 * std::size_t{v[3]}]);
+      if (q1 < max_q1_deg) flat.emplace_back(q1, static_cast<std::uint32_t>(t));
+    }
+    if (flat.empty()) break;
+    std::sort(flat.begin(), flat.end());
+    // Worst first; a tet goes only when none of its vertices lost a tet in this pass, so
+    // that each removal sees the boundary it was chosen on.
+    taken.assign(sites.size() / 3, 0);
+    std::vector<std::uint8_t> drop(nt, 0);
+    std::uint32_t dropped = 0;
+    for (const auto& [q1, t] : flat) {
+      const std::uint32_t* v = &tets[4 * std::size_t{t}];
+      if (taken[v[0]] != 0 || taken[v[1]] != 0 || taken[v[2]] != 0 || taken[v[3]] != 0) continue;
+      for (int k = 0; k < 4; ++k) taken[v[k]] = 1;
+      drop[t] = 1;
+      ++dropped;
+    }
+    next.clear();
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (drop[t] == 0) next.insert(next.end(), &tets[4 * t], &tets[4 * t] + 4);
+    }
+    if (next.empty() || (keep && !keep(next))) break;
+    tets.swap(next);
+    removed += dropped;
+  }
+  return removed;
+}
+
+}  // namespace voroclip::mesh3

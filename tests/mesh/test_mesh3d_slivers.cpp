@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh3d_pipeline.h"
 #include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
@@ -175,6 +176,45 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   o.keep_round = nullptr;
   voroclip::perturb_slivers3(ex, plain, s.kinds, on_unit_sphere, o);
   CHECK(sites == plain);
+}
+
+TEST_CASE("peel_flat_boundary_tets removes a flat tet on the boundary", "[mesh]") {
+  // The unit cube as six tets, and a seventh on its top triangle (4, 5, 7) with its apex
+  // 0.01 above that triangle's centroid: three faces on the boundary, dihedral angles of
+  // about 1.7 degrees at its base.
+  std::vector<double> sites;
+  for (std::uint32_t k = 0; k < 8; ++k) {
+    sites.insert(sites.end(), {double(k & 1), double((k >> 1) & 1), double((k >> 2) & 1)});
+  }
+  sites.insert(sites.end(), {2.0 / 3, 1.0 / 3, 1.01});
+  const std::vector<std::uint32_t> cube = {0, 1, 3, 7, 0, 3, 2, 7, 0, 5, 1, 7,
+                                           0, 2, 6, 7, 0, 4, 5, 7, 0, 6, 4, 7};
+  std::vector<std::uint32_t> tets = cube;
+  tets.insert(tets.end(), {4, 5, 7, 8});
+  const double q1 = voroclip::tet_shape(&sites[12], &sites[15], &sites[21], &sites[24]).q1_deg;
+  REQUIRE(q1 < 5);
+  std::vector<Kind> kinds(9, Kind::kSurface);
+  std::vector<std::uint32_t> t = tets;
+  CHECK(voroclip::mesh3::peel_flat_boundary_tets(sites, kinds, t, 20, 4, nullptr) == 1);
+  CHECK(t == cube);
+  // Below the threshold only (q1 less a rounding margin: the peel measures it its own way).
+  t = tets;
+  CHECK(voroclip::mesh3::peel_flat_boundary_tets(sites, kinds, t, q1 - 1e-9, 4, nullptr) == 0);
+  CHECK(t == tets);
+  // Not with a free vertex (an interior site can still move).
+  kinds[8] = Kind::kFree;
+  CHECK(voroclip::mesh3::peel_flat_boundary_tets(sites, kinds, t, 20, 4, nullptr) == 0);
+  CHECK(t == tets);
+  kinds[8] = Kind::kSurface;
+  // Not when `keep` refuses the result; `keep` sees the mesh without it.
+  std::vector<std::uint32_t> seen;
+  const auto refuse = [&seen](const std::vector<std::uint32_t>& m) {
+    seen = m;
+    return false;
+  };
+  CHECK(voroclip::mesh3::peel_flat_boundary_tets(sites, kinds, t, 20, 4, refuse) == 0);
+  CHECK(t == tets);
+  CHECK(seen == cube);
 }
 
 TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh]") {

@@ -934,6 +934,10 @@ struct Mesh3Options {
   // `surface` to the patches of its sites.
   bool perturb = true;
   Perturb3Options perturbation;
+  // After the perturbation: tets whose four vertices lie on the boundary, with two or more
+  // boundary faces and a smallest dihedral angle below this (degrees), are removed, worst
+  // first, while the boundary keeps the domain's shape (check_mesh3_shape); 0: none.
+  double peel_dihedral_deg = 20;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
   std::function<bool(const Mesh3Progress&)> progress;
@@ -974,6 +978,7 @@ struct Mesh3Result {
   // unperturbed sites with each round checked (check_mesh3_shape), the first round that
   // broke the shape undone (perturbation.undone).
   bool perturbation_rerun = false;
+  std::uint32_t nb_peeled = 0;  // flat boundary tets removed (Mesh3Options::peel_dihedral_deg)
   TetQuality quality;
   // Q1 (the smallest dihedral angle, degrees) of the tets by how many of their vertices are
   // on the boundary (surface, feature or corner vertices): [0] all four, [1] three, [2] two
