@@ -106,6 +106,20 @@ double integrate_over_volume(const Domain3& domain, const F& f) {
   return total * h * h * h;
 }
 
+// The integral over the volume of h^-3 for the user's density (rho = h^-5, so h^-3 =
+// rho^(3/5)): n sites of density h^-3 have spacing about (integral / n)^(1/3) h(x). The
+// volume for a constant density; Error for a density linear per tet.
+double density_sites_integral(const Domain3& domain, const Density3& rho) {
+  if (rho.is_constant()) return domain.volume();
+  if (rho.kind != Density3::Kind::kCallback || !rho.callback) {
+    throw Error(
+        "mesh3d: the density must be a function (a density linear per tet is not supported "
+        "here)");
+  }
+  return integrate_over_volume(
+      domain, [&rho](const double* p) { return std::pow(rho.callback(p[0], p[1], p[2]), 0.6); });
+}
+
 // check_mesh3_shape of the mesh `tets` of `sites` (the sites no tet uses left out).
 std::string shape_of(const Domain3& domain, const std::vector<double>& sites,
                      const std::vector<std::uint32_t>& tets) {
@@ -164,16 +178,8 @@ void Pipeline::run() {
     const bool graded = options.adaptive || !user_density.is_constant();
     if (!user_density.is_constant()) {
       if (options.adaptive) throw Error("mesh3d: a density and adaptive sizing exclude each other");
-      if (user_density.kind != Density3::Kind::kCallback || !user_density.callback) {
-        throw Error(
-            "mesh3d: the density must be a function (a density linear per tet is not "
-            "supported here)");
-      }
-      // rho = h^-5 and n sites of density h^-3: h = rho^(-1/5), h^-3 = rho^(3/5).
       clip.density = user_density;
-      integral = integrate_over_volume(domain, [&user_density](const double* p) {
-        return std::pow(user_density.callback(p[0], p[1], p[2]), 0.6);
-      });
+      integral = density_sites_integral(domain, user_density);
     } else if (options.adaptive) {
       field = std::make_unique<SizingField3>(domain, options.sizing);
       const SizingField3* h = field.get();
@@ -461,18 +467,7 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     if (options.adaptive)
       throw Error("mesh3d: an absolute edge length and adaptive sizing exclude each other");
     if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
-    const Density3& rho = options.density;
-    double integral = domain.volume();
-    if (!rho.is_constant()) {
-      if (rho.kind != Density3::Kind::kCallback || !rho.callback) {
-        throw Error(
-            "mesh3d: the density must be a function (a density linear per tet is not supported "
-            "here)");
-      }
-      integral = mesh3::integrate_over_volume(domain, [&rho](const double* p) {
-        return std::pow(rho.callback(p[0], p[1], p[2]), 0.6);
-      });
-    }
+    const double integral = mesh3::density_sites_integral(domain, options.density);
     const double h = options.edge_length;
     const double n = std::round(kMesh3VerticesPerEdgeVolume * integral / (h * h * h));
     if (!(n <= 2e9)) {
