@@ -409,6 +409,13 @@ int main(int argc, char** argv) {
                    "--sizing-file alone, whose h is then the edge length in model units (with "
                    "--vertices, h gives only the shape and N the count)")
       ->type_name("N");
+  mesh3d
+      ->add_option("--lfs-cap", mesh3d_args.lfs_cap,
+                   "Without --adaptive or a size: cap the uniform spacing at K times the local "
+                   "feature size (off the sharp edges), so that thin parts and close sheets get "
+                   "vertices; the spacing elsewhere grows to keep --vertices; 0: no cap")
+      ->type_name("K")
+      ->default_str("1");
   mesh3d->add_flag("--adaptive", mesh3d_args.adaptive,
                    "Size the elements by the local feature size of the boundary (density "
                    "h^-5) instead of uniformly");

@@ -73,6 +73,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw UsageError("--sliver-angle: expected degrees in [0, 70.5), got " +
                      format_double(args.sliver_angle));
   }
+  if (!(args.lfs_cap >= 0) || !std::isfinite(args.lfs_cap)) {
+    throw UsageError("--lfs-cap: expected a number >= 0, got " + format_double(args.lfs_cap));
+  }
   if (!(args.smooth_shape >= 0 && args.smooth_shape <= 1)) {
     throw UsageError("--smooth-shape: expected a value in [0, 1], got " +
                      format_double(args.smooth_shape));
@@ -87,6 +90,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   Mesh3Options o;
   o.nb_vertices = args.vertices;
   o.adaptive = args.adaptive;
+  o.lfs_cap = args.lfs_cap;
   if (args.adaptive && args.density.given()) {
     throw UsageError("--adaptive and " + args.density.describe() + " exclude each other");
   }
@@ -280,6 +284,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       j["patch_tags"] = patches;
       j["region_tags"] = regions;
     }
+    j["lfs_cap"] = {{"factor", o.lfs_cap},
+                    {"capped_volume_fraction", r.lfs_capped_fraction},
+                    {"uniform_spacing", r.lfs_cap_spacing}};
     j["feature_lines"] = r.nb_feature_lines;
     j["feature_corners"] = r.nb_feature_corners;
     j["surface"] = args.smooth_surface ? "smooth" : "flat";
@@ -321,6 +328,15 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     *out << "Mesh: " << r.nb_vertices() << " vertices (" << counts[0] << " interior, " << counts[1]
          << " surface, " << counts[2] << " feature, " << counts[3] << " corner), " << r.nb_tets()
          << " tets in " << fixed(r.total_seconds, 2) << " s\n";
+    if (r.lfs_capped_fraction > 0) {
+      *out << "Sizing: the spacing is capped at " << format_double(o.lfs_cap)
+           << " x the local feature size in " << fixed(100 * r.lfs_capped_fraction, 1)
+           << " % of the volume"
+           << (r.lfs_cap_spacing > 0
+                   ? ", uniform elsewhere"
+                   : " (the cap alone needs more than the vertices asked: its shape, scaled)")
+           << "; --lfs-cap 0 for a uniform size\n";
+    }
     {
       std::vector<std::int32_t> patches = r.boundary_tags, regions = r.tet_tags;
       std::sort(patches.begin(), patches.end());

@@ -72,38 +72,73 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
   return xyz;
 }
 
-// The integral of f over the volume by the midpoint rule on a grid of 48 cells along the
-// longest side of the bounding box, each cell's centre located exactly; slices summed in
-// order (the same value for any thread count). For the scale of the sizing field, which
-// needs a few digits.
+// f at the centres of the cells of a grid of 48 cells along the longest side of the
+// bounding box that lie in the volume (each centre located exactly), in the grid's order
+// whatever the thread count, and the volume of one cell.
 template <class F>
-double integrate_over_volume(const Domain3& domain, const F& f) {
+std::vector<double> sample_over_volume(const Domain3& domain, const F& f, double& cell_volume) {
   constexpr double kCells = 48;
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
   const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  if (!(longest > 0)) return 0;
+  cell_volume = 0;
+  if (!(longest > 0)) return {};
   const double h = longest / kCells;
+  cell_volume = h * h * h;
   std::uint32_t n[3];
   for (int c = 0; c < 3; ++c) {
     n[c] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil((hi[c] - lo[c]) / h)));
   }
-  std::vector<double> slice(n[2], 0);
+  std::vector<std::vector<double>> slice(n[2]);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n[2], 1), [&](const auto& range) {
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
-      double sum = 0;
       for (std::uint32_t j = 0; j < n[1]; ++j) {
         for (std::uint32_t i = 0; i < n[0]; ++i) {
           const double p[3] = {lo[0] + (i + 0.5) * h, lo[1] + (j + 0.5) * h, lo[2] + (k + 0.5) * h};
-          if (domain.locate(p) == Sign::positive) sum += f(p);
+          if (domain.locate(p) == Sign::positive) slice[k].push_back(f(p));
         }
       }
-      slice[k] = sum;
     }
   });
+  std::vector<double> values;
+  for (const std::vector<double>& v : slice) values.insert(values.end(), v.begin(), v.end());
+  return values;
+}
+
+// The integral of f over the volume by the midpoint rule on sample_over_volume's grid,
+// summed in order (the same value for any thread count). For the scale of the sizing
+// field, which needs a few digits.
+template <class F>
+double integrate_over_volume(const Domain3& domain, const F& f) {
+  double cell = 0;
   double total = 0;
-  for (const double v : slice) total += v;
-  return total * h * h * h;
+  for (const double v : sample_over_volume(domain, f, cell)) total += v;
+  return total * cell;
+}
+
+// The uniform spacing H of n sites under the cap: the sites' spacing is min(H, cap(x)),
+// so n = integral of max(1, (H / cap)^3) / H^3 (cap sampled as `caps`, cells of volume
+// `cell`). H^3 n - integral grows with H (its derivative is 3 H^2 times n minus the
+// cap's own count, positive while a root exists): bisection. 0 when no H gives n (the
+// cap alone needs n sites or more).
+double capped_spacing(const std::vector<double>& caps, double cell, double n) {
+  const auto excess = [&](double H) {
+    double integral = 0;
+    for (const double c : caps) integral += c < H ? (H / c) * (H / c) * (H / c) : 1.0;
+    return H * H * H * n - integral * cell;
+  };
+  const double volume = cell * static_cast<double>(caps.size());
+  double lo = std::cbrt(volume / n), hi = lo;
+  if (excess(lo) >= 0) return lo;  // the cap binds nowhere at the uniform spacing
+  for (int k = 0; excess(hi) < 0; ++k) {
+    if (k == 60) return 0;
+    hi *= 2;
+  }
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (excess(mid) < 0 ? lo : hi) = mid;
+  }
+  return hi;
 }
 
 // The integral over the volume of h^-3 for the user's density (rho = h^-5, so h^-3 =
@@ -175,7 +210,13 @@ void Pipeline::run() {
     std::unique_ptr<SizingField3> field;
     double integral = domain.volume();
     const Density3& user_density = options.density;
-    const bool graded = options.adaptive || !user_density.is_constant();
+    bool graded = options.adaptive || !user_density.is_constant();
+    const TriangleSurface surface = boundary_surface(domain);
+    // The input's triangle tags (a tet mesh file's boundary triangles): the borders of
+    // their patches are feature lines too, kept however short or flat, so that every
+    // boundary triangle of the mesh lies in one patch and carries its tag.
+    const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+    double cap_scale = 0;  // > 0: h = min(1, field / cap_scale)
     if (!user_density.is_constant()) {
       if (options.adaptive) throw Error("mesh3d: a density and adaptive sizing exclude each other");
       clip.density = user_density;
@@ -192,20 +233,62 @@ void Pipeline::run() {
         const double s = h->size(p);
         return 1 / (s * s * s);
       });
+    } else if (options.lfs_cap > 0) {
+      if (!(std::isfinite(options.lfs_cap))) {
+        throw Error("mesh3d: lfs_cap " + std::to_string(options.lfs_cap) +
+                    "; expected a positive number or 0");
+      }
+      // The field over the boundary vertices off the sharp edges, scaled by the cap.
+      std::vector<std::uint8_t> skip(domain.nb_vertices(), 0);
+      if (options.features) {
+        const FeatureLines sharp =
+            extract_feature_lines(surface, options.feature_angle_deg, input_tags);
+        for (const std::uint32_t v : sharp.line_vertices) skip[v] = 1;
+        for (const std::uint32_t v : sharp.corners) skip[v] = 1;
+      }
+      auto capped = std::make_unique<SizingField3>(domain, options.sizing, skip);
+      const SizingField3* h = capped.get();
+      const double k = options.lfs_cap;
+      double cell = 0;
+      const std::vector<double> caps = sample_over_volume(
+          domain, [h, k](const double* p) { return k * h->size(p); }, cell);
+      const double H = caps.empty() ? 0 : capped_spacing(caps, cell, options.nb_vertices);
+      const double smallest = caps.empty() ? 0 : *std::min_element(caps.begin(), caps.end());
+      if (!caps.empty() && (H == 0 || smallest < H)) {
+        // The cap binds somewhere: h = min(1, cap / H) (H = 0: the cap's shape, scaled).
+        std::size_t bound = 0;
+        double sum = 0;
+        for (const double c : caps) {
+          const double r = H == 0 ? k / c : std::max(1.0, H / c);
+          sum += r * r * r;
+          bound += H == 0 || c < H ? 1 : 0;
+        }
+        result.lfs_capped_fraction = static_cast<double>(bound) / static_cast<double>(caps.size());
+        result.lfs_cap_spacing = H;
+        cap_scale = H == 0 ? 1.0 : H / k;
+        integral = sum * cell;
+        field = std::move(capped);
+        graded = true;
+        const bool uniform_part = H > 0;
+        const double scale = cap_scale;
+        clip.density = Density3::function([h, scale, uniform_part](double x, double y, double z) {
+          const double p[3] = {x, y, z};
+          const double s = uniform_part ? std::min(1.0, h->size(p) / scale) : h->size(p);
+          return 1 / (s * s * s * s * s);
+        });
+      }
     }
     const auto local_spacing = [&](const double* x) {
       const double scale = std::cbrt(integral / options.nb_vertices);
       if (!user_density.is_constant()) {
         return scale * std::pow(user_density.callback(x[0], x[1], x[2]), -0.2);
       }
+      if (field && cap_scale > 0 && result.lfs_cap_spacing > 0) {
+        return scale * std::min(1.0, field->size(x) / cap_scale);
+      }
       return field ? scale * field->size(x) : scale;
     };
-    const TriangleSurface surface = boundary_surface(domain);
     const SurfaceTree surface_tree(surface);
-    // The input's triangle tags (a tet mesh file's boundary triangles): the borders of
-    // their patches are feature lines too, kept however short or flat, so that every
-    // boundary triangle of the mesh lies in one patch and carries its tag.
-    const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
     const std::vector<std::uint64_t> tag_borders = tag_border_edges(domain);
     FeatureLines lines;
     if (options.features || !tag_borders.empty()) {

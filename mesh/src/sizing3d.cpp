@@ -111,7 +111,11 @@ class BucketGrid {
 
 }  // namespace
 
-SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options) {
+SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
+    : SizingField3(domain, options, {}) {}
+
+SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
+                           const std::vector<std::uint8_t>& skip) {
   const Surface3& surface = domain.surface();
   if (surface.nb_triangles() == 0) {
     throw Error("sizing: the domain " + domain.source() + " has no boundary triangles");
@@ -192,6 +196,19 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
   lfs_max = lfs_max > 0 ? std::min(lfs_max, diag) : diag;
   for (const std::uint32_t v : global) lfs_[v] = std::min(lfs_[v], lfs_max);
   h_min_ = lfs_max / options.max_ratio;
+  // The seeds of the field: the boundary vertices not skipped (renumbered 0..m-1 below).
+  {
+    std::uint32_t kept = 0;
+    for (std::uint32_t k = 0; k < m; ++k) {
+      if (global[k] < skip.size() && skip[global[k]] != 0) continue;
+      global[kept] = global[k];
+      std::copy_n(&xyz[3 * std::size_t{k}], 3, &xyz[3 * std::size_t{kept}]);
+      ++kept;
+    }
+    global.resize(kept);
+    xyz.resize(3 * std::size_t{kept});
+  }
+  const auto seeds = static_cast<std::uint32_t>(global.size());
 
   // The grid and the minimising boundary vertex of each node.
   const double* lo = domain.bbox_lo();
@@ -225,7 +242,13 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
     return false;
   };
   // Seeds: each boundary vertex offers itself to the 8 nodes of its grid cell.
-  for (std::uint32_t s = 0; s < m; ++s) {
+  if (seeds == 0) {
+    // Nothing to seed the field (every boundary vertex skipped): the diagonal, which no
+    // lfs exceeds, everywhere.
+    h_.assign(nodes, diag);
+    return;
+  }
+  for (std::uint32_t s = 0; s < seeds; ++s) {
     std::uint32_t base[3];
     for (int c = 0; c < 3; ++c) {
       const double t = (xyz[3 * std::size_t{s} + std::size_t(c)] - lo_[c]) / spacing_;
@@ -279,7 +302,7 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
   }
   // Exact minimum: boundary vertices in buckets, each with its smallest lfs; a bucket at
   // distance r from x cannot beat the current value h when min lfs + g r >= h.
-  BucketGrid buckets(xyz, m, [&](std::uint32_t s) { return lfs_[global[s]]; });
+  BucketGrid buckets(xyz, seeds, [&](std::uint32_t s) { return lfs_[global[s]]; });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 512), [&](const auto& range) {
     for (std::size_t node = range.begin(); node != range.end(); ++node) {
       const auto i = static_cast<std::uint32_t>(node % n_[0]);

@@ -241,6 +241,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
       "mesh3d",
       {{"vertices", S::field<std::uint32_t>(&Mesh3Options::nb_vertices)},
        {"adaptive", S::field<bool>(&Mesh3Options::adaptive)},
+       {"lfs_cap", S::field<double>(&Mesh3Options::lfs_cap)},
        {"features", S::field<bool>(&Mesh3Options::features)},
        {"feature_angle", S::field<double>(&Mesh3Options::feature_angle_deg)},
        {"min_feature_length", S::field<double>(&Mesh3Options::min_feature_length)},
@@ -310,6 +311,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["corner_sites"] = m.nb_corner_sites;
   s["feature_lines"] = m.nb_feature_lines;
   s["feature_corners"] = m.nb_feature_corners;
+  s["lfs_capped_volume_fraction"] = m.lfs_capped_fraction;
+  s["lfs_cap_spacing"] = m.lfs_cap_spacing;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

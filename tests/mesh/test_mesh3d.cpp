@@ -330,6 +330,50 @@ TEST_CASE("mesh3d: adaptive sizing, random sampling, no perturbation", "[mesh]")
   check_valid(d, voroclip::mesh3d(d, o));
 }
 
+TEST_CASE("mesh3d: the lfs cap refines a thin part and leaves a round one alone", "[mesh]") {
+  // A unit ball alone: its local feature size (1) is above the uniform spacing, so the cap
+  // binds nowhere and the mesh is that of no cap, bit for bit.
+  const Domain3 ball(voroclip_test::icosphere(3));
+  Mesh3Options o = small_options(600);
+  o.perturb = false;
+  const Mesh3Result capped = voroclip::mesh3d(ball, o);
+  CHECK(capped.lfs_capped_fraction == 0);
+  o.lfs_cap = 0;
+  const Mesh3Result plain = voroclip::mesh3d(ball, o);
+  CHECK(capped.xyz == plain.xyz);
+  CHECK(capped.tets == plain.tets);
+
+  // The ball and, apart from it, a flat ellipsoid (semi-axes 1, 1, 0.5): its lfs at the
+  // rim is about 0.25 (the radius of curvature); with lfs_cap 0.5 the cap there (about 0.12) is
+  // below the uniform spacing of 400 sites in the volume (about 0.24), so the ellipsoid gets half
+  // as many again or more vertices, and the spacing elsewhere grows to keep the count.
+  voroclip::TriangleSurface flat = voroclip_test::icosphere(3, 1, {3, 0, 0});
+  for (std::size_t i = 2; i < flat.xyz.size(); i += 3) flat.xyz[i] *= 0.5;
+  const Domain3 both(voroclip_test::merged(voroclip_test::icosphere(3), flat));
+  const auto in_flat = [](const Mesh3Result& r) {
+    std::size_t n = 0;
+    for (std::uint32_t v = 0; v < r.nb_vertices(); ++v) n += r.xyz[3 * std::size_t{v}] > 1.5;
+    return n;
+  };
+  o = small_options(400);
+  o.perturb = false;
+  o.lfs_cap = 0.5;
+  const Mesh3Result refined = voroclip::mesh3d(both, o);
+  check_valid(both, refined);
+  o.lfs_cap = 0;
+  const Mesh3Result uniform = voroclip::mesh3d(both, o);
+  check_valid(both, uniform);
+  CHECK(uniform.lfs_capped_fraction == 0);
+  CHECK(refined.lfs_capped_fraction > 0);
+  CHECK(refined.lfs_capped_fraction < 0.3);
+  CHECK(refined.lfs_cap_spacing > std::cbrt(both.volume() / 400));
+  INFO("vertices in the flat part: " << in_flat(refined) << " capped, " << in_flat(uniform)
+                                     << " uniform; in all " << refined.nb_vertices() << ", "
+                                     << uniform.nb_vertices());
+  CHECK(2 * in_flat(refined) > 3 * in_flat(uniform));
+  CHECK(refined.nb_vertices() < 1.1 * uniform.nb_vertices());
+}
+
 TEST_CASE(
     "mesh3d from a surface alone: as from its tet mesh; a box of 12 triangles; a hollow "
     "ball",

@@ -199,6 +199,12 @@ class SizingField3 {
  public:
   // Throws Error for a domain without boundary triangles, or invalid options.
   SizingField3(const Domain3& domain, const Sizing3Options& options = {});
+  // The same with the boundary vertices v with skip[v] != 0 left out of the minimum (their
+  // lfs is still estimated and in vertex_lfs): e.g. the vertices of sharp edges, whose pole
+  // distance goes to 0 with the input's sampling. All skipped: the bounding box's diagonal
+  // everywhere.
+  SizingField3(const Domain3& domain, const Sizing3Options& options,
+               const std::vector<std::uint8_t>& skip);
 
   // h at p (trilinear on the grid; points outside the grid clamp to it).
   double size(const double* p) const;
@@ -859,6 +865,13 @@ struct Mesh3Options {
   std::uint32_t nb_vertices = 10000;
   // Density from the local feature size (SizingField3 with `sizing`) instead of uniform.
   bool adaptive = false;
+  // The uniform size's cap (no adaptive, constant density): the sites' spacing is at most
+  // lfs_cap times the local feature size field (SizingField3 with `sizing`, seeded by the
+  // boundary vertices off the sharp feature lines, whose pole distance only measures the
+  // input's sampling), so that thin parts, ears and close sheets get sites. The uniform
+  // spacing H elsewhere is solved for so that about nb_vertices sites remain; when the cap
+  // alone needs more, the field's shape is used, scaled to nb_vertices. 0: no cap.
+  double lfs_cap = 1;
   Sizing3Options sizing;
   // Or the user's density rho (a function; excludes adaptive): elements of size h about
   // rho^(-1/5) (rho = h^-5), scaled so that about nb_vertices sites fill the volume; the
@@ -971,6 +984,10 @@ struct Mesh3Result {
   std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
   std::uint32_t nb_boundary_sites = 0, nb_feature_sites = 0, nb_corner_sites = 0;
   std::uint32_t nb_feature_lines = 0, nb_feature_corners = 0;
+  // The lfs cap (Mesh3Options::lfs_cap): the fraction of the volume where it binds (0: the
+  // size is uniform) and the uniform spacing elsewhere (0 when not uniform anywhere).
+  double lfs_capped_fraction = 0;
+  double lfs_cap_spacing = 0;
   CvtResult unconstrained, constrained;
   Extract3Stats extraction;
   Perturb3Stats perturbation;
