@@ -181,7 +181,7 @@ struct Mesh3dArgs {
   std::uint32_t vertices = 10000;
   bool vertices_set = false;  // --vertices given (else --sizing is absolute)
   bool adaptive = false;
-  double lfs_cap = 1;  // Mesh3Options::lfs_cap
+  double lfs_cap = 0;  // Mesh3Options::lfs_cap
   double feature_angle = 40;
   bool no_features = false;
   std::uint64_t seed = 1;

@@ -413,9 +413,10 @@ int main(int argc, char** argv) {
       ->add_option("--lfs-cap", mesh3d_args.lfs_cap,
                    "Without --adaptive or a size: cap the uniform spacing at K times the local "
                    "feature size (off the sharp edges), so that thin parts and close sheets get "
-                   "vertices; the spacing elsewhere grows to keep --vertices; 0: no cap")
+                   "vertices; the spacing elsewhere grows to keep --vertices; 0 (default): no "
+                   "cap")
       ->type_name("K")
-      ->default_str("1");
+      ->default_str("0");
   mesh3d->add_flag("--adaptive", mesh3d_args.adaptive,
                    "Size the elements by the local feature size of the boundary (density "
                    "h^-5) instead of uniformly");

@@ -399,7 +399,8 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
     topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
     Mesh3Options (an option not given keeps the library's default): ``adaptive``,
-    ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0: none), ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
+    ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none),
+    ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
     ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
     ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
     ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``perturb``,

@@ -336,6 +336,7 @@ TEST_CASE("mesh3d: the lfs cap refines a thin part and leaves a round one alone"
   const Domain3 ball(voroclip_test::icosphere(3));
   Mesh3Options o = small_options(600);
   o.perturb = false;
+  o.lfs_cap = 1;
   const Mesh3Result capped = voroclip::mesh3d(ball, o);
   CHECK(capped.lfs_capped_fraction == 0);
   o.lfs_cap = 0;
