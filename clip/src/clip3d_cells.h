@@ -260,8 +260,9 @@ class DelaunayCells {
                  PieceAcc<kWeighted>& acc) const {
     if constexpr (kWeighted) {
       const Foot hj = foot(pj, px), hk = foot(pk, px);
-      add_tet_weighted(*ctx_.callback_density, px, hj.y, u.y, w.y, acc);
-      add_tet_weighted(*ctx_.callback_density, px, hk.y, w.y, u.y, acc);
+      DensityNodes& nodes = thread_density_nodes();
+      add_tet_weighted(*ctx_.callback_density, ctx_.density_epoch, nodes, px, hj.y, u.y, w.y, acc);
+      add_tet_weighted(*ctx_.callback_density, ctx_.density_epoch, nodes, px, hk.y, w.y, u.y, acc);
     } else {
       add_edge_piece(foot(pj, px), foot(pk, px), u, w, acc);
     }
