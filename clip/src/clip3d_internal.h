@@ -250,31 +250,14 @@ inline constexpr P2Weights kP2Weights = p2detail::make_weights();
 // (P2Weights): 10 values of rho per tet, most of them shared with the cell's other cones
 // (DensityNodes), where the degree-5 rule calls rho 14 times per tet. Exact for rho of
 // degree <= 2. A node is x + v for a vertex v and x + (v + v') / 2 for a midpoint (v = 0
-// at x), the same bits from every tet that has it.
-inline void add_tet_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                              const double* x, const double* a, const double* b, const double* c,
-                              Moments& r) {
+// at x), the same bits from every tet that has it. add_tet_p2: the integrals from the
+// values f[0..9] at the nodes.
+inline void add_tet_p2(const double* f, const double* a, const double* b, const double* c,
+                       Moments& r) {
   const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0]);
   const double v = det / 6;
   r.volume += v;
-  const double* vert[3] = {a, b, c};
-  double f[10];
-  double p[3];
-  f[0] = nodes.value(rho, epoch, x);
-  for (int k = 0; k < 3; ++k) {
-    for (int q = 0; q < 3; ++q) p[q] = x[q] + vert[k][q];
-    f[1 + k] = nodes.value(rho, epoch, p);
-    for (int q = 0; q < 3; ++q) p[q] = x[q] + 0.5 * vert[k][q];
-    f[4 + k] = nodes.value(rho, epoch, p);
-  }
-  constexpr int kMid[3][2] = {{0, 1}, {0, 2}, {1, 2}};  // nodes 7, 8, 9: edges 12, 13, 23
-  for (int k = 0; k < 3; ++k) {
-    const double* u = vert[kMid[k][0]];
-    const double* w = vert[kMid[k][1]];
-    for (int q = 0; q < 3; ++q) p[q] = x[q] + 0.5 * (u[q] + w[q]);
-    f[7 + k] = nodes.value(rho, epoch, p);
-  }
   const P2Weights& W = kP2Weights;
   double m = 0, s[3] = {0, 0, 0}, t[6] = {0, 0, 0, 0, 0, 0};
   for (int n = 0; n < 10; ++n) {
@@ -290,6 +273,60 @@ inline void add_tet_quadratic(const Density3& rho, std::uint64_t epoch, DensityN
   const double e = (t[0] * dot(a, a) + t[1] * dot(b, b)) + t[2] * dot(c, c) +
                    2 * ((t[3] * dot(a, b) + t[4] * dot(a, c)) + t[5] * dot(b, c));
   r.energy += v * e;
+}
+
+// rho at the node x + v (vertex) or x + (v + w) / 2 (midpoint; v or w = nullptr: 0).
+inline double node_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                         const double* x, const double* v) {
+  const double p[3] = {x[0] + v[0], x[1] + v[1], x[2] + v[2]};
+  return nodes.value(rho, epoch, p);
+}
+inline double mid_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                        const double* x, const double* v, const double* w) {
+  double p[3];
+  for (int q = 0; q < 3; ++q) p[q] = x[q] + (w ? 0.5 * (v[q] + w[q]) : 0.5 * v[q]);
+  return nodes.value(rho, epoch, p);
+}
+
+inline void add_tet_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                              const double* x, const double* a, const double* b, const double* c,
+                              Moments& r) {
+  const double f[10] = {nodes.value(rho, epoch, x),
+                        node_value(rho, epoch, nodes, x, a),
+                        node_value(rho, epoch, nodes, x, b),
+                        node_value(rho, epoch, nodes, x, c),
+                        mid_value(rho, epoch, nodes, x, a, nullptr),
+                        mid_value(rho, epoch, nodes, x, b, nullptr),
+                        mid_value(rho, epoch, nodes, x, c, nullptr),
+                        mid_value(rho, epoch, nodes, x, a, b),
+                        mid_value(rho, epoch, nodes, x, a, c),
+                        mid_value(rho, epoch, nodes, x, b, c)};
+  add_tet_p2(f, a, b, c, r);
+}
+
+// The two tets (x; x + h, x + u, x + w) and (x; x + k, x + w, x + u) of a Voronoi edge
+// piece (DelaunayCells::add_piece) under kQuadratic: add_tet_quadratic twice, the six
+// nodes they share looked up once (the same values, so the same bits).
+inline void add_piece_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                                const double* x, const double* h, const double* k, const double* u,
+                                const double* w, Moments& r) {
+  const double f0 = nodes.value(rho, epoch, x);
+  const double fu = node_value(rho, epoch, nodes, x, u), fw = node_value(rho, epoch, nodes, x, w);
+  const double fu2 = mid_value(rho, epoch, nodes, x, u, nullptr);
+  const double fw2 = mid_value(rho, epoch, nodes, x, w, nullptr);
+  const double fuw = mid_value(rho, epoch, nodes, x, u, w);
+  const double f1[10] = {
+      f0,  node_value(rho, epoch, nodes, x, h),         fu,
+      fw,  mid_value(rho, epoch, nodes, x, h, nullptr), fu2,
+      fw2, mid_value(rho, epoch, nodes, x, h, u),       mid_value(rho, epoch, nodes, x, h, w),
+      fuw};
+  add_tet_p2(f1, h, u, w, r);
+  const double f2[10] = {
+      f0,  node_value(rho, epoch, nodes, x, k),         fw,
+      fu,  mid_value(rho, epoch, nodes, x, k, nullptr), fw2,
+      fu2, mid_value(rho, epoch, nodes, x, k, w),       mid_value(rho, epoch, nodes, x, k, u),
+      fuw};
+  add_tet_p2(f2, k, w, u, r);
 }
 
 // The integrals of rho over the tet by its rule (Density3::rule): add_tet_degree5 or
