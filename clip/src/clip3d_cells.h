@@ -261,9 +261,9 @@ class DelaunayCells {
     if constexpr (kWeighted) {
       const Foot hj = foot(pj, px), hk = foot(pk, px);
       const Density3& rho = *ctx_.callback_density;
-      DensityNodes& nodes = thread_density_nodes();
       if (rho.rule == Density3::Rule::kQuadratic) {
-        add_piece_quadratic(rho, ctx_.density_epoch, nodes, px, hj.y, hk.y, u.y, w.y, acc);
+        add_piece_quadratic(rho, ctx_.density_epoch, thread_density_nodes(), px, hj.y, hk.y, u.y,
+                            w.y, acc);
       } else {
         add_tet_degree5(rho, px, hj.y, u.y, w.y, acc);
         add_tet_degree5(rho, px, hk.y, w.y, u.y, acc);

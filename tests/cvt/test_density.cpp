@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <random>
 #include <string>
@@ -297,6 +298,9 @@ struct SiteDensityCheck {
   std::uint32_t n = 2000, iterations = 150;
   double margin = 0, tolerance = 0.05;
   int slabs = 5;
+  // 3D: start from sites drawn with density rho (too many at high x) instead of uniform
+  // sites (too many at low x).
+  bool start_rho = false;
 };
 
 void check_site_density(const SiteDensityCheck& c) {
@@ -314,6 +318,10 @@ void check_site_density(const SiteDensityCheck& c) {
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (std::uint32_t i = 0; i < n; ++i) sites.insert(sites.end(), {u(rng), u(rng)});
+  } else if (c.start_rho) {
+    sites = voroclip::random_points3(
+        unit_cube(), n, 2,
+        voroclip::Density3::function([](double x, double, double) { return 1 + 10 * x; }));
   } else {
     sites = voroclip::random_points3(unit_cube(), n, 2);
   }
@@ -353,6 +361,17 @@ void check_site_density(const SiteDensityCheck& c) {
     }
     return std::make_pair(count, inside);
   };
+  // For measurements: VOROCLIP_DENSITY_SITES=FILE writes the final sites (d per line).
+  if (const char* path = std::getenv("VOROCLIP_DENSITY_SITES")) {
+    if (std::FILE* f = std::fopen(path, "w")) {
+      for (std::size_t k = 0; k < sites.size(); k += static_cast<std::size_t>(d)) {
+        for (int q = 0; q < d; ++q) {
+          std::fprintf(f, q + 1 < d ? "%.17g " : "%.17g\n", sites[k + static_cast<std::size_t>(q)]);
+        }
+      }
+      std::fclose(f);
+    }
+  }
   const auto [count, inside] = count_slabs(sites);
   const auto [count0, inside0] = count_slabs(start);
   for (int s = 0; s < c.slabs; ++s) {
@@ -365,7 +384,7 @@ void check_site_density(const SiteDensityCheck& c) {
                  << ", ratio " << count[k] / expected);
     CHECK(std::fabs(count[k] - expected) <= c.tolerance * expected);
     // The uniform start misses the first slab's share by more than three tolerances.
-    if (s == 0) CHECK(count0[k] > (1 + 3 * c.tolerance) * inside0 * share);
+    if (s == 0 && !c.start_rho) CHECK(count0[k] > (1 + 3 * c.tolerance) * inside0 * share);
   }
 }
 
@@ -394,13 +413,21 @@ TEST_CASE("density: 10^4 CVT sites in 3D follow rho^(3/5) within 5 % in the inte
           "[cvt][density][.slow][!mayfail]") {
   // Over the whole cube (300 iterations, |g|/|g0| 1.9e-3): slabs 1-4 within 2.7 %, slab 0
   // (x in [0, 0.2), against the face x = 0, where rho is least and the cells largest) 5.3 %
-  // above. In the window [0.1, 0.9]^3 (this check; 301 iterations, |g|/|g0| 1.9e-3, 6 min
-  // on 2 cores under load): 5157 sites, ratios 0.995, 1.062, 1.029, 0.934 in the four
-  // slabs: the boundary layer is gone from slab 0, but slabs 1 and 3 miss by 6 %, the
-  // shape of sites still moving from low x (where the uniform start put too many) to high
-  // x: the iteration budget, not the boundary, limits this check. Still failing (mayfail)
-  // until it runs to convergence.
+  // above. In the window [0.1, 0.9]^3 (this check): after 301 iterations (|g|/|g0|
+  // 1.1e-3) ratios 0.995, 1.062, 1.029, 0.934; run to convergence (|g|/|g0| 7.0e-7 at
+  // 1214 iterations, 12 min on 2 busy cores) 0.996, 1.068, 1.029, 0.929 (5133 sites). The
+  // iteration budget is not what limits it: the converged CVT misses the asymptotics by
+  // 7 % in slabs 1 and 3. Still failing (mayfail); the case below starts from the other
+  // side to tell a memory of the start from a bias of the law at this size.
   check_site_density({3, 10000, 1500, 0.1, 0.05, 4});
+}
+
+TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho",
+          "[cvt][density][.slow][!mayfail]") {
+  // The same check from the other side: the start has too many sites at high x.
+  SiteDensityCheck c{3, 10000, 1500, 0.1, 0.05, 4};
+  c.start_rho = true;
+  check_site_density(c);
 }
 
 TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density)",
