@@ -422,10 +422,18 @@ TEST_CASE("density: 10^4 CVT sites in 3D follow rho^(3/5) within 5 % in the inte
   check_site_density({3, 10000, 1500, 0.1, 0.05, 4});
 }
 
-TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho",
-          "[cvt][density][.slow][!mayfail]") {
-  // The same check from the other side: the start has too many sites at high x.
-  SiteDensityCheck c{3, 10000, 1500, 0.1, 0.05, 4};
+TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho, whole cube",
+          "[cvt][density][.slow]") {
+  // From the other side (the start has too many sites at high x: in [0.1, 0.9]^3 its
+  // slabs hold 0.73 ... 1.12 of the asymptotics' share), converged (|g|/|g0| 9.8e-7 at
+  // 1363 iterations, 182 s of CPU): in the window [0.1, 0.9]^3 the same misses as
+  // from the uniform start above (0.994, 1.064, 1.016, 0.944), so a bias of that window,
+  // not a memory of the start. Recounted from the same sites (VOROCLIP_DENSITY_SITES):
+  // window [0.2, 0.8]^3, 3 slabs, 0.991, 0.982, 1.021; the whole cube, 5 slabs, 1.009,
+  // 0.974, 0.998, 1.009, 1.005. The window's lateral cut at 0.1 lies within the layers
+  // the faces y, z = 0, 1 impose on the sites (1.5 spacings where x is small, 2.4 where x is
+  // large), a different share of them in each slab; the whole cube counts every layer.
+  SiteDensityCheck c{3, 10000, 1500, 0.0, 0.05, 5};
   c.start_rho = true;
   check_site_density(c);
 }
