@@ -84,9 +84,11 @@ BENCHMARK(BM_cvt3d)
 //   1  the C++ callback 1 / (0.01 + (x - 0.5)^2 + y^2) (degree-5 quadrature on every cone);
 //   2  the same formula as the command line's --density expression (muparser, one parser
 //      per thread: cli::Expression);
-//   3  the expression "1" (what the quadrature and the parser cost without arithmetic).
+//   3  the expression "1" (what the quadrature and the parser cost without arithmetic);
+//   4, 5  as 1 and 2 under Density3::Rule::kQuadratic (the quadratic interpolant at the
+//      cones' vertices and edge midpoints) instead of the degree-5 rule.
 void BM_cvt3d_density(benchmark::State& state) {
-  const auto kind = state.range(0);
+  const auto kind = state.range(0) >= 4 ? state.range(0) - 3 : state.range(0);
   const auto n = static_cast<std::uint32_t>(state.range(1));
   const auto iterations = static_cast<std::uint32_t>(state.range(2));
   const voroclip::Domain3& domain = sphere_fine();
@@ -121,6 +123,7 @@ void BM_cvt3d_density(benchmark::State& state) {
     default:
       break;
   }
+  if (state.range(0) >= 4) options.clip.density.rule = voroclip::Density3::Rule::kQuadratic;
   voroclip::CvtResult result;
   for (auto _ : state) {
     state.PauseTiming();
@@ -139,6 +142,8 @@ BENCHMARK(BM_cvt3d_density)
     ->Args({1, 20000, 5})
     ->Args({2, 20000, 5})
     ->Args({3, 20000, 5})
+    ->Args({4, 20000, 5})
+    ->Args({5, 20000, 5})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

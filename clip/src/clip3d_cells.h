@@ -260,8 +260,14 @@ class DelaunayCells {
                  PieceAcc<kWeighted>& acc) const {
     if constexpr (kWeighted) {
       const Foot hj = foot(pj, px), hk = foot(pk, px);
-      add_tet_weighted(*ctx_.callback_density, px, hj.y, u.y, w.y, acc);
-      add_tet_weighted(*ctx_.callback_density, px, hk.y, w.y, u.y, acc);
+      const Density3& rho = *ctx_.callback_density;
+      if (rho.rule == Density3::Rule::kQuadratic) {
+        add_piece_quadratic(rho, ctx_.density_epoch, thread_density_nodes(), px, hj.y, hk.y, u.y,
+                            w.y, acc);
+      } else {
+        add_tet_degree5(rho, px, hj.y, u.y, w.y, acc);
+        add_tet_degree5(rho, px, hk.y, w.y, u.y, acc);
+      }
     } else {
       add_edge_piece(foot(pj, px), foot(pk, px), u, w, acc);
     }

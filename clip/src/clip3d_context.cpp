@@ -14,7 +14,9 @@
 // their geometry, kept for the rest of the compute.
 #include "clip3d_internal.h"
 
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace voroclip {
@@ -31,8 +33,20 @@ Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Opti
       weighted(!o.density.is_constant()),
       linear_density(o.density.kind == Density3::Kind::kVertexLinear),
       callback_density(o.density.kind == Density3::Kind::kCallback ? &o.density : nullptr),
+      density_epoch(next_density_epoch()),
       keep_surface(o.keep_surface || o.keep_geometry),
       poll(p) {}
+
+std::uint64_t Clip3Context::next_density_epoch() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+DensityNodes& thread_density_nodes() {
+  thread_local std::unique_ptr<DensityNodes> nodes;
+  if (!nodes) nodes = std::make_unique<DensityNodes>();
+  return *nodes;
+}
 
 void Clip3Context::star(std::uint32_t v, Star& s) const {
   const std::uint32_t slots = dt.nb_tet_slots();

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -91,9 +92,9 @@ inline void add_cone(const double* a, const double* b, const double* c, Moments&
 
 // The integrals of a density rho over the signed tet (x, x + a, x + b, x + c) (vectors
 // relative to x, sign as add_cone): r.volume += det / 6, r.mass += ∫rho, r.moment +=
-// ∫rho (y - x), r.energy += ∫rho |y - x|^2, by Walkington's 14-point rule of degree 5
-// (positive weights; "Quadrature on simplices of arbitrary dimension", 2000): two orbits
-// of 4 points (a, a, a, 1 - 3a) and one of 6 points (b, b, 1/2 - b, 1/2 - b) in barycentric
+// ∫rho (y - x), r.energy += ∫rho |y - x|^2, under Density3::Rule::kDegree5 by Walkington's 14-point
+// rule of degree 5 (positive weights; "Quadrature on simplices of arbitrary dimension", 2000): two
+// orbits of 4 points (a, a, a, 1 - 3a) and one of 6 points (b, b, 1/2 - b, 1/2 - b) in barycentric
 // coordinates. Exact for polynomials of degree <= 5, so for rho of degree <= 3 (the
 // energy's integrand is rho |y - x|^2); tests/clip/test_clip3d.cpp checks it on monomials.
 struct TetRule {
@@ -131,8 +132,8 @@ inline constexpr TetRule kTetRule[14] = {
      0.042546020777081466438},
 };
 
-inline void add_tet_weighted(const Density3& rho, const double* x, const double* a, const double* b,
-                             const double* c, Moments& r) {
+inline void add_tet_degree5(const Density3& rho, const double* x, const double* a, const double* b,
+                            const double* c, Moments& r) {
   const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0]);
   r.volume += det / 6;
@@ -149,6 +150,195 @@ inline void add_tet_weighted(const Density3& rho, const double* x, const double*
   r.mass += v * m;
   for (int k = 0; k < 3; ++k) r.moment[k] += v * mom[k];
   r.energy += v * e;
+}
+
+// The values of a callback density at the nodes of the cones (add_tet_weighted), cached
+// by the nodes' coordinates: a cell's cones share most of their nodes (the site, the
+// Voronoi vertices, the bisectors' feet, the midpoints of the edges between those), and a
+// node is computed from the same operands wherever it is met, so the same bits find the
+// cached value. Direct-mapped (a slot keeps the last node hashed to it); an entry counts
+// only for the density of its compute() (`epoch`, Clip3Context::density_epoch), so the
+// values never depend on what a thread computed before: the cache changes the number of
+// calls of rho, never a result.
+class DensityNodes {
+ public:
+  static constexpr std::uint32_t kSlots = 1024;
+  // rho at p (absolute coordinates).
+  double value(const Density3& rho, std::uint64_t epoch, const double* p) {
+    std::uint64_t b[3];
+    std::memcpy(b, p, sizeof b);
+    const std::uint64_t h = (b[0] * 0x9E3779B97F4A7C15ull) ^ (b[1] * 0xC2B2AE3D27D4EB4Full) ^
+                            (b[2] * 0x165667B19E3779F9ull);
+    Entry& e = entries_[h >> 54];  // the top 10 bits: kSlots
+    if (e.epoch == epoch && e.key[0] == b[0] && e.key[1] == b[1] && e.key[2] == b[2]) {
+      return e.value;
+    }
+    e.value = rho.callback(p[0], p[1], p[2]);
+    e.epoch = epoch;
+    for (int k = 0; k < 3; ++k) e.key[k] = b[k];
+    return e.value;
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t key[3] = {0, 0, 0};
+    std::uint64_t epoch = 0;  // 0: empty (epochs start at 1)
+    double value = 0;
+  };
+  Entry entries_[kSlots];
+};
+
+// The calling thread's DensityNodes (on the heap: 40 KB).
+DensityNodes& thread_density_nodes();
+
+// The P2 (quadratic Lagrange) nodal rule on a tet: nodes 0..3 its vertices, 4..9 the
+// midpoints of its edges (01, 02, 03, 12, 13, 23), basis N_i = l_i (2 l_i - 1) and
+// N_ij = 4 l_i l_j in the barycentric coordinates l. With rho_h the interpolant of rho at
+// the nodes, the weights below are, over the tet's volume V, the integrals of N_n, of
+// N_n l_k and of N_n l_k l_l (k, l = 1..3): from the integral of a monomial,
+// ∫ l^b = 6 V b! / (|b| + 3)!. Then for vertex 0 at the site and vertices 1..3 at the
+// site + a, b, c: ∫rho_h = V sum r_n W0_n, ∫rho_h y = V sum_k v_k (sum r_n W1_nk),
+// ∫rho_h |y|^2 = V sum_kl (v_k . v_l) (sum r_n W2_nkl): exact when rho is a polynomial of
+// degree <= 2 (then rho_h = rho), in particular when it is constant or linear.
+struct P2Weights {
+  double w0[10];
+  double w1[10][3];  // k = 1..3
+  double w2[10][6];  // (k, l) = (1,1) (2,2) (3,3) (1,2) (1,3) (2,3)
+};
+namespace p2detail {
+constexpr double factorial(int n) { return n <= 1 ? 1.0 : n * factorial(n - 1); }
+// ∫ l^e / V for exponents e[0..3].
+constexpr double monomial(const int* e) {
+  double num = 6;
+  int deg = 0;
+  for (int k = 0; k < 4; ++k) {
+    num *= factorial(e[k]);
+    deg += e[k];
+  }
+  return num / factorial(deg + 3);
+}
+// ∫ N_n l_k l_l / V (k or l = -1: absent).
+constexpr double integral(int n, int k, int l) {
+  constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  int e[4] = {0, 0, 0, 0};
+  if (k >= 0) ++e[k];
+  if (l >= 0) ++e[l];
+  if (n < 4) {
+    int e2[4] = {e[0], e[1], e[2], e[3]}, e1[4] = {e[0], e[1], e[2], e[3]};
+    e2[n] += 2;
+    e1[n] += 1;
+    return 2 * monomial(e2) - monomial(e1);
+  }
+  ++e[kEdge[n - 4][0]];
+  ++e[kEdge[n - 4][1]];
+  return 4 * monomial(e);
+}
+constexpr P2Weights make_weights() {
+  constexpr int kPair[6][2] = {{1, 1}, {2, 2}, {3, 3}, {1, 2}, {1, 3}, {2, 3}};
+  P2Weights w{};
+  for (int n = 0; n < 10; ++n) {
+    w.w0[n] = integral(n, -1, -1);
+    for (int k = 0; k < 3; ++k) w.w1[n][k] = integral(n, k + 1, -1);
+    for (int p = 0; p < 6; ++p) w.w2[n][p] = integral(n, kPair[p][0], kPair[p][1]);
+  }
+  return w;
+}
+}  // namespace p2detail
+inline constexpr P2Weights kP2Weights = p2detail::make_weights();
+
+// The same integrals under Density3::Rule::kQuadratic: rho replaced by its P2 interpolant
+// (P2Weights): 10 values of rho per tet, most of them shared with the cell's other cones
+// (DensityNodes), where the degree-5 rule calls rho 14 times per tet. Exact for rho of
+// degree <= 2. A node is x + v for a vertex v and x + (v + v') / 2 for a midpoint (v = 0
+// at x), the same bits from every tet that has it. add_tet_p2: the integrals from the
+// values f[0..9] at the nodes.
+inline void add_tet_p2(const double* f, const double* a, const double* b, const double* c,
+                       Moments& r) {
+  const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                     a[2] * (b[0] * c[1] - b[1] * c[0]);
+  const double v = det / 6;
+  r.volume += v;
+  const P2Weights& W = kP2Weights;
+  double m = 0, s[3] = {0, 0, 0}, t[6] = {0, 0, 0, 0, 0, 0};
+  for (int n = 0; n < 10; ++n) {
+    m += f[n] * W.w0[n];
+    for (int k = 0; k < 3; ++k) s[k] += f[n] * W.w1[n][k];
+    for (int k = 0; k < 6; ++k) t[k] += f[n] * W.w2[n][k];
+  }
+  const auto dot = [](const double* u, const double* w) {
+    return (u[0] * w[0] + u[1] * w[1]) + u[2] * w[2];
+  };
+  r.mass += v * m;
+  for (int q = 0; q < 3; ++q) r.moment[q] += v * ((s[0] * a[q] + s[1] * b[q]) + s[2] * c[q]);
+  const double e = (t[0] * dot(a, a) + t[1] * dot(b, b)) + t[2] * dot(c, c) +
+                   2 * ((t[3] * dot(a, b) + t[4] * dot(a, c)) + t[5] * dot(b, c));
+  r.energy += v * e;
+}
+
+// rho at the node x + v (vertex) or x + (v + w) / 2 (midpoint; v or w = nullptr: 0).
+inline double node_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                         const double* x, const double* v) {
+  const double p[3] = {x[0] + v[0], x[1] + v[1], x[2] + v[2]};
+  return nodes.value(rho, epoch, p);
+}
+inline double mid_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                        const double* x, const double* v, const double* w) {
+  double p[3];
+  for (int q = 0; q < 3; ++q) p[q] = x[q] + (w ? 0.5 * (v[q] + w[q]) : 0.5 * v[q]);
+  return nodes.value(rho, epoch, p);
+}
+
+inline void add_tet_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                              const double* x, const double* a, const double* b, const double* c,
+                              Moments& r) {
+  const double f[10] = {nodes.value(rho, epoch, x),
+                        node_value(rho, epoch, nodes, x, a),
+                        node_value(rho, epoch, nodes, x, b),
+                        node_value(rho, epoch, nodes, x, c),
+                        mid_value(rho, epoch, nodes, x, a, nullptr),
+                        mid_value(rho, epoch, nodes, x, b, nullptr),
+                        mid_value(rho, epoch, nodes, x, c, nullptr),
+                        mid_value(rho, epoch, nodes, x, a, b),
+                        mid_value(rho, epoch, nodes, x, a, c),
+                        mid_value(rho, epoch, nodes, x, b, c)};
+  add_tet_p2(f, a, b, c, r);
+}
+
+// The two tets (x; x + h, x + u, x + w) and (x; x + k, x + w, x + u) of a Voronoi edge
+// piece (DelaunayCells::add_piece) under kQuadratic: add_tet_quadratic twice, the six
+// nodes they share looked up once (the same values, so the same bits).
+inline void add_piece_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                                const double* x, const double* h, const double* k, const double* u,
+                                const double* w, Moments& r) {
+  const double f0 = nodes.value(rho, epoch, x);
+  const double fu = node_value(rho, epoch, nodes, x, u), fw = node_value(rho, epoch, nodes, x, w);
+  const double fu2 = mid_value(rho, epoch, nodes, x, u, nullptr);
+  const double fw2 = mid_value(rho, epoch, nodes, x, w, nullptr);
+  const double fuw = mid_value(rho, epoch, nodes, x, u, w);
+  const double f1[10] = {
+      f0,  node_value(rho, epoch, nodes, x, h),         fu,
+      fw,  mid_value(rho, epoch, nodes, x, h, nullptr), fu2,
+      fw2, mid_value(rho, epoch, nodes, x, h, u),       mid_value(rho, epoch, nodes, x, h, w),
+      fuw};
+  add_tet_p2(f1, h, u, w, r);
+  const double f2[10] = {
+      f0,  node_value(rho, epoch, nodes, x, k),         fw,
+      fu,  mid_value(rho, epoch, nodes, x, k, nullptr), fw2,
+      fu2, mid_value(rho, epoch, nodes, x, k, w),       mid_value(rho, epoch, nodes, x, k, u),
+      fuw};
+  add_tet_p2(f2, k, w, u, r);
+}
+
+// The integrals of rho over the tet by its rule (Density3::rule): add_tet_degree5 or
+// add_tet_quadratic.
+inline void add_tet_weighted(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
+                             const double* x, const double* a, const double* b, const double* c,
+                             Moments& r) {
+  if (rho.rule == Density3::Rule::kQuadratic) {
+    add_tet_quadratic(rho, epoch, nodes, x, a, b, c, r);
+  } else {
+    add_tet_degree5(rho, x, a, b, c, r);
+  }
 }
 
 // Tets around a vertex of the triangulation, breadth first through the facets that contain
@@ -189,6 +379,9 @@ struct Clip3Context {
   bool linear_density;
   // A density given as a function: quadrature on the cells' cone decompositions.
   const Density3* callback_density;
+  // This compute()'s key in the threads' DensityNodes caches (from 1, never reused).
+  std::uint64_t density_epoch;
+  static std::uint64_t next_density_epoch();
   // The restricted surface polygons are kept (keep_surface or keep_geometry).
   bool keep_surface;
   // Progress and cancel (clip_poll.h): chunks of the parallel loops report to it; null

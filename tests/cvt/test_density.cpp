@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <random>
 #include <string>
@@ -120,7 +122,7 @@ TEST_CASE("density 2D: cell integrals exact for rho of degree <= 2 (independent 
       total_mass += m;
     }
     // The exact integral over the square: 6 for 1 + 10x; 2 + 1/3 - 1/8 + 1/3 for the other.
-    CHECK(total_mass == Approx(r == 0 ? 6.0 : 2.0 + 2.0 / 3 - 0.125).epsilon(1e-13));
+    CHECK(total_mass == Approx(r == 0 ? 6.0 : 2.0 + 2.0 / 3 - 0.125).epsilon(1e-12));
   }
 }
 
@@ -201,6 +203,47 @@ TEST_CASE("density 3D: cell integrals exact for rho of degree <= 2 (independent 
   }
 }
 
+TEST_CASE("density 3D: the quadratic rule is exact for rho of degree <= 2, not beyond",
+          "[cvt][density]") {
+  // Both rules are exact for rho of degree <= 2 (the degree-5 rule up to degree 3): every
+  // cell's mass, centroid and energy agree to rounding. For a cubic rho the quadratic
+  // interpolant is not rho, and the two differ.
+  const voroclip::Domain3 d = unit_cube();
+  const std::uint32_t n = 150;
+  const std::vector<double> sites = voroclip::random_points3(d, n, 11);
+  const std::vector<std::function<double(double, double, double)>> rhos = {
+      [](double x, double, double) { return 1 + 10 * x; },
+      [](double x, double y, double z) { return 2 + x * x - 0.5 * y * z + z * z; },
+      [](double x, double y, double z) { return 1 + x * x * x + y * z * z; }};
+  for (std::size_t r = 0; r < rhos.size(); ++r) {
+    INFO("density " << r);
+    voroclip::ClippedVoronoi3 five, quadratic;
+    voroclip::Clip3Options o;
+    o.density = voroclip::Density3::function(rhos[r]);
+    five.compute(d, sites.data(), n, o);
+    o.density.rule = voroclip::Density3::Rule::kQuadratic;
+    quadratic.compute(d, sites.data(), n, o);
+    double worst = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      INFO("cell " << i);
+      REQUIRE(quadratic.volume(i) == five.volume(i));
+      worst = std::max(worst, std::fabs(quadratic.mass(i) - five.mass(i)) / five.mass(i));
+      worst = std::max(worst, std::fabs(quadratic.energy(i) - five.energy(i)) / five.energy(i));
+      for (int c = 0; c < 3; ++c) {
+        worst = std::max(worst, std::fabs(quadratic.centroid(i)[c] - five.centroid(i)[c]));
+      }
+    }
+    INFO("largest difference " << worst);
+    if (r < 2) {
+      CHECK(worst < 1e-12);
+      // The exact mass of the cube: 6 and 2 + 1/3 - 1/8 + 1/3.
+      CHECK(quadratic.total_mass() == Approx(r == 0 ? 6.0 : 2.0 + 2.0 / 3 - 0.125).epsilon(1e-12));
+    } else {
+      CHECK(worst > 1e-6);
+    }
+  }
+}
+
 TEST_CASE("density 2D: gradient equals finite differences with a non-polynomial density",
           "[cvt][density]") {
   // The gradient 2 m (x_i - c_i) is the derivative of the exact energy; the computed energy
@@ -255,6 +298,9 @@ struct SiteDensityCheck {
   std::uint32_t n = 2000, iterations = 150;
   double margin = 0, tolerance = 0.05;
   int slabs = 5;
+  // 3D: start from sites drawn with density rho (too many at high x) instead of uniform
+  // sites (too many at low x).
+  bool start_rho = false;
 };
 
 void check_site_density(const SiteDensityCheck& c) {
@@ -272,6 +318,10 @@ void check_site_density(const SiteDensityCheck& c) {
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (std::uint32_t i = 0; i < n; ++i) sites.insert(sites.end(), {u(rng), u(rng)});
+  } else if (c.start_rho) {
+    sites = voroclip::random_points3(
+        unit_cube(), n, 2,
+        voroclip::Density3::function([](double x, double, double) { return 1 + 10 * x; }));
   } else {
     sites = voroclip::random_points3(unit_cube(), n, 2);
   }
@@ -286,6 +336,8 @@ void check_site_density(const SiteDensityCheck& c) {
     voroclip::Cvt3Options o;
     o.clip.density =
         voroclip::Density3::function([](double x, double, double) { return 1 + 10 * x; });
+    // rho is linear: the quadratic rule integrates it exactly, at a quarter of the calls.
+    o.clip.density.rule = voroclip::Density3::Rule::kQuadratic;
     o.max_iterations = c.iterations;
     o.gradient_tolerance = 1e-6;
     r = voroclip::optimize_cvt3(unit_cube(), sites, o);
@@ -309,6 +361,17 @@ void check_site_density(const SiteDensityCheck& c) {
     }
     return std::make_pair(count, inside);
   };
+  // For measurements: VOROCLIP_DENSITY_SITES=FILE writes the final sites (d per line).
+  if (const char* path = std::getenv("VOROCLIP_DENSITY_SITES")) {
+    if (std::FILE* f = std::fopen(path, "w")) {
+      for (std::size_t k = 0; k < sites.size(); k += static_cast<std::size_t>(d)) {
+        for (int q = 0; q < d; ++q) {
+          std::fprintf(f, q + 1 < d ? "%.17g " : "%.17g\n", sites[k + static_cast<std::size_t>(q)]);
+        }
+      }
+      std::fclose(f);
+    }
+  }
   const auto [count, inside] = count_slabs(sites);
   const auto [count0, inside0] = count_slabs(start);
   for (int s = 0; s < c.slabs; ++s) {
@@ -321,7 +384,7 @@ void check_site_density(const SiteDensityCheck& c) {
                  << ", ratio " << count[k] / expected);
     CHECK(std::fabs(count[k] - expected) <= c.tolerance * expected);
     // The uniform start misses the first slab's share by more than three tolerances.
-    if (s == 0) CHECK(count0[k] > (1 + 3 * c.tolerance) * inside0 * share);
+    if (s == 0 && !c.start_rho) CHECK(count0[k] > (1 + 3 * c.tolerance) * inside0 * share);
   }
 }
 
@@ -350,13 +413,29 @@ TEST_CASE("density: 10^4 CVT sites in 3D follow rho^(3/5) within 5 % in the inte
           "[cvt][density][.slow][!mayfail]") {
   // Over the whole cube (300 iterations, |g|/|g0| 1.9e-3): slabs 1-4 within 2.7 %, slab 0
   // (x in [0, 0.2), against the face x = 0, where rho is least and the cells largest) 5.3 %
-  // above. In the window [0.1, 0.9]^3 (this check; 301 iterations, |g|/|g0| 1.9e-3, 6 min
-  // on 2 cores under load): 5157 sites, ratios 0.995, 1.062, 1.029, 0.934 in the four
-  // slabs: the boundary layer is gone from slab 0, but slabs 1 and 3 miss by 6 %, the
-  // shape of sites still moving from low x (where the uniform start put too many) to high
-  // x: the iteration budget, not the boundary, limits this check. Still failing (mayfail)
-  // until it runs to convergence.
-  check_site_density({3, 10000, 300, 0.1, 0.05, 4});
+  // above. In the window [0.1, 0.9]^3 (this check): after 301 iterations (|g|/|g0|
+  // 1.1e-3) ratios 0.995, 1.062, 1.029, 0.934; run to convergence (|g|/|g0| 7.0e-7 at
+  // 1214 iterations, 12 min on 2 busy cores) 0.996, 1.068, 1.029, 0.929 (5133 sites). The
+  // iteration budget is not what limits it: the converged CVT misses the asymptotics by
+  // 7 % in slabs 1 and 3. Still failing (mayfail); the case below starts from the other
+  // side to tell a memory of the start from a bias of the law at this size.
+  check_site_density({3, 10000, 1500, 0.1, 0.05, 4});
+}
+
+TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho, whole cube",
+          "[cvt][density][.slow]") {
+  // From the other side (the start has too many sites at high x: in [0.1, 0.9]^3 its
+  // slabs hold 0.73 ... 1.12 of the asymptotics' share), converged (|g|/|g0| 9.8e-7 at
+  // 1363 iterations, 182 s of CPU): in the window [0.1, 0.9]^3 the same misses as
+  // from the uniform start above (0.994, 1.064, 1.016, 0.944), so a bias of that window,
+  // not a memory of the start. Recounted from the same sites (VOROCLIP_DENSITY_SITES):
+  // window [0.2, 0.8]^3, 3 slabs, 0.991, 0.982, 1.021; the whole cube, 5 slabs, 1.009,
+  // 0.974, 0.998, 1.009, 1.005. The window's lateral cut at 0.1 lies within the layers
+  // the faces y, z = 0, 1 impose on the sites (1.5 spacings where x is small, 2.4 where x is
+  // large), a different share of them in each slab; the whole cube counts every layer.
+  SiteDensityCheck c{3, 10000, 1500, 0.0, 0.05, 5};
+  c.start_rho = true;
+  check_site_density(c);
 }
 
 TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density)",
@@ -367,6 +446,11 @@ TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density
   o.clip.density = voroclip::Density3::function(
       [](double x, double y, double z) { return std::exp(x - y) + z * z; });
   o.max_iterations = 15;
+  // The quadratic rule reads rho through each thread's cache of node values.
+  const auto rule =
+      GENERATE(voroclip::Density3::Rule::kDegree5, voroclip::Density3::Rule::kQuadratic);
+  o.clip.density.rule = rule;
+  INFO("rule " << static_cast<int>(rule));
   std::vector<double> a = start, b = start;
   voroclip::Cvt3Result ra, rb;
   {
@@ -421,4 +505,39 @@ TEST_CASE("cvt: the stop reason", "[cvt]") {
   o3.gradient_tolerance = 0.3;
   CHECK(voroclip::optimize_cvt3(d3, sites3, o3).stop == voroclip::CvtStop::kConverged);
   CHECK(std::string(voroclip::cvt_stop_name(voroclip::CvtStop::kNoProgress)) == "no progress");
+}
+
+TEST_CASE("density 3D: gradient against finite differences, both rules, 40 to 2560 sites",
+          "[cvt][density][.measure]") {
+  // Measurement (hidden): max |fd - g| / max |g| over the coordinates of the first 8 sites,
+  // rho = exp(0.5 x + 0.3 y - 0.2 z) in the unit cube, for 40, 320 and 2560 sites (the
+  // cells' size halving each time).
+  const voroclip::Domain3 d = unit_cube();
+  for (const std::uint32_t n : {40u, 320u, 2560u}) {
+    const std::vector<double> sites = voroclip::random_points3(d, n, 23);
+    for (const auto rule :
+         {voroclip::Density3::Rule::kDegree5, voroclip::Density3::Rule::kQuadratic}) {
+      voroclip::Clip3Options o;
+      o.density = voroclip::Density3::function(
+          [](double x, double y, double z) { return std::exp(0.5 * x + 0.3 * y - 0.2 * z); });
+      o.density.rule = rule;
+      std::vector<double> g;
+      voroclip::cvt_energy3(d, sites, o, &g);
+      double max_g = 0;
+      for (double v : g) max_g = std::max(max_g, std::fabs(v));
+      const double h = 1e-6;
+      double max_err = 0;
+      for (std::size_t k = 0; k < 24; ++k) {
+        std::vector<double> plus = sites, minus = sites;
+        plus[k] += h;
+        minus[k] -= h;
+        const double fd =
+            (voroclip::cvt_energy3(d, plus, o) - voroclip::cvt_energy3(d, minus, o)) / (2 * h);
+        max_err = std::max(max_err, std::fabs(fd - g[k]));
+      }
+      std::printf("sites %u rule %d: max |fd - g| %.3g, max |g| %.3g, relative %.3g\n", n,
+                  static_cast<int>(rule), max_err, max_g, max_err / max_g);
+      CHECK(max_g > 0);
+    }
+  }
 }

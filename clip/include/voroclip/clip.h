@@ -566,19 +566,31 @@ Domain3 read_domain3(const std::string& path, const Surface3Options& options = {
 
 // Density for the 3D cell integrals (the 3D counterpart of Density2).
 //   constant       rho = value everywhere (closed forms);
-//   callback       rho(x, y, z) given by the user, integrated with a degree-5 rule (14
-//                  points, positive weights) on the tetrahedra of each cell's cone
-//                  decomposition (from the site over the faces of cell ∩ volume, each face
-//                  fanned): exact for rho a polynomial of degree <= 3. It must be finite and
-//                  positive on every Voronoi cell that meets the volume (the cones reach
-//                  the whole cell, not only its part in the volume), deterministic, and
-//                  safe to call from several threads at once;
+//   callback       rho(x, y, z) given by the user, integrated on the tetrahedra of each
+//                  cell's cone decomposition (from the site over the faces of cell ∩
+//                  volume, each face fanned) by `rule`:
+//                    kDegree5    Walkington's 14 points per tet, positive weights: exact for
+//                                rho a polynomial of degree <= 3 (the default);
+//                    kQuadratic  rho replaced on each tet by its quadratic interpolant at
+//                                the tet's vertices and edge midpoints, integrated exactly:
+//                                exact for rho of degree <= 2. The cones share most of
+//                                those points, so rho is called about 260 times per cell
+//                                instead of about 1100; but the energy's error is O(h^3) in
+//                                the cells' size h (O(h^6) for kDegree5), and so is the
+//                                mismatch between the gradient 2 m (x - c) and the
+//                                energy's derivative, and the interpolant can be negative
+//                                where rho varies by a large factor within a cell.
+//                  It must be finite and positive on every Voronoi cell that meets the
+//                  volume (the cones reach the whole cell, not only its part in the
+//                  volume), deterministic, and safe to call from several threads at once;
 //   vertex_linear  linear on each tet of the domain's tet mesh with these values at the
 //                  mesh's vertices (one per vertex, >= 0): needs a tet mesh, and clips every
 //                  cell tet by tet (sec. 4.2), integrated exactly per piece.
 struct Density3 {
   enum class Kind { kConstant, kCallback, kVertexLinear };
+  enum class Rule { kDegree5, kQuadratic };
   Kind kind = Kind::kConstant;
+  Rule rule = Rule::kDegree5;  // kCallback's quadrature
   double value = 1.0;
   std::function<double(double, double, double)> callback;
   std::vector<double> vertex_values;
