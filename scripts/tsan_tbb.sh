@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds oneTBB with ThreadSanitizer for the TSan build of voroclip.
 #
-#   bash scripts/tsan_tbb.sh BUILD_DIR     (scripts/test.sh uses build/tsan)
+#   bash scripts/tsan_tbb.sh BUILD_DIR     (scripts/tsan.sh, stage 7 of scripts/test.sh, uses
+#                                          build/tsan)
 #
 # Why: Debian's libtbb.so is not instrumented, so TSan never sees the synchronisation of
 # TBB's scheduler (a task spawned by one thread and stolen by another is handed over inside
@@ -41,10 +42,12 @@ work="$build_dir/tbb-work"
 rm -rf "$work" "$prefix"
 mkdir -p "$work/apt/lists/partial" "$work/apt/cache/archives/partial" "$work/src"
 cat >"$work/apt/sources.list" <<'EOF'
-deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm bookworm-updates main
+deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm main
+deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm-updates main
 deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian-security bookworm-security main
 EOF
-# The suites above are Debian 12's, as scripts/setup.sh assumes.
+# The suites above are Debian 12's, as scripts/setup.sh assumes (one line per suite: on one
+# line, a second suite would be read as a component).
 apt_options=(-o "Dir::Etc::SourceList=$work/apt/sources.list" -o "Dir::Etc::SourceParts=/nonexistent"
   -o "Dir::State::Lists=$work/apt/lists" -o "Dir::Cache=$work/apt/cache")
 echo "==> tsan_tbb: fetching Debian's onetbb $version source"

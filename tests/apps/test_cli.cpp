@@ -127,7 +127,7 @@ TEST_CASE("--quiet with --stats json prints only the JSON object", "[apps]") {
   CHECK(nlohmann::json::parse(run.out).at("exact_zero") == 256);
 }
 
-TEST_CASE("demo counts are identical with 1 and 2 threads", "[apps]") {
+TEST_CASE("demo counts are identical with 1 and 2 threads", "[apps][threads]") {
   nlohmann::json one = demo_stats("1");
   nlohmann::json two = demo_stats("2");
   CHECK(one.at("threads") == 1);

@@ -136,7 +136,8 @@ TEST_CASE("cvt3d: progress, stop reason, the sites are a CVT", "[apps][density]"
   }
 }
 
-TEST_CASE("cvt3d: identical with 1 and 2 threads, and to the library's CVT", "[apps][density]") {
+TEST_CASE("cvt3d: identical with 1 and 2 threads, and to the library's CVT",
+          "[apps][density][threads]") {
   const TempFile cube(".obj", kCubeObj);
   const TempFile a(".txt"), b(".txt");
   for (const std::string& density : {std::string(), std::string("1 + 10*x")}) {

@@ -252,7 +252,7 @@ TEST_CASE("clip2d: 10^5 random points in the cells of their nearest sites", "[cl
   check_diagram(d, dt, clip(d, dt), static_cast<std::uint32_t>(100000 * test_scale()), 21);
 }
 
-TEST_CASE("clip2d: identical results with 1 and 2 threads", "[clip]") {
+TEST_CASE("clip2d: identical results with 1 and 2 threads", "[clip][threads]") {
   const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue35.json"));
   const std::vector<double> sites = sample_inside(d, 20000, 3);
   const Delaunay2 dt(sites.data(), 20000);

@@ -644,7 +644,7 @@ TEST_CASE("clip3d: sites on the domain's faces to the last bits: Delaunay sliver
   }
 }
 
-TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip]") {
+TEST_CASE("clip3d: identical results with 1 and 2 threads", "[clip][threads]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   const std::vector<double> sites = sample_volume(d, 5000, 3);
   const Delaunay3 dt(sites.data(), 5000);
@@ -725,7 +725,8 @@ TEST_CASE("clip3d: repeated computes on one object, and a failed one", "[clip]")
 // (bit for bit, after mapping the indices: the same triangulation and the same
 // arithmetic), and against compute(domain, dt) on the input order (the same cells up to
 // rounding: the perturbation only decides measure zero).
-TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input order", "[clip]") {
+TEST_CASE("clip3d: compute from the sites, in spatial order, reported in input order",
+          "[clip][threads]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/bunny.mesh"));
   std::vector<double> sites = sample_volume(d, 3000, 51);
   sites.insert(sites.end(), sites.begin() + 300, sites.begin() + 360);  // 20 duplicates
@@ -1432,7 +1433,7 @@ TEST_CASE("clip3d from a surface alone: a density given as a function", "[clip]"
   CHECK_THROWS_WITH(cv.compute(surface, dt, tc), Catch::Contains("tet_clipping needs"));
 }
 
-TEST_CASE("clip3d from a surface alone: identical with 1 and 2 threads", "[clip]") {
+TEST_CASE("clip3d from a surface alone: identical with 1 and 2 threads", "[clip][threads]") {
   const Domain3 d(voroclip_test::merged(voroclip::read_surface(kData + "/surfaces/elk.off"),
                                         voroclip_test::box_surface({-5, -5, -5}, {-4, -4, -4})));
   const std::vector<double> sites = sample_volume(d, 4000, 81);

@@ -135,7 +135,8 @@ TEST_CASE("clip3d: coplanar sites make prisms over their 2D cells", "[clip][dege
   }
 }
 
-TEST_CASE("clip3d: coplanar sites give the same bits with 1 and 2 threads", "[clip][degenerate]") {
+TEST_CASE("clip3d: coplanar sites give the same bits with 1 and 2 threads",
+          "[clip][degenerate][threads]") {
   const Domain3 sphere(
       voroclip::read_surface(std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj"));
   std::mt19937_64 rng(5);

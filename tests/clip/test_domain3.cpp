@@ -333,7 +333,7 @@ TEST_CASE("Domain3 validates every shared model", "[clip]") {
   }
 }
 
-TEST_CASE("Domain3 is identical for 1 and N threads", "[clip]") {
+TEST_CASE("Domain3 is identical for 1 and N threads", "[clip][threads]") {
   const TetMeshInput mesh = voroclip::read_tet_mesh(kData + "bunny.mesh");
   const auto build = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,

@@ -201,7 +201,7 @@ TEST_CASE("Surface3 validates every shared surface; its volume and inside are th
   }
 }
 
-TEST_CASE("Surface3 is identical for 1 and N threads", "[clip]") {
+TEST_CASE("Surface3 is identical for 1 and N threads", "[clip][threads]") {
   const TriangleSurface input = voroclip::read_surface(kData + "/surfaces/gargoyle.off");
   const auto build = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,

@@ -618,7 +618,7 @@ TEST_CASE(
 }
 
 TEST_CASE("first_intersecting_pair: an intersection late in the index order, 1 and 2 threads",
-          "[clip][exact]") {
+          "[clip][exact][threads]") {
   Soup s = load("gargoyle.off");
   const std::uint32_t n = s.nb_triangles();
   REQUIRE(n == 100000);
@@ -645,7 +645,7 @@ TEST_CASE("first_intersecting_pair: an intersection late in the index order, 1 a
 }
 
 TEST_CASE("first_intersecting_pair: a soup with many intersecting pairs, 1 and 2 threads",
-          "[clip][exact]") {
+          "[clip][exact][threads]") {
   // Thousands of pairs meet: the threads race to lower the shared minimum.
   const std::uint64_t seed = 8675309;
   std::mt19937_64 rng(seed);

@@ -178,7 +178,8 @@ TEST_CASE("cvt2d: sliding and fixed sites", "[cvt]") {
   }
 }
 
-TEST_CASE("cvt2d: cancel from the progress callback; identical with 1 and 2 threads", "[cvt]") {
+TEST_CASE("cvt2d: cancel from the progress callback; identical with 1 and 2 threads",
+          "[cvt][threads]") {
   const Domain2 d(voroclip::square_with_holes(3, 0.4));
   const std::vector<double> sites = random_inside(d, 500, 3);
   Cvt2Options o;

@@ -271,7 +271,8 @@ TEST_CASE("cvt3d: sites on a plane and on a line stay there and move along them"
   REQUIRE(tangential < 1e-2 * normal);
 }
 
-TEST_CASE("cvt3d: cancel from the progress callback; identical with 1 and 2 threads", "[cvt]") {
+TEST_CASE("cvt3d: cancel from the progress callback; identical with 1 and 2 threads",
+          "[cvt][threads]") {
   const Domain3 d(
       voroclip::read_tet_mesh(std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/sphere.mesh"));
   const std::vector<double> start = voroclip::random_points3(d, 200, 99);

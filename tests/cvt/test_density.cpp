@@ -439,7 +439,7 @@ TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho, whol
 }
 
 TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density)",
-          "[cvt][density]") {
+          "[cvt][density][threads]") {
   const voroclip::Domain3 d = unit_cube();
   std::vector<double> start = voroclip::random_points3(d, 300, 4);
   voroclip::Cvt3Options o;

@@ -454,7 +454,7 @@ void check_vertex_tets(const Delaunay3& dt) {
 
 }  // namespace
 
-TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][parallel]") {
+TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][threads]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
   // only rounds of 57344 points or more do, or in a build with no such round but one of
   // 14336, those of 3584 or more).
@@ -486,7 +486,7 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
 }
 
 TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they are balanced",
-          "[delaunay][parallel]") {
+          "[delaunay][threads][large]") {
   // 200k uniform points, zones of 8192: the rounds of about 100k, 50k and 25k points take
   // 8, 4 and 2 first-pass zones of about 12.5k points (and those of 12.5k and 6.2k two),
   // and their box's octants, quarters and halves hold equal counts to within 2 % (binomial
@@ -529,7 +529,7 @@ std::vector<double> hilbert_sorted(const std::vector<double>& xyz) {
 }
 
 TEST_CASE("Delaunay3 on presorted points: the same tets, the same arrays on 1 and 2 threads",
-          "[delaunay][parallel]") {
+          "[delaunay][threads][large]") {
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options presorted = zoned;
@@ -563,7 +563,7 @@ TEST_CASE("Delaunay3 on presorted points: the same tets, the same arrays on 1 an
 }
 
 TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same arrays",
-          "[delaunay][parallel][exact]") {
+          "[delaunay][threads][large][exact]") {
   bool cpu_avx2 = false;
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   __builtin_cpu_init();
@@ -613,7 +613,7 @@ TEST_CASE("Delaunay3 with and without the AVX2 determinant builds the same array
 }
 
 TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same arrays",
-          "[delaunay][parallel][degenerate]") {
+          "[delaunay][threads][degenerate]") {
   // Points near the moment curve (t, t^2, t^3): Theta(n^2) tets, far more than the 8 slots
   // per point the sequential rounds before the first zoned one may use while the other
   // threads fault in the rest of the tet array; the points that need more are inserted after.
@@ -651,7 +651,7 @@ TEST_CASE("Delaunay3 slot limit of the sequential rounds: deferred points, same 
 }
 
 TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
-          "[delaunay][parallel]") {
+          "[delaunay][threads]") {
   // 30k points: the last BRIO round (about 15k) is at least 7/64 * 131072 = 14336 points,
   // so the rounds of 7/256 * 131072 = 3584 points or more (about 15k, 7.5k and 3.7k) go
   // through two zones each; the smaller ones (about 3.7k points in all) are sequential.
@@ -667,7 +667,7 @@ TEST_CASE("Delaunay3 default zones in a build with no round of 57344 points",
 }
 
 TEST_CASE("Delaunay3 default zones: 1 and 2 threads agree on 300k points",
-          "[delaunay][parallel][.slow]") {
+          "[delaunay][threads][large][.slow]") {
   const auto xyz = random_points(300000, 41);
   const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, {});
   const Delaunay3 two = voroclip::test::build_with_threads<Delaunay3>(xyz, 2, {});

@@ -171,7 +171,7 @@ TEST_CASE("sampled_distance: sample counts follow the documented rule", "[mesh][
   CHECK_THROWS_AS(voroclip::hausdorff_distance(one, TriangleSurface{}), voroclip::Error);
 }
 
-TEST_CASE("hausdorff_distance: the same bits for 1 and 2 threads", "[mesh][hausdorff]") {
+TEST_CASE("hausdorff_distance: the same bits for 1 and 2 threads", "[mesh][hausdorff][threads]") {
   const TriangleSurface a = voroclip::read_surface(kData + "/surfaces/bunny.obj");
   TriangleSurface b = a;
   for (std::size_t i = 0; i < b.xyz.size(); i += 3) b.xyz[i] *= 1.01;

@@ -274,7 +274,7 @@ TEST_CASE("mesh2d: a user density grades the mesh", "[mesh]") {
   CHECK(voroclip::triangle_quality2(m).min_angle >= 25);
 }
 
-TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh]") {
+TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh][threads]") {
   const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue29.json"));
   Mesh2Options o;
   o.nb_vertices = 500;

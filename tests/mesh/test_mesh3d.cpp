@@ -309,7 +309,7 @@ TEST_CASE("mesh3d on fandisk: crisp feature lines", "[mesh]") {
   CHECK(max_with < max_without);
 }
 
-TEST_CASE("mesh3d: the same mesh with 1 and 2 threads", "[mesh]") {
+TEST_CASE("mesh3d: the same mesh with 1 and 2 threads", "[mesh][threads]") {
   const Mesh3Result one =
       voroclip_test::check_same_mesh3d_with_1_and_2_threads(box_domain(), small_options(400));
   CHECK(one.nb_tets() > 0);

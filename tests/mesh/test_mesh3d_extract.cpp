@@ -428,7 +428,7 @@ TEST_CASE("extract: crease filling keeps the edges of a box", "[mesh]") {
   CHECK(st.nb_creases > 0);
 }
 
-TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh]") {
+TEST_CASE("extract: the same result with 1 and 2 threads", "[mesh][threads]") {
   const Domain3 d(voroclip::read_tet_mesh(kData + "/tetmeshes/sphere.mesh"));
   const TetExtractor3 ex(d);
   const std::vector<double> sites = mixed_sites(d, 2000, 7);

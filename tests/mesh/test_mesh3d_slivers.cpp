@@ -217,7 +217,7 @@ TEST_CASE("peel_flat_boundary_tets removes a flat tet on the boundary", "[mesh]"
   CHECK(seen == cube);
 }
 
-TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh]") {
+TEST_CASE("perturb_slivers3: the same sites with 1 and 2 threads", "[mesh][threads]") {
   const Setup s = make_setup();
   const TetExtractor3 ex(s.domain);
   std::vector<double> one = s.sites, two = s.sites;

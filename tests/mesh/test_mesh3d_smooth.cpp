@@ -308,7 +308,7 @@ TEST_CASE(
   CHECK(o3[1] < 0.6 * f[1]);
 }
 
-TEST_CASE("mesh3d with smooth placement: the same mesh with 1 and 2 threads", "[mesh]") {
+TEST_CASE("mesh3d with smooth placement: the same mesh with 1 and 2 threads", "[mesh][threads]") {
   const Mesh3Result one =
       voroclip_test::check_same_mesh3d_with_1_and_2_threads(ball(2), small_options(300));
   CHECK(std::count(one.kinds.begin(), one.kinds.end(), Mesh3VertexKind::kSurface) > 50);

@@ -354,7 +354,7 @@ TEST_CASE("tet_quality: the shared meshes' dihedral extremes of the data README"
   }
 }
 
-TEST_CASE("tet_quality: the same bits for 1 and 2 threads", "[mesh][quality]") {
+TEST_CASE("tet_quality: the same bits for 1 and 2 threads", "[mesh][quality][threads]") {
   const voroclip::TetMeshInput mesh = voroclip::read_tet_mesh(kMeshes + "rocker-arm.mesh");
   TetQuality one, two;
   {

@@ -4,6 +4,8 @@
 // of N threads (N may exceed the cores: the ThreadSanitizer stage of scripts/test.sh runs at 2
 // and at 4 on two cores), and every "same bits with 1 and N threads" test compares 1 with N.
 // Unset, N is 2 and the session runs in TBB's default arena (one thread per core).
+// Every test case that compares 1 with N threads carries the tag [threads] (and [large] when
+// it needs 10^5 points or more): scripts/tsan.sh runs "[threads]~[large]~[.]" under TSan.
 #pragma once
 
 #include <cstddef>
