@@ -317,18 +317,29 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     double weight = field.cell_mean_inverse_square(c);
     hmin[c] = field.cell_min(c);
     if (model.user_density) {
-      // Estimate from a 3 x 3 pattern; the rejection below clamps the ratio to 1.
-      double m = kInf, inv2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) {
-          const double s = model.size(lo[0] + (0.5 * a + 0.25) * (hi[0] - lo[0]) * 0.8,
-                                      lo[1] + (0.5 * b + 0.25) * (hi[1] - lo[1]) * 0.8);
-          m = std::min(m, s);
-          inv2 += 1 / (s * s) / 9;
+      // Estimate from a k x k pattern (k = 3, else 9 when no point of the 3 x 3 one is in
+      // the domain) of the points inside the domain: the user's density is asked only
+      // there. The rejection below clamps the ratio to 1. A cell that no pattern point
+      // finds in the domain keeps the feature field's estimate.
+      for (const int k : {3, 9}) {
+        double m = kInf, inv2 = 0;
+        int inside = 0;
+        for (int a = 0; a < k; ++a) {
+          for (int b = 0; b < k; ++b) {
+            const double p[2] = {lo[0] + (a + 0.5) / k * (hi[0] - lo[0]),
+                                 lo[1] + (b + 0.5) / k * (hi[1] - lo[1])};
+            if (domain.locate(p) == Sign::negative) continue;
+            const double s = model.size(p[0], p[1]);
+            m = std::min(m, s);
+            inv2 += 1 / (s * s);
+            ++inside;
+          }
         }
+        if (inside == 0) continue;
+        hmin[c] = 0.8 * m;
+        weight = inv2 / inside;
+        break;
       }
-      hmin[c] = 0.8 * m;
-      weight = inv2;
     }
     total += w * h * weight;
     cumulative[c] = total;
@@ -352,10 +363,10 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     hi[0] = std::min(hi[0], bhi[0]);
     hi[1] = std::min(hi[1], bhi[1]);
     const double p[2] = {lo[0] + uniform() * (hi[0] - lo[0]), lo[1] + uniform() * (hi[1] - lo[1])};
-    const double h = model.size(p[0], p[1]);
-    const double ratio = std::min(1.0, hmin[c] / h);
-    if (uniform() >= ratio * ratio) continue;
+    const double accept = uniform();
     if (domain.locate(p) != Sign::positive) continue;
+    const double ratio = std::min(1.0, hmin[c] / model.size(p[0], p[1]));
+    if (accept >= ratio * ratio) continue;
     xy.insert(xy.end(), p, p + 2);
   }
   return xy;
@@ -622,15 +633,25 @@ SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel&
       };
       grid.nearest(x, dist2, &e, &d2);
     }
-    const double h = model.size(x[0], x[1]);
+    double t = 0;
+    const double* a = e == kNone ? nullptr : domain.vertex(e);
+    const double* c = e == kNone ? nullptr : domain.vertex(domain.next(e));
+    // The size where the domain is: at the site, or, for a site outside the domain (its
+    // cell is not), at its closest boundary point.
+    double at[2] = {x[0], x[1]};
+    if (e != kNone) {
+      mesh2d::segment_distance2(x, a, c, &t);
+      if (domain.locate(x) == Sign::negative) {
+        at[0] = a[0] + t * (c[0] - a[0]);
+        at[1] = a[1] + t * (c[1] - a[1]);
+        round_into_domain(domain, e, at);
+      }
+    }
+    const double h = model.size(at[0], at[1]);
     if (e == kNone || d2 > 0.5625 * h * h) {
       set.add(x, {SiteConstraint2::Kind::kFree, 0}, Mesh2::VertexKind::kInterior, kNone, kNone);
       continue;
     }
-    double t;
-    const double* a = domain.vertex(e);
-    const double* c = domain.vertex(domain.next(e));
-    mesh2d::segment_distance2(x, a, c, &t);
     const std::uint32_t p = b.edge_path[e];
     const double s = b.edge_offset[e] + t * std::hypot(c[0] - a[0], c[1] - a[1]);
     on_path[p].push_back(std::clamp(s, 0.0, params[p].length()));
@@ -643,6 +664,7 @@ SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel&
     for (double s = 0; s < len;) {
       double xy[2];
       param.eval(s, xy);
+      round_into_domain(domain, param.edge(s), xy);
       const double h = model.size(xy[0], xy[1]);
       const double step = std::min(0.25 * h, len - s);
       segments += step / h;
@@ -725,9 +747,9 @@ std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const Edg
       dt.circumcenter(t, c);
       const double* p = dt.point(dt.tri_vertex(t, 0));
       const double r = std::hypot(c[0] - p[0], c[1] - p[1]);
-      if (!std::isfinite(r)) continue;
+      if (!std::isfinite(r) || domain.locate(c) != Sign::positive) continue;
       const double h = model.size(c[0], c[1]);
-      if (r <= 0.8 * h || domain.locate(c) != Sign::positive) continue;
+      if (r <= 0.8 * h) continue;
       std::uint32_t e;
       double d2;
       const auto dist2 = [&](std::uint32_t f) {

@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -272,6 +273,41 @@ TEST_CASE("mesh2d: a user density grades the mesh", "[mesh]") {
   INFO(left << " left, " << right << " right");
   CHECK(right > 1.3 * left);
   CHECK(voroclip::triangle_quality2(m).min_angle >= 25);
+}
+
+TEST_CASE("mesh2d: a user density is asked only inside the domain", "[mesh][regression]") {
+  // A sizing defined only on the domain: h = 0.02 + 0.05 sqrt(x - y) on the triangle
+  // y <= x, with a hole. Before, mesh2d asked it in the bounding box (sampling), at
+  // circumcentres outside the domain (gap filling) and the CVT's integration asked it
+  // across holes; each gave NaN there ("--sizing ... is -nan at (0.0125, 0.0375)").
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, 1}, {0.6, 0.2, 0.8, 0.2, 0.8, 0.4}}));
+  std::atomic<std::uint64_t> outside{0}, asked{0};
+  Mesh2Options o;
+  o.density = voroclip::Density2::function([&](double x, double y) {
+    const double p[2] = {x, y};
+    ++asked;
+    if (d.locate(p) == Sign::negative) {
+      ++outside;
+      return std::nan("");
+    }
+    const double h = 0.02 + 0.05 * std::sqrt(x - y);
+    return 1 / (h * h * h * h);
+  });
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 600, &st, o);
+  CHECK(asked > 0);
+  CHECK(outside == 0);
+  CHECK(std::fabs(st.covered_fraction - 1) <= 1e-12);
+  // Graded: vertices per area about (h_far / h_near)^2 = (0.067 / 0.038)^2 = 3.1 times
+  // denser in the band x - y < 0.25 (area 0.21875) than in x - y > 0.75 (area 0.03125).
+  std::uint32_t near = 0, far = 0;
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    const double t = m.xy[2 * v] - m.xy[2 * v + 1];
+    near += t < 0.25;
+    far += t > 0.75;
+  }
+  INFO(near << " vertices with x - y < 0.25, " << far << " with x - y > 0.75");
+  CHECK(near / 0.21875 > 2 * far / 0.03125);
 }
 
 TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh]") {
