@@ -436,8 +436,11 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
   // The cut point at arclength `target` from corner c in direction dir (or the fixed vertex
   // before it); returns the arclength where it lands. `removed` (optional) gets the
   // vertices passed.
+  // `snap`: a fixed vertex up to that much beyond the target is taken as the cut (a cut
+  // point just short of a fixed vertex would leave a short edge between two fixed
+  // vertices next to the chord, and small triangles on it).
   const auto walk = [&](std::uint32_t c, int dir, double target, Side& out,
-                        std::vector<std::uint8_t>* passed) {
+                        std::vector<std::uint8_t>* passed, double snap) {
     out = Side{};
     double travelled = 0;
     std::uint32_t v = c;
@@ -448,7 +451,7 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
         // Another sharp corner ahead: meet it half-way at most.
         target = std::min(target, 0.5 * (travelled + len));
       }
-      if (b.fixed[w] && !b.sharp[w] && travelled + len <= target) {
+      if (b.fixed[w] && !b.sharp[w] && travelled + len <= target + snap) {
         out.at_vertex = true;
         out.vertex = w;
         return travelled + len;
@@ -469,6 +472,20 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
       return travelled + t * len;
     }
   };
+  // Angles (degrees) of the tip (side s, corner c, the other side o): at the side's cut,
+  // and is the one at c the smallest?
+  const auto point = [&](const Side& s) { return s.at_vertex ? domain.vertex(s.vertex) : s.p; };
+  const auto angle = [](const double* a, const double* u, const double* w) {
+    const double ux = u[0] - a[0], uy = u[1] - a[1], wx = w[0] - a[0], wy = w[1] - a[1];
+    return std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi;
+  };
+  const auto tip_angle_at = [&](std::uint32_t c, const Side& s, const Side& o) {
+    return angle(point(s), domain.vertex(c), point(o));
+  };
+  const auto tip_smallest_at_corner = [&](std::uint32_t c, const Side& s0, const Side& s1) {
+    const double at_corner = angle(domain.vertex(c), point(s0), point(s1));
+    return tip_angle_at(c, s0, s1) >= at_corner && tip_angle_at(c, s1, s0) >= at_corner;
+  };
   for (std::uint32_t c = 0; c < nv; ++c) {
     if (!b.sharp[c]) continue;
     removed[c] = 1;
@@ -481,14 +498,30 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
     double r = std::min(
         factor * model.size(domain.vertex(c)[0], domain.vertex(c)[1]) / (2 * std::sin(half)),
         0.45 * ring_length);
-    // Both sides at the same arclength (the shorter landing), so that the tip is an
-    // isosceles triangle whose smallest angle is the corner's.
+    // Each side cut on its own, a fixed vertex within half the chord's length beyond r
+    // taken as the cut, when the tip's smallest angle stays the corner's and the boundary
+    // keeps an angle of 60 degrees or more at a fixed vertex where a cut ends (no new
+    // sharp corner); else both sides at the same arclength (the shorter landing): an
+    // isosceles tip.
     Side* out = &sides[2 * std::size_t{c}];
-    const double d0 = walk(c, -1, r, out[0], nullptr);
-    const double d1 = walk(c, 1, r, out[1], nullptr);
+    const double snap = r * std::sin(half);
+    const double e0 = walk(c, -1, r, out[0], nullptr, snap);
+    const double e1 = walk(c, 1, r, out[1], nullptr, snap);
+    bool own = tip_smallest_at_corner(c, out[0], out[1]);
+    for (int side = 0; side < 2 && own; ++side) {
+      const Side& k = out[side];
+      own = !k.at_vertex || b.interior_angle[k.vertex] - tip_angle_at(c, k, out[1 - side]) >= 60;
+    }
+    if (own) {
+      walk(c, -1, e0, out[0], &removed, 0);
+      walk(c, 1, e1, out[1], &removed, 0);
+      continue;
+    }
+    const double d0 = walk(c, -1, r, out[0], nullptr, 0);
+    const double d1 = walk(c, 1, r, out[1], nullptr, 0);
     r = std::min({r, d0, d1});
-    walk(c, -1, r, out[0], &removed);
-    walk(c, 1, r, out[1], &removed);
+    walk(c, -1, r, out[0], &removed, 0);
+    walk(c, 1, r, out[1], &removed, 0);
   }
   PolygonRings rings;
   rings.source = domain.source();

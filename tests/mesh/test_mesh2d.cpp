@@ -121,6 +121,39 @@ void check_boundary_vertices(const Domain2& d, const Mesh2& m, bool exact) {
   REQUIRE(nb > 0);
 }
 
+// The issue's angle bound: a triangle at a domain corner sharper than 60 degrees has its
+// smallest angle >= min(30, that corner's angle); every other triangle >= 30. Returns the
+// number of triangles that miss it.
+std::uint32_t triangles_below_bound(const Domain2& d, const Mesh2& m) {
+  std::uint32_t below = 0;
+  for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+    double smallest = 180, bound = 30;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.triangles[3 * t + k];
+      const double* a = &m.xy[2 * v];
+      const double* b = &m.xy[2 * m.triangles[3 * t + (k + 1) % 3]];
+      const double* c = &m.xy[2 * m.triangles[3 * t + (k + 2) % 3]];
+      const double ux = b[0] - a[0], uy = b[1] - a[1], wx = c[0] - a[0], wy = c[1] - a[1];
+      smallest = std::min(smallest,
+                          std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / M_PI);
+      const std::uint32_t dv = m.vertex_domain[v];
+      if (dv == Mesh2::kNone || voroclip::orient2d(d.vertex(d.prev(dv)), d.vertex(dv),
+                                                   d.vertex(d.next(dv))) != Sign::positive) {
+        continue;
+      }
+      const double* p = d.vertex(d.prev(dv));
+      const double* q = d.vertex(dv);
+      const double* r = d.vertex(d.next(dv));
+      const double px = p[0] - q[0], py = p[1] - q[1], rx = r[0] - q[0], ry = r[1] - q[1];
+      const double corner =
+          std::atan2(std::fabs(px * ry - py * rx), px * rx + py * ry) * 180 / M_PI;
+      if (corner < 60) bound = std::min(bound, corner - 1e-9);
+    }
+    below += smallest < bound;
+  }
+  return below;
+}
+
 }  // namespace
 
 TEST_CASE("mesh2d: square with holes — valid, quality, corners, exact boundary vertices",
@@ -243,6 +276,37 @@ TEST_CASE("mesh2d: a sharp corner is cut, the rest stays valid and good", "[mesh
   mesh_of(d, 600, &uncut_stats, o);
   CHECK(uncut_stats.nb_sharp_corners == 0);
   CHECK(uncut_stats.nb_fixed == st.nb_fixed - 2 + 1);
+}
+
+TEST_CASE("mesh2d: the neighbours of a cut corner's chord meet the angle bound",
+          "[mesh][regression]") {
+  // issue34.json's outer ring and its hole 2, whose corners of 24.4 and 25.1 degrees are
+  // cut. A cut point landed 3.0 short of a fixed vertex (and on issue35.json 0.16 short),
+  // the short edge left next to the chord made triangles of 15-19 degrees there, and the
+  // refinement skipped them (a chord is never split). Now a fixed vertex within half the
+  // chord's length beyond the cut is the cut.
+  const voroclip::PolygonRings all = voroclip::read_polygon(kData + "/polygons/valid/issue34.json");
+  PolygonRings two = all;
+  two.xy.clear();
+  two.ring_begin = {0};
+  two.ring_polygon.clear();
+  two.ring_line.clear();
+  for (const std::uint32_t r : {0u, 2u}) {
+    two.xy.insert(two.xy.end(), all.xy.begin() + 2 * all.ring_begin[r],
+                  all.xy.begin() + 2 * all.ring_begin[r + 1]);
+    two.ring_begin.push_back(static_cast<std::uint32_t>(two.xy.size() / 2));
+    two.ring_polygon.push_back(all.ring_polygon[r]);
+    two.ring_line.push_back(all.ring_line[r]);
+  }
+  two.segment_marker.clear();
+  two.point_number.clear();
+  const Domain2 d(two);
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 300, &st);
+  INFO(voroclip::quality_text(voroclip::triangle_quality2(m)));
+  CHECK(st.nb_sharp_corners == 2);
+  CHECK(st.nb_tip_triangles == 2);
+  CHECK(triangles_below_bound(d, m) == 0);
 }
 
 TEST_CASE("mesh2d: --fix-input-vertices keeps every domain vertex", "[mesh]") {
