@@ -169,6 +169,125 @@ void add_triangle(const Density2& rho, const double* s, double ux, double uy, do
   }
 }
 
+// The moments of the counter-clockwise triangle (o + a, o + b, o + c) relative to o, for
+// the pieces of boundary cells below (add_triangle is this with a = 0 and signed areas,
+// kept apart so that the fans of constant densities keep their arithmetic).
+void add_triangle_at(const Density2& rho, const double* o, const double* a, const double* b,
+                     const double* c, Moments& m) {
+  const double ar = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+  // The pieces are counter-clockwise: a flat one (or one turned over by rounding) adds
+  // nothing, and its quadrature points, on the cell's edge up to rounding, are not asked.
+  if (!(ar > 0)) return;
+  m.area += ar;
+  double r[3] = {1, 1, 1};
+  if (rho.kind == Density2::Kind::kConstant) {
+    r[0] = r[1] = r[2] = rho.value;
+  } else if (rho.kind == Density2::Kind::kGrid) {
+    r[0] = rho(o[0] + a[0], o[1] + a[1]);
+    r[1] = rho(o[0] + b[0], o[1] + b[1]);
+    r[2] = rho(o[0] + c[0], o[1] + c[1]);
+  }
+  if (rho.kind != Density2::Kind::kCallback) {
+    // rho linear on the triangle from its vertex values: exact mass and first moment; the
+    // second moment (degree 3) by the degree-4 rule.
+    m.mass += ar * (r[0] + r[1] + r[2]) / 3;
+    for (int k = 0; k < 2; ++k) {
+      (k == 0 ? m.mx : m.my) += ar *
+                                ((2 * r[0] + r[1] + r[2]) * a[k] + (r[0] + 2 * r[1] + r[2]) * b[k] +
+                                 (r[0] + r[1] + 2 * r[2]) * c[k]) /
+                                12;
+    }
+    double e = 0;
+    for (const auto& q : kQuad) {
+      const double x = q[0] * a[0] + q[1] * b[0] + q[2] * c[0];
+      const double y = q[0] * a[1] + q[1] * b[1] + q[2] * c[1];
+      e += q[3] * (q[0] * r[0] + q[1] * r[1] + q[2] * r[2]) * (x * x + y * y);
+    }
+    m.energy += ar * e;
+    return;
+  }
+  double mass = 0, mx = 0, my = 0, e = 0;
+  for (const auto& q : kQuad7) {
+    const double x = q[0] * a[0] + q[1] * b[0] + q[2] * c[0];
+    const double y = q[0] * a[1] + q[1] * b[1] + q[2] * c[1];
+    const double w = q[3] * rho.callback(o[0] + x, o[1] + y);
+    mass += w;
+    mx += w * x;
+    my += w * y;
+    e += w * (x * x + y * y);
+  }
+  m.mass += ar * mass;
+  m.mx += ar * mx;
+  m.my += ar * my;
+  m.energy += ar * e;
+}
+
+// Is the ring (count points, counter-clockwise) convex: no right turn (exact)?
+bool ring_convex(const double* ring, std::size_t count) {
+  for (std::size_t j = 0; j < count; ++j) {
+    if (orient2d(ring + 2 * j, ring + 2 * ((j + 1) % count), ring + 2 * ((j + 2) % count)) ==
+        Sign::negative) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The moments, relative to o, of the region bounded by the rings (xy, ring_ends: end
+// offsets in points), integrated over pieces that lie inside it: the horizontal slabs
+// between consecutive vertex ordinates cut it into trapezoids (in each slab the edges
+// spanning it, ordered by abscissa, bound the region between the 1st and 2nd, 3rd and 4th,
+// ...), each split into two triangles. A fan from one point would do with signed
+// triangles, but its quadrature points then lie outside the cell (across holes, out of the
+// domain), where a density may be huge or undefined, and the cancellation of a quadrature
+// of a sharp density fails there (a negative mass, seen with mesh2d's sizing density next
+// to a small hole). The number of edges spanning a slab is even exactly (the rings are
+// closed and the comparisons are of ordinates); only the abscissas are rounded.
+struct SlabScratch {
+  std::vector<double> ys;
+  std::vector<std::array<double, 3>> crossing;  // per spanning edge: sort key, x at y0, y1
+};
+void add_rings_by_slabs(const Density2& rho, const double* o, const std::vector<double>& xy,
+                        const std::vector<std::uint32_t>& ring_ends, SlabScratch& scratch,
+                        Moments& m) {
+  std::vector<double>& ys = scratch.ys;
+  ys.clear();
+  for (std::size_t k = 0; k < xy.size() / 2; ++k) ys.push_back(xy[2 * k + 1]);
+  std::sort(ys.begin(), ys.end());
+  ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
+  // x on edge (p, q) at ordinate y, exact at its ends.
+  const auto x_at = [](const double* p, const double* q, double y) {
+    if (y == p[1]) return p[0];
+    if (y == q[1]) return q[0];
+    return p[0] + (y - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
+  };
+  for (std::size_t s = 0; s + 1 < ys.size(); ++s) {
+    const double y0 = ys[s], y1 = ys[s + 1];
+    auto& crossing = scratch.crossing;
+    crossing.clear();
+    std::uint32_t begin = 0;
+    for (const std::uint32_t end : ring_ends) {
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const double* p = &xy[2 * std::size_t{k}];
+        const double* q = &xy[2 * std::size_t{k + 1 < end ? k + 1 : begin}];
+        if (std::min(p[1], q[1]) > y0 || std::max(p[1], q[1]) < y1) continue;
+        const double xa = x_at(p, q, y0), xb = x_at(p, q, y1);
+        crossing.push_back({xa + xb, xa, xb});
+      }
+      begin = end;
+    }
+    std::sort(crossing.begin(), crossing.end());
+    for (std::size_t k = 0; k + 1 < crossing.size(); k += 2) {
+      const auto& l = crossing[k];
+      const auto& r = crossing[k + 1];
+      const double p0[2] = {l[1] - o[0], y0 - o[1]}, p1[2] = {r[1] - o[0], y0 - o[1]};
+      const double p2[2] = {r[2] - o[0], y1 - o[1]}, p3[2] = {l[2] - o[0], y1 - o[1]};
+      add_triangle_at(rho, o, p0, p1, p2, m);
+      add_triangle_at(rho, o, p0, p2, p3, m);
+    }
+  }
+}
+
 // Exact parity test: does ring r of the domain wind around p (p not on the ring)?
 bool ring_encloses(const Domain2& domain, std::uint32_t r, const double* p) {
   bool inside = false;
@@ -643,6 +762,7 @@ struct Clip2Impl {
     const Density2& rho = options.density;
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> tri_scratch;
     tbb::enumerable_thread_specific<std::vector<double>> xy_scratch;
+    tbb::enumerable_thread_specific<SlabScratch> slab_scratch;
     // Two passes, so that no pass reads memory at random per cell (sites come in any
     // order; the triangles are numbered along the BRIO curve):
     //  A. cells in the order of their first triangle (so neighbouring cells read
@@ -701,14 +821,30 @@ struct Clip2Impl {
         };
         if (ki != kInner) {
           const CellOut& co = cell_out[ki];
-          std::uint32_t begin = 0;
-          for (const std::uint32_t end : co.ring_ends) {
-            xy.resize(2 * std::size_t{end - begin});
-            for (std::uint32_t k = begin; k < end; ++k) {
-              vertex_xy(co, k, xy.data() + 2 * std::size_t{k - begin});
+          const std::uint32_t nb = co.ring_ends.empty() ? 0 : co.ring_ends.back();
+          xy.resize(2 * std::size_t{nb});
+          for (std::uint32_t k = 0; k < nb; ++k) vertex_xy(co, k, xy.data() + 2 * std::size_t{k});
+          // A variable density is integrated only inside the cell: a convex cell by its
+          // fan, any other by slabs (add_rings_by_slabs).
+          if (!rho.is_constant() && nb > 0) {
+            a.o[0] = xy[0];
+            a.o[1] = xy[1];
+            if (co.ring_ends.size() == 1 && ring_convex(xy.data(), nb)) {
+              const double zero[2] = {0, 0};
+              for (std::uint32_t k = 1; k + 1 < nb; ++k) {
+                const double u[2] = {xy[2 * k] - a.o[0], xy[2 * k + 1] - a.o[1]};
+                const double w[2] = {xy[2 * k + 2] - a.o[0], xy[2 * k + 3] - a.o[1]};
+                add_triangle_at(rho, a.o, zero, u, w, a.m);
+              }
+            } else {
+              add_rings_by_slabs(rho, a.o, xy, co.ring_ends, slab_scratch.local(), a.m);
             }
-            add_ring(xy.data(), end - begin);
-            begin = end;
+          } else {
+            std::uint32_t begin = 0;
+            for (const std::uint32_t end : co.ring_ends) {
+              add_ring(xy.data() + 2 * std::size_t{begin}, end - begin);
+              begin = end;
+            }
           }
         } else {
           const std::uint32_t i = order[q];

@@ -317,18 +317,29 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     double weight = field.cell_mean_inverse_square(c);
     hmin[c] = field.cell_min(c);
     if (model.user_density) {
-      // Estimate from a 3 x 3 pattern; the rejection below clamps the ratio to 1.
-      double m = kInf, inv2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) {
-          const double s = model.size(lo[0] + (0.5 * a + 0.25) * (hi[0] - lo[0]) * 0.8,
-                                      lo[1] + (0.5 * b + 0.25) * (hi[1] - lo[1]) * 0.8);
-          m = std::min(m, s);
-          inv2 += 1 / (s * s) / 9;
+      // Estimate from a k x k pattern (k = 3, else 9 when no point of the 3 x 3 one is in
+      // the domain) of the points inside the domain: the user's density is asked only
+      // there. The rejection below clamps the ratio to 1. A cell that no pattern point
+      // finds in the domain keeps the feature field's estimate.
+      for (const int k : {3, 9}) {
+        double m = kInf, inv2 = 0;
+        int inside = 0;
+        for (int a = 0; a < k; ++a) {
+          for (int b = 0; b < k; ++b) {
+            const double p[2] = {lo[0] + (a + 0.5) / k * (hi[0] - lo[0]),
+                                 lo[1] + (b + 0.5) / k * (hi[1] - lo[1])};
+            if (domain.locate(p) == Sign::negative) continue;
+            const double s = model.size(p[0], p[1]);
+            m = std::min(m, s);
+            inv2 += 1 / (s * s);
+            ++inside;
+          }
         }
+        if (inside == 0) continue;
+        hmin[c] = 0.8 * m;
+        weight = inv2 / inside;
+        break;
       }
-      hmin[c] = 0.8 * m;
-      weight = inv2;
     }
     total += w * h * weight;
     cumulative[c] = total;
@@ -352,10 +363,10 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     hi[0] = std::min(hi[0], bhi[0]);
     hi[1] = std::min(hi[1], bhi[1]);
     const double p[2] = {lo[0] + uniform() * (hi[0] - lo[0]), lo[1] + uniform() * (hi[1] - lo[1])};
-    const double h = model.size(p[0], p[1]);
-    const double ratio = std::min(1.0, hmin[c] / h);
-    if (uniform() >= ratio * ratio) continue;
+    const double accept = uniform();
     if (domain.locate(p) != Sign::positive) continue;
+    const double ratio = std::min(1.0, hmin[c] / model.size(p[0], p[1]));
+    if (accept >= ratio * ratio) continue;
     xy.insert(xy.end(), p, p + 2);
   }
   return xy;
@@ -425,8 +436,11 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
   // The cut point at arclength `target` from corner c in direction dir (or the fixed vertex
   // before it); returns the arclength where it lands. `removed` (optional) gets the
   // vertices passed.
+  // `snap`: a fixed vertex up to that much beyond the target is taken as the cut (a cut
+  // point just short of a fixed vertex would leave a short edge between two fixed
+  // vertices next to the chord, and small triangles on it).
   const auto walk = [&](std::uint32_t c, int dir, double target, Side& out,
-                        std::vector<std::uint8_t>* passed) {
+                        std::vector<std::uint8_t>* passed, double snap) {
     out = Side{};
     double travelled = 0;
     std::uint32_t v = c;
@@ -437,7 +451,7 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
         // Another sharp corner ahead: meet it half-way at most.
         target = std::min(target, 0.5 * (travelled + len));
       }
-      if (b.fixed[w] && !b.sharp[w] && travelled + len <= target) {
+      if (b.fixed[w] && !b.sharp[w] && travelled + len <= target + snap) {
         out.at_vertex = true;
         out.vertex = w;
         return travelled + len;
@@ -458,6 +472,20 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
       return travelled + t * len;
     }
   };
+  // Angles (degrees) of the tip (side s, corner c, the other side o): at the side's cut,
+  // and is the one at c the smallest?
+  const auto point = [&](const Side& s) { return s.at_vertex ? domain.vertex(s.vertex) : s.p; };
+  const auto angle = [](const double* a, const double* u, const double* w) {
+    const double ux = u[0] - a[0], uy = u[1] - a[1], wx = w[0] - a[0], wy = w[1] - a[1];
+    return std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi;
+  };
+  const auto tip_angle_at = [&](std::uint32_t c, const Side& s, const Side& o) {
+    return angle(point(s), domain.vertex(c), point(o));
+  };
+  const auto tip_smallest_at_corner = [&](std::uint32_t c, const Side& s0, const Side& s1) {
+    const double at_corner = angle(domain.vertex(c), point(s0), point(s1));
+    return tip_angle_at(c, s0, s1) >= at_corner && tip_angle_at(c, s1, s0) >= at_corner;
+  };
   for (std::uint32_t c = 0; c < nv; ++c) {
     if (!b.sharp[c]) continue;
     removed[c] = 1;
@@ -470,14 +498,30 @@ CutDomain cut_sharp_corners(const Domain2& domain, const Boundary& b, const Size
     double r = std::min(
         factor * model.size(domain.vertex(c)[0], domain.vertex(c)[1]) / (2 * std::sin(half)),
         0.45 * ring_length);
-    // Both sides at the same arclength (the shorter landing), so that the tip is an
-    // isosceles triangle whose smallest angle is the corner's.
+    // Each side cut on its own, a fixed vertex within half the chord's length beyond r
+    // taken as the cut, when the tip's smallest angle stays the corner's and the boundary
+    // keeps an angle of 60 degrees or more at a fixed vertex where a cut ends (no new
+    // sharp corner); else both sides at the same arclength (the shorter landing): an
+    // isosceles tip.
     Side* out = &sides[2 * std::size_t{c}];
-    const double d0 = walk(c, -1, r, out[0], nullptr);
-    const double d1 = walk(c, 1, r, out[1], nullptr);
+    const double snap = r * std::sin(half);
+    const double e0 = walk(c, -1, r, out[0], nullptr, snap);
+    const double e1 = walk(c, 1, r, out[1], nullptr, snap);
+    bool own = tip_smallest_at_corner(c, out[0], out[1]);
+    for (int side = 0; side < 2 && own; ++side) {
+      const Side& k = out[side];
+      own = !k.at_vertex || b.interior_angle[k.vertex] - tip_angle_at(c, k, out[1 - side]) >= 60;
+    }
+    if (own) {
+      walk(c, -1, e0, out[0], &removed, 0);
+      walk(c, 1, e1, out[1], &removed, 0);
+      continue;
+    }
+    const double d0 = walk(c, -1, r, out[0], nullptr, 0);
+    const double d1 = walk(c, 1, r, out[1], nullptr, 0);
     r = std::min({r, d0, d1});
-    walk(c, -1, r, out[0], &removed);
-    walk(c, 1, r, out[1], &removed);
+    walk(c, -1, r, out[0], &removed, 0);
+    walk(c, 1, r, out[1], &removed, 0);
   }
   PolygonRings rings;
   rings.source = domain.source();
@@ -622,15 +666,25 @@ SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel&
       };
       grid.nearest(x, dist2, &e, &d2);
     }
-    const double h = model.size(x[0], x[1]);
+    double t = 0;
+    const double* a = e == kNone ? nullptr : domain.vertex(e);
+    const double* c = e == kNone ? nullptr : domain.vertex(domain.next(e));
+    // The size where the domain is: at the site, or, for a site outside the domain (its
+    // cell is not), at its closest boundary point.
+    double at[2] = {x[0], x[1]};
+    if (e != kNone) {
+      mesh2d::segment_distance2(x, a, c, &t);
+      if (domain.locate(x) == Sign::negative) {
+        at[0] = a[0] + t * (c[0] - a[0]);
+        at[1] = a[1] + t * (c[1] - a[1]);
+        round_into_domain(domain, e, at);
+      }
+    }
+    const double h = model.size(at[0], at[1]);
     if (e == kNone || d2 > 0.5625 * h * h) {
       set.add(x, {SiteConstraint2::Kind::kFree, 0}, Mesh2::VertexKind::kInterior, kNone, kNone);
       continue;
     }
-    double t;
-    const double* a = domain.vertex(e);
-    const double* c = domain.vertex(domain.next(e));
-    mesh2d::segment_distance2(x, a, c, &t);
     const std::uint32_t p = b.edge_path[e];
     const double s = b.edge_offset[e] + t * std::hypot(c[0] - a[0], c[1] - a[1]);
     on_path[p].push_back(std::clamp(s, 0.0, params[p].length()));
@@ -643,6 +697,7 @@ SiteSet boundary_step(const Domain2& domain, const Boundary& b, const SizeModel&
     for (double s = 0; s < len;) {
       double xy[2];
       param.eval(s, xy);
+      round_into_domain(domain, param.edge(s), xy);
       const double h = model.size(xy[0], xy[1]);
       const double step = std::min(0.25 * h, len - s);
       segments += step / h;
@@ -725,9 +780,9 @@ std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const Edg
       dt.circumcenter(t, c);
       const double* p = dt.point(dt.tri_vertex(t, 0));
       const double r = std::hypot(c[0] - p[0], c[1] - p[1]);
-      if (!std::isfinite(r)) continue;
+      if (!std::isfinite(r) || domain.locate(c) != Sign::positive) continue;
       const double h = model.size(c[0], c[1]);
-      if (r <= 0.8 * h || domain.locate(c) != Sign::positive) continue;
+      if (r <= 0.8 * h) continue;
       std::uint32_t e;
       double d2;
       const auto dist2 = [&](std::uint32_t f) {

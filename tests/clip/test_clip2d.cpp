@@ -307,3 +307,82 @@ TEST_CASE("clip2d: densities", "[clip]") {
     REQUIRE(std::fabs(g.centroid(i)[1] - c.centroid(i)[1]) <= 1e-10);
   }
 }
+
+TEST_CASE("clip2d: a variable density is evaluated only inside the cells", "[clip][regression]") {
+  // Regression (mesh2d issue35.json --vertices 7000: "Delaunay2: point 4259 has a non-finite
+  // coordinate"): a boundary cell holding a small hole was integrated by a fan of signed
+  // triangles from one of its vertices, whose quadrature points lay in the hole, where
+  // mesh2d's sizing density is huge; the cancellation failed and the cell's mass came out
+  // at -2.7e9. Here the density is NaN outside the domain, so a single evaluation outside
+  // shows; inside it is of degree 1, so every cell's mass, centroid and energy must equal
+  // an independent exact integration (signed fans from the origin, Radon's degree-5 rule,
+  // of the polynomial defined everywhere).
+  std::vector<double> outer = {0, 0, 6, 0, 6, 4, 4, 4, 4, 2, 2, 2, 2, 4, 0, 4};  // a U
+  const Domain2 d(rings_of(
+      {outer, square(0.5, 0.5, 0.8, 0.9), square(4.6, 3.1, 4.7, 3.3), {3, 0.5, 3.4, 1, 2.7, 1.2}}));
+  const auto poly = [](double x, double y) { return 1 + 2 * x + 3 * y; };
+  const auto inside_only = [&](double x, double y) {
+    const double p[2] = {x, y};
+    return d.locate(p) == Sign::negative ? std::nan("") : poly(x, y);
+  };
+  const std::vector<double> sites = sample_inside(d, 7, 4);
+  const Delaunay2 dt(sites.data(), 7);
+  voroclip::Clip2Options o;
+  o.density = voroclip::Density2::function(inside_only);
+  o.keep_geometry = true;
+  ClippedVoronoi2 cv;
+  cv.compute(d, dt, o);
+  const std::vector<double>& xy = cv.vertex_coords();
+  const double s15 = std::sqrt(15.0);
+  const double ra[3] = {1.0 / 3, (6 - s15) / 21, (6 + s15) / 21};
+  const double rw[3] = {9.0 / 40, (155 - s15) / 1200, (155 + s15) / 1200};
+  bool holed = false, reflex = false;
+  double total = 0;
+  for (std::uint32_t i = 0; i < 7; ++i) {
+    INFO("cell " << i);
+    holed = holed || cv.cell_ring_begin(i + 1) - cv.cell_ring_begin(i) > 1;
+    double m = 0, mx = 0, my = 0, e = 0;
+    for (std::uint32_t r = cv.cell_ring_begin(i); r < cv.cell_ring_begin(i + 1); ++r) {
+      const std::uint32_t b = cv.ring_vertex_begin(r), end = cv.ring_vertex_begin(r + 1);
+      for (std::uint32_t k = b; k < end; ++k) {
+        const double* p = &xy[2 * std::size_t{k}];
+        const double* q = &xy[2 * std::size_t{k + 1 < end ? k + 1 : b}];
+        const double* n = &xy[2 * std::size_t{k + 2 < end ? k + 2 : b + (k + 2 - end)}];
+        reflex = reflex || voroclip::orient2d(p, q, n) == Sign::negative;
+        const double area = 0.5 * (p[0] * q[1] - p[1] * q[0]);  // (origin, p, q)
+        for (int j = 0; j < 7; ++j) {
+          // Radon's points: the centroid, then (a, a, 1 - 2a) and its permutations.
+          const double a = ra[j == 0 ? 0 : (j - 1) / 3 + 1];
+          const double w = rw[j == 0 ? 0 : (j - 1) / 3 + 1];
+          const double bp = j == 0 ? a : (j - 1) % 3 == 0 ? a : (j - 1) % 3 == 1 ? a : 1 - 2 * a;
+          const double bq = j == 0 ? a : (j - 1) % 3 == 0 ? a : (j - 1) % 3 == 1 ? 1 - 2 * a : a;
+          const double x = bp * p[0] + bq * q[0], y = bp * p[1] + bq * q[1];
+          const double f = area * w * poly(x, y);
+          const double dx = x - sites[2 * i], dy = y - sites[2 * i + 1];
+          m += f;
+          mx += f * x;
+          my += f * y;
+          e += f * (dx * dx + dy * dy);
+        }
+      }
+    }
+    REQUIRE(std::isfinite(cv.mass(i)));
+    REQUIRE(cv.mass(i) == Approx(m).epsilon(1e-12));
+    REQUIRE(cv.centroid(i)[0] == Approx(mx / m).epsilon(1e-12));
+    REQUIRE(cv.centroid(i)[1] == Approx(my / m).epsilon(1e-12));
+    REQUIRE(cv.energy(i) == Approx(e).epsilon(1e-11));
+    total += m;
+  }
+  REQUIRE(holed);   // the test has cells with holes
+  REQUIRE(reflex);  // and non-convex cells
+  // ∫(1 + 2x + 3y) over the U (24 - 4 of the notch) minus the holes: area + 2 Mx + 3 My.
+  const auto rect = [&](double x0, double y0, double x1, double y1) {
+    const double a = (x1 - x0) * (y1 - y0);
+    return a * poly(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+  };
+  const double tri_area = 0.5 * std::fabs((3.4 - 3) * (1.2 - 0.5) - (2.7 - 3) * (1 - 0.5));
+  const double exact = rect(0, 0, 6, 4) - rect(2, 2, 4, 4) - rect(0.5, 0.5, 0.8, 0.9) -
+                       rect(4.6, 3.1, 4.7, 3.3) - tri_area * poly(9.1 / 3, 2.7 / 3);
+  REQUIRE(total == Approx(exact).epsilon(1e-13));
+  REQUIRE(cv.total_mass() == Approx(exact).epsilon(1e-13));
+}

@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -118,6 +119,39 @@ void check_boundary_vertices(const Domain2& d, const Mesh2& m, bool exact) {
     REQUIRE(dist <= 8 * ulp);
   }
   REQUIRE(nb > 0);
+}
+
+// The issue's angle bound: a triangle at a domain corner sharper than 60 degrees has its
+// smallest angle >= min(30, that corner's angle); every other triangle >= 30. Returns the
+// number of triangles that miss it.
+std::uint32_t triangles_below_bound(const Domain2& d, const Mesh2& m) {
+  std::uint32_t below = 0;
+  for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+    double smallest = 180, bound = 30;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.triangles[3 * t + k];
+      const double* a = &m.xy[2 * v];
+      const double* b = &m.xy[2 * m.triangles[3 * t + (k + 1) % 3]];
+      const double* c = &m.xy[2 * m.triangles[3 * t + (k + 2) % 3]];
+      const double ux = b[0] - a[0], uy = b[1] - a[1], wx = c[0] - a[0], wy = c[1] - a[1];
+      smallest = std::min(smallest,
+                          std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / M_PI);
+      const std::uint32_t dv = m.vertex_domain[v];
+      if (dv == Mesh2::kNone || voroclip::orient2d(d.vertex(d.prev(dv)), d.vertex(dv),
+                                                   d.vertex(d.next(dv))) != Sign::positive) {
+        continue;
+      }
+      const double* p = d.vertex(d.prev(dv));
+      const double* q = d.vertex(dv);
+      const double* r = d.vertex(d.next(dv));
+      const double px = p[0] - q[0], py = p[1] - q[1], rx = r[0] - q[0], ry = r[1] - q[1];
+      const double corner =
+          std::atan2(std::fabs(px * ry - py * rx), px * rx + py * ry) * 180 / M_PI;
+      if (corner < 60) bound = std::min(bound, corner - 1e-9);
+    }
+    below += smallest < bound;
+  }
+  return below;
 }
 
 }  // namespace
@@ -244,6 +278,37 @@ TEST_CASE("mesh2d: a sharp corner is cut, the rest stays valid and good", "[mesh
   CHECK(uncut_stats.nb_fixed == st.nb_fixed - 2 + 1);
 }
 
+TEST_CASE("mesh2d: the neighbours of a cut corner's chord meet the angle bound",
+          "[mesh][regression]") {
+  // issue34.json's outer ring and its hole 2, whose corners of 24.4 and 25.1 degrees are
+  // cut. A cut point landed 3.0 short of a fixed vertex (and on issue35.json 0.16 short),
+  // the short edge left next to the chord made triangles of 15-19 degrees there, and the
+  // refinement skipped them (a chord is never split). Now a fixed vertex within half the
+  // chord's length beyond the cut is the cut.
+  const voroclip::PolygonRings all = voroclip::read_polygon(kData + "/polygons/valid/issue34.json");
+  PolygonRings two = all;
+  two.xy.clear();
+  two.ring_begin = {0};
+  two.ring_polygon.clear();
+  two.ring_line.clear();
+  for (const std::uint32_t r : {0u, 2u}) {
+    two.xy.insert(two.xy.end(), all.xy.begin() + 2 * all.ring_begin[r],
+                  all.xy.begin() + 2 * all.ring_begin[r + 1]);
+    two.ring_begin.push_back(static_cast<std::uint32_t>(two.xy.size() / 2));
+    two.ring_polygon.push_back(all.ring_polygon[r]);
+    two.ring_line.push_back(all.ring_line[r]);
+  }
+  two.segment_marker.clear();
+  two.point_number.clear();
+  const Domain2 d(two);
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 300, &st);
+  INFO(voroclip::quality_text(voroclip::triangle_quality2(m)));
+  CHECK(st.nb_sharp_corners == 2);
+  CHECK(st.nb_tip_triangles == 2);
+  CHECK(triangles_below_bound(d, m) == 0);
+}
+
 TEST_CASE("mesh2d: --fix-input-vertices keeps every domain vertex", "[mesh]") {
   const Domain2 d(voroclip::annulus_rings(0.5, 1.0, 24));
   Mesh2Options o;
@@ -272,6 +337,41 @@ TEST_CASE("mesh2d: a user density grades the mesh", "[mesh]") {
   INFO(left << " left, " << right << " right");
   CHECK(right > 1.3 * left);
   CHECK(voroclip::triangle_quality2(m).min_angle >= 25);
+}
+
+TEST_CASE("mesh2d: a user density is asked only inside the domain", "[mesh][regression]") {
+  // A sizing defined only on the domain: h = 0.02 + 0.05 sqrt(x - y) on the triangle
+  // y <= x, with a hole. Before, mesh2d asked it in the bounding box (sampling), at
+  // circumcentres outside the domain (gap filling) and the CVT's integration asked it
+  // across holes; each gave NaN there ("--sizing ... is -nan at (0.0125, 0.0375)").
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, 1}, {0.6, 0.2, 0.8, 0.2, 0.8, 0.4}}));
+  std::atomic<std::uint64_t> outside{0}, asked{0};
+  Mesh2Options o;
+  o.density = voroclip::Density2::function([&](double x, double y) {
+    const double p[2] = {x, y};
+    ++asked;
+    if (d.locate(p) == Sign::negative) {
+      ++outside;
+      return std::nan("");
+    }
+    const double h = 0.02 + 0.05 * std::sqrt(x - y);
+    return 1 / (h * h * h * h);
+  });
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 600, &st, o);
+  CHECK(asked > 0);
+  CHECK(outside == 0);
+  CHECK(std::fabs(st.covered_fraction - 1) <= 1e-12);
+  // Graded: vertices per area about (h_far / h_near)^2 = (0.067 / 0.038)^2 = 3.1 times
+  // denser in the band x - y < 0.25 (area 0.21875) than in x - y > 0.75 (area 0.03125).
+  std::uint32_t near = 0, far = 0;
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    const double t = m.xy[2 * v] - m.xy[2 * v + 1];
+    near += t < 0.25;
+    far += t > 0.75;
+  }
+  INFO(near << " vertices with x - y < 0.25, " << far << " with x - y > 0.75");
+  CHECK(near / 0.21875 > 2 * far / 0.03125);
 }
 
 TEST_CASE("mesh2d: identical with 1 and 2 threads", "[mesh][threads]") {

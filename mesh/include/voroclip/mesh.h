@@ -300,12 +300,14 @@ class SizingField3 {
 // than the local size. Such a corner is cut off the domain before meshing: the tip is
 // replaced by a chord between the points at arclength r = h / (2 sin(angle / 2)) from it
 // on either side (where the wedge is h wide), or the nearest fixed vertex before that,
-// or half-way to another sharp corner. The cut domain is validated exactly as a Domain2
-// (if a chord crosses another ring the cuts are halved, up to three times, else the
-// corners stay as fixed corners), re-analysed (a cut may make a sharp corner at a fixed
-// vertex; up to three rounds), and meshed: the chord's ends are fixed vertices, the tip
-// (an area about r h / 2 each) is left uncovered, and the mesh lies in the cut domain,
-// hence in the domain.
+// or half-way to another sharp corner; a fixed vertex up to half the chord's length beyond
+// r is taken as the cut when the tip's smallest angle stays the corner's and the boundary
+// keeps 60 degrees or more there (a cut point just short of a fixed vertex left a short
+// edge and triangles of 15-19 degrees beside the chord). The cut domain is validated exactly as a
+// Domain2 (if a chord crosses another ring the cuts are halved, up to three times, else the corners
+// stay as fixed corners), re-analysed (a cut may make a sharp corner at a fixed vertex; up to three
+// rounds), and meshed: the chord's ends are fixed vertices, the tip (an area about r h / 2 each) is
+// left uncovered, and the mesh lies in the cut domain, hence in the domain.
 //
 // Feature sizes s_j, on samples of every boundary path P (spacing half the local s_j):
 //   s_j = min(length of P, distance from x_j to the nearest fixed vertex that does not end
