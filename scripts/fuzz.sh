@@ -58,10 +58,8 @@ fi
 what="$1"
 seconds="$2"
 shift 2
-# Targets with open findings (fuzz/sites/open): run by name, not by `all` (the CI smoke run).
-with_open_findings="fuzz_sites"
 if [[ "$what" == all ]]; then
-  mapfile -t run < <(targets | grep -vx -- "$with_open_findings")
+  mapfile -t run < <(targets)
 elif targets | grep -qx -- "$what"; then
   run=("$what")
 else
