@@ -37,6 +37,9 @@ fuzz_points    16384 points  -
 fuzz_surface3  4096  -       -
 fuzz_domain2   4096  -       -
 fuzz_sites     1024  -       -
+fuzz_density_sol 16384 density_sol -
+fuzz_density_vtu 16384 density_vtu -
+fuzz_density_vtk 16384 density_vtk -
 "
 
 targets() { awk 'NF { print $1 }' <<<"$table"; }
