@@ -354,14 +354,26 @@ class TetInterpolant {
         lo_[c] = std::min(lo_[c], xyz_[3 * v + c]);
         hi = std::max(hi, xyz_[3 * v + c]);
       }
-      extent_[c] = std::max(hi - lo_[c], 1e-300);
+      // (hi - lo overflows for coordinates of both signs near the double range.)
+      extent_[c] = std::clamp(hi - lo_[c], 1e-300, std::numeric_limits<double>::max());
     }
-    const double volume = extent_[0] * extent_[1] * extent_[2];
-    const double cell = std::cbrt(volume / std::max<double>(1, 0.5 * static_cast<double>(nt)));
+    // Buckets of side about cbrt(volume / (nt / 2)), in logarithms: the volume's product
+    // overflows or underflows for a mesh 1e200 or 1e-200 across (a NaN side count then
+    // crashed the lookup, a volume of 0 made every side 512: 537 MB of buckets for a
+    // .vtu of one tet; tests/apps/fuzz_regressions/). At most 512 per side and about two
+    // buckets per tet in all, whatever the extents.
+    const double log_tets = std::log(std::max(1.0, 0.5 * static_cast<double>(nt)));
+    const double log_volume = std::log(extent_[0]) + std::log(extent_[1]) + std::log(extent_[2]);
     for (int c = 0; c < 3; ++c) {
-      n_[c] = static_cast<std::uint32_t>(std::clamp(std::ceil(extent_[c] / cell), 1.0, 512.0));
-      scale_[c] = n_[c] / extent_[c];
+      const double side = std::exp(std::log(extent_[c]) + (log_tets - log_volume) / 3);
+      n_[c] = static_cast<std::uint32_t>(std::clamp(std::ceil(side), 1.0, 512.0));
     }
+    const std::uint64_t cap = 8 + 2 * std::uint64_t{nt};
+    while (std::uint64_t{n_[0]} * n_[1] * n_[2] > cap) {
+      std::uint32_t* largest = std::max_element(n_, n_ + 3);
+      *largest = (*largest + 1) / 2;
+    }
+    for (int c = 0; c < 3; ++c) scale_[c] = n_[c] / extent_[c];
     // Two passes: counts, then the tets, bucket by bucket (CSR).
     begin_.assign(std::size_t{n_[0]} * n_[1] * n_[2] + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {

@@ -22,7 +22,9 @@ if(NOT LBFGSPP_INCLUDE_DIR)
                       "'liblbfgspp-dev' (or run scripts/setup.sh which installs everything).")
 endif()
 
-if(VOROCLIP_BUILD_APPS)
+# The apps, and the fuzz targets of the command line's density files (fuzz/fuzz_density.cpp
+# compiles apps/density_options.cpp).
+if(VOROCLIP_BUILD_APPS OR VOROCLIP_FUZZ)
   voroclip_require_package(CLI11 libcli11-dev CONFIG)
   # Formulas of --density / --sizing (apps/density_options.h says why muparser; MIT).
   voroclip_require_package(muparser libmuparser-dev CONFIG)

@@ -37,6 +37,9 @@ fuzz_points    16384 points  -
 fuzz_surface3  4096  -       -
 fuzz_domain2   4096  -       -
 fuzz_sites     1024  -       -
+fuzz_density_sol 16384 density_sol -
+fuzz_density_vtu 16384 density_vtu -
+fuzz_density_vtk 16384 density_vtk -
 "
 
 targets() { awk 'NF { print $1 }' <<<"$table"; }
@@ -58,10 +61,8 @@ fi
 what="$1"
 seconds="$2"
 shift 2
-# Targets with open findings (fuzz/sites/open): run by name, not by `all` (the CI smoke run).
-with_open_findings="fuzz_sites"
 if [[ "$what" == all ]]; then
-  mapfile -t run < <(targets | grep -vx -- "$with_open_findings")
+  mapfile -t run < <(targets)
 elif targets | grep -qx -- "$what"; then
   run=("$what")
 else

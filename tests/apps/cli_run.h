@@ -45,12 +45,14 @@ std::string slurp(const std::string& path) {
 
 bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
 
-Run run_cli(const std::vector<std::string>& args) {
+// `shell_prefix`, when given, runs before the command in its shell (e.g. "ulimit -v N &&").
+Run run_cli(const std::vector<std::string>& args, const std::string& shell_prefix = "") {
   char err_path[] = "test_cli_stderr_XXXXXX";
   const int fd = mkstemp(err_path);
   REQUIRE(fd >= 0);
   close(fd);
-  std::string command = shell_quote(VOROCLIP_CLI_PATH);
+  std::string command =
+      shell_prefix + (shell_prefix.empty() ? "" : " ") + shell_quote(VOROCLIP_CLI_PATH);
   for (const std::string& a : args) command += " " + shell_quote(a);
   command += " 2>" + shell_quote(err_path);
 

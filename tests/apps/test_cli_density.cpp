@@ -618,3 +618,35 @@ TEST_CASE("mesh3d --sizing alone: h is the edge length (median ratio within 10 %
     CHECK(std::fabs(median(slab[s]) - 1) <= 0.1);
   }
 }
+
+// ---------------------------------------------------------------------------------------
+// Findings of fuzz_density_vtu (fuzz/fuzz_density.cpp), inputs in tests/apps/fuzz_regressions/.
+
+TEST_CASE("fuzz regression: .vtu densities on meshes 1e-200 and 2e308 across",
+          "[apps][density][regression]") {
+  // The two-tet .vtu of the fuzz seeds with its points scaled: the interpolant's bucket
+  // grid was sized from the mesh's volume, a product that overflowed (points at -1e308 and
+  // 1e308: a NaN count of buckets, then a crash in the lookup) or underflowed (a mesh 1e-200
+  // across: 512^3 buckets, 537 MB for a file of 700 bytes). Both now give a density.
+  const std::string dir = std::string(VOROCLIP_SOURCE_DIR) + "/tests/apps/fuzz_regressions/";
+  const TempFile cube(".obj", kCubeObj);
+  for (const char* name : {"density_vtu_extent_overflow.vtu", "density_vtu_extent_1e-200.vtu"}) {
+    const TempFile out(".json");
+    const std::vector<std::string> args = {
+        "-q", "cvt3d", cube.path, "--random", "20", "--density-file", dir + name, "-o", out.path};
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+    // Without a sanitizer (whose shadow memory needs the address space), under a limit of
+    // 400 MB of address space (the run needs far less): the 537 MB of buckets failed.
+    const Run run = run_cli(args, "ulimit -v 400000 &&");
+#else
+    const Run run = run_cli(args);
+#endif
+    INFO(name);
+    CHECK(run.status == 0);
+    CHECK(run.err.empty());
+    std::ifstream in(out.path);
+    const nlohmann::json result = nlohmann::json::parse(in, nullptr, false);
+    REQUIRE(result.is_object());
+    CHECK(result["cells"].size() == 20);
+  }
+}

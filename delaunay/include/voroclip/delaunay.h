@@ -269,8 +269,9 @@ class Delaunay2 {
   std::vector<std::uint32_t> hull_edges() const;
 
   // ---- Geometry (floating point, not exact: for output and clipping)
-  // The circumcenter of finite triangle t by the usual formula relative to its first
-  // vertex: relative error a few ulps times the condition number of the triangle.
+  // The circumcenter of finite triangle t (circumcenter2d of predicates.h: within
+  // kConstructionLimit of the triangle's size however flat it is, a few ulps when the
+  // floating-point formula cannot guarantee that).
   void circumcenter(std::uint32_t t, double* out) const;
 
   // ---- Queries (exact orientation tests; the query point need not be an input point)

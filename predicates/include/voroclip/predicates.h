@@ -660,4 +660,30 @@ inline void circumcenter3d(const double* p0, const double* p1, const double* p2,
 bool circumcenter3d_enclosure(const double* p0, const double* p1, const double* p2,
                               const double* p3, double* center, double* halfwidth);
 
+// ---------------------------------------------------------------------------------------
+// Constructions of the clipped diagrams' vertices (predicates/src/constructions.cpp has the
+// derivations and the filters' error bounds). Coordinates only (no decision depends on
+// them), but accurate however degenerate the input: a floating-point formula when its
+// proven error bound is below kConstructionLimit of the input's size, else the exact
+// numerator and denominator, each rounded, then divided (a few ulps of the exact offset
+// from the first point). A plain floating-point formula is not enough: for the Voronoi
+// vertex of three sites of which two are 3e-48 apart its determinant is rounding noise
+// (a NaN vertex, fuzz_sites' clip2d_nan_voronoi_vertex); the point where a boundary facet
+// meets bisector(p0, p1) and bisector(p0, p2) for p1, p2 3e-14 apart, two planes at an
+// angle of 3e-14, came out 1.3e-3 away from the exact one (the negative cell volume of
+// fuzz_sites' clip3d_near_coincident_facet_point).
+//
+//   circumcenter2d(a, b, c, center)
+//       the circumcentre of the triangle a, b, c (center: 2 values). Throws Error for
+//       collinear points or non-finite coordinates.
+//   plane_bisectors_point3d(a, b, c, p0, p1, p2, x)
+//       the point x of the plane through a, b, c on bisector(p0, p1) and on bisector(p0,
+//       p2) (equidistant from p0, p1, p2). Returns false, x unchanged, when that point is
+//       not unique (the plane and the bisectors do not meet in one point, exactly) or a
+//       coordinate is not finite.
+inline constexpr double kConstructionLimit = 0x1p-40;
+void circumcenter2d(const double* a, const double* b, const double* c, double* center);
+bool plane_bisectors_point3d(const double* a, const double* b, const double* c, const double* p0,
+                             const double* p1, const double* p2, double* x);
+
 }  // namespace voroclip
