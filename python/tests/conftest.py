@@ -42,3 +42,16 @@ def cli():
         if c and os.access(c, os.X_OK):
             return c
     pytest.skip("the voroclip command-line tool is not built (set VOROCLIP_CLI)")
+
+
+@pytest.fixture
+def sigint_interrupts():
+    """SIGINT raises KeyboardInterrupt for the test's duration, as in an interactive Python.
+    A process started in the background by a non-interactive shell (a CI runner, `cmd &`)
+    inherits SIGINT ignored, and Python then installs no handler for it: a Ctrl-C test must
+    not depend on how the suite was launched."""
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)

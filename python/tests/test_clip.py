@@ -309,7 +309,7 @@ def test_clip_callback_reports_phases_cancels_and_changes_nothing():
 
 
 @pytest.mark.parametrize("dim", [2, 3])
-def test_ctrl_c_cancels_a_long_clip(dim):
+def test_ctrl_c_cancels_a_long_clip(dim, sigint_interrupts):
     import os
     import signal
     import threading

@@ -60,7 +60,7 @@ def test_cvt_threads_and_callback_stop():
             RuntimeError("boom")))
 
 
-def test_ctrl_c_cancels_a_long_run():
+def test_ctrl_c_cancels_a_long_run(sigint_interrupts):
     sites = np.random.default_rng(3).random((3000, 3))
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
