@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the libFuzzer targets of fuzz/ (issue 34):
 #   scripts/fuzz.sh TARGET SECONDS [libFuzzer options...]   one target, e.g. fuzz_medit 600
-#   scripts/fuzz.sh all SECONDS [libFuzzer options...]      every target, one after another
+#   scripts/fuzz.sh all SECONDS [libFuzzer options...]      every target, FUZZ_JOBS (default
+#                                                           2) at a time
 #   scripts/fuzz.sh list                                    the targets
 # Builds build/fuzz with clang (-DVOROCLIP_FUZZ=ON; only the fuzz targets and what they
 # link), gathers the seeds (fuzz/seeds/TARGET, meshes and surfaces written by the library's
@@ -109,24 +110,40 @@ for t in "${run[@]}"; do
   done < <(seed_globs "$t")
 done
 
-# ---- Fuzz.
-status=0
-for t in "${run[@]}"; do
-  exe="$build/fuzz/$t"
-  corpus="$build/corpus/$t"
-  mkdir -p "$corpus"
+# ---- Fuzz: FUZZ_JOBS targets at a time (default 2, the machine's cores), each one a single
+# libFuzzer process with its own log; the reports are printed in the table's order.
+fuzz_one() {
+  local t="$1" exe="$build/fuzz/$1" corpus="$build/corpus/$1" max_len dict
+  shift
   max_len=$(field "$t" 2)
   dict=$(field "$t" 3)
-  opts=(-max_len="$max_len" -timeout=10 -rss_limit_mb=2048
+  local opts=(-max_len="$max_len" -timeout=10 -rss_limit_mb=2048
     -malloc_limit_mb="${FUZZ_MALLOC_LIMIT_MB:-32}" -artifact_prefix="$build/artifacts/$t-"
     -print_final_stats=1)
   if [[ "$dict" != - ]]; then opts+=(-dict="$root/fuzz/dict/$dict.dict"); fi
-  echo "==== fuzz.sh: $t for ${seconds}s ($(ls "$build/seeds/$t" | wc -l) seeds, corpus" \
-    "$(ls "$corpus" | wc -l) inputs)"
   # The corpus first (new inputs go there), then the seeds: each one runs once at the start,
   # so a seed that is a finding stops the run.
-  if ! nice -n 19 "$exe" "${opts[@]}" -max_total_time="$seconds" "$@" "$corpus" \
-    "$build/seeds/$t" >"$build/$t.log" 2>&1; then
+  nice -n 19 "$exe" "${opts[@]}" -max_total_time="$seconds" "$@" "$corpus" \
+    "$build/seeds/$t" >"$build/$t.log" 2>&1
+}
+
+jobs_max="${FUZZ_JOBS:-2}"
+[[ "$jobs_max" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be >= 1" >&2; exit 2; }
+declare -A pid_of
+for t in "${run[@]}"; do
+  mkdir -p "$build/corpus/$t"
+  echo "==== fuzz.sh: $t for ${seconds}s ($(ls "$build/seeds/$t" | wc -l) seeds, corpus" \
+    "$(ls "$build/corpus/$t" | wc -l) inputs)"
+  while (($(jobs -rp | wc -l) >= jobs_max)); do wait -n || true; done
+  fuzz_one "$t" "$@" &
+  pid_of[$t]=$!
+done
+
+status=0
+for t in "${run[@]}"; do
+  echo -n "---- $t: "
+  if ! wait "${pid_of[$t]}"; then
+    echo "FINDING"
     echo "fuzz.sh: $t: FINDING (log $build/$t.log, artifacts $build/artifacts/$t-*)" >&2
     grep -a -A30 "==ERROR\|SUMMARY\|voroclip fuzz:\|runtime error" "$build/$t.log" | head -60 >&2 || true
     status=1

@@ -9,7 +9,8 @@
 #                            without the install test
 #   6. libFuzzer smoke       build/fuzz with clang (the fuzz targets and what they link
 #                            only), every target of fuzz/ for FUZZ_CI_SECONDS (default 10)
-#                            from its seeds (scripts/fuzz.sh all): whole stage <= 5 minutes
+#                            from its seeds, two at a time (scripts/fuzz.sh all): whole
+#                            stage <= 5 minutes
 #   7. ThreadSanitizer       scripts/tsan.sh: build/tsan with clang against oneTBB rebuilt
 #                            with TSan (scripts/tsan_tbb.sh, once), the test cases tagged
 #                            [threads] of the parallel modules at 2 and 4 threads
