@@ -274,6 +274,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       }
       j["q1_by_boundary_vertices"] = classes;
     }
+    j["dihedral_bound"] = {{"bound_deg", r.dihedral_bound_deg},
+                           {"input_sharpest_dihedral_deg", r.input_sharpest_dihedral_deg},
+                           {"tets_below", r.nb_tets_below_bound}};
     {
       std::vector<std::int32_t> patches = r.boundary_tags, regions = r.tet_tags;
       std::sort(patches.begin(), patches.end());
@@ -367,6 +370,18 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
         *out << "min " << fixed(q.min_deg, 2) << ", mean " << fixed(q.mean_deg, 2) << " degrees ("
              << count_of(q.nb_tets, "tet") << ")";
       }
+    }
+    *out << '\n';
+    // The verdict on the dihedral angles, against min(20, alpha / 2).
+    *out << "Dihedral angles: "
+         << (r.nb_tets_below_bound == 0 ? "every tet's smallest is at least "
+                                        : count_of(r.nb_tets_below_bound, "tet") + " below ")
+         << "the bound " << fixed(r.dihedral_bound_deg, 2) << " degrees (min(20, alpha / 2), "
+         << "alpha = " << fixed(r.input_sharpest_dihedral_deg, 2)
+         << " degrees the input's sharpest dihedral angle)";
+    if (r.nb_tets_below_bound > 0) {
+      *out << "; the smallest is " << fixed(r.quality.q1_deg.min, 2) << " degrees, at tet "
+           << r.quality.q1_deg.argmin;
     }
     *out << '\n';
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "voroclip/predicates.h"
 
 namespace voroclip::mesh3 {
 
@@ -49,6 +50,49 @@ std::vector<std::uint64_t> tag_border_edges(const Domain3& domain) {
   }
   std::sort(borders.begin(), borders.end());
   return borders;
+}
+
+double sharpest_dihedral_deg(const Surface3& surface) {
+  const auto normal = [&](std::uint32_t t, double* n) {
+    const double* a = surface.vertex(surface.triangle_vertex(t, 0));
+    const double* b = surface.vertex(surface.triangle_vertex(t, 1));
+    const double* c = surface.vertex(surface.triangle_vertex(t, 2));
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+  };
+  double sharpest = 180;
+  for (std::uint32_t t = 0; t < surface.nb_triangles(); ++t) {
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = surface.adjacent(t, e);
+      if (a == Surface3::kNone || a < t) continue;  // each edge once
+      // The corner of a off the edge (from corner e + 1 to e + 2 of t).
+      const std::uint32_t u = surface.triangle_vertex(t, (e + 1) % 3);
+      const std::uint32_t w = surface.triangle_vertex(t, (e + 2) % 3);
+      std::uint32_t apex = surface.triangle_vertex(a, 0);
+      for (int k = 1; k < 3 && (apex == u || apex == w); ++k) apex = surface.triangle_vertex(a, k);
+      const Sign side =
+          orient3d(surface.vertex(surface.triangle_vertex(t, 0)),
+                   surface.vertex(surface.triangle_vertex(t, 1)),
+                   surface.vertex(surface.triangle_vertex(t, 2)), surface.vertex(apex));
+      if (side == Sign::zero) continue;  // flat: 180
+      double m[3], n[3];
+      normal(t, m);
+      normal(a, n);
+      const double cross[3] = {m[1] * n[2] - m[2] * n[1], m[2] * n[0] - m[0] * n[2],
+                               m[0] * n[1] - m[1] * n[0]};
+      const double between =
+          std::atan2(std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]),
+                     m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) *
+          (180 / 3.14159265358979323846);
+      // orient3d > 0: the apex is below t's plane, inside the volume (t's corners run
+      // counter-clockwise seen from outside): a convex edge.
+      sharpest = std::min(sharpest, side == Sign::positive ? 180 - between : 180 + between);
+    }
+  }
+  return sharpest;
 }
 
 FeatureLines split_at_turns(const TriangleSurface& s, const FeatureLines& lines, double angle_deg) {

@@ -475,6 +475,8 @@ void Pipeline::run() {
     TetQualityOptions qo;
     qo.keep_per_tet = true;
     result.quality = tet_quality(result.xyz.data(), nv, result.tets.data(), result.nb_tets(), qo);
+    result.input_sharpest_dihedral_deg = sharpest_dihedral_deg(domain.surface());
+    result.dihedral_bound_deg = std::min(20.0, result.input_sharpest_dihedral_deg / 2);
     for (std::uint32_t t = 0; t < result.nb_tets(); ++t) {
       int on_boundary = 0;
       for (int k = 0; k < 4; ++k) {
@@ -486,6 +488,7 @@ void Pipeline::run() {
                                                                : on_boundary == 3 ? 1
                                                                                   : 2];
       const double q1 = result.quality.per_tet[t].q1_deg;
+      result.nb_tets_below_bound += q1 < result.dihedral_bound_deg;
       c.min_deg = c.nb_tets == 0 ? q1 : std::min(c.min_deg, q1);
       c.mean_deg += q1;
       ++c.nb_tets;

@@ -49,6 +49,12 @@ struct Projection {
 // mesh file's boundary triangle refs); empty without tags.
 std::vector<std::uint64_t> tag_border_edges(const Domain3& domain);
 
+// The surface's sharpest dihedral angle, degrees: the smallest angle, measured inside the
+// volume, between two triangles that share an edge (180 - the angle between their normals
+// where the edge is convex, 180 + it where reflex, 180 where flat; convexity by orient3d,
+// exact). 180 for a surface without triangles.
+double sharpest_dihedral_deg(const Surface3& surface);
+
 // Feature lines cut at the vertices where they turn by more than angle_deg (the angle
 // between consecutive segments), which become corners: where a crease folds back on
 // itself two feature edges meet, yet the point is a corner of the shape.

@@ -321,6 +321,9 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["energy"] = m.constrained.energy;
   s["slivers_initial"] = m.perturbation.initial_slivers;
   s["slivers_final"] = m.perturbation.final_slivers;
+  s["input_sharpest_dihedral_deg"] = m.input_sharpest_dihedral_deg;
+  s["dihedral_bound_deg"] = m.dihedral_bound_deg;
+  s["tets_below_dihedral_bound"] = m.nb_tets_below_bound;
   s["seconds"] = m.total_seconds;
   s["cancelled"] = m.cancelled;
   r["stats"] = s;

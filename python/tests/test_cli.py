@@ -81,6 +81,12 @@ def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
     assert np.array_equal(back.cells_dict["tetra"], m.cells)
     assert np.array_equal(back.cells_dict["triangle"], m.boundary_triangles)
     assert stats["vertices"] == len(m.points)
+    # The dihedral verdict, as the CLI gives it.
+    bound = stats["dihedral_bound"]
+    assert m.stats["dihedral_bound_deg"] == bound["bound_deg"] == 20
+    assert m.stats["input_sharpest_dihedral_deg"] == bound["input_sharpest_dihedral_deg"]
+    q1 = voroclip.quality(m.points, m.cells).q1
+    assert m.stats["tets_below_dihedral_bound"] == bound["tets_below"] == int((q1 < 20).sum())
 
 
 def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):

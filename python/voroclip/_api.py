@@ -267,7 +267,10 @@ class Mesh:
       ``boundary_tags`` (k,) (the .poly segment marker of their side, else 1 on outer
       rings and 2, 3, ... on holes), ``cell_tags`` (m,) (the .poly regional attribute,
       else 1);
-    * ``stats``: a dict of the pipeline's figures (sites, iterations, energy, seconds...).
+    * ``stats``: a dict of the pipeline's figures (sites, iterations, energy, seconds...);
+      3D also the dihedral verdict: ``input_sharpest_dihedral_deg`` (alpha, the smallest
+      angle inside the volume between two boundary triangles sharing an edge),
+      ``dihedral_bound_deg`` (min(20, alpha / 2)) and ``tets_below_dihedral_bound``.
     """
 
     def __init__(self, dim: int, r: dict):

@@ -47,6 +47,12 @@ TEST_CASE("mesh3d: statistics, progress and the output formats", "[apps]") {
   CHECK(s["vertex_kinds"]["surface"].get<int>() > 0);
   CHECK(s["surface"] == "flat");
   CHECK(s["seconds"]["constrained"].get<double>() > 0);
+  // The dihedral verdict: a sphere's facets meet at nearly 180 degrees, so the bound is 20,
+  // and every tet's smallest angle is above it (min_dihedral_deg > 20 above).
+  CHECK(s["dihedral_bound"]["bound_deg"].get<double>() == 20);
+  CHECK(s["dihedral_bound"]["input_sharpest_dihedral_deg"].get<double>() > 150);
+  CHECK(s["dihedral_bound"]["tets_below"].get<int>() == 0);
+  CHECK(contains(run.err, "Dihedral angles: every tet's smallest is at least the bound 20.00"));
   // Human text goes to stderr with --stats json: progress per phase, then the report.
   CHECK(contains(run.err, "unconstrained CVT"));
   CHECK(contains(run.err, "constrained CVT iteration"));

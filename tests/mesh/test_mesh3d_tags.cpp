@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../core/tagged_mesh.h"
+#include "mesh3d_pipeline.h"
 #include "mesh_test_shapes.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
@@ -440,4 +441,50 @@ TEST_CASE("mesh3d: a wedge with a knife edge (25 degrees) keeps its shape", "[me
   CHECK(r.topology_rounds <= 30);
   CHECK(r.shape_problem.empty());
   check_boundary(r);
+  // The dihedral verdict: alpha = 25 at the knife edge, the bound 12.5, and the tets below
+  // it counted as tet_quality counts them.
+  CHECK(r.input_sharpest_dihedral_deg == Approx(25).epsilon(1e-12));
+  CHECK(r.dihedral_bound_deg == Approx(12.5).epsilon(1e-12));
+  voroclip::TetQualityOptions qo;
+  qo.keep_per_tet = true;
+  const voroclip::TetQuality q =
+      voroclip::tet_quality(r.xyz.data(), r.nb_vertices(), r.tets.data(), r.nb_tets(), qo);
+  std::uint32_t below = 0;
+  for (const auto& t : q.per_tet) below += t.q1_deg < 12.5;
+  CHECK(r.nb_tets_below_bound == below);
+}
+
+TEST_CASE("sharpest_dihedral_deg: convex edges count, reflex ones do not", "[mesh]") {
+  // A 4 x 2 x 1 block with a V-groove along y = 2 at x = 2, 30 degrees open and 1 deep.
+  // Inside the volume: 90 at the block's edges, 105 at the groove's rims, 330 at its
+  // bottom (a reflex edge, whose normals differ by 150 degrees: read as convex it would
+  // give 30).
+  const double a = std::tan(15 * M_PI / 180);
+  const double ring[7][2] = {{0, 0}, {4, 0}, {4, 2}, {2 + a, 2}, {2, 1}, {2 - a, 2}, {0, 2}};
+  voroclip::TriangleSurface s;
+  s.source = "grooved block";
+  for (int z = 0; z < 2; ++z) {
+    for (const auto& p : ring) s.xyz.insert(s.xyz.end(), {p[0], p[1], double(z)});
+  }
+  for (std::uint32_t i = 0; i < 7; ++i) {  // the walls, outward
+    const std::uint32_t j = (i + 1) % 7;
+    s.triangles.insert(s.triangles.end(), {i, j, j + 7, i, j + 7, i + 7});
+  }
+  // The caps: fans from the groove's bottom (4), which sees every corner.
+  const std::uint32_t fan[5][2] = {{5, 6}, {6, 0}, {0, 1}, {1, 2}, {2, 3}};
+  for (const auto& f : fan) {
+    s.triangles.insert(s.triangles.end(), {4, f[1], f[0]});              // bottom, facing -z
+    s.triangles.insert(s.triangles.end(), {4 + 7, f[0] + 7, f[1] + 7});  // top, facing +z
+  }
+  const voroclip::Surface3 block(s);
+  CHECK(voroclip::mesh3::sharpest_dihedral_deg(block) == Approx(90).epsilon(1e-12));
+  // The box alone: 90; a regular tetrahedron: acos(1/3).
+  CHECK(voroclip::mesh3::sharpest_dihedral_deg(voroclip::Surface3(
+            voroclip_test::box_surface({0, 0, 0}, {1, 2, 3}))) == Approx(90).epsilon(1e-12));
+  voroclip::TriangleSurface t;
+  t.source = "tetrahedron";
+  t.xyz = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+  t.triangles = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+  CHECK(voroclip::mesh3::sharpest_dihedral_deg(voroclip::Surface3(t)) ==
+        Approx(std::acos(1.0 / 3) * 180 / M_PI).epsilon(1e-12));
 }

@@ -1012,6 +1012,14 @@ struct Mesh3Result {
     double min_deg = 0, mean_deg = 0;  // 0 without tets
   };
   Q1Class q1_by_boundary_vertices[3];
+  // The dihedral-angle verdict. The input's sharpest dihedral angle alpha (degrees: the
+  // smallest angle, inside the volume, between two boundary triangles of the domain that
+  // share an edge), the bound min(20, alpha / 2) the mesh is held to (a tet in the wedge of
+  // a feature edge of angle alpha has a dihedral angle below alpha there), and the tets
+  // whose smallest dihedral angle is below the bound (0: the mesh meets it).
+  double input_sharpest_dihedral_deg = 180;
+  double dihedral_bound_deg = 20;
+  std::uint32_t nb_tets_below_bound = 0;
   // Topology (step 5b): the sites added, the rounds run, and the defects left after them
   // (zero when the surface is resolved).
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
