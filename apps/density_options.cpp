@@ -383,6 +383,7 @@ class TetInterpolant {
         fill.assign(begin_.begin(), begin_.end() - 1);
         list_.resize(begin_.back());
       }
+      if (pass == 0) box_.resize(6 * std::size_t{nt});
       for (std::uint32_t t = 0; t < nt; ++t) {
         std::uint32_t a[3], b[3];
         for (int c = 0; c < 3; ++c) {
@@ -392,6 +393,8 @@ class TetInterpolant {
             mn = std::min(mn, x);
             mx = std::max(mx, x);
           }
+          box_[6 * std::size_t{t} + c] = mn;
+          box_[6 * std::size_t{t} + 3 + c] = mx;
           a[c] = bucket(mn, c);
           b[c] = bucket(mx, c);
         }
@@ -414,6 +417,26 @@ class TetInterpolant {
   double operator()(const double* p) const {
     std::uint32_t b[3];
     for (int c = 0; c < 3; ++c) b[c] = bucket(p[c], c);
+    // The point's own bucket lists the tet that holds it, if any: the first of its tets,
+    // in list order, whose box holds the point and whose barycentric coordinates are all
+    // >= 0 (most of a bucket's tets only meet it with their box: the box test skips them).
+    {
+      const std::size_t id = (std::size_t{b[2]} * n_[1] + b[1]) * n_[0] + b[0];
+      for (std::uint32_t q = begin_[id]; q < begin_[id + 1]; ++q) {
+        const double* box = &box_[6 * std::size_t{list_[q]}];
+        if (p[0] < box[0] || p[1] < box[1] || p[2] < box[2] || p[0] > box[3] || p[1] > box[4] ||
+            p[2] > box[5]) {
+          continue;
+        }
+        double w[4];
+        if (may_hold(list_[q], p) && barycentric(list_[q], p, w) &&
+            std::min({w[0], w[1], w[2], w[3]}) >= 0) {
+          return interpolate(list_[q], w);
+        }
+      }
+    }
+    // Outside every tet (or inside one only within rounding, its box missing the point):
+    // the nearest ring of buckets with tets, the least negative coordinates.
     const std::uint32_t reach = std::max({n_[0], n_[1], n_[2]});
     for (std::uint32_t r = 0; r <= reach; ++r) {
       double best_min = -std::numeric_limits<double>::infinity();
@@ -468,6 +491,21 @@ class TetInterpolant {
            a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   // Barycentric coordinates of p in tet t (false: a flat tet).
+  // False when barycentric() would give the point a negative coordinate w1, w2 or w3
+  // (w_k = n_k / d: its sign is that of n_k d), without its divisions: most tets whose box
+  // holds the point do not.
+  bool may_hold(std::uint32_t t, const double* p) const {
+    const double* a = vertex(t, 0);
+    double e[3][3], q[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) e[k][c] = vertex(t, k + 1)[c] - a[c];
+    }
+    for (int c = 0; c < 3; ++c) q[c] = p[c] - a[c];
+    const double d = det3(e[0], e[1], e[2]);
+    const auto opposite = [d](double n) { return d > 0 ? n < 0 : n > 0; };
+    return !opposite(det3(q, e[1], e[2])) && !opposite(det3(e[0], q, e[2])) &&
+           !opposite(det3(e[0], e[1], q));
+  }
   bool barycentric(std::uint32_t t, const double* p, double* w) const {
     const double* a = vertex(t, 0);
     double e[3][3], q[3];
@@ -496,6 +534,7 @@ class TetInterpolant {
   double lo_[3], extent_[3], scale_[3];
   std::uint32_t n_[3];
   std::vector<std::uint32_t> begin_, list_;
+  std::vector<double> box_;  // per tet: min x, y, z, max x, y, z
 };
 
 // A .vtu's PointData as density values (rho, or rho = h^-5 of a sizing), checked: finite and

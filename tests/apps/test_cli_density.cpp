@@ -537,7 +537,7 @@ TEST_CASE("cvt3d --density-file .vtu with point data: linear in its tets, exact 
 
 TEST_CASE("mesh3d --sizing-file .sol and .vtu: h at the vertices of a tet mesh",
           "[apps][density]") {
-  // h = 0.25 + 0.1 x at the vertices of sphere.mesh, as a .sol (the domain's own vertices)
+  // h = 0.35 + 0.1 x at the vertices of sphere.mesh, as a .sol (the domain's own vertices)
   // and as a .vtu, absolute (no --vertices): both give the same mesh (the same interpolant).
   // A .sol on a surface domain is refused, naming the option.
   const std::string mesh = kData + "/tetmeshes/sphere.mesh";
@@ -547,7 +547,7 @@ TEST_CASE("mesh3d --sizing-file .sol and .vtu: h at the vertices of a tet mesh",
   sol << std::setprecision(17) << "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n"
       << m.nb_vertices() << "\n1 1\n";
   for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
-    h[v] = 0.25 + 0.1 * m.xyz[3 * v];
+    h[v] = 0.35 + 0.1 * m.xyz[3 * v];
     sol << h[v] << '\n';
   }
   sol << "End\n";
