@@ -886,11 +886,11 @@ struct Expression::Impl {
     double v[3] = {0, 0, 0};
     ColumnProgram program;
     bool compiled = false;  // program runs the formula (else parser.Eval() per point)
-    void load(const double* p, int dimension) {
+    void load(const double* p, int dim) {
       v[0] = p[0];
       v[1] = p[1];
       v[2] = 0;
-      if (dimension == 3) v[2] = p[2];
+      if (dim == 3) v[2] = p[2];
     }
   };
   std::string text;
