@@ -251,6 +251,7 @@ bool DelaunayCells::boundary_cell(std::uint32_t i, const std::int8_t* global_fla
   }
   PieceSums sums;
   Moments weighted_sums;
+  if (ctx_.callback_density) thread_density_batch().begin(*ctx_.callback_density);
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t t = tets[q];
     if (ctx_.infinite(t)) continue;
@@ -290,6 +291,7 @@ bool DelaunayCells::boundary_cell(std::uint32_t i, const std::int8_t* global_fla
                     });
     }
   }
+  if (ctx_.callback_density) thread_density_batch().flush();
   if (ctx_.weighted) {
     r.mass += weighted_sums.mass;
     for (int c = 0; c < 3; ++c) r.moment[c] += weighted_sums.moment[c];
@@ -534,6 +536,7 @@ bool DelaunayCells::boundary_chunk(const std::uint32_t* cells, std::uint32_t cou
   if constexpr (kWeighted) {
     s.chunk.moments.assign(count, Moments{});
     sums = s.chunk.moments.data();
+    if (ctx_.callback_density) thread_density_batch().begin(*ctx_.callback_density);
   } else {
     s.chunk.sums.assign(count, PieceSums{});
     sums = s.chunk.sums.data();
@@ -579,6 +582,14 @@ bool DelaunayCells::boundary_chunk(const std::uint32_t* cells, std::uint32_t cou
       }
     }
   }
+  if (kWeighted && ctx_.callback_density) {
+    try {
+      thread_density_batch().flush();
+    } catch (...) {
+      clear_slots();
+      throw;
+    }
+  }
   for (std::uint32_t k = 0; k < count; ++k) {
     slot[cells[k]] = 0;
     if constexpr (kWeighted) {
@@ -609,6 +620,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
   if constexpr (kWeighted) {
     s.chunk.moments.assign(count, Moments{});
     sums = s.chunk.moments.data();
+    if (ctx_.callback_density) thread_density_batch().begin(*ctx_.callback_density);
   } else {
     s.chunk.sums.assign(count, PieceSums{});
     sums = s.chunk.sums.data();
@@ -692,6 +704,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
     }
   }
   st.next = first + nb_tets;
+  if (kWeighted && ctx_.callback_density) thread_density_batch().flush();
   for (std::uint32_t k = 0; k < count; ++k) {
     slot[cells[k]] = 0;
     if constexpr (kWeighted) {

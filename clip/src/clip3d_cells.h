@@ -259,15 +259,11 @@ class DelaunayCells {
   void add_piece(const double* px, const double* pj, const double* pk, const Rel& u, const Rel& w,
                  PieceAcc<kWeighted>& acc) const {
     if constexpr (kWeighted) {
+      // Deferred to the unit's DensityBatch::flush (thread_density_batch).
       const Foot hj = foot(pj, px), hk = foot(pk, px);
-      const Density3& rho = *ctx_.callback_density;
-      if (rho.rule == Density3::Rule::kQuadratic) {
-        add_piece_quadratic(rho, ctx_.density_epoch, thread_density_nodes(), px, hj.y, hk.y, u.y,
-                            w.y, acc);
-      } else {
-        add_tet_degree5(rho, px, hj.y, u.y, w.y, acc);
-        add_tet_degree5(rho, px, hk.y, w.y, u.y, acc);
-      }
+      DensityBatch& batch = thread_density_batch();
+      batch.add(px, hj.y, u.y, w.y, acc);
+      batch.add(px, hk.y, w.y, u.y, acc);
     } else {
       add_edge_piece(foot(pj, px), foot(pk, px), u, w, acc);
     }

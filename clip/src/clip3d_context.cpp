@@ -33,19 +33,76 @@ Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Opti
       weighted(!o.density.is_constant()),
       linear_density(o.density.kind == Density3::Kind::kVertexLinear),
       callback_density(o.density.kind == Density3::Kind::kCallback ? &o.density : nullptr),
-      density_epoch(next_density_epoch()),
       keep_surface(o.keep_surface || o.keep_geometry),
       poll(p) {}
 
-std::uint64_t Clip3Context::next_density_epoch() {
-  static std::atomic<std::uint64_t> next{1};
-  return next.fetch_add(1, std::memory_order_relaxed);
+DensityBatch& thread_density_batch() {
+  thread_local DensityBatch batch;
+  return batch;
 }
 
-DensityNodes& thread_density_nodes() {
-  thread_local std::unique_ptr<DensityNodes> nodes;
-  if (!nodes) nodes = std::make_unique<DensityNodes>();
-  return *nodes;
+void DensityBatch::flush() {
+  struct Clear {
+    DensityBatch& b;
+    ~Clear() { b.tets_.clear(); }
+  } clear{*this};
+  const std::size_t count = tets_.size();
+  if (count == 0) return;
+  const Density3& rho = *rho_;
+  const bool quadratic = rho.rule == Density3::Rule::kQuadratic;
+  const std::size_t per = quadratic ? 10 : 14;
+  index_.resize(per * count);
+  points_.clear();
+  if (quadratic) {
+    for (std::size_t t = 0; t < count; ++t) {
+      const Tet& c = tets_[t];
+      double p[30];
+      p2_nodes(c.x, c.a, c.b, c.c, p);
+      for (std::size_t n = 0; n < 10; ++n) {
+        std::uint64_t b[3];
+        std::memcpy(b, p + 3 * n, sizeof b);
+        const std::uint64_t h = (b[0] * 0x9E3779B97F4A7C15ull) ^ (b[1] * 0xC2B2AE3D27D4EB4Full) ^
+                                (b[2] * 0x165667B19E3779F9ull);
+        std::uint32_t& e = table_[h >> 52];  // the top 12 bits: kSlots
+        if (3 * std::size_t{e} + 3 <= points_.size() &&
+            std::memcmp(points_.data() + 3 * std::size_t{e}, b, sizeof b) == 0) {
+          index_[10 * t + n] = e;
+        } else {
+          e = static_cast<std::uint32_t>(points_.size() / 3);
+          index_[10 * t + n] = e;
+          points_.insert(points_.end(), p + 3 * n, p + 3 * n + 3);
+        }
+      }
+    }
+  } else {
+    points_.resize(3 * 14 * count);
+    for (std::size_t t = 0; t < count; ++t) {
+      const Tet& c = tets_[t];
+      degree5_points(c.x, c.a, c.b, c.c, points_.data() + 3 * 14 * t);
+      for (std::size_t n = 0; n < 14; ++n) {
+        index_[14 * t + n] = static_cast<std::uint32_t>(14 * t + n);
+      }
+    }
+  }
+  const std::size_t m = points_.size() / 3;
+  values_.resize(m);
+  if (rho.batch) {
+    rho.batch(points_.data(), m, values_.data());
+  } else {
+    for (std::size_t k = 0; k < m; ++k) {
+      values_[k] = rho.callback(points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]);
+    }
+  }
+  for (std::size_t t = 0; t < count; ++t) {
+    const Tet& c = tets_[t];
+    double f[14];
+    for (std::size_t n = 0; n < per; ++n) f[n] = values_[index_[per * t + n]];
+    if (quadratic) {
+      add_tet_p2(f, c.a, c.b, c.c, *c.r);
+    } else {
+      add_tet_degree5(f, c.a, c.b, c.c, *c.r);
+    }
+  }
 }
 
 void Clip3Context::star(std::uint32_t v, Star& s) const {

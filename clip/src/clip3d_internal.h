@@ -132,64 +132,38 @@ inline constexpr TetRule kTetRule[14] = {
      0.042546020777081466438},
 };
 
-inline void add_tet_degree5(const Density3& rho, const double* x, const double* a, const double* b,
-                            const double* c, Moments& r) {
+// The degree-5 rule's 14 points x + y of the tet (x; x + a, x + b, x + c), y in kTetRule's
+// order; add_tet_degree5 the integrals from rho's values f[0..13] there.
+inline void degree5_points(const double* x, const double* a, const double* b, const double* c,
+                           double* p) {
+  for (const TetRule& q : kTetRule) {
+    for (int k = 0; k < 3; ++k) {
+      const double y = (q.l[0] * a[k] + q.l[1] * b[k]) + q.l[2] * c[k];
+      p[k] = x[k] + y;
+    }
+    p += 3;
+  }
+}
+inline void add_tet_degree5(const double* f, const double* a, const double* b, const double* c,
+                            Moments& r) {
   const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0]);
   r.volume += det / 6;
   double m = 0, mom[3] = {0, 0, 0}, e = 0;
-  for (const TetRule& q : kTetRule) {
+  for (int n = 0; n < 14; ++n) {
+    const TetRule& q = kTetRule[n];
     double y[3];
     for (int k = 0; k < 3; ++k) y[k] = (q.l[0] * a[k] + q.l[1] * b[k]) + q.l[2] * c[k];
-    const double f = q.w * rho.callback(x[0] + y[0], x[1] + y[1], x[2] + y[2]);
-    m += f;
-    for (int k = 0; k < 3; ++k) mom[k] += f * y[k];
-    e += f * ((y[0] * y[0] + y[1] * y[1]) + y[2] * y[2]);
+    const double w = q.w * f[n];
+    m += w;
+    for (int k = 0; k < 3; ++k) mom[k] += w * y[k];
+    e += w * ((y[0] * y[0] + y[1] * y[1]) + y[2] * y[2]);
   }
   const double v = det / 6;
   r.mass += v * m;
   for (int k = 0; k < 3; ++k) r.moment[k] += v * mom[k];
   r.energy += v * e;
 }
-
-// The values of a callback density at the nodes of the cones (add_tet_weighted), cached
-// by the nodes' coordinates: a cell's cones share most of their nodes (the site, the
-// Voronoi vertices, the bisectors' feet, the midpoints of the edges between those), and a
-// node is computed from the same operands wherever it is met, so the same bits find the
-// cached value. Direct-mapped (a slot keeps the last node hashed to it); an entry counts
-// only for the density of its compute() (`epoch`, Clip3Context::density_epoch), so the
-// values never depend on what a thread computed before: the cache changes the number of
-// calls of rho, never a result.
-class DensityNodes {
- public:
-  static constexpr std::uint32_t kSlots = 1024;
-  // rho at p (absolute coordinates).
-  double value(const Density3& rho, std::uint64_t epoch, const double* p) {
-    std::uint64_t b[3];
-    std::memcpy(b, p, sizeof b);
-    const std::uint64_t h = (b[0] * 0x9E3779B97F4A7C15ull) ^ (b[1] * 0xC2B2AE3D27D4EB4Full) ^
-                            (b[2] * 0x165667B19E3779F9ull);
-    Entry& e = entries_[h >> 54];  // the top 10 bits: kSlots
-    if (e.epoch == epoch && e.key[0] == b[0] && e.key[1] == b[1] && e.key[2] == b[2]) {
-      return e.value;
-    }
-    e.value = rho.callback(p[0], p[1], p[2]);
-    e.epoch = epoch;
-    for (int k = 0; k < 3; ++k) e.key[k] = b[k];
-    return e.value;
-  }
-
- private:
-  struct Entry {
-    std::uint64_t key[3] = {0, 0, 0};
-    std::uint64_t epoch = 0;  // 0: empty (epochs start at 1)
-    double value = 0;
-  };
-  Entry entries_[kSlots];
-};
-
-// The calling thread's DensityNodes (on the heap: 40 KB).
-DensityNodes& thread_density_nodes();
 
 // The P2 (quadratic Lagrange) nodal rule on a tet: nodes 0..3 its vertices, 4..9 the
 // midpoints of its edges (01, 02, 03, 12, 13, 23), basis N_i = l_i (2 l_i - 1) and
@@ -275,71 +249,79 @@ inline void add_tet_p2(const double* f, const double* a, const double* b, const 
   r.energy += v * e;
 }
 
-// rho at the node x + v (vertex) or x + (v + w) / 2 (midpoint; v or w = nullptr: 0).
-inline double node_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                         const double* x, const double* v) {
-  const double p[3] = {x[0] + v[0], x[1] + v[1], x[2] + v[2]};
-  return nodes.value(rho, epoch, p);
-}
-inline double mid_value(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                        const double* x, const double* v, const double* w) {
-  double p[3];
-  for (int q = 0; q < 3; ++q) p[q] = x[q] + (w ? 0.5 * (v[q] + w[q]) : 0.5 * v[q]);
-  return nodes.value(rho, epoch, p);
-}
-
-inline void add_tet_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                              const double* x, const double* a, const double* b, const double* c,
-                              Moments& r) {
-  const double f[10] = {nodes.value(rho, epoch, x),
-                        node_value(rho, epoch, nodes, x, a),
-                        node_value(rho, epoch, nodes, x, b),
-                        node_value(rho, epoch, nodes, x, c),
-                        mid_value(rho, epoch, nodes, x, a, nullptr),
-                        mid_value(rho, epoch, nodes, x, b, nullptr),
-                        mid_value(rho, epoch, nodes, x, c, nullptr),
-                        mid_value(rho, epoch, nodes, x, a, b),
-                        mid_value(rho, epoch, nodes, x, a, c),
-                        mid_value(rho, epoch, nodes, x, b, c)};
-  add_tet_p2(f, a, b, c, r);
-}
-
-// The two tets (x; x + h, x + u, x + w) and (x; x + k, x + w, x + u) of a Voronoi edge
-// piece (DelaunayCells::add_piece) under kQuadratic: add_tet_quadratic twice, the six
-// nodes they share looked up once (the same values, so the same bits).
-inline void add_piece_quadratic(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                                const double* x, const double* h, const double* k, const double* u,
-                                const double* w, Moments& r) {
-  const double f0 = nodes.value(rho, epoch, x);
-  const double fu = node_value(rho, epoch, nodes, x, u), fw = node_value(rho, epoch, nodes, x, w);
-  const double fu2 = mid_value(rho, epoch, nodes, x, u, nullptr);
-  const double fw2 = mid_value(rho, epoch, nodes, x, w, nullptr);
-  const double fuw = mid_value(rho, epoch, nodes, x, u, w);
-  const double f1[10] = {
-      f0,  node_value(rho, epoch, nodes, x, h),         fu,
-      fw,  mid_value(rho, epoch, nodes, x, h, nullptr), fu2,
-      fw2, mid_value(rho, epoch, nodes, x, h, u),       mid_value(rho, epoch, nodes, x, h, w),
-      fuw};
-  add_tet_p2(f1, h, u, w, r);
-  const double f2[10] = {
-      f0,  node_value(rho, epoch, nodes, x, k),         fw,
-      fu,  mid_value(rho, epoch, nodes, x, k, nullptr), fw2,
-      fu2, mid_value(rho, epoch, nodes, x, k, w),       mid_value(rho, epoch, nodes, x, k, u),
-      fuw};
-  add_tet_p2(f2, k, w, u, r);
-}
-
-// The integrals of rho over the tet by its rule (Density3::rule): add_tet_degree5 or
-// add_tet_quadratic.
-inline void add_tet_weighted(const Density3& rho, std::uint64_t epoch, DensityNodes& nodes,
-                             const double* x, const double* a, const double* b, const double* c,
-                             Moments& r) {
-  if (rho.rule == Density3::Rule::kQuadratic) {
-    add_tet_quadratic(rho, epoch, nodes, x, a, b, c, r);
-  } else {
-    add_tet_degree5(rho, x, a, b, c, r);
+// The P2 rule's 10 nodes of the tet (x; x + a, x + b, x + c), in P2Weights' order: the
+// vertices x, x + a, x + b, x + c, then x + v / 2 and x + (v + w) / 2 for the edges. A
+// node is computed from the same operands in every cone that has it (the vertices of a
+// cell's cones are the site and points relative to it), so the same bits.
+inline void p2_nodes(const double* x, const double* a, const double* b, const double* c,
+                     double* p) {
+  const double* v[3] = {a, b, c};
+  for (int k = 0; k < 3; ++k) p[k] = x[k];
+  for (int n = 0; n < 3; ++n) {
+    for (int k = 0; k < 3; ++k) p[3 * (1 + n) + k] = x[k] + v[n][k];
+    for (int k = 0; k < 3; ++k) p[3 * (4 + n) + k] = x[k] + 0.5 * v[n][k];
+  }
+  constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int e = 0; e < 3; ++e) {
+    const double* u = v[kPair[e][0]];
+    const double* w = v[kPair[e][1]];
+    for (int k = 0; k < 3; ++k) p[3 * (7 + e) + k] = x[k] + 0.5 * (u[k] + w[k]);
   }
 }
+
+// The cones of a callback density (Density3::Kind::kCallback), integrated in batches: a
+// unit records the cones of its cells (add: the tet and the Moments it adds to, alive
+// until flush), and flush() computes the cones' quadrature points (Density3::rule: P2
+// nodes or the degree-5 points), evaluates rho once per distinct point (kQuadratic: a
+// cell's cones share most of their nodes) in one call of Density3::batch when the density
+// has one (an interpreted formula pays its per-call cost once per batch), and adds each
+// cone's integrals to its Moments in the order recorded (add flushes every kMaxTets cones;
+// the unit flushes before it reads its Moments). The values of rho depend only on
+// a point's bits, so the sums are those of evaluating cone by cone, for any batch.
+// One per thread (thread_density_batch); a unit calls begin before recording (a unit left
+// by an exception leaves stale cones behind).
+class DensityBatch {
+ public:
+  // Starts recording cones of rho (dropping any left by an exception).
+  void begin(const Density3& rho) {
+    rho_ = &rho;
+    tets_.clear();
+  }
+  void add(const double* x, const double* a, const double* b, const double* c, Moments& r) {
+    Tet t;
+    for (int k = 0; k < 3; ++k) {
+      t.x[k] = x[k];
+      t.a[k] = a[k];
+      t.b[k] = b[k];
+      t.c[k] = c[k];
+    }
+    t.r = &r;
+    tets_.push_back(t);
+    if (tets_.size() == kMaxTets) flush();
+  }
+  // Evaluates and adds the recorded cones, then clears.
+  void flush();
+
+ private:
+  // Cones per batch: the points' buffers stay in the caches (~10^4 points).
+  static constexpr std::size_t kMaxTets = 1024;
+  // The distinct-node table: direct-mapped, a slot keeps the last node hashed to it.
+  static constexpr std::size_t kSlots = 4096;
+  struct Tet {
+    double x[3], a[3], b[3], c[3];
+    Moments* r;
+  };
+  const Density3* rho_ = nullptr;
+  std::vector<Tet> tets_;
+  std::vector<double> points_, values_;  // the points (3 coordinates each), rho there
+  std::vector<std::uint32_t> index_;     // per cone, its points' positions in values_
+  // Per slot, the position in points_ of the last node hashed to it. Never cleared: an
+  // entry counts only when it is within points_ and its bits are the node's.
+  std::vector<std::uint32_t> table_ = std::vector<std::uint32_t>(kSlots, 0);
+};
+
+// The calling thread's DensityBatch.
+DensityBatch& thread_density_batch();
 
 // Tets around a vertex of the triangulation, breadth first through the facets that contain
 // it, from vertex_tet (the order is a function of the triangulation: deterministic).
@@ -379,9 +361,6 @@ struct Clip3Context {
   bool linear_density;
   // A density given as a function: quadrature on the cells' cone decompositions.
   const Density3* callback_density;
-  // This compute()'s key in the threads' DensityNodes caches (from 1, never reused).
-  std::uint64_t density_epoch;
-  static std::uint64_t next_density_epoch();
   // The restricted surface polygons are kept (keep_surface or keep_geometry).
   bool keep_surface;
   // Progress and cancel (clip_poll.h): chunks of the parallel loops report to it; null

@@ -451,18 +451,16 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
   if (ctx_.callback_density) {
     // The same cones, weighted by the density (the volume stays the closed form's).
     Moments wm;
-    DensityNodes& nodes = thread_density_nodes();
-    for (std::size_t k = 1; k + 1 < m; ++k) {
-      add_tet_weighted(*ctx_.callback_density, ctx_.density_epoch, nodes, pc, o, x(k), x(k + 1),
-                       wm);
-    }
+    DensityBatch& batch = thread_density_batch();
+    batch.begin(*ctx_.callback_density);
+    for (std::size_t k = 1; k + 1 < m; ++k) batch.add(pc, o, x(k), x(k + 1), wm);
     for (std::size_t k = 0; k < m; ++k) {
       if (is_facet(p.e[k])) continue;
       const double* pj = ctx_.site(static_cast<std::uint32_t>(p.e[k]));
       const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
-      add_tet_weighted(*ctx_.callback_density, ctx_.density_epoch, nodes, pc, h, x(k + 1), x(k),
-                       wm);
+      batch.add(pc, h, x(k + 1), x(k), wm);
     }
+    batch.flush();
     r.mass = wm.mass;
     for (int q = 0; q < 3; ++q) r.moment[q] = wm.moment[q];
     r.energy = wm.energy;

@@ -26,6 +26,21 @@ Density3 Density3::function(std::function<double(double, double, double)> rho) {
   return d;
 }
 
+Density3 Density3::batch_function(
+    std::function<void(const double* xyz, std::size_t n, double* out)> rho) {
+  if (!rho) throw Error("density: the density function is empty");
+  Density3 d;
+  d.kind = Kind::kCallback;
+  d.batch = std::move(rho);
+  d.callback = [f = d.batch](double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    double v = 0;
+    f(p, 1, &v);
+    return v;
+  };
+  return d;
+}
+
 Density3 Density3::vertex_linear(std::vector<double> values) {
   Density3 d;
   d.kind = Kind::kVertexLinear;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cassert>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -582,7 +583,12 @@ Domain3 read_domain3(const std::string& path, const Surface3Options& options = {
 //                                where rho varies by a large factor within a cell.
 //                  It must be finite and positive on every Voronoi cell that meets the
 //                  volume (the cones reach the whole cell, not only its part in the
-//                  volume), deterministic, and safe to call from several threads at once;
+//                  volume), deterministic, and safe to call from several threads at once.
+//                  With `batch` set (Density3::batch_function), the cell integrals call it
+//                  with the points of a chunk of cells at once instead of `callback`
+//                  point by point (the same values: it must give, for each point, the bits
+//                  callback gives; an interpreted formula pays its per-call overhead once
+//                  per batch);
 //   vertex_linear  linear on each tet of the domain's tet mesh with these values at the
 //                  mesh's vertices (one per vertex, >= 0): needs a tet mesh, and clips every
 //                  cell tet by tet (sec. 4.2), integrated exactly per piece.
@@ -593,10 +599,15 @@ struct Density3 {
   Rule rule = Rule::kDegree5;  // kCallback's quadrature
   double value = 1.0;
   std::function<double(double, double, double)> callback;
+  // rho at n points: out[k] = rho(xyz[3k], xyz[3k + 1], xyz[3k + 2]). Optional.
+  std::function<void(const double* xyz, std::size_t n, double* out)> batch;
   std::vector<double> vertex_values;
 
   static Density3 constant(double rho);
   static Density3 function(std::function<double(double, double, double)> rho);
+  // A callback density given at many points at once; callback evaluates one point.
+  static Density3 batch_function(
+      std::function<void(const double* xyz, std::size_t n, double* out)> rho);
   static Density3 vertex_linear(std::vector<double> values);
   // rho at (x, y, z) for a constant or callback density, as Density2's; vertex_linear
   // needs the tet that holds the point and throws Error here.
