@@ -271,7 +271,9 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     s["below_30"] = below;
     s["requested_vertices"] = st.requested_vertices;
     s["vertex_count_runs"] = st.vertex_count_runs;
+    s["feature_vertices"] = st.feature_vertices;
     s["refined_vertices"] = st.refine_added;
+    s["smoothed_vertices"] = st.smoothed;
     s["tip_triangles"] = st.nb_tip_triangles;
     s["sites"] = st.nb_sites;
     s["fixed_sites"] = st.nb_fixed;
@@ -328,13 +330,26 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     }
     if (st.requested_vertices > 0 && std::fabs(double(mesh.nb_vertices()) - st.requested_vertices) >
                                          0.1 * st.requested_vertices) {
+      const double wanted = st.requested_vertices;
       *human << "note: " << mesh.nb_vertices() << " vertices for --vertices "
              << st.requested_vertices << " (" << std::showpos << std::setprecision(3)
-             << 100.0 * (double(mesh.nb_vertices()) - st.requested_vertices) / st.requested_vertices
-             << std::noshowpos << "%, after " << count_of(st.vertex_count_runs + 1, "run")
-             << "): the domain's corners and small features need more (" << st.nb_fixed
-             << " fixed vertices at its corners; smallest feature " << std::setprecision(3)
-             << st.min_size << " against the edge length " << st.edge_length << ")\n";
+             << 100.0 * (double(mesh.nb_vertices()) - wanted) / wanted << std::noshowpos
+             << "%, after " << count_of(st.vertex_count_runs + 1, "run") << "): ";
+      if (st.feature_vertices > 1.1 * wanted) {
+        // The count of the feature sizes alone is above the request: no sampling can lower it.
+        *human << "the domain's small features need more: their sizes alone (smallest "
+               << std::setprecision(3) << st.min_size << ", growing by " << args.gradation
+               << " per unit length; " << st.nb_fixed
+               << " fixed vertices at corners) ask for about " << st.feature_vertices
+               << " vertices, " << std::showpos << std::setprecision(3)
+               << 100.0 * (st.feature_vertices - wanted) / wanted << std::noshowpos
+               << "% of the request\n";
+      } else {
+        *human << "the boundary step, the gap filling (" << st.nb_gap_sites
+               << " sites) and the refinement (" << st.refine_added
+               << " vertices) changed the count (the small features alone ask for about "
+               << st.feature_vertices << ")\n";
+      }
     }
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.histogram.empty()) *human << "Histogram written to " << args.histogram << '\n';

@@ -198,6 +198,9 @@ struct SizeModel {
   Density2 density;  // user density (user_density)
   double c = 0;      // u = c rho^(-1/4)
   double H = 0;      // uniform size, or the cap of the field with a user density
+  // Expected vertex count of the feature sizes alone (no uniform part, no user density
+  // cap): what the small features ask for whatever nb_vertices is.
+  double feature_count = 0;
   double size(double x, double y) const {
     const double f = field.feature(x, y);
     return user_density ? std::min(c / std::sqrt(std::sqrt(density(x, y))), f) : f;
@@ -268,11 +271,12 @@ SizeModel build_size_model(const Domain2& domain, const Mesh2Options& o,
     }
     return 2 / std::sqrt(3.0) * domain.area() * sum / static_cast<double>(m);
   };
+  const double diag = std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
+                                 domain.bbox_hi()[1] - domain.bbox_lo()[1]);
+  model.feature_count = count(diag / std::max(r_max, 1e-300) * 4);
   double t = 0;
   if (o.nb_vertices > 0) {
     const double target = o.nb_vertices;
-    const double diag = std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
-                                   domain.bbox_hi()[1] - domain.bbox_lo()[1]);
     const double hi = diag / std::max(r_max, 1e-300) * 4;
     double lo = hi;
     while (count(lo) < target && lo > 1e-300) lo *= 0.5;
@@ -950,6 +954,112 @@ Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<s
   return mesh;
 }
 
+// Step 9 (conforming only): smoothing of the free vertices. Per free vertex with a closed
+// star (the triangles around it, connectivity kept), in turn: the vertex is tried at the
+// centroid of its neighbours and at 1/2 and 1/4 of the way there; it moves to the best of
+// these (largest smallest angle of the star, then largest sum of its triangles' smallest
+// angles) when that beats where it is and every star triangle stays counter-clockwise
+// (exact orient2d). The triangulation stays valid with the same boundary edges, and the
+// constrained Delaunay triangulation of the moved points (extracted again after each
+// pass) has a smallest angle no smaller: no pass lowers the mesh's smallest angle.
+// Up to `passes` passes, fewer when one moves nothing.
+Mesh2 smooth_mesh2(const Domain2& domain, Mesh2 mesh, std::uint32_t passes, std::uint32_t* moved) {
+  const auto min_angle = [](const double* a, const double* p, const double* q) {
+    const double* v[3] = {a, p, q};
+    double smallest = 180;
+    for (int k = 0; k < 3; ++k) {
+      const double* o = v[k];
+      const double* x = v[(k + 1) % 3];
+      const double* y = v[(k + 2) % 3];
+      const double ux = x[0] - o[0], uy = x[1] - o[1], wx = y[0] - o[0], wy = y[1] - o[1];
+      smallest = std::min(smallest,
+                          std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi);
+    }
+    return smallest;
+  };
+  for (std::uint32_t pass = 0; pass < passes; ++pass) {
+    const std::uint32_t nv = mesh.nb_vertices(), nt = mesh.nb_triangles();
+    const auto vertex = [&](std::uint32_t v) { return &mesh.xy[2 * std::size_t{v}]; };
+    const auto tri = [&](std::uint32_t t, int k) {
+      return mesh.triangles[3 * std::size_t{t} + static_cast<std::size_t>(k)];
+    };
+    const auto tri_angle = [&](std::uint32_t t) {
+      return min_angle(vertex(tri(t, 0)), vertex(tri(t, 1)), vertex(tri(t, 2)));
+    };
+    std::vector<std::vector<std::uint32_t>> star(nv);
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      for (int k = 0; k < 3; ++k) star[tri(t, k)].push_back(t);
+    }
+    std::uint32_t moved_now = 0;
+    std::vector<std::uint32_t> ring;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (mesh.vertex_kind[v] != Mesh2::VertexKind::kInterior) continue;
+      // A closed star: each neighbour in exactly two of its triangles.
+      ring.clear();
+      for (const std::uint32_t t : star[v]) {
+        for (int k = 0; k < 3; ++k) {
+          if (tri(t, k) != v) ring.push_back(tri(t, k));
+        }
+      }
+      std::sort(ring.begin(), ring.end());
+      bool closed = ring.size() >= 6;
+      for (std::size_t k = 0; closed && k < ring.size(); k += 2) {
+        closed = k + 1 < ring.size() && ring[k] == ring[k + 1] &&
+                 (k + 2 >= ring.size() || ring[k + 2] != ring[k]);
+      }
+      if (!closed) continue;
+      double cx = 0, cy = 0;
+      for (std::size_t k = 0; k < ring.size(); k += 2) {
+        cx += vertex(ring[k])[0];
+        cy += vertex(ring[k])[1];
+      }
+      cx /= static_cast<double>(ring.size() / 2);
+      cy /= static_cast<double>(ring.size() / 2);
+      // The star's smallest angle, then the sum of its triangles' smallest angles.
+      double* x = vertex(v);
+      const auto score = [&](double* smallest, double* sum) {
+        *smallest = 180;
+        *sum = 0;
+        for (const std::uint32_t t : star[v]) {
+          if (orient2d(vertex(tri(t, 0)), vertex(tri(t, 1)), vertex(tri(t, 2))) != Sign::positive) {
+            return false;
+          }
+          const double a = tri_angle(t);
+          *smallest = std::min(*smallest, a);
+          *sum += a;
+        }
+        return true;
+      };
+      double best_min, best_sum;
+      score(&best_min, &best_sum);
+      const double old[2] = {x[0], x[1]};
+      double best_xy[2] = {old[0], old[1]};
+      bool improved = false;
+      for (const double f : {1.0, 0.5, 0.25}) {
+        x[0] = old[0] + f * (cx - old[0]);
+        x[1] = old[1] + f * (cy - old[1]);
+        double smallest, sum;
+        if (!score(&smallest, &sum)) continue;
+        if (smallest > best_min || (smallest == best_min && sum > best_sum)) {
+          best_min = smallest;
+          best_sum = sum;
+          best_xy[0] = x[0];
+          best_xy[1] = x[1];
+          improved = true;
+        }
+      }
+      x[0] = best_xy[0];
+      x[1] = best_xy[1];
+      moved_now += improved;
+    }
+    if (moved_now == 0) break;
+    *moved += moved_now;
+    mesh = extract_conforming_mesh2(domain, mesh.xy, mesh.vertex_kind, mesh.vertex_domain,
+                                    mesh.vertex_edge);
+  }
+  return mesh;
+}
+
 // Sizing of a domain: its boundary, feature samples and size model.
 struct Sizing {
   Boundary boundary;
@@ -1018,6 +1128,7 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
   const Boundary& b = sizing.boundary;
   const SizeModel& model = sizing.model;
   st.min_size = sizing.min_size;
+  st.feature_vertices = static_cast<std::uint32_t>(std::min(4e9, std::round(model.feature_count)));
   st.edge_length = model.user_density ? model.c : model.H;
 
   // ---- 2. Sampling.
@@ -1205,6 +1316,7 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
   if (o.conforming && !st.cancelled && o.refine_rounds > 0) {
     mesh = refine_mesh2(*domain, b, chord, std::move(mesh), o.repair_angle_deg, o.refine_rounds,
                         &st.refine_added);
+    mesh = smooth_mesh2(*domain, std::move(mesh), o.smooth_passes, &st.smoothed);
   }
   // Vertex data in the original domain's numbering, through the successive cuts; the
   // tips of the cut corners become triangles (conforming extraction).

@@ -460,3 +460,56 @@ TEST_CASE("mesh2d: every valid polygon and a 10^4-vertex annulus meet the target
     CHECK(q.mean_min_angle >= 51);
   }
 }
+
+TEST_CASE("mesh2d: features that need more vertices than asked are counted", "[mesh]") {
+  // 36 holes 0.7 of their cell wide: corridors of width 0.05 between them. The feature
+  // sizes alone ask for several times the 60 vertices asked, and the mesh has more.
+  const Domain2 d(voroclip::square_with_holes(6, 0.7));
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 60, &st);
+  INFO(m.nb_vertices() << " vertices, the features ask for " << st.feature_vertices);
+  CHECK(st.feature_vertices > 1.1 * 60);
+  CHECK(m.nb_vertices() > 1.1 * 60);
+  // The estimate (equilateral triangles of the feature size) is a floor here: corridors
+  // one or two triangles wide take more (544 vertices for 347 estimated).
+  CHECK(m.nb_vertices() >= st.feature_vertices);
+  const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+  INFO(voroclip::quality_text(q));
+  CHECK(q.min_angle >= 30);
+}
+
+TEST_CASE("mesh2d: a domain whose features ask for fewer lands within 10% of the count", "[mesh]") {
+  const Domain2 d(voroclip::square_with_holes(2, 0.4));
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 600, &st);
+  INFO(m.nb_vertices() << " vertices, the features ask for " << st.feature_vertices);
+  CHECK(st.feature_vertices < 600);
+  CHECK(std::fabs(double(m.nb_vertices()) - 600) <= 60);
+}
+
+TEST_CASE("mesh2d: smoothing raises the mean smallest angle, keeps the smallest and the boundary",
+          "[mesh]") {
+  const Domain2 d(voroclip::square_with_holes(2, 0.4));
+  Mesh2Options o;
+  o.smooth_passes = 0;
+  Mesh2Stats st0, st1;
+  const Mesh2 m0 = mesh_of(d, 400, &st0, o);
+  o.smooth_passes = 10;
+  const Mesh2 m1 = mesh_of(d, 400, &st1, o);
+  const voroclip::TriangleQuality2 q0 = voroclip::triangle_quality2(m0);
+  const voroclip::TriangleQuality2 q1 = voroclip::triangle_quality2(m1);
+  INFO("without: " << voroclip::quality_text(q0) << "with: " << voroclip::quality_text(q1));
+  CHECK(st0.smoothed == 0);
+  CHECK(st1.smoothed > 0);
+  CHECK(q1.min_angle >= q0.min_angle);
+  CHECK(q1.mean_min_angle > q0.mean_min_angle);
+  // Same vertices but the free ones moved: the boundary vertices are where they were.
+  REQUIRE(m0.nb_vertices() == m1.nb_vertices());
+  std::uint32_t moved = 0;
+  for (std::uint32_t v = 0; v < m0.nb_vertices(); ++v) {
+    const bool same = m0.xy[2 * v] == m1.xy[2 * v] && m0.xy[2 * v + 1] == m1.xy[2 * v + 1];
+    if (m0.vertex_kind[v] != Mesh2::VertexKind::kInterior) CHECK(same);
+    moved += !same;
+  }
+  CHECK(moved > 0);
+}
