@@ -227,6 +227,9 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   s["covered_fraction"] = st.covered_fraction;
   s["dropped_outside"] = st.dropped_outside;
   s["removed_vertices"] = st.removed_vertices;
+  s["feature_vertices"] = st.feature_vertices;
+  s["refined_vertices"] = st.refine_added;
+  s["smoothed_vertices"] = st.smoothed;
   s["seconds"] = st.seconds;
   s["cancelled"] = st.cancelled;
   s["check"] = st.check;

@@ -68,6 +68,8 @@ def test_mesh2d_agrees_with_cli(cli, tmp_path):
     assert np.array_equal(back.cells_dict["triangle"], m.cells)
     assert stats["vertices"] == len(m.points) and stats["triangles"] == len(m.cells)
     assert stats["relative_gradient"] == m.stats["relative_gradient"]
+    for key in ("feature_vertices", "refined_vertices", "smoothed_vertices"):
+        assert stats[key] == m.stats[key], key
 
 
 def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
