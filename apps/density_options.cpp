@@ -498,30 +498,29 @@ class TetInterpolant {
     return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
            a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
-  // Barycentric coordinates of p in tet t (false: a flat tet).
+  // The edges of tet t from its vertex 0 (e), p from there (q), and det(e).
+  double frame(std::uint32_t t, const double* p, double (&e)[3][3], double (&q)[3]) const {
+    const double* a = vertex(t, 0);
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) e[k][c] = vertex(t, k + 1)[c] - a[c];
+    }
+    for (int c = 0; c < 3; ++c) q[c] = p[c] - a[c];
+    return det3(e[0], e[1], e[2]);
+  }
   // False when barycentric() would give the point a negative coordinate w1, w2 or w3
   // (w_k = n_k / d: its sign is that of n_k d), without its divisions: most tets whose box
   // holds the point do not.
   bool may_hold(std::uint32_t t, const double* p) const {
-    const double* a = vertex(t, 0);
     double e[3][3], q[3];
-    for (int k = 0; k < 3; ++k) {
-      for (int c = 0; c < 3; ++c) e[k][c] = vertex(t, k + 1)[c] - a[c];
-    }
-    for (int c = 0; c < 3; ++c) q[c] = p[c] - a[c];
-    const double d = det3(e[0], e[1], e[2]);
+    const double d = frame(t, p, e, q);
     const auto opposite = [d](double n) { return d > 0 ? n < 0 : n > 0; };
     return !opposite(det3(q, e[1], e[2])) && !opposite(det3(e[0], q, e[2])) &&
            !opposite(det3(e[0], e[1], q));
   }
+  // Barycentric coordinates of p in tet t (false: a flat tet).
   bool barycentric(std::uint32_t t, const double* p, double* w) const {
-    const double* a = vertex(t, 0);
     double e[3][3], q[3];
-    for (int k = 0; k < 3; ++k) {
-      for (int c = 0; c < 3; ++c) e[k][c] = vertex(t, k + 1)[c] - a[c];
-    }
-    for (int c = 0; c < 3; ++c) q[c] = p[c] - a[c];
-    const double d = det3(e[0], e[1], e[2]);
+    const double d = frame(t, p, e, q);
     if (d == 0 || !std::isfinite(d)) return false;
     w[1] = det3(q, e[1], e[2]) / d;
     w[2] = det3(e[0], q, e[2]) / d;
