@@ -29,6 +29,8 @@ using Kind3 = SiteConstraint3::Kind;
 
 struct Cancelled3 {};
 struct Converged3 {};
+// L-BFGS: max_iterations accepted points (iterations) reached.
+struct Budget3 {};
 
 class Problem3 {
  public:
@@ -286,6 +288,9 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
           last_is_best = true;
           report(++accepted, fx, best_gnorm);
           if (best_gnorm <= target) throw Converged3{};
+          // LBFGSpp's own limit counts its outer iterations, and a line search can accept
+          // several improving points in one: the budget is in accepted points (as cvt2d).
+          if (accepted >= options.max_iterations) throw Budget3{};
         }
         return fx;
       };
@@ -294,6 +299,8 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
         solver.minimize(fun, z, fx);
       } catch (const Converged3&) {
         result.converged = true;
+      } catch (const Budget3&) {
+        // The best point is the last one evaluated (last_is_best).
       } catch (const Error&) {
         throw;
       } catch (const std::invalid_argument& e) {

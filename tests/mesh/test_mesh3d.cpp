@@ -170,8 +170,17 @@ double diagonal(const Domain3& d) {
 TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surface",
           "[mesh][exact]") {
   const Domain3 box = box_domain();
-  const Mesh3Result r = voroclip::mesh3d(box, small_options(600));
+  // The sliver perturbation's default rounds (small_options cuts them to 4): with 4 rounds a
+  // tet of 4.7 degrees was left at a corner.
+  voroclip::Mesh3Options o = small_options(600);
+  o.perturbation.max_rounds = voroclip::Perturb3Options{}.max_rounds;
+  const Mesh3Result r = voroclip::mesh3d(box, o);
   check_valid(box, r);
+  // The CVT budgets are counted in iterations (accepted L-BFGS points), as cvt2d: the
+  // constrained phase runs its budget in two stages and then at most 5 more iterations.
+  // (A line search that accepted several points in one L-BFGS iteration used to overrun it.)
+  CHECK(r.unconstrained.iterations <= o.unconstrained_iterations);
+  CHECK(r.constrained.iterations <= o.constrained_iterations + 5);
   CHECK(r.nb_feature_lines == 12);
   CHECK(r.nb_feature_corners == 8);
   const double size[3] = {2, 3, 1};
@@ -211,7 +220,7 @@ TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surfa
             .volume;
   }
   CHECK(volume == Approx(6).epsilon(1e-9));
-  CHECK(r.quality.q1_deg.min > 10);
+  CHECK(r.quality.q1_deg.min > 15);
   // Q1 by the number of boundary vertices, recomputed tet by tet.
   double min_deg[3] = {180, 180, 180}, sum_deg[3] = {0, 0, 0};
   std::uint32_t count[3] = {0, 0, 0};

@@ -163,6 +163,8 @@ using SiteProjector3 = std::function<void(std::uint32_t site, SiteConstraint3::K
 
 struct Cvt3Options {
   CvtMethod method = CvtMethod::kLbfgs;
+  // Iterations: Lloyd steps, or L-BFGS points accepted with a lower energy (a line search
+  // may accept several in one L-BFGS iteration; each counts), as Cvt2Options.
   std::uint32_t max_iterations = 100;
   // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
   double gradient_tolerance = 1e-4;
