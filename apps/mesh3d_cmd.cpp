@@ -166,6 +166,14 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
               << " does not have its shape: " << r.shape_problem << '\n';
   }
+  if (r.nb_tets_across_regions > 0) {
+    std::cerr << "voroclip: warning: the mesh of " << domain.source()
+              << " does not follow the interfaces between its " << r.nb_input_regions
+              << " regions: " << count_of(r.nb_tets_across_regions, "tet")
+              << " reach across one (a tet takes the region of the input tet holding its "
+                 "centroid); mesh3d makes the outer boundary conforming, not the interfaces "
+                 "between regions\n";
+  }
   if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
     *out << "note: " << r.requested_vertices << " vertices gave a mesh without the domain's shape ("
          << r.raised_because << "); meshed again with " << (r.requested_vertices << r.shape_retries)
@@ -274,6 +282,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       }
       j["q1_by_boundary_vertices"] = classes;
     }
+    j["regions"] = {{"input_regions", r.nb_input_regions},
+                    {"tets_across_interfaces", r.nb_tets_across_regions}};
     j["dihedral_bound"] = {{"bound_deg", r.dihedral_bound_deg},
                            {"input_sharpest_dihedral_deg", r.input_sharpest_dihedral_deg},
                            {"tets_below", r.nb_tets_below_bound}};

@@ -101,26 +101,47 @@ class TetGrid {
   // The input tet that holds p (on its boundary included), the lowest such index; kNone
   // when none does.
   std::uint32_t locate(const double* p) const {
-    std::size_t c = 0;
-    for (int k = 2; k >= 0; --k) c = c * n_[k] + cell(p[k], k);
+    const std::size_t c = bucket(p);
     for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
-      const std::uint32_t t = tets_[i];
-      const double* v[4];
-      for (int q = 0; q < 4; ++q) v[q] = d_.vertex(d_.tet_vertex(t, q));
-      // Domain3's tets have orient3d(v0, v1, v2, v3) > 0: p is inside when replacing any
-      // vertex by p keeps the sign non-negative.
-      bool inside = true;
-      for (int q = 0; q < 4 && inside; ++q) {
-        const double* w[4] = {v[0], v[1], v[2], v[3]};
-        w[q] = p;
-        inside = orient3d(w[0], w[1], w[2], w[3]) != Sign::negative;
-      }
-      if (inside) return t;
+      if (holds(tets_[i], p)) return tets_[i];
     }
     return kNone;
   }
 
+  // Whether p lies in the input (on its boundary included) but in no input tet tagged `tag`
+  // (closed tets: a point on an interface belongs to both sides).
+  bool only_outside_tag(const double* p, std::int32_t tag) const {
+    const std::vector<std::int32_t>& refs = d_.tet_refs();
+    const std::size_t c = bucket(p);
+    bool in_domain = false;
+    for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
+      const std::uint32_t t = tets_[i];
+      if (in_domain && refs[t] != tag) continue;  // cannot change the answer
+      if (!holds(t, p)) continue;
+      if (refs[t] == tag) return false;
+      in_domain = true;
+    }
+    return in_domain;
+  }
+
  private:
+  std::size_t bucket(const double* p) const {
+    std::size_t c = 0;
+    for (int k = 2; k >= 0; --k) c = c * n_[k] + cell(p[k], k);
+    return c;
+  }
+  // Domain3's tets have orient3d(v0, v1, v2, v3) > 0: p is in tet t (closed) when replacing
+  // any vertex by p keeps the sign non-negative.
+  bool holds(std::uint32_t t, const double* p) const {
+    const double* v[4];
+    for (int q = 0; q < 4; ++q) v[q] = d_.vertex(d_.tet_vertex(t, q));
+    for (int q = 0; q < 4; ++q) {
+      const double* w[4] = {v[0], v[1], v[2], v[3]};
+      w[q] = p;
+      if (orient3d(w[0], w[1], w[2], w[3]) == Sign::negative) return false;
+    }
+    return true;
+  }
   std::uint32_t cell(double x, int k) const {
     const double s = (x - lo_[k]) / size_[k] * n_[k];
     if (!(s > 0)) return 0;
@@ -189,9 +210,11 @@ std::vector<std::int32_t> patch_tags(const std::vector<std::uint32_t>& triangles
 std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<double>& xyz,
                                       const std::vector<std::uint32_t>& tets,
                                       const std::vector<std::uint32_t>& face_tet,
-                                      const std::vector<std::uint32_t>& closest_input) {
+                                      const std::vector<std::uint32_t>& closest_input,
+                                      std::uint32_t& tets_across) {
   const auto nt = static_cast<std::uint32_t>(tets.size() / 4);
   std::vector<std::int32_t> tags(nt, 0);
+  tets_across = 0;
   const std::vector<std::int32_t>& input = domain.tet_refs();
   if (!input.empty()) {
     if (std::all_of(input.begin(), input.end(), [&](std::int32_t r) { return r == input[0]; })) {
@@ -237,6 +260,18 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
         changed = true;
       }
     }
+    // Tets with a vertex inside the input but in no input tet of their own region: they
+    // reach across an interface between regions (the sites do not follow interfaces).
+    std::vector<std::uint8_t> across(nt, 0);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 1024), [&](const auto& range) {
+      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+        for (int q = 0; q < 4 && across[t] == 0; ++q) {
+          const std::uint32_t v = tets[4 * std::size_t{t} + static_cast<std::size_t>(q)];
+          across[t] = grid.only_outside_tag(&xyz[3 * std::size_t{v}], tags[t]) ? 1 : 0;
+        }
+      }
+    });
+    tets_across = static_cast<std::uint32_t>(std::count(across.begin(), across.end(), 1));
     return tags;
   }
   // One region per volume component, numbered by its outer shell.
@@ -318,7 +353,14 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
   }
   result.boundary_tags = patch_tags(result.boundary_triangles, vertex_patch_begin, vertex_patch,
                                     patch_tag, triangle_patch, closest);
-  result.tet_tags = region_tags(domain, result.xyz, result.tets, face_tet, closest);
+  result.tet_tags = region_tags(domain, result.xyz, result.tets, face_tet, closest,
+                                result.nb_tets_across_regions);
+  {
+    std::vector<std::int32_t> refs = domain.tet_refs();
+    std::sort(refs.begin(), refs.end());
+    result.nb_input_regions =
+        static_cast<std::uint32_t>(std::unique(refs.begin(), refs.end()) - refs.begin());
+  }
   result.tag_names = domain.tag_names();
   // Triangles grouped by patch tag (stable: (tet, facet) order within a patch), so that
   // a file has one block per patch rather than one per run of the tet order.

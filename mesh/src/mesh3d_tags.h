@@ -37,11 +37,14 @@ std::vector<std::int32_t> patch_tags(const std::vector<std::uint32_t>& triangles
 // one region per volume component: its face-connected tets get 1 + the rank, among the
 // outer shells of the domain's surface (even depth, in shell order), of the shell that
 // bounds them from outside, found from their boundary triangles' closest input triangles
-// (`closest_input`, per triangle of `triangles` / `face_tet`).
+// (`closest_input`, per triangle of `triangles` / `face_tet`). `tets_across`: with several
+// input tags, the tets that have a vertex inside the domain but in no (closed) input tet of
+// their own tag, so reach across an interface between regions; else 0.
 std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<double>& xyz,
                                       const std::vector<std::uint32_t>& tets,
                                       const std::vector<std::uint32_t>& face_tet,
-                                      const std::vector<std::uint32_t>& closest_input);
+                                      const std::vector<std::uint32_t>& closest_input,
+                                      std::uint32_t& tets_across);
 
 // The boundary triangles of `result.tets` (outward), grouped by patch tag, with their tags,
 // and the tets' region tags and the tag names (Mesh3Result). `triangle_patch`: the patch of

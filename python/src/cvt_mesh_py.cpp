@@ -327,6 +327,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["input_sharpest_dihedral_deg"] = m.input_sharpest_dihedral_deg;
   s["dihedral_bound_deg"] = m.dihedral_bound_deg;
   s["tets_below_dihedral_bound"] = m.nb_tets_below_bound;
+  s["input_regions"] = m.nb_input_regions;
+  s["tets_across_region_interfaces"] = m.nb_tets_across_regions;
   s["seconds"] = m.total_seconds;
   s["cancelled"] = m.cancelled;
   r["stats"] = s;

@@ -193,6 +193,8 @@ TEST_CASE("mesh3d tags a box's six faces as six patches, one region", "[mesh]") 
   }
   CHECK(std::all_of(r.tet_tags.begin(), r.tet_tags.end(), [](std::int32_t t) { return t == 1; }));
   CHECK(r.tag_names.empty());
+  CHECK(r.nb_input_regions == 0);
+  CHECK(r.nb_tets_across_regions == 0);
 }
 
 TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]") {
@@ -218,13 +220,8 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   CHECK(seen == std::set<std::int32_t>{10, 11, 12});
   // Each tet's region: the input tet that holds its centroid (strictly, or on a face of
   // two tets of the same region), by exact orientation tests.
-  std::size_t checked = 0;
-  std::set<std::int32_t> regions;
-  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
-    double c[3] = {0, 0, 0};
-    for (int j = 0; j < 4; ++j) {
-      for (int k = 0; k < 3; ++k) c[k] += point(r, r.tets[t + j])[k] / 4;
-    }
+  // The tags of the input tets (closed) that hold c.
+  const auto holders_of = [&in](const double* c) {
     std::set<std::int32_t> holders;
     for (std::size_t u = 0; u < in.tets.size(); u += 4) {
       const double* p[4];
@@ -239,6 +236,23 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
       }
       if (inside) holders.insert(in.tet_ref[u / 4]);
     }
+    return holders;
+  };
+  std::size_t checked = 0;
+  std::uint32_t across = 0;  // tets with a vertex in the input but not in their region
+  std::set<std::int32_t> regions;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    double c[3] = {0, 0, 0};
+    for (int j = 0; j < 4; ++j) {
+      for (int k = 0; k < 3; ++k) c[k] += point(r, r.tets[t + j])[k] / 4;
+    }
+    const std::set<std::int32_t> holders = holders_of(c);
+    bool crosses = false;
+    for (int j = 0; j < 4; ++j) {
+      const std::set<std::int32_t> h = holders_of(point(r, r.tets[t + j]));
+      crosses = crosses || (!h.empty() && h.count(r.tet_tags[t / 4]) == 0);
+    }
+    across += crosses ? 1 : 0;
     if (holders.size() == 1) {
       CHECK(r.tet_tags[t / 4] == *holders.begin());
       ++checked;
@@ -247,6 +261,11 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   }
   CHECK(checked * 10 > r.tets.size() / 4 * 9);
   CHECK(regions == std::set<std::int32_t>{1, 2});
+  // The interfaces between the regions are not conforming (the sites follow the boundary
+  // only), and mesh3d counts the tets across them, as this brute force does.
+  CHECK(r.nb_input_regions == 2);
+  CHECK(across > 0);
+  CHECK(r.nb_tets_across_regions == across);
 }
 
 TEST_CASE("mesh3d: one region per volume component; a cavity is no region", "[mesh]") {

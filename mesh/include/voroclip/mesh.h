@@ -1037,6 +1037,12 @@ struct Mesh3Result {
   double input_sharpest_dihedral_deg = 180;
   double dihedral_bound_deg = 20;
   std::uint32_t nb_tets_below_bound = 0;
+  // Regions (tet_tags): the input's distinct tet tags (0 without them), and the tets that
+  // reach across an interface between two of them (a vertex inside the domain but in no
+  // input tet of the tet's own region). mesh3d does not make interfaces between regions
+  // conforming: its sites follow the boundary only, and a tet takes the region of the input
+  // tet holding its centroid; 0 when the input has one region or none.
+  std::uint32_t nb_input_regions = 0, nb_tets_across_regions = 0;
   // Topology (step 5b): the sites added, the rounds run, and the defects left after them
   // (zero when the surface is resolved).
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
