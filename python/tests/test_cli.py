@@ -91,6 +91,32 @@ def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
     assert m.stats["tets_below_dihedral_bound"] == bound["tets_below"] == int((q1 < 20).sum())
 
 
+def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):
+    # Two unit cubes side by side, regions 1 (x <= 1) and 2 (x >= 1), six tets each.
+    pts = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1, 2)]
+    index = {p: i + 1 for i, p in enumerate(pts)}
+    lines = ["MeshVersionFormatted 2", "Dimension 3", "Vertices", str(len(pts))]
+    lines += ["%g %g %g 0" % p for p in pts]
+    tets = []
+    for x0, ref in ((0, 1), (1, 2)):
+        c = [index[(x0 + (k & 1), (k >> 1) & 1, (k >> 2) & 1)] for k in range(8)]
+        for a, b in ((1, 2), (1, 4), (2, 1), (2, 4), (4, 1), (4, 2)):
+            tets.append("%d %d %d %d %d" % (c[0], c[a], c[a + b], c[7], ref))
+    lines += ["Tetrahedra", str(len(tets))] + tets + ["End"]
+    domain = tmp_path / "two.mesh"
+    domain.write_text("\n".join(lines) + "\n")
+    stats = run(cli, "mesh3d", domain, "--vertices", 300, "-o", tmp_path / "m.mesh")
+    m = voroclip.mesh3d(domain, vertices=300)
+    x = m.points[m.cells][:, :, 0]
+    tags = np.asarray(m.cell_tags)
+    # A tet of region 1 with a vertex at x > 1, or of region 2 with one at x < 1.
+    across = int((((tags == 1) & (x.max(1) > 1)) | ((tags == 2) & (x.min(1) < 1))).sum())
+    assert across > 0
+    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across}
+    assert m.stats["input_regions"] == 2
+    assert m.stats["tets_across_region_interfaces"] == across
+
+
 def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):
     domain = data / "surfaces" / "sphere.obj"
     stats = run(cli, "clip3d", domain, "--random", 3000, "--seed", 7, "-o", tmp_path / "c.json")
