@@ -257,6 +257,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"corner", counts[3]}};
     j["topology"] = {{"sites_added", r.nb_topology_sites},
                      {"rounds", r.topology_rounds},
+                     {"deferred", r.nb_topology_deferred},
                      {"defects_left", r.topology_defects_left}};
     j["shape_problem"] = r.shape_problem;
     j["requested_vertices"] = r.requested_vertices;

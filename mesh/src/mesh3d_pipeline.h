@@ -10,6 +10,7 @@
 // Internal to the mesh module.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -97,6 +98,21 @@ std::uint32_t peel_flat_boundary_tets(
     const std::vector<double>& sites, const std::vector<Kind>& kinds,
     std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
     const std::function<bool(const std::vector<std::uint32_t>&)>& keep);
+
+// The points where one round of the topology refinement adds sites (topology_repair3d.cpp):
+// each bad cell's farthest point (defects.points), farthest from its cell's site first
+// (ties by coordinates), skipping a point closer than half that distance to a point already
+// taken: two bad cells often have their farthest points at two restricted Voronoi vertices
+// a hair apart (where a Voronoi edge crosses the surface next to a mesh edge), and both
+// taken they become two boundary vertices 1e-5 to 1e-2 of the spacing apart, with flat
+// tets between them (skull_low_resolution at 10,000 vertices: Q1 0.005 degrees). The
+// first repairs both cells or the next round finds what is left; at least one point is
+// taken when there is a defect, so the refinement advances (Cheng, Dey & Ramos insert one
+// point at a time; this keeps their insertion radius within a factor of two per round).
+// The skipped points are counted into *nb_deferred when it is not null.
+std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& defects,
+                                                     const std::vector<double>& sites,
+                                                     std::uint32_t* nb_deferred);
 
 // One mesh3d() run: the caller's domain and options, the result being filled, the phase
 // clock and the sites with their constraints. Each step is a member, defined in the file

@@ -1038,8 +1038,10 @@ struct Mesh3Result {
   double dihedral_bound_deg = 20;
   std::uint32_t nb_tets_below_bound = 0;
   // Topology (step 5b): the sites added, the rounds run, and the defects left after them
-  // (zero when the surface is resolved).
+  // (zero when the surface is resolved); nb_topology_deferred counts the bad cells whose
+  // new site, too close to one added in the same round, was left for a later round.
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
+  std::uint32_t nb_topology_deferred = 0;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
