@@ -71,3 +71,31 @@ TEST_CASE("refinement_points: the spacing rule, at its bound", "[mesh][exact]") 
   CHECK(crowded.size() == 1);
   CHECK(refinement_points(ClosedBallDefects{}, one_site, nullptr).empty());
 }
+
+TEST_CASE("sliver_centers: circumcentres of the tets below the angle, worst first",
+          "[mesh][regression]") {
+  using voroclip::mesh3::sliver_centers;
+  using voroclip::mesh3::SliverCenter;
+  // Tet 0: a square of side 2 with one corner lifted by 1 (Q1 24.1 degrees), its circumcentre
+  // (1, 1, 1/2) at 3/2 from its vertices. Tet 1: its mirror image in z = 1/2, the same centre
+  // and angle. Tet 2: a cap (three nearly collinear vertices, Q1 0.64 degrees) whose
+  // circumradius (about 200) exceeds its longest edge: no site for it.
+  const std::vector<double> sites = {0,  0, 0, 2,  0, 0, 0,  2,    0, 2,  2, 1,  // tet 0
+                                     0,  0, 1, 2,  0, 1, 0,  2,    1, 2,  2, 0,  // tet 1
+                                     10, 0, 0, 14, 0, 0, 12, 0.01, 0, 12, 0, 1};
+  const std::vector<std::uint32_t> tets = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  double lowest = 0;
+  const std::vector<SliverCenter> got = sliver_centers(sites, tets, 30, &lowest);
+  CHECK(lowest == Approx(0.6405596).margin(1e-6));
+  REQUIRE(got.size() == 1);  // tet 1's centre is tet 0's; the cap is skipped
+  CHECK(got[0].q1_deg == Approx(24.09484255).margin(1e-6));
+  CHECK(got[0].radius == Approx(1.5));
+  CHECK(got[0].center[0] == Approx(1));
+  CHECK(got[0].center[1] == Approx(1));
+  CHECK(got[0].center[2] == Approx(0.5));
+  // Below 20 degrees only the cap is, and it gets no site.
+  CHECK(sliver_centers(sites, tets, 20, &lowest).empty());
+  CHECK(lowest == Approx(0.6405596).margin(1e-6));
+  CHECK(sliver_centers(sites, {}, 20, &lowest).empty());
+  CHECK(lowest == 180);
+}
