@@ -265,7 +265,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"corner", counts[3]}};
     j["topology"] = {{"sites_added", r.nb_topology_sites},
                      {"rounds", r.topology_rounds},
+                     {"deferred", r.nb_topology_deferred},
                      {"defects_left", r.topology_defects_left}};
+    j["sliver_sites"] = r.nb_sliver_sites;
     j["shape_problem"] = r.shape_problem;
     j["requested_vertices"] = r.requested_vertices;
     j["shape_retries"] = r.shape_retries;

@@ -12,6 +12,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "mesh3d_pipeline.h"
@@ -388,55 +389,103 @@ void Pipeline::run() {
     // final mesh).
     next_phase(Mesh3Phase::kExtraction);
     std::vector<std::uint32_t> tets;
-    const SurfacePatches patches = site_patches(domain, lines, surface_tree, line_tree, sites,
-                                                kinds, line_of, corner_vertex, triangle_patch);
-    // The caller's extraction settings (options.perturbation.extraction), with the surface
-    // patches of these sites.
-    Extract3Options eo = options.perturbation.extraction;
-    eo.surface = &patches;
-    if (options.perturb) {
-      next_phase(Mesh3Phase::kSlivers);
-      Perturb3Options po = options.perturbation;
-      po.extraction = eo;
-      const auto user = po.progress;
-      po.progress = [&](std::uint32_t round, std::uint32_t slivers, double worst) {
-        Mesh3Progress p;
-        p.iteration = round;
-        p.slivers = slivers;
-        p.min_dihedral_deg = worst;
-        return notify(p) && (!user || user(round, slivers, worst));
-      };
-      // A surface site moves within its own patch: across a feature line its patch (the
-      // crease rule of the extraction) would be stale, and the line could be cut. A
-      // candidate that projects onto another patch stays where the site is (the wave's moves
-      // are written after its candidates are scored, so sites[s] is the current position).
-      const SiteProjector3 on_own_patch = [&](std::uint32_t s, Kind k, const double* p, double* q,
-                                              double* d) {
-        project(s, k, p, q, d);
-        if (k != Kind::kSurface || patches.begin[s] == patches.begin[s + 1]) return;
-        if (triangle_patch[surface_tree.closest(q).triangle] != patches.patches[patches.begin[s]])
-          project(s, k, &sites[3 * std::size_t{s}], q, d);
-      };
-      const std::vector<double> unperturbed = sites;
-      result.perturbation =
-          perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
-      if (result.perturbation.cancelled) throw Cancelled{};
-      if (result.perturbation.moves > 0 && !shape_of(domain, sites, tets).empty()) {
-        // The moves changed the boundary's topology (next to thin parts and knife edges a
-        // surface site's move can open or close a handle): again from the unperturbed sites,
-        // each round checked and the first one that breaks the shape undone.
-        sites = unperturbed;
-        po.keep_round = [this](const std::vector<double>& at, const std::vector<std::uint32_t>& t) {
-          return shape_of(domain, at, t).empty();
+    SurfacePatches patches;
+    const auto extract_and_perturb = [&] {
+      patches = site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of,
+                             corner_vertex, triangle_patch);
+      // The caller's extraction settings (options.perturbation.extraction), with the surface
+      // patches of these sites.
+      Extract3Options eo = options.perturbation.extraction;
+      eo.surface = &patches;
+      if (options.perturb) {
+        next_phase(Mesh3Phase::kSlivers);
+        Perturb3Options po = options.perturbation;
+        po.extraction = eo;
+        const auto user = po.progress;
+        po.progress = [&](std::uint32_t round, std::uint32_t slivers, double worst) {
+          Mesh3Progress p;
+          p.iteration = round;
+          p.slivers = slivers;
+          p.min_dihedral_deg = worst;
+          return notify(p) && (!user || user(round, slivers, worst));
         };
+        // A surface site moves within its own patch: across a feature line its patch (the
+        // crease rule of the extraction) would be stale, and the line could be cut. A
+        // candidate that projects onto another patch stays where the site is (the wave's moves
+        // are written after its candidates are scored, so sites[s] is the current position).
+        const SiteProjector3 on_own_patch = [&](std::uint32_t s, Kind k, const double* p, double* q,
+                                                double* d) {
+          project(s, k, p, q, d);
+          if (k != Kind::kSurface || patches.begin[s] == patches.begin[s + 1]) return;
+          if (triangle_patch[surface_tree.closest(q).triangle] != patches.patches[patches.begin[s]])
+            project(s, k, &sites[3 * std::size_t{s}], q, d);
+        };
+        const std::vector<double> unperturbed = sites;
         result.perturbation =
             perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
         if (result.perturbation.cancelled) throw Cancelled{};
-        result.perturbation_rerun = true;
+        if (result.perturbation.moves > 0 && !shape_of(domain, sites, tets).empty()) {
+          // The moves changed the boundary's topology (next to thin parts and knife edges a
+          // surface site's move can open or close a handle): again from the unperturbed sites,
+          // each round checked and the first one that breaks the shape undone.
+          sites = unperturbed;
+          po.keep_round = [this](const std::vector<double>& at,
+                                 const std::vector<std::uint32_t>& t) {
+            return shape_of(domain, at, t).empty();
+          };
+          result.perturbation = perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets,
+                                                 &result.extraction);
+          if (result.perturbation.cancelled) throw Cancelled{};
+          result.perturbation_rerun = true;
+        }
+      } else {
+        const Delaunay3 dt(sites.data(), n);
+        tets = extractor.extract(dt, eo, &result.extraction);
       }
-    } else {
-      const Delaunay3 dt(sites.data(), n);
-      tets = extractor.extract(dt, eo, &result.extraction);
+    };
+    extract_and_perturb();
+
+    // 7a. Insertion against the slivers the moves leave (below sliver_insertion_deg): a site at
+    // their circumcentres (sliver_centers), onto the surface when it is nearer than the tet's
+    // circumradius (a free site there would make a layer of flat boundary tets), then the
+    // extraction and perturbation again; a pass that does not raise the smallest angle, or
+    // breaks the shape, is undone and ends the insertion.
+    for (std::uint32_t pass = 0; options.perturb && pass < options.sliver_insertion_passes;
+         ++pass) {
+      double lowest = 0;
+      const std::vector<SliverCenter> centers =
+          sliver_centers(sites, tets, options.sliver_insertion_deg, &lowest);
+      if (centers.empty()) break;
+      const auto saved = std::make_tuple(sites, kinds, line_of, corner_vertex, n, tets, patches,
+                                         result.perturbation, result.perturbation_rerun,
+                                         result.extraction, result.nb_boundary_sites);
+      for (const SliverCenter& c : centers) {
+        double q[3], d[3];
+        project(n, Kind::kSurface, c.center.data(), q, d);
+        double gap2 = 0;
+        for (int k = 0; k < 3; ++k) gap2 += (q[k] - c.center[k]) * (q[k] - c.center[k]);
+        const bool on_surface = gap2 < c.radius * c.radius;
+        if (on_surface) {
+          sites.insert(sites.end(), q, q + 3);
+          ++result.nb_boundary_sites;
+        } else {
+          sites.insert(sites.end(), c.center.begin(), c.center.end());
+        }
+        kinds.push_back(on_surface ? Kind::kSurface : Kind::kFree);
+        line_of.push_back(SurfaceTree::kNone);
+        corner_vertex.push_back(SurfaceTree::kNone);
+        ++n;
+      }
+      extract_and_perturb();
+      double after = 0;
+      sliver_centers(sites, tets, 0, &after);
+      if (!(after > lowest) || !shape_of(domain, sites, tets).empty()) {
+        std::tie(sites, kinds, line_of, corner_vertex, n, tets, patches, result.perturbation,
+                 result.perturbation_rerun, result.extraction, result.nb_boundary_sites) = saved;
+        break;
+      }
+      result.nb_sliver_sites += static_cast<std::uint32_t>(centers.size());
+      result.nb_sites = n;
     }
 
     // 7b. Flat tets on the boundary, which no move of their (surface) vertices fixes.

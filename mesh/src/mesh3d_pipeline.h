@@ -10,6 +10,7 @@
 // Internal to the mesh module.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -97,6 +98,38 @@ std::uint32_t peel_flat_boundary_tets(
     const std::vector<double>& sites, const std::vector<Kind>& kinds,
     std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
     const std::function<bool(const std::vector<std::uint32_t>&)>& keep);
+
+// Where to insert a site against each kept tet whose smallest dihedral angle is below
+// below_deg (slivers3d.cpp): its circumcentre, worst tet first (ties by index), skipping a
+// tet whose circumradius exceeds its longest edge (a flat tet's circumcentre is far from it)
+// and a centre closer than half its radius to one already taken. A kept tet's circumcentre
+// lies in the volume and its circumsphere is empty, so the new site is at least the radius
+// from every site: next to two feature corners a fraction of the spacing apart (homer at
+// 10,000 vertices: 0.0028 against 0.013) the tets with that short edge and a far opposite
+// edge get a vertex near it.
+struct SliverCenter {
+  double q1_deg = 0, radius = 0;
+  std::array<double, 3> center{};
+};
+// *lowest: the smallest dihedral angle of all the tets (180 when there is none).
+std::vector<SliverCenter> sliver_centers(const std::vector<double>& sites,
+                                         const std::vector<std::uint32_t>& tets, double below_deg,
+                                         double* lowest);
+
+// The points where one round of the topology refinement adds sites (topology_repair3d.cpp):
+// each bad cell's farthest point (defects.points), farthest from its cell's site first
+// (ties by coordinates), skipping a point closer than half that distance to a point already
+// taken: two bad cells often have their farthest points at two restricted Voronoi vertices
+// a hair apart (where a Voronoi edge crosses the surface next to a mesh edge), and both
+// taken they become two boundary vertices 1e-5 to 1e-2 of the spacing apart, with flat
+// tets between them (skull_low_resolution at 10,000 vertices: Q1 0.005 degrees). The
+// first repairs both cells or the next round finds what is left; at least one point is
+// taken when there is a defect, so the refinement advances (Cheng, Dey & Ramos insert one
+// point at a time; this keeps their insertion radius within a factor of two per round).
+// The skipped points are counted into *nb_deferred when it is not null.
+std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& defects,
+                                                     const std::vector<double>& sites,
+                                                     std::uint32_t* nb_deferred);
 
 // One mesh3d() run: the caller's domain and options, the result being filled, the phase
 // clock and the sites with their constraints. Each step is a member, defined in the file

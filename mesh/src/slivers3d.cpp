@@ -31,10 +31,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh3d_pipeline.h"
@@ -508,6 +510,61 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 }  // namespace voroclip
 
 namespace voroclip::mesh3 {
+
+std::vector<SliverCenter> sliver_centers(const std::vector<double>& sites,
+                                         const std::vector<std::uint32_t>& tets, double below_deg,
+                                         double* lowest) {
+  std::vector<std::pair<double, std::uint32_t>> bad;
+  *lowest = 180;
+  for (std::size_t t = 0; t < tets.size() / 4; ++t) {
+    const std::uint32_t* v = &tets[4 * t];
+    const double q1 =
+        min_dihedral_deg(&sites[3 * std::size_t{v[0]}], &sites[3 * std::size_t{v[1]}],
+                         &sites[3 * std::size_t{v[2]}], &sites[3 * std::size_t{v[3]}]);
+    *lowest = std::min(*lowest, q1);
+    if (q1 < below_deg) bad.emplace_back(q1, static_cast<std::uint32_t>(t));
+  }
+  std::sort(bad.begin(), bad.end());
+  std::vector<SliverCenter> taken;
+  for (const auto& [q1, t] : bad) {
+    const std::uint32_t* v = &tets[4 * std::size_t{t}];
+    const double* p0 = &sites[3 * std::size_t{v[0]}];
+    // The circumcentre relative to p0: (|a|^2 (b x c) + |b|^2 (c x a) + |c|^2 (a x b)) /
+    // (2 a . (b x c)), a, b, c the other vertices relative to p0.
+    double a[3], b[3], c[3], bc[3], ca[3], ab[3];
+    sub3(&sites[3 * std::size_t{v[1]}], p0, a);
+    sub3(&sites[3 * std::size_t{v[2]}], p0, b);
+    sub3(&sites[3 * std::size_t{v[3]}], p0, c);
+    cross3(b, c, bc);
+    cross3(c, a, ca);
+    cross3(a, b, ab);
+    const double det = 2 * dot3(a, bc);
+    if (!(det != 0)) continue;
+    const double la = dot3(a, a), lb = dot3(b, b), lc = dot3(c, c);
+    SliverCenter s;
+    s.q1_deg = q1;
+    double rel[3];
+    for (int k = 0; k < 3; ++k) rel[k] = (la * bc[k] + lb * ca[k] + lc * ab[k]) / det;
+    s.radius = std::sqrt(dot3(rel, rel));
+    double longest2 = std::max({la, lb, lc});
+    for (int i = 1; i < 4; ++i) {
+      for (int j = i + 1; j < 4; ++j) {
+        double d[3];
+        sub3(&sites[3 * std::size_t{v[i]}], &sites[3 * std::size_t{v[j]}], d);
+        longest2 = std::max(longest2, dot3(d, d));
+      }
+    }
+    if (!(s.radius * s.radius <= longest2)) continue;
+    for (int k = 0; k < 3; ++k) s.center[static_cast<std::size_t>(k)] = p0[k] + rel[k];
+    const bool near = std::any_of(taken.begin(), taken.end(), [&](const SliverCenter& o) {
+      double d[3];
+      sub3(o.center.data(), s.center.data(), d);
+      return dot3(d, d) < s.radius * s.radius / 4;
+    });
+    if (!near) taken.push_back(s);
+  }
+  return taken;
+}
 
 std::uint32_t peel_flat_boundary_tets(
     const std::vector<double>& sites, const std::vector<Kind>& kinds,

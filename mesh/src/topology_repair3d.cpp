@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -25,6 +26,41 @@ std::string shortest(double x) {
 }
 
 }  // namespace
+
+std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& defects,
+                                                     const std::vector<double>& sites,
+                                                     std::uint32_t* nb_deferred) {
+  struct Candidate {
+    double radius;  // distance to the bad cell's site
+    std::array<double, 3> x;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t k = 0; k < defects.cells.size(); ++k) {
+    const double* x = &defects.points[3 * k];
+    const double* s = &sites[3 * std::size_t{defects.cells[k]}];
+    const double r = std::sqrt((x[0] - s[0]) * (x[0] - s[0]) + (x[1] - s[1]) * (x[1] - s[1]) +
+                               (x[2] - s[2]) * (x[2] - s[2]));
+    candidates.push_back({r, {x[0], x[1], x[2]}});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.radius != b.radius ? a.radius > b.radius : a.x < b.x;
+  });
+  std::vector<std::array<double, 3>> taken;
+  for (const Candidate& c : candidates) {
+    const double min2 = c.radius * c.radius / 4;
+    const bool near = std::any_of(taken.begin(), taken.end(), [&](const std::array<double, 3>& t) {
+      return (t[0] - c.x[0]) * (t[0] - c.x[0]) + (t[1] - c.x[1]) * (t[1] - c.x[1]) +
+                 (t[2] - c.x[2]) * (t[2] - c.x[2]) <
+             min2;
+    });
+    if (!near) {
+      taken.push_back(c.x);
+    } else if (nb_deferred != nullptr) {
+      ++*nb_deferred;
+    }
+  }
+  return taken;
+}
 
 void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Options& clip,
                                Cvt3Options& cvt, const std::vector<std::uint8_t>& boundary,
@@ -93,15 +129,10 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
       continue;
     }
     if (round == options.max_topology_rounds) break;
-    // A site at each bad cell's farthest point, each point once (two bad cells can
-    // share it), projected onto the surface.
-    std::vector<std::array<double, 3>> points;
-    for (std::size_t k = 0; k < defects.cells.size(); ++k) {
-      points.push_back(
-          {defects.points[3 * k], defects.points[3 * k + 1], defects.points[3 * k + 2]});
-    }
-    std::sort(points.begin(), points.end());
-    points.erase(std::unique(points.begin(), points.end()), points.end());
+    // A site at each bad cell's farthest point (refinement_points), projected onto the
+    // surface.
+    const std::vector<std::array<double, 3>> points =
+        refinement_points(defects, sites, &result.nb_topology_deferred);
     for (const std::array<double, 3>& x : points) {
       double q[3], d[3];
       project(n, Kind::kSurface, x.data(), q, d);

@@ -367,15 +367,16 @@ TEST_CASE("mesh3d adds the sites the surface's topology needs, or says how many"
 }
 
 TEST_CASE("mesh3d meshes again with twice the vertices when the shape is wrong", "[mesh]") {
-  // Without the topology refinement (max_topology_rounds = 0), the peeling and the lfs cap
-  // (which puts enough of the 400 sites in the ears), 400 sites do not resolve the bunny's
-  // surface (the test above); kRaise then runs the pipeline again with 800, 1600, ...
-  // vertices until the boundary has the input's shape, and says so.
+  // Without the topology refinement (max_topology_rounds = 0), the peeling, the sliver
+  // insertion and the lfs cap (which puts enough of the 400 sites in the ears), 400 sites do
+  // not resolve the bunny's surface (the test above); kRaise then runs the pipeline again
+  // with 800, 1600, ... vertices until the boundary has the input's shape, and says so.
   const Domain3 bunny = voroclip::read_domain3(kData + "/surfaces/bunny.obj");
   Mesh3Options o = small_options(400);
   o.max_topology_rounds = 0;
   o.lfs_cap = 0;
-  o.peel_dihedral_deg = 0;  // the peeling can repair it (then no retry is needed)
+  o.peel_dihedral_deg = 0;        // the peeling can repair it (then no retry is needed)
+  o.sliver_insertion_passes = 0;  // so can the sites at slivers' circumcentres
   std::vector<std::uint32_t> retries;
   o.progress = [&retries](const voroclip::Mesh3Progress& p) {
     if (p.retry_vertices > 0) retries.push_back(p.retry_vertices);

@@ -760,6 +760,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      exact, manifold repair);
 //   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
 //      constraint; the mesh is extracted again;
+//   7a. sliver insertion: a site at the circumcentre of each tet still below
+//      sliver_insertion_deg (on the surface when that is nearer than its circumradius), then
+//      6 and 7 again, kept only when the smallest angle rises and the shape stays right;
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
@@ -975,6 +978,12 @@ struct Mesh3Options {
   // boundary faces and a smallest dihedral angle below this (degrees), are removed, worst
   // first, while the boundary keeps the domain's shape (check_mesh3_shape); 0: none.
   double peel_dihedral_deg = 20;
+  // After the perturbation, while tets below sliver_insertion_deg are left: a site at their
+  // circumcentres (on the surface when it is nearer than the circumradius), extraction and
+  // perturbation again; a pass that does not raise the smallest dihedral angle or breaks
+  // the shape is undone and stops them. At most sliver_insertion_passes passes (0: none).
+  double sliver_insertion_deg = 20;
+  std::uint32_t sliver_insertion_passes = 2;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
   std::function<bool(const Mesh3Progress&)> progress;
@@ -1044,8 +1053,12 @@ struct Mesh3Result {
   // tet holding its centroid; 0 when the input has one region or none.
   std::uint32_t nb_input_regions = 0, nb_tets_across_regions = 0;
   // Topology (step 5b): the sites added, the rounds run, and the defects left after them
-  // (zero when the surface is resolved).
+  // (zero when the surface is resolved); nb_topology_deferred counts the bad cells whose
+  // new site, too close to one added in the same round, was left for a later round.
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
+  std::uint32_t nb_topology_deferred = 0;
+  // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes).
+  std::uint32_t nb_sliver_sites = 0;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
