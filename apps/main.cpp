@@ -417,6 +417,13 @@ int main(int argc, char** argv) {
                    "cap")
       ->type_name("K")
       ->default_str("0");
+  mesh3d
+      ->add_option("--facet-distance", mesh3d_args.facet_distance,
+                   "Fix a vertex at each input vertex farther than F times the local spacing "
+                   "from the mesh's boundary (tips, ridges, thin parts; farthest first, at most "
+                   "3 % of --vertices); 0: none")
+      ->type_name("F")
+      ->default_str(voroclip::cli::format_double(voroclip::Mesh3Options{}.facet_distance));
   mesh3d->add_flag("--adaptive", mesh3d_args.adaptive,
                    "Size the elements by the local feature size of the boundary (density "
                    "h^-5) instead of uniformly");

@@ -76,6 +76,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (!(args.lfs_cap >= 0) || !std::isfinite(args.lfs_cap)) {
     throw UsageError("--lfs-cap: expected a number >= 0, got " + format_double(args.lfs_cap));
   }
+  if (!(args.facet_distance >= 0) || !std::isfinite(args.facet_distance)) {
+    throw UsageError("--facet-distance: expected a number >= 0, got " +
+                     format_double(args.facet_distance));
+  }
   if (!(args.smooth_shape >= 0 && args.smooth_shape <= 1)) {
     throw UsageError("--smooth-shape: expected a value in [0, 1], got " +
                      format_double(args.smooth_shape));
@@ -91,6 +95,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.nb_vertices = args.vertices;
   o.adaptive = args.adaptive;
   o.lfs_cap = args.lfs_cap;
+  o.facet_distance = args.facet_distance;
   if (args.adaptive && args.density.given()) {
     throw UsageError("--adaptive and " + args.density.describe() + " exclude each other");
   }
@@ -302,6 +307,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     j["lfs_cap"] = {{"factor", o.lfs_cap},
                     {"capped_volume_fraction", r.lfs_capped_fraction},
                     {"uniform_spacing", r.lfs_cap_spacing}};
+    j["facet_distance"] = {{"factor", o.facet_distance},
+                           {"sites", r.nb_distance_sites},
+                           {"sites_added", r.nb_distance_sites_added}};
     j["feature_lines"] = r.nb_feature_lines;
     j["feature_corners"] = r.nb_feature_corners;
     j["surface"] = args.smooth_surface ? "smooth" : "flat";

@@ -377,6 +377,12 @@ void Pipeline::run() {
       if (snap_boundary_free_sites(boundary, project) == 0) break;
     }
 
+    // 5a. Distance to the input: sites fixed at the input vertices the boundary cuts off.
+    approximate_boundary(extractor, cvt, local_spacing, boundary, project, [&] {
+      return site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of,
+                          corner_vertex, triangle_patch);
+    });
+
     // 5b. Topology: sites where the restricted Voronoi diagram lacks the closed-ball
     // property (closed_ball_defects), round after round with no CVT in between (the
     // farthest-point refinement, which converges), then a short constrained CVT to spread
@@ -620,6 +626,12 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
   if (!(options.feature_angle_deg >= 0 && options.feature_angle_deg <= 180)) {
     throw Error("mesh3d: feature angle " + std::to_string(options.feature_angle_deg) +
                 " degrees; expected a value in [0, 180]");
+  }
+  if (!(options.facet_distance >= 0) || !std::isfinite(options.facet_distance) ||
+      !(options.facet_distance_budget >= 0 && options.facet_distance_budget <= 1)) {
+    throw Error("mesh3d: facet_distance " + std::to_string(options.facet_distance) +
+                ", facet_distance_budget " + std::to_string(options.facet_distance_budget) +
+                "; expected a number >= 0 and a fraction in [0, 1]");
   }
   if (!(options.smooth_shape >= 0 && options.smooth_shape <= 1)) {
     throw Error("mesh3d: smooth_shape " + std::to_string(options.smooth_shape) +

@@ -2,6 +2,8 @@
 //   mesh3d.cpp               the pipeline: sizing, sampling, the CVTs, extraction, output;
 //   features3d.cpp           feature lines, surface patches and the constraints of the sites
 //                            (step 4: corners, feature and surface sites);
+//   boundary_approx3d.cpp    step 5a: sites fixed where the boundary is too far from the
+//                            input (facet_distance);
 //   topology_repair3d.cpp    step 5b: sites added until the restricted Voronoi diagram has
 //                            the closed-ball property (topology3d.cpp checks it);
 //   phong3d.cpp              the smooth surface the surface sites are projected onto;
@@ -163,6 +165,14 @@ struct Pipeline {
   // onto the surface: they would become boundary vertices inside the volume. Their number.
   std::uint32_t snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,
                                          const Projection& project);
+  // Step 5a (boundary_approx3d.cpp): sites fixed at the input vertices farther than
+  // options.facet_distance times the local spacing from the boundary of the mesh the sites
+  // give (extracted with the patches site_patches_now() returns), each round followed by a
+  // short constrained CVT.
+  void approximate_boundary(const TetExtractor3& extractor, Cvt3Options& cvt,
+                            const Spacing& local_spacing, const std::vector<std::uint8_t>& boundary,
+                            const Projection& project,
+                            const std::function<SurfacePatches()>& site_patches_now);
   // Step 5b (topology_repair3d.cpp).
   void repair_topology(const TriangleSurface& surface, const Clip3Options& clip, Cvt3Options& cvt,
                        const std::vector<std::uint8_t>& boundary, const Projection& project);
