@@ -432,6 +432,9 @@ struct Mesh2Options {
   // Smoothing (step 9, conforming extraction only): passes moving free vertices where
   // their star's angles improve (never lowering the smallest angle). 0: none.
   std::uint32_t smooth_passes = 10;
+  // The smoothing also slides the boundary vertices that are not at a domain vertex along
+  // their domain edge (same rule, the target projected on the edge).
+  bool smooth_boundary = true;
   // Called at the start of each phase (iteration 0) and after every CVT iteration; return
   // false to stop: the mesh is then extracted from the sites reached (valid, lower
   // quality; an empty mesh when stopped at the start of the sampling) and
@@ -452,6 +455,10 @@ struct Mesh2Stats {
   // Expected vertex count of the small features' sizes alone (h = the feature size field,
   // no uniform part): above nb_vertices, the features force more vertices than asked.
   std::uint32_t feature_vertices = 0;
+  // Empty when the count is within vertex_tolerance of nb_vertices (or none was asked);
+  // else one line: the count made, by how much it misses, and why (the small features'
+  // count above the request, or the steps that changed the count).
+  std::string vertex_count_note;
   std::uint32_t nb_gap_sites = 0;  // free sites added in gaps after the boundary step
   std::uint32_t nb_paths = 0;
   double edge_length = 0;  // H
