@@ -475,8 +475,7 @@ TEST_CASE("mesh2d: features that need more vertices than asked are counted", "[m
   CHECK(m.nb_vertices() >= st.feature_vertices);
   // The note says so, with the counts.
   INFO(st.vertex_count_note);
-  CHECK(st.vertex_count_note.find(std::to_string(m.nb_vertices()) + " vertices for 60 asked") ==
-        0);
+  CHECK(st.vertex_count_note.find(std::to_string(m.nb_vertices()) + " vertices for 60 asked") == 0);
   CHECK(st.vertex_count_note.find("the small features force more") != std::string::npos);
   CHECK(st.vertex_count_note.find("about " + std::to_string(st.feature_vertices) + " vertices") !=
         std::string::npos);
