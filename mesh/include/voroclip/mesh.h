@@ -387,9 +387,10 @@ struct Mesh2Progress {
 
 struct Mesh2Options {
   // Target number of mesh vertices. 0: use edge_length. A run whose count misses it by
-  // more than `vertex_tolerance` (relative) is redone, at most twice, with the sampling
-  // scaled by the miss, and the closest kept (Mesh2Stats::vertex_count_runs); a domain
-  // whose small features need more vertices gets more (the count says by how much).
+  // more than `vertex_tolerance` (relative) is redone, at most twice (the sampling scaled
+  // by the miss, then the secant through the two runs), and the closest kept
+  // (Mesh2Stats::vertex_count_runs); a domain whose small features need more vertices gets
+  // more (Mesh2Stats::vertex_count_note says by how much).
   std::uint32_t nb_vertices = 0;
   double vertex_tolerance = 0.1;
   // Target edge length H far from small features, used when nb_vertices == 0.
