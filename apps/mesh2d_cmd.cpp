@@ -272,6 +272,12 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     s["requested_vertices"] = st.requested_vertices;
     s["vertex_count_runs"] = st.vertex_count_runs;
     s["feature_vertices"] = st.feature_vertices;
+    s["vertex_count_within_tolerance"] = st.vertex_count_note.empty();
+    if (st.vertex_count_note.empty()) {
+      s["vertex_count_note"] = nullptr;
+    } else {
+      s["vertex_count_note"] = st.vertex_count_note;
+    }
     s["refined_vertices"] = st.refine_added;
     s["smoothed_vertices"] = st.smoothed;
     s["tip_triangles"] = st.nb_tip_triangles;
@@ -328,29 +334,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
       }
       *human << '\n';
     }
-    if (st.requested_vertices > 0 && std::fabs(double(mesh.nb_vertices()) - st.requested_vertices) >
-                                         0.1 * st.requested_vertices) {
-      const double wanted = st.requested_vertices;
-      *human << "note: " << mesh.nb_vertices() << " vertices for --vertices "
-             << st.requested_vertices << " (" << std::showpos << std::setprecision(3)
-             << 100.0 * (double(mesh.nb_vertices()) - wanted) / wanted << std::noshowpos
-             << "%, after " << count_of(st.vertex_count_runs + 1, "run") << "): ";
-      if (st.feature_vertices > 1.1 * wanted) {
-        // The count of the feature sizes alone is above the request: no sampling can lower it.
-        *human << "the domain's small features need more: their sizes alone (smallest "
-               << std::setprecision(3) << st.min_size << ", growing by " << args.gradation
-               << " per unit length; " << st.nb_fixed
-               << " fixed vertices at corners) ask for about " << st.feature_vertices
-               << " vertices, " << std::showpos << std::setprecision(3)
-               << 100.0 * (st.feature_vertices - wanted) / wanted << std::noshowpos
-               << "% of the request\n";
-      } else {
-        *human << "the boundary step, the gap filling (" << st.nb_gap_sites
-               << " sites) and the refinement (" << st.refine_added
-               << " vertices) changed the count (the small features alone ask for about "
-               << st.feature_vertices << ")\n";
-      }
-    }
+    if (!st.vertex_count_note.empty()) *human << "note: " << st.vertex_count_note << '\n';
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.histogram.empty()) *human << "Histogram written to " << args.histogram << '\n';
   }

@@ -43,6 +43,9 @@ TEST_CASE("mesh2d: statistics, quality and the four formats", "[apps]") {
   CHECK(s["max_angle_deg"].get<double>() < 120);
   CHECK(s["seconds"].get<double>() > 0);
   CHECK(s["quality"]["nb_triangles"] == triangles);
+  // Within 10% of the request: no vertex-count note.
+  CHECK(s["vertex_count_within_tolerance"] == true);
+  CHECK(s["vertex_count_note"].is_null());
   // Progress went to stderr: phases with iteration, energy and |g|.
   CHECK(contains(run.err, "unconstrained CVT"));
   CHECK(contains(run.err, "constrained CVT"));
@@ -175,4 +178,26 @@ TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes
   CHECK(contains(svg, "CVT mesh:"));
   CHECK(contains(svg, "Naive floating point"));
   CHECK(svg.find("<?xml", 1) == std::string::npos);
+}
+
+TEST_CASE("mesh2d: a request the features cannot meet is said, in the text and the JSON",
+          "[apps]") {
+  // Corridors 0.05 wide between 36 holes: the feature sizes alone ask for several times
+  // the 60 vertices asked.
+  const Run json =
+      run_cli({"-q", "--stats", "json", "mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  REQUIRE(json.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(json.out);
+  const int vertices = s["vertices"], features = s["feature_vertices"];
+  CHECK(vertices > 66);
+  CHECK(features > 66);
+  CHECK(s["vertex_count_within_tolerance"] == false);
+  const std::string note = s["vertex_count_note"];
+  CHECK(note.rfind(std::to_string(vertices) + " vertices for 60 asked (+", 0) == 0);
+  CHECK(contains(note, "the small features force more"));
+  CHECK(contains(note, "about " + std::to_string(features) + " vertices"));
+  // The human text has it as one line.
+  const Run text = run_cli({"mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  REQUIRE(text.status == 0);
+  CHECK(contains(text.out + text.err, "note: " + note + "\n"));
 }

@@ -473,6 +473,12 @@ TEST_CASE("mesh2d: features that need more vertices than asked are counted", "[m
   // The estimate (equilateral triangles of the feature size) is a floor here: corridors
   // one or two triangles wide take more (544 vertices for 347 estimated).
   CHECK(m.nb_vertices() >= st.feature_vertices);
+  // The note says so, with the counts.
+  INFO(st.vertex_count_note);
+  CHECK(st.vertex_count_note.find(std::to_string(m.nb_vertices()) + " vertices for 60 asked") == 0);
+  CHECK(st.vertex_count_note.find("the small features force more") != std::string::npos);
+  CHECK(st.vertex_count_note.find("about " + std::to_string(st.feature_vertices) + " vertices") !=
+        std::string::npos);
   const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
   INFO(voroclip::quality_text(q));
   CHECK(q.min_angle >= 30);
@@ -485,6 +491,7 @@ TEST_CASE("mesh2d: a domain whose features ask for fewer lands within 10% of the
   INFO(m.nb_vertices() << " vertices, the features ask for " << st.feature_vertices);
   CHECK(st.feature_vertices < 600);
   CHECK(std::fabs(double(m.nb_vertices()) - 600) <= 60);
+  CHECK(st.vertex_count_note.empty());
 }
 
 TEST_CASE("mesh2d: smoothing raises the mean smallest angle, keeps the smallest and the boundary",
@@ -503,13 +510,39 @@ TEST_CASE("mesh2d: smoothing raises the mean smallest angle, keeps the smallest 
   CHECK(st1.smoothed > 0);
   CHECK(q1.min_angle >= q0.min_angle);
   CHECK(q1.mean_min_angle > q0.mean_min_angle);
-  // Same vertices but the free ones moved: the boundary vertices are where they were.
+  // Same vertices but the free ones moved and the sliding ones slid: the fixed vertices
+  // are where they were, the sliding ones on their domain edge (exactly: the square's
+  // edges are axis-parallel), strictly between its ends.
   REQUIRE(m0.nb_vertices() == m1.nb_vertices());
-  std::uint32_t moved = 0;
+  std::uint32_t moved = 0, slid = 0;
   for (std::uint32_t v = 0; v < m0.nb_vertices(); ++v) {
     const bool same = m0.xy[2 * v] == m1.xy[2 * v] && m0.xy[2 * v + 1] == m1.xy[2 * v + 1];
-    if (m0.vertex_kind[v] != Mesh2::VertexKind::kInterior) CHECK(same);
+    REQUIRE(m0.vertex_kind[v] == m1.vertex_kind[v]);
+    if (m0.vertex_kind[v] == Mesh2::VertexKind::kFixed) CHECK(same);
+    if (m1.vertex_kind[v] == Mesh2::VertexKind::kBoundary) {
+      REQUIRE(m1.vertex_edge[v] == m0.vertex_edge[v]);
+      const double* a = d.vertex(m1.vertex_edge[v]);
+      const double* b = d.vertex(d.next(m1.vertex_edge[v]));
+      const double* x = &m1.xy[2 * v];
+      CHECK(voroclip::orient2d(a, b, x) == Sign::zero);
+      CHECK(std::min(a[0], b[0]) <= x[0]);
+      CHECK(x[0] <= std::max(a[0], b[0]));
+      CHECK(std::min(a[1], b[1]) <= x[1]);
+      CHECK(x[1] <= std::max(a[1], b[1]));
+      CHECK(!((x[0] == a[0] && x[1] == a[1]) || (x[0] == b[0] && x[1] == b[1])));
+      slid += !same;
+    }
     moved += !same;
   }
-  CHECK(moved > 0);
+  CHECK(moved > slid);
+  CHECK(slid > 0);
+  // Without the sliding, the sliding vertices stay where the CVT put them.
+  o.smooth_boundary = false;
+  const Mesh2 m2 = mesh_of(d, 400, nullptr, o);
+  REQUIRE(m2.nb_vertices() == m0.nb_vertices());
+  for (std::uint32_t v = 0; v < m0.nb_vertices(); ++v) {
+    if (m0.vertex_kind[v] != Mesh2::VertexKind::kInterior) {
+      CHECK((m0.xy[2 * v] == m2.xy[2 * v] && m0.xy[2 * v + 1] == m2.xy[2 * v + 1]));
+    }
+  }
 }
