@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -510,7 +511,8 @@ TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][dege
 TEST_CASE("Domain3 messages name the file and line of the tet, numbered as the file does",
           "[clip]") {
   const auto dir = std::filesystem::temp_directory_path();
-  const std::string path = (dir / "voroclip_test_domain3_flat.mesh").string();
+  const std::string path =
+      (dir / ("voroclip_test_domain3_flat_" + std::to_string(::getpid()) + ".mesh")).string();
   std::ofstream(path) << "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
                          "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n"
                          "Tetrahedra\n2\n1 2 3 4 0\n1 2 3 5 0\nEnd\n";

@@ -66,7 +66,8 @@ TEST_CASE("write_file_atomically names the file when the directory is missing", 
 TEST_CASE("check_output_path: a missing, unwritable or file directory, a directory path",
           "[core]") {
   namespace fs = std::filesystem;
-  const fs::path base = fs::temp_directory_path() / "voroclip_check_output_path";
+  const fs::path base =
+      fs::temp_directory_path() / ("voroclip_check_output_path_" + std::to_string(::getpid()));
   fs::remove_all(base);
   fs::create_directories(base / "dir");
   const auto message = [](const std::string& path) -> std::string {

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "voroclip/core.h"
@@ -27,7 +28,8 @@ const std::string kData = std::string(VOROCLIP_SHARED_DATA_DIR);
 struct TempDir {
   std::filesystem::path path;
   TempDir() {
-    path = std::filesystem::temp_directory_path() / "voroclip_test_surface_io";
+    path = std::filesystem::temp_directory_path() /
+           ("voroclip_test_surface_io_" + std::to_string(::getpid()));
     std::filesystem::create_directories(path);
   }
   ~TempDir() {

@@ -12,6 +12,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <zlib.h>
@@ -30,7 +31,8 @@ const std::string kData = std::string(VOROCLIP_SHARED_DATA_DIR) + "/tetmeshes/";
 struct TempDir {
   std::filesystem::path path;
   TempDir() {
-    path = std::filesystem::temp_directory_path() / "voroclip_test_tetmesh_io";
+    path = std::filesystem::temp_directory_path() /
+           ("voroclip_test_tetmesh_io_" + std::to_string(::getpid()));
     std::filesystem::create_directories(path);
   }
   ~TempDir() {
