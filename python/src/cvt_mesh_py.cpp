@@ -230,6 +230,11 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   s["feature_vertices"] = st.feature_vertices;
   s["refined_vertices"] = st.refine_added;
   s["smoothed_vertices"] = st.smoothed;
+  if (st.vertex_count_note.empty()) {
+    s["vertex_count_note"] = py::none();
+  } else {
+    s["vertex_count_note"] = st.vertex_count_note;
+  }
   s["seconds"] = st.seconds;
   s["cancelled"] = st.cancelled;
   s["check"] = st.check;
@@ -245,6 +250,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
       {{"vertices", S::field<std::uint32_t>(&Mesh3Options::nb_vertices)},
        {"adaptive", S::field<bool>(&Mesh3Options::adaptive)},
        {"lfs_cap", S::field<double>(&Mesh3Options::lfs_cap)},
+       {"facet_distance", S::field<double>(&Mesh3Options::facet_distance)},
        {"features", S::field<bool>(&Mesh3Options::features)},
        {"feature_angle", S::field<double>(&Mesh3Options::feature_angle_deg)},
        {"min_feature_length", S::field<double>(&Mesh3Options::min_feature_length)},
@@ -316,6 +322,9 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["feature_corners"] = m.nb_feature_corners;
   s["lfs_capped_volume_fraction"] = m.lfs_capped_fraction;
   s["lfs_cap_spacing"] = m.lfs_cap_spacing;
+  s["distance_sites"] = m.nb_distance_sites;
+  s["distance_sites_added"] = m.nb_distance_sites_added;
+  s["sliver_sites"] = m.nb_sliver_sites;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

@@ -68,7 +68,7 @@ def test_mesh2d_agrees_with_cli(cli, tmp_path):
     assert np.array_equal(back.cells_dict["triangle"], m.cells)
     assert stats["vertices"] == len(m.points) and stats["triangles"] == len(m.cells)
     assert stats["relative_gradient"] == m.stats["relative_gradient"]
-    for key in ("feature_vertices", "refined_vertices", "smoothed_vertices"):
+    for key in ("feature_vertices", "refined_vertices", "smoothed_vertices", "vertex_count_note"):
         assert stats[key] == m.stats[key], key
 
 
@@ -115,6 +115,33 @@ def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):
     assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across}
     assert m.stats["input_regions"] == 2
     assert m.stats["tets_across_region_interfaces"] == across
+
+
+def test_mesh3d_facet_distance_agrees_with_cli(cli, tmp_path):
+    # A box without feature lines: the uniform spacing cuts its corners off, and
+    # facet_distance fixes sites there, as the CLI's --facet-distance.
+    box = tmp_path / "box.obj"
+    v = [(2 * (k & 1), 3 * ((k >> 1) & 1), (k >> 2) & 1) for k in range(8)]
+    faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    box.write_text("".join("v %d %d %d\n" % p for p in v) + "".join(
+        "f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1)
+        for a, b, c, d in faces))
+    stats = run(cli, "mesh3d", box, "--vertices", 400, "--no-features", "--facet-distance", 0.15,
+                "-o", tmp_path / "m.vtu")
+    m = voroclip.mesh3d(box, vertices=400, features=False, facet_distance=0.15)
+    assert stats["facet_distance"]["sites"] == m.stats["distance_sites"] > 0
+    assert stats["facet_distance"]["sites_added"] == m.stats["distance_sites_added"]
+    assert stats["vertices"] == len(m.points)
+    import meshio
+
+    back = meshio.read(tmp_path / "m.vtu")
+    assert np.array_equal(back.points, m.points)
+    # The sites it fixed are box corners, bitwise (the box has no other vertices); without
+    # the option no corner is a vertex.
+    corners = [p for p in v if (m.points == np.array(p, dtype=float)).all(axis=1).any()]
+    assert corners
+    plain = voroclip.mesh3d(box, vertices=400, features=False)
+    assert not any((plain.points == np.array(p, dtype=float)).all(axis=1).any() for p in v)
 
 
 def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):

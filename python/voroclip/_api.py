@@ -403,6 +403,8 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
     Mesh3Options (an option not given keeps the library's default): ``adaptive``,
     ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none),
+    ``facet_distance`` (a site fixed at each input vertex farther than this times the
+    spacing from the mesh's boundary; 0, the default: none),
     ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
     ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
     ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
