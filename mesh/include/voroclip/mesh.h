@@ -754,6 +754,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      fixed site (the nearest site, or a new one);
 //   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
 //      their line (eq. 3), corners are fixed;
+//   5a. distance to the input (facet_distance > 0 only): sites fixed at the input vertices
+//      farther from the boundary of the mesh the sites give than facet_distance times the
+//      spacing (approximate_boundary, boundary_approx3d.cpp);
 //   5b. topology: sites are added where the restricted Voronoi diagram of the sites on the
 //      surface lacks the closed-ball property (closed_ball_defects, below: a restricted
 //      cell that is not a disk, two cells sharing more than one arc, a Voronoi edge crossing
