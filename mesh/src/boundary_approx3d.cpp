@@ -14,34 +14,11 @@
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "mesh3d_tags.h"
 
 namespace voroclip::mesh3 {
 
 namespace {
-
-// The faces of exactly one of `tets` (4 vertex indices each), 3 indices each, in the order
-// of their sorted vertex triples.
-std::vector<std::uint32_t> boundary_faces(const std::vector<std::uint32_t>& tets) {
-  std::vector<std::array<std::uint32_t, 3>> faces;
-  faces.reserve(tets.size());
-  for (std::size_t t = 0; t < tets.size(); t += 4) {
-    for (std::size_t k = 0; k < 4; ++k) {
-      std::array<std::uint32_t, 3> f = {tets[t + (k + 1) % 4], tets[t + (k + 2) % 4],
-                                        tets[t + (k + 3) % 4]};
-      std::sort(f.begin(), f.end());
-      faces.push_back(f);
-    }
-  }
-  std::sort(faces.begin(), faces.end());
-  std::vector<std::uint32_t> out;
-  for (std::size_t i = 0; i < faces.size();) {
-    std::size_t j = i + 1;
-    while (j < faces.size() && faces[j] == faces[i]) ++j;
-    if (j - i == 1) out.insert(out.end(), faces[i].begin(), faces[i].end());
-    i = j;
-  }
-  return out;
-}
 
 double distance2(const double* a, const double* b) {
   const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
@@ -87,7 +64,8 @@ void Pipeline::approximate_boundary(const TetExtractor3& extractor, Cvt3Options&
     eo.surface = &patches;
     TriangleSurface mesh_boundary;
     mesh_boundary.source = "mesh3d (boundary)";
-    mesh_boundary.triangles = boundary_faces(extractor.extract(dt, eo));
+    std::vector<std::uint32_t> face_tet;
+    boundary_triangles(extractor.extract(dt, eo), mesh_boundary.triangles, face_tet);
     if (mesh_boundary.triangles.empty()) return;
     mesh_boundary.xyz = sites;
     const SurfaceTree tree(mesh_boundary);

@@ -528,34 +528,24 @@ std::vector<SliverCenter> sliver_centers(const std::vector<double>& sites,
   std::vector<SliverCenter> taken;
   for (const auto& [q1, t] : bad) {
     const std::uint32_t* v = &tets[4 * std::size_t{t}];
-    const double* p0 = &sites[3 * std::size_t{v[0]}];
-    // The circumcentre relative to p0: (|a|^2 (b x c) + |b|^2 (c x a) + |c|^2 (a x b)) /
-    // (2 a . (b x c)), a, b, c the other vertices relative to p0.
-    double a[3], b[3], c[3], bc[3], ca[3], ab[3];
-    sub3(&sites[3 * std::size_t{v[1]}], p0, a);
-    sub3(&sites[3 * std::size_t{v[2]}], p0, b);
-    sub3(&sites[3 * std::size_t{v[3]}], p0, c);
-    cross3(b, c, bc);
-    cross3(c, a, ca);
-    cross3(a, b, ab);
-    const double det = 2 * dot3(a, bc);
-    if (!(det != 0)) continue;
-    const double la = dot3(a, a), lb = dot3(b, b), lc = dot3(c, c);
+    const double* p[4];
+    for (int k = 0; k < 4; ++k) p[k] = &sites[3 * std::size_t{v[k]}];
+    if (orient3d(p[0], p[1], p[2], p[3]) == Sign::zero) continue;
     SliverCenter s;
     s.q1_deg = q1;
+    circumcenter3d(p[0], p[1], p[2], p[3], s.center.data());
     double rel[3];
-    for (int k = 0; k < 3; ++k) rel[k] = (la * bc[k] + lb * ca[k] + lc * ab[k]) / det;
+    sub3(s.center.data(), p[0], rel);
     s.radius = std::sqrt(dot3(rel, rel));
-    double longest2 = std::max({la, lb, lc});
-    for (int i = 1; i < 4; ++i) {
+    double longest2 = 0;
+    for (int i = 0; i < 4; ++i) {
       for (int j = i + 1; j < 4; ++j) {
         double d[3];
-        sub3(&sites[3 * std::size_t{v[i]}], &sites[3 * std::size_t{v[j]}], d);
+        sub3(p[i], p[j], d);
         longest2 = std::max(longest2, dot3(d, d));
       }
     }
     if (!(s.radius * s.radius <= longest2)) continue;
-    for (int k = 0; k < 3; ++k) s.center[static_cast<std::size_t>(k)] = p0[k] + rel[k];
     const bool near = std::any_of(taken.begin(), taken.end(), [&](const SliverCenter& o) {
       double d[3];
       sub3(o.center.data(), s.center.data(), d);
