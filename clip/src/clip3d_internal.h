@@ -280,12 +280,27 @@ inline void p2_nodes(const double* x, const double* a, const double* b, const do
 // a point's bits, so the sums are those of evaluating cone by cone, for any batch.
 // One per thread (thread_density_batch); a unit calls begin before recording (a unit left
 // by an exception leaves stale cones behind).
+//
+// Numbered nodes (kQuadratic only; begin(rho, true)): the unit numbers the P2 nodes itself
+// from what defines them (the inner cells: DelaunayCells::add_piece_numbered) instead of
+// flush finding equal points by their bits through the table, and integrates its cones
+// itself: node() gives a new node its position (from 0 at begin), evaluate_staged()
+// evaluates the nodes pushed since its last call (the unit calls it when staged_full(),
+// then integrates the cones whose nodes are all evaluated), values() holds rho at the
+// nodes. A NodeRef-like record of the unit stays valid while epoch() is unchanged (begin
+// starts a new one).
 class DensityBatch {
  public:
-  // Starts recording cones of rho (dropping any left by an exception).
-  void begin(const Density3& rho) {
+  // Starts recording cones of rho (dropping any left by an exception); `numbered`: the
+  // caller numbers the nodes (rho.rule is kQuadratic).
+  void begin(const Density3& rho, bool numbered = false) {
     rho_ = &rho;
+    numbered_ = numbered;
     tets_.clear();
+    points_.clear();
+    index_.clear();
+    values_.clear();
+    new_epoch();
   }
   void add(const double* x, const double* a, const double* b, const double* c, Moments& r) {
     Tet t;
@@ -299,22 +314,45 @@ class DensityBatch {
     tets_.push_back(t);
     if (tets_.size() == kMaxTets) flush();
   }
-  // Evaluates and adds the recorded cones, then clears.
+  // Numbered nodes: the batch's generation (a record of another generation is stale).
+  std::uint32_t epoch() const { return epoch_; }
+  // The position of a new node, its 3 coordinates written by make(double*).
+  template <class Make>
+  std::uint32_t node(Make&& make) {
+    const std::size_t k = points_.size();
+    points_.resize(k + 3);
+    make(points_.data() + k);
+    return static_cast<std::uint32_t>(values_.size() + k / 3);
+  }
+  bool staged_full() const { return points_.size() >= 3 * kStage; }
+  // rho at the nodes pushed since the last call (Density3::batch when it has one).
+  void evaluate_staged();
+  const double* values() const { return values_.data(); }
+  // Evaluates and adds the recorded cones, then clears (a new epoch).
   void flush();
 
  private:
   // Cones per batch: the points' buffers stay in the caches (~10^4 points).
   static constexpr std::size_t kMaxTets = 1024;
+  // Numbered nodes evaluated at a time.
+  static constexpr std::size_t kStage = 1024;
   // The distinct-node table: direct-mapped, a slot keeps the last node hashed to it.
   static constexpr std::size_t kSlots = 4096;
   struct Tet {
     double x[3], a[3], b[3], c[3];
     Moments* r;
   };
+  void new_epoch() {
+    if (++epoch_ == 0) epoch_ = 1;  // (0: never a batch's, so a fresh NodeRef is stale)
+  }
   const Density3* rho_ = nullptr;
+  bool numbered_ = false;
+  std::uint32_t epoch_ = 1;
   std::vector<Tet> tets_;
-  std::vector<double> points_, values_;  // the points (3 coordinates each), rho there
-  std::vector<std::uint32_t> index_;     // per cone, its points' positions in values_
+  // The points (3 coordinates each) and rho there; numbered: the nodes not yet evaluated,
+  // and rho at those evaluated.
+  std::vector<double> points_, values_;
+  std::vector<std::uint32_t> index_;  // per cone, its points' positions in values_
   // Per slot, the position in points_ of the last node hashed to it. Never cleared: an
   // entry counts only when it is within points_ and its bits are the node's.
   std::vector<std::uint32_t> table_ = std::vector<std::uint32_t>(kSlots, 0);
