@@ -50,10 +50,18 @@ class FormulaDensity {
   // out[k] = rho at the point p + 3k (dimension 3), k < n.
   void evaluate(const double* p, std::size_t n, double* out) const {
     expression_.evaluate(p, n, out);
+    if (!sizing_) {
+      // A density as is: one pass without branches (vectorised), checked point by point
+      // only when a value is bad, for the message.
+      bool ok = true;
+      for (std::size_t k = 0; k < n; ++k) ok &= out[k] > 0 && out[k] <= kMaxDouble;
+      if (ok) return;
+    }
     for (std::size_t k = 0; k < n; ++k) out[k] = checked(p + 3 * k, out[k]);
   }
 
  private:
+  static constexpr double kMaxDouble = std::numeric_limits<double>::max();
   // rho from the formula's value v at p; throws when it is not finite and positive.
   double checked(const double* p, double v) const {
     if (!(v > 0) || !std::isfinite(v)) {

@@ -604,6 +604,143 @@ bool DelaunayCells::boundary_chunk(const std::uint32_t* cells, std::uint32_t cou
   return true;
 }
 
+void DelaunayCells::add_piece_numbered(const std::uint32_t* v, std::uint32_t q, int f, int lk,
+                                       const std::uint32_t* v2, std::uint32_t q2,
+                                       std::uint32_t cell, const double* c, const double* c2,
+                                       std::uint32_t* edge, ChunkNodes& nodes) const {
+  DensityBatch& batch = thread_density_batch();
+  const std::uint32_t epoch = batch.epoch();
+  const std::uint32_t i = v[lk];
+  const double* px = ctx_.site(i);
+  const int lj = kFaceOther[lk][f][0], lkk = kFaceOther[lk][f][1];
+  const std::uint32_t vj = v[lj], vk = v[lkk];
+  int lk2 = 0, lj2 = 0, lkk2 = 0;  // the same sites in tet q2
+  for (int l = 0; l < 4; ++l) {
+    lk2 = v2[l] == i ? l : lk2;
+    lj2 = v2[l] == vj ? l : lj2;
+    lkk2 = v2[l] == vk ? l : lkk2;
+  }
+  // f_ab from the sites in the order of their ids.
+  const auto foot_point = [&](std::uint32_t a, std::uint32_t b, double* p) {
+    const double* pa = ctx_.site(std::min(a, b));
+    const double* pb = ctx_.site(std::max(a, b));
+    for (int k = 0; k < 3; ++k) p[k] = 0.5 * (pa[k] + pb[k]);
+  };
+  const auto tet = [&](std::uint32_t t, const double* cc) -> ChunkNodes::Tet& {
+    ChunkNodes::Tet& r = nodes.tets[t];
+    if (r.epoch != epoch) {
+      r.epoch = epoch;
+      r.vertex = batch.node([&](double* p) {
+        for (int k = 0; k < 3; ++k) p[k] = cc[k];
+      });
+      for (std::uint32_t& e : r.half) e = kNone;
+      for (std::uint32_t& e : r.mid) e = kNone;
+    }
+    return r;
+  };
+  const auto half = [&](ChunkNodes::Tet& r, int l, const double* cc) {
+    std::uint32_t& e = r.half[l];
+    if (e == kNone) {
+      e = batch.node([&](double* p) {
+        for (int k = 0; k < 3; ++k) p[k] = 0.5 * (px[k] + cc[k]);
+      });
+    }
+    return e;
+  };
+  const auto face_vertex = [&](ChunkNodes::Tet& r, const std::uint32_t* tv, int l, int l2,
+                               const double* cc) {
+    std::uint32_t& e = r.mid[ChunkNodes::kPair[l][l2]];
+    if (e == kNone) {
+      e = batch.node([&](double* p) {
+        foot_point(tv[l], tv[l2], p);
+        for (int k = 0; k < 3; ++k) p[k] = 0.5 * (p[k] + cc[k]);
+      });
+    }
+    return e;
+  };
+  // The foot's nodes: f_ij and (x + f_ij) / 2.
+  const auto feet = [&](std::uint32_t j, std::uint32_t* out) {
+    const std::uint32_t a = std::min(i, j), b = std::max(i, j);
+    ChunkNodes::Foot& e = nodes.foot(a, b);
+    if (e.a != a || e.b != b || e.epoch != epoch) {
+      e.a = a;
+      e.b = b;
+      e.epoch = epoch;
+      e.full = batch.node([&](double* p) { foot_point(a, b, p); });
+      e.half[0] = e.half[1] = kNone;
+    }
+    std::uint32_t& h = e.half[i == a ? 0 : 1];
+    if (h == kNone) {
+      h = batch.node([&](double* p) {
+        foot_point(a, b, p);
+        for (int k = 0; k < 3; ++k) p[k] = 0.5 * (px[k] + p[k]);
+      });
+    }
+    out[0] = e.full;
+    out[1] = h;
+  };
+  std::uint32_t* site = nodes.site.data() + 2 * std::size_t{cell};
+  if (site[0] != epoch) {
+    site[0] = epoch;
+    site[1] = batch.node([&](double* p) {
+      for (int k = 0; k < 3; ++k) p[k] = px[k];
+    });
+  }
+  if (edge[0] != epoch) {
+    edge[0] = epoch;
+    edge[1] = batch.node([&](double* p) {
+      for (int k = 0; k < 3; ++k) p[k] = 0.5 * (c[k] + c2[k]);
+    });
+  }
+  ChunkNodes::Tet& tu = tet(q, c);
+  ChunkNodes::Tet& tw = tet(q2, c2);
+  std::uint32_t fj[2], fk[2];
+  feet(vj, fj);
+  feet(vk, fk);
+  ChunkNodes::Pair p;
+  p.cell = cell;
+  p.u = 4 * q + static_cast<std::uint32_t>(lk);
+  p.w = 4 * q2 + static_cast<std::uint32_t>(lk2);
+  p.j = vj;
+  p.k = vk;
+  std::uint32_t* n = p.node;
+  n[0] = site[1];
+  n[1] = fj[0];
+  n[2] = fj[1];
+  n[3] = fk[0];
+  n[4] = fk[1];
+  n[5] = tu.vertex;
+  n[6] = half(tu, lk, c);
+  n[7] = tw.vertex;
+  n[8] = half(tw, lk2, c2);
+  n[9] = face_vertex(tu, v, lk, lj, c);
+  n[10] = face_vertex(tw, v2, lk2, lj2, c2);
+  n[11] = face_vertex(tw, v2, lk2, lkk2, c2);
+  n[12] = face_vertex(tu, v, lk, lkk, c);
+  n[13] = edge[1];
+  nodes.pairs.push_back(p);
+}
+
+void DelaunayCells::integrate_pairs(ChunkNodes& nodes, const Rel* cr, const std::uint32_t* cells,
+                                    Moments* sums) const {
+  const double* f = thread_density_batch().values();
+  for (const ChunkNodes::Pair& p : nodes.pairs) {
+    const double* px = ctx_.site(cells[p.cell]);
+    const Foot hj = foot(ctx_.site(p.j), px), hk = foot(ctx_.site(p.k), px);
+    const double* u = cr[p.u].y;
+    const double* w = cr[p.w].y;
+    const std::uint32_t* n = p.node;
+    // The cones (x; hj, u, w) and (x; hk, w, u) (add_piece), values in P2Weights' order.
+    const double f1[10] = {f[n[0]], f[n[1]], f[n[5]], f[n[7]],  f[n[2]],
+                           f[n[6]], f[n[8]], f[n[9]], f[n[10]], f[n[13]]};
+    const double f2[10] = {f[n[0]], f[n[3]], f[n[7]],  f[n[5]],  f[n[4]],
+                           f[n[8]], f[n[6]], f[n[11]], f[n[12]], f[n[13]]};
+    add_tet_p2(f1, hj.y, u, w, sums[p.cell]);
+    add_tet_p2(f2, hk.y, w, u, sums[p.cell]);
+  }
+  nodes.pairs.clear();
+}
+
 template <bool kWeighted>
 void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count, Stars& stars,
                                 Scratch& s, Moments* result) const {
@@ -617,10 +754,18 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
   const std::uint32_t first = st.first;
   std::uint32_t* mark = st.mark.data();
   PieceAcc<kWeighted>* sums;
+  bool numbered = false;  // numbered P2 nodes (add_piece_numbered)
   if constexpr (kWeighted) {
     s.chunk.moments.assign(count, Moments{});
     sums = s.chunk.moments.data();
-    if (ctx_.callback_density) thread_density_batch().begin(*ctx_.callback_density);
+    if (ctx_.callback_density) {
+      numbered = ctx_.callback_density->rule == Density3::Rule::kQuadratic;
+      thread_density_batch().begin(*ctx_.callback_density, numbered);
+      if (numbered) {
+        s.chunk.nodes.site.assign(2 * std::size_t{count}, 0);
+        s.chunk.nodes.pairs.clear();
+      }
+    }
   } else {
     s.chunk.sums.assign(count, PieceSums{});
     sums = s.chunk.sums.data();
@@ -631,6 +776,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
   std::uint32_t cap = static_cast<std::uint32_t>(tets.size());
   if (s.chunk.c.size() < cap) s.chunk.c.resize(cap);
   if (s.chunk.rel.size() < 4 * std::size_t{cap}) s.chunk.rel.resize(4 * std::size_t{cap});
+  if (numbered && s.chunk.nodes.tets.size() < cap) s.chunk.nodes.tets.resize(cap);
   std::uint32_t* tp = tets.data();
   std::array<double, 3>* cc = s.chunk.c.data();
   Rel* cr = s.chunk.rel.data();
@@ -641,6 +787,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
     tets.resize(cap);
     s.chunk.c.resize(cap);
     s.chunk.rel.resize(4 * std::size_t{cap});
+    if (numbered) s.chunk.nodes.tets.resize(cap);
     tp = tets.data();
     cc = s.chunk.c.data();
     cr = s.chunk.rel.data();
@@ -692,9 +839,24 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
           s.circ.prefetch(t2);
         } else if (mk - first < q) {
           const double* c2 = cc[mk - first].data();
+          std::uint32_t edge[2] = {0, 0};  // (numbered)
           for (int k = 0; k < 4; ++k) {
             if ((facet_mask >> k & 1u) == 0) continue;
             const double* px = ctx_.site(v[k]);
+            if constexpr (kWeighted) {
+              if (numbered) {
+                const std::uint32_t v2[4] = {ctx_.dt.tet_vertex(t2, 0), ctx_.dt.tet_vertex(t2, 1),
+                                             ctx_.dt.tet_vertex(t2, 2), ctx_.dt.tet_vertex(t2, 3)};
+                add_piece_numbered(v, q, f, k, v2, mk - first, in[k] - 1, cc[q].data(), c2, edge,
+                                   s.chunk.nodes);
+                DensityBatch& batch = thread_density_batch();
+                if (batch.staged_full()) {
+                  batch.evaluate_staged();
+                  integrate_pairs(s.chunk.nodes, cr, cells, sums);
+                }
+                continue;
+              }
+            }
             const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
             add_piece<kWeighted>(px, ctx_.site(vj), ctx_.site(vk), cr[4 * std::size_t{q} + k],
                                  rel(c2, px), sums[in[k] - 1]);
@@ -704,7 +866,14 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
     }
   }
   st.next = first + nb_tets;
-  if (kWeighted && ctx_.callback_density) thread_density_batch().flush();
+  if constexpr (kWeighted) {
+    if (numbered) {
+      thread_density_batch().evaluate_staged();
+      integrate_pairs(s.chunk.nodes, cr, cells, sums);
+    } else if (ctx_.callback_density) {
+      thread_density_batch().flush();
+    }
+  }
   for (std::uint32_t k = 0; k < count; ++k) {
     slot[cells[k]] = 0;
     if constexpr (kWeighted) {

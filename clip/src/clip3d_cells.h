@@ -124,6 +124,50 @@ class CircumcentreCache {
   std::vector<Entry> entries_ = std::vector<Entry>(kSlots, Entry{kNone, {0, 0, 0}});
 };
 
+// The P2 nodes of an inner chunk's cones under Density3::Rule::kQuadratic, numbered in the
+// thread's DensityBatch (its numbered nodes) from what defines them, so that the cells of a
+// chunk share them (about 1.4 nodes per cone, against 3.3 found by their bits): a Voronoi
+// vertex (chunk tet q: its circumcentre c, shared by 4 cells); the foot of bisector(i, j)
+// (the midpoint f_ij of the sites, 2 cells); per tet and pair of its vertices, the midpoint
+// (f_ij + c) / 2 (the 2 cones of face (i, j) at c, in cells i and j); per Voronoi edge,
+// the midpoint of its circumcentres (its 2 cones in each of its 3 cells). Per cell i (site
+// x): x, and the midpoints (x + c) / 2 and (x + f_ij) / 2. Each is computed from the same
+// operands by every cone that has it (the circumcentres' bits, the sites in the order of
+// their ids), so the same bits. A position is valid while its epoch is the batch's (a
+// flush starts a new one).
+struct ChunkNodes {
+  struct Tet {
+    std::uint32_t epoch;
+    std::uint32_t vertex;   // c
+    std::uint32_t half[4];  // [l]: (x + c) / 2 for the cell of local vertex l
+    std::uint32_t mid[6];   // [kPair[l][l2]]: (f + c) / 2 for local vertices l, l2
+  };
+  static constexpr int kPair[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 4, 5, -1}};
+  struct Foot {
+    std::uint32_t a, b, epoch;    // sites a < b
+    std::uint32_t full, half[2];  // f_ab; (p_a + f_ab) / 2, (p_b + f_ab) / 2
+  };
+  // The feet: direct-mapped by (a, b) (a slot keeps the last pair; a pair pushed out is
+  // pushed again, as a new node of the same bits).
+  static constexpr std::uint32_t kFootSlots = 4096;
+  Foot& foot(std::uint32_t a, std::uint32_t b) {
+    return feet[(a * 0x9E3779B1u ^ b * 0x85EBCA77u) >> 20];  // the top 12 bits: kFootSlots
+  }
+  // A piece's two cones in cell `cell` (chunk slot) with neighbours j, k (sites): u, w
+  // the positions of the piece's ends relative to the site in the chunk's Rel array, and
+  // the nodes x, f_j, (x + f_j) / 2, f_k, (x + f_k) / 2, c_u, (x + c_u) / 2, c_w,
+  // (x + c_w) / 2, (f_j + c_u) / 2, (f_j + c_w) / 2, (f_k + c_w) / 2, (f_k + c_u) / 2,
+  // (c_u + c_w) / 2. Integrated (integrate_pairs) once their nodes are evaluated.
+  struct Pair {
+    std::uint32_t cell, u, w, j, k;
+    std::uint32_t node[14];
+  };
+  std::vector<Tet> tets;            // per chunk tet
+  std::vector<std::uint32_t> site;  // per chunk cell: epoch, node
+  std::vector<Pair> pairs;
+  std::vector<Foot> feet = std::vector<Foot>(kFootSlots, Foot{kNone, kNone, 0, 0, {0, 0}});
+};
+
 // Local numbering of the Voronoi edges around a tet's vertex: for vertex li of a positive
 // tet (Delaunay3) and a facet f != li, kFaceOther[li][f] = {lj, lk}, the other two vertices
 // of facet f, so that (li, lj, lk, f) is an even permutation of (0, 1, 2, 3). Then the
@@ -154,6 +198,7 @@ class DelaunayCells {
       std::vector<Rel> rel;
       std::vector<PieceSums> sums;
       std::vector<Moments> moments;
+      ChunkNodes nodes;  // weighted, kQuadratic (add_piece_numbered)
     } chunk;
     // (site, 0/1) for the non-boundary sites of the stars of boundary cells (decide_status),
     // each site once per cell or chunk (site_mark: the generation that reported it).
@@ -268,6 +313,22 @@ class DelaunayCells {
       add_edge_piece(foot(pj, px), foot(pk, px), u, w, acc);
     }
   }
+
+  // add_piece<true> for an inner chunk under Density3::Rule::kQuadratic, with numbered
+  // nodes (ChunkNodes): the Voronoi edge dual to facet f of chunk tet q (vertices v, its
+  // circumcentre c) to chunk tet q2 (vertices v2, circumcentre c2), for the cell of its
+  // vertex lk (chunk slot `cell`): its pair of cones recorded in nodes.pairs. `edge`: the
+  // epoch and position of the edge's midpoint node, set by the first cell of the edge to
+  // push it (start with epoch 0).
+  void add_piece_numbered(const std::uint32_t* v, std::uint32_t q, int f, int lk,
+                          const std::uint32_t* v2, std::uint32_t q2, std::uint32_t cell,
+                          const double* c, const double* c2, std::uint32_t* edge,
+                          ChunkNodes& nodes) const;
+  // The recorded pairs' cones integrated (add_tet_p2, as add_piece<true>'s cones, in the
+  // order recorded) into sums[cell], their nodes evaluated (the thread's DensityBatch's
+  // values); cr: the chunk's Rel array, cells: the chunk's cells. Clears nodes.pairs.
+  void integrate_pairs(ChunkNodes& nodes, const Rel* cr, const std::uint32_t* cells,
+                       Moments* sums) const;
 
   Clip3Context ctx_;
   const RestrictedSurface& rs_;

@@ -105,6 +105,23 @@ void DensityBatch::flush() {
   }
 }
 
+void DensityBatch::evaluate_staged() {
+  const std::size_t m = staged_;
+  if (m == 0) return;
+  const std::size_t first = values_.size();
+  values_.resize(first + m);
+  double* out = values_.data() + first;
+  const Density3& rho = *rho_;
+  if (rho.batch) {
+    rho.batch(stage_, m, out);
+  } else {
+    for (std::size_t k = 0; k < m; ++k) {
+      out[k] = rho.callback(stage_[3 * k], stage_[3 * k + 1], stage_[3 * k + 2]);
+    }
+  }
+  staged_ = 0;
+}
+
 void Clip3Context::star(std::uint32_t v, Star& s) const {
   const std::uint32_t slots = dt.nb_tet_slots();
   s.reset_if_needed(slots);

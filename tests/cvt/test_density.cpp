@@ -438,6 +438,52 @@ TEST_CASE("density: 10^4 CVT sites in 3D from sites drawn with density rho, whol
   check_site_density(c);
 }
 
+TEST_CASE("density 3D: inner cells under the quadratic rule, 4000 sites, exact and 1 vs N threads",
+          "[cvt][density][threads]") {
+  // Inner cells number their P2 nodes in chunks (DelaunayCells::add_piece_numbered, nodes
+  // shared by the chunk's cells, evaluated 1024 at a time); boundary cells find them by
+  // their bits. For rho of degree 2 both are exact: every cell agrees with the degree-5
+  // rule to rounding, the cube's mass is exact; and the cells are the same bits on 1 and
+  // N threads.
+  const voroclip::Domain3 d = unit_cube();
+  const std::uint32_t n = 4000;
+  const std::vector<double> sites = voroclip::random_points3(d, n, 35);
+  voroclip::Clip3Options o;
+  o.density = voroclip::Density3::function(
+      [](double x, double y, double z) { return 2 + x * x - 0.5 * y * z + z * z; });
+  voroclip::ClippedVoronoi3 five, one, many;
+  five.compute(d, sites.data(), n, o);
+  o.density.rule = voroclip::Density3::Rule::kQuadratic;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one.compute(d, sites.data(), n, o);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          voroclip_test::test_threads());
+    many.compute(d, sites.data(), n, o);
+  }
+  double worst = 0;
+  std::uint32_t inner = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    INFO("cell " << i);
+    inner += one.is_boundary(i) ? 0 : 1;
+    REQUIRE(one.volume(i) == five.volume(i));
+    worst = std::max(worst, std::fabs(one.mass(i) - five.mass(i)) / five.mass(i));
+    worst = std::max(worst, std::fabs(one.energy(i) - five.energy(i)) / five.energy(i));
+    for (int c = 0; c < 3; ++c) {
+      worst = std::max(worst, std::fabs(one.centroid(i)[c] - five.centroid(i)[c]));
+      REQUIRE(one.centroid(i)[c] == many.centroid(i)[c]);
+    }
+    REQUIRE(one.mass(i) == many.mass(i));
+    REQUIRE(one.energy(i) == many.energy(i));
+  }
+  INFO("largest difference " << worst << ", inner cells " << inner);
+  CHECK(inner > n / 2);
+  CHECK(worst < 1e-12);
+  CHECK(one.total_mass() == Approx(2.0 + 2.0 / 3 - 0.125).epsilon(1e-12));
+}
+
 TEST_CASE("density: CVT results identical with 1 and 2 threads (callback density)",
           "[cvt][density][threads]") {
   const voroclip::Domain3 d = unit_cube();
