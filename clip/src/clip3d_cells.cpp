@@ -609,7 +609,7 @@ void DelaunayCells::add_piece_numbered(const std::uint32_t* v, std::uint32_t q, 
                                        std::uint32_t cell, const double* c, const double* c2,
                                        std::uint32_t* edge, ChunkNodes& nodes) const {
   DensityBatch& batch = thread_density_batch();
-  const std::uint32_t epoch = batch.epoch();
+  const std::uint64_t epoch = batch.epoch();
   const std::uint32_t i = v[lk];
   const double* px = ctx_.site(i);
   const int lj = kFaceOther[lk][f][0], lkk = kFaceOther[lk][f][1];
@@ -679,16 +679,14 @@ void DelaunayCells::add_piece_numbered(const std::uint32_t* v, std::uint32_t q, 
     out[0] = e.full;
     out[1] = h;
   };
-  std::uint32_t* site = nodes.site.data() + 2 * std::size_t{cell};
-  if (site[0] != epoch) {
-    site[0] = epoch;
-    site[1] = batch.node([&](double* p) {
+  std::uint32_t& site = nodes.site[cell];
+  if (site == kNone) {
+    site = batch.node([&](double* p) {
       for (int k = 0; k < 3; ++k) p[k] = px[k];
     });
   }
-  if (edge[0] != epoch) {
-    edge[0] = epoch;
-    edge[1] = batch.node([&](double* p) {
+  if (*edge == kNone) {
+    *edge = batch.node([&](double* p) {
       for (int k = 0; k < 3; ++k) p[k] = 0.5 * (c[k] + c2[k]);
     });
   }
@@ -704,7 +702,7 @@ void DelaunayCells::add_piece_numbered(const std::uint32_t* v, std::uint32_t q, 
   p.j = vj;
   p.k = vk;
   std::uint32_t* n = p.node;
-  n[0] = site[1];
+  n[0] = site;
   n[1] = fj[0];
   n[2] = fj[1];
   n[3] = fk[0];
@@ -717,7 +715,7 @@ void DelaunayCells::add_piece_numbered(const std::uint32_t* v, std::uint32_t q, 
   n[10] = face_vertex(tw, v2, lk2, lj2, c2);
   n[11] = face_vertex(tw, v2, lk2, lkk2, c2);
   n[12] = face_vertex(tu, v, lk, lkk, c);
-  n[13] = edge[1];
+  n[13] = *edge;
   nodes.pairs.push_back(p);
 }
 
@@ -762,7 +760,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
       numbered = ctx_.callback_density->rule == Density3::Rule::kQuadratic;
       thread_density_batch().begin(*ctx_.callback_density, numbered);
       if (numbered) {
-        s.chunk.nodes.site.assign(2 * std::size_t{count}, 0);
+        s.chunk.nodes.site.assign(count, kNone);
         s.chunk.nodes.pairs.clear();
       }
     }
@@ -839,7 +837,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
           s.circ.prefetch(t2);
         } else if (mk - first < q) {
           const double* c2 = cc[mk - first].data();
-          std::uint32_t edge[2] = {0, 0};  // (numbered)
+          std::uint32_t edge = kNone;  // (numbered)
           for (int k = 0; k < 4; ++k) {
             if ((facet_mask >> k & 1u) == 0) continue;
             const double* px = ctx_.site(v[k]);
@@ -847,7 +845,7 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
               if (numbered) {
                 const std::uint32_t v2[4] = {ctx_.dt.tet_vertex(t2, 0), ctx_.dt.tet_vertex(t2, 1),
                                              ctx_.dt.tet_vertex(t2, 2), ctx_.dt.tet_vertex(t2, 3)};
-                add_piece_numbered(v, q, f, k, v2, mk - first, in[k] - 1, cc[q].data(), c2, edge,
+                add_piece_numbered(v, q, f, k, v2, mk - first, in[k] - 1, cc[q].data(), c2, &edge,
                                    s.chunk.nodes);
                 DensityBatch& batch = thread_density_batch();
                 if (batch.staged_full()) {

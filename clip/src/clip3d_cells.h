@@ -137,14 +137,15 @@ class CircumcentreCache {
 // flush starts a new one).
 struct ChunkNodes {
   struct Tet {
-    std::uint32_t epoch;
+    std::uint64_t epoch;
     std::uint32_t vertex;   // c
     std::uint32_t half[4];  // [l]: (x + c) / 2 for the cell of local vertex l
     std::uint32_t mid[6];   // [kPair[l][l2]]: (f + c) / 2 for local vertices l, l2
   };
   static constexpr int kPair[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 4, 5, -1}};
   struct Foot {
-    std::uint32_t a, b, epoch;    // sites a < b
+    std::uint64_t epoch;
+    std::uint32_t a, b;           // sites a < b
     std::uint32_t full, half[2];  // f_ab; (p_a + f_ab) / 2, (p_b + f_ab) / 2
   };
   // The feet: direct-mapped by (a, b) (a slot keeps the last pair; a pair pushed out is
@@ -163,9 +164,9 @@ struct ChunkNodes {
     std::uint32_t node[14];
   };
   std::vector<Tet> tets;            // per chunk tet
-  std::vector<std::uint32_t> site;  // per chunk cell: epoch, node
+  std::vector<std::uint32_t> site;  // per chunk cell: its node (kNone: not yet)
   std::vector<Pair> pairs;
-  std::vector<Foot> feet = std::vector<Foot>(kFootSlots, Foot{kNone, kNone, 0, 0, {0, 0}});
+  std::vector<Foot> feet = std::vector<Foot>(kFootSlots, Foot{0, kNone, kNone, 0, {0, 0}});
 };
 
 // Local numbering of the Voronoi edges around a tet's vertex: for vertex li of a positive
@@ -318,8 +319,8 @@ class DelaunayCells {
   // nodes (ChunkNodes): the Voronoi edge dual to facet f of chunk tet q (vertices v, its
   // circumcentre c) to chunk tet q2 (vertices v2, circumcentre c2), for the cell of its
   // vertex lk (chunk slot `cell`): its pair of cones recorded in nodes.pairs. `edge`: the
-  // epoch and position of the edge's midpoint node, set by the first cell of the edge to
-  // push it (start with epoch 0).
+  // position of the edge's midpoint node, set by the first cell of the edge to push it
+  // (start with kNone).
   void add_piece_numbered(const std::uint32_t* v, std::uint32_t q, int f, int lk,
                           const std::uint32_t* v2, std::uint32_t q2, std::uint32_t cell,
                           const double* c, const double* c2, std::uint32_t* edge,

@@ -331,7 +331,7 @@ class DensityBatch {
     if (tets_.size() == kMaxTets) flush();
   }
   // Numbered nodes: the batch's generation (a record of another generation is stale).
-  std::uint32_t epoch() const { return epoch_; }
+  std::uint64_t epoch() const { return epoch_; }
   // The position of a new node, its 3 coordinates written by make(double*).
   template <class Make>
   std::uint32_t node(Make&& make) {
@@ -359,11 +359,11 @@ class DensityBatch {
     Moments* r;
   };
   void new_epoch() {
-    if (++epoch_ == 0) epoch_ = 1;  // (0: never a batch's, so a fresh NodeRef is stale)
+    ++epoch_;  // 64 bits: never wraps (a record of an old batch is never taken for new)
   }
   const Density3* rho_ = nullptr;
   bool numbered_ = false;
-  std::uint32_t epoch_ = 1;
+  std::uint64_t epoch_ = 1;
   std::vector<Tet> tets_;
   // The points (3 coordinates each) and rho there (numbered: rho at the nodes evaluated).
   std::vector<double> points_, values_;
