@@ -57,6 +57,45 @@ Mesh2 mesh_of(const Domain2& d, std::uint32_t n, Mesh2Stats* st = nullptr,
   return m;
 }
 
+// Issue 31's angle bound, per triangle: 30 degrees, or min(30, the corner's interior
+// angle) for a triangle with a vertex at an input corner sharper than 60 degrees (its
+// sharpest one). The triangles below 30 degrees and how many of them miss their bound
+// (1e-9 degrees of rounding allowed: the tip of a cut corner has the corner's own angle,
+// computed from other coordinates).
+struct AngleBound {
+  std::uint32_t below_30 = 0, at_sharp_corner = 0, missed = 0;
+  double worst = 180;  // the smallest angle of a triangle that misses its bound
+  double bound = 30;   // the lowest bound of a triangle below 30 degrees
+};
+AngleBound angle_bound(const Domain2& d, const Mesh2& m) {
+  AngleBound r;
+  const std::vector<double> angles = voroclip::triangle_min_angles(m);
+  for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+    if (angles[t] >= 30) continue;
+    ++r.below_30;
+    double corner = 180;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.vertex_domain[m.triangles[3 * std::size_t{t} + std::size_t(k)]];
+      if (v == Mesh2::kNone) continue;
+      const double* a = d.vertex(d.prev(v));
+      const double* p = d.vertex(v);
+      const double* c = d.vertex(d.next(v));
+      const double ux = p[0] - a[0], uy = p[1] - a[1], wx = c[0] - p[0], wy = c[1] - p[1];
+      const double interior =
+          180 - std::atan2(ux * wy - uy * wx, ux * wx + uy * wy) * 180 / 3.14159265358979323846;
+      if (interior < 60) corner = std::min(corner, interior);
+    }
+    r.at_sharp_corner += corner < 60;
+    const double bound = std::min(30.0, corner);
+    r.bound = std::min(r.bound, bound);
+    if (angles[t] < bound - 1e-9) {
+      ++r.missed;
+      r.worst = std::min(r.worst, angles[t]);
+    }
+  }
+  return r;
+}
+
 bool has_vertex_at(const Mesh2& m, const double* p) {
   for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
     if (m.xy[2 * v] == p[0] && m.xy[2 * v + 1] == p[1]) return true;
@@ -437,27 +476,74 @@ TEST_CASE("mesh2d: bad options throw voroclip::Error; cancellation", "[mesh]") {
   }
 }
 
+// Issue 31's quality target on a mesh: min angle >= 30 degrees but at input corners
+// sharper than 60 degrees (there >= min(30, the corner's angle)), mean per-triangle min
+// angle >= 53; coverage exactly 1 (mesh_of checks it); the vertex count within 10 % of the
+// request or a note saying why.
+void check_issue31_target(const Domain2& d, std::uint32_t n) {
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, n, &st);
+  const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+  const AngleBound b = angle_bound(d, m);
+  INFO(d.source() << " at " << n << " vertices asked: " << voroclip::quality_text(q) << b.below_30
+                  << " triangles below 30 degrees, " << b.at_sharp_corner << " at sharp corners, "
+                  << b.missed << " below their bound (worst " << b.worst << "); "
+                  << st.vertex_count_note);
+  CHECK(b.missed == 0);
+  CHECK(q.mean_min_angle >= 53);
+  CHECK(std::fabs(st.covered_fraction - 1) <= 1e-12);
+  const bool within = std::fabs(double(m.nb_vertices()) - n) <= 0.1 * n;
+  CHECK(within == st.vertex_count_note.empty());
+}
+
+TEST_CASE("mesh2d: issue 31's target on three polygons at 1000 vertices", "[mesh]") {
+  // building: corners of 90 degrees and reflex ones; dude: curves; issue34: a 24.4-degree
+  // corner, cut, whose tip triangle is the only one below 30 degrees.
+  for (const char* name : {"building", "dude", "issue34"}) {
+    check_issue31_target(
+        Domain2(voroclip::read_polygon(kData + "/polygons/valid/" + name + ".json")), 1000);
+  }
+  const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue34.json"));
+  const AngleBound b = angle_bound(d, mesh_of(d, 1000));
+  CHECK(b.at_sharp_corner == b.below_30);
+  CHECK(b.below_30 >= 1);
+}
+
+TEST_CASE("mesh2d: a triangle whose own vertex encroaches its boundary edge is refined",
+          "[mesh][regression]") {
+  // issue35.json at 5000 vertices kept a 20.4-degree triangle (23.5 after smoothing)
+  // against a boundary edge next to a 243-degree reflex vertex: its circumcenter was
+  // outside the domain but in no boundary edge's diametral circle, so the refinement
+  // neither inserted it nor split an edge, 30 rounds running. Only the tips of the three
+  // cut corners (20.2, 24.2 and 29.3 degrees) may stay below 30.
+  const Domain2 d(voroclip::read_polygon(kData + "/polygons/valid/issue35.json"));
+  const Mesh2 m = mesh_of(d, 5000);
+  const AngleBound b = angle_bound(d, m);
+  INFO(b.below_30 << " triangles below 30 degrees, worst missing its bound " << b.worst);
+  CHECK(b.missed == 0);
+  CHECK(b.below_30 == b.at_sharp_corner);
+  CHECK(b.below_30 == 3);
+}
+
 TEST_CASE("mesh2d: every valid polygon and a 10^4-vertex annulus meet the target",
           "[mesh][.slow]") {
-  // The issue's target: min angle >= 30 and mean per-triangle min angle >= 51 degrees.
-  // N per input as in bench/RESULTS.md.
+  // N per input as in bench/RESULTS.md, but where the mean of 53 degrees needs more: hilbert
+  // (corridors a few triangles wide: 51.0 at 3000 vertices, 53.6 at 10^4), issue35 (graded
+  // to its small features: 51.1 at 5000, 54.9 at 10^4) and eberly-6 (52.7 at 10^4, 55.2 at
+  // 2*10^4); bench/compare/RESULTS_mesh2.md has the sweep.
   struct Case {
     const char* name;
     std::uint32_t n;
   };
   for (const Case& c :
-       {Case{"building", 5000}, Case{"dude", 5000}, Case{"earcut", 5000}, Case{"eberly-6", 10000},
-        Case{"hilbert", 5000}, Case{"issue29", 5000}, Case{"issue34", 5000}, Case{"issue35", 5000},
-        Case{"issue52", 5000}, Case{"annulus", 10000}}) {
+       {Case{"building", 5000}, Case{"dude", 5000}, Case{"earcut", 5000}, Case{"eberly-6", 20000},
+        Case{"hilbert", 10000}, Case{"issue29", 5000}, Case{"issue34", 5000},
+        Case{"issue35", 10000}, Case{"issue52", 5000}, Case{"annulus", 10000}}) {
     const std::string name = c.name;
     const Domain2 d(name == "annulus"
                         ? voroclip::annulus_rings(0.5, 1.0, 256)
                         : voroclip::read_polygon(kData + "/polygons/valid/" + name + ".json"));
-    const Mesh2 m = mesh_of(d, c.n);
-    const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
-    INFO(name << ": " << voroclip::quality_text(q));
-    CHECK(q.min_angle >= 30);
-    CHECK(q.mean_min_angle >= 51);
+    check_issue31_target(d, c.n);
   }
 }
 
@@ -479,6 +565,8 @@ TEST_CASE("mesh2d: features that need more vertices than asked are counted", "[m
   CHECK(st.vertex_count_note.find("the small features force more") != std::string::npos);
   CHECK(st.vertex_count_note.find("about " + std::to_string(st.feature_vertices) + " vertices") !=
         std::string::npos);
+  // No sampling lowers the count to the request: the first run is kept, not redone.
+  CHECK(st.vertex_count_runs == 0);
   const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
   INFO(voroclip::quality_text(q));
   CHECK(q.min_angle >= 30);

@@ -390,7 +390,7 @@ struct Mesh2Options {
   // more than `vertex_tolerance` (relative) is redone, at most twice (the sampling scaled
   // by the miss, then the secant through the two runs), and the closest kept
   // (Mesh2Stats::vertex_count_runs); a domain whose small features need more vertices gets
-  // more (Mesh2Stats::vertex_count_note says by how much).
+  // more, in one run (Mesh2Stats::vertex_count_note says by how much).
   std::uint32_t nb_vertices = 0;
   double vertex_tolerance = 0.1;
   // Target edge length H far from small features, used when nb_vertices == 0.
