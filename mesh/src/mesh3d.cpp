@@ -509,6 +509,17 @@ void Pipeline::run() {
       fo.below_deg = options.flip_dihedral_deg;
       fo.gain_deg = options.flip_gain_deg;
       fo.max_operations = options.max_flips_per_tet * static_cast<std::uint32_t>(tets.size() / 4);
+      // A surface vertex moves within its own patch (as in the perturbation): onto the
+      // surface, refused where that lands on another patch.
+      if (options.flip_moves_surface) {
+        fo.on_surface = [&](std::uint32_t s, const double* p, double* q) {
+          double d[3];
+          project(s, Kind::kSurface, p, q, d);
+          return patches.begin[s] == patches.begin[s + 1] ||
+                 triangle_patch[surface_tree.closest(q).triangle] ==
+                     patches.patches[patches.begin[s]];
+        };
+      }
       const mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
       result.nb_flips = fs.flips;
       result.nb_flip_moves = fs.moves;

@@ -105,16 +105,21 @@ std::uint32_t peel_flat_boundary_tets(
 // Flips, smoothing and insertion against the tets whose smallest dihedral angle is below
 // below_deg, worst first (flips3d.cpp): 2-3 flips of interior faces and removal of
 // interior edges with up to 8 tets around them (3-2, 4-4, ...); else a move of one of the
-// tet's free vertices (kinds kFree); else a new free vertex in the cavity of the tet and
-// its face neighbours (appended to `sites`; its kind is kFree; not when a vertex would be
-// left inside the cavity). Each is applied when the
-// smallest Q1 of the tets it makes beats that of the tets it replaces by more than
-// gain_deg; at most max_operations. The union of the tets and the boundary vertices are
-// unchanged; every new tet is right-handed exactly (orient3d < 0, as `tets` is given).
+// tet's free vertices (kinds kFree; with on_surface, of its surface vertices on the
+// surface too); else a new free vertex in the cavity of the tet and its face neighbours
+// (appended to `sites`; not when a vertex would be left inside the cavity). Each is
+// applied when the smallest Q1 of the tets it makes beats that of the tets it replaces by
+// more than gain_deg and their smallest Q4 is not below the replaced tets' (or 0.5); at
+// most max_operations. The boundary triangles are unchanged (their vertices only slide on
+// the surface, with on_surface); every new tet is right-handed exactly (orient3d < 0, as
+// `tets` is given).
 struct Flip3Options {
   double below_deg = 30, gain_deg = 0.01;
   std::uint32_t max_operations = 0;
   bool flip = true, smooth = true, insert = true;  // which operations
+  // When set, surface vertices (kSurface) move too, each candidate position p replaced by
+  // q, on_surface(v, p, q) (false: the candidate is dropped).
+  std::function<bool(std::uint32_t, const double*, double*)> on_surface;
 };
 struct Flip3Stats {
   std::uint32_t flips = 0, moves = 0, insertions = 0;

@@ -1024,13 +1024,15 @@ struct Mesh3Options {
   // Last (step 7c), against the tets whose smallest dihedral angle is below
   // flip_dihedral_deg, worst first: topological flips (2-3 flips of interior faces, removal
   // of interior edges with up to 8 tets around them: 3-2, 4-4, ...), else a move of an
-  // interior vertex of the tet, else a new interior vertex in the cavity of the tet and its
+  // interior vertex of the tet (or, with flip_moves_surface, of a surface vertex within its
+  // surface patch), else a new interior vertex in the cavity of the tet and its
   // face neighbours; each kept only when it raises the smallest dihedral angle of the tets
   // it replaces by more than flip_gain_deg. The mesh need not stay Delaunay; its boundary
-  // is unchanged. At most max_flips_per_tet times the number of tets operations; 0
-  // degrees: none.
+  // keeps its triangles (surface vertices only slide on the surface). At most max_flips_per_tet
+  // times the number of tets operations; 0 degrees: none.
   double flip_dihedral_deg = 30;
   double flip_gain_deg = 0.01;
+  bool flip_moves_surface = true;  // surface vertices move too (within their patch)
   std::uint32_t max_flips_per_tet = 1;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
