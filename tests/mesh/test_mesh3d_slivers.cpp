@@ -17,6 +17,7 @@
 
 #include "mesh3d_pipeline.h"
 #include "mesh3d_tags.h"
+#include "mesh_test_shapes.h"
 #include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
@@ -472,4 +473,43 @@ TEST_CASE("flip_slivers3: an extracted mesh keeps its boundary and gains", "[mes
   voroclip::mesh3::flip_slivers3(p2, s.kinds, again, o);
   CHECK(again == t);
   CHECK(p2 == p);
+}
+
+TEST_CASE("mesh3d: step 7c raises the smallest angle and keeps the boundary",
+          "[mesh][regression]") {
+  // Issue 30: fandisk with few iterations leaves tets below 30 degrees at the boundary; the
+  // flips, moves and insertions of step 7c raise the smallest angle, keep every boundary
+  // triangle (same vertices, numbered alike: sites inserted come last) and the shape.
+  const Domain3 fandisk(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  voroclip::Mesh3Options o = voroclip_test::small_options(700);
+  o.unconstrained_iterations = 4;
+  o.constrained_iterations = 6;
+  const voroclip::Mesh3Result with = voroclip::mesh3d(fandisk, o);
+  o.flip_dihedral_deg = 0;
+  const voroclip::Mesh3Result without = voroclip::mesh3d(fandisk, o);
+  INFO("smallest dihedral angle " << without.quality.q1_deg.min << " -> " << with.quality.q1_deg.min
+                                  << ": " << with.nb_flips << " flips, " << with.nb_flip_moves
+                                  << " moves, " << with.nb_flip_sites << " sites");
+  CHECK(without.nb_flips + without.nb_flip_moves + without.nb_flip_sites == 0);
+  REQUIRE(with.nb_flips + with.nb_flip_moves + with.nb_flip_sites > 0);
+  CHECK(with.quality.q1_deg.min > without.quality.q1_deg.min);
+  CHECK(with.quality.q4.min >= std::min(without.quality.q4.min, 0.5));
+  CHECK(with.quality.inverted.empty());
+  CHECK(with.quality.degenerate.empty());
+  CHECK(with.shape_problem.empty());
+  CHECK(with.nb_vertices() == without.nb_vertices() + with.nb_flip_sites);
+  const auto sorted = [](const std::vector<std::uint32_t>& tri) {
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (std::size_t b = 0; b < tri.size(); b += 3) {
+      std::array<std::uint32_t, 3> x = {tri[b], tri[b + 1], tri[b + 2]};
+      std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());
+      out.push_back(x);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  CHECK(sorted(with.boundary_triangles) == sorted(without.boundary_triangles));
+  // Interior vertices only where they were (moved or not) and the constrained ones on the
+  // surface: the same kinds.
+  CHECK(std::equal(without.kinds.begin(), without.kinds.end(), with.kinds.begin()));
 }
