@@ -82,11 +82,31 @@ class Flipper {
 
   // Worst first, the tets below options_.below_deg; at most options_.max_operations.
   Flip3Stats run() {
-    const double below_deg = options_.below_deg;
+    pass(options_.below_deg);
+    if (options_.below_q4 > 0) {
+      // Q4 now the measure, Q1 the guard (kept above its pass's threshold).
+      q4_mode_ = true;
+      gain_ = options_.gain_q4;
+      keep_ = options_.below_deg;
+      for (std::size_t t = 0; t < tets_.size(); ++t) {
+        if (alive_[t] == 0) continue;
+        const Tet& v = tets_[t];
+        const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
+        obj_[t] = shape.q4;
+        guard_[t] = shape.q1_deg;
+      }
+      pass(options_.below_q4);
+    }
+    return stats_;
+  }
+
+  // Worst first (by the current measure), the tets below `below`, while operations are
+  // left (options_.max_operations in all).
+  void pass(double below) {
     using Entry = std::pair<double, std::uint32_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-    for (std::uint32_t t = 0; t < q1_.size(); ++t) {
-      if (q1_[t] < below_deg) queue.emplace(q1_[t], t);
+    for (std::uint32_t t = 0; t < obj_.size(); ++t) {
+      if (alive_[t] != 0 && obj_[t] < below) queue.emplace(obj_[t], t);
     }
     while (!queue.empty() &&
            stats_.flips + stats_.moves + stats_.insertions < options_.max_operations) {
@@ -96,10 +116,9 @@ class Flipper {
       const std::size_t first_new = tets_.size();
       if (!improve(t)) continue;
       for (std::size_t s = first_new; s < tets_.size(); ++s) {
-        if (q1_[s] < below_deg) queue.emplace(q1_[s], static_cast<std::uint32_t>(s));
+        if (obj_[s] < below) queue.emplace(obj_[s], static_cast<std::uint32_t>(s));
       }
     }
-    return stats_;
   }
 
   // The live tets, in the order of their creation.
@@ -120,15 +139,16 @@ class Flipper {
   // Q1 of a tet given right-handed, kInvalid when it is not right-handed (exact).
   double quality(const Tet& v) const {
     if (orient3d(at(v[0]), at(v[1]), at(v[2]), at(v[3])) != Sign::negative) return kInvalid;
-    return tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3])).q1_deg;
+    const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
+    return q4_mode_ ? shape.q4 : shape.q1_deg;
   }
 
   void add(const Tet& v) {
     const auto t = static_cast<std::uint32_t>(tets_.size());
     const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
     tets_.push_back(v);
-    q1_.push_back(shape.q1_deg);
-    q4_.push_back(shape.q4);
+    obj_.push_back(q4_mode_ ? shape.q4 : shape.q1_deg);
+    guard_.push_back(q4_mode_ ? shape.q1_deg : shape.q4);
     alive_.push_back(1);
     for (const std::uint32_t x : v) vertex_tets_[x].push_back(t);
   }
@@ -136,16 +156,17 @@ class Flipper {
   // or kQ4Keep.
   bool keeps_q4(const std::vector<std::uint32_t>& old_tets, const std::vector<Tet>& new_tets,
                 std::uint32_t x = kNoVertex, const double* p = nullptr) {
-    double before = kQ4Keep;
-    for (const std::uint32_t o : old_tets) before = std::min(before, q4_[o]);
+    double before = keep_;
+    for (const std::uint32_t o : old_tets) before = std::min(before, guard_[o]);
     std::array<double, 3> keep{};
     if (x != kNoVertex) {
       std::copy(at(x), at(x) + 3, keep.begin());
       std::copy(p, p + 3, at(x));
     }
-    double after = 1;
+    double after = std::numeric_limits<double>::infinity();
     for (const Tet& w : new_tets) {
-      after = std::min(after, tet_shape(at(w[0]), at(w[1]), at(w[2]), at(w[3])).q4);
+      const TetShape shape = tet_shape(at(w[0]), at(w[1]), at(w[2]), at(w[3]));
+      after = std::min(after, q4_mode_ ? shape.q1_deg : shape.q4);
     }
     if (x != kNoVertex) std::copy(keep.begin(), keep.end(), at(x));
     return after >= before;
@@ -198,11 +219,10 @@ class Flipper {
         std::vector<Tet> around;
         for (const std::uint32_t s : star) around.push_back(tets_[s]);
         double before = std::numeric_limits<double>::infinity();
-        for (const std::uint32_t s : star) before = std::min(before, q1_[s]);
+        for (const std::uint32_t s : star) before = std::min(before, obj_[s]);
         std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
         const double after = search(x, around, p);
-        if (after > before + options_.gain_deg && after > best_move &&
-            keeps_q4(star, around, x, p.data())) {
+        if (after > before + gain_ && after > best_move && keeps_q4(star, around, x, p.data())) {
           best_move = after;
           moved = x;
           to = p;
@@ -335,14 +355,14 @@ class Flipper {
       }
     }
     double before = std::numeric_limits<double>::infinity();
-    for (const std::uint32_t c : cavity) before = std::min(before, q1_[c]);
+    for (const std::uint32_t c : cavity) before = std::min(before, obj_[c]);
     std::array<double, 3> p{};
     for (const std::uint32_t y : tets_[t]) {
       for (int c = 0; c < 3; ++c) p[c] += at(y)[c] / 4;
     }
     sites_.insert(sites_.end(), p.begin(), p.end());
     const double after = search(x, star, p);
-    if (!(after > before + options_.gain_deg) || !keeps_q4(cavity, star, x, p.data())) {
+    if (!(after > before + gain_) || !keeps_q4(cavity, star, x, p.data())) {
       sites_.resize(3 * std::size_t{x});
       return false;
     }
@@ -360,10 +380,10 @@ class Flipper {
   void consider(const std::vector<std::uint32_t>& old_tets, const std::vector<Tet>& new_tets,
                 double& best, std::vector<std::uint32_t>& best_old, std::vector<Tet>& best_new) {
     double before = std::numeric_limits<double>::infinity();
-    for (const std::uint32_t o : old_tets) before = std::min(before, q1_[o]);
+    for (const std::uint32_t o : old_tets) before = std::min(before, obj_[o]);
     double after = std::numeric_limits<double>::infinity();
     for (const Tet& n : new_tets) after = std::min(after, quality(n));
-    if (after > before + options_.gain_deg && after > best && keeps_q4(old_tets, new_tets)) {
+    if (after > before + gain_ && after > best && keeps_q4(old_tets, new_tets)) {
       best = after;
       best_old = old_tets;
       best_new = new_tets;
@@ -500,7 +520,10 @@ class Flipper {
   std::vector<std::vector<std::uint32_t>> vertex_tets_;
   std::vector<std::uint8_t> free_;
   std::vector<Tet> tets_;
-  std::vector<double> q1_, q4_;
+  // Per tet: the measure operations raise (Q1, then Q4) and the one they keep (Q4, Q1).
+  std::vector<double> obj_, guard_;
+  bool q4_mode_ = false;
+  double gain_ = options_.gain_deg, keep_ = kQ4Keep;
   std::vector<std::uint8_t> alive_;
 };
 

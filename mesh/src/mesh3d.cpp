@@ -508,6 +508,7 @@ void Pipeline::run() {
       mesh3::Flip3Options fo;
       fo.below_deg = options.flip_dihedral_deg;
       fo.gain_deg = options.flip_gain_deg;
+      fo.below_q4 = options.flip_q4;
       fo.max_operations = options.max_flips_per_tet * static_cast<std::uint32_t>(tets.size() / 4);
       // A surface vertex moves within its own patch (as in the perturbation): onto the
       // surface, refused where that lands on another patch.

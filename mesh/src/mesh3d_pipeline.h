@@ -115,6 +115,10 @@ std::uint32_t peel_flat_boundary_tets(
 // `tets` is given).
 struct Flip3Options {
   double below_deg = 30, gain_deg = 0.01;
+  // Then a second pass against the tets whose Q4 is below below_q4 (0: none), each operation
+  // raising the smallest Q4 by more than gain_q4 and keeping the smallest Q1 of the tets it
+  // replaces (or below_deg).
+  double below_q4 = 0, gain_q4 = 0.001;
   std::uint32_t max_operations = 0;
   bool flip = true, smooth = true, insert = true;  // which operations
   // When set, surface vertices (kSurface) move too, each candidate position p replaced by

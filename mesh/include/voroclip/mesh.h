@@ -1033,6 +1033,10 @@ struct Mesh3Options {
   double flip_dihedral_deg = 30;
   double flip_gain_deg = 0.01;
   bool flip_moves_surface = true;  // surface vertices move too (within their patch)
+  // Then the same operations against the tets whose Q4 is below flip_q4 (0: none), each
+  // raising the smallest Q4 of the tets it replaces and keeping their smallest dihedral
+  // angle (or flip_dihedral_deg).
+  double flip_q4 = 0.4;
   std::uint32_t max_flips_per_tet = 1;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
