@@ -337,7 +337,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg},
                          {"rerun_for_shape", r.perturbation_rerun},
                          {"round_undone", r.perturbation.undone},
-                         {"peeled_tets", r.nb_peeled}};
+                         {"peeled_tets", r.nb_peeled},
+                         {"flips", r.nb_flips},
+                         {"flip_moves", r.nb_flip_moves},
+                         {"flip_sites", r.nb_flip_sites}};
     nlohmann::json seconds = {{"read", t_read}};
     for (int p = 0; p < kNbMesh3Phases; ++p)
       seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];

@@ -502,6 +502,37 @@ void Pipeline::run() {
                                                  });
     }
 
+    // 7c. Flips, moves of free vertices and insertions against the worst tets left: the
+    // boundary stays, the tets need not be Delaunay.
+    if (options.flip_dihedral_deg > 0) {
+      mesh3::Flip3Options fo;
+      fo.below_deg = options.flip_dihedral_deg;
+      fo.gain_deg = options.flip_gain_deg;
+      fo.below_q4 = options.flip_q4;
+      fo.max_operations = options.max_flips_per_tet * static_cast<std::uint32_t>(tets.size() / 4);
+      // A surface vertex moves within its own patch (as in the perturbation): onto the
+      // surface, refused where that lands on another patch.
+      if (options.flip_moves_surface) {
+        fo.on_surface = [&](std::uint32_t s, const double* p, double* q) {
+          double d[3];
+          project(s, Kind::kSurface, p, q, d);
+          return patches.begin[s] == patches.begin[s + 1] ||
+                 triangle_patch[surface_tree.closest(q).triangle] ==
+                     patches.patches[patches.begin[s]];
+        };
+      }
+      const mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
+      result.nb_flips = fs.flips;
+      result.nb_flip_moves = fs.moves;
+      result.nb_flip_sites = fs.insertions;
+      for (; n < sites.size() / 3; ++n) {
+        kinds.push_back(Kind::kFree);
+        line_of.push_back(SurfaceTree::kNone);
+        corner_vertex.push_back(SurfaceTree::kNone);
+      }
+      result.nb_sites = n;
+    }
+
     // 8. Output: the used sites, renumbered in site order.
     next_phase(Mesh3Phase::kQuality);
     std::vector<std::uint32_t> index(n, SurfaceTree::kNone);

@@ -8,6 +8,7 @@
 //                            the closed-ball property (topology3d.cpp checks it);
 //   phong3d.cpp              the smooth surface the surface sites are projected onto;
 //   slivers3d.cpp            step 7: sliver perturbation;
+//   flips3d.cpp              step 7c: flips against the worst tets;
 //   mesh3d_tags.cpp          boundary triangles, patch and region tags.
 // Internal to the mesh module.
 #pragma once
@@ -100,6 +101,35 @@ std::uint32_t peel_flat_boundary_tets(
     const std::vector<double>& sites, const std::vector<Kind>& kinds,
     std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
     const std::function<bool(const std::vector<std::uint32_t>&)>& keep);
+
+// Flips, smoothing and insertion against the tets whose smallest dihedral angle is below
+// below_deg, worst first (flips3d.cpp): 2-3 flips of interior faces and removal of
+// interior edges with up to 8 tets around them (3-2, 4-4, ...); else a move of one of the
+// tet's free vertices (kinds kFree; with on_surface, of its surface vertices on the
+// surface too); else a new free vertex in the cavity of the tet and its face neighbours
+// (appended to `sites`; not when a vertex would be left inside the cavity). Each is
+// applied when the smallest Q1 of the tets it makes beats that of the tets it replaces by
+// more than gain_deg and their smallest Q4 is not below the replaced tets' (or 0.5); at
+// most max_operations. The boundary triangles are unchanged (their vertices only slide on
+// the surface, with on_surface); every new tet is right-handed exactly (orient3d < 0, as
+// `tets` is given).
+struct Flip3Options {
+  double below_deg = 30, gain_deg = 0.01;
+  // Then a second pass against the tets whose Q4 is below below_q4 (0: none), each operation
+  // raising the smallest Q4 by more than gain_q4 and keeping the smallest Q1 of the tets it
+  // replaces (or below_deg).
+  double below_q4 = 0, gain_q4 = 0.001;
+  std::uint32_t max_operations = 0;
+  bool flip = true, smooth = true, insert = true;  // which operations
+  // When set, surface vertices (kSurface) move too, each candidate position p replaced by
+  // q, on_surface(v, p, q) (false: the candidate is dropped).
+  std::function<bool(std::uint32_t, const double*, double*)> on_surface;
+};
+struct Flip3Stats {
+  std::uint32_t flips = 0, moves = 0, insertions = 0;
+};
+Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& kinds,
+                         std::vector<std::uint32_t>& tets, const Flip3Options& options);
 
 // Where to insert a site against each kept tet whose smallest dihedral angle is below
 // below_deg (slivers3d.cpp): its circumcentre, worst tet first (ties by index), skipping a

@@ -330,6 +330,7 @@ TEST_CASE("mesh3d: sites at the circumcentres of the slivers left raise the smal
   o.unconstrained_iterations = 4;
   o.constrained_iterations = 6;
   o.peel_dihedral_deg = 0;
+  o.flip_dihedral_deg = 0;  // step 7a alone (7c would change both meshes)
   const Mesh3Result with = voroclip::mesh3d(fandisk, o);
   check_valid(fandisk, with);
   o.sliver_insertion_passes = 0;

@@ -1,22 +1,29 @@
 // Tests of the sliver perturbation (voroclip/mesh.h, perturb_slivers3): it raises the
 // smallest dihedral angle of the extracted mesh (measured with tet_shape), keeps fixed
 // sites, keeps constrained sites on their constraint, reports figures that match the mesh,
-// and does not depend on the thread count.
+// and does not depend on the thread count. The peeling of flat boundary tets, and the
+// flips (flip_slivers3): 2-3 and 3-2 on a bipyramid, none where invalid, and on an
+// extracted mesh the same boundary, volume and vertices, right-handed tets, a higher
+// smallest angle.
 #include <catch2/catch.hpp>
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "mesh3d_tags.h"
+#include "mesh_test_shapes.h"
 #include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/cvt.h"
 #include "voroclip/mesh.h"
+#include "voroclip/predicates.h"
 
 using voroclip::Delaunay3;
 using voroclip::Domain3;
@@ -83,6 +90,22 @@ double mesh_min_dihedral(const TetExtractor3& ex, const std::vector<double>& sit
     if (below && q < target) ++*below;
   }
   return worst;
+}
+
+// flip_slivers3 with flips only (below_deg, gain_deg, max_operations), on vertices of
+// the surface: the number of flips (checked: no other operation).
+std::uint32_t flips_only(std::vector<double> p, std::vector<std::uint32_t>& tets, double below,
+                         double gain, std::uint32_t max_operations) {
+  voroclip::mesh3::Flip3Options o;
+  o.below_deg = below;
+  o.gain_deg = gain;
+  o.max_operations = max_operations;
+  o.smooth = o.insert = false;
+  const std::vector<Kind> kinds(p.size() / 3, Kind::kSurface);
+  const voroclip::mesh3::Flip3Stats s = voroclip::mesh3::flip_slivers3(p, kinds, tets, o);
+  CHECK(s.moves == 0);
+  CHECK(s.insertions == 0);
+  return s.flips;
 }
 
 }  // namespace
@@ -243,4 +266,250 @@ TEST_CASE("perturb_slivers3: errors", "[mesh]") {
   CHECK_THROWS_AS(voroclip::perturb_slivers3(ex, sites, kinds, nullptr), voroclip::Error);
   sites.pop_back();
   CHECK_THROWS_AS(voroclip::perturb_slivers3(ex, sites, {}, nullptr), voroclip::Error);
+}
+
+namespace {
+
+// The smallest Q1 of `tets`.
+double min_q1(const std::vector<double>& p, const std::vector<std::uint32_t>& tets) {
+  double q = 180;
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    q = std::min(q, voroclip::tet_shape(&p[3 * tets[t]], &p[3 * tets[t + 1]], &p[3 * tets[t + 2]],
+                                        &p[3 * tets[t + 3]])
+                        .q1_deg);
+  }
+  return q;
+}
+
+// Facts a flip must keep: every tet right-handed exactly (orient3d < 0), the same boundary
+// triangles (as a sorted list of rotated triples), every vertex still used.
+void check_flipped(const std::vector<double>& p, const std::vector<std::uint32_t>& before,
+                   const std::vector<std::uint32_t>& after) {
+  for (std::size_t t = 0; t < after.size(); t += 4) {
+    CHECK(voroclip::orient3d(&p[3 * after[t]], &p[3 * after[t + 1]], &p[3 * after[t + 2]],
+                             &p[3 * after[t + 3]]) == voroclip::Sign::negative);
+  }
+  const auto boundary = [](const std::vector<std::uint32_t>& tets) {
+    std::vector<std::uint32_t> tri, face_tet;
+    voroclip::mesh3::boundary_triangles(tets, tri, face_tet);
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (std::size_t b = 0; b < tri.size(); b += 3) {
+      std::array<std::uint32_t, 3> x = {tri[b], tri[b + 1], tri[b + 2]};
+      std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());
+      out.push_back(x);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  CHECK(boundary(before) == boundary(after));
+  std::vector<std::uint32_t> used_before = before, used_after = after;
+  for (auto* u : {&used_before, &used_after}) {
+    std::sort(u->begin(), u->end());
+    u->erase(std::unique(u->begin(), u->end()), u->end());
+  }
+  // Every vertex still used (an insertion adds one).
+  CHECK(
+      std::includes(used_after.begin(), used_after.end(), used_before.begin(), used_before.end()));
+}
+
+// A triangle c, d, e (0, 1, 2) in the plane z = 0 around the z axis, a = (0, 0, -h) (3) and
+// b = (0, 0, h) (4).
+std::vector<double> bipyramid(double h) {
+  std::vector<double> p;
+  for (int k = 0; k < 3; ++k) {
+    const double angle = 2 * 3.14159265358979323846 * k / 3;
+    p.insert(p.end(), {std::cos(angle), std::sin(angle), 0.0});
+  }
+  p.insert(p.end(), {0.0, 0.0, -h, 0.0, 0.0, h});
+  return p;
+}
+
+// `tets` with each tet's last two vertices swapped where it is not right-handed.
+std::vector<std::uint32_t> right_handed(const std::vector<double>& p,
+                                        std::vector<std::uint32_t> tets) {
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    if (voroclip::orient3d(&p[3 * tets[t]], &p[3 * tets[t + 1]], &p[3 * tets[t + 2]],
+                           &p[3 * tets[t + 3]]) == voroclip::Sign::positive) {
+      std::swap(tets[t + 2], tets[t + 3]);
+    }
+  }
+  return tets;
+}
+
+}  // namespace
+
+TEST_CASE("flip_slivers3: a 3-2 flip", "[mesh][exact]") {
+  // Tall bipyramid: the three tets around the axis ab are needles, the two tets on the
+  // triangle cde nearly regular.
+  const std::vector<double> p = bipyramid(1.4);
+  const std::vector<std::uint32_t> three = right_handed(p, {3, 4, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0});
+  const std::vector<std::uint32_t> two = right_handed(p, {0, 1, 2, 3, 0, 1, 2, 4});
+  REQUIRE(min_q1(p, two) > min_q1(p, three) + 10);
+  std::vector<std::uint32_t> t = three;
+  CHECK(flips_only(p, t, 90, 0.01, 10) == 1);
+  CHECK(t.size() == 8);
+  check_flipped(p, three, t);
+  CHECK(min_q1(p, t) == Approx(min_q1(p, two)));
+  // Not below the threshold, nor without enough gain, nor when max_operations is 0.
+  t = three;
+  CHECK(flips_only(p, t, min_q1(p, three), 0.01, 10) == 0);
+  CHECK(flips_only(p, t, 90, 90, 10) == 0);
+  CHECK(flips_only(p, t, 90, 0.01, 0) == 0);
+  CHECK(t == three);
+}
+
+TEST_CASE("flip_slivers3: a 2-3 flip", "[mesh][exact]") {
+  // Flat bipyramid: the two tets on cde are flat, the three around ab better.
+  const std::vector<double> p = bipyramid(0.2);
+  const std::vector<std::uint32_t> three = right_handed(p, {3, 4, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0});
+  const std::vector<std::uint32_t> two = right_handed(p, {0, 1, 2, 3, 0, 1, 2, 4});
+  REQUIRE(min_q1(p, three) > min_q1(p, two) + 5);
+  std::vector<std::uint32_t> t = two;
+  CHECK(flips_only(p, t, 90, 0.01, 10) == 1);
+  CHECK(t.size() == 12);
+  check_flipped(p, two, t);
+  CHECK(min_q1(p, t) == Approx(min_q1(p, three)));
+}
+
+TEST_CASE("flip_slivers3: no flip where the union is not convex", "[mesh][exact]") {
+  // b pulled sideways beyond the edge cd: the segment ab misses the triangle cde, so a 2-3
+  // flip would make an inverted tet.
+  std::vector<double> p = bipyramid(0.2);
+  p[12] = -3;  // b = (-3, 0, 0.2)
+  const std::vector<std::uint32_t> two = right_handed(p, {0, 1, 2, 3, 0, 1, 2, 4});
+  std::vector<std::uint32_t> t = two;
+  CHECK(flips_only(p, t, 90, 0.01, 10) == 0);
+  CHECK(t == two);
+}
+
+TEST_CASE("flip_slivers3: a move of an interior vertex", "[mesh][exact]") {
+  // A tet split into four by an interior vertex v (4) next to its face (0, 1, 2): the three
+  // tets on the other faces are flat. No flip is valid (v is inside); v moves, the tets stay.
+  std::vector<double> p = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+  for (int c = 0; c < 3; ++c) {
+    p.push_back(0.95 * (p[c] + p[3 + c] + p[6 + c]) / 3 + 0.05 * p[9 + c]);
+  }
+  const std::vector<std::uint32_t> star =
+      right_handed(p, {4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4});
+  std::vector<Kind> kinds(5, Kind::kSurface);
+  kinds[4] = Kind::kFree;
+  voroclip::mesh3::Flip3Options o;
+  o.max_operations = 100;
+  o.insert = false;
+  std::vector<double> q = p;
+  std::vector<std::uint32_t> t = star;
+  const voroclip::mesh3::Flip3Stats s = voroclip::mesh3::flip_slivers3(q, kinds, t, o);
+  CHECK(s.flips == 0);
+  CHECK(s.moves > 0);
+  CHECK(std::vector<double>(q.begin(), q.begin() + 12) ==
+        std::vector<double>(p.begin(), p.begin() + 12));
+  check_flipped(q, star, t);
+  CHECK(min_q1(q, t) > min_q1(p, star) + 10);
+  CHECK(t.size() == star.size());
+  // A surface vertex does not move.
+  kinds[4] = Kind::kSurface;
+  q = p;
+  t = star;
+  CHECK(voroclip::mesh3::flip_slivers3(q, kinds, t, o).moves == 0);
+  CHECK(q == p);
+}
+
+TEST_CASE("flip_slivers3: insertions only, on an extracted mesh", "[mesh]") {
+  // Flips and moves off: each insertion replaces a tet and its face neighbours by the star
+  // of a new vertex; the boundary, the old vertices and the orientation stay.
+  const Setup s = make_setup();
+  const TetExtractor3 ex(s.domain);
+  const Delaunay3 dt(s.sites.data(), static_cast<std::uint32_t>(s.sites.size() / 3));
+  const std::vector<std::uint32_t> tets = ex.extract(dt);
+  voroclip::mesh3::Flip3Options o;
+  o.max_operations = 100000;
+  o.flip = o.smooth = false;
+  std::vector<double> p = s.sites;
+  std::vector<std::uint32_t> t = tets;
+  const voroclip::mesh3::Flip3Stats st = voroclip::mesh3::flip_slivers3(p, s.kinds, t, o);
+  INFO("insertions " << st.insertions << ", min Q1 " << min_q1(s.sites, tets) << " -> "
+                     << min_q1(p, t));
+  CHECK(st.flips + st.moves == 0);
+  CHECK(st.insertions > 0);
+  CHECK(p.size() == s.sites.size() + 3 * std::size_t{st.insertions});
+  CHECK(std::equal(s.sites.begin(), s.sites.end(), p.begin()));
+  check_flipped(p, tets, t);
+  CHECK(min_q1(p, t) >= min_q1(s.sites, tets));
+}
+
+TEST_CASE("flip_slivers3: an extracted mesh keeps its boundary and gains", "[mesh]") {
+  const Setup s = make_setup();
+  const TetExtractor3 ex(s.domain);
+  const Delaunay3 dt(s.sites.data(), static_cast<std::uint32_t>(s.sites.size() / 3));
+  const std::vector<std::uint32_t> tets = ex.extract(dt);
+  voroclip::mesh3::Flip3Options o;
+  o.max_operations = 100000;
+  std::vector<double> p = s.sites;
+  std::vector<std::uint32_t> t = tets;
+  const voroclip::mesh3::Flip3Stats st = voroclip::mesh3::flip_slivers3(p, s.kinds, t, o);
+  INFO("flips " << st.flips << ", moves " << st.moves << ", insertions " << st.insertions
+                << ", min Q1 " << min_q1(s.sites, tets) << " -> " << min_q1(p, t));
+  CHECK(st.flips > 0);
+  check_flipped(p, tets, t);
+  CHECK(min_q1(p, t) > min_q1(s.sites, tets));
+  // Only free sites moved; new ones appended.
+  for (std::size_t v = 0; v < s.kinds.size(); ++v) {
+    if (s.kinds[v] == Kind::kFree) continue;
+    CHECK(std::equal(&p[3 * v], &p[3 * v] + 3, &s.sites[3 * v]));
+  }
+  // Volume kept: the sum of the tets' volumes, to rounding.
+  const auto volume = [](const std::vector<double>& q, const std::vector<std::uint32_t>& m) {
+    double v = 0;
+    for (std::size_t i = 0; i < m.size(); i += 4) {
+      v += voroclip::tet_shape(&q[3 * m[i]], &q[3 * m[i + 1]], &q[3 * m[i + 2]], &q[3 * m[i + 3]])
+               .volume;
+    }
+    return v;
+  };
+  CHECK(volume(p, t) == Approx(volume(s.sites, tets)).epsilon(1e-12));
+  // Deterministic: again, the same result.
+  std::vector<double> p2 = s.sites;
+  std::vector<std::uint32_t> again = tets;
+  voroclip::mesh3::flip_slivers3(p2, s.kinds, again, o);
+  CHECK(again == t);
+  CHECK(p2 == p);
+}
+
+TEST_CASE("mesh3d: step 7c raises the smallest angle and keeps the boundary",
+          "[mesh][regression]") {
+  // Issue 30: fandisk with few iterations leaves tets below 30 degrees at the boundary; the
+  // flips, moves and insertions of step 7c raise the smallest angle, keep every boundary
+  // triangle (same vertices, numbered alike: sites inserted come last) and the shape.
+  const Domain3 fandisk(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  voroclip::Mesh3Options o = voroclip_test::small_options(700);
+  o.unconstrained_iterations = 4;
+  o.constrained_iterations = 6;
+  const voroclip::Mesh3Result with = voroclip::mesh3d(fandisk, o);
+  o.flip_dihedral_deg = 0;
+  const voroclip::Mesh3Result without = voroclip::mesh3d(fandisk, o);
+  INFO("smallest dihedral angle " << without.quality.q1_deg.min << " -> " << with.quality.q1_deg.min
+                                  << ": " << with.nb_flips << " flips, " << with.nb_flip_moves
+                                  << " moves, " << with.nb_flip_sites << " sites");
+  CHECK(without.nb_flips + without.nb_flip_moves + without.nb_flip_sites == 0);
+  REQUIRE(with.nb_flips + with.nb_flip_moves + with.nb_flip_sites > 0);
+  CHECK(with.quality.q1_deg.min > without.quality.q1_deg.min);
+  CHECK(with.quality.q4.min >= std::min(without.quality.q4.min, 0.5));
+  CHECK(with.quality.inverted.empty());
+  CHECK(with.quality.degenerate.empty());
+  CHECK(with.shape_problem.empty());
+  CHECK(with.nb_vertices() == without.nb_vertices() + with.nb_flip_sites);
+  const auto sorted = [](const std::vector<std::uint32_t>& tri) {
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (std::size_t b = 0; b < tri.size(); b += 3) {
+      std::array<std::uint32_t, 3> x = {tri[b], tri[b + 1], tri[b + 2]};
+      std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());
+      out.push_back(x);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  CHECK(sorted(with.boundary_triangles) == sorted(without.boundary_triangles));
+  // Interior vertices only where they were (moved or not) and the constrained ones on the
+  // surface: the same kinds.
+  CHECK(std::equal(without.kinds.begin(), without.kinds.end(), with.kinds.begin()));
 }

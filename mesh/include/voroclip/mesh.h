@@ -777,6 +777,11 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   7a. sliver insertion: a site at the circumcentre of each tet still below
 //      sliver_insertion_deg (on the surface when that is nearer than its circumradius), then
 //      6 and 7 again, kept only when the smallest angle rises and the shape stays right;
+//   7b. flat tets on the boundary (four boundary vertices, two boundary faces) are peeled;
+//   7c. flips (2-3, edge removal: 3-2, 4-4, ...), else moves of interior vertices, else
+//      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
+//      each raising the smallest angle of the tets it replaces (the mesh need not stay
+//      Delaunay; the boundary is unchanged);
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
@@ -1016,6 +1021,23 @@ struct Mesh3Options {
   // the shape is undone and stops them. At most sliver_insertion_passes passes (0: none).
   double sliver_insertion_deg = 20;
   std::uint32_t sliver_insertion_passes = 2;
+  // Last (step 7c), against the tets whose smallest dihedral angle is below
+  // flip_dihedral_deg, worst first: topological flips (2-3 flips of interior faces, removal
+  // of interior edges with up to 8 tets around them: 3-2, 4-4, ...), else a move of an
+  // interior vertex of the tet (or, with flip_moves_surface, of a surface vertex within its
+  // surface patch), else a new interior vertex in the cavity of the tet and its
+  // face neighbours; each kept only when it raises the smallest dihedral angle of the tets
+  // it replaces by more than flip_gain_deg. The mesh need not stay Delaunay; its boundary
+  // keeps its triangles (surface vertices only slide on the surface). At most max_flips_per_tet
+  // times the number of tets operations; 0 degrees: none.
+  double flip_dihedral_deg = 30;
+  double flip_gain_deg = 0.01;
+  bool flip_moves_surface = true;  // surface vertices move too (within their patch)
+  // Then the same operations against the tets whose Q4 is below flip_q4 (0: none), each
+  // raising the smallest Q4 of the tets it replaces and keeping their smallest dihedral
+  // angle (or flip_dihedral_deg).
+  double flip_q4 = 0.4;
+  std::uint32_t max_flips_per_tet = 1;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
   std::function<bool(const Mesh3Progress&)> progress;
@@ -1094,6 +1116,9 @@ struct Mesh3Result {
   std::uint32_t nb_topology_deferred = 0;
   // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes).
   std::uint32_t nb_sliver_sites = 0;
+  // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices, interior
+  // vertices inserted (in nb_sites too).
+  std::uint32_t nb_flips = 0, nb_flip_moves = 0, nb_flip_sites = 0;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;

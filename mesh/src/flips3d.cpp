@@ -1,0 +1,540 @@
+// Flips, smoothing and insertion against the worst tets of a finished tet mesh (step 7c of
+// mesh3d): 2-3 flips of interior faces and edge removal of interior edges (3-2, 4-4 and the
+// general n-to-2(n-2) flip), moves of interior vertices, and a new interior vertex in the
+// cavity of a tet and its neighbours, after Shewchuk, "Two discrete optimization algorithms for the
+// topological improvement of tetrahedral meshes" (2002, edge removal by dynamic
+// programming over the triangulations of the edge's ring) and Klingner & Shewchuk,
+// "Aggressive tetrahedral mesh improvement" (IMR 2007, the greedy worst-first schedule, a
+// flip kept only when it raises the smallest quality among the tets it replaces).
+//
+// The mesh need not be Delaunay before or after. A flip replaces a set of tets by another
+// set with the same union (the two tets of an interior face, the ring of an interior edge);
+// a move changes only an interior (free) vertex's position, an insertion replaces a cavity
+// by the star of a new free vertex: the boundary surface and its vertices are unchanged;
+// every new tet is checked exactly (orient3d with the mesh's sign, never zero), so the
+// result is a valid tet mesh whenever the input is. The quality is Q1, the smallest
+// dihedral angle (tet_shape). For the worst tet first: the best flip that removes it; when
+// none gains, the best move of one of its free vertices (a compass search on the smallest
+// Q1 of the vertex's tets: steps along the axes and towards the mean of its neighbours,
+// halved when none gains); when none gains, an insertion (the cavity: the tet and its
+// face neighbours; the new vertex from the tet's centroid, moved by the same search).
+// Every operation also keeps the smallest Q4 of the tets it replaces, or kQ4Keep.
+// Sequential and deterministic: the same result for any thread count.
+//
+// Orientation: the tets here have orient3d(v0, v1, v2, v3) < 0 (right-handed,
+// det(v1 - v0, v2 - v0, v3 - v0) > 0: the order extract3d gives).
+//
+// 2-3 flip of the face (a, b, c) of t = (.., d, ..) shared with u, whose fourth vertex is e:
+// the three new tets are t with one of a, b, c replaced by e, each right-handed exactly when
+// the segment de crosses the triangle abc inside.
+//
+// Edge removal of (a, b): the tets around it form a closed ring r_0 .. r_{k-1} (an interior
+// edge), ordered so that (a, b, r_0, r_1) is right-handed; each triangle (r_i, r_j, r_m),
+// i < j < m, of a triangulation of the ring gives the two tets (r_i, r_j, r_m, b) and
+// (r_i, r_m, r_j, a), both right-handed when the flip is valid. The best triangulation
+// (max of the min Q1 of its tets) by dynamic programming over the ring's sub-polygons.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
+#include <vector>
+
+#include "mesh3d_pipeline.h"
+#include "voroclip/mesh.h"
+#include "voroclip/predicates.h"
+
+namespace voroclip::mesh3 {
+
+namespace {
+
+constexpr std::size_t kMaxRing = 8;     // edge removal up to 8 tets around the edge
+constexpr double kInvalid = -1;         // the quality of an inverted or flat new tet
+constexpr int kSearchSteps = 48;        // compass search: evaluations of a move, at most
+constexpr double kFirstStep = 0.25;     // times the mean edge length of the vertex's tets
+constexpr double kLastStep = 1.0 / 64;  // idem, the search stops below
+// An operation may lower the smallest Q4 of the tets it replaces only down to this (the
+// target of issue 30 is 0.4): raising the smallest angle can make a needle.
+constexpr double kQ4Keep = 0.5;
+
+// What may move: free_[v].
+constexpr std::uint8_t kFixed = 0, kMovable = 1, kOnSurface = 2;
+constexpr std::uint32_t kNoVertex = 0xffffffff;
+
+class Flipper {
+ public:
+  Flipper(std::vector<double>& sites, const std::vector<Kind>& kinds,
+          const std::vector<std::uint32_t>& mesh, const Flip3Options& options)
+      : sites_(sites), options_(options), vertex_tets_(sites.size() / 3) {
+    free_.resize(sites.size() / 3);
+    for (std::size_t v = 0; v < free_.size(); ++v) {
+      free_[v] = kinds[v] == Kind::kFree                            ? kMovable
+                 : kinds[v] == Kind::kSurface && options.on_surface ? kOnSurface
+                                                                    : kFixed;
+    }
+    const std::size_t nt = mesh.size() / 4;
+    for (std::size_t t = 0; t < nt; ++t)
+      add({mesh[4 * t], mesh[4 * t + 1], mesh[4 * t + 2], mesh[4 * t + 3]});
+  }
+
+  // Worst first, the tets below options_.below_deg; at most options_.max_operations.
+  Flip3Stats run() {
+    pass(options_.below_deg);
+    if (options_.below_q4 > 0) {
+      // Q4 now the measure, Q1 the guard (kept above its pass's threshold).
+      q4_mode_ = true;
+      gain_ = options_.gain_q4;
+      keep_ = options_.below_deg;
+      for (std::size_t t = 0; t < tets_.size(); ++t) {
+        if (alive_[t] == 0) continue;
+        const Tet& v = tets_[t];
+        const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
+        obj_[t] = shape.q4;
+        guard_[t] = shape.q1_deg;
+      }
+      pass(options_.below_q4);
+    }
+    return stats_;
+  }
+
+  // Worst first (by the current measure), the tets below `below`, while operations are
+  // left (options_.max_operations in all).
+  void pass(double below) {
+    using Entry = std::pair<double, std::uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    for (std::uint32_t t = 0; t < obj_.size(); ++t) {
+      if (alive_[t] != 0 && obj_[t] < below) queue.emplace(obj_[t], t);
+    }
+    while (!queue.empty() &&
+           stats_.flips + stats_.moves + stats_.insertions < options_.max_operations) {
+      const std::uint32_t t = queue.top().second;
+      queue.pop();
+      if (alive_[t] == 0) continue;
+      const std::size_t first_new = tets_.size();
+      if (!improve(t)) continue;
+      for (std::size_t s = first_new; s < tets_.size(); ++s) {
+        if (obj_[s] < below) queue.emplace(obj_[s], static_cast<std::uint32_t>(s));
+      }
+    }
+  }
+
+  // The live tets, in the order of their creation.
+  std::vector<std::uint32_t> tets() const {
+    std::vector<std::uint32_t> out;
+    for (std::size_t t = 0; t < tets_.size(); ++t) {
+      if (alive_[t] != 0) out.insert(out.end(), tets_[t].begin(), tets_[t].end());
+    }
+    return out;
+  }
+
+ private:
+  using Tet = std::array<std::uint32_t, 4>;
+
+  const double* at(std::uint32_t v) const { return &sites_[3 * std::size_t{v}]; }
+  double* at(std::uint32_t v) { return &sites_[3 * std::size_t{v}]; }
+
+  // Q1 of a tet given right-handed, kInvalid when it is not right-handed (exact).
+  double quality(const Tet& v) const {
+    if (orient3d(at(v[0]), at(v[1]), at(v[2]), at(v[3])) != Sign::negative) return kInvalid;
+    const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
+    return q4_mode_ ? shape.q4 : shape.q1_deg;
+  }
+
+  void add(const Tet& v) {
+    const auto t = static_cast<std::uint32_t>(tets_.size());
+    const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
+    tets_.push_back(v);
+    obj_.push_back(q4_mode_ ? shape.q4 : shape.q1_deg);
+    guard_.push_back(q4_mode_ ? shape.q1_deg : shape.q4);
+    alive_.push_back(1);
+    for (const std::uint32_t x : v) vertex_tets_[x].push_back(t);
+  }
+  // Whether `new_tets` (vertex x at p when x is given) keep the smallest Q4 of `old_tets`,
+  // or kQ4Keep.
+  bool keeps_q4(const std::vector<std::uint32_t>& old_tets, const std::vector<Tet>& new_tets,
+                std::uint32_t x = kNoVertex, const double* p = nullptr) {
+    double before = keep_;
+    for (const std::uint32_t o : old_tets) before = std::min(before, guard_[o]);
+    std::array<double, 3> keep{};
+    if (x != kNoVertex) {
+      std::copy(at(x), at(x) + 3, keep.begin());
+      std::copy(p, p + 3, at(x));
+    }
+    double after = std::numeric_limits<double>::infinity();
+    for (const Tet& w : new_tets) {
+      const TetShape shape = tet_shape(at(w[0]), at(w[1]), at(w[2]), at(w[3]));
+      after = std::min(after, q4_mode_ ? shape.q1_deg : shape.q4);
+    }
+    if (x != kNoVertex) std::copy(keep.begin(), keep.end(), at(x));
+    return after >= before;
+  }
+  void remove(std::uint32_t t) {
+    alive_[t] = 0;
+    for (const std::uint32_t x : tets_[t]) {
+      auto& list = vertex_tets_[x];
+      list.erase(std::find(list.begin(), list.end(), t));
+    }
+  }
+
+  static bool has(const Tet& v, std::uint32_t x) {
+    return v[0] == x || v[1] == x || v[2] == x || v[3] == x;
+  }
+
+  // The best flip among those that remove t (its four faces, its six edges), applied when
+  // its new tets' smallest Q1 beats the replaced tets' by gain_deg. Whether one was (else a move,
+  // else an insertion).
+  bool improve(std::uint32_t t) {
+    double best = -std::numeric_limits<double>::infinity();
+    std::vector<std::uint32_t> best_old;
+    std::vector<Tet> best_new;
+    std::vector<std::uint32_t> old_tets;
+    std::vector<Tet> new_tets;
+    const Tet v = tets_[t];
+    for (int f = 0; f < 4 && options_.flip; ++f) {
+      if (face_flip(t, f, old_tets, new_tets))
+        consider(old_tets, new_tets, best, best_old, best_new);
+    }
+    for (const auto& e : TetShape::kTetEdges) {
+      if (options_.flip && edge_removal(t, v[e[0]], v[e[1]], old_tets, new_tets)) {
+        consider(old_tets, new_tets, best, best_old, best_new);
+      }
+    }
+    if (!best_new.empty()) {
+      for (const std::uint32_t o : best_old) remove(o);
+      for (const Tet& n : best_new) add(n);
+      ++stats_.flips;
+      return true;
+    }
+    if (options_.smooth) {
+      // The best move of a free vertex of t.
+      double best_move = -std::numeric_limits<double>::infinity();
+      std::uint32_t moved = 0;
+      std::array<double, 3> to{};
+      for (const std::uint32_t x : v) {
+        if (free_[x] == kFixed) continue;
+        const std::vector<std::uint32_t> star = vertex_tets_[x];
+        std::vector<Tet> around;
+        for (const std::uint32_t s : star) around.push_back(tets_[s]);
+        double before = std::numeric_limits<double>::infinity();
+        for (const std::uint32_t s : star) before = std::min(before, obj_[s]);
+        std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
+        const double after = search(x, around, p);
+        if (after > before + gain_ && after > best_move && keeps_q4(star, around, x, p.data())) {
+          best_move = after;
+          moved = x;
+          to = p;
+        }
+      }
+      if (best_move > 0) {
+        const std::vector<std::uint32_t> star = vertex_tets_[moved];
+        std::copy(to.begin(), to.end(), at(moved));
+        for (const std::uint32_t s : star) {
+          const Tet w = tets_[s];
+          remove(s);
+          add(w);
+        }
+        ++stats_.moves;
+        return true;
+      }
+    }
+    return options_.insert && insert(t);
+  }
+
+  // The smallest Q1 of `around` with vertex x at p.
+  double star_quality(std::uint32_t x, const std::vector<Tet>& around, const double* p) {
+    double* q = at(x);
+    const std::array<double, 3> keep = {q[0], q[1], q[2]};
+    std::copy(p, p + 3, q);
+    double worst = std::numeric_limits<double>::infinity();
+    for (const Tet& w : around) {
+      worst = std::min(worst, quality(w));
+      if (worst == kInvalid) break;
+    }
+    std::copy(keep.begin(), keep.end(), q);
+    return worst;
+  }
+
+  // The compass search for vertex x of `around` (all containing x), from p: the best position
+  // found into p, its smallest Q1 returned.
+  double search(std::uint32_t x, const std::vector<Tet>& around, std::array<double, 3>& p) {
+    double length = 0, mean[3] = {0, 0, 0};
+    std::uint32_t nb = 0;
+    for (const Tet& w : around) {
+      for (const std::uint32_t y : w) {
+        if (y == x) continue;
+        double l2 = 0;
+        for (int c = 0; c < 3; ++c) {
+          l2 += (at(y)[c] - p[c]) * (at(y)[c] - p[c]);
+          mean[c] += at(y)[c];
+        }
+        length += std::sqrt(l2);
+        ++nb;
+      }
+    }
+    if (nb == 0) return kInvalid;
+    length /= nb;
+    double best = star_quality(x, around, p.data());
+    double step = kFirstStep * length;
+    for (int evaluation = 0; evaluation < kSearchSteps && step > kLastStep * length;) {
+      double towards[3], norm2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        towards[c] = mean[c] / nb - p[c];
+        norm2 += towards[c] * towards[c];
+      }
+      const double scale = norm2 > 0 ? 1 / std::sqrt(norm2) : 0;
+      const double directions[7][3] = {
+          {1, 0, 0},
+          {-1, 0, 0},
+          {0, 1, 0},
+          {0, -1, 0},
+          {0, 0, 1},
+          {0, 0, -1},
+          {towards[0] * scale, towards[1] * scale, towards[2] * scale}};
+      std::array<double, 3> next = p;
+      bool gained = false;
+      for (const auto& d : directions) {
+        double y[3] = {p[0] + step * d[0], p[1] + step * d[1], p[2] + step * d[2]};
+        if (free_[x] == kOnSurface) {
+          double z[3];
+          if (!options_.on_surface(x, y, z)) continue;
+          std::copy(z, z + 3, y);
+        }
+        const double q = star_quality(x, around, y);
+        ++evaluation;
+        if (q > best) {
+          best = q;
+          next = {y[0], y[1], y[2]};
+          gained = true;
+        }
+      }
+      if (gained) {
+        p = next;
+      } else {
+        step /= 2;
+      }
+    }
+    return best;
+  }
+
+  // A new free vertex in the cavity of t and its face neighbours, when the star of its best
+  // position found beats the cavity's smallest Q1 by gain_deg. Whether it was inserted.
+  bool insert(std::uint32_t t) {
+    std::vector<std::uint32_t> cavity = {t};
+    std::vector<std::uint32_t> old_tets;
+    std::vector<Tet> new_tets;
+    for (int f = 0; f < 4; ++f) {
+      if (face_flip(t, f, old_tets, new_tets)) cavity.push_back(old_tets[1]);
+    }
+    // The cavity's faces: each face of a cavity tet not shared with another, as that tet
+    // with the opposite vertex to be replaced by the new vertex.
+    const auto x = static_cast<std::uint32_t>(sites_.size() / 3);
+    std::vector<Tet> star;
+    for (const std::uint32_t c : cavity) {
+      for (int f = 0; f < 4; ++f) {
+        const Tet& w = tets_[c];
+        const std::uint32_t a = w[(f + 1) % 4], b = w[(f + 2) % 4], d = w[(f + 3) % 4];
+        bool inner = false;
+        for (const std::uint32_t o : cavity) {
+          inner = inner || (o != c && has(tets_[o], a) && has(tets_[o], b) && has(tets_[o], d));
+        }
+        if (inner) continue;
+        Tet n = w;
+        n[static_cast<std::size_t>(f)] = x;
+        star.push_back(n);
+      }
+    }
+    // Every vertex of the cavity on one of its faces: none would be left out of the mesh.
+    for (const std::uint32_t c : cavity) {
+      for (const std::uint32_t y : tets_[c]) {
+        bool on_face = false;
+        for (const Tet& n : star) on_face = on_face || has(n, y);
+        if (!on_face) return false;
+      }
+    }
+    double before = std::numeric_limits<double>::infinity();
+    for (const std::uint32_t c : cavity) before = std::min(before, obj_[c]);
+    std::array<double, 3> p{};
+    for (const std::uint32_t y : tets_[t]) {
+      for (int c = 0; c < 3; ++c) p[c] += at(y)[c] / 4;
+    }
+    sites_.insert(sites_.end(), p.begin(), p.end());
+    const double after = search(x, star, p);
+    if (!(after > before + gain_) || !keeps_q4(cavity, star, x, p.data())) {
+      sites_.resize(3 * std::size_t{x});
+      return false;
+    }
+    std::copy(p.begin(), p.end(), at(x));
+    vertex_tets_.emplace_back();
+    free_.push_back(kMovable);
+    for (const std::uint32_t c : cavity) remove(c);
+    for (const Tet& n : star) add(n);
+    ++stats_.insertions;
+    return true;
+  }
+
+  // Keeps (old, new) as the best flip so far when its gain is larger than gain_deg and its
+  // new minimum larger than the best's.
+  void consider(const std::vector<std::uint32_t>& old_tets, const std::vector<Tet>& new_tets,
+                double& best, std::vector<std::uint32_t>& best_old, std::vector<Tet>& best_new) {
+    double before = std::numeric_limits<double>::infinity();
+    for (const std::uint32_t o : old_tets) before = std::min(before, obj_[o]);
+    double after = std::numeric_limits<double>::infinity();
+    for (const Tet& n : new_tets) after = std::min(after, quality(n));
+    if (after > before + gain_ && after > best && keeps_q4(old_tets, new_tets)) {
+      best = after;
+      best_old = old_tets;
+      best_new = new_tets;
+    }
+  }
+
+  // The 2-3 flip of t's face opposite its vertex f, when that face is interior and the
+  // flip valid.
+  bool face_flip(std::uint32_t t, int f, std::vector<std::uint32_t>& old_tets,
+                 std::vector<Tet>& new_tets) const {
+    const Tet& v = tets_[t];
+    const std::uint32_t a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
+    std::uint32_t u = t;
+    for (const std::uint32_t s : vertex_tets_[a]) {
+      if (s != t && has(tets_[s], b) && has(tets_[s], c)) {
+        u = s;
+        break;
+      }
+    }
+    if (u == t) return false;  // a boundary face
+    std::uint32_t e = a;
+    for (const std::uint32_t x : tets_[u]) {
+      if (x != a && x != b && x != c) e = x;
+    }
+    old_tets.assign({t, u});
+    new_tets.clear();
+    for (int k = 0; k < 4; ++k) {
+      if (k == f) continue;
+      Tet n = v;
+      n[static_cast<std::size_t>(k)] = e;
+      new_tets.push_back(n);
+    }
+    return true;
+  }
+
+  // The removal of the edge (a, b) of t, by the best triangulation of its ring, when the
+  // edge is interior, its ring has at most kMaxRing tets and some triangulation is valid.
+  bool edge_removal(std::uint32_t t, std::uint32_t a, std::uint32_t b,
+                    std::vector<std::uint32_t>& old_tets, std::vector<Tet>& new_tets) const {
+    old_tets.clear();
+    for (const std::uint32_t s : vertex_tets_[a]) {
+      if (has(tets_[s], b)) old_tets.push_back(s);
+    }
+    const std::size_t k = old_tets.size();
+    if (k < 3 || k > kMaxRing) return false;
+    // The ring: each tet around (a, b) as its other two vertices (p, q) with (a, b, p, q)
+    // right-handed (an even permutation of the tet); chained from t's.
+    std::array<std::array<std::uint32_t, 2>, kMaxRing> pair{};
+    for (std::size_t i = 0; i < k; ++i) {
+      const Tet& w = tets_[old_tets[i]];
+      std::uint32_t other[2], n_other = 0;
+      int ia = 0, ib = 0;
+      for (int j = 0; j < 4; ++j) {
+        if (w[static_cast<std::size_t>(j)] == a) {
+          ia = j;
+        } else if (w[static_cast<std::size_t>(j)] == b) {
+          ib = j;
+        } else {
+          other[n_other++] = static_cast<std::uint32_t>(j);
+        }
+      }
+      // (ia, ib, other0, other1) as a permutation of (0, 1, 2, 3): its parity.
+      const int perm[4] = {ia, ib, static_cast<int>(other[0]), static_cast<int>(other[1])};
+      int inversions = 0;
+      for (int x = 0; x < 4; ++x) {
+        for (int y = x + 1; y < 4; ++y) inversions += perm[x] > perm[y];
+      }
+      pair[i] = {w[other[0]], w[other[1]]};
+      if (inversions % 2 != 0) std::swap(pair[i][0], pair[i][1]);
+    }
+    std::array<std::uint32_t, kMaxRing> ring{};
+    std::array<std::uint8_t, kMaxRing> used{};
+    std::size_t start = 0;
+    while (old_tets[start] != t) ++start;
+    ring[0] = pair[start][0];
+    ring[1] = pair[start][1];
+    used[start] = 1;
+    for (std::size_t i = 2; i <= k; ++i) {
+      std::size_t next = k;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (used[j] == 0 && pair[j][0] == ring[i - 1]) next = j;
+      }
+      if (next == k) return false;  // an open ring: a boundary edge (or not a manifold one)
+      used[next] = 1;
+      if (i == k) {
+        if (pair[next][1] != ring[0]) return false;
+      } else {
+        ring[i] = pair[next][1];
+      }
+    }
+    // best[i][j]: the best min Q1 over the triangulations of the sub-polygon r_i .. r_j,
+    // apex[i][j] the apex of its edge (r_i, r_j) in that triangulation.
+    double best[kMaxRing][kMaxRing];
+    std::size_t apex[kMaxRing][kMaxRing];
+    const auto triangle = [&](std::size_t i, std::size_t j, std::size_t m) {
+      return std::min(quality({ring[i], ring[j], ring[m], b}),
+                      quality({ring[i], ring[m], ring[j], a}));
+    };
+    for (std::size_t i = 0; i + 1 < k; ++i)
+      best[i][i + 1] = std::numeric_limits<double>::infinity();
+    for (std::size_t len = 2; len < k; ++len) {
+      for (std::size_t i = 0; i + len < k; ++i) {
+        const std::size_t j = i + len;
+        best[i][j] = kInvalid;
+        apex[i][j] = i + 1;
+        for (std::size_t m = i + 1; m < j; ++m) {
+          const double q = std::min({best[i][m], best[m][j], triangle(i, m, j)});
+          if (q > best[i][j]) {
+            best[i][j] = q;
+            apex[i][j] = m;
+          }
+        }
+      }
+    }
+    if (!(best[0][k - 1] > 0)) return false;
+    new_tets.clear();
+    std::vector<std::pair<std::size_t, std::size_t>> stack = {{0, k - 1}};
+    while (!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      if (j - i < 2) continue;
+      const std::size_t m = apex[i][j];
+      new_tets.push_back({ring[i], ring[m], ring[j], b});
+      new_tets.push_back({ring[i], ring[j], ring[m], a});
+      stack.emplace_back(i, m);
+      stack.emplace_back(m, j);
+    }
+    return true;
+  }
+
+  std::vector<double>& sites_;
+  const Flip3Options& options_;
+  Flip3Stats stats_;
+  std::vector<std::vector<std::uint32_t>> vertex_tets_;
+  std::vector<std::uint8_t> free_;
+  std::vector<Tet> tets_;
+  // Per tet: the measure operations raise (Q1, then Q4) and the one they keep (Q4, Q1).
+  std::vector<double> obj_, guard_;
+  bool q4_mode_ = false;
+  double gain_ = options_.gain_deg, keep_ = kQ4Keep;
+  std::vector<std::uint8_t> alive_;
+};
+
+}  // namespace
+
+Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& kinds,
+                         std::vector<std::uint32_t>& tets, const Flip3Options& options) {
+  Flipper flipper(sites, kinds, tets, options);
+  const Flip3Stats stats = flipper.run();
+  if (stats.flips + stats.moves + stats.insertions > 0) tets = flipper.tets();
+  return stats;
+}
+
+}  // namespace voroclip::mesh3
