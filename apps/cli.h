@@ -191,6 +191,7 @@ struct Mesh3dArgs {
   bool smooth_surface = false;
   double smooth_shape = 0.75;
   double sliver_angle = 30;
+  double flip_angle = Mesh3Options{}.flip_dihedral_deg;
   std::string output;  // .mesh, .msh, .vtu, .node / .ele; empty: no file
   std::string msh_version = "4.1";
   bool binary = false;    // .msh: Gmsh 4.1 binary

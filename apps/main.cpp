@@ -449,6 +449,12 @@ int main(int argc, char** argv) {
                    "degrees (default 30)")
       ->type_name("DEG");
   mesh3d->add_flag("--no-perturb", mesh3d_args.no_perturb, "No sliver perturbation");
+  mesh3d
+      ->add_option("--flip-angle", mesh3d_args.flip_angle,
+                   "Last, flips, vertex moves and insertions against the tets whose smallest "
+                   "dihedral angle is below DEG degrees (the mesh then need not be Delaunay; "
+                   "default 30, 0: none)")
+      ->type_name("DEG");
   mesh3d->add_flag("--smooth-surface", mesh3d_args.smooth_surface,
                    "Surface vertices on the smooth (Phong) interpolant of the input's boundary "
                    "triangles, not on the triangles themselves");

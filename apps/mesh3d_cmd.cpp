@@ -73,6 +73,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw UsageError("--sliver-angle: expected degrees in [0, 70.5), got " +
                      format_double(args.sliver_angle));
   }
+  if (!(args.flip_angle >= 0 && args.flip_angle < 70.5)) {
+    throw UsageError("--flip-angle: expected degrees in [0, 70.5), got " +
+                     format_double(args.flip_angle));
+  }
   if (!(args.lfs_cap >= 0) || !std::isfinite(args.lfs_cap)) {
     throw UsageError("--lfs-cap: expected a number >= 0, got " + format_double(args.lfs_cap));
   }
@@ -110,6 +114,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.smooth_surface = args.smooth_surface;
   o.smooth_shape = args.smooth_shape;
   o.perturbation.target_dihedral_deg = args.sliver_angle;
+  o.flip_dihedral_deg = args.flip_angle;
   o.vertex_count =
       args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
   if (progress.mode() != Progress::Mode::kNone) {

@@ -9,8 +9,10 @@
 //
 // The mesh need not be Delaunay before or after. A flip replaces a set of tets by another
 // set with the same union (the two tets of an interior face, the ring of an interior edge);
-// a move changes only an interior (free) vertex's position, an insertion replaces a cavity
-// by the star of a new free vertex: the boundary surface and its vertices are unchanged;
+// a move changes only a free vertex's position or (Flip3Options::on_surface) slides a
+// surface vertex on the surface within its patch, an insertion replaces a cavity by the
+// star of a new free vertex: the boundary triangles are unchanged (their surface vertices
+// at most slide);
 // every new tet is checked exactly (orient3d with the mesh's sign, never zero), so the
 // result is a valid tet mesh whenever the input is. The quality is Q1, the smallest
 // dihedral angle (tet_shape). For the worst tet first: the best flip that removes it; when

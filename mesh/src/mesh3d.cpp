@@ -664,6 +664,14 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
                 ", facet_distance_budget " + std::to_string(options.facet_distance_budget) +
                 "; expected a number >= 0 and a fraction in [0, 1]");
   }
+  if (!(options.flip_dihedral_deg >= 0 && options.flip_dihedral_deg < 70.5) ||
+      !(options.flip_gain_deg >= 0) || !std::isfinite(options.flip_gain_deg) ||
+      !(options.flip_q4 >= 0 && options.flip_q4 <= 1)) {
+    throw Error("mesh3d: flip_dihedral_deg " + std::to_string(options.flip_dihedral_deg) +
+                ", flip_gain_deg " + std::to_string(options.flip_gain_deg) + ", flip_q4 " +
+                std::to_string(options.flip_q4) +
+                "; expected degrees in [0, 70.5), a finite gain >= 0 and a Q4 in [0, 1]");
+  }
   if (!(options.smooth_shape >= 0 && options.smooth_shape <= 1)) {
     throw Error("mesh3d: smooth_shape " + std::to_string(options.smooth_shape) +
                 "; expected a value in [0, 1]");

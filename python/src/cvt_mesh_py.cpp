@@ -276,9 +276,11 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
         }},
        {"max_topology_rounds", S::field<std::uint32_t>(&Mesh3Options::max_topology_rounds)},
        {"perturb", S::field<bool>(&Mesh3Options::perturb)},
-       {"sliver_angle", [](Mesh3Options& o, const py::handle& v) {
+       {"sliver_angle",
+        [](Mesh3Options& o, const py::handle& v) {
           o.perturbation.target_dihedral_deg = v.cast<double>();
-        }}});
+        }},
+       {"flip_angle", S::field<double>(&Mesh3Options::flip_dihedral_deg)}});
   Mesh3Options o;
   setter.apply(o, options);
   Progress progress(callback);
@@ -325,6 +327,9 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["distance_sites"] = m.nb_distance_sites;
   s["distance_sites_added"] = m.nb_distance_sites_added;
   s["sliver_sites"] = m.nb_sliver_sites;
+  s["flips"] = m.nb_flips;
+  s["flip_moves"] = m.nb_flip_moves;
+  s["flip_sites"] = m.nb_flip_sites;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

@@ -144,6 +144,26 @@ def test_mesh3d_facet_distance_agrees_with_cli(cli, tmp_path):
     assert not any((plain.points == np.array(p, dtype=float)).all(axis=1).any() for p in v)
 
 
+def test_mesh3d_flip_angle_agrees_with_cli(cli, data, tmp_path):
+    # The last step (flips, moves, insertions against the tets below flip_angle) raises the
+    # smallest dihedral angle and keeps the boundary; flip_angle=0 (--flip-angle 0) skips it.
+    domain = data / "surfaces" / "fandisk.obj"
+    off = run(cli, "mesh3d", domain, "--vertices", 1500, "--flip-angle", 0,
+              "-o", tmp_path / "a.msh")
+    on = run(cli, "mesh3d", domain, "--vertices", 1500, "-o", tmp_path / "b.msh")
+    assert off["perturbation"]["flips"] == off["perturbation"]["flip_moves"] == 0
+    assert on["perturbation"]["flips"] + on["perturbation"]["flip_moves"] > 0
+    assert on["min_dihedral_deg"] > off["min_dihedral_deg"]
+    m = voroclip.mesh3d(domain, vertices=1500, flip_angle=0)
+    assert m.stats["flips"] == m.stats["flip_moves"] == m.stats["flip_sites"] == 0
+    assert len(m.cells) == off["tets"] and len(m.points) == off["vertices"]
+    with pytest.raises(voroclip.Error, match="flip_dihedral_deg"):
+        voroclip.mesh3d(domain, vertices=1500, flip_angle=80)
+    bad = subprocess.run([cli, "mesh3d", str(domain), "--vertices", "100", "--flip-angle", "-1"],
+                         capture_output=True, text=True)
+    assert bad.returncode != 0 and "--flip-angle" in bad.stderr
+
+
 def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):
     domain = data / "surfaces" / "sphere.obj"
     stats = run(cli, "clip3d", domain, "--random", 3000, "--seed", 7, "-o", tmp_path / "c.json")
