@@ -362,15 +362,17 @@ class Flipper {
     for (const std::uint32_t y : tets_[t]) {
       for (int c = 0; c < 3; ++c) p[c] += at(y)[c] / 4;
     }
+    // x exists (a free vertex) while its position is searched; taken back when rejected.
     sites_.insert(sites_.end(), p.begin(), p.end());
+    free_.push_back(kMovable);
     const double after = search(x, star, p);
     if (!(after > before + gain_) || !keeps_q4(cavity, star, x, p.data())) {
       sites_.resize(3 * std::size_t{x});
+      free_.pop_back();
       return false;
     }
     std::copy(p.begin(), p.end(), at(x));
     vertex_tets_.emplace_back();
-    free_.push_back(kMovable);
     for (const std::uint32_t c : cavity) remove(c);
     for (const Tet& n : star) add(n);
     ++stats_.insertions;
