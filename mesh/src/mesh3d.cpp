@@ -396,6 +396,14 @@ void Pipeline::run() {
     next_phase(Mesh3Phase::kExtraction);
     std::vector<std::uint32_t> tets;
     SurfacePatches patches;
+    // Whether q, where surface site s would go, is on s's own patch (a site on no patch goes
+    // anywhere): a surface site moves within its patch in steps 7 and 7c, since across a
+    // feature line its patch (the crease rule of the extraction) would be stale, and the line
+    // could be cut.
+    const auto on_own_patch_at = [&](std::uint32_t s, const double* q) {
+      return patches.begin[s] == patches.begin[s + 1] ||
+             triangle_patch[surface_tree.closest(q).triangle] == patches.patches[patches.begin[s]];
+    };
     const auto extract_and_perturb = [&] {
       patches = site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of,
                              corner_vertex, triangle_patch);
@@ -415,15 +423,13 @@ void Pipeline::run() {
           p.min_dihedral_deg = worst;
           return notify(p) && (!user || user(round, slivers, worst));
         };
-        // A surface site moves within its own patch: across a feature line its patch (the
-        // crease rule of the extraction) would be stale, and the line could be cut. A
-        // candidate that projects onto another patch stays where the site is (the wave's moves
-        // are written after its candidates are scored, so sites[s] is the current position).
+        // A surface site moves within its own patch (on_own_patch_at): a candidate that
+        // projects onto another patch stays where the site is (the wave's moves are written
+        // after its candidates are scored, so sites[s] is the current position).
         const SiteProjector3 on_own_patch = [&](std::uint32_t s, Kind k, const double* p, double* q,
                                                 double* d) {
           project(s, k, p, q, d);
-          if (k != Kind::kSurface || patches.begin[s] == patches.begin[s + 1]) return;
-          if (triangle_patch[surface_tree.closest(q).triangle] != patches.patches[patches.begin[s]])
+          if (k == Kind::kSurface && !on_own_patch_at(s, q))
             project(s, k, &sites[3 * std::size_t{s}], q, d);
         };
         const std::vector<double> unperturbed = sites;
@@ -516,9 +522,7 @@ void Pipeline::run() {
         fo.on_surface = [&](std::uint32_t s, const double* p, double* q) {
           double d[3];
           project(s, Kind::kSurface, p, q, d);
-          return patches.begin[s] == patches.begin[s + 1] ||
-                 triangle_patch[surface_tree.closest(q).triangle] ==
-                     patches.patches[patches.begin[s]];
+          return on_own_patch_at(s, q);
         };
       }
       const mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
