@@ -69,7 +69,14 @@ constexpr double kLastStep = 1.0 / 64;  // idem, the search stops below
 // target of issue 30 is 0.4): raising the smallest angle can make a needle.
 constexpr double kQ4Keep = 0.5;
 // A boundary flip only where the boundary is nearly flat: the normals of its two old and two
-// new boundary triangles within this of each other (degrees); see below.
+// new boundary triangles within this of each other (degrees). Then the tet (a, b, c, d) the
+// flip adds or removes is thin: d off the plane of (a, b, c) by at most sin(5 deg) = 8.7% of
+// its distance to the line ab. Measured (session 24,
+// 10k vertices): fandisk makes 3 boundary flips with it, its Hausdorff distance
+// unchanged (0.652% of the diagonal); around skull's worst tets the candidates' normals spread
+// 0.9 to 5.0 deg, or 7 to 20 deg. The worst tets of skull 10k and elk 3k would need 11.1 and
+// 9.7 deg, yet with bounds up to 20 deg no boundary flip is kept there (skull's fails the Q4
+// keep): they stay.
 constexpr double kBoundaryFlipDeg = 5;
 constexpr double kPi = 3.14159265358979323846;
 
