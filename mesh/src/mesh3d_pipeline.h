@@ -111,8 +111,8 @@ std::uint32_t peel_flat_boundary_tets(
 // applied when the smallest Q1 of the tets it makes beats that of the tets it replaces by
 // more than gain_deg and their smallest Q4 is not below the replaced tets' (or 0.5); at
 // most max_operations. The boundary triangles are unchanged (their vertices only slide on
-// the surface, with on_surface); every new tet is right-handed exactly (orient3d < 0, as
-// `tets` is given).
+// the surface, with on_surface) but for the boundary flips (with same_patch); every new tet is
+// right-handed exactly (orient3d < 0, as `tets` is given).
 struct Flip3Options {
   double below_deg = 30, gain_deg = 0.01;
   // Then a second pass against the tets whose Q4 is below below_q4 (0: none), each operation
@@ -124,9 +124,17 @@ struct Flip3Options {
   // When set, surface vertices (kSurface) move too, each candidate position p replaced by
   // q, on_surface(v, p, q) (false: the candidate is dropped).
   std::function<bool(std::uint32_t, const double*, double*)> on_surface;
+  // When set, boundary 2-2 flips too: the boundary edge (a, b) of the triangles (a, b, c) and
+  // (b, a, d) replaced by (c, d), the tets around (a, b) (an open fan of 2 to 8) by a
+  // triangulation of the fan, the boundary triangles by (a, c, d) and (b, d, c); only when
+  // same_patch(a, b, c, d) (the four triangles in one surface patch, the caller's), (c, d)
+  // is no edge of the mesh, a or b is a surface vertex (kSurface: no feature edge goes),
+  // and the four triangles' normals are within kBoundaryFlipDeg of each other (flips3d.cpp).
+  std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t)> same_patch;
 };
 struct Flip3Stats {
-  std::uint32_t flips = 0, moves = 0, insertions = 0;
+  // flips counts the boundary flips too.
+  std::uint32_t flips = 0, moves = 0, insertions = 0, boundary_flips = 0;
 };
 Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& kinds,
                          std::vector<std::uint32_t>& tets, const Flip3Options& options);

@@ -1119,6 +1119,11 @@ struct Mesh3Result {
   // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices, interior
   // vertices inserted (in nb_sites too).
   std::uint32_t nb_flips = 0, nb_flip_moves = 0, nb_flip_sites = 0;
+  // Of nb_flips, the boundary 2-2 flips (a boundary edge replaced by the other diagonal of
+  // its two nearly coplanar boundary triangles, in one patch); flips_rerun_for_shape when
+  // they changed the boundary's shape and 7c was redone without them.
+  std::uint32_t nb_boundary_flips = 0;
+  bool flips_rerun_for_shape = false;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
