@@ -283,6 +283,22 @@ double min_q1(const std::vector<double>& p, const std::vector<std::uint32_t>& te
   return q;
 }
 
+// The smallest Q4 of `tets`.
+double min_q4(const std::vector<double>& p, const std::vector<std::uint32_t>& tets) {
+  double q = 1;
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    q = std::min(q, voroclip::tet_shape(&p[3 * tets[t]], &p[3 * tets[t + 1]], &p[3 * tets[t + 2]],
+                                        &p[3 * tets[t + 3]])
+                        .q4);
+  }
+  return q;
+}
+
+// The smallest min(Q1, 50 Q4) of `tets`: the measure step 7c's Q1 pass raises.
+double min_measure(const std::vector<double>& p, const std::vector<std::uint32_t>& tets) {
+  return std::min(min_q1(p, tets), 50 * min_q4(p, tets));
+}
+
 // Facts a flip must keep: every tet right-handed exactly (orient3d < 0), the same boundary
 // triangles (as a sorted list of rotated triples), every vertex still used.
 void check_flipped(const std::vector<double>& p, const std::vector<std::uint32_t>& before,
@@ -352,9 +368,11 @@ TEST_CASE("flip_slivers3: a 3-2 flip", "[mesh][exact]") {
   CHECK(t.size() == 8);
   check_flipped(p, three, t);
   CHECK(min_q1(p, t) == Approx(min_q1(p, two)));
-  // Not below the threshold, nor without enough gain, nor when max_operations is 0.
+  // Not below the threshold (min(Q1, 50 Q4): here 50 Q4 = 30.1 < Q1 = 35.4), nor without
+  // enough gain, nor when max_operations is 0.
   t = three;
-  CHECK(flips_only(p, t, min_q1(p, three), 0.01, 10) == 0);
+  REQUIRE(min_measure(p, three) < min_q1(p, three));
+  CHECK(flips_only(p, t, min_measure(p, three), 0.01, 10) == 0);
   CHECK(flips_only(p, t, 90, 90, 10) == 0);
   CHECK(flips_only(p, t, 90, 0.01, 0) == 0);
   CHECK(t == three);
@@ -371,6 +389,28 @@ TEST_CASE("flip_slivers3: a 2-3 flip", "[mesh][exact]") {
   CHECK(t.size() == 12);
   check_flipped(p, two, t);
   CHECK(min_q1(p, t) == Approx(min_q1(p, three)));
+}
+
+TEST_CASE("flip_slivers3: the Q1 pass takes a tet short of Q4", "[mesh][exact]") {
+  // Taller bipyramid: the three tets around ab have Q1 32.8 (above the 30 degrees of the
+  // pass) but Q4 0.44 (min(Q1, 50 Q4) = 22.2); the 3-2 flip gives Q1 65.7 and Q4 0.95. The
+  // Q4 passes off (below_q4 = 0): the Q1 pass alone flips.
+  const std::vector<double> p = bipyramid(2.0);
+  const std::vector<std::uint32_t> three = right_handed(p, {3, 4, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0});
+  const std::vector<std::uint32_t> two = right_handed(p, {0, 1, 2, 3, 0, 1, 2, 4});
+  REQUIRE(min_q1(p, three) > 30);
+  REQUIRE(min_q4(p, three) < 0.45);
+  REQUIRE(min_q4(p, two) > 0.9);
+  std::vector<std::uint32_t> t = three;
+  CHECK(flips_only(p, t, 30, 0.01, 10) == 1);
+  CHECK(t.size() == 8);
+  check_flipped(p, three, t);
+  CHECK(min_q4(p, t) == Approx(min_q4(p, two)));
+  CHECK(min_q1(p, t) == Approx(min_q1(p, two)));
+  // Below min(Q1, 50 Q4) = 22.2: none.
+  t = three;
+  CHECK(flips_only(p, t, 22, 0.01, 10) == 0);
+  CHECK(t == three);
 }
 
 TEST_CASE("flip_slivers3: no flip where the union is not convex", "[mesh][exact]") {
@@ -588,6 +628,10 @@ TEST_CASE("flip_slivers3: an extracted mesh keeps its boundary and gains", "[mes
   CHECK(st.flips > 0);
   check_flipped(p, tets, t);
   CHECK(min_q1(p, t) > min_q1(s.sites, tets));
+  // No operation lowers the smallest Q4 of the tets it replaces below 0.5 (the Q4 passes are
+  // off: below_q4 = 0).
+  CHECK(min_measure(p, t) > min_measure(s.sites, tets));
+  CHECK(min_q4(p, t) >= std::min(min_q4(s.sites, tets), 0.5));
   // Only free sites moved; new ones appended.
   for (std::size_t v = 0; v < s.kinds.size(); ++v) {
     if (s.kinds[v] == Kind::kFree) continue;
@@ -614,7 +658,7 @@ TEST_CASE("flip_slivers3: an extracted mesh keeps its boundary and gains", "[mes
 TEST_CASE("mesh3d: step 7c raises the smallest angle and keeps the boundary",
           "[mesh][regression]") {
   // Issue 30: fandisk with few iterations leaves tets below 30 degrees at the boundary; the
-  // flips, moves and insertions of step 7c raise the smallest angle, keep every boundary
+  // flips, moves and insertions of step 7c raise the smallest min(Q1, 50 Q4), keep every boundary
   // triangle (same vertices, numbered alike: sites inserted come last) but for the boundary
   // flips' and the shape.
   const Domain3 fandisk(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
@@ -629,7 +673,12 @@ TEST_CASE("mesh3d: step 7c raises the smallest angle and keeps the boundary",
                                   << " moves, " << with.nb_flip_sites << " sites");
   CHECK(without.nb_flips + without.nb_flip_moves + without.nb_flip_sites == 0);
   REQUIRE(with.nb_flips + with.nb_flip_moves + with.nb_flip_sites > 0);
-  CHECK(with.quality.q1_deg.min > without.quality.q1_deg.min);
+  // The smallest min(Q1, 50 Q4) rises (Q1 may fall where Q4 was the lower of the two).
+  const auto measure = [](const voroclip::Mesh3Result& r) {
+    return std::min(r.quality.q1_deg.min, 50 * r.quality.q4.min);
+  };
+  INFO("min Q4 " << without.quality.q4.min << " -> " << with.quality.q4.min);
+  CHECK(measure(with) > measure(without));
   CHECK(with.quality.q4.min >= std::min(without.quality.q4.min, 0.5));
   CHECK(with.quality.inverted.empty());
   CHECK(with.quality.degenerate.empty());

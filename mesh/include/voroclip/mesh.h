@@ -1021,21 +1021,21 @@ struct Mesh3Options {
   // the shape is undone and stops them. At most sliver_insertion_passes passes (0: none).
   double sliver_insertion_deg = 20;
   std::uint32_t sliver_insertion_passes = 2;
-  // Last (step 7c), against the tets whose smallest dihedral angle is below
-  // flip_dihedral_deg, worst first: topological flips (2-3 flips of interior faces, removal
-  // of interior edges with up to 8 tets around them: 3-2, 4-4, ...), else a move of an
-  // interior vertex of the tet (or, with flip_moves_surface, of a surface vertex within its
-  // surface patch), else a new interior vertex in the cavity of the tet and its
-  // face neighbours; each kept only when it raises the smallest dihedral angle of the tets
-  // it replaces by more than flip_gain_deg. The mesh need not stay Delaunay; its boundary
-  // keeps its triangles (surface vertices only slide on the surface). At most max_flips_per_tet
-  // times the number of tets operations; 0 degrees: none.
+  // Last (step 7c), against the tets whose min(Q1, 50 Q4) (smallest dihedral angle in
+  // degrees; Q4 = 0.4 weighs as 20 degrees) is below flip_dihedral_deg, worst first: topological
+  // flips (2-3 flips of interior faces, removal of interior edges with up to 8 tets around them:
+  // 3-2, 4-4, ...), else a move of an interior vertex of the tet (or, with flip_moves_surface, of a
+  // surface vertex within its surface patch), else a new interior vertex in the cavity of the tet
+  // and its face neighbours; each kept only when it raises that measure's smallest over the tets it
+  // replaces by more than flip_gain_deg and keeps their smallest Q4 (or 0.5). The mesh need not
+  // stay Delaunay; its boundary keeps its triangles (surface vertices only slide on the surface).
+  // At most max_flips_per_tet times the number of tets operations; 0 degrees: none.
   double flip_dihedral_deg = 30;
   double flip_gain_deg = 0.01;
   bool flip_moves_surface = true;  // surface vertices move too (within their patch)
-  // Then the same operations against the tets whose Q4 is below flip_q4 (0: none), each
-  // raising the smallest Q4 of the tets it replaces and keeping their smallest dihedral
-  // angle (or flip_dihedral_deg).
+  // Before and after, the same operations against the tets whose Q4 is below flip_q4 (0:
+  // none), each raising the smallest Q4 of the tets it replaces and keeping their smallest
+  // dihedral angle (or flip_dihedral_deg).
   double flip_q4 = 0.4;
   std::uint32_t max_flips_per_tet = 1;
   // Called as described at Mesh3Progress; return false to stop: the result then has
