@@ -345,7 +345,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"peeled_tets", r.nb_peeled},
                          {"flips", r.nb_flips},
                          {"flip_moves", r.nb_flip_moves},
-                         {"flip_sites", r.nb_flip_sites}};
+                         {"flip_sites", r.nb_flip_sites},
+                         {"boundary_flips", r.nb_boundary_flips},
+                         {"flips_rerun_for_shape", r.flips_rerun_for_shape}};
     nlohmann::json seconds = {{"read", t_read}};
     for (int p = 0; p < kNbMesh3Phases; ++p)
       seconds[mesh3_phase_name(static_cast<Mesh3Phase>(p))] = r.seconds[p];

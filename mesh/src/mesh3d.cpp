@@ -525,8 +525,43 @@ void Pipeline::run() {
           return on_own_patch_at(s, q);
         };
       }
-      const mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
+      // Boundary flips within one patch: the patches the three vertices of each old and new
+      // boundary triangle share, one and the same (so the new triangles' tag is the old ones').
+      const auto common = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+        std::uint32_t found = SurfaceTree::kNone, nb = 0;
+        for (std::uint32_t i = patches.begin[x]; i < patches.begin[x + 1]; ++i) {
+          const std::uint32_t p = patches.patches[i];
+          const auto in = [&](std::uint32_t w) {
+            return std::find(patches.patches.begin() + patches.begin[w],
+                             patches.patches.begin() + patches.begin[w + 1],
+                             p) != patches.patches.begin() + patches.begin[w + 1];
+          };
+          if (in(y) && in(z)) {
+            found = p;
+            ++nb;
+          }
+        }
+        return nb == 1 ? found : SurfaceTree::kNone;
+      };
+      fo.same_patch = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+        const std::size_t nb = patches.begin.size() - 1;
+        if (a >= nb || b >= nb || c >= nb || d >= nb) return false;
+        const std::uint32_t p = common(a, b, c);
+        return p != SurfaceTree::kNone && common(a, b, d) == p && common(a, c, d) == p &&
+               common(b, d, c) == p;
+      };
+      const auto before_flips = std::make_tuple(sites, tets);
+      mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
+      if (fs.boundary_flips > 0 && !shape_of(domain, sites, tets).empty()) {
+        // A boundary flip changed the boundary's shape (it reached another part of the
+        // surface): 7c again without them.
+        std::tie(sites, tets) = before_flips;
+        fo.same_patch = nullptr;
+        fs = flip_slivers3(sites, kinds, tets, fo);
+        result.flips_rerun_for_shape = true;
+      }
       result.nb_flips = fs.flips;
+      result.nb_boundary_flips = fs.boundary_flips;
       result.nb_flip_moves = fs.moves;
       result.nb_flip_sites = fs.insertions;
       for (; n < sites.size() / 3; ++n) {

@@ -102,31 +102,40 @@ std::uint32_t peel_flat_boundary_tets(
     std::vector<std::uint32_t>& tets, double max_q1_deg, std::uint32_t passes,
     const std::function<bool(const std::vector<std::uint32_t>&)>& keep);
 
-// Flips, smoothing and insertion against the tets whose smallest dihedral angle is below
-// below_deg, worst first (flips3d.cpp): 2-3 flips of interior faces and removal of
-// interior edges with up to 8 tets around them (3-2, 4-4, ...); else a move of one of the
-// tet's free vertices (kinds kFree; with on_surface, of its surface vertices on the
+// Flips, smoothing and insertion against the tets whose min(Q1, 50 Q4) (Q1 in degrees; Q4 =
+// 0.4 weighs as 20 degrees) is below below_deg, worst first (flips3d.cpp): 2-3 flips of interior
+// faces and removal of interior edges with up to 8 tets around them (3-2, 4-4, ...); else a move of
+// one of the tet's free vertices (kinds kFree; with on_surface, of its surface vertices on the
 // surface too); else a new free vertex in the cavity of the tet and its face neighbours
 // (appended to `sites`; not when a vertex would be left inside the cavity). Each is
-// applied when the smallest Q1 of the tets it makes beats that of the tets it replaces by
-// more than gain_deg and their smallest Q4 is not below the replaced tets' (or 0.5); at
+// applied when the smallest such measure of the tets it makes beats that of the tets it
+// replaces by more than gain_deg and their smallest Q4 is not below the replaced tets' (or
+// 0.5: a constraint of the search for the operation); at
 // most max_operations. The boundary triangles are unchanged (their vertices only slide on
-// the surface, with on_surface); every new tet is right-handed exactly (orient3d < 0, as
-// `tets` is given).
+// the surface, with on_surface) but for the boundary flips (with same_patch); every new tet is
+// right-handed exactly (orient3d < 0, as `tets` is given).
 struct Flip3Options {
   double below_deg = 30, gain_deg = 0.01;
-  // Then a second pass against the tets whose Q4 is below below_q4 (0: none), each operation
-  // raising the smallest Q4 by more than gain_q4 and keeping the smallest Q1 of the tets it
-  // replaces (or below_deg).
+  // Before and after, a pass against the tets whose Q4 is below below_q4 (0: none), each
+  // operation raising the smallest Q4 by more than gain_q4 and keeping the smallest Q1 of the
+  // tets it replaces (or below_deg).
   double below_q4 = 0, gain_q4 = 0.001;
   std::uint32_t max_operations = 0;
   bool flip = true, smooth = true, insert = true;  // which operations
   // When set, surface vertices (kSurface) move too, each candidate position p replaced by
   // q, on_surface(v, p, q) (false: the candidate is dropped).
   std::function<bool(std::uint32_t, const double*, double*)> on_surface;
+  // When set, boundary 2-2 flips too: the boundary edge (a, b) of the triangles (a, b, c) and
+  // (b, a, d) replaced by (c, d), the tets around (a, b) (an open fan of 2 to 8) by a
+  // triangulation of the fan, the boundary triangles by (a, c, d) and (b, d, c); only when
+  // same_patch(a, b, c, d) (the four triangles in one surface patch, the caller's), (c, d)
+  // is no edge of the mesh, a or b is a surface vertex (kSurface: no feature edge goes),
+  // and the four triangles' normals are within kBoundaryFlipDeg of each other (flips3d.cpp).
+  std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t)> same_patch;
 };
 struct Flip3Stats {
-  std::uint32_t flips = 0, moves = 0, insertions = 0;
+  // flips counts the boundary flips too.
+  std::uint32_t flips = 0, moves = 0, insertions = 0, boundary_flips = 0;
 };
 Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& kinds,
                          std::vector<std::uint32_t>& tets, const Flip3Options& options);

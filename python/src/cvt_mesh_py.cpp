@@ -330,6 +330,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["flips"] = m.nb_flips;
   s["flip_moves"] = m.nb_flip_moves;
   s["flip_sites"] = m.nb_flip_sites;
+  s["boundary_flips"] = m.nb_boundary_flips;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

@@ -154,8 +154,10 @@ def test_mesh3d_flip_angle_agrees_with_cli(cli, data, tmp_path):
     assert off["perturbation"]["flips"] == off["perturbation"]["flip_moves"] == 0
     assert on["perturbation"]["flips"] + on["perturbation"]["flip_moves"] > 0
     assert on["min_dihedral_deg"] > off["min_dihedral_deg"]
+    assert 0 <= on["perturbation"]["boundary_flips"] <= on["perturbation"]["flips"]
     m = voroclip.mesh3d(domain, vertices=1500, flip_angle=0)
     assert m.stats["flips"] == m.stats["flip_moves"] == m.stats["flip_sites"] == 0
+    assert m.stats["boundary_flips"] == 0
     assert len(m.cells) == off["tets"] and len(m.points) == off["vertices"]
     with pytest.raises(voroclip.Error, match="flip_dihedral_deg"):
         voroclip.mesh3d(domain, vertices=1500, flip_angle=80)

@@ -1021,21 +1021,21 @@ struct Mesh3Options {
   // the shape is undone and stops them. At most sliver_insertion_passes passes (0: none).
   double sliver_insertion_deg = 20;
   std::uint32_t sliver_insertion_passes = 2;
-  // Last (step 7c), against the tets whose smallest dihedral angle is below
-  // flip_dihedral_deg, worst first: topological flips (2-3 flips of interior faces, removal
-  // of interior edges with up to 8 tets around them: 3-2, 4-4, ...), else a move of an
-  // interior vertex of the tet (or, with flip_moves_surface, of a surface vertex within its
-  // surface patch), else a new interior vertex in the cavity of the tet and its
-  // face neighbours; each kept only when it raises the smallest dihedral angle of the tets
-  // it replaces by more than flip_gain_deg. The mesh need not stay Delaunay; its boundary
-  // keeps its triangles (surface vertices only slide on the surface). At most max_flips_per_tet
-  // times the number of tets operations; 0 degrees: none.
+  // Last (step 7c), against the tets whose min(Q1, 50 Q4) (smallest dihedral angle in
+  // degrees; Q4 = 0.4 weighs as 20 degrees) is below flip_dihedral_deg, worst first: topological
+  // flips (2-3 flips of interior faces, removal of interior edges with up to 8 tets around them:
+  // 3-2, 4-4, ...), else a move of an interior vertex of the tet (or, with flip_moves_surface, of a
+  // surface vertex within its surface patch), else a new interior vertex in the cavity of the tet
+  // and its face neighbours; each kept only when it raises that measure's smallest over the tets it
+  // replaces by more than flip_gain_deg and keeps their smallest Q4 (or 0.5). The mesh need not
+  // stay Delaunay; its boundary keeps its triangles (surface vertices only slide on the surface).
+  // At most max_flips_per_tet times the number of tets operations; 0 degrees: none.
   double flip_dihedral_deg = 30;
   double flip_gain_deg = 0.01;
   bool flip_moves_surface = true;  // surface vertices move too (within their patch)
-  // Then the same operations against the tets whose Q4 is below flip_q4 (0: none), each
-  // raising the smallest Q4 of the tets it replaces and keeping their smallest dihedral
-  // angle (or flip_dihedral_deg).
+  // Before and after, the same operations against the tets whose Q4 is below flip_q4 (0:
+  // none), each raising the smallest Q4 of the tets it replaces and keeping their smallest
+  // dihedral angle (or flip_dihedral_deg).
   double flip_q4 = 0.4;
   std::uint32_t max_flips_per_tet = 1;
   // Called as described at Mesh3Progress; return false to stop: the result then has
@@ -1119,6 +1119,11 @@ struct Mesh3Result {
   // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices, interior
   // vertices inserted (in nb_sites too).
   std::uint32_t nb_flips = 0, nb_flip_moves = 0, nb_flip_sites = 0;
+  // Of nb_flips, the boundary 2-2 flips (a boundary edge replaced by the other diagonal of
+  // its two nearly coplanar boundary triangles, in one patch); flips_rerun_for_shape when
+  // they changed the boundary's shape and 7c was redone without them.
+  std::uint32_t nb_boundary_flips = 0;
+  bool flips_rerun_for_shape = false;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
