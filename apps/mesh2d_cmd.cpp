@@ -278,8 +278,14 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     } else {
       s["vertex_count_note"] = st.vertex_count_note;
     }
+    if (st.mean_angle_note.empty()) {
+      s["mean_angle_note"] = nullptr;
+    } else {
+      s["mean_angle_note"] = st.mean_angle_note;
+    }
     s["refined_vertices"] = st.refine_added;
     s["smoothed_vertices"] = st.smoothed;
+    s["flips"] = st.flips;
     s["tip_triangles"] = st.nb_tip_triangles;
     s["sites"] = st.nb_sites;
     s["fixed_sites"] = st.nb_fixed;
@@ -335,6 +341,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
       *human << '\n';
     }
     if (!st.vertex_count_note.empty()) *human << "note: " << st.vertex_count_note << '\n';
+    if (!st.mean_angle_note.empty()) *human << "note: " << st.mean_angle_note << '\n';
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.histogram.empty()) *human << "Histogram written to " << args.histogram << '\n';
   }

@@ -235,6 +235,12 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   } else {
     s["vertex_count_note"] = st.vertex_count_note;
   }
+  s["flips"] = st.flips;
+  if (st.mean_angle_note.empty()) {
+    s["mean_angle_note"] = py::none();
+  } else {
+    s["mean_angle_note"] = st.mean_angle_note;
+  }
   s["seconds"] = st.seconds;
   s["cancelled"] = st.cancelled;
   s["check"] = st.check;

@@ -68,8 +68,11 @@ def test_mesh2d_agrees_with_cli(cli, tmp_path):
     assert np.array_equal(back.cells_dict["triangle"], m.cells)
     assert stats["vertices"] == len(m.points) and stats["triangles"] == len(m.cells)
     assert stats["relative_gradient"] == m.stats["relative_gradient"]
-    for key in ("feature_vertices", "refined_vertices", "smoothed_vertices", "vertex_count_note"):
+    for key in ("feature_vertices", "refined_vertices", "smoothed_vertices", "vertex_count_note",
+                "flips", "mean_angle_note"):
         assert stats[key] == m.stats[key], key
+    # The mean smallest angle reaches 53 degrees here: no note.
+    assert stats["quality"]["mean_min_angle_deg"] >= 53 and stats["mean_angle_note"] is None
 
 
 def test_mesh3d_agrees_with_cli(cli, data, tmp_path):

@@ -281,6 +281,16 @@ class SizingField3 {
 //      (issue52, 1000 vertices: 52.97 to 53.50 degrees without the sliding and the 40
 //      degree rule; hilbert, 3000: 49.88 to 51.19 with them) and never lowers the
 //      smallest below min(itself, 40 degrees).
+//  10. Flips and search (conforming only): in up to `flip_rounds` rounds, edges between two
+//      triangles are flipped where the sum of the two smallest angles grows (the
+//      constrained Delaunay triangulation maximises their minimum, not their sum), the
+//      minimum kept at or above min(itself, 40 degrees), then one smoothing pass as in
+//      step 9 that also searches from the best trial point (compass search, 8 directions
+//      or along the edge, halving steps), without extracting again: the connectivity is
+//      kept, the mesh is no longer constrained Delaunay. Raises the mean smallest angle
+//      where the grading or the boundary's spacing squeeze the triangles (earcut, 1000
+//      vertices asked: 51.24 to 51.78 degrees; issue35: 50.83 to 51.44) and never lowers
+//      the smallest below min(itself, 40 degrees).
 //   Tags (tag_mesh2): boundary edges carry the .poly segment marker of their side, else
 //   1 (outer rings) or 2, 3, ... (holes); a vertex where the tag changes is fixed.
 // The vertex count is approximate: the sampling gives `nb_vertices`, the boundary and
@@ -439,6 +449,10 @@ struct Mesh2Options {
   // The smoothing also slides the boundary vertices that are not at a domain vertex along
   // their domain edge (same rule, the target projected on the edge).
   bool smooth_boundary = true;
+  // Flips (step 10, conforming extraction only): rounds of edge flips raising the sum of
+  // the smallest angles of the two triangles of an edge, each followed by a smoothing
+  // pass. 0: none (the mesh stays constrained Delaunay).
+  std::uint32_t flip_rounds = 10;
   // Called at the start of each phase (iteration 0) and after every CVT iteration; return
   // false to stop: the mesh is then extracted from the sites reached (valid, lower
   // quality; an empty mesh when stopped at the start of the sampling) and
@@ -453,7 +467,8 @@ struct Mesh2Stats {
   std::uint32_t nb_sharp_corners = 0;    // corners cut (sharp_angle_deg)
   std::uint32_t nb_tip_triangles = 0;    // their tips, one triangle each (conforming)
   std::uint32_t refine_added = 0;        // vertices added by the refinement (step 8)
-  std::uint32_t smoothed = 0;            // vertex moves of the smoothing (step 9)
+  std::uint32_t smoothed = 0;            // vertex moves of the smoothing (steps 9 and 10)
+  std::uint32_t flips = 0;               // edge flips of step 10
   std::uint32_t requested_vertices = 0;  // options.nb_vertices
   std::uint32_t vertex_count_runs = 0;   // runs redone to land near it (0 to 2)
   // Expected vertex count of the small features' sizes alone (h = the feature size field,
@@ -463,6 +478,11 @@ struct Mesh2Stats {
   // else one line: the count made, by how much it misses, and why (the small features'
   // count above the request, or the steps that changed the count).
   std::string vertex_count_note;
+  // Empty when the mean smallest angle reaches issue 31's 53 degrees; else one line: the
+  // mean, the triangles at the boundary and inside with their means, and why (corridors a
+  // few triangles wide, with an estimate of the vertex count that reaches 53; an interior
+  // graded to small features; the boundary's share).
+  std::string mean_angle_note;
   std::uint32_t nb_gap_sites = 0;  // free sites added in gaps after the boundary step
   std::uint32_t nb_paths = 0;
   double edge_length = 0;  // H
