@@ -105,7 +105,7 @@ struct ClipArgs {
   bool compress = false;  // .vtu: zlib-compressed data
   // cvt2d
   std::string method = "lbfgs";
-  std::uint32_t iterations = 100;
+  std::uint32_t iterations = 1000;
   double tolerance = 1e-4;
   DensityArgs density;  // cvt2d
 };

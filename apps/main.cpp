@@ -223,7 +223,9 @@ int main(int argc, char** argv) {
         ->type_name("FILE");
     if (c == 1) {
       cmd->add_option("--method", a.method, "lbfgs (default) or lloyd")->type_name("NAME");
-      cmd->add_option("--iterations", a.iterations, "Iteration budget (default 100)")
+      cmd->add_option("--iterations", a.iterations,
+                      "Iteration budget (default 1000: enough for L-BFGS to reach the default "
+                      "tolerance on the shared polygons from random sites)")
           ->type_name("N");
       cmd->add_option("--tolerance", a.tolerance,
                       "Stop when |gradient| <= tolerance * initial |gradient| (default 1e-4)")

@@ -536,7 +536,7 @@ void bind_cvt_mesh(py::module_& m) {
         py::arg("triangles"), py::arg("triangle_tags"), py::arg("tet_tags"), py::arg("tag_names"),
         py::arg("format"));
   m.def("cvt2d", &cvt2d, py::arg("domain"), py::arg("sites"), py::arg("method") = "lbfgs",
-        py::arg("iterations") = 100, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
+        py::arg("iterations") = 1000, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("cvt3d", &cvt3d, py::arg("domain"), py::arg("sites"), py::arg("method") = "lbfgs",
         py::arg("iterations") = 100, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),

@@ -227,7 +227,7 @@ def _cvt_result(r: dict) -> CvtResult:
     return CvtResult(*(r[k] for k in CvtResult._fields))
 
 
-def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance: float = 1e-4,
+def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 1000, tolerance: float = 1e-4,
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
           threads: Optional[int] = None) -> CvtResult:
     """Centroidal Voronoi tessellation in a polygonal domain: minimises the CVT energy

@@ -203,3 +203,47 @@ TEST_CASE("cvt2d: cancel from the progress callback; identical with 1 and 2 thre
   }
   REQUIRE(one == two);
 }
+
+namespace {
+
+// The rings of `p` with every coordinate times k.
+PolygonRings scaled(PolygonRings p, double k) {
+  for (double& x : p.xy) x *= k;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("cvt2d: L-BFGS does not depend on the domain's units", "[cvt]") {
+  // earcut.json is 14,000 units wide: L-BFGS-B's first step (one unit along the normalised
+  // gradient) used to be tiny there, and its line search gave up after 30 small
+  // extrapolations ("no progress" at |g|/|g0| 0.91), while the same polygon at 1/1000 of the
+  // size converged.
+  const PolygonRings rings =
+      voroclip::read_polygon(std::string(VOROCLIP_SHARED_DATA_DIR) + "/polygons/valid/earcut.json");
+  const double k = 1e-3;
+  const Domain2 big(rings), small(scaled(rings, k));
+  std::vector<double> a = random_inside(big, 2000, 5);
+  std::vector<double> b = a;
+  for (double& x : b) x *= k;
+  const auto ra = voroclip::optimize_cvt2(big, a, Cvt2Options{});
+  const auto rb = voroclip::optimize_cvt2(small, b, Cvt2Options{});
+  REQUIRE(ra.converged);
+  REQUIRE(rb.converged);
+  // Energies scale as length^4; both minima agree to the tolerance's order.
+  REQUIRE(std::fabs(ra.energy * k * k * k * k - rb.energy) <= 1e-3 * rb.energy);
+}
+
+TEST_CASE("cvt2d: the default budget reaches the default tolerance on the shared polygons",
+          "[cvt]") {
+  for (const char* name : {"building", "dude", "earcut", "eberly-6", "hilbert", "issue29",
+                           "issue34", "issue35", "issue52"}) {
+    INFO(name);
+    const Domain2 d(voroclip::read_polygon(std::string(VOROCLIP_SHARED_DATA_DIR) +
+                                           "/polygons/valid/" + name + ".json"));
+    std::vector<double> sites = random_inside(d, 1000, 3);
+    const auto r = voroclip::optimize_cvt2(d, sites, Cvt2Options{});
+    CHECK(r.converged);
+    CHECK(r.stop == voroclip::CvtStop::kConverged);
+  }
+}
