@@ -509,14 +509,19 @@ class Flipper {
     }
   }
 
-  // The removal of the edge (a, b) of t, by the best triangulation of its ring, when the
-  // edge is interior, its ring has at most kMaxRing tets and some triangulation is valid.
-  bool edge_removal(std::uint32_t t, std::uint32_t a, std::uint32_t b,
-                    std::vector<std::uint32_t>& old_tets, std::vector<Tet>& new_tets) const {
+  // The tets with the edge (a, b), into old_tets.
+  void tets_around(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& old_tets) const {
     old_tets.clear();
     for (const std::uint32_t s : vertex_tets_[a]) {
       if (has(tets_[s], b)) old_tets.push_back(s);
     }
+  }
+
+  // The removal of the edge (a, b) of t, by the best triangulation of its ring, when the
+  // edge is interior, its ring has at most kMaxRing tets and some triangulation is valid.
+  bool edge_removal(std::uint32_t t, std::uint32_t a, std::uint32_t b,
+                    std::vector<std::uint32_t>& old_tets, std::vector<Tet>& new_tets) const {
+    tets_around(a, b, old_tets);
     const std::size_t k = old_tets.size();
     if (k < 3 || k > kMaxRing) return false;
     // The ring, chained from t's pair.
@@ -602,10 +607,7 @@ class Flipper {
                      std::vector<Tet>& new_tets) const {
     if (!options_.same_patch) return false;
     if (!surface_[a] && !surface_[b]) return false;
-    old_tets.clear();
-    for (const std::uint32_t s : vertex_tets_[a]) {
-      if (has(tets_[s], b)) old_tets.push_back(s);
-    }
+    tets_around(a, b, old_tets);
     const std::size_t k = old_tets.size();
     if (k < 2 || k > kMaxRing) return false;
     Pairs pair{};

@@ -1138,6 +1138,19 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
       bool improved = false;
       double tx = cx, ty = cy;
       bool centroid = true;
+      // x as the best point when its score (the smallest angle, floored, then the sum) beats
+      // the best one's; whether it did.
+      const auto keep_if_better = [&] {
+        double smallest, sum;
+        if (!score(&smallest, &sum)) return false;
+        smallest = std::min(smallest, floor_deg);
+        if (!(smallest > best_min || (smallest == best_min && sum > best_sum))) return false;
+        best_min = smallest;
+        best_sum = sum;
+        best_xy[0] = x[0];
+        best_xy[1] = x[1];
+        return true;
+      };
       if (sliding) {
         // The centroid's projection on the vertex's domain edge, strictly inside it.
         const double ux = eb[0] - ea[0], uy = eb[1] - ea[1];
@@ -1162,16 +1175,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
           round_into_domain(domain, mesh.vertex_edge[v], x);
           if ((x[0] == ea[0] && x[1] == ea[1]) || (x[0] == eb[0] && x[1] == eb[1])) continue;
         }
-        double smallest, sum;
-        if (!score(&smallest, &sum)) continue;
-        smallest = std::min(smallest, floor_deg);
-        if (smallest > best_min || (smallest == best_min && sum > best_sum)) {
-          best_min = smallest;
-          best_sum = sum;
-          best_xy[0] = x[0];
-          best_xy[1] = x[1];
-          improved = true;
-        }
+        improved = keep_if_better() || improved;
       }
       // Compass search from the best point (`search`): steps along the edge (sliding) or
       // in 8 directions (free), from a quarter of the mean distance to the neighbours,
@@ -1215,16 +1219,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
               round_into_domain(domain, mesh.vertex_edge[v], x);
               if ((x[0] == ea[0] && x[1] == ea[1]) || (x[0] == eb[0] && x[1] == eb[1])) continue;
             }
-            double smallest, sum;
-            if (!score(&smallest, &sum)) continue;
-            smallest = std::min(smallest, floor_deg);
-            if (smallest > best_min || (smallest == best_min && sum > best_sum)) {
-              best_min = smallest;
-              best_sum = sum;
-              best_xy[0] = x[0];
-              best_xy[1] = x[1];
-              improved = better = true;
-            }
+            if (keep_if_better()) improved = better = true;
           }
           if (!better) step *= 0.5;
         }
