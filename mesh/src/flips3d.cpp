@@ -517,6 +517,27 @@ class Flipper {
     }
   }
 
+  // The vertices r_0 .. r_k of the k pairs chained from pair[start] (each pair's first vertex
+  // the previous pair's second), into ring; false when they do not chain. Around an interior
+  // edge the chain closes (r_k = r_0); around a boundary edge it is an open fan.
+  using Ring = std::array<std::uint32_t, kMaxRing + 1>;
+  static bool chain(const Pairs& pair, std::size_t k, std::size_t start, Ring& ring) {
+    std::array<std::uint8_t, kMaxRing> used{};
+    ring[0] = pair[start][0];
+    ring[1] = pair[start][1];
+    used[start] = 1;
+    for (std::size_t i = 2; i <= k; ++i) {
+      std::size_t next = k;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (used[j] == 0 && pair[j][0] == ring[i - 1]) next = j;
+      }
+      if (next == k) return false;
+      used[next] = 1;
+      ring[i] = pair[next][1];
+    }
+    return true;
+  }
+
   // The removal of the edge (a, b) of t, by the best triangulation of its ring, when the
   // edge is interior, its ring has at most kMaxRing tets and some triangulation is valid.
   bool edge_removal(std::uint32_t t, std::uint32_t a, std::uint32_t b,
@@ -527,26 +548,11 @@ class Flipper {
     // The ring, chained from t's pair.
     Pairs pair{};
     pairs_around(a, b, old_tets, pair);
-    std::array<std::uint32_t, kMaxRing> ring{};
-    std::array<std::uint8_t, kMaxRing> used{};
     std::size_t start = 0;
     while (old_tets[start] != t) ++start;
-    ring[0] = pair[start][0];
-    ring[1] = pair[start][1];
-    used[start] = 1;
-    for (std::size_t i = 2; i <= k; ++i) {
-      std::size_t next = k;
-      for (std::size_t j = 0; j < k; ++j) {
-        if (used[j] == 0 && pair[j][0] == ring[i - 1]) next = j;
-      }
-      if (next == k) return false;  // an open ring: a boundary edge (or not a manifold one)
-      used[next] = 1;
-      if (i == k) {
-        if (pair[next][1] != ring[0]) return false;
-      } else {
-        ring[i] = pair[next][1];
-      }
-    }
+    Ring ring{};
+    // An open chain: a boundary edge (or not a manifold one).
+    if (!chain(pair, k, start, ring) || ring[k] != ring[0]) return false;
     set_floor(old_tets);
     return triangulate(ring.data(), k, a, b, new_tets);
   }
@@ -623,20 +629,8 @@ class Flipper {
       }
     }
     if (start == k) return false;  // a closed ring: an interior edge
-    std::array<std::uint32_t, kMaxRing + 1> ring{};
-    std::array<std::uint8_t, kMaxRing> used{};
-    ring[0] = pair[start][0];
-    ring[1] = pair[start][1];
-    used[start] = 1;
-    for (std::size_t i = 2; i <= k; ++i) {
-      std::size_t next = k;
-      for (std::size_t j = 0; j < k; ++j) {
-        if (used[j] == 0 && pair[j][0] == ring[i - 1]) next = j;
-      }
-      if (next == k) return false;  // not one fan
-      used[next] = 1;
-      ring[i] = pair[next][1];
-    }
+    Ring ring{};
+    if (!chain(pair, k, start, ring)) return false;  // not one fan
     const std::uint32_t c = ring[0], d = ring[k];
     if (c == d) return false;
     for (const std::uint32_t s : vertex_tets_[c]) {
