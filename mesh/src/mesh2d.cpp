@@ -1692,12 +1692,12 @@ std::string mean_angle_note(const Mesh2& mesh, const Mesh2Stats& st) {
   if (4 * std::size_t{count[0]} < nt) {
     const double h = st.min_size / 2.5;
     const double n = mesh.nb_vertices() * (st.edge_length / h) * (st.edge_length / h);
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2g", n);
+    // Two significant digits, written out ("6900", not "6.9e+03").
+    const double unit = std::pow(10.0, std::floor(std::log10(std::max(n, 1.0))) - 1);
     note += "corridors a few triangles wide (smallest feature " + fixed(st.min_size, 3) +
             ", edge length " + fixed(st.edge_length, 3) +
-            "): an edge length about a feature / 2.5 puts rows of vertices inside, about " + buf +
-            " vertices (estimate)";
+            "): an edge length about a feature / 2.5 puts rows of vertices inside, about " +
+            fixed(std::max(unit, std::round(n / unit) * unit), 0) + " vertices (estimate)";
   } else if (m_i < kMeanMinTargetDeg) {
     note += "the interior is graded to the small features (smallest " + fixed(st.min_size, 3) +
             ") and misses it too; more vertices make the grading gentler";
