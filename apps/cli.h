@@ -126,6 +126,7 @@ struct Mesh2dArgs {
   double sharp_angle = 30;
   std::string method = "lbfgs";
   std::uint32_t iterations = 200;  // constrained CVT budget
+  bool exact_vertices = false;     // no raise for the mean smallest angle
   std::string output;              // .svg, .vtu, .mesh, .msh; empty: no file
   std::string histogram;           // .svg angle histograms; empty: none
   DensityArgs density;

@@ -248,6 +248,11 @@ int main(int argc, char** argv) {
       ->type_name("");
   mesh2d->add_option("--vertices", mesh_args.vertices, "Target number of mesh vertices")
       ->type_name("N");
+  mesh2d->add_flag("--exact-vertices", mesh_args.exact_vertices,
+                   "With --vertices: keep the count even when the mean smallest angle stays "
+                   "below 53 degrees (by default the domain is meshed again with more vertices, "
+                   "at most 3 times, and the note says by how much; the small features may "
+                   "still force more)");
   mesh2d
       ->add_option("--edge-length", mesh_args.edge_length,
                    "Target edge length away from small features (instead of --vertices)")

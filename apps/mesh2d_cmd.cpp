@@ -201,7 +201,18 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   Progress progress(options);
   bool started = false;
   Mesh2Phase phase = Mesh2Phase::kSampling;
+  o.raise_for_mean_angle = !args.exact_vertices;
   o.progress = [&](const Mesh2Progress& p) {
+    if (p.retry_vertices > 0) {
+      char mean[32];
+      std::snprintf(mean, sizeof mean, "%.2f", p.energy);
+      progress.note(std::string("mean smallest angle ") + mean + " below " +
+                    std::to_string(static_cast<int>(o.mean_angle_target_deg)) +
+                    " degrees; meshing again with " + std::to_string(p.retry_vertices) +
+                    " vertices (--exact-vertices keeps the count)");
+      started = false;
+      return true;
+    }
     // A new phase at a change of phase, and at each repair round (its CVT starts over).
     if (!started || p.phase != phase || p.iteration == 0) {
       const std::uint32_t budget = p.phase == Mesh2Phase::kUnconstrained
@@ -283,6 +294,12 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     } else {
       s["mean_angle_note"] = st.mean_angle_note;
     }
+    s["mean_angle_runs"] = st.mean_angle_runs;
+    if (st.mean_angle_raise.empty()) {
+      s["mean_angle_raise"] = nullptr;
+    } else {
+      s["mean_angle_raise"] = st.mean_angle_raise;
+    }
     s["refined_vertices"] = st.refine_added;
     s["smoothed_vertices"] = st.smoothed;
     s["flips"] = st.flips;
@@ -340,7 +357,10 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
       }
       *human << '\n';
     }
-    if (!st.vertex_count_note.empty()) *human << "note: " << st.vertex_count_note << '\n';
+    if (!st.vertex_count_note.empty()) {
+      *human << "note: " << st.vertex_count_note
+             << (st.mean_angle_raise.empty() ? "" : " (--exact-vertices keeps the count)") << '\n';
+    }
     if (!st.mean_angle_note.empty()) *human << "note: " << st.mean_angle_note << '\n';
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';
     if (!args.histogram.empty()) *human << "Histogram written to " << args.histogram << '\n';

@@ -1335,6 +1335,10 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
   if (o.nb_vertices == 0 && !(o.edge_length > 0 && std::isfinite(o.edge_length))) {
     throw Error("mesh2d: give a number of vertices or a positive edge length");
   }
+  if (!(o.mean_angle_target_deg >= 0 && o.mean_angle_target_deg < 60)) {
+    throw Error("mesh2d: the mean angle target must be in [0, 60) degrees, got " +
+                std::to_string(o.mean_angle_target_deg));
+  }
   if (!(o.gradation > 0 && o.gradation <= 10)) {
     throw Error("mesh2d: the gradation must be in (0, 10], got " + std::to_string(o.gradation));
   }
@@ -1646,65 +1650,93 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
 
 }  // namespace
 
-// Issue 31's target for the mean smallest angle (degrees) and the note when a mesh misses
-// it (Mesh2Stats::mean_angle_note): the triangles with a vertex on the boundary and the
-// others (inside), their counts and means, and which case it is. Inside less than a
-// quarter of the triangles: corridors a few triangles wide (hilbert.json, width 1), whose
-// triangles span them between the fixed corners (right triangles of 45 degrees between
-// facing corners); an estimate of the count that reaches the target follows from
-// the edge length that puts rows of vertices inside, about W / 2.5 for a corridor of width
-// W (hilbert.json: 45.4 degrees at 1,049 vertices with edge length 1.03, 51.5 at 2,933,
-// 53.0 at 6,519, 53.1 at 7,731), so about N (H / (W / 2.5))^2 vertices for N at edge
-// length H. Else the interior's mean below the target: graded to small features (eberly-6,
-// issue35, earcut); else the boundary's triangles pull the mean down.
-constexpr double kMeanMinTargetDeg = 53;
+namespace {
 
-std::string mean_angle_note(const Mesh2& mesh, const Mesh2Stats& st) {
-  const std::uint32_t nt = mesh.nb_triangles();
-  if (nt == 0 || st.cancelled) return {};
-  double sum[2] = {0, 0};
+// The mean smallest angle of a mesh, split into the triangles with a vertex on the
+// boundary and the others (inside).
+struct MeanSplit {
+  double sum[2] = {0, 0};  // [0] inside, [1] with a vertex on the boundary
   std::uint32_t count[2] = {0, 0};
-  for (std::uint32_t t = 0; t < nt; ++t) {
+  double mean() const {
+    const std::uint32_t n = count[0] + count[1];
+    return n ? (sum[0] + sum[1]) / n : 0;
+  }
+  // Inside less than a quarter of the triangles: corridors a few triangles wide.
+  bool corridors() const { return 4 * std::size_t{count[0]} < std::size_t{count[0]} + count[1]; }
+};
+
+MeanSplit mean_split(const Mesh2& mesh) {
+  MeanSplit m;
+  for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
     const std::uint32_t* v = &mesh.triangles[3 * std::size_t{t}];
     bool boundary = false;
     for (int k = 0; k < 3; ++k) {
       boundary = boundary || mesh.vertex_kind[v[k]] != Mesh2::VertexKind::kInterior;
     }
-    sum[boundary] +=
+    m.sum[boundary] +=
         smallest_angle(&mesh.xy[2 * std::size_t{v[0]}], &mesh.xy[2 * std::size_t{v[1]}],
                        &mesh.xy[2 * std::size_t{v[2]}]);
-    ++count[boundary];
+    ++m.count[boundary];
   }
-  const double mean = (sum[0] + sum[1]) / nt;
-  if (mean >= kMeanMinTargetDeg) return {};
-  const auto fixed = [](double x, int digits) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-    return std::string(buf);
-  };
-  const double m_b = count[1] ? sum[1] / count[1] : 0;
-  const double m_i = count[0] ? sum[0] / count[0] : 0;
-  std::string note = "mean smallest angle " + fixed(mean, 2) + " below " +
-                     fixed(kMeanMinTargetDeg, 0) + " degrees: " + std::to_string(count[1]) +
-                     " triangles with a vertex on the boundary (mean " + fixed(m_b, 1) + "), " +
-                     std::to_string(count[0]) + " inside" +
-                     (count[0] ? " (mean " + fixed(m_i, 1) + ")" : std::string()) + "; ";
-  if (4 * std::size_t{count[0]} < nt) {
-    const double h = st.min_size / 2.5;
-    const double n = mesh.nb_vertices() * (st.edge_length / h) * (st.edge_length / h);
-    // Two significant digits, written out ("6900", not "6.9e+03").
-    const double unit = std::pow(10.0, std::floor(std::log10(std::max(n, 1.0))) - 1);
-    note += "corridors a few triangles wide (smallest feature " + fixed(st.min_size, 3) +
-            ", edge length " + fixed(st.edge_length, 3) +
-            "): an edge length about a feature / 2.5 puts rows of vertices inside, about " +
-            fixed(std::max(unit, std::round(n / unit) * unit), 0) + " vertices (estimate)";
-  } else if (m_i < kMeanMinTargetDeg) {
-    note += "the interior is graded to the small features (smallest " + fixed(st.min_size, 3) +
-            ") and misses it too; more vertices make the grading gentler";
-  } else {
-    note += "the triangles at the boundary pull it down; more vertices lower their share";
+  return m;
+}
+
+// Corridors a few triangles wide (hilbert.json, width 1) have their triangles span them
+// between the fixed corners (right triangles of 45 degrees between facing corners); the
+// edge length that puts rows of vertices inside is about W / 2.5 for a corridor of width
+// W (hilbert.json: 45.4 degrees at 1,049 vertices with edge length 1.03, 51.5 at 2,933,
+// 53.0 at 6,519, 53.1 at 7,731), so about N (H / (W / 2.5))^2 vertices for N at edge
+// length H.
+double corridor_vertices(const Mesh2& mesh, const Mesh2Stats& st) {
+  const double h = st.min_size / 2.5;
+  return mesh.nb_vertices() * (st.edge_length / h) * (st.edge_length / h);
+}
+
+std::string fixed(double x, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+// Two significant digits, written out ("6900", not "6.9e+03").
+std::string two_digits(double n) {
+  const double unit = std::pow(10.0, std::floor(std::log10(std::max(n, 1.0))) - 1);
+  return fixed(std::max(unit, std::round(n / unit) * unit), 0);
+}
+
+// Why the mean smallest angle of a mesh is low: corridors, an interior graded to the small
+// features, or the boundary's triangles.
+std::string mean_angle_cause(const Mesh2& mesh, const Mesh2Stats& st, const MeanSplit& m,
+                             double target) {
+  if (m.corridors()) {
+    return "corridors a few triangles wide (smallest feature " + fixed(st.min_size, 3) +
+           ", edge length " + fixed(st.edge_length, 3) +
+           "): an edge length about a feature / 2.5 puts rows of vertices inside, about " +
+           two_digits(corridor_vertices(mesh, st)) + " vertices (estimate)";
   }
-  return note;
+  if (m.count[0] && m.sum[0] / m.count[0] < target) {
+    return "the interior is graded to the small features (smallest " + fixed(st.min_size, 3) +
+           ") and misses it too; more vertices make the grading gentler";
+  }
+  return "the triangles at the boundary pull it down; more vertices lower their share";
+}
+
+// The note of a mesh whose mean smallest angle misses the target (Mesh2Stats::
+// mean_angle_note): the triangles with a vertex on the boundary and the others, their
+// counts and means, and the cause (mean_angle_cause).
+std::string mean_angle_note(const Mesh2& mesh, const Mesh2Stats& st, double target) {
+  const std::uint32_t nt = mesh.nb_triangles();
+  if (nt == 0 || st.cancelled || target <= 0) return {};
+  const MeanSplit m = mean_split(mesh);
+  if (m.mean() >= target) return {};
+  const double m_b = m.count[1] ? m.sum[1] / m.count[1] : 0;
+  const double m_i = m.count[0] ? m.sum[0] / m.count[0] : 0;
+  return "mean smallest angle " + fixed(m.mean(), 2) + " below " + fixed(target, 0) +
+         " degrees: " + std::to_string(m.count[1]) +
+         " triangles with a vertex on the boundary (mean " + fixed(m_b, 1) + "), " +
+         std::to_string(m.count[0]) + " inside" +
+         (m.count[0] ? " (mean " + fixed(m_i, 1) + ")" : std::string()) + "; " +
+         mean_angle_cause(mesh, st, m, target);
 }
 
 // The vertex count: the boundary, the small features and the refinement change it from
@@ -1715,8 +1747,7 @@ std::string mean_angle_note(const Mesh2& mesh, const Mesh2Stats& st) {
 // solves the line through the two runs (secant), falling back to the scaling when the
 // runs do not give a rising line; a step changes the sampling by a factor 4 at most. No
 // redo when the small features alone ask for more than the tolerance above the request.
-Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stats* stats) {
-  Mesh2Stats st;
+Mesh2 mesh_to_count(const Domain2& domain, const Mesh2Options& options, Mesh2Stats& st) {
   Mesh2 mesh = mesh_domain2_once(domain, options, &st);
   const std::uint32_t wanted = options.nb_vertices;
   st.requested_vertices = wanted;
@@ -1791,7 +1822,110 @@ Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stat
     }
     st.vertex_count_note = note;
   }
-  st.mean_angle_note = mean_angle_note(mesh, st);
+  return mesh;
+}
+
+// The mesh of a vertex count misses the mean angle target: mesh again with more vertices
+// (Mesh2Options::raise_for_mean_angle; the count model there). mesh and st are replaced by
+// the first run that reaches the target, else by the run with the highest mean.
+void raise_for_mean_angle(const Domain2& domain, const Mesh2Options& options, Mesh2& mesh,
+                          Mesh2Stats& st) {
+  const double target = options.mean_angle_target_deg;
+  const MeanSplit first = mean_split(mesh);
+  std::string report = "the mean smallest angle was " + fixed(first.mean(), 2) + " degrees with " +
+                       std::to_string(mesh.nb_vertices()) + " vertices (" +
+                       mean_angle_cause(mesh, st, first, target) + "); meshed again with";
+  Mesh2Options o = options;
+  o.raise_for_mean_angle = false;
+  double seconds = st.seconds;
+  std::uint32_t runs = 0;
+  bool cancelled = false;
+  // (vertices made, mean) of the runs so far.
+  double n_prev = 0, m_prev = 0;
+  double n_last = mesh.nb_vertices(), m_last = first.mean();
+  double best = m_last;
+  for (std::uint32_t run = 0; run < options.max_mean_angle_runs && best < target; ++run) {
+    double next;
+    double most = 4;  // times the last count
+    if (run == 0 && first.corridors()) {
+      // The corridors' estimate: the mean rises little until the rows fit (hilbert.json:
+      // 45.4 at 1,049, 49.7 at 4,019, 53.0 at 6,519), so neither the model nor a step of 4 fits.
+      next = corridor_vertices(mesh, st);
+      most = 8;
+    } else {
+      // mean = 60 - c N^-p through the last two runs (p = 3/4 with one).
+      double p = 0.75;
+      if (n_prev > 0 && n_last > n_prev && m_last < 60 && m_prev < 60) {
+        const double fit = std::log((60 - m_prev) / (60 - m_last)) / std::log(n_last / n_prev);
+        p = std::isfinite(fit) ? std::clamp(fit, 0.5, 1.5) : 0.5;
+      }
+      // Half a degree above the target (half way to 60 for a target above 59).
+      const double aim = std::min(target + 0.5, (target + 60) / 2);
+      next = n_last * std::pow((60 - m_last) / (60 - aim), 1 / p);
+    }
+    if (!std::isfinite(next)) next = most * n_last;
+    next = std::clamp(next, 1.2 * n_last, most * n_last);
+    o.nb_vertices = static_cast<std::uint32_t>(std::min(std::round(next), 4e9));
+    if (options.progress) {
+      Mesh2Progress p;
+      p.retry_vertices = o.nb_vertices;
+      p.energy = m_last;
+      p.seconds = seconds;
+      if (!options.progress(p)) {
+        cancelled = true;
+        break;
+      }
+    }
+    Mesh2Stats again;
+    Mesh2 other = mesh_to_count(domain, o, again);
+    ++runs;
+    seconds += again.seconds;
+    if (again.cancelled) {
+      cancelled = true;
+      break;
+    }
+    const double m = mean_split(other).mean();
+    report += std::string(run ? "," : "") + " " + std::to_string(other.nb_vertices()) +
+              " vertices (mean " + fixed(m, 2) + ")";
+    n_prev = n_last;
+    m_prev = m_last;
+    n_last = other.nb_vertices();
+    m_last = m;
+    if (m > best) {
+      best = m;
+      mesh = std::move(other);
+      st = again;
+    }
+  }
+  report += best >= target ? "; kept the first that reaches " + fixed(target, 0) + " degrees"
+                           : "; kept the best";
+  st.requested_vertices = options.nb_vertices;
+  st.mean_angle_runs = runs;
+  st.mean_angle_raise = report;
+  st.seconds = seconds;
+  st.cancelled = st.cancelled || cancelled;
+}
+
+}  // namespace
+
+Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stats* stats) {
+  Mesh2Stats st;
+  Mesh2 mesh = mesh_to_count(domain, options, st);
+  const double target = options.mean_angle_target_deg;
+  if (options.raise_for_mean_angle && options.nb_vertices > 0 && target > 0 && !st.cancelled &&
+      mesh.nb_triangles() > 0 && mean_split(mesh).mean() < target) {
+    raise_for_mean_angle(domain, options, mesh, st);
+    const double wanted = options.nb_vertices;
+    const double made = mesh.nb_vertices();
+    if (std::fabs(made - wanted) > options.vertex_tolerance * wanted) {
+      char percent[32];
+      std::snprintf(percent, sizeof percent, "%+.1f%%", 100 * (made - wanted) / wanted);
+      st.vertex_count_note = std::to_string(mesh.nb_vertices()) + " vertices for " +
+                             std::to_string(options.nb_vertices) + " asked (" + percent +
+                             "): " + st.mean_angle_raise;
+    }
+  }
+  st.mean_angle_note = mean_angle_note(mesh, st, target);
   if (stats) *stats = st;
   return mesh;
 }

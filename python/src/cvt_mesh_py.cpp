@@ -173,7 +173,11 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
        {"constrained_tolerance", S::field<double>(&Mesh2Options::constrained_tolerance)},
        {"repair_rounds", S::field<std::uint32_t>(&Mesh2Options::repair_rounds)},
        {"repair_angle", S::field<double>(&Mesh2Options::repair_angle_deg)},
-       {"repair_iterations", S::field<std::uint32_t>(&Mesh2Options::repair_iterations)}});
+       {"repair_iterations", S::field<std::uint32_t>(&Mesh2Options::repair_iterations)},
+       {"exact_vertices",
+        [](Mesh2Options& o, const py::handle& v) { o.raise_for_mean_angle = !v.cast<bool>(); }},
+       {"mean_angle_target", S::field<double>(&Mesh2Options::mean_angle_target_deg)},
+       {"max_mean_angle_runs", S::field<std::uint32_t>(&Mesh2Options::max_mean_angle_runs)}});
   Mesh2Options o;
   setter.apply(o, options);
   std::shared_ptr<PyDensity> rho;
@@ -187,6 +191,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
       d["energy"] = p.energy;
       d["gradient_norm"] = p.gradient_norm;
       d["seconds"] = p.seconds;
+      if (p.retry_vertices > 0) d["retry_vertices"] = p.retry_vertices;
       return d;
     });
   };
@@ -241,6 +246,13 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   } else {
     s["mean_angle_note"] = st.mean_angle_note;
   }
+  s["mean_angle_runs"] = st.mean_angle_runs;
+  if (st.mean_angle_raise.empty()) {
+    s["mean_angle_raise"] = py::none();
+  } else {
+    s["mean_angle_raise"] = st.mean_angle_raise;
+  }
+  s["requested_vertices"] = st.requested_vertices;
   s["seconds"] = st.seconds;
   s["cancelled"] = st.cancelled;
   s["check"] = st.check;

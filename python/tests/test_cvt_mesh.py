@@ -183,3 +183,32 @@ def test_mesh2d_tags_reach_python_and_meshio(tmp_path):
         tris = np.concatenate([d for c, d in zip(back.cells, back.cell_data[key]) if c.type == "triangle"])
         assert set(lines.tolist()) == {3, 5, 7, 9}
         assert set(tris.tolist()) == {42}
+
+
+def test_mesh2d_mean_angle_raise_and_exact_vertices():
+    # A target the domain misses at 300 vertices: by default meshed again with more
+    # vertices (one run here), the callback told first; exact_vertices keeps the count and
+    # the note says what is missed.
+    ring = [[(0, 0), (2, 0), (2, 1), (0, 1)], [(0.5, 0.4), (0.5, 0.6), (0.7, 0.6), (0.7, 0.4)]]
+    kept = voroclip.mesh2d(ring, vertices=300, exact_vertices=True, mean_angle_target=59)
+    assert kept.stats["mean_angle_runs"] == 0 and kept.stats["mean_angle_raise"] is None
+    assert kept.stats["mean_angle_note"].startswith("mean smallest angle ")
+    assert abs(len(kept.points) - 300) <= 30
+    retries = []
+
+    def watch(info):
+        if "retry_vertices" in info:
+            retries.append(info["retry_vertices"])
+
+    raised = voroclip.mesh2d(ring, vertices=300, mean_angle_target=59, max_mean_angle_runs=1,
+                             callback=watch)
+    assert len(retries) == 1 and retries[0] >= 1.2 * len(kept.points)
+    s = raised.stats
+    assert s["mean_angle_runs"] == 1 and s["requested_vertices"] == 300
+    assert s["mean_angle_raise"].startswith("the mean smallest angle was ")
+    assert "meshed again with %d vertices" % len(raised.points) in s["mean_angle_raise"]
+    assert s["mean_angle_raise"].endswith("kept the best")
+    assert len(raised.points) > 1.1 * 300
+    assert s["vertex_count_note"].startswith("%d vertices for 300 asked" % len(raised.points))
+    with pytest.raises(voroclip.Error, match="mean angle target"):
+        voroclip.mesh2d(ring, vertices=300, mean_angle_target=60)

@@ -384,9 +384,14 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
     ``conforming`` (False: the paper's circumcentre rule instead of the conforming mesh),
     ``seed``, ``method`` ('lbfgs' | 'lloyd'), ``unconstrained_iterations``,
     ``constrained_iterations``, ``unconstrained_tolerance``, ``constrained_tolerance``,
-    ``repair_rounds``, ``repair_iterations``; an unknown name raises :class:`Error`.
+    ``repair_rounds``, ``repair_iterations``, ``mean_angle_target`` (degrees, default 53;
+    0: none), ``exact_vertices`` (keep the count when the mean smallest angle misses the
+    target; by default the domain is meshed again with more vertices, at most
+    ``max_mean_angle_runs`` (3) times:
+    ``stats['mean_angle_raise']`` says why and by how much); an unknown name raises
+    :class:`Error`.
     ``density``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
-    gradient_norm, seconds; returning False stops early (a valid mesh of lower quality;
+    gradient_norm, seconds (and ``retry_vertices`` before a run with more vertices); returning False stops early (a valid mesh of lower quality;
     ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
     ``threads``."""
     r = _core.mesh2d(domain2(domain), _given(vertices=vertices, edge_length=edge_length,

@@ -183,9 +183,9 @@ TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes
 TEST_CASE("mesh2d: a request the features cannot meet is said, in the text and the JSON",
           "[apps]") {
   // Corridors 0.05 wide between 36 holes: the feature sizes alone ask for several times
-  // the 60 vertices asked.
-  const Run json =
-      run_cli({"-q", "--stats", "json", "mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  // the 60 vertices asked (with --exact-vertices: no raise for the mean angle, below).
+  const Run json = run_cli({"-q", "--stats", "json", "mesh2d", "square-holes:6,0.7", "--vertices",
+                            "60", "--exact-vertices"});
   REQUIRE(json.status == 0);
   const nlohmann::json s = nlohmann::json::parse(json.out);
   const int vertices = s["vertices"], features = s["feature_vertices"];
@@ -196,8 +196,40 @@ TEST_CASE("mesh2d: a request the features cannot meet is said, in the text and t
   CHECK(note.rfind(std::to_string(vertices) + " vertices for 60 asked (+", 0) == 0);
   CHECK(contains(note, "the small features force more"));
   CHECK(contains(note, "about " + std::to_string(features) + " vertices"));
-  // The human text has it as one line.
-  const Run text = run_cli({"mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  CHECK(s["mean_angle_runs"] == 0);
+  CHECK(s["mean_angle_raise"].is_null());
+  const std::string mean_note = s["mean_angle_note"];
+  CHECK(mean_note.rfind("mean smallest angle ", 0) == 0);
+  // The human text has them as one line each.
+  const Run text =
+      run_cli({"mesh2d", "square-holes:6,0.7", "--vertices", "60", "--exact-vertices"});
   REQUIRE(text.status == 0);
   CHECK(contains(text.out + text.err, "note: " + note + "\n"));
+  CHECK(contains(text.out + text.err, "note: " + mean_note + "\n"));
+}
+
+TEST_CASE("mesh2d: a mean smallest angle below 53 degrees is raised, and said", "[apps]") {
+  // The same request without --exact-vertices: meshed again with more vertices until the
+  // mean smallest angle reaches 53 degrees; the progress, the note and the JSON say so.
+  const Run json =
+      run_cli({"-q", "--stats", "json", "mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  REQUIRE(json.status == 0);
+  const nlohmann::json s = nlohmann::json::parse(json.out);
+  const int vertices = s["vertices"];
+  CHECK(s["mean_min_angle_deg"].get<double>() >= 53);
+  CHECK(s["mean_angle_note"].is_null());
+  CHECK(s["mean_angle_runs"].get<int>() >= 1);
+  CHECK(s["requested_vertices"] == 60);
+  const std::string raise = s["mean_angle_raise"];
+  CHECK(raise.rfind("the mean smallest angle was ", 0) == 0);
+  CHECK(contains(raise, "meshed again with " + std::to_string(vertices) + " vertices (mean "));
+  CHECK(s["vertex_count_within_tolerance"] == false);
+  const std::string note = s["vertex_count_note"];
+  CHECK(note.rfind(std::to_string(vertices) + " vertices for 60 asked (+", 0) == 0);
+  CHECK(note.size() > raise.size());
+  CHECK(note.substr(note.size() - raise.size() - 4) == "%): " + raise);
+  const Run text = run_cli({"mesh2d", "square-holes:6,0.7", "--vertices", "60"});
+  REQUIRE(text.status == 0);
+  CHECK(contains(text.out + text.err, "note: " + note + " (--exact-vertices keeps the count)\n"));
+  CHECK(contains(text.err, "below 53 degrees; meshing again with "));
 }
