@@ -5,7 +5,8 @@
 //                 [--lloyd-iterations I = 0] [--json]
 //
 // Per polygon (read with read_polygon, validated as a Domain2; not timed):
-//   1. voroclip at nb_vertices = N (default Mesh2Options otherwise) gives its edge length H
+//   1. voroclip at nb_vertices = N (default Mesh2Options otherwise, but no raise for the mean
+//      smallest angle: raise_for_mean_angle = false) gives its edge length H
 //      (Mesh2Stats::edge_length).
 //   2. CGAL: a Constrained_Delaunay_triangulation_2 (Epick, Exact_predicates_tag) with the
 //      domain's rings as constraints, refine_Delaunay_mesh_2 with
@@ -276,6 +277,9 @@ PolygonResult compare_polygon(const std::string& path, std::uint32_t nb_vertices
 
   voroclip::Mesh2Options options;
   options.nb_vertices = nb_vertices;
+  // Both meshers at one vertex count: no raise for the mean smallest angle (it would
+  // change voroclip's count, which step 3 matches to CGAL's).
+  options.raise_for_mean_angle = false;
   voroclip::Mesh2Stats stats;
   voroclip::Mesh2 ours = voroclip::mesh_domain2(domain, options, &stats);
   result.edge_length = stats.edge_length;
