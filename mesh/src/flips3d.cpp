@@ -103,6 +103,9 @@ constexpr double kMeanGain = 0.01;      // degrees, summed over the tets an oper
 constexpr std::size_t kMeanRing = 4;    // edge removal up to 4 tets around the edge
 constexpr double kMeanFirstStep = 0.1;  // times the mean edge length of the vertex's tets
 constexpr int kMeanSearchSteps = 28;    // compass search: evaluations of a move, at most
+// A surface vertex moves only where its boundary triangles' normals are within this of each
+// other (Flipper::flat).
+constexpr double kMeanFlatDeg = 30;
 
 void sub3(const double* a, const double* b, double* o) {
   for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
@@ -144,6 +147,46 @@ double q1_q4(const double* p0, const double* p1, const double* p2, const double*
     }
   }
   return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / kPi;
+}
+
+// The squared distance from p to the segment ab.
+double distance2_to_segment(const double* p, const double* a, const double* b) {
+  double ab[3], ap[3];
+  sub3(b, a, ab);
+  sub3(p, a, ap);
+  const double l2 = dot3(ab, ab);
+  const double s = l2 > 0 ? std::min(1.0, std::max(0.0, dot3(ap, ab) / l2)) : 0.0;
+  double d[3];
+  for (int c = 0; c < 3; ++c) d[c] = ap[c] - s * ab[c];
+  return dot3(d, d);
+}
+
+// The squared distance from p to the triangle abc (its plane's where p projects inside, else
+// the nearest edge's).
+double distance2_to_triangle(const double* p, const double* a, const double* b, const double* c) {
+  double ab[3], ac[3], n[3], ap[3];
+  sub3(b, a, ab);
+  sub3(c, a, ac);
+  cross3(ab, ac, n);
+  sub3(p, a, ap);
+  const double nn = dot3(n, n);
+  if (nn > 0) {
+    const double* v[3] = {a, b, c};
+    bool inside = true;
+    for (int k = 0; k < 3 && inside; ++k) {
+      double e[3], w[3], m[3];
+      sub3(v[(k + 1) % 3], v[k], e);
+      sub3(p, v[k], w);
+      cross3(e, w, m);
+      inside = dot3(m, n) >= 0;
+    }
+    if (inside) {
+      const double h = dot3(ap, n);
+      return h * h / nn;
+    }
+  }
+  return std::min({distance2_to_segment(p, a, b), distance2_to_segment(p, b, c),
+                   distance2_to_segment(p, c, a)});
 }
 
 // What may move: free_[v].
@@ -472,7 +515,7 @@ class Flipper {
   // kMeanKeepQ1, its smallest Q4 or kMeanKeepQ4). Their number.
   std::uint32_t mean_moves() {
     std::uint32_t applied = 0;
-    std::vector<Tet> around;
+    std::vector<Tet> around, triangles;
     for (std::uint32_t x = 0; x < free_.size(); ++x) {
       if (free_[x] == kFixed || vertex_tets_[x].empty()) continue;
       const std::vector<std::uint32_t> star = vertex_tets_[x];
@@ -483,6 +526,10 @@ class Flipper {
         before += obj_[s];
         lowest = std::min(lowest, obj_[s]);
       }
+      if (free_[x] == kOnSurface) {
+        fan(x, around, triangles);
+        if (!flat(triangles)) continue;
+      }
       set_floor(star);
       std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
       const double after = sum_search(x, around, lowest, before, p);
@@ -490,10 +537,10 @@ class Flipper {
       if (free_[x] == kOnSurface) {
         // The boundary triangles at x no farther from the surface (their centroids) than
         // before, at most: the surface moves keep the boundary's distance to the input.
-        const double sag = boundary_sag(x, around);
+        const double sag = boundary_sag(x, triangles, nullptr);
         std::array<double, 3> keep = {at(x)[0], at(x)[1], at(x)[2]};
         std::copy(p.begin(), p.end(), at(x));
-        const double moved = boundary_sag(x, around);
+        const double moved = boundary_sag(x, triangles, keep.data());
         std::copy(keep.begin(), keep.end(), at(x));
         if (!(moved <= sag)) continue;
       }
@@ -510,11 +557,11 @@ class Flipper {
     return applied;
   }
 
-  // The largest distance from the surface (on_surface's projection) of the centroids of the
-  // boundary triangles at x, `around` x's star: the faces of its tets with x that no other tet
-  // of the star has.
-  double boundary_sag(std::uint32_t x, const std::vector<Tet>& around) {
-    double sag = 0;
+  // The boundary triangles at x, `around` x's star: the faces of its tets with x that no other
+  // tet of the star has, each (a, b, c, d) with d the tet's vertex opposite it and (a, b, c)
+  // turning alike for every face of a right-handed tet (so their normals agree on a flat fan).
+  void fan(std::uint32_t x, const std::vector<Tet>& around, std::vector<Tet>& out) const {
+    out.clear();
     for (std::size_t i = 0; i < around.size(); ++i) {
       for (int f = 0; f < 4; ++f) {
         const std::uint32_t a = around[i][(f + 1) % 4], b = around[i][(f + 2) % 4],
@@ -525,15 +572,58 @@ class Flipper {
           inner = j != i && has(around[j], a) && has(around[j], b) && has(around[j], c);
         }
         if (inner) continue;
-        double g[3], q[3];
-        for (int k = 0; k < 3; ++k) g[k] = (at(a)[k] + at(b)[k] + at(c)[k]) / 3;
-        options_.on_surface(x, g, q);
-        double d[3];
-        sub3(q, g, d);
-        sag = std::max(sag, dot3(d, d));
+        // (f + 1, f + 2, f + 3) turns the other way for odd f.
+        if (f % 2 == 0) {
+          out.push_back({a, b, c, around[i][static_cast<std::size_t>(f)]});
+        } else {
+          out.push_back({b, a, c, around[i][static_cast<std::size_t>(f)]});
+        }
       }
     }
-    return std::sqrt(sag);
+  }
+
+  // Whether the boundary triangles `fan` (fan()) are within kMeanFlatDeg of each other (their
+  // normals), where the mean pass moves a surface vertex: on a curved part of the surface a
+  // vertex sliding away from a bump cuts it off (homer and elk at 10,000 vertices: the
+  // Hausdorff distance 1.08 to 1.18% and 1.10 to 1.16% of the diagonal with all surface
+  // vertices moving).
+  bool flat(const std::vector<Tet>& triangles) const {
+    std::vector<std::array<double, 3>> normals;
+    for (const Tet& t : triangles) {
+      double u[3], v[3], n[3];
+      sub3(at(t[1]), at(t[0]), u);
+      sub3(at(t[2]), at(t[0]), v);
+      cross3(u, v, n);
+      const double l = std::sqrt(dot3(n, n));
+      if (!(l > 0)) return false;
+      normals.push_back({n[0] / l, n[1] / l, n[2] / l});
+    }
+    const double bound = std::cos(kMeanFlatDeg * kPi / 180);
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      for (std::size_t j = i + 1; j < normals.size(); ++j) {
+        if (!(dot3(normals[i].data(), normals[j].data()) >= bound)) return false;
+      }
+    }
+    return true;
+  }
+
+  // The largest distance from the surface (on_surface's projection) of the centroids of the
+  // boundary triangles `triangles` at x; with `from`, at least the distance from that point to
+  // the nearest of them.
+  double boundary_sag(std::uint32_t x, const std::vector<Tet>& triangles, const double* from) {
+    double sag = 0, nearest = std::numeric_limits<double>::infinity();
+    for (const Tet& t : triangles) {
+      double g[3], q[3];
+      for (int k = 0; k < 3; ++k) g[k] = (at(t[0])[k] + at(t[1])[k] + at(t[2])[k]) / 3;
+      options_.on_surface(x, g, q);
+      double d[3];
+      sub3(q, g, d);
+      sag = std::max(sag, dot3(d, d));
+      if (from)
+        nearest = std::min(nearest, distance2_to_triangle(from, at(t[0]), at(t[1]), at(t[2])));
+    }
+    return std::sqrt(
+        from && nearest < std::numeric_limits<double>::infinity() ? std::max(sag, nearest) : sag);
   }
 
   // The sum of Q1 over `around` with vertex x at p; -infinity when a tet is not right-handed,
