@@ -144,7 +144,9 @@ Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& ki
 // (2-3 of interior faces, removal of interior edges with up to 4 tets around them), each taken
 // when it raises the mesh's mean Q1, then of moves of the free vertices (and, with on_surface as
 // in Flip3Options, of the surface vertices on the surface), each to the best position a compass
-// search finds for the sum of the Q1 of its tets. Every operation keeps the smallest Q1 of the
+// search finds for the sum of the Q1 of its tets (a surface vertex only where its boundary
+// triangles are within 30 degrees of each other, and no farther from the surface or from its
+// old position than before). Every operation keeps the smallest Q1 of the
 // tets it replaces or 30 degrees, their smallest Q4 or 0.4, and makes right-handed tets only
 // (orient3d, exact); the boundary triangles are unchanged (their surface vertices at most
 // slide). Sequential and deterministic. A round that changes nothing ends the pass.

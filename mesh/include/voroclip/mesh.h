@@ -802,6 +802,10 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
 //      each raising the smallest angle of the tets it replaces (the mesh need not stay
 //      Delaunay; the boundary is unchanged);
+//   7d. for the mean smallest angle (mean_rounds): flips raising the mesh's mean Q1 and moves
+//      of interior vertices (and of surface vertices on flat parts, within their patch)
+//      raising the sum of Q1 over their tets, keeping the smallest angle (or 30 degrees) and
+//      Q4 (or 0.4) of what they replace; the boundary triangles are unchanged;
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
