@@ -193,6 +193,7 @@ struct Mesh3dArgs {
   double smooth_shape = 0.75;
   double sliver_angle = 30;
   double flip_angle = Mesh3Options{}.flip_dihedral_deg;
+  std::uint32_t mean_rounds = Mesh3Options{}.mean_rounds;
   std::string output;  // .mesh, .msh, .vtu, .node / .ele; empty: no file
   std::string msh_version = "4.1";
   bool binary = false;    // .msh: Gmsh 4.1 binary

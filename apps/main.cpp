@@ -462,6 +462,11 @@ int main(int argc, char** argv) {
                    "dihedral angle is below DEG degrees (the mesh then need not be Delaunay; "
                    "default 30, 0: none)")
       ->type_name("DEG");
+  mesh3d
+      ->add_option("--mean-rounds", mesh3d_args.mean_rounds,
+                   "Then N rounds of flips and vertex moves that raise the mean smallest "
+                   "dihedral angle of all the tets (default 3, 0: none)")
+      ->type_name("N");
   mesh3d->add_flag("--smooth-surface", mesh3d_args.smooth_surface,
                    "Surface vertices on the smooth (Phong) interpolant of the input's boundary "
                    "triangles, not on the triangles themselves");

@@ -115,6 +115,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.smooth_shape = args.smooth_shape;
   o.perturbation.target_dihedral_deg = args.sliver_angle;
   o.flip_dihedral_deg = args.flip_angle;
+  o.mean_rounds = args.mean_rounds;
   o.vertex_count =
       args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
   if (progress.mode() != Progress::Mode::kNone) {
@@ -347,6 +348,12 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"flip_moves", r.nb_flip_moves},
                          {"flip_sites", r.nb_flip_sites},
                          {"boundary_flips", r.nb_boundary_flips},
+                         {"mean_flips", r.nb_mean_flips},
+                         {"mean_moves", r.nb_mean_moves},
+                         {"mean_rounds", r.mean_rounds},
+                         {"mean_q1_before_deg", r.mean_q1_before_deg},
+                         {"mean_q1_after_deg", r.mean_q1_after_deg},
+                         {"mean_seconds", r.mean_seconds},
                          {"flips_rerun_for_shape", r.flips_rerun_for_shape}};
     nlohmann::json seconds = {{"read", t_read}};
     for (int p = 0; p < kNbMesh3Phases; ++p)

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -570,6 +571,33 @@ void Pipeline::run() {
         corner_vertex.push_back(SurfaceTree::kNone);
       }
       result.nb_sites = n;
+    }
+
+    // 7d. Flips and moves for the mean Q1 of all the tets (raise_mean3), the surface vertices
+    // sliding within their patch as in 7c; again without the surface moves when the boundary's
+    // shape changed.
+    if (options.mean_rounds > 0) {
+      const auto t_mean = Clock::now();
+      std::function<bool(std::uint32_t, const double*, double*)> on_surface;
+      if (options.flip_moves_surface) {
+        on_surface = [&](std::uint32_t s, const double* p, double* q) {
+          double d[3];
+          project(s, Kind::kSurface, p, q, d);
+          return on_own_patch_at(s, q);
+        };
+      }
+      const auto before_mean = std::make_tuple(sites, tets);
+      mesh3::Mean3Stats ms = raise_mean3(sites, kinds, tets, options.mean_rounds, on_surface);
+      if (ms.moves > 0 && on_surface && !shape_of(domain, sites, tets).empty()) {
+        std::tie(sites, tets) = before_mean;
+        ms = raise_mean3(sites, kinds, tets, options.mean_rounds, nullptr);
+      }
+      result.nb_mean_flips = ms.flips;
+      result.nb_mean_moves = ms.moves;
+      result.mean_rounds = ms.rounds;
+      result.mean_q1_before_deg = ms.mean_before;
+      result.mean_q1_after_deg = ms.mean_after;
+      result.mean_seconds = since(t_mean);
     }
 
     // 8. Output: the used sites, renumbered in site order.

@@ -140,6 +140,25 @@ struct Flip3Stats {
 Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& kinds,
                          std::vector<std::uint32_t>& tets, const Flip3Options& options);
 
+// The pass for the mean Q1 (flips3d.cpp; step 7d of mesh3d): `rounds` rounds, each of flips
+// (2-3 of interior faces, removal of interior edges with up to 4 tets around them), each taken
+// when it raises the mesh's mean Q1, then of moves of the free vertices (and, with on_surface as
+// in Flip3Options, of the surface vertices on the surface), each to the best position a compass
+// search finds for the sum of the Q1 of its tets (a surface vertex only where its boundary
+// triangles are within 30 degrees of each other, and no farther from the surface or from its
+// old position than before). Every operation keeps the smallest Q1 of the
+// tets it replaces or 30 degrees, their smallest Q4 or 0.4, and makes right-handed tets only
+// (orient3d, exact); the boundary triangles are unchanged (their surface vertices at most
+// slide). Sequential and deterministic. A round that changes nothing ends the pass.
+struct Mean3Stats {
+  std::uint32_t flips = 0, moves = 0, rounds = 0;
+  double mean_before = 0, mean_after = 0;  // mean Q1 of the tets, degrees
+};
+Mean3Stats raise_mean3(
+    std::vector<double>& sites, const std::vector<Kind>& kinds, std::vector<std::uint32_t>& tets,
+    std::uint32_t rounds,
+    const std::function<bool(std::uint32_t, const double*, double*)>& on_surface);
+
 // Where to insert a site against each kept tet whose smallest dihedral angle is below
 // below_deg (slivers3d.cpp): its circumcentre, worst tet first (ties by index), skipping a
 // tet whose circumradius exceeds its longest edge (a flat tet's circumcentre is far from it)

@@ -298,7 +298,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
         [](Mesh3Options& o, const py::handle& v) {
           o.perturbation.target_dihedral_deg = v.cast<double>();
         }},
-       {"flip_angle", S::field<double>(&Mesh3Options::flip_dihedral_deg)}});
+       {"flip_angle", S::field<double>(&Mesh3Options::flip_dihedral_deg)},
+       {"mean_rounds", S::field<std::uint32_t>(&Mesh3Options::mean_rounds)}});
   Mesh3Options o;
   setter.apply(o, options);
   Progress progress(callback);
@@ -349,6 +350,12 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["flip_moves"] = m.nb_flip_moves;
   s["flip_sites"] = m.nb_flip_sites;
   s["boundary_flips"] = m.nb_boundary_flips;
+  s["mean_flips"] = m.nb_mean_flips;
+  s["mean_moves"] = m.nb_mean_moves;
+  s["mean_rounds"] = m.mean_rounds;
+  s["mean_q1_before_deg"] = m.mean_q1_before_deg;
+  s["mean_q1_after_deg"] = m.mean_q1_after_deg;
+  s["mean_seconds"] = m.mean_seconds;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

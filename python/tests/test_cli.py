@@ -164,6 +164,26 @@ def test_mesh3d_flip_angle_agrees_with_cli(cli, data, tmp_path):
     assert len(m.cells) == off["tets"] and len(m.points) == off["vertices"]
     with pytest.raises(voroclip.Error, match="flip_dihedral_deg"):
         voroclip.mesh3d(domain, vertices=1500, flip_angle=80)
+
+
+def test_mesh3d_mean_rounds_agrees_with_cli(cli, data, tmp_path):
+    # Step 7d (flips and moves for the mean smallest dihedral angle) raises the mean and keeps
+    # the smallest angle; mean_rounds=0 (--mean-rounds 0) skips it.
+    domain = data / "surfaces" / "fandisk.obj"
+    off = run(cli, "mesh3d", domain, "--vertices", 1500, "--mean-rounds", 0,
+              "-o", tmp_path / "a.msh")
+    on = run(cli, "mesh3d", domain, "--vertices", 1500, "-o", tmp_path / "b.msh")
+    assert off["perturbation"]["mean_flips"] == off["perturbation"]["mean_moves"] == 0
+    assert on["perturbation"]["mean_flips"] + on["perturbation"]["mean_moves"] > 0
+    assert 1 <= on["perturbation"]["mean_rounds"] <= 3
+    assert on["mean_min_dihedral_deg"] > off["mean_min_dihedral_deg"]
+    assert on["perturbation"]["mean_q1_before_deg"] == pytest.approx(off["mean_min_dihedral_deg"])
+    assert on["perturbation"]["mean_q1_after_deg"] == pytest.approx(on["mean_min_dihedral_deg"])
+    assert on["min_dihedral_deg"] >= min(off["min_dihedral_deg"], 30) - 1e-9
+    assert on["boundary_triangles"] == off["boundary_triangles"]
+    m = voroclip.mesh3d(domain, vertices=1500, mean_rounds=0)
+    assert m.stats["mean_flips"] == m.stats["mean_moves"] == m.stats["mean_rounds"] == 0
+    assert len(m.cells) == off["tets"] and len(m.points) == off["vertices"]
     bad = subprocess.run([cli, "mesh3d", str(domain), "--vertices", "100", "--flip-angle", "-1"],
                          capture_output=True, text=True)
     assert bad.returncode != 0 and "--flip-angle" in bad.stderr

@@ -415,8 +415,12 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
     ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``perturb``,
     ``sliver_angle`` (degrees), ``flip_angle`` (degrees: the last flips, moves and
-    insertions against the tets below it; 0: none, the mesh stays Delaunay; stats
-    ``flips``, ``flip_moves``, ``flip_sites``, ``boundary_flips``); an unknown name raises :class:`Error`.
+    insertions against the tets below it; 0: none, the mesh stays Delaunay when
+    ``mean_rounds`` is 0 too; stats ``flips``, ``flip_moves``, ``flip_sites``,
+    ``boundary_flips``), ``mean_rounds`` (the
+    rounds of flips and moves for the mean smallest dihedral angle after them, default 3; 0:
+    none; stats ``mean_flips``, ``mean_moves``, ``mean_rounds``, ``mean_q1_before_deg``,
+    ``mean_q1_after_deg``, ``mean_seconds``); an unknown name raises :class:`Error`.
     Tags: the input's (tet mesh files) or one patch per surface region between feature
     lines and one region per volume component. ``callback(info)`` gets phase, iteration, energy, ...; returning
     False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The

@@ -120,8 +120,10 @@ void check_valid(const Domain3& domain, const Mesh3Result& r) {
   CHECK_NOTHROW(Domain3(m));
   // Every circumcenter in the closed domain, exactly (the tets added by the manifold repair
   // are the exception, counted) -- a property of the extracted Delaunay tets, which step 7c's
-  // flips, moves and insertions do not keep: checked when 7c changed nothing.
-  if (r.nb_flips + r.nb_flip_moves + r.nb_flip_sites > 0) return;
+  // flips, moves and insertions and 7d's flips and moves do not keep: checked when they changed
+  // nothing.
+  if (r.nb_flips + r.nb_flip_moves + r.nb_flip_sites + r.nb_mean_flips + r.nb_mean_moves > 0)
+    return;
   const voroclip::TetExtractor3 ex(domain);
   std::uint32_t outside = 0;
   for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
@@ -332,7 +334,8 @@ TEST_CASE("mesh3d: sites at the circumcentres of the slivers left raise the smal
   o.unconstrained_iterations = 4;
   o.constrained_iterations = 6;
   o.peel_dihedral_deg = 0;
-  o.flip_dihedral_deg = 0;  // step 7a alone (7c would change both meshes)
+  o.flip_dihedral_deg = 0;  // step 7a alone (7c and 7d would change both meshes)
+  o.mean_rounds = 0;
   const Mesh3Result with = voroclip::mesh3d(fandisk, o);
   check_valid(fandisk, with);
   o.sliver_insertion_passes = 0;

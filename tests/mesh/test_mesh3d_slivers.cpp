@@ -710,3 +710,174 @@ TEST_CASE("mesh3d: step 7c raises the smallest angle and keeps the boundary",
   // surface: the same kinds.
   CHECK(std::equal(without.kinds.begin(), without.kinds.end(), with.kinds.begin()));
 }
+
+namespace {
+
+// The mean Q1 of `tets`.
+double mean_q1(const std::vector<double>& p, const std::vector<std::uint32_t>& tets) {
+  double sum = 0;
+  for (std::size_t t = 0; t < tets.size(); t += 4) {
+    sum += voroclip::tet_shape(&p[3 * tets[t]], &p[3 * tets[t + 1]], &p[3 * tets[t + 2]],
+                               &p[3 * tets[t + 3]])
+               .q1_deg;
+  }
+  return sum / static_cast<double>(tets.size() / 4);
+}
+
+}  // namespace
+
+TEST_CASE("raise_mean3: a move of an interior vertex raises the mean", "[mesh][exact]") {
+  // The tet split into four by v (4) next to its face (0, 1, 2), as above: v moves, the four
+  // corners stay, every tet right-handed, the same boundary, the mean and the minimum higher.
+  std::vector<double> p = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+  for (int c = 0; c < 3; ++c) {
+    p.push_back(0.8 * (p[c] + p[3 + c] + p[6 + c]) / 3 + 0.2 * p[9 + c]);
+  }
+  const std::vector<std::uint32_t> star =
+      right_handed(p, {4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4});
+  std::vector<Kind> kinds(5, Kind::kSurface);
+  kinds[4] = Kind::kFree;
+  std::vector<double> q = p;
+  std::vector<std::uint32_t> t = star;
+  const voroclip::mesh3::Mean3Stats s = voroclip::mesh3::raise_mean3(q, kinds, t, 1, nullptr);
+  INFO("mean Q1 " << mean_q1(p, star) << " -> " << mean_q1(q, t));
+  CHECK(s.flips == 0);
+  CHECK(s.moves == 1);
+  CHECK(s.rounds == 1);
+  CHECK(std::vector<double>(q.begin(), q.begin() + 12) ==
+        std::vector<double>(p.begin(), p.begin() + 12));
+  check_flipped(q, star, t);
+  CHECK(t == star);
+  CHECK(mean_q1(q, t) > mean_q1(p, star) + 1);
+  CHECK(s.mean_before == Approx(mean_q1(p, star)));
+  CHECK(s.mean_after == Approx(mean_q1(q, t)));
+  CHECK(min_q1(q, t) >= min_q1(p, star));
+  CHECK(min_q4(q, t) >= std::min(min_q4(p, star), 0.4));
+  // A surface vertex without on_surface does not move; 0 rounds do nothing.
+  kinds[4] = Kind::kSurface;
+  q = p;
+  CHECK(voroclip::mesh3::raise_mean3(q, kinds, t, 1, nullptr).moves == 0);
+  CHECK(q == p);
+  kinds[4] = Kind::kFree;
+  CHECK(voroclip::mesh3::raise_mean3(q, kinds, t, 0, nullptr).moves == 0);
+  CHECK(q == p);
+  // With on_surface, the surface vertex 4 moves on its plane (z = its z): it stays there.
+  kinds[4] = Kind::kSurface;
+  const double z = p[14];
+  const auto on_plane = [z](std::uint32_t, const double* a, double* b) {
+    b[0] = a[0];
+    b[1] = a[1];
+    b[2] = z;
+    return true;
+  };
+  const voroclip::mesh3::Mean3Stats sliding =
+      voroclip::mesh3::raise_mean3(q, kinds, t, 1, on_plane);
+  CHECK(q[14] == z);
+  CHECK(mean_q1(q, t) >= mean_q1(p, star));
+  CHECK(min_q1(q, t) >= min_q1(p, star));
+  check_flipped(q, star, t);
+  CHECK(sliding.flips == 0);
+  CHECK_THROWS_AS(voroclip::mesh3::raise_mean3(q, std::vector<Kind>(4), t, 1, nullptr),
+                  voroclip::Error);
+}
+
+TEST_CASE("raise_mean3: a 3-2 flip raises the mean", "[mesh][exact]") {
+  // The tall bipyramid: the three needles around ab become the two tets on cde (mean Q1 up);
+  // nothing moves (all vertices fixed).
+  const std::vector<double> p = bipyramid(1.4);
+  const std::vector<std::uint32_t> three = right_handed(p, {3, 4, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0});
+  const std::vector<std::uint32_t> two = right_handed(p, {0, 1, 2, 3, 0, 1, 2, 4});
+  REQUIRE(mean_q1(p, two) > mean_q1(p, three));
+  const std::vector<Kind> kinds(5, Kind::kSurface);
+  std::vector<double> q = p;
+  std::vector<std::uint32_t> t = three;
+  const voroclip::mesh3::Mean3Stats s = voroclip::mesh3::raise_mean3(q, kinds, t, 2, nullptr);
+  CHECK(s.flips == 1);
+  CHECK(s.moves == 0);
+  CHECK(q == p);
+  REQUIRE(t.size() == 8);
+  check_flipped(p, three, t);
+  CHECK(mean_q1(p, t) == Approx(mean_q1(p, two)));
+  // The other way, the mean would fall: no flip.
+  t = two;
+  CHECK(voroclip::mesh3::raise_mean3(q, kinds, t, 2, nullptr).flips == 0);
+  CHECK(t == two);
+}
+
+TEST_CASE("mesh3d: step 7d raises the mean Q1 and keeps the boundary", "[mesh][regression]") {
+  // Issue 30: fandisk at 700 vertices. Step 7d is the last: without it (mean_rounds = 0) the
+  // mesh is its input. It raises the mean smallest dihedral angle, keeps the smallest one (or
+  // 30 degrees) and Q4 (or 0.4), every boundary triangle, the vertices' kinds and the shape.
+  const Domain3 fandisk(voroclip::read_tet_mesh(kData + "/tetmeshes/fandisk.mesh"));
+  voroclip::Mesh3Options o = voroclip_test::small_options(700);
+  const voroclip::Mesh3Result with = voroclip::mesh3d(fandisk, o);
+  o.mean_rounds = 0;
+  const voroclip::Mesh3Result without = voroclip::mesh3d(fandisk, o);
+  INFO("mean Q1 " << without.quality.q1_deg.mean << " -> " << with.quality.q1_deg.mean << ": "
+                  << with.nb_mean_flips << " flips, " << with.nb_mean_moves << " moves");
+  CHECK(without.nb_mean_flips + without.nb_mean_moves == 0);
+  REQUIRE(with.nb_mean_flips + with.nb_mean_moves > 0);
+  CHECK(with.quality.q1_deg.mean > without.quality.q1_deg.mean + 0.5);
+  CHECK(with.mean_q1_before_deg == Approx(without.quality.q1_deg.mean));
+  CHECK(with.mean_q1_after_deg == Approx(with.quality.q1_deg.mean));
+  CHECK(with.quality.q1_deg.min >= std::min(without.quality.q1_deg.min, 30.0) - 1e-9);
+  CHECK(with.quality.q4.min >= std::min(without.quality.q4.min, 0.4) - 1e-12);
+  CHECK(with.quality.inverted.empty());
+  CHECK(with.quality.degenerate.empty());
+  CHECK(with.shape_problem.empty());
+  CHECK(with.nb_vertices() == without.nb_vertices());
+  CHECK(with.kinds == without.kinds);
+  const auto sorted = [](const std::vector<std::uint32_t>& tri) {
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (std::size_t b = 0; b < tri.size(); b += 3) {
+      std::array<std::uint32_t, 3> x = {tri[b], tri[b + 1], tri[b + 2]};
+      std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());
+      out.push_back(x);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  CHECK(sorted(with.boundary_triangles) == sorted(without.boundary_triangles));
+  // Only the interior and surface vertices moved.
+  for (std::uint32_t v = 0; v < with.nb_vertices(); ++v) {
+    if (with.kinds[v] == voroclip::Mesh3VertexKind::kInterior ||
+        with.kinds[v] == voroclip::Mesh3VertexKind::kSurface)
+      continue;
+    CHECK(std::equal(&with.xyz[3 * v], &with.xyz[3 * v] + 3, &without.xyz[3 * v]));
+  }
+}
+
+TEST_CASE("raise_mean3: a surface vertex moves only where its triangles are flat",
+          "[mesh][exact]") {
+  // Two pyramids on the square a b c d (z = 0): the surface vertex v (4) off the axis at
+  // height h and the fixed w (5) below, the four tets (a, b, v, w) around vw. On a low tent
+  // (h = 0.1, the boundary triangles at v within 30 degrees) v slides on its plane z = h
+  // towards the axis; on a steep one (h = 1) it stays: there the move would cut the tip.
+  for (const double h : {0.1, 1.0}) {
+    const std::vector<double> p = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0.3, 0.2, h, 0, 0, -1};
+    const std::vector<std::uint32_t> tets =
+        right_handed(p, {0, 1, 4, 5, 1, 2, 4, 5, 2, 3, 4, 5, 3, 0, 4, 5});
+    std::vector<Kind> kinds(6, Kind::kFixed);
+    kinds[4] = Kind::kSurface;
+    const auto on_plane = [h](std::uint32_t, const double* a, double* b) {
+      b[0] = a[0];
+      b[1] = a[1];
+      b[2] = h;
+      return true;
+    };
+    std::vector<double> q = p;
+    std::vector<std::uint32_t> t = tets;
+    const voroclip::mesh3::Mean3Stats s = voroclip::mesh3::raise_mean3(q, kinds, t, 1, on_plane);
+    INFO("h " << h << ": mean Q1 " << mean_q1(p, tets) << " -> " << mean_q1(q, t));
+    check_flipped(q, tets, t);
+    CHECK(q[14] == h);
+    if (h < 0.5) {
+      CHECK(s.moves == 1);
+      CHECK(mean_q1(q, t) > mean_q1(p, tets));
+      CHECK(std::hypot(q[12], q[13]) < std::hypot(p[12], p[13]));
+    } else {
+      CHECK(s.moves == 0);
+      CHECK(q == p);
+    }
+  }
+}

@@ -827,6 +827,10 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
 //      each raising the smallest angle of the tets it replaces (the mesh need not stay
 //      Delaunay; the boundary is unchanged);
+//   7d. for the mean smallest angle (mean_rounds): flips raising the mesh's mean Q1 and moves
+//      of interior vertices (and of surface vertices on flat parts, within their patch)
+//      raising the sum of Q1 over their tets, keeping the smallest angle (or 30 degrees) and
+//      Q4 (or 0.4) of what they replace; the boundary triangles are unchanged;
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
@@ -1083,6 +1087,12 @@ struct Mesh3Options {
   // dihedral angle (or flip_dihedral_deg).
   double flip_q4 = 0.4;
   std::uint32_t max_flips_per_tet = 1;
+  // Then (step 7d) mean_rounds rounds for the mean smallest dihedral angle over all tets: flips
+  // of interior faces and edges (up to 4 tets around them) that raise the mesh's mean Q1, then
+  // moves of the interior vertices (and, with flip_moves_surface, of the surface vertices within
+  // their patch) that raise the sum of Q1 over the vertex's tets; each keeping the smallest Q1
+  // of the tets it replaces (or 30 degrees) and their smallest Q4 (or 0.4). 0: none.
+  std::uint32_t mean_rounds = 3;
   // Called as described at Mesh3Progress; return false to stop: the result then has
   // cancelled == true and no tets.
   std::function<bool(const Mesh3Progress&)> progress;
@@ -1169,6 +1179,10 @@ struct Mesh3Result {
   // they changed the boundary's shape and 7c was redone without them.
   std::uint32_t nb_boundary_flips = 0;
   bool flips_rerun_for_shape = false;
+  // Step 7d (Mesh3Options::mean_rounds): the flips and vertex moves made, the rounds run, the
+  // mean Q1 of the tets before and after it (degrees), its time (seconds, in the slivers phase).
+  std::uint32_t nb_mean_flips = 0, nb_mean_moves = 0, mean_rounds = 0;
+  double mean_q1_before_deg = 0, mean_q1_after_deg = 0, mean_seconds = 0;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
   // differs; a caller should not use a mesh with a problem as a model of the domain.
   std::string shape_problem;
