@@ -479,8 +479,9 @@ int main(int argc, char** argv) {
 
   if (!json) {
     std::printf(
-        "voroclip mesh_domain2 (default options, nb_vertices matched to 10 %% of CGAL's count) "
-        "against CGAL Mesh_2 (criteria %g / voroclip's edge length at %u vertices, or rescaled "
+        "voroclip mesh_domain2 (default options but raise_for_mean_angle off, nb_vertices "
+        "matched to 10 %% of CGAL's count) against CGAL Mesh_2 (criteria %g / voroclip's edge "
+        "length at %u vertices, or rescaled "
         "to voroclip's count where its small features set it; then "
         "lloyd_optimize_mesh_2), %d thread(s), best of %d; coverage = sum of triangle areas / "
         "domain area; outside = triangles whose centroid is not inside; seconds\n\n",
