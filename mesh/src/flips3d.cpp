@@ -118,16 +118,6 @@ constexpr int kMeanSearchSteps = 28;    // compass search: evaluations of a move
 // other (Flipper::flat).
 constexpr double kMeanFlatDeg = 30;
 
-void sub3(const double* a, const double* b, double* o) {
-  for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
-}
-void cross3(const double* a, const double* b, double* o) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 // Q1 (degrees) and Q4 (into q4) of a tet, as tet_shape has them to rounding but cheaper (one
 // acos, no orientation test): the pass for the mean evaluates them for every candidate
 // position of every vertex. 0 for a flat tet.
@@ -656,12 +646,24 @@ class Flipper {
     return sum;
   }
 
-  // The compass search of the mean pass for vertex x from p (star sum `current` there): steps
-  // along the axes and towards the mean of its neighbours, from kMeanFirstStep of the mean edge
-  // length, halved when none gains, down to kLastStep; the best position into p, its sum
+  // The compass search of the mean pass for vertex x from p (star sum `current` there): from
+  // kMeanFirstStep of the mean edge length (compass); the best position into p, its sum
   // returned.
   double sum_search(std::uint32_t x, const std::vector<Tet>& around, double lowest, double current,
                     std::array<double, 3>& p) {
+    return compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, current, p,
+                   [&](const double* y) { return star_sum(x, around, y, lowest); });
+  }
+
+  // The compass search for vertex x of `around` (all containing x) from p, where `score` is
+  // `best`: steps along the axes and towards the mean of its neighbours (that direction first
+  // with towards_first, else last), from first_step times the mean edge length, halved when
+  // none gains, down to kLastStep, at most `evaluations` scores (a surface vertex's trial
+  // points projected by on_surface); the best position found into p, its score returned.
+  template <class Score>
+  double compass(std::uint32_t x, const std::vector<Tet>& around, double first_step,
+                 int evaluations, bool towards_first, double best, std::array<double, 3>& p,
+                 const Score& score) {
     double length = 0, mean[3] = {0, 0, 0};
     std::uint32_t nb = 0;
     for (const Tet& w : around) {
@@ -676,24 +678,27 @@ class Flipper {
         ++nb;
       }
     }
-    if (nb == 0) return current;
+    if (nb == 0) return best;
     length /= nb;
-    double best = current;
-    double step = kMeanFirstStep * length;
-    for (int evaluation = 0; evaluation < kMeanSearchSteps && step > kLastStep * length;) {
+    double step = first_step * length;
+    for (int evaluation = 0; evaluation < evaluations && step > kLastStep * length;) {
       double towards[3], norm2 = 0;
       for (int c = 0; c < 3; ++c) {
         towards[c] = mean[c] / nb - p[c];
         norm2 += towards[c] * towards[c];
       }
       const double scale = norm2 > 0 ? 1 / std::sqrt(norm2) : 0;
-      const double directions[7][3] = {{towards[0] * scale, towards[1] * scale, towards[2] * scale},
-                                       {1, 0, 0},
-                                       {-1, 0, 0},
-                                       {0, 1, 0},
-                                       {0, -1, 0},
-                                       {0, 0, 1},
-                                       {0, 0, -1}};
+      // The six axes, and the direction towards the neighbours' mean first or last.
+      const double axes[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+      const int along = towards_first ? 0 : 6;
+      double directions[7][3];
+      for (int k = 0, axis = 0; k < 7; ++k) {
+        for (int c = 0; c < 3; ++c) {
+          directions[k][c] = k == along ? towards[c] * scale : axes[axis][c];
+        }
+        if (k != along) ++axis;
+      }
       std::array<double, 3> next = p;
       bool gained = false;
       for (const auto& d : directions) {
@@ -703,10 +708,10 @@ class Flipper {
           if (!options_.on_surface(x, y, z)) continue;
           std::copy(z, z + 3, y);
         }
-        const double s = star_sum(x, around, y, lowest);
+        const double q = score(y);
         ++evaluation;
-        if (s > best) {
-          best = s;
+        if (q > best) {
+          best = q;
           next = {y[0], y[1], y[2]};
           gained = true;
         }
@@ -735,65 +740,11 @@ class Flipper {
   }
 
   // The compass search for vertex x of `around` (all containing x), from p: the best position
-  // found into p, its smallest Q1 returned.
+  // found into p, its smallest Q1 returned (kInvalid for an empty `around`).
   double search(std::uint32_t x, const std::vector<Tet>& around, std::array<double, 3>& p) {
-    double length = 0, mean[3] = {0, 0, 0};
-    std::uint32_t nb = 0;
-    for (const Tet& w : around) {
-      for (const std::uint32_t y : w) {
-        if (y == x) continue;
-        double l2 = 0;
-        for (int c = 0; c < 3; ++c) {
-          l2 += (at(y)[c] - p[c]) * (at(y)[c] - p[c]);
-          mean[c] += at(y)[c];
-        }
-        length += std::sqrt(l2);
-        ++nb;
-      }
-    }
-    if (nb == 0) return kInvalid;
-    length /= nb;
-    double best = star_quality(x, around, p.data());
-    double step = kFirstStep * length;
-    for (int evaluation = 0; evaluation < kSearchSteps && step > kLastStep * length;) {
-      double towards[3], norm2 = 0;
-      for (int c = 0; c < 3; ++c) {
-        towards[c] = mean[c] / nb - p[c];
-        norm2 += towards[c] * towards[c];
-      }
-      const double scale = norm2 > 0 ? 1 / std::sqrt(norm2) : 0;
-      const double directions[7][3] = {
-          {1, 0, 0},
-          {-1, 0, 0},
-          {0, 1, 0},
-          {0, -1, 0},
-          {0, 0, 1},
-          {0, 0, -1},
-          {towards[0] * scale, towards[1] * scale, towards[2] * scale}};
-      std::array<double, 3> next = p;
-      bool gained = false;
-      for (const auto& d : directions) {
-        double y[3] = {p[0] + step * d[0], p[1] + step * d[1], p[2] + step * d[2]};
-        if (free_[x] == kOnSurface) {
-          double z[3];
-          if (!options_.on_surface(x, y, z)) continue;
-          std::copy(z, z + 3, y);
-        }
-        const double q = star_quality(x, around, y);
-        ++evaluation;
-        if (q > best) {
-          best = q;
-          next = {y[0], y[1], y[2]};
-          gained = true;
-        }
-      }
-      if (gained) {
-        p = next;
-      } else {
-        step /= 2;
-      }
-    }
-    return best;
+    if (around.empty()) return kInvalid;
+    return compass(x, around, kFirstStep, kSearchSteps, false, star_quality(x, around, p.data()), p,
+                   [&](const double* y) { return star_quality(x, around, y); });
   }
 
   // A new free vertex in the cavity of t and its face neighbours, when the star of its best

@@ -32,6 +32,19 @@ struct Cancelled {};
 using Spacing = std::function<double(const double*)>;
 
 // The key of the undirected edge (a, b).
+// Small 3-vector helpers of the sliver and flip passes.
+inline void sub3(const double* a, const double* b, double* o) {
+  for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
+}
+inline void cross3(const double* a, const double* b, double* o) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+inline double dot3(const double* a, const double* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
 inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? std::uint64_t{a} << 32 | b : std::uint64_t{b} << 32 | a;
 }

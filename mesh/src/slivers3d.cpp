@@ -52,15 +52,9 @@ constexpr double kMinGain = 0.01;               // degrees
 constexpr std::size_t kMaxNeighbourhood = 256;  // sites (LocalScorer::set_vertex)
 constexpr double kPi = 3.14159265358979323846;
 
-void sub3(const double* a, const double* b, double* o) {
-  for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
-}
-void cross3(const double* a, const double* b, double* o) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+using mesh3::cross3;
+using mesh3::dot3;
+using mesh3::sub3;
 
 // The perturbation's criterion, Q1 (tet_shape's q1_deg, without the other measures: it is
 // evaluated for every tet of every local triangulation).
