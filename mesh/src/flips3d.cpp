@@ -139,15 +139,7 @@ double q1_q4(const double* p0, const double* p1, const double* p2, const double*
   double sum_l2 = 0;
   for (const auto& v : e) sum_l2 += dot3(v, v);
   q4 = sum_l2 > 0 ? 12 * std::cbrt(det * det / 4) / sum_l2 : 0.0;
-  double worst = -1;  // the largest cosine of a dihedral angle: -n_f . n_g / |n_f| |n_g|
-  for (int f = 0; f < 4; ++f) {
-    for (int g = f + 1; g < 4; ++g) {
-      const double l = len[f] * len[g];
-      if (!(l > 0)) return 0;
-      worst = std::max(worst, -dot3(n[f], n[g]) / l);
-    }
-  }
-  return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / kPi;
+  return smallest_dihedral_deg(n, len);
 }
 
 // The squared distance from p to the segment ab.

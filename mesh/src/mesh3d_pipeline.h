@@ -13,8 +13,10 @@
 // Internal to the mesh module.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -43,6 +45,21 @@ inline void cross3(const double* a, const double* b, double* o) {
 }
 inline double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// The smallest dihedral angle of a tet (degrees) from its four face normals n (all outward or
+// all inward) and their lengths: the angle whose cosine is the largest -n_f . n_g / |n_f| |n_g|;
+// 0 for a flat tet (a normal of length 0).
+inline double smallest_dihedral_deg(const double (&n)[4][3], const double (&len)[4]) {
+  double worst = -1;  // the largest cosine of a dihedral angle
+  for (int f = 0; f < 4; ++f) {
+    for (int g = f + 1; g < 4; ++g) {
+      const double l = len[f] * len[g];
+      if (!(l > 0)) return 0;
+      worst = std::max(worst, -dot3(n[f], n[g]) / l);
+    }
+  }
+  return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / 3.14159265358979323846;
 }
 
 inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {

@@ -50,10 +50,10 @@ namespace {
 using Kind = SiteConstraint3::Kind;
 constexpr double kMinGain = 0.01;               // degrees
 constexpr std::size_t kMaxNeighbourhood = 256;  // sites (LocalScorer::set_vertex)
-constexpr double kPi = 3.14159265358979323846;
 
 using mesh3::cross3;
 using mesh3::dot3;
+using mesh3::smallest_dihedral_deg;
 using mesh3::sub3;
 
 // The perturbation's criterion, Q1 (tet_shape's q1_deg, without the other measures: it is
@@ -77,15 +77,7 @@ double min_dihedral_deg(const double* p0, const double* p1, const double* p2, co
     }
     len[f] = std::sqrt(dot3(n[f], n[f]));
   }
-  double worst = -1;  // the largest cosine of a dihedral angle
-  for (int f = 0; f < 4; ++f) {
-    for (int g = f + 1; g < 4; ++g) {
-      const double l = len[f] * len[g];
-      if (!(l > 0)) return 0;
-      worst = std::max(worst, -dot3(n[f], n[g]) / l);
-    }
-  }
-  return std::acos(std::min(1.0, std::max(-1.0, worst))) * 180 / kPi;
+  return smallest_dihedral_deg(n, len);
 }
 
 // What one round knows of the global mesh.
