@@ -1698,6 +1698,13 @@ std::string fixed(double x, int digits) {
   return buf;
 }
 
+// A signed percentage with one decimal ("+12.5%").
+std::string percent(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.1f%%", 100 * x);
+  return buf;
+}
+
 // Two significant digits, written out ("6900", not "6.9e+03").
 std::string two_digits(double n) {
   const double unit = std::pow(10.0, std::floor(std::log10(std::max(n, 1.0))) - 1);
@@ -1793,11 +1800,6 @@ Mesh2 mesh_to_count(const Domain2& domain, const Mesh2Options& options, Mesh2Sta
     if (st.cancelled) break;
   }
   if (wanted > 0 && mesh.nb_vertices() > 0 && miss(mesh) > options.vertex_tolerance) {
-    const auto percent = [](double x) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%+.1f%%", 100 * x);
-      return std::string(buf);
-    };
     const auto number = [](double x) {
       char buf[32];
       std::snprintf(buf, sizeof buf, "%.3g", x);
@@ -1918,11 +1920,9 @@ Mesh2 mesh_domain2(const Domain2& domain, const Mesh2Options& options, Mesh2Stat
     const double wanted = options.nb_vertices;
     const double made = mesh.nb_vertices();
     if (std::fabs(made - wanted) > options.vertex_tolerance * wanted) {
-      char percent[32];
-      std::snprintf(percent, sizeof percent, "%+.1f%%", 100 * (made - wanted) / wanted);
       st.vertex_count_note = std::to_string(mesh.nb_vertices()) + " vertices for " +
-                             std::to_string(options.nb_vertices) + " asked (" + percent +
-                             "): " + st.mean_angle_raise;
+                             std::to_string(options.nb_vertices) + " asked (" +
+                             percent((made - wanted) / wanted) + "): " + st.mean_angle_raise;
     }
   }
   st.mean_angle_note = mean_angle_note(mesh, st, target);

@@ -586,10 +586,17 @@ void Pipeline::run() {
           return on_own_patch_at(s, q);
         };
       }
-      const auto before_mean = std::make_tuple(sites, tets);
+      // Kept for the rerun without surface moves (only they can change the shape).
+      std::vector<double> sites_before;
+      std::vector<std::uint32_t> tets_before;
+      if (on_surface) {
+        sites_before = sites;
+        tets_before = tets;
+      }
       mesh3::Mean3Stats ms = raise_mean3(sites, kinds, tets, options.mean_rounds, on_surface);
       if (ms.moves > 0 && on_surface && !shape_of(domain, sites, tets).empty()) {
-        std::tie(sites, tets) = before_mean;
+        sites = std::move(sites_before);
+        tets = std::move(tets_before);
         ms = raise_mean3(sites, kinds, tets, options.mean_rounds, nullptr);
       }
       result.nb_mean_flips = ms.flips;

@@ -354,6 +354,26 @@ std::vector<std::uint32_t> right_handed(const std::vector<double>& p,
   return tets;
 }
 
+// A tet (vertices 0..3) split into four by an interior vertex v (4) at weight w towards
+// vertex 3 from the centroid of the face (0, 1, 2) (scaled by 1 - w): the corners on the
+// surface, v free, the four tets right-handed.
+struct SplitTet {
+  std::vector<double> p;
+  std::vector<std::uint32_t> star;
+  std::vector<Kind> kinds;
+};
+SplitTet split_tet(double w) {
+  SplitTet s;
+  s.p = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+  for (int c = 0; c < 3; ++c) {
+    s.p.push_back((1 - w) * (s.p[c] + s.p[3 + c] + s.p[6 + c]) / 3 + w * s.p[9 + c]);
+  }
+  s.star = right_handed(s.p, {4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4});
+  s.kinds.assign(5, Kind::kSurface);
+  s.kinds[4] = Kind::kFree;
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("flip_slivers3: a 3-2 flip", "[mesh][exact]") {
@@ -561,14 +581,10 @@ TEST_CASE("flip_slivers3: no boundary flip onto an edge of the mesh", "[mesh][ex
 TEST_CASE("flip_slivers3: a move of an interior vertex", "[mesh][exact]") {
   // A tet split into four by an interior vertex v (4) next to its face (0, 1, 2): the three
   // tets on the other faces are flat. No flip is valid (v is inside); v moves, the tets stay.
-  std::vector<double> p = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-  for (int c = 0; c < 3; ++c) {
-    p.push_back(0.95 * (p[c] + p[3 + c] + p[6 + c]) / 3 + 0.05 * p[9 + c]);
-  }
-  const std::vector<std::uint32_t> star =
-      right_handed(p, {4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4});
-  std::vector<Kind> kinds(5, Kind::kSurface);
-  kinds[4] = Kind::kFree;
+  const SplitTet split = split_tet(0.05);
+  const std::vector<double>& p = split.p;
+  const std::vector<std::uint32_t>& star = split.star;
+  std::vector<Kind> kinds = split.kinds;
   voroclip::mesh3::Flip3Options o;
   o.max_operations = 100;
   o.insert = false;
@@ -729,14 +745,10 @@ double mean_q1(const std::vector<double>& p, const std::vector<std::uint32_t>& t
 TEST_CASE("raise_mean3: a move of an interior vertex raises the mean", "[mesh][exact]") {
   // The tet split into four by v (4) next to its face (0, 1, 2), as above: v moves, the four
   // corners stay, every tet right-handed, the same boundary, the mean and the minimum higher.
-  std::vector<double> p = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
-  for (int c = 0; c < 3; ++c) {
-    p.push_back(0.8 * (p[c] + p[3 + c] + p[6 + c]) / 3 + 0.2 * p[9 + c]);
-  }
-  const std::vector<std::uint32_t> star =
-      right_handed(p, {4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4});
-  std::vector<Kind> kinds(5, Kind::kSurface);
-  kinds[4] = Kind::kFree;
+  const SplitTet split = split_tet(0.2);
+  const std::vector<double>& p = split.p;
+  const std::vector<std::uint32_t>& star = split.star;
+  std::vector<Kind> kinds = split.kinds;
   std::vector<double> q = p;
   std::vector<std::uint32_t> t = star;
   const voroclip::mesh3::Mean3Stats s = voroclip::mesh3::raise_mean3(q, kinds, t, 1, nullptr);
