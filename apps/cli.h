@@ -115,6 +115,7 @@ struct Mesh2dArgs {
   std::uint32_t vertices = 0;
   bool vertices_set = false;
   double edge_length = 0;
+  bool edge_length_set = false;  // --edge-length given (0 is then an error, not "absent")
   bool fix_input_vertices = false;
   bool keep_gaps = false;
   bool circumcenter_rule = false;

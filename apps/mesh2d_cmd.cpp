@@ -154,7 +154,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (!args.histogram.empty() && !ends_with(args.histogram, ".svg")) {
     throw UsageError("--histogram: the picture must end in .svg, got '" + args.histogram + "'");
   }
-  const bool by_length = args.edge_length != 0;
+  const bool by_length = args.edge_length_set;
   // A sizing field alone is the target edge length itself (--edge-length 1 scales it by 1).
   const bool sizing_alone = !args.vertices_set && !by_length &&
                             (!args.density.sizing.empty() || !args.density.sizing_file.empty());

@@ -117,6 +117,14 @@ TEST_CASE("mesh2d: errors are one line, exit status, and no file", "[apps]") {
     CHECK(run.status == 2);
     check_one_error_line(run);
   }
+  SECTION("a zero or negative edge length") {
+    for (const char* h : {"0", "-1"}) {
+      const Run run = run_cli({"mesh2d", "annulus:1,2,32", "--edge-length", h, "-o", out});
+      CHECK(run.status == 2);
+      check_one_error_line(run);
+      CHECK(contains(run.err, "--edge-length: expected a positive number"));
+    }
+  }
   SECTION("too few vertices") {
     const Run run = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "2"});
     CHECK(run.status == 2);
