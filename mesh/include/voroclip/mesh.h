@@ -1038,17 +1038,19 @@ struct Mesh3Options {
   double facet_distance_budget = 0.03;
   // Topology (step 5b): at most max_topology_rounds rounds of site insertion in all; after
   // the rounds that remove every defect, topology_iterations constrained CVT iterations
-  // (0: none), at most topology_cycles times. When the sites of nb_vertices cannot resolve
-  // the surface, kRaise adds the sites needed (Mesh3Result::nb_topology_sites counts them),
-  // kExact throws Error naming where the surface is not resolved and about how many
-  // vertices would do. Refinement that has not lowered the number of defective cells for
+  // (0: none), at most topology_cycles times (1: the sites the rounds add after that CVT
+  // stay where they are put; 3 cycles, before session 27, cost homer 5.0 of 13.4 s at
+  // 10,000 vertices for the same quality: bench/RESULTS.md). When the sites of nb_vertices
+  // cannot resolve the surface, kRaise adds the sites needed (Mesh3Result::nb_topology_sites
+  // counts them), kExact throws Error naming where the surface is not resolved and about how
+  // many vertices would do. Refinement that has not lowered the number of defective cells for
   // max_topology_stall rounds stops (next to a crease sharper than 90 degrees it can feed
   // itself); the state with the fewest defects is meshed and check_mesh3_shape judges it.
   enum class VertexCount : std::uint8_t { kRaise, kExact };
   VertexCount vertex_count = VertexCount::kRaise;
   std::uint32_t max_topology_rounds = 60;
   std::uint32_t topology_iterations = 10;
-  std::uint32_t topology_cycles = 3;
+  std::uint32_t topology_cycles = 1;
   std::uint32_t max_topology_stall = 8;
   // kRaise: when the output's boundary does not have the domain's shape (check_mesh3_shape;
   // features thinner than the sites' spacing), the whole pipeline runs again with twice the
