@@ -41,6 +41,10 @@
 // (their centroids) nor from its old position. At 10,000 vertices (the 8 shared surfaces,
 // main 40c072e) the tets with 2 or 3 boundary vertices (a sixth to a third of the tets)
 // average 47 to 53 degrees, those with 0 or 1 54 to 58: the moves raise both (session 26).
+// The moves of a round go by classes of vertices that share no tet (greedy colouring in vertex
+// order): a vertex's search reads only its star, whose other vertices are in other classes,
+// so the searches of a class run in parallel and their moves are applied in vertex order,
+// the same for any thread count (session 27; before, in vertex order one by one).
 //
 // Orientation: the tets here have orient3d(v0, v1, v2, v3) < 0 (right-handed,
 // det(v1 - v0, v2 - v0, v3 - v0) > 0: the order extract3d gives).
@@ -61,6 +65,9 @@
 // gives the new tets, and the boundary triangles (a, r_0, r_k), (b, r_k, r_0) replace
 // (a, b, r_0), (b, a, r_k). The union changes by the tet (a, b, r_0, r_k), thin where the
 // four normals agree within kBoundaryFlipDeg; the caller checks the boundary's shape.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -503,51 +510,103 @@ class Flipper {
     return new_sum - old_sum - mean * added;
   }
 
-  // The mean pass's moves: each movable vertex in order to the position found by a compass
-  // search on the sum of its star's Q1 (every tet right-handed, the star's smallest Q1 kept or
-  // kMeanKeepQ1, its smallest Q4 or kMeanKeepQ4). Their number.
+  // The mean pass's moves: each movable vertex to the position found by a compass search on
+  // the sum of its star's Q1 (every tet right-handed, the star's smallest Q1 kept or
+  // kMeanKeepQ1, its smallest Q4 or kMeanKeepQ4), class by class of move_classes(): the
+  // vertices of a class share no tet, so each one's search reads a star that no other move of
+  // the class changes; the searches of a class run in parallel and their moves are applied in
+  // vertex order, the same for any thread count. Their number.
   std::uint32_t mean_moves() {
     std::uint32_t applied = 0;
-    std::vector<Tet> around, triangles;
-    for (std::uint32_t x = 0; x < free_.size(); ++x) {
-      if (free_[x] == kFixed || vertex_tets_[x].empty()) continue;
-      const std::vector<std::uint32_t> star = vertex_tets_[x];
-      around.clear();
-      double before = 0, lowest = kMeanKeepQ1;
-      for (const std::uint32_t s : star) {
-        around.push_back(tets_[s]);
-        before += obj_[s];
-        lowest = std::min(lowest, obj_[s]);
+    std::vector<MeanMove> found;
+    for (const std::vector<std::uint32_t>& members : move_classes()) {
+      found.assign(members.size(), MeanMove{});
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, members.size(), 8),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<Tet> around, triangles;  // scratch of this range
+                          for (std::size_t i = range.begin(); i != range.end(); ++i)
+                            found[i] = mean_move(members[i], around, triangles);
+                        });
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        if (!found[i].moves) continue;
+        const std::uint32_t x = members[i];
+        std::copy(found[i].to.begin(), found[i].to.end(), at(x));
+        const std::vector<std::uint32_t> star = vertex_tets_[x];
+        for (const std::uint32_t s : star) {
+          const Tet w = tets_[s];
+          total_ -= obj_[s];
+          remove(s);
+          add(w);
+          total_ += obj_.back();
+        }
+        ++applied;
       }
-      if (free_[x] == kOnSurface) {
-        fan(x, around, triangles);
-        if (!flat(triangles)) continue;
-      }
-      set_floor(star);
-      std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
-      const double after = sum_search(x, around, lowest, before, p);
-      if (!(after > before + kMeanGain)) continue;
-      if (free_[x] == kOnSurface) {
-        // The boundary triangles at x no farther from the surface (their centroids) than
-        // before, at most: the surface moves keep the boundary's distance to the input.
-        const double sag = boundary_sag(x, triangles, nullptr);
-        std::array<double, 3> keep = {at(x)[0], at(x)[1], at(x)[2]};
-        std::copy(p.begin(), p.end(), at(x));
-        const double moved = boundary_sag(x, triangles, keep.data());
-        std::copy(keep.begin(), keep.end(), at(x));
-        if (!(moved <= sag)) continue;
-      }
-      std::copy(p.begin(), p.end(), at(x));
-      for (const std::uint32_t s : star) {
-        const Tet w = tets_[s];
-        total_ -= obj_[s];
-        remove(s);
-        add(w);
-        total_ += obj_.back();
-      }
-      ++applied;
     }
     return applied;
+  }
+
+  // The movable vertices (free_, with tets) in classes of which no two share a tet: greedy in
+  // vertex order, each vertex into the first class none of its neighbours is in. Each class
+  // in vertex order.
+  std::vector<std::vector<std::uint32_t>> move_classes() const {
+    std::vector<std::uint32_t> class_of(free_.size(), kNoVertex);
+    std::vector<std::vector<std::uint32_t>> classes;
+    std::vector<std::uint8_t> taken;
+    for (std::uint32_t x = 0; x < free_.size(); ++x) {
+      if (free_[x] == kFixed || vertex_tets_[x].empty()) continue;
+      taken.assign(classes.size(), 0);
+      for (const std::uint32_t s : vertex_tets_[x]) {
+        for (const std::uint32_t y : tets_[s]) {
+          if (class_of[y] != kNoVertex) taken[class_of[y]] = 1;
+        }
+      }
+      const auto c = static_cast<std::uint32_t>(
+          std::find(taken.begin(), taken.end(), std::uint8_t{0}) - taken.begin());
+      if (c == classes.size()) classes.emplace_back();
+      classes[c].push_back(x);
+      class_of[x] = c;
+    }
+    return classes;
+  }
+
+  // Where the mean pass moves vertex x (mean_moves()): the compass search on the sum of its
+  // star's Q1; a surface vertex only where its boundary triangles are flat (flat()) and no
+  // farther from the surface than before (boundary_sag()). Reads the mesh only (around and
+  // triangles are the caller's scratch), so the vertices of a class search in parallel.
+  struct MeanMove {
+    bool moves = false;
+    std::array<double, 3> to{};
+  };
+  MeanMove mean_move(std::uint32_t x, std::vector<Tet>& around, std::vector<Tet>& triangles) const {
+    MeanMove m;
+    const std::vector<std::uint32_t>& star = vertex_tets_[x];
+    around.clear();
+    double before = 0, lowest = kMeanKeepQ1, floor = keep_;
+    for (const std::uint32_t s : star) {
+      around.push_back(tets_[s]);
+      before += obj_[s];
+      lowest = std::min(lowest, obj_[s]);
+      floor = std::min(floor, guard_[s]);
+    }
+    if (free_[x] == kOnSurface) {
+      fan(x, around, triangles);
+      if (!flat(triangles)) return m;
+    }
+    std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
+    const double after =
+        compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, before, p,
+                [&](const double* y) { return star_sum(x, around, y, lowest, floor); });
+    if (!(after > before + kMeanGain)) return m;
+    if (free_[x] == kOnSurface) {
+      // The boundary triangles at x no farther from the surface (their centroids) than
+      // before, at most: the surface moves keep the boundary's distance to the input.
+      const double sag = boundary_sag(x, at(x), triangles, nullptr);
+      const double moved = boundary_sag(x, p.data(), triangles, at(x));
+      if (!(moved <= sag)) return m;
+    }
+    m.moves = true;
+    m.to = p;
+    return m;
   }
 
   // The boundary triangles at x, `around` x's star: the faces of its tets with x that no other
@@ -601,50 +660,49 @@ class Flipper {
   }
 
   // The largest distance from the surface (on_surface's projection) of the centroids of the
-  // boundary triangles `triangles` at x; with `from`, at least the distance from that point to
-  // the nearest of them.
-  double boundary_sag(std::uint32_t x, const std::vector<Tet>& triangles, const double* from) {
+  // boundary triangles `triangles` at x, with x at p; with `from`, at least the distance from
+  // that point to the nearest of them.
+  double boundary_sag(std::uint32_t x, const double* p, const std::vector<Tet>& triangles,
+                      const double* from) const {
     double sag = 0, nearest = std::numeric_limits<double>::infinity();
     for (const Tet& t : triangles) {
+      const double* c[3];
+      for (int k = 0; k < 3; ++k)
+        c[k] = t[static_cast<std::size_t>(k)] == x ? p : at(t[static_cast<std::size_t>(k)]);
       double g[3], q[3];
-      for (int k = 0; k < 3; ++k) g[k] = (at(t[0])[k] + at(t[1])[k] + at(t[2])[k]) / 3;
+      for (int k = 0; k < 3; ++k) g[k] = (c[0][k] + c[1][k] + c[2][k]) / 3;
       options_.on_surface(x, g, q);
       double d[3];
       sub3(q, g, d);
       sag = std::max(sag, dot3(d, d));
-      if (from)
-        nearest = std::min(nearest, distance2_to_triangle(from, at(t[0]), at(t[1]), at(t[2])));
+      if (from) nearest = std::min(nearest, distance2_to_triangle(from, c[0], c[1], c[2]));
     }
     return std::sqrt(
         from && nearest < std::numeric_limits<double>::infinity() ? std::max(sag, nearest) : sag);
   }
 
-  // The sum of Q1 over `around` with vertex x at p; -infinity when a tet is not right-handed,
-  // below the Q4 floor or below `lowest` in Q1.
-  double star_sum(std::uint32_t x, const std::vector<Tet>& around, const double* p, double lowest) {
-    double* q = at(x);
-    const std::array<double, 3> keep = {q[0], q[1], q[2]};
-    std::copy(p, p + 3, q);
-    double sum = 0;
-    for (const Tet& w : around) {
-      const double r = quality(w);
-      if (r < lowest) {
-        sum = -std::numeric_limits<double>::infinity();
-        break;
-      }
-      sum += r;
-    }
-    std::copy(keep.begin(), keep.end(), q);
-    return sum;
+  // The mean pass's Q1 of w (with x) with vertex x at p: kInvalid when it is not right-handed
+  // (exact), kBelowFloor when its Q4 is below `floor`. Reads the mesh only.
+  double mean_quality(const Tet& w, std::uint32_t x, const double* p, double floor) const {
+    const double* c[4];
+    for (std::size_t k = 0; k < 4; ++k) c[k] = w[k] == x ? p : at(w[k]);
+    if (orient3d(c[0], c[1], c[2], c[3]) != Sign::negative) return kInvalid;
+    double q4 = 0;
+    const double q1 = q1_q4(c[0], c[1], c[2], c[3], q4);
+    return q4 < floor ? kBelowFloor : q1;
   }
 
-  // The compass search of the mean pass for vertex x from p (star sum `current` there): from
-  // kMeanFirstStep of the mean edge length (compass); the best position into p, its sum
-  // returned.
-  double sum_search(std::uint32_t x, const std::vector<Tet>& around, double lowest, double current,
-                    std::array<double, 3>& p) {
-    return compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, current, p,
-                   [&](const double* y) { return star_sum(x, around, y, lowest); });
+  // The sum of Q1 over `around` with vertex x at p; -infinity when a tet is not right-handed,
+  // below the Q4 floor `floor` or below `lowest` in Q1.
+  double star_sum(std::uint32_t x, const std::vector<Tet>& around, const double* p, double lowest,
+                  double floor) const {
+    double sum = 0;
+    for (const Tet& w : around) {
+      const double r = mean_quality(w, x, p, floor);
+      if (r < lowest) return -std::numeric_limits<double>::infinity();
+      sum += r;
+    }
+    return sum;
   }
 
   // The compass search for vertex x of `around` (all containing x) from p, where `score` is
@@ -655,7 +713,7 @@ class Flipper {
   template <class Score>
   double compass(std::uint32_t x, const std::vector<Tet>& around, double first_step,
                  int evaluations, bool towards_first, double best, std::array<double, 3>& p,
-                 const Score& score) {
+                 const Score& score) const {
     double length = 0, mean[3] = {0, 0, 0};
     std::uint32_t nb = 0;
     for (const Tet& w : around) {
