@@ -41,6 +41,14 @@
 // (their centroids) nor from its old position. At 10,000 vertices (the 8 shared surfaces,
 // main 40c072e) the tets with 2 or 3 boundary vertices (a sixth to a third of the tets)
 // average 47 to 53 degrees, those with 0 or 1 54 to 58: the moves raise both (session 26).
+// The moves of a round go by classes of vertices that share no tet (greedy colouring in vertex
+// order): a vertex's search reads only its star, whose other vertices are in other classes,
+// so the searches of a class run in parallel and their moves are applied in vertex order,
+// the same for any thread count (session 27; before, in vertex order one by one).
+// The flips of a round are those of a walk through the tets in order, one after the other;
+// the candidates of a block of tets are found in parallel before the walk reaches it and found
+// again for a tet that a flip of the block has since touched (a tet with one of its edges
+// removed or made): the same flips as finding each tet's when the walk reaches it.
 //
 // Orientation: the tets here have orient3d(v0, v1, v2, v3) < 0 (right-handed,
 // det(v1 - v0, v2 - v0, v3 - v0) > 0: the order extract3d gives).
@@ -61,6 +69,9 @@
 // gives the new tets, and the boundary triangles (a, r_0, r_k), (b, r_k, r_0) replace
 // (a, b, r_0), (b, a, r_k). The union changes by the tet (a, b, r_0, r_k), thin where the
 // four normals agree within kBoundaryFlipDeg; the caller checks the boundary's shape.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -114,6 +125,8 @@ constexpr double kMeanGain = 0.01;      // degrees, summed over the tets an oper
 constexpr std::size_t kMeanRing = 4;    // edge removal up to 4 tets around the edge
 constexpr double kMeanFirstStep = 0.1;  // times the mean edge length of the vertex's tets
 constexpr int kMeanSearchSteps = 28;    // compass search: evaluations of a move, at most
+// The mean pass's flips find the candidates of this many tets at a time in parallel.
+constexpr std::size_t kMeanBlock = 2048;
 // A surface vertex moves only where its boundary triangles' normals are within this of each
 // other (Flipper::flat).
 constexpr double kMeanFlatDeg = 30;
@@ -298,24 +311,28 @@ class Flipper {
   const double* at(std::uint32_t v) const { return &sites_[3 * std::size_t{v}]; }
   double* at(std::uint32_t v) { return &sites_[3 * std::size_t{v}]; }
 
-  // Q1 of a tet given right-handed, kInvalid when it is not right-handed (exact).
-  double quality(const Tet& v) const {
+  // Q1 of a tet given right-handed, kInvalid when it is not right-handed (exact), kBelowFloor
+  // when its guarded measure is below `floor` (floor_ by default: set_floor()).
+  double quality(const Tet& v) const { return quality(v, floor_); }
+  double quality(const Tet& v, double floor) const {
     if (orient3d(at(v[0]), at(v[1]), at(v[2]), at(v[3])) != Sign::negative) return kInvalid;
     if (mean_mode_) {
       double q4 = 0;
       const double q1 = q1_q4(at(v[0]), at(v[1]), at(v[2]), at(v[3]), q4);
-      return q4 < floor_ ? kBelowFloor : q1;
+      return q4 < floor ? kBelowFloor : q1;
     }
     const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
-    if ((q4_mode_ ? shape.q1_deg : shape.q4) < floor_) return kBelowFloor;
+    if ((q4_mode_ ? shape.q1_deg : shape.q4) < floor) return kBelowFloor;
     return measure(shape);
   }
   // The floor of the kept measure for an operation replacing old_tets: their smallest, or
-  // keep_ when that is lower.
-  void set_floor(const std::vector<std::uint32_t>& old_tets) const {
-    floor_ = keep_;
-    for (const std::uint32_t o : old_tets) floor_ = std::min(floor_, guard_[o]);
+  // keep_ when that is lower (floor_of), and set as floor_ (set_floor).
+  double floor_of(const std::vector<std::uint32_t>& old_tets) const {
+    double floor = keep_;
+    for (const std::uint32_t o : old_tets) floor = std::min(floor, guard_[o]);
+    return floor;
   }
+  void set_floor(const std::vector<std::uint32_t>& old_tets) const { floor_ = floor_of(old_tets); }
 
   // The measure the current pass raises: Q4, or min(Q1, kQ4Weight Q4).
   double measure(const TetShape& shape) const {
@@ -436,118 +453,239 @@ class Flipper {
 
   // The mean pass's flips: for each live tet in order, the best of its face flips and edge
   // removals (rings of at most kMeanRing tets) that raises the mesh's mean Q1, applied. Their
-  // number.
+  // number. The candidates of a block of kMeanBlock tets are found in parallel on the mesh as
+  // it is before the block (mean_candidates); the walk through the block takes a tet's as
+  // found when no flip of the block has since removed or made a tet with an edge of it (its
+  // candidates only have tets with one of its edges), else finds them again: the flips are
+  // those of the walk alone, one tet after the other.
   std::uint32_t mean_flips() {
     std::uint32_t applied = 0;
-    std::vector<std::uint32_t> old_tets, best_old;
-    std::vector<Tet> new_tets, best_new;
+    std::vector<std::uint32_t> old_tets;
+    std::vector<Tet> new_tets;
+    std::vector<MeanCandidates> found;
+    MeanCandidates again;
+    std::vector<std::uint64_t> changed;  // the edges of the tets the block's flips removed or made
     const std::size_t end = tets_.size();
-    for (std::size_t s = 0; s < end; ++s) {
-      const auto t = static_cast<std::uint32_t>(s);
-      if (alive_[t] == 0) continue;
-      double best = kMeanGain;
-      best_new.clear();
-      const auto weigh = [&]() {
-        const double gain = mean_gain(old_tets, new_tets);
-        if (gain > best) {
-          best = gain;
-          best_old = old_tets;
-          best_new = new_tets;
+    for (std::size_t first = 0; first < end; first += kMeanBlock) {
+      const std::size_t last = std::min(end, first + kMeanBlock);
+      found.resize(last - first);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::uint32_t> o;  // scratch of this range
+                          std::vector<Tet> n;
+                          for (std::size_t s = range.begin(); s != range.end(); ++s) {
+                            if (alive_[s] != 0)
+                              mean_candidates(static_cast<std::uint32_t>(s), o, n,
+                                              found[s - first]);
+                          }
+                        });
+      changed.clear();
+      for (std::size_t s = first; s < last; ++s) {
+        const auto t = static_cast<std::uint32_t>(s);
+        if (alive_[t] == 0) continue;
+        const MeanCandidates* c = &found[s - first];
+        if (!changed.empty() && touches(tets_[t], changed)) {
+          mean_candidates(t, old_tets, new_tets, again);
+          c = &again;
         }
-      };
-      for (int f = 0; f < 4; ++f) {
-        if (face_flip(t, f, old_tets, new_tets)) weigh();
+        // The gain: the new tets' sum of Q1 less the old ones', less the mean per tet added.
+        double best = kMeanGain;
+        int which = -1;
+        const double mean = count_ > 0 ? total_ / static_cast<double>(count_) : 0;
+        for (std::size_t i = 0; i < c->size; ++i) {
+          const MeanCandidate& m = c->list[i];
+          const double gain = m.new_sum - m.old_sum - mean * m.added;
+          if (gain > best) {
+            best = gain;
+            which = m.which;
+          }
+        }
+        if (which < 0) continue;
+        mean_candidate(t, which, old_tets, new_tets);
+        for (const std::uint32_t o : old_tets) {
+          add_edges(tets_[o], changed);
+          total_ -= obj_[o];
+          remove(o);
+        }
+        for (const Tet& n : new_tets) {
+          add_edges(n, changed);
+          add(n);
+          total_ += obj_.back();
+        }
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+        count_ += new_tets.size();
+        count_ -= old_tets.size();
+        ++applied;
       }
-      const Tet v = tets_[t];
-      for (const auto& e : TetShape::kTetEdges) {
-        tets_around(v[e[0]], v[e[1]], old_tets);
-        if (old_tets.size() > kMeanRing) continue;
-        if (edge_removal(t, v[e[0]], v[e[1]], old_tets, new_tets)) weigh();
-      }
-      if (best_new.empty()) continue;
-      for (const std::uint32_t o : best_old) {
-        total_ -= obj_[o];
-        remove(o);
-      }
-      for (const Tet& n : best_new) {
-        add(n);
-        total_ += obj_.back();
-      }
-      count_ += best_new.size();
-      count_ -= best_old.size();
-      ++applied;
     }
     return applied;
   }
 
-  // What replacing old_tets by new_tets adds to the mesh's mean Q1, times the number of tets
-  // (the sum of the new tets' Q1 less the old ones', less the mean per tet added), when every
-  // new tet is right-handed, their smallest Q1 is at least the old ones' or kMeanKeepQ1 and
-  // their smallest Q4 the old ones' or kMeanKeepQ4; else -infinity.
-  double mean_gain(const std::vector<std::uint32_t>& old_tets, const std::vector<Tet>& new_tets) {
-    set_floor(old_tets);  // Q4
-    double old_sum = 0, old_min = kMeanKeepQ1;
-    for (const std::uint32_t o : old_tets) {
-      old_sum += obj_[o];
-      old_min = std::min(old_min, obj_[o]);
-    }
-    double new_sum = 0;
-    for (const Tet& n : new_tets) {
-      const double q = quality(n);
-      if (q < old_min) return -std::numeric_limits<double>::infinity();
-      new_sum += q;
-    }
-    const double mean = count_ > 0 ? total_ / static_cast<double>(count_) : 0;
-    const double added =
-        static_cast<double>(new_tets.size()) - static_cast<double>(old_tets.size());
-    return new_sum - old_sum - mean * added;
+  // A candidate flip of the mean pass for tet t: which (face flip 0 to 3, the removal of edge
+  // which - 4 of TetShape::kTetEdges) and its sums of Q1 (gain: new_sum - old_sum - the mean
+  // times added).
+  struct MeanCandidate {
+    int which = 0;
+    double old_sum = 0, new_sum = 0, added = 0;
+  };
+  struct MeanCandidates {
+    std::array<MeanCandidate, 10> list;
+    std::size_t size = 0;
+  };
+
+  // The flip `which` (MeanCandidate) of t into old_tets and new_tets; false when it is none.
+  bool mean_candidate(std::uint32_t t, int which, std::vector<std::uint32_t>& old_tets,
+                      std::vector<Tet>& new_tets) const {
+    if (which < 4) return face_flip(t, which, old_tets, new_tets);
+    const Tet& v = tets_[t];
+    const auto& e = TetShape::kTetEdges[static_cast<std::size_t>(which - 4)];
+    tets_around(v[e[0]], v[e[1]], old_tets);
+    if (old_tets.size() > kMeanRing) return false;
+    return edge_removal(t, v[e[0]], v[e[1]], old_tets, new_tets);
   }
 
-  // The mean pass's moves: each movable vertex in order to the position found by a compass
-  // search on the sum of its star's Q1 (every tet right-handed, the star's smallest Q1 kept or
-  // kMeanKeepQ1, its smallest Q4 or kMeanKeepQ4). Their number.
+  // The candidate flips of t (its face flips, then its edge removals with rings of at most
+  // kMeanRing tets) whose new tets are right-handed and keep the smallest Q1 of the old ones or
+  // kMeanKeepQ1 and their smallest Q4 or kMeanKeepQ4, in that order, into out. Reads the mesh
+  // only (old_tets and new_tets are the caller's scratch).
+  void mean_candidates(std::uint32_t t, std::vector<std::uint32_t>& old_tets,
+                       std::vector<Tet>& new_tets, MeanCandidates& out) const {
+    out.size = 0;
+    for (int which = 0; which < 10; ++which) {
+      if (!mean_candidate(t, which, old_tets, new_tets)) continue;
+      const double floor = floor_of(old_tets);  // Q4
+      MeanCandidate m;
+      m.which = which;
+      double old_min = kMeanKeepQ1;
+      for (const std::uint32_t o : old_tets) {
+        m.old_sum += obj_[o];
+        old_min = std::min(old_min, obj_[o]);
+      }
+      bool kept = true;
+      for (const Tet& n : new_tets) {
+        const double q = quality(n, floor);
+        if (q < old_min) {
+          kept = false;
+          break;
+        }
+        m.new_sum += q;
+      }
+      if (!kept) continue;
+      m.added = static_cast<double>(new_tets.size()) - static_cast<double>(old_tets.size());
+      out.list[out.size++] = m;
+    }
+  }
+
+  // The six edges of w (edge_key) appended to edges.
+  static void add_edges(const Tet& w, std::vector<std::uint64_t>& edges) {
+    for (const auto& e : TetShape::kTetEdges) edges.push_back(edge_key(w[e[0]], w[e[1]]));
+  }
+  // Whether an edge of w is in `edges` (sorted).
+  static bool touches(const Tet& w, const std::vector<std::uint64_t>& edges) {
+    for (const auto& e : TetShape::kTetEdges) {
+      if (std::binary_search(edges.begin(), edges.end(), edge_key(w[e[0]], w[e[1]]))) return true;
+    }
+    return false;
+  }
+
+  // The mean pass's moves: each movable vertex to the position found by a compass search on
+  // the sum of its star's Q1 (every tet right-handed, the star's smallest Q1 kept or
+  // kMeanKeepQ1, its smallest Q4 or kMeanKeepQ4), class by class of move_classes(): the
+  // vertices of a class share no tet, so each one's search reads a star that no other move of
+  // the class changes; the searches of a class run in parallel and their moves are applied in
+  // vertex order, the same for any thread count. Their number.
   std::uint32_t mean_moves() {
     std::uint32_t applied = 0;
-    std::vector<Tet> around, triangles;
-    for (std::uint32_t x = 0; x < free_.size(); ++x) {
-      if (free_[x] == kFixed || vertex_tets_[x].empty()) continue;
-      const std::vector<std::uint32_t> star = vertex_tets_[x];
-      around.clear();
-      double before = 0, lowest = kMeanKeepQ1;
-      for (const std::uint32_t s : star) {
-        around.push_back(tets_[s]);
-        before += obj_[s];
-        lowest = std::min(lowest, obj_[s]);
+    std::vector<MeanMove> found;
+    for (const std::vector<std::uint32_t>& members : move_classes()) {
+      found.assign(members.size(), MeanMove{});
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, members.size(), 8),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<Tet> around, triangles;  // scratch of this range
+                          for (std::size_t i = range.begin(); i != range.end(); ++i)
+                            found[i] = mean_move(members[i], around, triangles);
+                        });
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        if (!found[i].moves) continue;
+        const std::uint32_t x = members[i];
+        std::copy(found[i].to.begin(), found[i].to.end(), at(x));
+        const std::vector<std::uint32_t> star = vertex_tets_[x];
+        for (const std::uint32_t s : star) {
+          const Tet w = tets_[s];
+          total_ -= obj_[s];
+          remove(s);
+          add(w);
+          total_ += obj_.back();
+        }
+        ++applied;
       }
-      if (free_[x] == kOnSurface) {
-        fan(x, around, triangles);
-        if (!flat(triangles)) continue;
-      }
-      set_floor(star);
-      std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
-      const double after = sum_search(x, around, lowest, before, p);
-      if (!(after > before + kMeanGain)) continue;
-      if (free_[x] == kOnSurface) {
-        // The boundary triangles at x no farther from the surface (their centroids) than
-        // before, at most: the surface moves keep the boundary's distance to the input.
-        const double sag = boundary_sag(x, triangles, nullptr);
-        std::array<double, 3> keep = {at(x)[0], at(x)[1], at(x)[2]};
-        std::copy(p.begin(), p.end(), at(x));
-        const double moved = boundary_sag(x, triangles, keep.data());
-        std::copy(keep.begin(), keep.end(), at(x));
-        if (!(moved <= sag)) continue;
-      }
-      std::copy(p.begin(), p.end(), at(x));
-      for (const std::uint32_t s : star) {
-        const Tet w = tets_[s];
-        total_ -= obj_[s];
-        remove(s);
-        add(w);
-        total_ += obj_.back();
-      }
-      ++applied;
     }
     return applied;
+  }
+
+  // The movable vertices (free_, with tets) in classes of which no two share a tet: greedy in
+  // vertex order, each vertex into the first class none of its neighbours is in. Each class
+  // in vertex order.
+  std::vector<std::vector<std::uint32_t>> move_classes() const {
+    std::vector<std::uint32_t> class_of(free_.size(), kNoVertex);
+    std::vector<std::vector<std::uint32_t>> classes;
+    std::vector<std::uint8_t> taken;
+    for (std::uint32_t x = 0; x < free_.size(); ++x) {
+      if (free_[x] == kFixed || vertex_tets_[x].empty()) continue;
+      taken.assign(classes.size(), 0);
+      for (const std::uint32_t s : vertex_tets_[x]) {
+        for (const std::uint32_t y : tets_[s]) {
+          if (class_of[y] != kNoVertex) taken[class_of[y]] = 1;
+        }
+      }
+      const auto c = static_cast<std::uint32_t>(
+          std::find(taken.begin(), taken.end(), std::uint8_t{0}) - taken.begin());
+      if (c == classes.size()) classes.emplace_back();
+      classes[c].push_back(x);
+      class_of[x] = c;
+    }
+    return classes;
+  }
+
+  // Where the mean pass moves vertex x (mean_moves()): the compass search on the sum of its
+  // star's Q1; a surface vertex only where its boundary triangles are flat (flat()) and no
+  // farther from the surface than before (boundary_sag()). Reads the mesh only (around and
+  // triangles are the caller's scratch), so the vertices of a class search in parallel.
+  struct MeanMove {
+    bool moves = false;
+    std::array<double, 3> to{};
+  };
+  MeanMove mean_move(std::uint32_t x, std::vector<Tet>& around, std::vector<Tet>& triangles) const {
+    MeanMove m;
+    const std::vector<std::uint32_t>& star = vertex_tets_[x];
+    around.clear();
+    double before = 0, lowest = kMeanKeepQ1, floor = keep_;
+    for (const std::uint32_t s : star) {
+      around.push_back(tets_[s]);
+      before += obj_[s];
+      lowest = std::min(lowest, obj_[s]);
+      floor = std::min(floor, guard_[s]);
+    }
+    if (free_[x] == kOnSurface) {
+      fan(x, around, triangles);
+      if (!flat(triangles)) return m;
+    }
+    std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
+    const double after =
+        compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, before, p,
+                [&](const double* y) { return star_sum(x, around, y, lowest, floor); });
+    if (!(after > before + kMeanGain)) return m;
+    if (free_[x] == kOnSurface) {
+      // The boundary triangles at x no farther from the surface (their centroids) than
+      // before, at most: the surface moves keep the boundary's distance to the input.
+      const double sag = boundary_sag(x, at(x), triangles, nullptr);
+      const double moved = boundary_sag(x, p.data(), triangles, at(x));
+      if (!(moved <= sag)) return m;
+    }
+    m.moves = true;
+    m.to = p;
+    return m;
   }
 
   // The boundary triangles at x, `around` x's star: the faces of its tets with x that no other
@@ -601,50 +739,49 @@ class Flipper {
   }
 
   // The largest distance from the surface (on_surface's projection) of the centroids of the
-  // boundary triangles `triangles` at x; with `from`, at least the distance from that point to
-  // the nearest of them.
-  double boundary_sag(std::uint32_t x, const std::vector<Tet>& triangles, const double* from) {
+  // boundary triangles `triangles` at x, with x at p; with `from`, at least the distance from
+  // that point to the nearest of them.
+  double boundary_sag(std::uint32_t x, const double* p, const std::vector<Tet>& triangles,
+                      const double* from) const {
     double sag = 0, nearest = std::numeric_limits<double>::infinity();
     for (const Tet& t : triangles) {
+      const double* c[3];
+      for (int k = 0; k < 3; ++k)
+        c[k] = t[static_cast<std::size_t>(k)] == x ? p : at(t[static_cast<std::size_t>(k)]);
       double g[3], q[3];
-      for (int k = 0; k < 3; ++k) g[k] = (at(t[0])[k] + at(t[1])[k] + at(t[2])[k]) / 3;
+      for (int k = 0; k < 3; ++k) g[k] = (c[0][k] + c[1][k] + c[2][k]) / 3;
       options_.on_surface(x, g, q);
       double d[3];
       sub3(q, g, d);
       sag = std::max(sag, dot3(d, d));
-      if (from)
-        nearest = std::min(nearest, distance2_to_triangle(from, at(t[0]), at(t[1]), at(t[2])));
+      if (from) nearest = std::min(nearest, distance2_to_triangle(from, c[0], c[1], c[2]));
     }
     return std::sqrt(
         from && nearest < std::numeric_limits<double>::infinity() ? std::max(sag, nearest) : sag);
   }
 
-  // The sum of Q1 over `around` with vertex x at p; -infinity when a tet is not right-handed,
-  // below the Q4 floor or below `lowest` in Q1.
-  double star_sum(std::uint32_t x, const std::vector<Tet>& around, const double* p, double lowest) {
-    double* q = at(x);
-    const std::array<double, 3> keep = {q[0], q[1], q[2]};
-    std::copy(p, p + 3, q);
-    double sum = 0;
-    for (const Tet& w : around) {
-      const double r = quality(w);
-      if (r < lowest) {
-        sum = -std::numeric_limits<double>::infinity();
-        break;
-      }
-      sum += r;
-    }
-    std::copy(keep.begin(), keep.end(), q);
-    return sum;
+  // The mean pass's Q1 of w (with x) with vertex x at p: kInvalid when it is not right-handed
+  // (exact), kBelowFloor when its Q4 is below `floor`. Reads the mesh only.
+  double mean_quality(const Tet& w, std::uint32_t x, const double* p, double floor) const {
+    const double* c[4];
+    for (std::size_t k = 0; k < 4; ++k) c[k] = w[k] == x ? p : at(w[k]);
+    if (orient3d(c[0], c[1], c[2], c[3]) != Sign::negative) return kInvalid;
+    double q4 = 0;
+    const double q1 = q1_q4(c[0], c[1], c[2], c[3], q4);
+    return q4 < floor ? kBelowFloor : q1;
   }
 
-  // The compass search of the mean pass for vertex x from p (star sum `current` there): from
-  // kMeanFirstStep of the mean edge length (compass); the best position into p, its sum
-  // returned.
-  double sum_search(std::uint32_t x, const std::vector<Tet>& around, double lowest, double current,
-                    std::array<double, 3>& p) {
-    return compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, current, p,
-                   [&](const double* y) { return star_sum(x, around, y, lowest); });
+  // The sum of Q1 over `around` with vertex x at p; -infinity when a tet is not right-handed,
+  // below the Q4 floor `floor` or below `lowest` in Q1.
+  double star_sum(std::uint32_t x, const std::vector<Tet>& around, const double* p, double lowest,
+                  double floor) const {
+    double sum = 0;
+    for (const Tet& w : around) {
+      const double r = mean_quality(w, x, p, floor);
+      if (r < lowest) return -std::numeric_limits<double>::infinity();
+      sum += r;
+    }
+    return sum;
   }
 
   // The compass search for vertex x of `around` (all containing x) from p, where `score` is
@@ -655,7 +792,7 @@ class Flipper {
   template <class Score>
   double compass(std::uint32_t x, const std::vector<Tet>& around, double first_step,
                  int evaluations, bool towards_first, double best, std::array<double, 3>& p,
-                 const Score& score) {
+                 const Score& score) const {
     double length = 0, mean[3] = {0, 0, 0};
     std::uint32_t nb = 0;
     for (const Tet& w : around) {
@@ -920,8 +1057,7 @@ class Flipper {
     Ring ring{};
     // An open chain: a boundary edge (or not a manifold one).
     if (!chain(pair, k, start, ring) || ring[k] != ring[0]) return false;
-    set_floor(old_tets);
-    return triangulate(ring.data(), k, a, b, new_tets);
+    return triangulate(ring.data(), k, a, b, floor_of(old_tets), new_tets);
   }
 
   // The best triangulation of the polygon r_0 .. r_{n-1} (the ring of the edge (a, b), or
@@ -929,14 +1065,14 @@ class Flipper {
   // i < m < j, as the tets (r_i, r_m, r_j, b) and (r_i, r_j, r_m, a), into new_tets; false
   // when none has only right-handed tets.
   bool triangulate(const std::uint32_t* ring, std::size_t n, std::uint32_t a, std::uint32_t b,
-                   std::vector<Tet>& new_tets) const {
+                   double floor, std::vector<Tet>& new_tets) const {
     // best[i][j]: the best min Q1 over the triangulations of the sub-polygon r_i .. r_j,
     // apex[i][j] the apex of its edge (r_i, r_j) in that triangulation.
     double best[kMaxRing + 1][kMaxRing + 1];
     std::size_t apex[kMaxRing + 1][kMaxRing + 1];
     const auto triangle = [&](std::size_t i, std::size_t j, std::size_t m) {
-      return std::min(quality({ring[i], ring[j], ring[m], b}),
-                      quality({ring[i], ring[m], ring[j], a}));
+      return std::min(quality({ring[i], ring[j], ring[m], b}, floor),
+                      quality({ring[i], ring[m], ring[j], a}, floor));
     };
     for (std::size_t i = 0; i + 1 < n; ++i)
       best[i][i + 1] = std::numeric_limits<double>::infinity();
@@ -1027,8 +1163,7 @@ class Flipper {
         if (!(nn > 0 && mm > 0 && dot >= cos_bound * nn * mm)) return false;
       }
     }
-    set_floor(old_tets);
-    return triangulate(ring.data(), k + 1, a, b, new_tets);
+    return triangulate(ring.data(), k + 1, a, b, floor_of(old_tets), new_tets);
   }
 
   std::vector<double>& sites_;

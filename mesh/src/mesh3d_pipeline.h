@@ -179,7 +179,10 @@ Flip3Stats flip_slivers3(std::vector<double>& sites, const std::vector<Kind>& ki
 // old position than before). Every operation keeps the smallest Q1 of the
 // tets it replaces or 30 degrees, their smallest Q4 or 0.4, and makes right-handed tets only
 // (orient3d, exact); the boundary triangles are unchanged (their surface vertices at most
-// slide). Sequential and deterministic. A round that changes nothing ends the pass.
+// slide). The moves go by classes of vertices that share no tet (greedy in vertex order), the
+// searches of a class in parallel (TBB), their moves applied in vertex order; the flips'
+// candidates found in parallel by blocks of tets, taken one tet after the other: the same
+// result for any thread count. A round that changes nothing ends the pass.
 struct Mean3Stats {
   std::uint32_t flips = 0, moves = 0, rounds = 0;
   double mean_before = 0, mean_after = 0;  // mean Q1 of the tets, degrees
