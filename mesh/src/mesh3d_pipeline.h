@@ -33,7 +33,6 @@ struct Cancelled {};
 // The local spacing of the sites at a point (model units).
 using Spacing = std::function<double(const double*)>;
 
-// The key of the undirected edge (a, b).
 // Small 3-vector helpers of the sliver and flip passes.
 inline void sub3(const double* a, const double* b, double* o) {
   for (int c = 0; c < 3; ++c) o[c] = a[c] - b[c];
