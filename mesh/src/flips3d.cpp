@@ -48,7 +48,9 @@
 // The flips of a round are those of a walk through the tets in order, one after the other;
 // the candidates of a block of tets are found in parallel before the walk reaches it and found
 // again for a tet that a flip of the block has since touched (a tet with one of its edges
-// removed or made): the same flips as finding each tet's when the walk reaches it.
+// removed or made): the same flips as finding each tet's when the walk reaches it, but for
+// the order of a ring's tets (vertex_tets_ order, which flips at a vertex of the ring change),
+// so the last bits of a sum over the ring. The thread count changes nothing of it.
 //
 // Orientation: the tets here have orient3d(v0, v1, v2, v3) < 0 (right-handed,
 // det(v1 - v0, v2 - v0, v3 - v0) > 0: the order extract3d gives).
