@@ -417,8 +417,25 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
          << "alpha = " << fixed(r.input_sharpest_dihedral_deg, 2)
          << " degrees the input's sharpest dihedral angle)";
     if (r.nb_tets_below_bound > 0) {
-      *out << "; the smallest is " << fixed(r.quality.q1_deg.min, 2) << " degrees, at tet "
-           << r.quality.q1_deg.argmin;
+      // Where the worst tet is and what may lift it: a tet whose four vertices lie on the
+      // boundary sits in a thin part or at a sharp edge of the solid, which only a smaller
+      // spacing there gives interior vertices.
+      const std::uint32_t t = r.quality.q1_deg.argmin;
+      double c[3] = {0, 0, 0};
+      int on_boundary = 0;
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t v = r.tets[4 * std::size_t{t} + k];
+        for (int d = 0; d < 3; ++d) c[d] += r.xyz[3 * std::size_t{v} + d] / 4;
+        on_boundary += r.kinds[v] != Mesh3VertexKind::kInterior ? 1 : 0;
+      }
+      *out << "; the smallest is " << fixed(r.quality.q1_deg.min, 2) << " degrees, at tet " << t
+           << " (centroid " << c[0] << ' ' << c[1] << ' ' << c[2] << ", " << on_boundary
+           << " of its vertices on the boundary"
+           << (on_boundary == 4 ? ": a thin part or a sharp edge of the solid" : "")
+           << "). Another --seed, or a smaller edge length there (--sizing), can lift it"
+           << (args.no_perturb        ? "; so can the sliver perturbation (off: --no-perturb)"
+               : args.flip_angle == 0 ? "; so can the flips against slivers (off: --flip-angle 0)"
+                                      : "");
     }
     *out << '\n';
     if (!args.output.empty()) *out << "Written to " << args.output << '\n';
