@@ -317,12 +317,8 @@ class Flipper {
   // when its guarded measure is below `floor` (floor_ by default: set_floor()).
   double quality(const Tet& v) const { return quality(v, floor_); }
   double quality(const Tet& v, double floor) const {
+    if (mean_mode_) return mean_quality(v, kNoVertex, nullptr, floor);
     if (orient3d(at(v[0]), at(v[1]), at(v[2]), at(v[3])) != Sign::negative) return kInvalid;
-    if (mean_mode_) {
-      double q4 = 0;
-      const double q1 = q1_q4(at(v[0]), at(v[1]), at(v[2]), at(v[3]), q4);
-      return q4 < floor ? kBelowFloor : q1;
-    }
     const TetShape shape = tet_shape(at(v[0]), at(v[1]), at(v[2]), at(v[3]));
     if ((q4_mode_ ? shape.q1_deg : shape.q4) < floor) return kBelowFloor;
     return measure(shape);
@@ -762,8 +758,8 @@ class Flipper {
         from && nearest < std::numeric_limits<double>::infinity() ? std::max(sag, nearest) : sag);
   }
 
-  // The mean pass's Q1 of w (with x) with vertex x at p: kInvalid when it is not right-handed
-  // (exact), kBelowFloor when its Q4 is below `floor`. Reads the mesh only.
+  // The mean pass's Q1 of w with vertex x at p (x = kNoVertex: w as it is): kInvalid when it
+  // is not right-handed (exact), kBelowFloor when its Q4 is below `floor`. Reads the mesh only.
   double mean_quality(const Tet& w, std::uint32_t x, const double* p, double floor) const {
     const double* c[4];
     for (std::size_t k = 0; k < 4; ++k) c[k] = w[k] == x ? p : at(w[k]);
