@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "delaunay/tet_set.h"
 #include "mesh3d_pipeline.h"
 #include "mesh3d_tags.h"
 #include "mesh_test_shapes.h"
@@ -173,17 +174,11 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   // The extraction of the starting sites: the same tets (the perturbation's triangulation
   // inserts in zones, which numbers them otherwise).
   const Delaunay3 dt(s.sites.data(), static_cast<std::uint32_t>(s.sites.size() / 3));
-  const auto tet_set = [](const std::vector<std::uint32_t>& tets) {
-    std::vector<std::array<std::uint32_t, 4>> out;
-    for (std::size_t t = 0; t < tets.size(); t += 4) {
-      std::array<std::uint32_t, 4> v = {tets[t], tets[t + 1], tets[t + 2], tets[t + 3]};
-      std::sort(v.begin(), v.end());
-      out.push_back(v);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  };
-  CHECK(tet_set(mesh) == tet_set(ex.extract(dt)));
+  CHECK(voroclip::test::tet_set(mesh) == voroclip::test::tet_set(ex.extract(dt)));
+  for (std::size_t t = 0; t < mesh.size(); t += 4) {  // each one right-handed, as extracted
+    CHECK(voroclip::orient3d(&sites[3 * mesh[t]], &sites[3 * mesh[t + 1]], &sites[3 * mesh[t + 2]],
+                             &sites[3 * mesh[t + 3]]) == voroclip::Sign::negative);
+  }
   // The first round refused, the others kept: the surface sites stay where they were, the
   // free ones move, and the mesh still improves.
   sites = s.sites;
