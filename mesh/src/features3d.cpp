@@ -10,6 +10,14 @@
 // nearest to it unless that site already went to another corner, in which case a new site is
 // added at the corner. Surface sites are then the boundary sites (ClippedVoronoi3::
 // is_boundary) left. Every choice is a function of the sites, in index order.
+//
+// Gaps. A site whose cell holds two lines takes one of them, so where two lines run within a
+// spacing of each other (the two rims of a plate about a spacing thick), one of them is left
+// without sites: a 10 x 10 x 0.5 box at 1000 vertices (spacing 0.46) kept only the corners of
+// four of its rims, and tets 5 units long along them fell to 1.8 degrees. A gap of kLineGap
+// spacings or more between a line's sites gets sites at even arclengths, each where no
+// constrained site is within kLineGapRoom spacings (nearer, the two lines are closer than
+// that, the wall between them thinner: sites on both would make flat tets across it).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +28,12 @@
 #include "voroclip/predicates.h"
 
 namespace voroclip::mesh3 {
+namespace {
+
+constexpr double kLineGap = 1.5;
+constexpr double kLineGapRoom = 0.5;
+
+}  // namespace
 
 void Projection::operator()(std::uint32_t site, Kind kind, const double* p, double* q,
                             double* d) const {
@@ -302,7 +316,7 @@ void Pipeline::constrain_sites(const FeatureLines& lines, const FeatureTree& lin
     const Delaunay3 dt(sites.data(), n);
     // Corners. (The sites move only after the last query: dt reads them.)
     std::vector<double> added;
-    std::vector<std::uint32_t> added_corner;
+    std::vector<std::uint32_t> added_corner, added_line;
     for (const std::uint32_t c : lines.corners) {
       const double* p = domain.vertex(c);
       const std::uint32_t s = dt.nearest_vertex(p);
@@ -350,6 +364,7 @@ void Pipeline::constrain_sites(const FeatureLines& lines, const FeatureTree& lin
         line_of[s] = best_line;
         i = j;
       }
+      fill_line_gaps(line_tree, local_spacing, added, added_line);
     }
     for (std::uint32_t s = 0; s < n; ++s) {
       if (kinds[s] == Kind::kFree && boundary[s] != 0) kinds[s] = Kind::kSurface;
@@ -359,13 +374,16 @@ void Pipeline::constrain_sites(const FeatureLines& lines, const FeatureTree& lin
         std::copy_n(domain.vertex(corner_vertex[v]), 3, &sites[3 * std::size_t{v}]);
       }
     }
-    // Corners without a site of their own get a new one.
+    // Corners without a site of their own get a new one, then the lines' gaps theirs.
     sites.insert(sites.end(), added.begin(), added.end());
-    const auto extra = static_cast<std::uint32_t>(added.size() / 3);
+    const auto extra = static_cast<std::uint32_t>(added_corner.size());
     kinds.insert(kinds.end(), extra, Kind::kFixed);
     line_of.insert(line_of.end(), extra, SurfaceTree::kNone);
     corner_vertex.insert(corner_vertex.end(), added_corner.begin(), added_corner.end());
-    n += extra;
+    kinds.insert(kinds.end(), added_line.size(), Kind::kCurve);
+    line_of.insert(line_of.end(), added_line.begin(), added_line.end());
+    corner_vertex.insert(corner_vertex.end(), added_line.size(), SurfaceTree::kNone);
+    n += extra + static_cast<std::uint32_t>(added_line.size());
   }
   for (std::uint32_t s = 0; s < n; ++s) {
     if (kinds[s] == Kind::kSurface || kinds[s] == Kind::kCurve) {
@@ -378,6 +396,67 @@ void Pipeline::constrain_sites(const FeatureLines& lines, const FeatureTree& lin
     result.nb_corner_sites += kinds[s] == Kind::kFixed ? 1 : 0;
   }
   result.nb_sites = n;
+}
+
+void Pipeline::fill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing,
+                              std::vector<double>& added, std::vector<std::uint32_t>& added_line) {
+  // The constrained sites where they will be (a line site at its closest point on its line, a
+  // corner site at its corner; `added` holds the new corners), and each line's sites'
+  // arclengths, line by line.
+  std::vector<double> taken(added);
+  std::vector<std::pair<std::uint32_t, double>> at;
+  for (std::uint32_t s = 0; s < n; ++s) {
+    if (kinds[s] == Kind::kCurve) {
+      const FeatureTree::Closest c = line_tree.closest(&sites[3 * std::size_t{s}], line_of[s]);
+      at.emplace_back(line_of[s], c.arclength);
+      taken.insert(taken.end(), c.point, c.point + 3);
+    } else if (kinds[s] == Kind::kFixed && corner_vertex[s] != SurfaceTree::kNone) {
+      const double* p = domain.vertex(corner_vertex[s]);
+      taken.insert(taken.end(), p, p + 3);
+    }
+  }
+  std::sort(at.begin(), at.end());
+  const auto room = [&](const double* x, double h) {
+    for (std::size_t i = 0; i < taken.size(); i += 3) {
+      double d[3];
+      sub3(x, &taken[i], d);
+      if (dot3(d, d) < kLineGapRoom * kLineGapRoom * h * h) return false;
+    }
+    return true;
+  };
+  std::vector<double> ends;
+  auto it = at.begin();
+  for (std::uint32_t l = 0; l < line_tree.nb_lines(); ++l) {
+    const double length = line_tree.length(l);
+    ends.clear();
+    // An open line ends at corners (or at another line): its ends count as sites.
+    if (!line_tree.closed(l)) ends.push_back(0);
+    for (; it != at.end() && it->first == l; ++it) ends.push_back(it->second);
+    if (!line_tree.closed(l)) {
+      ends.push_back(length);
+    } else if (ends.empty()) {
+      ends.push_back(0);  // a loop with no site: one gap all around
+    }
+    std::sort(ends.begin(), ends.end());
+    // A closed line's last gap wraps around to its first site.
+    if (line_tree.closed(l)) ends.push_back(ends.front() + length);
+    for (std::size_t i = 0; i + 1 < ends.size(); ++i) {
+      const double gap = ends[i + 1] - ends[i];
+      double mid[3];
+      line_tree.eval(l, ends[i] + gap / 2, mid);
+      const double h = local_spacing(mid);
+      if (gap < kLineGap * h) continue;
+      const double k = std::floor(gap / h + 0.5) - 1;
+      for (double j = 1; j <= k; ++j) {
+        double x[3];
+        line_tree.eval(l, ends[i] + gap * j / (k + 1), x);
+        if (!room(x, h)) continue;
+        added.insert(added.end(), x, x + 3);
+        taken.insert(taken.end(), x, x + 3);
+        added_line.push_back(l);
+      }
+    }
+  }
 }
 
 std::uint32_t Pipeline::snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,

@@ -251,6 +251,14 @@ struct Pipeline {
   void constrain_sites(const FeatureLines& lines, const FeatureTree& line_tree,
                        const Spacing& local_spacing, const std::vector<std::uint8_t>& boundary,
                        const Projection& project);
+  // Step 4's sites on the lines' gaps: where one site's cell holds two lines (the two rims of
+  // a plate thinner than the spacing, a thin fin), it takes the line with more samples and
+  // the other has no site there. A gap of 1.5 local spacings or more between a line's sites
+  // (an open line's ends count as sites) gets sites at even arclengths, k in a gap of length
+  // g with k + 1 = g / spacing rounded; their positions go to `added`, their lines to
+  // `added_line`.
+  void fill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing,
+                      std::vector<double>& added, std::vector<std::uint32_t>& added_line);
   // Free sites whose cells reach the boundary (`boundary`, from the CVT's last diagram) go
   // onto the surface: they would become boundary vertices inside the volume. Their number.
   std::uint32_t snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,

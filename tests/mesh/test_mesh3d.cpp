@@ -252,6 +252,45 @@ TEST_CASE("mesh3d on a box: valid, corners and edges kept, vertices on the surfa
   CHECK(overall == r.quality.q1_deg.min);
 }
 
+TEST_CASE("mesh3d on a plate thinner than the spacing: sites along every edge, no sliver",
+          "[mesh][exact]") {
+  // 10 x 10 x 0.5 at 1000 vertices: the spacing h (0.46) is the plate's thickness, so one
+  // site's cell holds both rims of a side. It took the line with more samples and the other
+  // rim kept only its corners: tets spanned 5 units along it, down to 1.8 degrees.
+  const Domain3 plate(voroclip_test::box_surface({0, 0, 0}, {10, 10, 0.5}));
+  Mesh3Options o;
+  o.nb_vertices = 1000;
+  const Mesh3Result r = voroclip::mesh3d(plate, o);
+  check_valid(plate, r);
+  // The four edges across the plate (0.5 long, about h) are too short to keep as lines.
+  REQUIRE(r.nb_feature_lines == 8);
+  const double h = std::cbrt(voroclip::kMesh3VerticesPerEdgeVolume * 50 / 1000);
+  // The vertices on each of the 8 long edges (exactly: the projections onto axis-aligned
+  // lines are exact), along it: no gap over 1.5 h (1.19 h measured; 10 / h before).
+  const double bounds[3][2] = {{0, 10}, {0, 10}, {0, 0.5}};
+  for (int axis = 0; axis < 2; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    for (const double u : bounds[a]) {
+      for (const double w : bounds[b]) {
+        std::vector<double> along;
+        for (std::uint32_t v = 0; v < r.nb_vertices(); ++v) {
+          const double* p = &r.xyz[3 * std::size_t{v}];
+          if (p[a] == u && p[b] == w) along.push_back(p[axis]);
+        }
+        std::sort(along.begin(), along.end());
+        INFO("the edge along axis " << axis << " at " << u << ", " << w);
+        REQUIRE(along.size() >= 2);
+        CHECK(along.front() == bounds[axis][0]);
+        CHECK(along.back() == bounds[axis][1]);
+        for (std::size_t i = 0; i + 1 < along.size(); ++i)
+          CHECK(along[i + 1] - along[i] <= 1.5 * h);
+      }
+    }
+  }
+  CHECK(r.dihedral_bound_deg == 20);
+  CHECK(r.quality.q1_deg.min >= r.dihedral_bound_deg);
+}
+
 TEST_CASE("mesh3d on a cylinder: the rims are kept as closed feature loops", "[mesh][exact]") {
   const Domain3 cyl = cylinder_domain(32, 4);
   const Mesh3Result r = voroclip::mesh3d(cyl, small_options(300));

@@ -795,8 +795,10 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      smooth_surface: PhongSurface); with features, the boundary edges whose
 //      triangles' normals differ by more than feature_angle_deg form feature lines
 //      (extract_feature_lines; cut where they turn sharply, the short ones dropped): the
-//      sites nearest to points along them move onto them, and each feature corner gets a
-//      fixed site (the nearest site, or a new one);
+//      sites nearest to points along them move onto them, each feature corner gets a
+//      fixed site (the nearest site, or a new one), and a line's gaps of 1.5 spacings or more
+//      get new sites where no constrained site is within half a spacing (a site whose cell
+//      holds two lines, the two rims of a plate about a spacing thick, takes only one);
 //   5. constrained CVT (L-BFGS): surface sites move on the surface, feature sites along
 //      their line (eq. 3), corners are fixed;
 //   5a. distance to the input (facet_distance > 0 only): sites fixed at the input vertices
