@@ -822,8 +822,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
 //      constraint; the mesh is extracted again;
 //   7a. sliver insertion: a site at the circumcentre of each tet still below
-//      sliver_insertion_deg (on the surface when that is nearer than its circumradius), then
-//      6 and 7 again, kept only when the smallest angle rises and the shape stays right;
+//      sliver_insertion_deg (inside when it is at least half its circumradius deep, else on
+//      the surface), then 6 and 7 again, kept only when the smallest angle rises and the
+//      shape stays right (else tried once with every site on the surface);
 //   7b. flat tets on the boundary (four boundary vertices, two boundary faces) are peeled;
 //   7c. flips (2-3, edge removal: 3-2, 4-4, ...), else moves of interior vertices, else
 //      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
@@ -1069,9 +1070,11 @@ struct Mesh3Options {
   // first, while the boundary keeps the domain's shape (check_mesh3_shape); 0: none.
   double peel_dihedral_deg = 20;
   // After the perturbation, while tets below sliver_insertion_deg are left: a site at their
-  // circumcentres (on the surface when it is nearer than the circumradius), extraction and
-  // perturbation again; a pass that does not raise the smallest dihedral angle or breaks
-  // the shape is undone and stops them. At most sliver_insertion_passes passes (0: none).
+  // circumcentres (inside when the centre is at least half the circumradius deep, else on the
+  // surface), extraction and perturbation again; a pass that does not raise the smallest
+  // dihedral angle or breaks the shape is undone, tried once more with every site on the
+  // surface if it had sites inside, else it stops them. At most sliver_insertion_passes
+  // passes (0: none).
   double sliver_insertion_deg = 20;
   std::uint32_t sliver_insertion_passes = 2;
   // Last (step 7c), against the tets whose min(Q1, 50 Q4) (smallest dihedral angle in
