@@ -279,6 +279,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      {"deferred", r.nb_topology_deferred},
                      {"defects_left", r.topology_defects_left}};
     j["sliver_sites"] = r.nb_sliver_sites;
+    j["sliver_sites_inside"] = r.nb_sliver_sites_inside;
     j["shape_problem"] = r.shape_problem;
     j["requested_vertices"] = r.requested_vertices;
     j["shape_retries"] = r.shape_retries;

@@ -486,10 +486,10 @@ void Pipeline::run() {
       const auto saved = std::make_tuple(sites, kinds, line_of, corner_vertex, n, tets, patches,
                                          result.perturbation, result.perturbation_rerun,
                                          result.extraction, result.nb_boundary_sites);
-      // One try: the sites at `centers`, free where deep enough if `deep`; whether any was free
-      // (false: the try is the same as one without `deep`).
+      // One try: the sites at `centers`, free where deep enough if `deep`; how many were free
+      // (none: the try is the same as one without `deep`).
       const auto insert = [&](bool deep) {
-        bool any_free = false;
+        std::uint32_t inside = 0;
         for (const SliverCenter& c : centers) {
           double q[3], d[3];
           project(n, Kind::kSurface, c.center.data(), q, d);
@@ -502,14 +502,14 @@ void Pipeline::run() {
             ++result.nb_boundary_sites;
           } else {
             sites.insert(sites.end(), c.center.begin(), c.center.end());
-            any_free = true;
+            ++inside;
           }
           kinds.push_back(on_surface ? Kind::kSurface : Kind::kFree);
           line_of.push_back(SurfaceTree::kNone);
           corner_vertex.push_back(SurfaceTree::kNone);
           ++n;
         }
-        return any_free;
+        return inside;
       };
       // Whether the try raised the smallest angle and kept the shape; undone if not.
       const auto kept = [&] {
@@ -523,13 +523,14 @@ void Pipeline::run() {
         }
         return ok;
       };
-      const bool any_free = insert(true);
+      std::uint32_t inside = insert(true);
       bool ok = kept();
-      if (!ok && any_free) {
-        insert(false);
+      if (!ok && inside > 0) {
+        inside = insert(false);
         ok = kept();
       }
       if (!ok) break;
+      result.nb_sliver_sites_inside += inside;
       result.nb_sliver_sites += static_cast<std::uint32_t>(centers.size());
       result.nb_sites = n;
     }

@@ -346,6 +346,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["distance_sites"] = m.nb_distance_sites;
   s["distance_sites_added"] = m.nb_distance_sites_added;
   s["sliver_sites"] = m.nb_sliver_sites;
+  s["sliver_sites_inside"] = m.nb_sliver_sites_inside;
   s["flips"] = m.nb_flips;
   s["flip_moves"] = m.nb_flip_moves;
   s["flip_sites"] = m.nb_flip_sites;

@@ -1176,8 +1176,9 @@ struct Mesh3Result {
   // new site, too close to one added in the same round, was left for a later round.
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
   std::uint32_t nb_topology_deferred = 0;
-  // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes).
-  std::uint32_t nb_sliver_sites = 0;
+  // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes), and of
+  // them those inside the volume (a circumcentre deep enough, step 7a).
+  std::uint32_t nb_sliver_sites = 0, nb_sliver_sites_inside = 0;
   // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices, interior
   // vertices inserted (in nb_sites too).
   std::uint32_t nb_flips = 0, nb_flip_moves = 0, nb_flip_sites = 0;
