@@ -446,8 +446,8 @@ void Pipeline::fill_line_gaps(const FeatureTree& line_tree, const Spacing& local
       line_tree.eval(l, ends[i] + gap / 2, mid);
       const double h = local_spacing(mid);
       if (gap < kLineGap * h) continue;
-      const double k = std::floor(gap / h + 0.5) - 1;
-      for (double j = 1; j <= k; ++j) {
+      const auto k = static_cast<std::uint32_t>(std::floor(gap / h + 0.5)) - 1;
+      for (std::uint32_t j = 1; j <= k; ++j) {
         double x[3];
         line_tree.eval(l, ends[i] + gap * j / (k + 1), x);
         if (!room(x, h)) continue;

@@ -493,10 +493,9 @@ void Pipeline::run() {
         for (const SliverCenter& c : centers) {
           double q[3], d[3];
           project(n, Kind::kSurface, c.center.data(), q, d);
-          double gap2 = 0;
-          for (int k = 0; k < 3; ++k) gap2 += (q[k] - c.center[k]) * (q[k] - c.center[k]);
+          sub3(q, c.center.data(), d);
           const bool on_surface =
-              !deep || gap2 < kSliverSiteDepth * kSliverSiteDepth * c.radius * c.radius;
+              !deep || dot3(d, d) < kSliverSiteDepth * kSliverSiteDepth * c.radius * c.radius;
           if (on_surface) {
             sites.insert(sites.end(), q, q + 3);
             ++result.nb_boundary_sites;

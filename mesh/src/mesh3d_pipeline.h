@@ -255,8 +255,8 @@ struct Pipeline {
   // a plate thinner than the spacing, a thin fin), it takes the line with more samples and
   // the other has no site there. A gap of 1.5 local spacings or more between a line's sites
   // (an open line's ends count as sites) gets sites at even arclengths, k in a gap of length
-  // g with k + 1 = g / spacing rounded; their positions go to `added`, their lines to
-  // `added_line`.
+  // g with k + 1 = g / spacing rounded, each only where no constrained site is within half a
+  // spacing; their positions go to `added`, their lines to `added_line`.
   void fill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing,
                       std::vector<double>& added, std::vector<std::uint32_t>& added_line);
   // Free sites whose cells reach the boundary (`boundary`, from the CVT's last diagram) go

@@ -395,8 +395,9 @@ TEST_CASE("mesh3d: a sliver between two sheets of the surface gets a site inside
           "[mesh][regression]") {
   // elk at 1500 vertices: after the perturbation its worst tets have four boundary vertices
   // and no boundary face; they lie between two sheets of the surface with no vertex inside,
-  // so a new site on the surface cannot lift them. With every site on the surface (session 27)
-  // the mesh ended at 19.86 degrees, one tet below the bound; with sites inside, 27.78.
+  // so a new site on the surface cannot lift them. With every site on the surface (the rule
+  // before session 28, measured with an uncommitted switch) the mesh ended at 19.86 degrees,
+  // one tet below the bound; with sites inside, 27.78.
   const Domain3 elk(voroclip::read_surface(kData + "/surfaces/elk.off"));
   Mesh3Options o;
   o.nb_vertices = 1500;
@@ -405,7 +406,6 @@ TEST_CASE("mesh3d: a sliver between two sheets of the surface gets a site inside
   INFO("smallest dihedral angle " << r.quality.q1_deg.min << ", " << r.nb_sliver_sites
                                   << " sliver sites, " << r.nb_sliver_sites_inside << " inside");
   CHECK(r.nb_sliver_sites_inside > 0);
-  CHECK(r.nb_sliver_sites_inside <= r.nb_sliver_sites);
   CHECK(r.quality.q1_deg.min >= r.dihedral_bound_deg);
   CHECK(r.shape_problem.empty());
 }
