@@ -302,6 +302,31 @@ void BM_orient3d_sos_coplanar(benchmark::State& s) {
   });
 }
 
+// Points of random coordinates in [0, 1) on the plane z = c (c random, the same for the
+// tuple's points: a box's face, where the sites of a mesh lie): the filter fails, the exact
+// stage finds the zero column (session 29: before, its 128-bit integer arithmetic).
+template <int K>
+Tuples<K, 3> axis_plane_tuples(std::size_t n) {
+  auto t = random_tuples<K, 3>(n);
+  for (auto& c : t.coords) {
+    for (int k = 1; k < K; ++k) c[3 * k + 2] = c[2];
+  }
+  return t;
+}
+void BM_orient3d_axis_plane(benchmark::State& s) {
+  static const auto t = axis_plane_tuples<4>(4096);
+  run_batches(s, t, [](const auto& u, std::size_t i) {
+    return voroclip::orient3d(u.point(i, 0), u.point(i, 1), u.point(i, 2), u.point(i, 3));
+  });
+}
+void BM_insphere_axis_plane(benchmark::State& s) {
+  static const auto t = axis_plane_tuples<5>(4096);
+  run_batches(s, t, [](const auto& u, std::size_t i) {
+    return voroclip::insphere(u.point(i, 0), u.point(i, 1), u.point(i, 2), u.point(i, 3),
+                              u.point(i, 4));
+  });
+}
+
 // Near-degenerate floating-point input: the fifth point is the first one moved along the
 // sphere's tangent plane by one ulp, so the filter fails and expansions decide.
 const auto& ns() {
@@ -549,6 +574,8 @@ BENCHMARK(BM_incircle_sos_cocircular);
 BENCHMARK(BM_insphere_exact_cospherical);
 BENCHMARK(BM_insphere_sos_cospherical);
 BENCHMARK(BM_insphere_exact_near_degenerate);
+BENCHMARK(BM_orient3d_axis_plane);
+BENCHMARK(BM_insphere_axis_plane);
 BENCHMARK(BM_bisector_side_edge2d);
 BENCHMARK(BM_compare_on_bisector2d);
 BENCHMARK(BM_bisector_side_edge2d_grid);

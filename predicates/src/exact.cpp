@@ -219,6 +219,23 @@ bool small_integer_sign(const double* const (&pts)[R + 1], Formula formula, Sign
 // expansions, else (exponent span too wide for expansions) with big integers.
 template <int R, int D, int Degree, class Formula>
 Sign exact_sign(const char* name, const double* const (&pts)[R + 1], Formula formula) {
+  // Points that all share one coordinate exactly (on an axis-aligned line or plane, as on a
+  // box's face, where the filters always fail) give the matrix of differences a zero
+  // column: a determinant whose columns include the differences themselves (orient, incircle,
+  // insphere: Formula::kZeroColumnDecides) is zero, decided without the exact arithmetic.
+  if constexpr (Formula::kZeroColumnDecides) {
+    for (int j = 0; j < D; ++j) {
+      bool shared = true;
+      for (int i = 0; i < R && shared; ++i) shared = pts[i][j] == pts[R][j];
+      if (!shared) continue;
+      bool finite = true;
+      for (int i = 0; i <= R; ++i) {
+        for (int k = 0; k < D; ++k) finite = finite && std::isfinite(pts[i][k]);
+      }
+      if (finite) return Sign::zero;
+      break;  // require_finite below names the coordinate
+    }
+  }
   Sign small;
   if (small_integer_sign<R, D, Degree>(pts, formula, small)) return small;
   double coords[(R + 1) * D];
@@ -241,30 +258,35 @@ Sign exact_sign(const char* name, const double* const (&pts)[R + 1], Formula for
 }
 
 struct Orient2dFormula {
+  static constexpr bool kZeroColumnDecides = true;
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     return orient2d_sign(c, d);
   }
 };
 struct Orient3dFormula {
+  static constexpr bool kZeroColumnDecides = true;
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     return orient3d_sign(c, d);
   }
 };
 struct IncircleFormula {
+  static constexpr bool kZeroColumnDecides = true;
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     return incircle_sign(c, d);
   }
 };
 struct CompareDistanceFormula {
+  static constexpr bool kZeroColumnDecides = false;
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     return compare_distance_sign(c, d);
   }
 };
 struct InsphereFormula {
+  static constexpr bool kZeroColumnDecides = true;
   template <class C, class M>
   int operator()(C& c, const M& d) const {
     return insphere_sign(c, d);

@@ -362,6 +362,36 @@ TEST_CASE("the exact stage alone is exact on every family", "[predicates][exact]
   }
 }
 
+TEST_CASE("points sharing one coordinate: zero, and one ulp off it the oracle's sign",
+          "[predicates][exact][degenerate]") {
+  // Every point with the same value on one axis (the points of a box's face): the matrix of
+  // differences has a zero column, which the exact stage decides without its arithmetic.
+  // Moving that coordinate of one point by one ulp leaves the shortcut to the arithmetic:
+  // both must match the oracle, the first with zero.
+  Rng rng(seed_for(1150));
+  const std::size_t n = scaled(2000);
+  for (Pred pred : kAllPreds) {
+    const PredInfo pi = info(pred);
+    Tally shared, off;
+    for (std::size_t i = 0; i < n; ++i) {
+      Input in = i % 2 == 0 ? random_box(pred, rng) : random_wide_range(pred, rng);
+      const auto axis = static_cast<std::size_t>(rand_int(rng, 0, pi.d - 1));
+      const double value = in.p[0][axis];
+      for (int k = 0; k < pi.k; ++k) in.p[static_cast<std::size_t>(k)][axis] = value;
+      for (bool exact_stage_only : {false, true}) {
+        CHECK(check_one(pred, in, shared, exact_stage_only) == 0);
+      }
+      const auto moved = static_cast<std::size_t>(rand_int(rng, 0, pi.k - 1));
+      in.p[moved][axis] = nudge(value, coin(rng) ? 1 : -1);
+      for (bool exact_stage_only : {false, true}) check_one(pred, in, off, exact_stage_only);
+    }
+    INFO(pi.name << ": " << n << " inputs, " << off.zero << " zero one ulp off");
+    CHECK(shared.wrong == 0);
+    CHECK(off.wrong == 0);
+    CHECK(off.zero < off.inputs);  // one ulp off, the points are no longer degenerate
+  }
+}
+
 TEST_CASE("collinear3d: points on a line exactly, and one ulp off it",
           "[predicates][exact][degenerate]") {
   // a, b = a + m d and c = a + k d with integer coordinates below 2^24 times a power of two:
