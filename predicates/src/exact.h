@@ -11,7 +11,10 @@
 //                  input, slower; used only when the exponent span is too wide.
 //
 // Both evaluate the translated determinant (rows p_i - p_last, and for the lifted
-// predicates |p_i - p_last|^2), which equals the homogeneous one of predicates.h.
+// predicates |p_i - p_last|^2), which equals the homogeneous one of predicates.h. Before
+// either (exact.cpp, exact_sign): points sharing one coordinate exactly give a zero column,
+// so orient2d/3d, incircle and insphere are zero; differences that are exact small integers
+// go to 128-bit integer arithmetic (small_integer_sign).
 #pragma once
 
 #include <cmath>

@@ -25,8 +25,10 @@
 // common case; the exact stage uses expansion arithmetic after scaling by a power of two
 // when the exponents of the coordinates in one call span a range that expansions can carry
 // without underflow or overflow (see predicates/src/exact.h), and a big-integer evaluation
-// of the same determinant otherwise. A NaN or infinite coordinate throws voroclip::Error;
-// no input produces a wrong sign.
+// of the same determinant otherwise (first of all, points that share one coordinate
+// exactly, on an axis-aligned line or plane, are zero at once: the determinant has a zero
+// column). A NaN or infinite coordinate throws voroclip::Error; no input produces a wrong
+// sign.
 //
 // Symbolic perturbation (*_sos). Point k of a call, with index i_k, is replaced by
 //     x_{k,j}(eps) = x_{k,j} + eps^(2^pos(k,j))       for each coordinate j
