@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <iterator>
 #include <numeric>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -361,7 +362,22 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
     result.nb_input_regions =
         static_cast<std::uint32_t>(std::unique(refs.begin(), refs.end()) - refs.begin());
   }
+  // The input's names, then one for each tag used without a name: "patch <tag>" on the
+  // boundary, "region <tag>" for the tets (as mesh2d names its "boundary" and "region"
+  // groups), so that a Gmsh file's physical groups all carry a name.
   result.tag_names = domain.tag_names();
+  const auto name_the_rest = [&](int dimension, std::vector<std::int32_t> tags, const char* what) {
+    std::sort(tags.begin(), tags.end());
+    tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+    for (const std::int32_t t : tags) {
+      const bool named = std::any_of(
+          result.tag_names.begin(), result.tag_names.end(),
+          [&](const TetMeshInput::TagName& n) { return n.dimension == dimension && n.tag == t; });
+      if (!named) result.tag_names.push_back({dimension, t, what + std::to_string(t)});
+    }
+  };
+  name_the_rest(2, result.boundary_tags, "patch ");
+  name_the_rest(3, result.tet_tags, "region ");
   // Triangles grouped by patch tag (stable: (tet, facet) order within a patch), so that
   // a file has one block per patch rather than one per run of the tet order.
   std::vector<std::uint32_t> order(result.boundary_tags.size());

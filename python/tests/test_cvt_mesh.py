@@ -129,6 +129,12 @@ def test_mesh3d_sphere_round_trips_and_quality(data, tmp_path):
             tags = back.cell_data_dict["gmsh:physical" if ext == ".msh" else "medit:ref"]
             assert np.array_equal(tags["tetra"], m.cell_tags)
             assert np.array_equal(tags["triangle"], m.boundary_tags)
+        if ext == ".msh":
+            # Every physical group named ($PhysicalNames): a surface has no names of its own.
+            expected = {f"patch {t}": [t, 2] for t in set(m.boundary_tags.tolist())}
+            expected.update({f"region {t}": [t, 3] for t in set(m.cell_tags.tolist())})
+            assert {k: v.tolist() for k, v in back.field_data.items()} == expected
+            assert (3, 1, "region 1") in m.tag_names
     # The .msh file read back by voroclip as a domain (its own Gmsh reader).
     d = voroclip.domain3(tmp_path / "m3.msh")
     assert d.has_tets and d.nb_tets == len(m.cells)

@@ -10,8 +10,9 @@ into .mesh, .msh 4.1, .msh 2.2 and .vtu (also binary 4.1, compressed .vtu and Te
 triangles are the faces of exactly one tetrahedron (numpy over sorted corner triples),
 oriented outward (their cones from the centroid add up to the volume), each triangle's tag
 is its cube face's axis tag (by its corners' coordinates), the tetrahedra's tags are {1,
-2}; Gmsh finds physical groups of dimension 3 and 2 with the file's names. The bunny's .msh: one region, patch tags
-from 1. Prints one line per mismatch and exits with 1 when there is any.
+2}; Gmsh finds physical groups of dimension 3 and 2 with the file's names ("patch 11" for the
+unnamed y faces). The bunny's .msh: one region, patch tags from 1, named "region 1" and
+"patch <tag>" for Gmsh and in meshio's field_data. Prints one line per mismatch and exits with 1 when there is any.
 """
 
 import json
@@ -133,8 +134,9 @@ def main():
         elif name.endswith(".msh"):
             check_cube(path, "gmsh:physical", "gmsh:physical")
             groups = gmsh_groups(path)
+            # The file's names, and one made for the unnamed y faces.
             expected = {(3, 1): "steel", (3, 2): "copper region", (2, 10): "x faces",
-                        (2, 11): "", (2, 12): "z"}
+                        (2, 11): "patch 11", (2, 12): "z"}
             check(f"{path}: Gmsh physical groups", groups == expected, str(groups))
         else:
             check_cube(path, "patch", "region")
@@ -160,8 +162,12 @@ def main():
         patches = sorted(set(fd["gmsh:physical"].tolist()))
         check("bunny: patch tags 1..K", patches == list(range(1, len(patches) + 1)), str(patches))
         groups = gmsh_groups(bunny)
-        check("bunny: Gmsh finds the groups",
-              {d for d, _ in groups} == {2, 3} and (3, 1) in groups, str(groups))
+        named = {(3, 1): "region 1"}
+        named.update({(2, p): f"patch {p}" for p in patches})
+        check("bunny: Gmsh finds the groups, each named", groups == named, str(groups))
+        check("bunny: meshio's field_data has the names",
+              {k: v.tolist() for k, v in m.field_data.items()}
+              == {n: [t, d] for (d, t), n in named.items()}, str(m.field_data))
 
     return report()
 

@@ -192,7 +192,12 @@ TEST_CASE("mesh3d tags a box's six faces as six patches, one region", "[mesh]") 
     CHECK(t <= 6);
   }
   CHECK(std::all_of(r.tet_tags.begin(), r.tet_tags.end(), [](std::int32_t t) { return t == 1; }));
-  CHECK(r.tag_names.empty());
+  // A surface has no tag names: every group gets one ("patch <tag>", "region <tag>").
+  using Name = voroclip::TetMeshInput::TagName;
+  const std::vector<Name> names = {{2, 1, "patch 1"}, {2, 2, "patch 2"}, {2, 3, "patch 3"},
+                                   {2, 4, "patch 4"}, {2, 5, "patch 5"}, {2, 6, "patch 6"},
+                                   {3, 1, "region 1"}};
+  CHECK(r.tag_names == names);
   CHECK(r.nb_input_regions == 0);
   CHECK(r.nb_tets_across_regions == 0);
 }
@@ -206,7 +211,10 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   const Mesh3Result r = voroclip::mesh3d(d, o);
   CHECK(r.shape_problem.empty());
   check_boundary(r);
-  CHECK(r.tag_names.size() == in.tag_names.size());
+  // The input's names, then one for its unnamed y faces (tag 11).
+  std::vector<voroclip::TetMeshInput::TagName> names = in.tag_names;
+  names.push_back({2, 11, "patch 11"});
+  CHECK(r.tag_names == names);
   const double lo[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
   const double hi[3] = {0.1 + 1.0 / 3, 0.1 + 1.0 / 3, 0.1 + 1.0 / 3};
   std::set<std::int32_t> seen;

@@ -1125,7 +1125,8 @@ struct Mesh3Result {
   // lines, numbered from 1 in the order of their first input triangle); the region tag of
   // each tet (the input's tet tags, by the input tet that holds the tet's centroid; otherwise
   // one region per volume component, numbered from 1 by its outer shell's order among the
-  // surface's outer shells); the input's tag names (Gmsh files).
+  // surface's outer shells); the input's tag names (Gmsh files), then for each tag used
+  // without one "patch <tag>" (dimension 2) or "region <tag>" (dimension 3), by increasing tag.
   std::vector<std::uint32_t> boundary_triangles;
   std::vector<std::int32_t> boundary_tags, tet_tags;
   std::vector<TetMeshInput::TagName> tag_names;
