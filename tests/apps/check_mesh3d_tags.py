@@ -12,7 +12,8 @@ oriented outward (their cones from the centroid add up to the volume), each tria
 is its cube face's axis tag (by its corners' coordinates), the tetrahedra's tags are {1,
 2}; Gmsh finds physical groups of dimension 3 and 2 with the file's names ("patch 11" for the
 unnamed y faces). The bunny's .msh: one region, patch tags from 1, named "region 1" and
-"patch <tag>" for Gmsh and in meshio's field_data. Prints one line per mismatch and exits with 1 when there is any.
+"patch <tag>" for Gmsh and in meshio's field_data. Prints one line per mismatch and exits
+with 1 when there is any.
 """
 
 import json

@@ -367,7 +367,8 @@ TEST_CASE("points sharing one coordinate: zero, and one ulp off it the oracle's 
   // Every point with the same value on one axis (the points of a box's face): the matrix of
   // differences has a zero column, which the exact stage decides without its arithmetic.
   // Moving that coordinate of one point by one ulp leaves the shortcut to the arithmetic:
-  // both must match the oracle, the first with zero.
+  // both must match the oracle (shared.wrong, off.wrong). The oracle's zero on the first
+  // checks the construction, not the predicates.
   Rng rng(seed_for(1150));
   const std::size_t n = scaled(2000);
   for (Pred pred : kAllPreds) {
