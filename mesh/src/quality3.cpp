@@ -113,9 +113,19 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
       largest = std::max(largest, std::fabs(e[k][c]));
     }
   }
+  // The scaling is exact. A multiplication by 2^-exponent (a power of two a double holds
+  // when exponent >= -1022) rounds as ldexp does, without its 18 library calls: they were
+  // 15 % of step 7c's time on skull_low_resolution at 1,000 vertices (session 30).
   const int exponent = std::ilogb(largest);
-  for (auto& v : e) {
-    for (double& x : v) x = std::ldexp(x, -exponent);
+  if (exponent >= -1022) {
+    const double scale = std::ldexp(1.0, -exponent);
+    for (auto& v : e) {
+      for (double& x : v) x *= scale;
+    }
+  } else {
+    for (auto& v : e) {
+      for (double& x : v) x = std::ldexp(x, -exponent);
+    }
   }
   const double* e01 = e[0];
   const double* e02 = e[1];
