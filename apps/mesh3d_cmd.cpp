@@ -342,7 +342,6 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                          {"initial_slivers", r.perturbation.initial_slivers},
                          {"final_slivers", r.perturbation.final_slivers},
                          {"initial_min_dihedral_deg", r.perturbation.initial_min_dihedral_deg},
-                         {"rerun_for_shape", r.perturbation_rerun},
                          {"round_undone", r.perturbation.undone},
                          {"peeled_tets", r.nb_peeled},
                          {"flips", r.nb_flips},

@@ -444,24 +444,18 @@ void Pipeline::run() {
           if (k == Kind::kSurface && !on_own_patch_at(s, q))
             project(s, k, &sites[3 * std::size_t{s}], q, d);
         };
-        const std::vector<double> unperturbed = sites;
+        // The input's shape (check_mesh3_shape, with the caller's own check): next to thin
+        // parts and knife edges a surface site's move can open or close a handle. When the
+        // final mesh has the wrong shape, the first round that broke it is undone and the
+        // rounds go on moving interior sites only (perturb_slivers3's keep_round).
+        const auto caller = po.keep_round;
+        po.keep_round = [this, caller](const std::vector<double>& at,
+                                       const std::vector<std::uint32_t>& t) {
+          return (!caller || caller(at, t)) && shape_of(domain, at, t).empty();
+        };
         result.perturbation =
             perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets, &result.extraction);
         if (result.perturbation.cancelled) throw Cancelled{};
-        if (result.perturbation.moves > 0 && !shape_of(domain, sites, tets).empty()) {
-          // The moves changed the boundary's topology (next to thin parts and knife edges a
-          // surface site's move can open or close a handle): again from the unperturbed sites,
-          // each round checked and the first one that breaks the shape undone.
-          sites = unperturbed;
-          po.keep_round = [this](const std::vector<double>& at,
-                                 const std::vector<std::uint32_t>& t) {
-            return shape_of(domain, at, t).empty();
-          };
-          result.perturbation = perturb_slivers3(extractor, sites, kinds, on_own_patch, po, &tets,
-                                                 &result.extraction);
-          if (result.perturbation.cancelled) throw Cancelled{};
-          result.perturbation_rerun = true;
-        }
       } else {
         const Delaunay3 dt(sites.data(), n);
         tets = extractor.extract(dt, eo, &result.extraction);
@@ -483,9 +477,9 @@ void Pipeline::run() {
       const std::vector<SliverCenter> centers =
           sliver_centers(sites, tets, options.sliver_insertion_deg, &lowest);
       if (centers.empty()) break;
-      const auto saved = std::make_tuple(sites, kinds, line_of, corner_vertex, n, tets, patches,
-                                         result.perturbation, result.perturbation_rerun,
-                                         result.extraction, result.nb_boundary_sites);
+      const auto saved =
+          std::make_tuple(sites, kinds, line_of, corner_vertex, n, tets, patches,
+                          result.perturbation, result.extraction, result.nb_boundary_sites);
       // One try: the sites at `centers`, free where deep enough if `deep`; how many were free
       // (none: the try is the same as one without `deep`).
       const auto insert = [&](bool deep) {
@@ -518,7 +512,7 @@ void Pipeline::run() {
         const bool ok = after > lowest && shape_of(domain, sites, tets).empty();
         if (!ok) {
           std::tie(sites, kinds, line_of, corner_vertex, n, tets, patches, result.perturbation,
-                   result.perturbation_rerun, result.extraction, result.nb_boundary_sites) = saved;
+                   result.extraction, result.nb_boundary_sites) = saved;
         }
         return ok;
       };

@@ -157,19 +157,21 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   const TetExtractor3 ex(s.domain);
   voroclip::Perturb3Options o;
   o.target_dihedral_deg = 25;
-  // Every round refused: the first is undone, the rounds go on with the free sites only,
-  // the second refusal undoes that one too and stops: the sites are where they started.
+  // Every moved state refused: the first round is undone, the rounds go on with the free
+  // sites only, the second refusal undoes that one too and stops: the sites are where they
+  // started. The calls: the final mesh of the unchecked rounds, round 1's in the search for
+  // the first refused round, then round 1 and 2 again as they run checked.
   std::vector<double> sites = s.sites;
   std::uint32_t calls = 0;
-  o.keep_round = [&calls](const std::vector<double>&, const std::vector<std::uint32_t>&) {
+  o.keep_round = [&calls, &s](const std::vector<double>& at, const std::vector<std::uint32_t>&) {
     ++calls;
-    return false;
+    return at == s.sites;
   };
   std::vector<std::uint32_t> mesh;
   const voroclip::Perturb3Stats none =
       voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o, &mesh);
   CHECK(none.undone);
-  CHECK(calls == 2);
+  CHECK(calls == 4);
   CHECK(sites == s.sites);
   // The extraction of the starting sites: the same tets (the perturbation's triangulation
   // inserts in zones, which numbers them otherwise).
@@ -179,12 +181,15 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
     CHECK(voroclip::orient3d(&sites[3 * mesh[t]], &sites[3 * mesh[t + 1]], &sites[3 * mesh[t + 2]],
                              &sites[3 * mesh[t + 3]]) == voroclip::Sign::negative);
   }
-  // The first round refused, the others kept: the surface sites stay where they were, the
-  // free ones move, and the mesh still improves.
+  // A state with a surface site moved refused: the first round is undone, the others kept.
+  // The surface sites stay where they were, the free ones move, and the mesh still improves.
   sites = s.sites;
-  calls = 0;
-  o.keep_round = [&calls](const std::vector<double>&, const std::vector<std::uint32_t>&) {
-    return ++calls > 1;
+  o.keep_round = [&s](const std::vector<double>& at, const std::vector<std::uint32_t>&) {
+    for (std::size_t i = 0; i < s.kinds.size(); ++i) {
+      if (s.kinds[i] != Kind::kFree && !std::equal(&at[3 * i], &at[3 * i] + 3, &s.sites[3 * i]))
+        return false;
+    }
+    return true;
   };
   const voroclip::Perturb3Stats once =
       voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o);
@@ -206,8 +211,27 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   o.keep_round = [](const std::vector<double>&, const std::vector<std::uint32_t>&) { return true; };
   voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o);
   o.keep_round = nullptr;
-  voroclip::perturb_slivers3(ex, plain, s.kinds, on_unit_sphere, o);
+  const voroclip::Perturb3Stats unchecked =
+      voroclip::perturb_slivers3(ex, plain, s.kinds, on_unit_sphere, o);
   CHECK(sites == plain);
+  // The first refused round is the one undone, not the last: only the start and the sites
+  // after one round (s1, from a run of one round) are kept. The final mesh is refused, round
+  // 1 is kept, round 2 refused and undone; the free sites' moves from s1 are refused too.
+  // With 3 rounds or more, round 2 is not the last.
+  REQUIRE(unchecked.rounds >= 3);
+  std::vector<double> s1 = s.sites;
+  o.max_rounds = 1;
+  voroclip::perturb_slivers3(ex, s1, s.kinds, on_unit_sphere, o);
+  REQUIRE(s1 != s.sites);
+  o.max_rounds = voroclip::Perturb3Options{}.max_rounds;
+  o.keep_round = [&s, &s1](const std::vector<double>& at, const std::vector<std::uint32_t>&) {
+    return at == s.sites || at == s1;
+  };
+  sites = s.sites;
+  const voroclip::Perturb3Stats second =
+      voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o);
+  CHECK(second.undone);
+  CHECK(sites == s1);
 }
 
 TEST_CASE("peel_flat_boundary_tets removes a flat tet on the boundary", "[mesh]") {

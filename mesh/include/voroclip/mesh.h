@@ -751,10 +751,12 @@ struct Perturb3Options {
   // Called before each round with the round, the number of slivers and the smallest
   // dihedral angle; return false to stop.
   std::function<bool(std::uint32_t, std::uint32_t, double)> progress;
-  // When set, called with the sites and the mesh extracted after each round of moves: false
-  // undoes that round (the sites go back, the mesh is extracted again; Perturb3Stats::undone);
-  // the rounds then go on with only free (interior) sites moving, and a second refusal ends
-  // them. mesh3d uses it to keep the domain's shape.
+  // When set, called with the final sites and the mesh extracted from them. When it returns
+  // false, the earlier rounds' sites (kept) and meshes are checked in order, and the first
+  // round refused is undone (the sites go back, the mesh is extracted again;
+  // Perturb3Stats::undone); the rounds go on from there with only free (interior) sites
+  // moving, each checked, and a second refusal ends them. It must depend on its arguments
+  // only. mesh3d uses it to keep the domain's shape.
   std::function<bool(const std::vector<double>& sites, const std::vector<std::uint32_t>& tets)>
       keep_round;
 };
@@ -820,7 +822,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
 //      exact, manifold repair);
 //   7. sliver perturbation (perturb_slivers3), surface and feature sites within their
-//      constraint; the mesh is extracted again;
+//      constraint; the mesh is extracted again. When its shape is wrong, the first round
+//      that broke it is undone (perturbation.undone) and the rounds go on moving interior
+//      sites only;
 //   7a. sliver insertion: a site at the circumcentre of each tet still below
 //      sliver_insertion_deg (inside when it is at least half its circumradius deep, else on
 //      the surface), then 6 and 7 again, kept only when the smallest angle rises and the
@@ -1144,10 +1148,6 @@ struct Mesh3Result {
   CvtResult unconstrained, constrained;
   Extract3Stats extraction;
   Perturb3Stats perturbation;
-  // The sliver moves changed the boundary's shape, so the perturbation ran again from the
-  // unperturbed sites with each round checked (check_mesh3_shape), the first round that
-  // broke the shape undone (perturbation.undone).
-  bool perturbation_rerun = false;
   std::uint32_t nb_peeled = 0;  // flat boundary tets removed (Mesh3Options::peel_dihedral_deg)
   TetQuality quality;
   // Q1 (the smallest dihedral angle, degrees) of the tets by how many of their vertices are
