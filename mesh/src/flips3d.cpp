@@ -672,7 +672,7 @@ class Flipper {
     std::array<double, 3> p = {at(x)[0], at(x)[1], at(x)[2]};
     const double after =
         compass(x, around, kMeanFirstStep, kMeanSearchSteps, true, before, p,
-                [&](const double* y) { return star_sum(x, around, y, lowest, floor); });
+                [&](const double* y, double) { return star_sum(x, around, y, lowest, floor); });
     if (!(after > before + kMeanGain)) return m;
     if (free_[x] == kOnSurface) {
       // The boundary triangles at x no farther from the surface (their centroids) than
@@ -787,6 +787,8 @@ class Flipper {
   // with towards_first, else last), from first_step times the mean edge length, halved when
   // none gains, down to kLastStep, at most `evaluations` scores (a surface vertex's trial
   // points projected by on_surface); the best position found into p, its score returned.
+  // score(y, b) is the score at y when that beats b, else any value at most b: a position
+  // that does not beat the best so far is dropped, so its score need not be finished.
   template <class Score>
   double compass(std::uint32_t x, const std::vector<Tet>& around, double first_step,
                  int evaluations, bool towards_first, double best, std::array<double, 3>& p,
@@ -835,7 +837,7 @@ class Flipper {
           if (!options_.on_surface(x, y, z)) continue;
           std::copy(z, z + 3, y);
         }
-        const double q = score(y);
+        const double q = score(y, best);
         ++evaluation;
         if (q > best) {
           best = q;
@@ -852,15 +854,17 @@ class Flipper {
     return best;
   }
 
-  // The smallest Q1 of `around` with vertex x at p.
-  double star_quality(std::uint32_t x, const std::vector<Tet>& around, const double* p) {
+  // The smallest Q1 of `around` with vertex x at p; once it is at most `stop`, any value at
+  // most `stop` (the compass search drops such a position).
+  double star_quality(std::uint32_t x, const std::vector<Tet>& around, const double* p,
+                      double stop = -std::numeric_limits<double>::infinity()) {
     double* q = at(x);
     const std::array<double, 3> keep = {q[0], q[1], q[2]};
     std::copy(p, p + 3, q);
     double worst = std::numeric_limits<double>::infinity();
     for (const Tet& w : around) {
       worst = std::min(worst, quality(w));
-      if (worst == kInvalid) break;
+      if (worst == kInvalid || worst <= stop) break;
     }
     std::copy(keep.begin(), keep.end(), q);
     return worst;
@@ -871,7 +875,7 @@ class Flipper {
   double search(std::uint32_t x, const std::vector<Tet>& around, std::array<double, 3>& p) {
     if (around.empty()) return kInvalid;
     return compass(x, around, kFirstStep, kSearchSteps, false, star_quality(x, around, p.data()), p,
-                   [&](const double* y) { return star_quality(x, around, y); });
+                   [&](const double* y, double best) { return star_quality(x, around, y, best); });
   }
 
   // A new free vertex in the cavity of t and its face neighbours, when the star of its best
