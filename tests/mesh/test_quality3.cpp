@@ -232,6 +232,32 @@ TEST_CASE("tet_shape: invariant under similarity transforms", "[mesh][quality]")
   }
 }
 
+TEST_CASE("tet_shape: bit for bit at the ends of the exponent range", "[mesh][quality]") {
+  // Small-integer tets scaled by powers of two down to subnormal coordinates (the edges'
+  // largest component below 2^-1022: scaled by ldexp) and up to 2^1020 (scaled by one
+  // multiplication with a power of two near the smallest normal): every coordinate and edge
+  // is exact, so the angles and measures are those of the unscaled tet, bit for bit.
+  std::mt19937_64 rng(31);
+  std::uniform_int_distribution<int> coord(-7, 7);
+  for (int n = 0; n < 200; ++n) {
+    std::array<V3, 4> p;
+    for (auto& v : p) v = V3(coord(rng), coord(rng), coord(rng));
+    const TetShape s = shape_of(p);
+    if (s.degenerate) continue;
+    for (const double scale : {0x1p-1070, 0x1p-1060, 0x1p-1024, 0x1p-1019, 0x1p1000, 0x1p1019}) {
+      std::array<V3, 4> q;
+      for (int k = 0; k < 4; ++k) q[k] = scale * p[k];
+      const TetShape t = shape_of(q);
+      REQUIRE_FALSE(t.degenerate);
+      CHECK(t.positive == s.positive);
+      for (int k = 0; k < 6; ++k) CHECK(t.dihedral_deg[k] == s.dihedral_deg[k]);
+      CHECK(t.q1_deg == s.q1_deg);
+      CHECK(t.q3 == s.q3);
+      CHECK(t.q4 == s.q4);
+    }
+  }
+}
+
 TEST_CASE("tet_shape: zero volume is decided exactly", "[mesh][quality][exact][degenerate]") {
   // Coplanar in exact arithmetic although no coordinate is small; and a repeated vertex.
   const std::array<V3, 4> flat = {V3(0.1, 0.2, 0.3), V3(1.1, 0.7, 0.3), V3(0.3, 1.9, 0.3),
