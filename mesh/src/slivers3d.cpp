@@ -201,39 +201,65 @@ class LocalScorer {
       return 0;  // degenerate local set: never preferred
     }
     double lowest = 180, lowest_incident = 181;
+    std::array<std::uint32_t, 3> worst_ids{};
+    bool any_incident = false;
     for (std::uint32_t t = 0; t < local_.nb_tet_slots(); ++t) {
       if (local_.is_free(t) || local_.is_infinite(t)) continue;
-      std::uint32_t w[4];
-      bool has0 = false, all_ring = true, constrained = false;
+      std::array<std::uint32_t, 4> w;
+      bool all_ring = true;
       for (int k = 0; k < 4; ++k) {
         w[k] = local_.tet_vertex(t, k);
-        has0 = has0 || w[k] == 0;
         all_ring = all_ring && in_ring1_[w[k]] != 0;
-        constrained = constrained || constrained_[w[k]] != 0;
       }
+      sort4(w);
+      const bool has0 = w[0] == 0;
       if (!has0 && !all_ring) continue;
-      const double* p[4] = {local_.point(w[0]), local_.point(w[1]), local_.point(w[2]),
-                            local_.point(w[3])};
-      // Only a tet that would lower `lowest` or `lowest_incident` needs to know whether it
-      // is kept. Tets among interior sites only have their circumcenter inside (near them):
-      // the exact location is for tets at the boundary.
-      const double q = min_dihedral_deg(p[0], p[1], p[2], p[3]);
-      const bool incident = worst && has0 && q < lowest_incident;
+      const double q = measure(w);
+      const std::array<std::uint32_t, 3> others{w[1], w[2], w[3]};
+      const bool incident =
+          worst && has0 && (q < lowest_incident || (q == lowest_incident && others < worst_ids));
       if (q >= lowest && !incident) continue;
-      if (constrained && extractor_.circumcenter_side(p[0], p[1], p[2], p[3]) == Sign::negative) {
-        continue;
-      }
+      if (!kept(w)) continue;
       lowest = std::min(lowest, q);
       if (incident) {
         lowest_incident = q;
-        int j = 0;
-        for (int k = 0; k < 4; ++k) {
-          if (w[k] != 0) std::copy_n(p[k], 3, worst + 3 * j++);
-        }
-        if (found) *found = true;
+        worst_ids = others;
+        any_incident = true;
       }
     }
+    if (found) *found = any_incident;
+    if (any_incident) {
+      for (int j = 0; j < 3; ++j)
+        std::copy_n(&pts_[3 * std::size_t{worst_ids[j]}], 3, worst + 3 * j);
+    }
     return lowest;
+  }
+
+  // A tet of local indices in ascending order (the order every measure below takes, so that
+  // a tet's measures do not depend on how a triangulation lists it).
+  static void sort4(std::array<std::uint32_t, 4>& w) {
+    const auto order = [&](int i, int j) {
+      if (w[j] < w[i]) std::swap(w[i], w[j]);
+    };
+    order(0, 1);
+    order(2, 3);
+    order(0, 2);
+    order(1, 3);
+    order(1, 2);
+  }
+  const double* local_point(std::uint32_t i) const { return &pts_[3 * std::size_t{i}]; }
+  double measure(const std::array<std::uint32_t, 4>& w) const {
+    return min_dihedral_deg(local_point(w[0]), local_point(w[1]), local_point(w[2]),
+                            local_point(w[3]));
+  }
+  // Whether the extraction keeps the tet: tets among interior sites only have their
+  // circumcenter inside (near them): the exact location is for tets at the boundary.
+  bool kept(const std::array<std::uint32_t, 4>& w) const {
+    const bool constrained = constrained_[w[0]] != 0 || constrained_[w[1]] != 0 ||
+                             constrained_[w[2]] != 0 || constrained_[w[3]] != 0;
+    return !constrained ||
+           extractor_.circumcenter_side(local_point(w[0]), local_point(w[1]), local_point(w[2]),
+                                        local_point(w[3])) != Sign::negative;
   }
 
   // The mean distance from v's position x to its first ring.
