@@ -208,6 +208,20 @@ std::vector<SliverCenter> sliver_centers(const std::vector<double>& sites,
                                          const std::vector<std::uint32_t>& tets, double below_deg,
                                          double* lowest);
 
+// The perturbation's local scorer (slivers3d.cpp) inserts each candidate position into the
+// triangulation of the other sites of the neighbourhood; check_local_scores compares that,
+// for every vertex with kept tets (the mesh extracted from `sites`), against building the
+// local triangulation whole: the score, whether there is an incident kept tet and the worst
+// one's vertices, bit for bit. Positions: the vertex's own, each neighbour's, the midpoints
+// to them, and the vertex's plus each offset given (3 values each).
+struct LocalScoreCheck {
+  std::uint64_t positions = 0, mismatches = 0;
+  std::uint32_t vertices_with_base = 0;  // the others' triangulation could be built
+};
+LocalScoreCheck check_local_scores(const TetExtractor3& extractor, const std::vector<double>& sites,
+                                   const std::vector<SiteConstraint3::Kind>& kinds,
+                                   const std::vector<double>& positions_per_vertex);
+
 // The points where one round of the topology refinement adds sites (topology_repair3d.cpp):
 // each bad cell's farthest point (defects.points), farthest from its cell's site first
 // (ties by coordinates), skipping a point closer than half that distance to a point already

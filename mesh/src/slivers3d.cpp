@@ -14,7 +14,9 @@
 //      triangulation of v and of its neighbours up to two rings (round's adjacency, current
 //      positions). Its score is the smallest Q1 of the local tets incident to v, and of
 //      those among v's first ring, that the extraction rule keeps (the exact location is
-//      done for tets with a constrained vertex; tets of interior sites are kept). Candidate
+//      done for tets with a constrained vertex; tets of interior sites are kept). The
+//      neighbours' triangulation is built once per vertex and each position inserted into it
+//      (its cavity), which gives the same tets as building the whole one each time. Candidate
 //      positions x: along the gradient of the squared circumradius of v's worst tet (moving
 //      v there grows that tet's circumsphere until a neighbour enters it and the tet leaves
 //      the triangulation: Tournois et al.'s main perturbation), against it, along the
@@ -185,12 +187,111 @@ class LocalScorer {
       in_ring1_.push_back(std::binary_search(ring1_.begin(), ring1_.end(), w) ? 1 : 0);
       constrained_.push_back(constrained(w) ? 1 : 0);
     }
+    prepare_base();
   }
 
   // The smallest Q1 over the kept local tets at v's position x (180 when none). With
   // `worst`, the other three vertices of the worst kept tet incident to v go there (9
-  // values; false returned in `found` when v has no kept tet).
+  // values; false returned in `found` when v has no kept tet). The local triangulation is
+  // that of the others (base_, made once per vertex by set_vertex) with x inserted: its tets
+  // without x are the base's outside x's Bowyer-Watson cavity, those with x join x to the
+  // cavity's boundary facets. The base takes the others' local indices less one, which keeps
+  // their order, and x is the first point, so the perturbation that decides degenerate cases
+  // (Delaunay3: the indices as infinitesimal weights) is that of a triangulation of all the
+  // points, which is unique: the same tets as building it (score_rebuilt), at the cost of a
+  // cavity instead of a triangulation per position (up to 28 per vertex and round).
   double score(const double* x, double* worst = nullptr, bool* found = nullptr) {
+    if (!base_ok_ || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) {
+      return score_rebuilt(x, worst, found);
+    }
+    std::copy_n(x, 3, pts_.begin());
+    const std::uint32_t start = base_.locate(x, hint_);
+    hint_ = start;
+    if (!base_.is_infinite(start)) {
+      for (int k = 0; k < 4; ++k) {
+        const double* p = base_.point(base_.tet_vertex(start, k));
+        // x on another site: the triangulation of all the points drops that one (a duplicate
+        // of x, whose index is smaller).
+        if (p[0] == x[0] && p[1] == x[1] && p[2] == x[2]) return score_rebuilt(x, worst, found);
+      }
+    }
+    // The cavity: breadth-first from the tet that holds x (in conflict: x is inside its
+    // closed interior, or strictly beyond its hull facet).
+    if (++epoch_ == 0) {
+      std::fill(in_cavity_.begin(), in_cavity_.end(), 0);
+      std::fill(outside_.begin(), outside_.end(), 0);
+      epoch_ = 1;
+    }
+    cavity_.assign(1, start);
+    in_cavity_[start] = epoch_;
+    facets_.clear();
+    for (std::size_t i = 0; i < cavity_.size(); ++i) {
+      const std::uint32_t t = cavity_[i];
+      for (int f = 0; f < 4; ++f) {
+        const std::uint32_t u = base_.tet_adjacent(t, f);
+        if (in_cavity_[u] == epoch_) continue;
+        if (outside_[u] != epoch_) {
+          if (in_conflict(u, x)) {
+            in_cavity_[u] = epoch_;
+            cavity_.push_back(u);
+            continue;
+          }
+          outside_[u] = epoch_;
+        }
+        facets_.push_back(4 * t + static_cast<std::uint32_t>(f));
+      }
+    }
+    double lowest = 180, lowest_incident = 181;
+    std::array<std::uint32_t, 3> worst_ids{};
+    bool any_incident = false;
+    // The tets with x: x and a finite boundary facet of the cavity.
+    for (const std::uint32_t code : facets_) {
+      std::array<std::uint32_t, 4> w{};
+      bool finite = true;
+      for (int j = 0; j < 3; ++j) {
+        const std::uint32_t b = base_.tet_vertex(code / 4, Delaunay3::kFacetVertex[code % 4][j]);
+        finite = finite && b != Delaunay3::kInfinite;
+        w[j + 1] = b + 1;
+      }
+      if (!finite) continue;
+      sort4(w);
+      const double q = measure(w);
+      const std::array<std::uint32_t, 3> others{w[1], w[2], w[3]};
+      const bool incident =
+          worst && (q < lowest_incident || (q == lowest_incident && others < worst_ids));
+      if (q >= lowest && !incident) continue;
+      if (!kept(w)) continue;
+      lowest = std::min(lowest, q);
+      if (incident) {
+        lowest_incident = q;
+        worst_ids = others;
+        any_incident = true;
+      }
+    }
+    // The tets of the first ring without x: the base's, by increasing Q1, the first one
+    // kept and outside the cavity.
+    for (const RingTet& r : ring_tets_) {
+      if (r.q >= lowest) break;
+      if (in_cavity_[r.slot] == epoch_) continue;
+      std::int8_t& k = ring_kept_[r.slot];
+      if (k < 0) k = kept(base_tet(r.slot)) ? 1 : 0;
+      if (k == 1) {
+        lowest = r.q;
+        break;
+      }
+    }
+    if (found) *found = any_incident;
+    if (any_incident) {
+      for (int j = 0; j < 3; ++j) std::copy_n(local_point(worst_ids[j]), 3, worst + 3 * j);
+    }
+    return lowest;
+  }
+
+ private:
+  // The local triangulation of x and the others built whole: where the base cannot be made
+  // (fewer than 4 others, all in a plane, two at one place) or x is not finite or on another
+  // site.
+  double score_rebuilt(const double* x, double* worst, bool* found) {
     std::copy_n(x, 3, pts_.begin());
     const auto n = static_cast<std::uint32_t>(pts_.size() / 3);
     if (found) *found = false;
@@ -262,6 +363,72 @@ class LocalScorer {
                                         local_point(w[3])) != Sign::negative;
   }
 
+  // The base: the Delaunay triangulation of the others, and its tets among the first ring
+  // by increasing Q1.
+  void prepare_base() {
+    base_ok_ = false;
+    hint_ = Delaunay3::kNoTet;
+    const auto m = static_cast<std::uint32_t>(pts_.size() / 3) - 1;
+    if (m < 4) return;
+    try {
+      base_.build(pts_.data() + 3, m);
+    } catch (const Error&) {
+      return;
+    }
+    if (base_.nb_unique_points() != m) return;
+    const std::uint32_t slots = base_.nb_tet_slots();
+    in_cavity_.assign(slots, 0);
+    outside_.assign(slots, 0);
+    epoch_ = 0;
+    ring_kept_.assign(slots, -1);
+    ring_tets_.clear();
+    for (std::uint32_t t = 0; t < slots; ++t) {
+      if (base_.is_infinite(t)) continue;
+      const std::array<std::uint32_t, 4> w = base_tet(t);
+      if (in_ring1_[w[0]] != 0 && in_ring1_[w[1]] != 0 && in_ring1_[w[2]] != 0 &&
+          in_ring1_[w[3]] != 0) {
+        ring_tets_.push_back({measure(w), t});
+      }
+    }
+    std::sort(ring_tets_.begin(), ring_tets_.end(), [](const RingTet& a, const RingTet& b) {
+      return a.q < b.q || (a.q == b.q && a.slot < b.slot);
+    });
+    base_ok_ = true;
+  }
+  // Finite tet t of the base in local indices, ascending.
+  std::array<std::uint32_t, 4> base_tet(std::uint32_t t) const {
+    std::array<std::uint32_t, 4> w{};
+    for (int k = 0; k < 4; ++k) w[k] = base_.tet_vertex(t, k) + 1;
+    sort4(w);
+    return w;
+  }
+  // Delaunay3's conflict rule (delaunay.h), x with local index 0.
+  bool in_conflict(std::uint32_t t, const double* x) const {
+    const std::uint32_t v0 = base_.tet_vertex(t, 0), v1 = base_.tet_vertex(t, 1),
+                        v2 = base_.tet_vertex(t, 2), v3 = base_.tet_vertex(t, 3);
+    if (v3 != Delaunay3::kInfinite) {
+      const double *a = base_.point(v0), *b = base_.point(v1), *c = base_.point(v2),
+                   *d = base_.point(v3);
+      Sign r = insphere(a, b, c, d, x);
+      if (r == Sign::zero) r = insphere_sos(a, b, c, d, x, v0 + 1, v1 + 1, v2 + 1, v3 + 1, 0);
+      return r == Sign::positive;
+    }
+    const double *a = base_.point(v2), *b = base_.point(v1), *c = base_.point(v0);
+    const Sign o = orient3d(a, b, c, x);
+    if (o != Sign::zero) return o == Sign::negative;
+    const std::uint32_t u = base_.tet_adjacent(t, 3);
+    const std::uint32_t d = base_.tet_vertex(u, base_.tet_adjacent_facet(t, 3));
+    return insphere_sos(a, b, c, base_.point(d), x, v2 + 1, v1 + 1, v0 + 1, d + 1, 0) ==
+           Sign::positive;
+  }
+
+ public:
+  // score, from the local triangulation built whole (for check_local_scores).
+  double score_whole(const double* x, double* worst, bool* found) {
+    return score_rebuilt(x, worst, found);
+  }
+  bool has_base() const { return base_ok_; }
+
   // The mean distance from v's position x to its first ring.
   double mean_edge(const double* x) const {
     double sum = 0;
@@ -282,6 +449,19 @@ class LocalScorer {
   std::vector<double> pts_;
   std::vector<std::uint8_t> in_ring1_, constrained_;
   Delaunay3 local_;
+  // The base (prepare_base) and the cavity's scratch.
+  struct RingTet {
+    double q;
+    std::uint32_t slot;
+  };
+  Delaunay3 base_;
+  bool base_ok_ = false;
+  std::uint32_t hint_ = Delaunay3::kNoTet;
+  std::vector<RingTet> ring_tets_;
+  std::vector<std::int8_t> ring_kept_;              // per base slot: -1 not known yet, 0, 1
+  std::vector<std::uint32_t> in_cavity_, outside_;  // per base slot: the epoch when marked
+  std::uint32_t epoch_ = 0;
+  std::vector<std::uint32_t> cavity_, facets_;
 };
 
 void build_state(GlobalState& g, const TetExtractor3& extractor, const std::vector<double>& sites,
@@ -677,6 +857,52 @@ std::uint32_t peel_flat_boundary_tets(
     removed += dropped;
   }
   return removed;
+}
+
+LocalScoreCheck check_local_scores(const TetExtractor3& extractor, const std::vector<double>& sites,
+                                   const std::vector<SiteConstraint3::Kind>& kinds,
+                                   const std::vector<double>& positions_per_vertex) {
+  GlobalState g;
+  build_state(g, extractor, sites, Extract3Options{}, nullptr);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 3);
+  const std::size_t per = positions_per_vertex.size() / 3;
+  LocalScoreCheck check;
+  LocalScorer scorer(extractor);
+  std::vector<std::uint32_t> ring;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (g.vtx_begin[v] == g.vtx_begin[v + 1]) continue;
+    scorer.set_vertex(g, sites, v, [&](std::uint32_t w) {
+      return !kinds.empty() && kinds[w] != SiteConstraint3::Kind::kFree;
+    });
+    if (scorer.has_base()) ++check.vertices_with_base;
+    // The positions: v's own, each neighbour's (a duplicate), the midpoints of v and its
+    // neighbours, and v's plus each of the given offsets.
+    std::vector<double> at(sites.begin() + 3 * std::ptrdiff_t{v},
+                           sites.begin() + 3 * std::ptrdiff_t{v} + 3);
+    g.dt.vertex_neighbors(v, ring);
+    for (const std::uint32_t w : ring) {
+      for (int k = 0; k < 3; ++k) at.push_back(sites[3 * std::size_t{w} + k]);
+      for (int k = 0; k < 3; ++k) {
+        at.push_back(0.5 * (sites[3 * std::size_t{v} + k] + sites[3 * std::size_t{w} + k]));
+      }
+    }
+    for (std::size_t i = 0; i < per; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        at.push_back(sites[3 * std::size_t{v} + k] + positions_per_vertex[3 * i + k]);
+      }
+    }
+    for (std::size_t i = 0; i < at.size(); i += 3) {
+      double w1[9] = {}, w2[9] = {};
+      bool f1 = false, f2 = false;
+      const double s1 = scorer.score(&at[i], w1, &f1);
+      const double s2 = scorer.score_whole(&at[i], w2, &f2);
+      ++check.positions;
+      bool same = s1 == s2 && f1 == f2;
+      for (int k = 0; k < 9 && same && f1; ++k) same = w1[k] == w2[k];
+      if (!same) ++check.mismatches;
+    }
+  }
+  return check;
 }
 
 }  // namespace voroclip::mesh3

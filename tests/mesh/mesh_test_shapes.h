@@ -22,6 +22,22 @@ namespace voroclip_test {
 
 using voroclip_test::icosphere;
 
+// The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
+inline voroclip::Domain3 cube_domain() {
+  voroclip::TetMeshInput m;
+  m.source = "cube";
+  for (int k = 0; k < 8; ++k) {
+    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 2.0 * ((k >> 1) & 1), 2.0 * ((k >> 2) & 1)});
+  }
+  // Paths 0 -> 7 along the axes in every order.
+  const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
+  for (const auto& a : axes) {
+    m.tets.insert(m.tets.end(), {0u, static_cast<std::uint32_t>(a[0]),
+                                 static_cast<std::uint32_t>(a[0] + a[1]), 7u});
+  }
+  return voroclip::Domain3(m);
+}
+
 // Mesh3Options for n vertices with short CVT and perturbation phases (the tests' budget).
 inline voroclip::Mesh3Options small_options(std::uint32_t n) {
   voroclip::Mesh3Options o;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_test_shapes.h"
 #include "support/threads.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
@@ -25,26 +26,11 @@ using voroclip::Extract3Options;
 using voroclip::Extract3Stats;
 using voroclip::Sign;
 using voroclip::TetExtractor3;
+using voroclip_test::cube_domain;
 
 namespace {
 
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
-
-// The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
-Domain3 cube_domain() {
-  voroclip::TetMeshInput m;
-  m.source = "cube";
-  for (int k = 0; k < 8; ++k) {
-    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 2.0 * ((k >> 1) & 1), 2.0 * ((k >> 2) & 1)});
-  }
-  // Paths 0 -> 7 along the axes in every order.
-  const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
-  for (const auto& a : axes) {
-    m.tets.insert(m.tets.end(), {0u, static_cast<std::uint32_t>(a[0]),
-                                 static_cast<std::uint32_t>(a[0] + a[1]), 7u});
-  }
-  return Domain3(m);
-}
 
 // Brute force: where the circumcenter of p lies, over every domain tet (exact predicate).
 Sign brute_force_side(const Domain3& d, const std::array<const double*, 4>& p) {

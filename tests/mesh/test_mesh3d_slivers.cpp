@@ -234,6 +234,58 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   CHECK(sites == s1);
 }
 
+// The perturbation scores a candidate position by inserting it into the triangulation of the
+// rest of the neighbourhood (its cavity); that must be the triangulation built whole, also
+// where the symbolic perturbation decides: sites on a grid (cospherical by the thousand,
+// positions on the grid's half steps), constrained on the cube's faces (coplanar hull facets
+// of the neighbourhoods, positions in their planes), and a CVT in the sphere.
+TEST_CASE("perturb_slivers3: a position's cavity gives the local triangulation built whole",
+          "[mesh][exact]") {
+  SECTION("grid") {
+    const Domain3 cube = voroclip_test::cube_domain();  // [0, 2]^3
+    std::vector<double> sites;
+    std::vector<Kind> kinds;
+    for (int i = 0; i <= 8; ++i) {
+      for (int j = 0; j <= 8; ++j) {
+        for (int k = 0; k <= 8; ++k) {
+          sites.insert(sites.end(), {0.25 * i, 0.25 * j, 0.25 * k});
+          const bool face = i == 0 || i == 8 || j == 0 || j == 8 || k == 0 || k == 8;
+          kinds.push_back(face ? Kind::kSurface : Kind::kFree);
+        }
+      }
+    }
+    std::vector<double> offsets;
+    for (int a = 0; a < 3; ++a) {
+      for (const double s : {-0.125, 0.125, 0.25}) {
+        double d[3] = {0, 0, 0};
+        d[a] = s;
+        offsets.insert(offsets.end(), d, d + 3);
+        d[(a + 1) % 3] = s;
+        offsets.insert(offsets.end(), d, d + 3);
+      }
+    }
+    const TetExtractor3 ex(cube);
+    const auto c = voroclip::mesh3::check_local_scores(ex, sites, kinds, offsets);
+    CHECK(c.vertices_with_base == 729);
+    CHECK(c.positions > 729 * 30);
+    CHECK(c.mismatches == 0);
+  }
+  SECTION("CVT in the sphere") {
+    const Setup s = make_setup();
+    std::vector<double> offsets;
+    for (int i = 0; i < 8; ++i) {
+      const double a = 0.7 * i, b = 1.3 * i + 0.2, r = 0.01 * (i + 1);
+      offsets.insert(offsets.end(), {r * std::cos(a) * std::sin(b), r * std::sin(a) * std::sin(b),
+                                     r * std::cos(b)});
+    }
+    const TetExtractor3 ex(s.domain);
+    const auto c = voroclip::mesh3::check_local_scores(ex, s.sites, s.kinds, offsets);
+    CHECK(c.vertices_with_base > 590);
+    CHECK(c.positions > 600 * 30);
+    CHECK(c.mismatches == 0);
+  }
+}
+
 TEST_CASE("peel_flat_boundary_tets removes a flat tet on the boundary", "[mesh]") {
   // The unit cube as six tets, and a seventh on its top triangle (4, 5, 7) with its apex
   // 0.01 above that triangle's centroid: three faces on the boundary, dihedral angles of
