@@ -94,11 +94,17 @@ class ManifoldRepair {
       for (std::uint32_t pass = 0; removal_only || pass < max_passes; ++pass) {
         ++stats_.nb_repair_passes;
         const std::uint32_t before = stats_.nb_nonmanifold_edges + stats_.nb_nonmanifold_vertices;
+        const std::uint32_t changed = stats_.nb_added + stats_.nb_removed;
         collect_boundary();
         for (const auto& e : edges_) repair_edge(e, removal_only);
         collect_boundary();
         for (const std::uint32_t v : vertices_) repair_vertex(v, removal_only);
         if (stats_.nb_nonmanifold_edges + stats_.nb_nonmanifold_vertices == before) return;
+        // A phase-1 pass that found defects but could change no tet (all of them frozen or
+        // locked) leaves the same flags, so every further pass would too: on to phase 2 at
+        // once (skull_low_resolution at 1,000 vertices: phase 1 ran its 16 passes in most of
+        // its 103 extractions, 2.5 s of 12).
+        if (stats_.nb_added + stats_.nb_removed == changed) break;
       }
     }
   }
