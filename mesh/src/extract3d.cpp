@@ -81,7 +81,12 @@ namespace {
 class ManifoldRepair {
  public:
   ManifoldRepair(const Delaunay3& dt, std::vector<std::uint8_t>& kept, Extract3Stats& stats)
-      : dt_(dt), kept_(kept), stats_(stats), frozen_(kept.size(), 0) {}
+      : dt_(dt),
+        kept_(kept),
+        stats_(stats),
+        frozen_(kept.size(), 0),
+        in_star_(kept.size(), 0),
+        star_position_(kept.size(), 0) {}
 
   void run(std::uint32_t max_passes) {
     // Phase 1: the rule of mesh.h (least volume changed, a tet changed at most once),
@@ -182,24 +187,38 @@ class ManifoldRepair {
     return runs;
   }
 
-  // star_: the tets around v (finite and infinite), breadth-first.
+  // star_: the tets around v (finite and infinite), breadth-first; position_of(t) finds a
+  // tet in it.
   void vertex_star(std::uint32_t v) {
     star_.clear();
+    if (++star_stamp_ == 0) {
+      std::fill(in_star_.begin(), in_star_.end(), 0);
+      star_stamp_ = 1;
+    }
     const std::uint32_t start = dt_.vertex_tet(v);
     if (start == Delaunay3::kNoTet) return;
-    star_.push_back(start);
+    add_to_star(start);
     for (std::size_t i = 0; i < star_.size(); ++i) {
       const std::uint32_t t = star_[i];
       for (int f = 0; f < 4; ++f) {
         if (dt_.tet_vertex(t, f) == v) continue;
         const std::uint32_t n = dt_.tet_adjacent(t, f);
-        if (std::find(star_.begin(), star_.end(), n) == star_.end()) star_.push_back(n);
+        if (in_star_[n] != star_stamp_) add_to_star(n);
       }
     }
     vertex_ = v;
   }
+  void add_to_star(std::uint32_t t) {
+    in_star_[t] = star_stamp_;
+    star_position_[t] = static_cast<std::uint32_t>(star_.size());
+    star_.push_back(t);
+  }
+  // The index of tet t in star_ (vertex_star's), or star_.size().
+  std::size_t position_of(std::uint32_t t) const {
+    return in_star_[t] == star_stamp_ ? star_position_[t] : star_.size();
+  }
 
-  // Components of kept and of non-kept tets of the star (vertex_star or edge_star):
+  // Components of kept and of non-kept tets of vertex_star's star:
   // comp_[i] per star tet; counts nk, ng.
   void components(std::uint32_t& nk, std::uint32_t& ng) {
     const std::size_t n = star_.size();
@@ -218,9 +237,8 @@ class ManifoldRepair {
           if (dt_.tet_vertex(t, f) == vertex_) continue;
           const std::uint32_t nb = dt_.tet_adjacent(t, f);
           if (is_kept(nb) != k) continue;
-          const auto it = std::find(star_.begin(), star_.end(), nb);
-          const auto idx = static_cast<std::size_t>(it - star_.begin());
-          if (it == star_.end() || comp_[idx] != kNone) continue;
+          const std::size_t idx = position_of(nb);
+          if (idx == n || comp_[idx] != kNone) continue;
           comp_[idx] = next_id;
           queue_.push_back(static_cast<std::uint32_t>(idx));
         }
@@ -348,6 +366,9 @@ class ManifoldRepair {
   std::vector<Edge> edges_;
   std::vector<std::uint32_t> vertices_;
   std::vector<std::uint32_t> star_, comp_, queue_;
+  // Per tet slot: vertex_star's stamp when the tet is in star_, and its index there.
+  std::vector<std::uint32_t> in_star_, star_position_;
+  std::uint32_t star_stamp_ = 0;
   std::vector<double> vol_;
   std::vector<std::uint8_t> kept_comp_, locked_;
   std::uint32_t chosen_[2] = {kNone, kNone};
