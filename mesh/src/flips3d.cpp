@@ -9,7 +9,8 @@
 //
 // The mesh need not be Delaunay before or after. A flip replaces a set of tets by another
 // set with the same union (the two tets of an interior face, the ring of an interior edge);
-// a move changes only a free vertex's position or (Flip3Options::on_surface) slides a
+// a move changes only the position of a free vertex inside the mesh (one on its boundary
+// stays: Flipper's constructor) or (Flip3Options::on_surface) slides a
 // surface vertex on the surface within its patch, an insertion replaces a cavity by the
 // star of a new free vertex: the boundary triangles are unchanged (their surface vertices
 // at most slide) but for the boundary flips below;
@@ -217,6 +218,31 @@ class Flipper {
     const std::size_t nt = mesh.size() / 4;
     for (std::size_t t = 0; t < nt; ++t)
       add({mesh[4 * t], mesh[4 * t + 1], mesh[4 * t + 2], mesh[4 * t + 3]});
+    // A free vertex on the boundary (a face of its tets on no other tet: the extraction's
+    // manifold repair or step 7b can leave one) stays: only an interior vertex's star is a
+    // closed ball, inside which the moves' checks (every tet right-handed) keep the mesh
+    // embedded. Moved, a boundary vertex takes its boundary triangles with it, which can cut
+    // through another part of the boundary (skull_low_resolution at 1,000 vertices, step 7d:
+    // "the boundary facet of tet 2789 and the boundary facet of tet 2790 intersect", and the
+    // mesh made again with twice the vertices; session 31). No operation makes an interior
+    // vertex a boundary one or the reverse (boundary flips keep their four vertices on it).
+    for (std::size_t t = 0; t < nt; ++t) {
+      const Tet v = {mesh[4 * t], mesh[4 * t + 1], mesh[4 * t + 2], mesh[4 * t + 3]};
+      for (int f = 0; f < 4; ++f) {
+        const std::uint32_t a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
+        bool shared = false;
+        for (const std::uint32_t s : vertex_tets_[a]) {
+          if (s != t && has(tets_[s], b) && has(tets_[s], c)) {
+            shared = true;
+            break;
+          }
+        }
+        if (shared) continue;
+        for (const std::uint32_t w : {a, b, c}) {
+          if (free_[w] == kMovable) free_[w] = kFixed;
+        }
+      }
+    }
   }
 
   // The Q4 pass, the Q1 pass, the Q4 pass again (the file's header); at most

@@ -876,6 +876,26 @@ TEST_CASE("raise_mean3: a move of an interior vertex raises the mean", "[mesh][e
                   voroclip::Error);
 }
 
+TEST_CASE("raise_mean3: a free vertex on the boundary stays", "[mesh][exact]") {
+  // The split tet without its tet on the face (0, 1, 2): the free vertex 4 is on the boundary
+  // (its triangles with 0, 1 and 2). A move would carry them along; the three tets'
+  // right-handedness, all the moves check, keeps a mesh embedded only around an interior
+  // vertex (a closed ball). With the tet, 4 moves (the test above). flip_slivers3 (step 7c)
+  // fixes such a vertex by the same rule (Flipper's constructor).
+  const SplitTet split = split_tet(0.8);
+  std::vector<std::uint32_t> open;
+  for (std::size_t i = 0; i < split.star.size(); i += 4) {
+    const auto begin = split.star.begin() + static_cast<std::ptrdiff_t>(i);
+    if (std::find(begin, begin + 4, 3u) != begin + 4) open.insert(open.end(), begin, begin + 4);
+  }
+  REQUIRE(open.size() == 12);
+  std::vector<double> q = split.p;
+  std::vector<std::uint32_t> t = open;
+  CHECK(voroclip::mesh3::raise_mean3(q, split.kinds, t, 3, nullptr).moves == 0);
+  CHECK(q == split.p);
+  // Before (session 31) it moved: 3 moves, the boundary triangles carried along.
+}
+
 TEST_CASE("raise_mean3: a 3-2 flip raises the mean", "[mesh][exact]") {
   // The tall bipyramid: the three needles around ab become the two tets on cde (mean Q1 up);
   // nothing moves (all vertices fixed).
