@@ -661,9 +661,9 @@ void write_quality_svg(std::ostream& out, const TriangleQuality2& q, const std::
 // kept component of its star but the one of largest volume is removed, or every non-kept
 // component but the largest (the one holding infinite tets, if any) is added, whichever
 // changes less volume; a tet changed once is not changed again. What that leaves after
-// max_repair_passes, or after a pass that could change no tet, is fixed by removals only (every kept component but the largest; at a
-// vertex whose kept tets form one component around holes, all of them), which always ends
-// with a closed 2-manifold boundary.
+// max_repair_passes, or after a pass that could change no tet, is fixed by removals only
+// (every kept component but the largest; at a vertex whose kept tets form one component
+// around holes, all of them), which always ends with a closed 2-manifold boundary.
 
 // Where the points of a triangulation lie on the domain's boundary: per point p, the
 // surface patches [begin[p], begin[p + 1]) of `patches` that hold it (none: not on the
