@@ -241,9 +241,7 @@ class LocalScorer {
         facets_.push_back(4 * t + static_cast<std::uint32_t>(f));
       }
     }
-    double lowest = 180, lowest_incident = 181;
-    std::array<std::uint32_t, 3> worst_ids{};
-    bool any_incident = false;
+    Lowest lowest;
     // The tets with x: x and a finite boundary facet of the cavity.
     for (const std::uint32_t code : facets_) {
       std::array<std::uint32_t, 4> w{};
@@ -255,36 +253,21 @@ class LocalScorer {
       }
       if (!finite) continue;
       sort4(w);
-      const double q = measure(w);
-      const std::array<std::uint32_t, 3> others{w[1], w[2], w[3]};
-      const bool incident =
-          worst && (q < lowest_incident || (q == lowest_incident && others < worst_ids));
-      if (q >= lowest && !incident) continue;
-      if (!kept(w)) continue;
-      lowest = std::min(lowest, q);
-      if (incident) {
-        lowest_incident = q;
-        worst_ids = others;
-        any_incident = true;
-      }
+      offer(lowest, w, worst != nullptr);
     }
     // The tets of the first ring without x: the base's, by increasing Q1, the first one
     // kept and outside the cavity.
     for (const RingTet& r : ring_tets_) {
-      if (r.q >= lowest) break;
+      if (r.q >= lowest.q) break;
       if (in_cavity_[r.slot] == epoch_) continue;
       std::int8_t& k = ring_kept_[r.slot];
       if (k < 0) k = kept(base_tet(r.slot)) ? 1 : 0;
       if (k == 1) {
-        lowest = r.q;
+        lowest.q = r.q;
         break;
       }
     }
-    if (found) *found = any_incident;
-    if (any_incident) {
-      for (int j = 0; j < 3; ++j) std::copy_n(local_point(worst_ids[j]), 3, worst + 3 * j);
-    }
-    return lowest;
+    return report(lowest, worst, found);
   }
 
  private:
@@ -301,9 +284,7 @@ class LocalScorer {
     } catch (const Error&) {
       return 0;  // degenerate local set: never preferred
     }
-    double lowest = 180, lowest_incident = 181;
-    std::array<std::uint32_t, 3> worst_ids{};
-    bool any_incident = false;
+    Lowest lowest;
     for (std::uint32_t t = 0; t < local_.nb_tet_slots(); ++t) {
       if (local_.is_free(t) || local_.is_infinite(t)) continue;
       std::array<std::uint32_t, 4> w;
@@ -315,25 +296,39 @@ class LocalScorer {
       sort4(w);
       const bool has0 = w[0] == 0;
       if (!has0 && !all_ring) continue;
-      const double q = measure(w);
-      const std::array<std::uint32_t, 3> others{w[1], w[2], w[3]};
-      const bool incident =
-          worst && has0 && (q < lowest_incident || (q == lowest_incident && others < worst_ids));
-      if (q >= lowest && !incident) continue;
-      if (!kept(w)) continue;
-      lowest = std::min(lowest, q);
-      if (incident) {
-        lowest_incident = q;
-        worst_ids = others;
-        any_incident = true;
-      }
+      offer(lowest, w, worst != nullptr && has0);
     }
-    if (found) *found = any_incident;
-    if (any_incident) {
-      for (int j = 0; j < 3; ++j)
-        std::copy_n(&pts_[3 * std::size_t{worst_ids[j]}], 3, worst + 3 * j);
+    return report(lowest, worst, found);
+  }
+
+  // score's running result: the smallest Q1 of the kept tets offered, and the worst kept tet
+  // with x, ties broken by its other three vertices (local indices, ascending).
+  struct Lowest {
+    double q = 180, incident_q = 181;
+    std::array<std::uint32_t, 3> incident{};
+    bool any_incident = false;
+  };
+  // Offers tet w (local indices, ascending), as one with x when with_x.
+  void offer(Lowest& l, const std::array<std::uint32_t, 4>& w, bool with_x) const {
+    const double q = measure(w);
+    const std::array<std::uint32_t, 3> others{w[1], w[2], w[3]};
+    const bool incident =
+        with_x && (q < l.incident_q || (q == l.incident_q && others < l.incident));
+    if (q >= l.q && !incident) return;
+    if (!kept(w)) return;
+    l.q = std::min(l.q, q);
+    if (incident) {
+      l.incident_q = q;
+      l.incident = others;
+      l.any_incident = true;
     }
-    return lowest;
+  }
+  double report(const Lowest& l, double* worst, bool* found) const {
+    if (found) *found = l.any_incident;
+    if (l.any_incident) {
+      for (int j = 0; j < 3; ++j) std::copy_n(local_point(l.incident[j]), 3, worst + 3 * j);
+    }
+    return l.q;
   }
 
   // A tet of local indices in ascending order (the order every measure below takes, so that

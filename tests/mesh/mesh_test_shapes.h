@@ -22,12 +22,13 @@ namespace voroclip_test {
 
 using voroclip_test::icosphere;
 
-// The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
-inline voroclip::Domain3 cube_domain() {
+// The box [0, sx] x [0, sy] x [0, sz] cut into the six tets around its diagonal from the
+// origin, named `source`.
+inline voroclip::Domain3 six_tet_box(double sx, double sy, double sz, const char* source) {
   voroclip::TetMeshInput m;
-  m.source = "cube";
+  m.source = source;
   for (int k = 0; k < 8; ++k) {
-    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 2.0 * ((k >> 1) & 1), 2.0 * ((k >> 2) & 1)});
+    m.xyz.insert(m.xyz.end(), {sx * (k & 1), sy * ((k >> 1) & 1), sz * ((k >> 2) & 1)});
   }
   // Paths 0 -> 7 along the axes in every order.
   const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
@@ -37,6 +38,9 @@ inline voroclip::Domain3 cube_domain() {
   }
   return voroclip::Domain3(m);
 }
+
+// The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
+inline voroclip::Domain3 cube_domain() { return six_tet_box(2, 2, 2, "cube"); }
 
 // Mesh3Options for n vertices with short CVT and perturbation phases (the tests' budget).
 inline voroclip::Mesh3Options small_options(std::uint32_t n) {

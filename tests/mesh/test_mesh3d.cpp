@@ -31,19 +31,7 @@ namespace {
 const std::string kData = VOROCLIP_SHARED_DATA_DIR;
 
 // The box [0, 2] x [0, 3] x [0, 1], six tets around a diagonal.
-Domain3 box_domain() {
-  voroclip::TetMeshInput m;
-  m.source = "box";
-  for (int k = 0; k < 8; ++k) {
-    m.xyz.insert(m.xyz.end(), {2.0 * (k & 1), 3.0 * ((k >> 1) & 1), 1.0 * ((k >> 2) & 1)});
-  }
-  const int axes[6][3] = {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
-  for (const auto& a : axes) {
-    m.tets.insert(m.tets.end(), {0u, static_cast<std::uint32_t>(a[0]),
-                                 static_cast<std::uint32_t>(a[0] + a[1]), 7u});
-  }
-  return Domain3(m);
-}
+Domain3 box_domain() { return voroclip_test::six_tet_box(2, 3, 1, "box"); }
 
 // A cylinder of radius 1 and height 2 around the z axis: a regular k-gon prism cut into
 // `layers` slabs; each slab's wedges (axis edge, two rim edges) split into 3 tets, every
