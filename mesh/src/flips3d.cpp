@@ -87,6 +87,7 @@
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "mesh3d_tags.h"
 #include "voroclip/mesh.h"
 #include "voroclip/predicates.h"
 
@@ -226,22 +227,10 @@ class Flipper {
     // "the boundary facet of tet 2789 and the boundary facet of tet 2790 intersect", and the
     // mesh made again with twice the vertices; session 31). No operation makes an interior
     // vertex a boundary one or the reverse (boundary flips keep their four vertices on it).
-    for (std::size_t t = 0; t < nt; ++t) {
-      const Tet v = {mesh[4 * t], mesh[4 * t + 1], mesh[4 * t + 2], mesh[4 * t + 3]};
-      for (int f = 0; f < 4; ++f) {
-        const std::uint32_t a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
-        bool shared = false;
-        for (const std::uint32_t s : vertex_tets_[a]) {
-          if (s != t && has(tets_[s], b) && has(tets_[s], c)) {
-            shared = true;
-            break;
-          }
-        }
-        if (shared) continue;
-        for (const std::uint32_t w : {a, b, c}) {
-          if (free_[w] == kMovable) free_[w] = kFixed;
-        }
-      }
+    std::vector<std::uint32_t> triangles, face_tet;
+    boundary_triangles(mesh, triangles, face_tet);
+    for (const std::uint32_t w : triangles) {
+      if (free_[w] == kMovable) free_[w] = kFixed;
     }
   }
 

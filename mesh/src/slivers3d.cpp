@@ -198,11 +198,11 @@ class LocalScorer {
   // cavity's boundary facets. The base takes the others' local indices less one, which keeps
   // their order, and x is the first point, so the perturbation that decides degenerate cases
   // (Delaunay3: the indices as infinitesimal weights) is that of a triangulation of all the
-  // points, which is unique: the same tets as building it (score_rebuilt), at the cost of a
+  // points, which is unique: the same tets as building it (score_whole), at the cost of a
   // cavity instead of a triangulation per position (up to 28 per vertex and round).
   double score(const double* x, double* worst = nullptr, bool* found = nullptr) {
     if (!base_ok_ || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) {
-      return score_rebuilt(x, worst, found);
+      return score_whole(x, worst, found);
     }
     std::copy_n(x, 3, pts_.begin());
     const std::uint32_t start = base_.locate(x, hint_);
@@ -212,7 +212,7 @@ class LocalScorer {
         const double* p = base_.point(base_.tet_vertex(start, k));
         // x on another site: the triangulation of all the points drops that one (a duplicate
         // of x, whose index is smaller).
-        if (p[0] == x[0] && p[1] == x[1] && p[2] == x[2]) return score_rebuilt(x, worst, found);
+        if (p[0] == x[0] && p[1] == x[1] && p[2] == x[2]) return score_whole(x, worst, found);
       }
     }
     // The cavity: breadth-first from the tet that holds x (in conflict: x is inside its
@@ -270,11 +270,10 @@ class LocalScorer {
     return report(lowest, worst, found);
   }
 
- private:
-  // The local triangulation of x and the others built whole: where the base cannot be made
-  // (fewer than 4 others, all in a plane, two at one place) or x is not finite or on another
-  // site.
-  double score_rebuilt(const double* x, double* worst, bool* found) {
+  // score from the local triangulation of x and the others built whole: where the base
+  // cannot be made (fewer than 4 others, all in a plane, two at one place) or x is not finite
+  // or on another site, and for check_local_scores.
+  double score_whole(const double* x, double* worst, bool* found) {
     std::copy_n(x, 3, pts_.begin());
     const auto n = static_cast<std::uint32_t>(pts_.size() / 3);
     if (found) *found = false;
@@ -301,6 +300,7 @@ class LocalScorer {
     return report(lowest, worst, found);
   }
 
+ private:
   // score's running result: the smallest Q1 of the kept tets offered, and the worst kept tet
   // with x, ties broken by its other three vertices (local indices, ascending).
   struct Lowest {
@@ -418,10 +418,6 @@ class LocalScorer {
   }
 
  public:
-  // score, from the local triangulation built whole (for check_local_scores).
-  double score_whole(const double* x, double* worst, bool* found) {
-    return score_rebuilt(x, worst, found);
-  }
   bool has_base() const { return base_ok_; }
 
   // The mean distance from v's position x to its first ring.
