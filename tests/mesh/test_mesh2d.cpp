@@ -10,7 +10,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -713,8 +715,14 @@ TEST_CASE("mesh2d: issue 31's polygons below the mean target at 1000 vertices ke
     CHECK(st.mean_angle_runs == 0);
     CHECK(st.mean_angle_raise.empty());
     for (const Mesh2::VertexKind k : m.vertex_kind) CHECK(k != Mesh2::VertexKind::kInterior);
-    CHECK(st.mean_angle_note.find("1047 triangles with a vertex on the boundary (mean 45.4), 0 "
-                                  "inside; corridors a few triangles wide") != std::string::npos);
+    // Every triangle has a vertex on the boundary: 1047 of mean 45.4 degrees on the Zen 5
+    // host, 1048 of mean 45.5 on the Xeon one (the meshes differ in their last bits).
+    const double mean = voroclip::triangle_quality2(m).mean_min_angle;
+    std::ostringstream expected;
+    expected << m.nb_triangles() << " triangles with a vertex on the boundary (mean " << std::fixed
+             << std::setprecision(1) << mean << "), 0 inside; corridors a few triangles wide";
+    CHECK(mean < 46);
+    CHECK(st.mean_angle_note.find(expected.str()) != std::string::npos);
     // The estimate written out: 1049 vertices at edge length 1.027 for a feature of 1.
     CHECK(st.mean_angle_note.find("about 6900 vertices (estimate)") != std::string::npos);
   }
