@@ -185,6 +185,7 @@ struct Mesh3dArgs {
   bool adaptive = false;
   double lfs_cap = 0;  // Mesh3Options::lfs_cap
   double facet_distance = Mesh3Options{}.facet_distance;
+  double max_boundary_distance = Mesh3Options{}.max_boundary_distance;
   double feature_angle = 40;
   bool no_features = false;
   std::uint64_t seed = 1;

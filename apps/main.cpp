@@ -406,10 +406,12 @@ int main(int argc, char** argv) {
       "resolve the surface's shape (default: add the sites needed and, when the mesh still "
       "lacks the shape, mesh again with twice the vertices, up to 3 times, with a "
       "note)");
-  mesh3d->add_flag("--allow-shape-mismatch", mesh3d_args.allow_shape_mismatch,
-                   "Write the mesh even when its boundary does not have the domain's shape "
-                   "(another number of shells or genus), with a warning; by default that is an "
-                   "error and no file is written");
+  mesh3d->add_flag(
+      "--allow-shape-mismatch", mesh3d_args.allow_shape_mismatch,
+      "Write the mesh even when its boundary does not have the domain's shape "
+      "(another number of shells or genus, or farther than --max-boundary-distance), with "
+      "a warning; by default that is an "
+      "error and no file is written");
   mesh3d
       ->add_option("--vertices", mesh3d_args.vertices,
                    "Number of vertices (sites) wanted; required except with --sizing or "
@@ -424,6 +426,13 @@ int main(int argc, char** argv) {
                    "cap")
       ->type_name("K")
       ->default_str("0");
+  mesh3d
+      ->add_option("--max-boundary-distance", mesh3d_args.max_boundary_distance,
+                   "The mesh's boundary may be at most K local edge lengths from the input's "
+                   "surface (either way); farther, a part thinner than the edges is cut off or a "
+                   "gap bridged, and the shape is wrong (default 1; 0: not checked)")
+      ->type_name("K")
+      ->default_str(voroclip::cli::format_double(voroclip::Mesh3Options{}.max_boundary_distance));
   mesh3d
       ->add_option("--facet-distance", mesh3d_args.facet_distance,
                    "Fix a vertex at each input vertex farther than F times the local spacing "

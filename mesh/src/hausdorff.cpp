@@ -90,7 +90,8 @@ OneSidedDistance sampled_distance(const TriangleSurface& from, const SurfaceTree
       throw Error(from.source + ": a squared distance overflows (coordinates too large)");
     }
     hint = c.triangle;
-    const double d = std::sqrt(c.distance2);
+    const double d =
+        options.scale ? std::sqrt(c.distance2) / options.scale(p) : std::sqrt(c.distance2);
     if (d > slot.max) {
       slot.max = d;
       for (int k = 0; k < 3; ++k) slot.where[k] = p[k];

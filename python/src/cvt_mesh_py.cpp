@@ -293,6 +293,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
                                           : Mesh3Options::VertexCount::kRaise;
         }},
        {"max_topology_rounds", S::field<std::uint32_t>(&Mesh3Options::max_topology_rounds)},
+       {"max_boundary_distance", S::field<double>(&Mesh3Options::max_boundary_distance)},
        {"perturb", S::field<bool>(&Mesh3Options::perturb)},
        {"sliver_angle",
         [](Mesh3Options& o, const py::handle& v) {
@@ -360,6 +361,9 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;
+  s["hausdorff"] = m.distance.max;
+  s["hausdorff_rel"] = m.distance.max_relative();
+  s["hausdorff_to_edge_length"] = m.distance_to_edge_length;
   s["unconstrained_iterations"] = m.unconstrained.iterations;
   s["constrained_iterations"] = m.constrained.iterations;
   s["energy"] = m.constrained.energy;

@@ -92,6 +92,23 @@ def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
     assert m.stats["input_sharpest_dihedral_deg"] == bound["input_sharpest_dihedral_deg"]
     q1 = voroclip.quality(m.points, m.cells).q1
     assert m.stats["tets_below_dihedral_bound"] == bound["tets_below"] == int((q1 < 20).sum())
+    # The distance check: the boundary's Hausdorff distance to the input, as the CLI reports
+    # it, over the uniform edge length cbrt(1.9 V / N), V the volume the input's triangles
+    # enclose (divergence theorem).
+    assert m.stats["hausdorff"] == stats["hausdorff"]
+    assert m.stats["hausdorff_to_edge_length"] == stats["hausdorff_to_edge_length"]
+    xyz, tri = [], []
+    for line in open(domain):
+        f = line.split()
+        if f and f[0] == "v":
+            xyz.append([float(x) for x in f[1:4]])
+        elif f and f[0] == "f":
+            tri.append([int(x.split("/")[0]) - 1 for x in f[1:4]])
+    a, b, c = (np.array(xyz)[np.array(tri)[:, k]] for k in range(3))
+    volume = abs(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) / 6
+    edge = (1.9 * volume / 400) ** (1 / 3)
+    assert m.stats["hausdorff_to_edge_length"] == pytest.approx(stats["hausdorff"] / edge, 1e-9)
+    assert 0 < m.stats["hausdorff_to_edge_length"] <= 1
 
 
 def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):

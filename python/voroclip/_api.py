@@ -413,7 +413,11 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
     ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
     ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
-    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``perturb``,
+    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``,
+    ``max_boundary_distance`` (the mesh's boundary at most this many local edge lengths from
+    the input's surface, default 1, else ``shape_problem`` says where; 0: not checked; stats
+    ``hausdorff``, ``hausdorff_rel`` (of the bounding box's diagonal) and
+    ``hausdorff_to_edge_length``), ``perturb``,
     ``sliver_angle`` (degrees), ``flip_angle`` (degrees: the last flips, moves and
     insertions against the tets below it; 0: none, the mesh stays Delaunay when
     ``mean_rounds`` is 0 too; stats ``flips``, ``flip_moves``, ``flip_sites``,

@@ -387,10 +387,12 @@ TEST_CASE("mesh3d: a sliver between two sheets of the surface gets a site inside
   // before session 28, measured with an uncommitted switch) the mesh ended at 19.86 degrees,
   // one tet below the bound; with sites inside, 27.78. Since the perturbation measures each
   // local tet with its vertices in one order (session 31), 1500 vertices leave no sliver for
-  // step 7a (20.08 degrees); 2000 get 23 sliver sites, 15 of them inside (26.97 degrees).
+  // step 7a (20.08 degrees); 2000 got 23 sliver sites, 15 of them inside (26.97 degrees).
+  // Since the topology refinement goes on while its defects fall (session 32), 2000 leave
+  // none (27.36 degrees); 1800 get 20 sliver sites, 9 of them inside (22.64 degrees).
   const Domain3 elk(voroclip::read_surface(kData + "/surfaces/elk.off"));
   Mesh3Options o;
-  o.nb_vertices = 2000;
+  o.nb_vertices = 1800;
   const Mesh3Result r = voroclip::mesh3d(elk, o);
   check_valid(elk, r);
   INFO("smallest dihedral angle " << r.quality.q1_deg.min << ", " << r.nb_sliver_sites

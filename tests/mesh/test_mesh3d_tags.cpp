@@ -385,13 +385,17 @@ TEST_CASE("mesh3d meshes again with twice the vertices when the shape is wrong",
   o.lfs_cap = 0;
   o.peel_dihedral_deg = 0;        // the peeling can repair it (then no retry is needed)
   o.sliver_insertion_passes = 0;  // so can the sites at slivers' circumcentres
+  // The topology alone: at 800, 1600 and 6400 vertices these options cut the ear's tip off
+  // by 1.5 to 2.4 edge lengths (the next test), so the distance check would go on retrying.
+  o.max_boundary_distance = 0;
   std::vector<std::uint32_t> retries;
   o.progress = [&retries](const voroclip::Mesh3Progress& p) {
     if (p.retry_vertices > 0) retries.push_back(p.retry_vertices);
     return true;
   };
   const Mesh3Result r = voroclip::mesh3d(bunny, o);
-  INFO("retries " << r.shape_retries << ", first problem: " << r.raised_because);
+  INFO("retries " << r.shape_retries << ", first problem: " << r.raised_because
+                  << ", last: " << r.shape_problem);
   REQUIRE(r.shape_retries >= 1);
   CHECK(r.shape_problem.empty());
   CHECK(!r.raised_because.empty());
@@ -405,6 +409,72 @@ TEST_CASE("mesh3d meshes again with twice the vertices when the shape is wrong",
   const Mesh3Result exact = voroclip::mesh3d(bunny, o);
   CHECK(exact.shape_retries == 0);
   CHECK(exact.shape_problem == r.raised_because);
+}
+
+TEST_CASE("mesh3d: a boundary farther from the surface than an edge is the wrong shape", "[mesh]") {
+  // The options of the test above at 800 vertices: the right topology, but the tip of an ear
+  // is cut off, 0.29 from the mesh's boundary against an edge length of 0.12.
+  const Domain3 bunny = voroclip::read_domain3(kData + "/surfaces/bunny.obj");
+  Mesh3Options o = small_options(800);
+  o.max_topology_rounds = 0;
+  o.lfs_cap = 0;
+  o.peel_dihedral_deg = 0;
+  o.sliver_insertion_passes = 0;
+  o.max_shape_retries = 0;
+  const Mesh3Result r = voroclip::mesh3d(bunny, o);
+  INFO(r.shape_problem);
+  // The ratio is the larger one-sided maximum over the uniform edge length cbrt(1.9 V / N).
+  const double edge = std::cbrt(voroclip::kMesh3VerticesPerEdgeVolume * bunny.volume() / 800);
+  CHECK(r.distance_to_edge_length ==
+        Approx(std::max(r.distance.forward.max, r.distance.backward.max) / edge).epsilon(1e-12));
+  CHECK(r.distance_to_edge_length > 2);
+  // The Hausdorff distance the result carries is hausdorff_distance's, measured again here.
+  voroclip::TriangleSurface mine;
+  mine.source = "mine";
+  mine.xyz = r.xyz;
+  mine.triangles = r.boundary_triangles;
+  const voroclip::HausdorffDistance again =
+      voroclip::hausdorff_distance(mine, voroclip::boundary_surface(bunny));
+  CHECK(again.max == r.distance.max);
+  CHECK(again.backward.max == r.distance.backward.max);
+  CHECK(again.forward.max == r.distance.forward.max);
+  // Named: where on the surface, how far, against which edge length.
+  CHECK(r.shape_problem.find("the domain's surface at (") == 0);
+  CHECK(r.shape_problem.find("more than the local edge length 0.1212") != std::string::npos);
+  CHECK(r.shape_problem.find("is cut off") != std::string::npos);
+  // A bound of 3 edge lengths accepts it, 0 does not check; the mesh is the same.
+  o.max_boundary_distance = 3;
+  const Mesh3Result loose = voroclip::mesh3d(bunny, o);
+  CHECK(loose.shape_problem.empty());
+  CHECK(loose.tets == r.tets);
+  o.max_boundary_distance = -1;
+  CHECK_THROWS_AS(voroclip::mesh3d(bunny, o), voroclip::Error);
+}
+
+TEST_CASE("mesh3d: topology refinement goes on while the defects fall", "[mesh][regression]") {
+  // elk.mesh at 500 vertices, seed 2: the refinement's defective cells first rise as its
+  // sites split the cells reaching across the thin parts, then fall (41, 48, 64, 98, 124, 155,
+  // 147, 87, 42, 9, 0). Stopping after 8 rounds without a new fewest (before session 32)
+  // meshed round 0's sites: a part of the elk cut off, the Hausdorff distance 19 % of the
+  // diagonal, and no shape problem reported. Step 7c's surface moves then made boundary
+  // triangles cross (redone without them since). Too slow for the sanitizer builds.
+  const char* scale = std::getenv("VOROCLIP_TEST_SCALE");
+  if (scale != nullptr && *scale != '\0' && std::atof(scale) < 1) return;
+  const Domain3 elk = voroclip::read_domain3(kData + "/tetmeshes/elk.mesh");
+  Mesh3Options o;
+  o.nb_vertices = 500;
+  o.seed = 2;
+  o.max_shape_retries = 0;
+  o.max_boundary_distance = 0;  // the topology's result itself
+  const Mesh3Result r = voroclip::mesh3d(elk, o);
+  INFO(r.shape_problem << "; topology rounds " << r.topology_rounds << ", sites "
+                       << r.nb_topology_sites << ", defects left " << r.topology_defects_left);
+  CHECK(r.topology_defects_left == 0);
+  CHECK(r.topology_rounds > 8);
+  CHECK(r.nb_topology_sites > 400);
+  CHECK(r.shape_problem.empty());
+  // The boundary within 1.5 edge lengths of the surface (4.4 before: 52.2 against 11.8).
+  CHECK(r.distance_to_edge_length < 1.5);
 }
 
 TEST_CASE("mesh3d: sites snapped onto a cube's faces (the NaN of issue 30)", "[mesh][exact]") {

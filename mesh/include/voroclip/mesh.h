@@ -117,9 +117,14 @@ TetQuality tet_quality(const TetMeshInput& mesh, const TetQualityOptions& option
 // true one-sided Hausdorff distance, within about the sampling step for smooth maxima.
 // mean = the area-weighted mean over the sub-triangle samples (each weighs area / n^2):
 // the mean distance over the surface (over the vertices when the area is zero).
+// With `scale` set, each sample's distance is divided by scale(sample) before the maximum
+// and the mean are taken (a distance relative to a local size, e.g. mesh3d's check of its
+// boundary against the local edge length); scale must be positive and safe to call from
+// several threads at once.
 struct HausdorffOptions {
   double samples_per_triangle = 10;
   std::uint64_t min_samples = 100000;
+  std::function<double(const double*)> scale;
 };
 
 struct OneSidedDistance {
@@ -814,9 +819,10 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      constrained CVT spreads them and the check runs again (at most topology_cycles
 //      times); the last state without defects is kept: the restricted Delaunay
 //      triangulation that bounds the mesh is then homeomorphic to the surface. When
-//      max_topology_stall rounds bring no state with fewer defects (next to a crease
-//      sharper than 90 degrees the insertions can feed themselves), the state with the
-//      fewest is kept and the output's check (step 8) decides. The sites
+//      max_topology_stall rounds bring neither a state with fewer defects nor fewer defects
+//      than the round before (next to a crease sharper than 90 degrees the insertions can
+//      feed themselves), the state with the fewest is kept and the output's check (step 8)
+//      decides. The sites
 //      added raise the vertex count (or, with VertexCount::kExact, make mesh3d throw,
 //      naming where and the count that would do);
 //   6. extraction of the Delaunay tets whose circumcenter lies in the domain (TetExtractor3,
@@ -841,7 +847,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   8. output: the vertices used by the tets (sites used by none are dropped), their kinds,
 //      the tets (right-handed), the quality (tet_quality) and the timing of each phase; the
 //      output's boundary is checked against the domain's surface (check_mesh3_shape: a
-//      closed 2-manifold, one shell per input shell with its genus), and the verdict is in
+//      closed 2-manifold, one shell per input shell with its genus; and the sampled
+//      distance between the two boundaries at most the local target edge length, so that
+//      no part thinner than the edges is cut off or bridged), and the verdict is in
 //      Mesh3Result::shape_problem (empty when right). With VertexCount::kRaise a mesh of
 //      the wrong shape makes the pipeline run again with twice the vertices (at most
 //      max_shape_retries times).
@@ -1050,9 +1058,10 @@ struct Mesh3Options {
   // 10,000 vertices for the same quality: bench/RESULTS.md). When the sites of nb_vertices
   // cannot resolve the surface, kRaise adds the sites needed (Mesh3Result::nb_topology_sites
   // counts them), kExact throws Error naming where the surface is not resolved and about how
-  // many vertices would do. Refinement that has not lowered the number of defective cells for
-  // max_topology_stall rounds stops (next to a crease sharper than 90 degrees it can feed
-  // itself); the state with the fewest defects is meshed and check_mesh3_shape judges it.
+  // many vertices would do. Refinement stops after max_topology_stall rounds that neither
+  // beat its fewest defective cells nor had fewer than the round before (next to a crease
+  // sharper than 90 degrees it can feed itself); the state with the fewest defects is meshed
+  // and check_mesh3_shape judges it.
   enum class VertexCount : std::uint8_t { kRaise, kExact };
   VertexCount vertex_count = VertexCount::kRaise;
   std::uint32_t max_topology_rounds = 60;
@@ -1064,6 +1073,10 @@ struct Mesh3Options {
   // vertices, at most max_shape_retries times; the first run with the right shape is
   // returned (Mesh3Result::requested_vertices, shape_retries, raised_because).
   std::uint32_t max_shape_retries = 3;
+  // The output's boundary and the domain's may be at most this many local target edge lengths
+  // apart (Mesh3Result::distance_to_edge_length), else the shape is wrong (a part thinner than
+  // the edges cut off, or a gap bridged): the bound is 1. 0: not checked.
+  double max_boundary_distance = 1;
   // Sliver perturbation (perturb = false: none). Its `extraction` settings are the ones
   // every extraction of mesh3d uses (with or without perturbation); mesh3d only sets their
   // `surface` to the patches of its sites.
@@ -1180,20 +1193,33 @@ struct Mesh3Result {
   // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes), and of
   // them those inside the volume (a circumcentre deep enough, step 7a).
   std::uint32_t nb_sliver_sites = 0, nb_sliver_sites_inside = 0;
-  // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices, interior
-  // vertices inserted (in nb_sites too).
+  // Step 7c (Mesh3Options::flip_dihedral_deg): flips, moves of interior vertices (and of
+  // surface vertices within their patch, flip_moves_surface), interior vertices inserted (in
+  // nb_sites too).
   std::uint32_t nb_flips = 0, nb_flip_moves = 0, nb_flip_sites = 0;
   // Of nb_flips, the boundary 2-2 flips (a boundary edge replaced by the other diagonal of
   // its two nearly coplanar boundary triangles, in one patch); flips_rerun_for_shape when
-  // they changed the boundary's shape and 7c was redone without them.
+  // they or the surface moves changed the boundary's shape and 7c was redone without the
+  // boundary flips (and, when that was not enough, without the surface moves).
   std::uint32_t nb_boundary_flips = 0;
   bool flips_rerun_for_shape = false;
   // Step 7d (Mesh3Options::mean_rounds): the flips and vertex moves made, the rounds run, the
   // mean Q1 of the tets before and after it (degrees), its time (seconds, in the slivers phase).
   std::uint32_t nb_mean_flips = 0, nb_mean_moves = 0, mean_rounds = 0;
   double mean_q1_before_deg = 0, mean_q1_after_deg = 0, mean_seconds = 0;
-  // Empty when the output's boundary has the domain's shape (check_mesh3_shape), else what
-  // differs; a caller should not use a mesh with a problem as a model of the domain.
+  // The output's boundary (boundary_triangles) against the domain's boundary triangles:
+  // hausdorff_distance with the default options, and the largest sampled distance between
+  // them (either way) divided by the local target edge length at the sample,
+  // cbrt(kMesh3VerticesPerEdgeVolume) times the sites' local spacing (the median edge
+  // length's, mesh.h). Above Mesh3Options::max_boundary_distance the boundary cuts off (or
+  // bridges) a part of the domain thinner than the edges, and shape_problem says where;
+  // distance_seconds its time.
+  HausdorffDistance distance;
+  double distance_to_edge_length = 0;
+  double distance_seconds = 0;
+  // Empty when the output's boundary has the domain's shape (check_mesh3_shape, and the
+  // distance above within max_boundary_distance), else what differs; a caller should not
+  // use a mesh with a problem as a model of the domain.
   std::string shape_problem;
   // The vertices asked for (Mesh3Options::nb_vertices), the runs redone with twice as many
   // because the mesh did not have the domain's shape, and the first run's shape problem.
