@@ -183,7 +183,15 @@ HausdorffDistance hausdorff_distance(const TriangleSurface& surface,
                                      const HausdorffOptions& options) {
   if (surface.nb_triangles() == 0) throw Error(surface.source + ": no triangles");
   if (reference.nb_triangles() == 0) throw Error(reference.source + ": no triangles");
-  const SurfaceTree surface_tree(surface), reference_tree(reference);
+  return hausdorff_distance(surface, SurfaceTree(surface), reference, SurfaceTree(reference),
+                            options);
+}
+
+HausdorffDistance hausdorff_distance(const TriangleSurface& surface,
+                                     const SurfaceTree& surface_tree,
+                                     const TriangleSurface& reference,
+                                     const SurfaceTree& reference_tree,
+                                     const HausdorffOptions& options) {
   HausdorffDistance d;
   d.forward = sampled_distance(surface, reference_tree, options);
   d.backward = sampled_distance(reference, surface_tree, options);

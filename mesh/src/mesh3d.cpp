@@ -212,17 +212,8 @@ std::string check_boundary_distance(const TriangleSurface& reference,
   mine.xyz = result.xyz;
   mine.triangles = result.boundary_triangles;
   const SurfaceTree mine_tree(mine);
-  HausdorffDistance& d = result.distance;
-  d.forward = sampled_distance(mine, reference_tree);
-  d.backward = sampled_distance(reference, mine_tree);
-  d.max = std::max(d.forward.max, d.backward.max);
-  d.mean = std::max(d.forward.mean, d.backward.mean);
-  double diagonal2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double e = reference_tree.bbox_hi()[k] - reference_tree.bbox_lo()[k];
-    diagonal2 += e * e;
-  }
-  d.diagonal = std::sqrt(diagonal2);
+  const HausdorffDistance& d = result.distance =
+      hausdorff_distance(mine, mine_tree, reference, reference_tree);
   OneSidedDistance forward = d.forward, backward = d.backward;
   if (graded) {
     HausdorffOptions relative;

@@ -152,6 +152,12 @@ OneSidedDistance sampled_distance(const TriangleSurface& from, const SurfaceTree
 HausdorffDistance hausdorff_distance(const TriangleSurface& surface,
                                      const TriangleSurface& reference,
                                      const HausdorffOptions& options = {});
+// The same with the surfaces' trees already built (SurfaceTree(surface), SurfaceTree(reference)).
+HausdorffDistance hausdorff_distance(const TriangleSurface& surface,
+                                     const SurfaceTree& surface_tree,
+                                     const TriangleSurface& reference,
+                                     const SurfaceTree& reference_tree,
+                                     const HausdorffOptions& options = {});
 
 // Reports. `title` names the mesh (a file name). `distance` (optional) adds the Hausdorff
 // figures, `reference` naming the reference surface.
