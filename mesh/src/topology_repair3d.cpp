@@ -87,7 +87,7 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   // decides whether the output is right. A round with fewer defects than the one before
   // does not count: on a part thinner than the spacing the count first grows as the new
   // sites split the cells that reach across it, then falls (elk.mesh at 500 vertices, seed
-  // 2: 41, 48, 64, 98, 124, 155, 147, 87, 42, 9, 0 defects; counting every round without a
+  // 2: 41, 48, 64, 98, 124, 155, 147, 87, 42, 6, 1, 0 defects; counting every round without a
   // better state stopped it at round 8 and meshed round 0's sites, which cut off a
   // part of the elk: Hausdorff distance 19 % of the diagonal).
   State best;

@@ -454,7 +454,7 @@ TEST_CASE("mesh3d: a boundary farther from the surface than an edge is the wrong
 TEST_CASE("mesh3d: topology refinement goes on while the defects fall", "[mesh][regression]") {
   // elk.mesh at 500 vertices, seed 2: the refinement's defective cells first rise as its
   // sites split the cells reaching across the thin parts, then fall (41, 48, 64, 98, 124, 155,
-  // 147, 87, 42, 9, 0). Stopping after 8 rounds without a new fewest (before session 32)
+  // 147, 87, 42, 6, 1, 0). Stopping after 8 rounds without a new fewest (before session 32)
   // meshed round 0's sites: a part of the elk cut off, the Hausdorff distance 19 % of the
   // diagonal, and no shape problem reported. Step 7c's surface moves then made boundary
   // triangles cross (redone without them since). Too slow for the sanitizer builds.
