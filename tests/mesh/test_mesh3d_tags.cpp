@@ -442,7 +442,7 @@ TEST_CASE("mesh3d: a boundary farther from the surface than an edge is the wrong
   CHECK(r.shape_problem.find("the domain's surface at (") == 0);
   CHECK(r.shape_problem.find("more than the local edge length 0.1212") != std::string::npos);
   CHECK(r.shape_problem.find("is cut off") != std::string::npos);
-  // A bound of 3 edge lengths accepts it, 0 does not check; the mesh is the same.
+  // A bound of 3 edge lengths accepts it (the same tets); a negative bound is an error.
   o.max_boundary_distance = 3;
   const Mesh3Result loose = voroclip::mesh3d(bunny, o);
   CHECK(loose.shape_problem.empty());
