@@ -20,6 +20,10 @@
 //   - per neighbour j, its boundary edges on bisector(i, j) (both ends on it: their site
 //     lists hold j) form one path: connected, V = E + 1;
 //   - a Voronoi edge (three sites) crosses S once: one facet-bisectors vertex per triple.
+// A cell at a knife edge is passed over (closed_ball_defects in mesh.h) unless a piece of its
+// region has no border (a whole shell of S inside the cell); and, given the surface, the
+// cells of a shell that fewer than four cells meet always count (no closed restricted
+// Delaunay surface has fewer than four vertices).
 // All integer work on the symbolic keys: no floating-point decision; only the farthest
 // point's choice compares distances.
 #include <tbb/blocked_range.h>
@@ -59,7 +63,10 @@ bool has_site(const ClipVertex3& v, std::uint32_t s) {
 }
 
 // What is wrong with one cell: bit 0 not a disk, bit 1 a facet not an arc, bit 2 a Voronoi
-// edge crossing S twice or more.
+// edge crossing S twice or more, bit 3 a closed piece (with bit 0): a connected part of the
+// region with no edge on a bisector, so a whole shell of S inside the one cell; bit 4 (with
+// bit 0, closed_ball_defects) a cell of a shell that fewer than four cells meet.
+constexpr int kNotDisk = 1, kNotArc = 2, kEdgeTwice = 4, kClosedPiece = 8, kFewCells = 16;
 struct CellScratch {
   std::vector<std::pair<Key, std::uint32_t>> keys;             // (key, corner index)
   std::vector<std::uint32_t> id;                               // per corner: its vertex id
@@ -67,6 +74,9 @@ struct CellScratch {
   std::vector<std::pair<std::uint32_t, std::uint64_t>> arcs;   // (site across, vertex pair)
   UnionFind uf;
   std::vector<std::uint32_t> arc_vertices;
+  // Per polygon: an edge of it borders the region (no other polygon has it); then per piece
+  // (its root polygon): one of its polygons does.
+  std::vector<std::uint8_t> open;
 };
 
 // Whether a restricted vertex lies on a knife edge (on it, or at one of its ends).
@@ -89,10 +99,10 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
   const std::uint32_t p0 = sp.site_begin[i], p1 = sp.site_begin[i + 1];
   if (p0 == p1) return 0;
   const std::uint32_t c0 = sp.polygon_begin[p0], c1 = sp.polygon_begin[p1];
-  if (!knife_edges.empty()) {
-    for (std::uint32_t c = c0; c < c1; ++c) {
-      if (on_knife_edge(sp.vertices[c], knife_edges, knife_vertices)) return 0;
-    }
+  // A cell at a knife edge counts only for a closed piece (no sampling gives it the rest).
+  bool on_knife = false;
+  for (std::uint32_t c = c0; c < c1 && !knife_edges.empty() && !on_knife; ++c) {
+    on_knife = on_knife_edge(sp.vertices[c], knife_edges, knife_vertices);
   }
   // Vertex ids by key.
   s.keys.clear();
@@ -112,7 +122,7 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
         s.keys[r - 1].first[4] == s.keys[r].first[4] &&
         s.keys[r - 1].first[5] == s.keys[r].first[5] &&
         s.keys[r - 1].first[6] == s.keys[r].first[6] && s.keys[r - 1].first != s.keys[r].first) {
-      defects |= 4;
+      defects |= kEdgeTwice;
     }
   }
   ++nv;
@@ -140,17 +150,30 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
   std::sort(s.edges.begin(), s.edges.end());
   const auto nf = p1 - p0;
   s.uf.reset(nf);
+  s.open.assign(nf, 0);
   std::uint32_t ne = 0;
   for (std::size_t r = 0; r < s.edges.size();) {
     std::size_t q = r + 1;
     while (q < s.edges.size() && s.edges[q].first == s.edges[r].first) ++q;
-    if (q - r > 2) defects |= 1;
+    if (q - r > 2) defects |= kNotDisk;
+    if (q - r == 1) s.open[s.edges[r].second] = 1;  // on the region's border
     for (std::size_t t = r + 1; t < q; ++t) s.uf.unite(s.edges[r].second, s.edges[t].second);
     ++ne;
     r = q;
   }
   const long chi = static_cast<long>(nv) - static_cast<long>(ne) + static_cast<long>(nf);
-  if (s.uf.count() != 1 || chi != 1) defects |= 1;
+  if (s.uf.count() != 1 || chi != 1) defects |= kNotDisk;
+  // A piece none of whose edges borders it is closed: a shell of S (each of whose edges is
+  // in two triangles) wholly inside the cell, where the restricted Delaunay triangulation
+  // has no triangle. A part far smaller than the spacing (a small body beside a large one)
+  // lies so, whatever its edges.
+  for (std::uint32_t p = 0; p < nf; ++p) {
+    if (s.open[p] != 0) s.open[s.uf.find(p)] = 1;
+  }
+  for (std::uint32_t p = 0; p < nf; ++p) {
+    if (s.uf.find(p) == p && s.open[p] == 0) defects |= kNotDisk | kClosedPiece;
+  }
+  if (on_knife) return defects & kClosedPiece ? defects : 0;
   // Arcs: per site across, the region's boundary edges on that bisector form one path.
   std::sort(s.arcs.begin(), s.arcs.end());
   s.arcs.erase(std::unique(s.arcs.begin(), s.arcs.end()), s.arcs.end());
@@ -167,7 +190,7 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
                          s.arc_vertices.end());
     const auto na = static_cast<std::uint32_t>(q - r);
     if (s.arc_vertices.size() != std::size_t{na} + 1) {
-      defects |= 2;
+      defects |= kNotArc;
     } else {
       s.uf.reset(s.arc_vertices.size());
       const auto local = [&](std::uint32_t v) {
@@ -179,7 +202,7 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
         s.uf.unite(local(static_cast<std::uint32_t>(s.arcs[t].second >> 32)),
                    local(static_cast<std::uint32_t>(s.arcs[t].second & 0xffffffffu)));
       }
-      if (s.uf.count() != 1) defects |= 2;
+      if (s.uf.count() != 1) defects |= kNotArc;
     }
     r = q;
   }
@@ -189,7 +212,8 @@ int cell_defects(const ClippedVoronoi3::Polygons& sp, std::uint32_t i, CellScrat
 }  // namespace
 
 ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites,
-                                      const std::vector<std::uint64_t>& knife_edges) {
+                                      const std::vector<std::uint64_t>& knife_edges,
+                                      const Surface3* surface) {
   if (!std::is_sorted(knife_edges.begin(), knife_edges.end())) {
     throw Error("closed_ball_defects: the knife edges are not sorted");
   }
@@ -213,12 +237,34 @@ ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* s
       defect[i] = static_cast<std::int8_t>(cell_defects(sp, i, s, knife_edges, knife_vertices));
     }
   });
+  if (surface != nullptr) {
+    // A shell that fewer than four cells meet has no closed restricted Delaunay surface (it
+    // needs four vertices at least), knife edges or not: its cells count.
+    std::vector<std::uint64_t> met;  // shell << 32 | cell, per polygon
+    for (std::uint32_t i = 0; i < n; ++i) {
+      for (std::uint32_t p = sp.site_begin[i]; p < sp.site_begin[i + 1]; ++p) {
+        met.push_back(std::uint64_t{surface->shell_of(sp.triangle[p])} << 32 | i);
+      }
+    }
+    std::sort(met.begin(), met.end());
+    met.erase(std::unique(met.begin(), met.end()), met.end());
+    for (std::size_t r = 0; r < met.size();) {
+      std::size_t q = r + 1;
+      while (q < met.size() && met[q] >> 32 == met[r] >> 32) ++q;
+      if (q - r < 4) {
+        for (std::size_t t = r; t < q; ++t) {
+          defect[met[t] & 0xffffffffu] |= static_cast<std::int8_t>(kNotDisk | kFewCells);
+        }
+      }
+      r = q;
+    }
+  }
   ClosedBallDefects d;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (defect[i] == 0) continue;
-    d.nb_not_disk += defect[i] & 1 ? 1 : 0;
-    d.nb_facets += defect[i] & 2 ? 1 : 0;
-    d.nb_edges += defect[i] & 4 ? 1 : 0;
+    d.nb_not_disk += defect[i] & kNotDisk ? 1 : 0;
+    d.nb_facets += defect[i] & kNotArc ? 1 : 0;
+    d.nb_edges += defect[i] & kEdgeTwice ? 1 : 0;
     d.cells.push_back(i);
     // The region's vertex farthest from the site.
     const double* p = sites + 3 * std::size_t{i};

@@ -98,7 +98,8 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   for (std::uint32_t round = 0;; ++round) {
     ClippedVoronoi3 cv;
     cv.compute(domain, sites.data(), n, with_surface);
-    const ClosedBallDefects defects = closed_ball_defects(cv, sites.data(), knife_edges);
+    const ClosedBallDefects defects =
+        closed_ball_defects(cv, sites.data(), knife_edges, &domain.surface());
     const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
     if (round == 0) first_points = defects.points;
     Mesh3Progress p;

@@ -1,14 +1,19 @@
 // Tests of the topology refinement's choice of new sites (mesh3d_pipeline.h,
 // refinement_points): one per bad cell at its farthest point, farthest first, none closer
 // than half its radius to one taken in the same round (the skull's flat boundary tets of
-// issue 30 came from pairs of new sites 2.6e-5 apart).
+// issue 30 came from pairs of new sites 2.6e-5 apart); and the defects themselves
+// (closed_ball_defects) where a shell is far smaller than the spacing.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "mesh_test_shapes.h"
+#include "voroclip/clip.h"
+#include "voroclip/core.h"
 #include "voroclip/mesh.h"
 
 using voroclip::ClosedBallDefects;
@@ -27,7 +32,98 @@ ClosedBallDefects defects_at(const std::vector<std::uint32_t>& cells,
   return d;
 }
 
+// A box [0, 10]^3 and a speck, the box [20, 20.1] x [0, 0.1]^2: two shells, the speck far
+// smaller than the spacing of a few sites in the box.
+voroclip::TriangleSurface box_and_speck() {
+  return voroclip_test::merged(voroclip_test::box_surface({0, 0, 0}, {10, 10, 10}),
+                               voroclip_test::box_surface({20, 0, 0}, {20.1, 0.1, 0.1}));
+}
+
+// The 8 sites (2.5 or 7.5)^3 in the box, site x + 2y + 4z at 7.5 along the axes set; then
+// `more`.
+std::vector<double> box_sites(const std::vector<Point>& more) {
+  std::vector<double> sites;
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) sites.push_back((i >> k) & 1 ? 7.5 : 2.5);
+  }
+  for (const Point& p : more) sites.insert(sites.end(), p.begin(), p.end());
+  return sites;
+}
+
+ClosedBallDefects defects_of(const voroclip::Domain3& domain, const std::vector<double>& sites,
+                             const std::vector<std::uint64_t>& knives,
+                             const voroclip::Surface3* surface) {
+  voroclip::Clip3Options o;
+  o.keep_surface = true;
+  voroclip::ClippedVoronoi3 cv;
+  cv.compute(domain, sites.data(), static_cast<std::uint32_t>(sites.size() / 3), o);
+  return voroclip::closed_ball_defects(cv, sites.data(), knives, surface);
+}
+
 }  // namespace
+
+TEST_CASE("closed_ball_defects: a shell inside one cell counts, knife edges or not",
+          "[mesh][exact]") {
+  const voroclip::TriangleSurface s = box_and_speck();
+  const voroclip::Domain3 domain(s);
+  // Both boxes' edges as knife edges (their normals 90 degrees apart: sharper than 45).
+  const std::vector<std::uint64_t> knives =
+      voroclip::mesh3::sorted_feature_edges(voroclip::extract_feature_lines(s, 45));
+  REQUIRE(knives.size() == 24);
+  const std::vector<double> sites = box_sites({});
+  // The speck lies in the cell of site 1, (7.5, 2.5, 2.5), with that cell's corner of the
+  // box: two pieces, one of them closed. Before, the knife edges hid it and the mesh lacked
+  // the speck ("its boundary has 1 shell where the domain has 2", even at 8,000 vertices).
+  for (const auto& k : {std::vector<std::uint64_t>{}, knives}) {
+    const ClosedBallDefects d = defects_of(domain, sites, k, nullptr);
+    CHECK(d.cells == std::vector<std::uint32_t>{1});
+    CHECK(d.nb_not_disk == 1);
+    // The refinement point: the region's vertex farthest from the site, a corner of the speck.
+    CHECK(d.points == std::vector<double>{20.1, 0, 0});
+  }
+}
+
+TEST_CASE("closed_ball_defects: the cells of a shell that fewer than four cells meet count",
+          "[mesh][exact]") {
+  const voroclip::TriangleSurface s = box_and_speck();
+  const voroclip::Domain3 domain(s);
+  const std::vector<std::uint64_t> knives =
+      voroclip::mesh3::sorted_feature_edges(voroclip::extract_feature_lines(s, 45));
+  // Three sites at corners of the speck: each cell touches its edges, so the knife rule
+  // passes them over; a restricted Delaunay surface on three vertices is no closed surface,
+  // and with the domain's surface they count.
+  const std::vector<Point> three = {{20, 0, 0}, {20.1, 0.1, 0}, {20, 0.1, 0.1}};
+  const std::vector<std::uint32_t> theirs = {8, 9, 10};
+  const ClosedBallDefects lenient = defects_of(domain, box_sites(three), knives, nullptr);
+  for (const std::uint32_t c : theirs) {
+    CHECK(std::count(lenient.cells.begin(), lenient.cells.end(), c) == 0);
+  }
+  const ClosedBallDefects strict = defects_of(domain, box_sites(three), knives, &domain.surface());
+  for (const std::uint32_t c : theirs) {
+    CHECK(std::count(strict.cells.begin(), strict.cells.end(), c) == 1);
+  }
+  CHECK(strict.nb_not_disk == lenient.nb_not_disk + 3);
+  // A fourth site (the corners of a tetrahedron): the rule no longer applies.
+  std::vector<Point> four = three;
+  four.push_back({20.1, 0, 0.1});
+  CHECK(defects_of(domain, box_sites(four), knives, &domain.surface()).cells ==
+        defects_of(domain, box_sites(four), knives, nullptr).cells);
+}
+
+TEST_CASE("mesh3d: a body far smaller than the spacing beside a large one keeps its shell",
+          "[mesh][regression]") {
+  // At 1,000 vertices (spacing about 1) the speck of 0.1 gets sites from the topology
+  // refinement: the mesh has both shells at the first try.
+  const voroclip::Domain3 domain(box_and_speck());
+  const voroclip::Mesh3Result r = voroclip::mesh3d(domain, voroclip_test::small_options(1000));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.shape_retries == 0);
+  CHECK(r.nb_topology_sites >= 4);
+  std::uint32_t on_speck = 0;
+  for (std::size_t v = 0; v < r.xyz.size() / 3; ++v) on_speck += r.xyz[3 * v] >= 20 ? 1 : 0;
+  CHECK(on_speck >= 4);
+  CHECK(voroclip::check_mesh3_shape(domain, r.xyz, r.tets).empty());
+}
 
 TEST_CASE("refinement_points: two bad cells with the same farthest point get one site",
           "[mesh][regression]") {

@@ -1269,9 +1269,15 @@ struct ClosedBallDefects {
 // empty): edges of the surface where its triangles' normals differ by more than 90
 // degrees. The surface has no positive reach there, so no sampling gives the cells that
 // touch such an edge the property (a site near it owns a strip across it, which the next
-// site splits): those cells are not counted; the output's shape check judges them.
+// site splits): those cells are not counted; the output's shape check judges them. But
+// they count when their region has a closed piece (a whole shell of the surface inside
+// one cell) and, with `surface` (the domain's, whose triangles the polygons name), when
+// they are the cells of a shell that fewer than four cells meet: a part much smaller than
+// the spacing (a small body beside a large one) has no triangle of the restricted
+// Delaunay surface otherwise, whatever its edges.
 ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* sites,
-                                      const std::vector<std::uint64_t>& knife_edges = {});
+                                      const std::vector<std::uint64_t>& knife_edges = {},
+                                      const Surface3* surface = nullptr);
 
 // Whether a tet mesh (xyz, 4 indices per tet) has the shape of the domain: its tets valid
 // as a Domain3 (positive volume, no overlap, a closed 2-manifold boundary: no tets meeting
