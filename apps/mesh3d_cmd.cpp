@@ -176,7 +176,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      ? "also with " + std::to_string(r.nb_sites) + " sites after " +
                            count_of(r.shape_retries, "run") + " with twice the vertices; "
                      : std::string()) +
-                "try more --vertices, or --allow-shape-mismatch to write it anyway)");
+                "try more --vertices, a smaller edge length where the shape is lost "
+                "(--sizing), or --allow-shape-mismatch to write it anyway)");
   }
   if (!r.shape_problem.empty()) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()

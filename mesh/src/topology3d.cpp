@@ -33,6 +33,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -332,6 +333,54 @@ std::string check_mesh3_shape(const Domain3& domain, const std::vector<double>& 
     std::string what = "its boundary has " + std::to_string(got.size()) +
                        (got.size() == 1 ? " shell" : " shells") + " where the domain has " +
                        std::to_string(want.size());
+    if (got.size() < want.size()) {
+      // Name the smallest shell of the domain that no vertex of the mesh's boundary is
+      // nearest to: a part smaller than the edges, usually, that got no vertices.
+      const Surface3& in = domain.surface();
+      TriangleSurface ts;
+      ts.xyz = in.coords();
+      ts.triangles = in.triangles();
+      const SurfaceTree tree(ts);
+      std::vector<std::uint8_t> reached(in.shells().size(), 0);
+      const Surface3& mine = out.surface();
+      for (std::uint32_t t = 0; t < mine.nb_triangles(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+          const SurfaceTree::Closest c = tree.closest(mine.vertex(mine.triangle_vertex(t, k)));
+          if (c.triangle != SurfaceTree::kNone) reached[in.shell_of(c.triangle)] = 1;
+        }
+      }
+      std::uint32_t missing = SurfaceTree::kNone;
+      for (std::uint32_t k = 0; k < in.shells().size(); ++k) {
+        if (reached[k] == 0 &&
+            (missing == SurfaceTree::kNone ||
+             std::abs(in.shells()[k].volume) < std::abs(in.shells()[missing].volume))) {
+          missing = k;
+        }
+      }
+      if (missing != SurfaceTree::kNone) {
+        double lo[3], hi[3];
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::numeric_limits<double>::infinity();
+          hi[c] = -lo[c];
+        }
+        for (std::uint32_t t = 0; t < in.nb_triangles(); ++t) {
+          if (in.shell_of(t) != missing) continue;
+          for (int k = 0; k < 3; ++k) {
+            const double* p = in.vertex(in.triangle_vertex(t, k));
+            for (int c = 0; c < 3; ++c) {
+              lo[c] = std::min(lo[c], p[c]);
+              hi[c] = std::max(hi[c], p[c]);
+            }
+          }
+        }
+        const double across =
+            std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        what += " (none of its vertices is nearest to the domain's shell at " + where(in, missing) +
+                ", " + std::to_string(in.shells()[missing].nb_triangles) + " triangles, " +
+                std::to_string(across) + " across: a part smaller than the edges gets no vertices)";
+      }
+    }
     if (got.size() > want.size()) {
       // The smallest ones are likely the strays: name the smallest.
       std::uint32_t smallest = 0;

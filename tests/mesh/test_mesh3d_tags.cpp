@@ -339,6 +339,13 @@ TEST_CASE("check_mesh3_shape names a missing shell and a stray tet", "[mesh]") {
   orient();
   const std::string one = voroclip::check_mesh3_shape(d, xyz, tets);
   CHECK(one.find("1 shell where the domain has 2") != std::string::npos);
+  // The box [2, 3] x [0, 1]^2 has no mesh vertex nearest to it: named, with its size (the
+  // diagonal, sqrt 3).
+  CHECK(one.find("none of its vertices is nearest to the domain's shell at (") !=
+        std::string::npos);
+  CHECK(one.find(", 12 triangles, 1.732051 across") != std::string::npos);
+  const std::size_t at = one.find("shell at (") + 10;
+  CHECK((one.compare(at, 2, "2.") == 0 || one.compare(at, 2, "3.") == 0));
   kuhn(xyz, tets, 2);
   orient();
   CHECK(voroclip::check_mesh3_shape(d, xyz, tets).empty());
