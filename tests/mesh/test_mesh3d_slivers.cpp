@@ -113,6 +113,27 @@ std::uint32_t flips_only(std::vector<double> p, std::vector<std::uint32_t>& tets
 
 }  // namespace
 
+TEST_CASE("acos_of_largest_cosine: std::acos to 1e-15 where a tet's largest cosine lies",
+          "[mesh]") {
+  using voroclip::mesh3::acos_of_largest_cosine;
+  // [0.3, 1] holds every tet's largest dihedral cosine (at least 1/3); 1e-15 relative is
+  // about 5 ulps, std::acos itself within one.
+  double worst = 0;
+  for (int k = 0; k <= 700000; ++k) {
+    const double c = 0.3 + 0.7 * k / 700000.0;
+    const double want = std::acos(c);
+    if (want > 0) worst = std::max(worst, std::abs(acos_of_largest_cosine(c) - want) / want);
+  }
+  CHECK(worst < 1e-15);
+  CHECK(worst > 0);  // a polynomial, not std::acos
+  CHECK(acos_of_largest_cosine(1) == 0);
+  CHECK(acos_of_largest_cosine(1 + 1e-16) == 0);
+  CHECK(std::abs(acos_of_largest_cosine(1.0 / 3) - std::acos(1.0 / 3)) < 1e-15);
+  // Below 0.3 (a flat tet's rounding): std::acos itself; below -1, pi.
+  CHECK(acos_of_largest_cosine(0.1) == std::acos(0.1));
+  CHECK(acos_of_largest_cosine(-2) == std::acos(-1.0));
+}
+
 TEST_CASE("perturb_slivers3 raises the smallest dihedral angle and keeps the constraints",
           "[mesh]") {
   Setup s = make_setup();
