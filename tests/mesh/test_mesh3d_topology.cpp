@@ -60,15 +60,18 @@ ClosedBallDefects defects_of(const voroclip::Domain3& domain, const std::vector<
   return voroclip::closed_ball_defects(cv, sites.data(), knives, surface);
 }
 
+// Both boxes' edges as knife edges (their normals 90 degrees apart: sharper than 45).
+std::vector<std::uint64_t> box_edges() {
+  return voroclip::mesh3::sorted_feature_edges(
+      voroclip::extract_feature_lines(box_and_speck(), 45));
+}
+
 }  // namespace
 
 TEST_CASE("closed_ball_defects: a shell inside one cell counts, knife edges or not",
           "[mesh][exact]") {
-  const voroclip::TriangleSurface s = box_and_speck();
-  const voroclip::Domain3 domain(s);
-  // Both boxes' edges as knife edges (their normals 90 degrees apart: sharper than 45).
-  const std::vector<std::uint64_t> knives =
-      voroclip::mesh3::sorted_feature_edges(voroclip::extract_feature_lines(s, 45));
+  const voroclip::Domain3 domain(box_and_speck());
+  const std::vector<std::uint64_t> knives = box_edges();
   REQUIRE(knives.size() == 24);
   const std::vector<double> sites = box_sites({});
   // The speck lies in the cell of site 1, (7.5, 2.5, 2.5), with that cell's corner of the
@@ -85,10 +88,8 @@ TEST_CASE("closed_ball_defects: a shell inside one cell counts, knife edges or n
 
 TEST_CASE("closed_ball_defects: the cells of a shell that fewer than four cells meet count",
           "[mesh][exact]") {
-  const voroclip::TriangleSurface s = box_and_speck();
-  const voroclip::Domain3 domain(s);
-  const std::vector<std::uint64_t> knives =
-      voroclip::mesh3::sorted_feature_edges(voroclip::extract_feature_lines(s, 45));
+  const voroclip::Domain3 domain(box_and_speck());
+  const std::vector<std::uint64_t> knives = box_edges();
   // Three sites at corners of the speck: each cell touches its edges, so the knife rule
   // passes them over; a restricted Delaunay surface on three vertices is no closed surface,
   // and with the domain's surface they count.
