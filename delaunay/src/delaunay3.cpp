@@ -740,7 +740,8 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
 // Where a BRIO round's first pass takes two zones: from 7/16 per_zone points on (57344 by
 // default; the round of 1M / 16 points then runs on two threads), or from 7/256 per_zone
 // points on (3584) in a build with no round that large but one of 7/64 per_zone (14336) or
-// more; a build with neither is sequential. A build with a round of 57344 keeps its
+// more, or from 7/1024 per_zone points on (896) in a build whose largest round has 3584 to
+// 14335 points; a smaller build is sequential. A build with a round of 57344 keeps its
 // smaller ones in the sequential prefix (triangulate), during which the other threads
 // split the later rounds into zones and fault in the tet array; zoning rounds 8 and 9 of
 // 1M points too was slower on two threads (median of five runs 2.249 s against 2.175 s on
@@ -750,8 +751,14 @@ std::size_t zone_count(std::size_t nb_points, std::size_t per_zone, std::size_t 
 // 15k round in zones (0.097 s with none); 10^5 uniform points 0.198-0.200 s instead of
 // 0.219-0.226 s. The price is the points the zones defer, on one thread: 10^5 points
 // 0.331 -> 0.335-0.338 s, rocker-arm's phase 0.098-0.100 -> 0.102-0.105 s. Builds of 10^4
-// points (largest round about 5k) stay sequential: zoning their 5k round took their
-// one-thread time from 0.029 to 0.031 s. A function of the round sizes alone.
+// points (largest round about 5k) were sequential, since zoning their 5k round took their
+// one-thread time from 0.029 to 0.031 s; but mesh3d's CVT builds one per evaluation, about
+// 75 at 10^4 sites, a quarter of its CPU time on one thread while the other waits. Zoned
+// from 896 points (session 33, `voroclip --threads T cvt3d bunny.obj --random N
+// --iterations 40 --tolerance 0`, the same energies): on two threads 10^4 sites 1.43 ->
+// 1.29-1.30 s, 1.4 10^4 sites 1.82-1.83 -> 1.61-1.64 s (6,000 sites, largest round 3k:
+// unchanged); on one thread 10^4 sites 1.85-1.86 -> 1.94 s. A function of the round sizes
+// alone.
 std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
                                 std::size_t per_zone) {
   const std::size_t large = (7 * per_zone + 15) / 16;
@@ -761,7 +768,9 @@ std::size_t first_pass_two_from(const std::vector<std::uint32_t>& round_starts,
     largest = std::max<std::size_t>(largest, round_starts[r + 1] - round_starts[r]);
   }
   if (largest >= large) return large;
-  return largest >= mid ? (7 * per_zone + 255) / 256 : mid;
+  const std::size_t small = (7 * per_zone + 255) / 256;
+  if (largest >= mid) return small;
+  return largest >= small ? (7 * per_zone + 1023) / 1024 : mid;
 }
 
 }  // namespace

@@ -457,7 +457,8 @@ void check_vertex_tets(const Delaunay3& dt) {
 TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][threads]") {
   // Small zones, so that these sizes go through the parallel passes (with default options
   // only rounds of 57344 points or more do, or in a build with no such round but one of
-  // 14336, those of 3584 or more).
+  // 14336, those of 3584 or more, or in a build whose largest round has 3584 to 14335
+  // points, those of 896 or more: the next test).
   Delaunay3::Options zoned;
   zoned.points_per_zone = 512;
   Delaunay3::Options sequential;
@@ -483,6 +484,30 @@ TEST_CASE("Delaunay3 is bitwise identical with 1, 2 and 4 threads", "[delaunay][
       CHECK(all_arrays(dt) == arrays);
     }
   }
+}
+
+TEST_CASE("Delaunay3 zones a build of 10^4 points with the default options",
+          "[delaunay][threads]") {
+  // mesh3d's CVT builds one triangulation of about 10^4 sites per evaluation; their largest
+  // BRIO round (about 5k points) and the rounds down to 896 points take two zones. 5,000
+  // points (largest round about 2.5k) stay sequential.
+  Delaunay3::Options sequential;
+  sequential.points_per_zone = 0xffffffffu;
+  const auto xyz = random_points(10000, 65);
+  const Delaunay3 one = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, {});
+  require_valid(one);
+  CHECK(one.stats().zoned_passes >= 2);
+  CHECK(one.stats().zoned_points > one.stats().sequential_points);
+  const Delaunay3 reference = voroclip::test::build_with_threads<Delaunay3>(xyz, 1, sequential);
+  CHECK(finite_tets(one) == finite_tets(reference));
+  for (const std::size_t threads : {2u, 4u}) {
+    INFO(threads << " threads");
+    const Delaunay3 dt = voroclip::test::build_with_threads<Delaunay3>(xyz, threads, {});
+    CHECK(all_arrays(dt) == all_arrays(one));
+  }
+  const Delaunay3 half =
+      voroclip::test::build_with_threads<Delaunay3>(random_points(5000, 66), 2, {});
+  CHECK(half.stats().zoned_passes == 0);
 }
 
 TEST_CASE("Delaunay3 first-pass zones along the round's Hilbert curve when they are balanced",

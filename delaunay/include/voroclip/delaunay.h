@@ -604,7 +604,8 @@ struct Delaunay3Options {
   // Parallel insertion: a BRIO round of n points is split into as many zones as the largest
   // power of two <= n / points_per_zone (at most 64), but two from 7/16 * points_per_zone on
   // (in a build with no round that large, from 7/256 * points_per_zone if a round reaches
-  // 7/64 of it, else never; a smaller round is inserted sequentially), the points it defers
+  // 7/64 of it, else from 7/1024 * points_per_zone if a round reaches 7/256 of it, else
+  // never; a smaller round is inserted sequentially), the points it defers
   // into zones of points_per_zone / 32 (two from 7/4 of that on). Fewer points per zone give
   // more parallelism and more points deferred at zone boundaries. The tet set never depends
   // on it; the slot numbering does (but never on the number of threads). The default makes
