@@ -201,7 +201,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     const std::uint32_t asked = r.requested_vertices << r.shape_retries;
     *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
          << ") where " << asked
-         << " did not resolve the surface (restricted Voronoi cells not disks); "
+         << " did not resolve the surface (restricted Voronoi cells not disks, or a part in "
+            "fewer than four cells); "
             "--exact-vertices fails instead\n";
   }
 
