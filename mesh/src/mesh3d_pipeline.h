@@ -49,7 +49,7 @@ inline double dot3(const double* a, const double* b) {
 // acos(c) in radians for the largest cosine c of a tet's dihedral angles, which is at least
 // 1/3 (no tet's smallest dihedral angle exceeds the regular tet's, acos(1/3)): the sliver and
 // flip passes take it for every candidate position of every vertex, and glibc's acos was a
-// sixth of the mean pass (perf, sphere at 30,000 vertices). acos(c) = 2 asin(s) with
+// fifth of the mean pass (perf, sphere at 30,000 vertices). acos(c) = 2 asin(s) with
 // s^2 = z = (1 - c) / 2 (exact for c >= 1/2), asin(s) = s g(z), g(z) = asin(sqrt z) / sqrt z
 // interpolated at 17 Chebyshev points of [0, 0.35] (mpmath, 50 digits; the coefficients of
 // z^0 .. z^16 below): within 1.2e-16 of g there, so within 6e-16 of acos on [0.3, 1] as

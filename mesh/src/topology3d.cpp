@@ -65,9 +65,8 @@ bool has_site(const ClipVertex3& v, std::uint32_t s) {
 
 // What is wrong with one cell: bit 0 not a disk, bit 1 a facet not an arc, bit 2 a Voronoi
 // edge crossing S twice or more, bit 3 a closed piece (with bit 0): a connected part of the
-// region with no edge on a bisector, so a whole shell of S inside the one cell; bit 4 (with
-// bit 0, closed_ball_defects) a cell of a shell that fewer than four cells meet.
-constexpr int kNotDisk = 1, kNotArc = 2, kEdgeTwice = 4, kClosedPiece = 8, kFewCells = 16;
+// region with no edge on a bisector, so a whole shell of S inside the one cell.
+constexpr int kNotDisk = 1, kNotArc = 2, kEdgeTwice = 4, kClosedPiece = 8;
 struct CellScratch {
   std::vector<std::pair<Key, std::uint32_t>> keys;             // (key, corner index)
   std::vector<std::uint32_t> id;                               // per corner: its vertex id
@@ -240,7 +239,7 @@ ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* s
   });
   if (surface != nullptr) {
     // A shell that fewer than four cells meet has no closed restricted Delaunay surface (it
-    // needs four vertices at least), knife edges or not: its cells count.
+    // needs four vertices at least), knife edges or not: its cells count (as not disks).
     std::vector<std::uint64_t> met;  // shell << 32 | cell, per polygon
     for (std::uint32_t i = 0; i < n; ++i) {
       for (std::uint32_t p = sp.site_begin[i]; p < sp.site_begin[i + 1]; ++p) {
@@ -254,7 +253,7 @@ ClosedBallDefects closed_ball_defects(const ClippedVoronoi3& cv, const double* s
       while (q < met.size() && met[q] >> 32 == met[r] >> 32) ++q;
       if (q - r < 4) {
         for (std::size_t t = r; t < q; ++t) {
-          defect[met[t] & 0xffffffffu] |= static_cast<std::int8_t>(kNotDisk | kFewCells);
+          defect[met[t] & 0xffffffffu] |= static_cast<std::int8_t>(kNotDisk);
         }
       }
       r = q;
@@ -337,17 +336,15 @@ std::string check_mesh3_shape(const Domain3& domain, const std::vector<double>& 
       // Name the smallest shell of the domain that no vertex of the mesh's boundary is
       // nearest to: a part smaller than the edges, usually, that got no vertices.
       const Surface3& in = domain.surface();
-      TriangleSurface ts;
-      ts.xyz = in.coords();
-      ts.triangles = in.triangles();
-      const SurfaceTree tree(ts);
+      const SurfaceTree tree(boundary_surface(domain));
       std::vector<std::uint8_t> reached(in.shells().size(), 0);
       const Surface3& mine = out.surface();
-      for (std::uint32_t t = 0; t < mine.nb_triangles(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-          const SurfaceTree::Closest c = tree.closest(mine.vertex(mine.triangle_vertex(t, k)));
-          if (c.triangle != SurfaceTree::kNone) reached[in.shell_of(c.triangle)] = 1;
-        }
+      std::vector<std::uint8_t> asked(mine.nb_vertices(), 0);  // each boundary vertex once
+      for (const std::uint32_t v : mine.triangles()) {
+        if (asked[v] != 0) continue;
+        asked[v] = 1;
+        const SurfaceTree::Closest c = tree.closest(mine.vertex(v));
+        if (c.triangle != SurfaceTree::kNone) reached[in.shell_of(c.triangle)] = 1;
       }
       std::uint32_t missing = SurfaceTree::kNone;
       for (std::uint32_t k = 0; k < in.shells().size(); ++k) {
