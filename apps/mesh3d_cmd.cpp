@@ -130,6 +130,12 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                       std::to_string(p.retry_vertices) + " vertices");
         return true;
       }
+      if (p.body_vertices > 0) {
+        progress.note("body " + std::to_string(p.body) + " of " + std::to_string(p.nb_bodies) +
+                      " (each outer shell is meshed on its own): " +
+                      std::to_string(p.body_vertices) + " vertices");
+        return true;
+      }
       const std::string name = mesh3_phase_name(p.phase);
       const bool begins = p.iteration == 0 && p.energy == 0 && !p.topology_round;
       if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
@@ -170,14 +176,16 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   const Mesh3Result r = mesh3d(domain, o);
   progress.done();
   if (!r.shape_problem.empty() && !args.allow_shape_mismatch) {
-    throw Error("mesh3d: the mesh of " + domain.source() +
-                " does not have its shape: " + r.shape_problem + "; no file written (" +
-                (r.shape_retries > 0
-                     ? "also with " + std::to_string(r.nb_sites) + " sites after " +
-                           count_of(r.shape_retries, "run") + " with twice the vertices; "
-                     : std::string()) +
-                "try more --vertices, a smaller edge length where the shape is lost "
-                "(--sizing), or --allow-shape-mismatch to write it anyway)");
+    throw Error(
+        "mesh3d: the mesh of " + domain.source() + " does not have its shape: " + r.shape_problem +
+        "; no file written (" +
+        (r.shape_retries > 0 && r.nb_bodies > 1 ? "also after " + count_of(r.shape_retries, "run") +
+                                                      " of that body with twice its vertices; "
+         : r.shape_retries > 0 ? "also with " + std::to_string(r.nb_sites) + " sites after " +
+                                     count_of(r.shape_retries, "run") + " with twice the vertices; "
+                               : std::string()) +
+        "try more --vertices, a smaller edge length where the shape is lost "
+        "(--sizing), or --allow-shape-mismatch to write it anyway)");
   }
   if (!r.shape_problem.empty()) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
@@ -191,14 +199,22 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                  "centroid); mesh3d makes the outer boundary conforming, not the interfaces "
                  "between regions\n";
   }
-  if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
+  if (r.shape_retries > 0 && out && r.shape_problem.empty() && r.nb_bodies > 1) {
+    *out << "note: the first mesh of " << r.raised_because
+         << "; that body was meshed again with twice its vertices ("
+         << count_of(r.shape_retries, "run") << " at most), which has it; --exact-vertices fails "
+         << "instead\n";
+  } else if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
     *out << "note: " << r.requested_vertices << " vertices gave a mesh without the domain's shape ("
          << r.raised_because << "); meshed again with " << (r.requested_vertices << r.shape_retries)
          << " vertices (" << count_of(r.shape_retries, "run")
          << " with twice the vertices), which has it; --exact-vertices fails instead\n";
   }
   if (r.nb_topology_sites > 0 && out) {
-    const std::uint32_t asked = r.requested_vertices << r.shape_retries;
+    // With several bodies, the sites before the refinement (the bodies' shares, retries and
+    // corners included).
+    const std::uint32_t asked = r.nb_bodies > 1 ? r.nb_sites - r.nb_topology_sites
+                                                : r.requested_vertices << r.shape_retries;
     *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
          << ") where " << asked
          << " did not resolve the surface (restricted Voronoi cells not disks, or a part in "
@@ -288,6 +304,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     j["hausdorff_to_edge_length"] = r.distance_to_edge_length;
     j["requested_vertices"] = r.requested_vertices;
     j["shape_retries"] = r.shape_retries;
+    j["bodies"] = r.nb_bodies;
     j["raised_because"] = r.raised_because;
     {
       const char* names[3] = {"4", "3", "0-2"};

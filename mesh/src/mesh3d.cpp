@@ -131,18 +131,58 @@ double integrate_over_volume(const Domain3& domain, const F& f) {
   return total * cell;
 }
 
-// The uniform spacing H of n sites under the cap: the sites' spacing is min(H, cap(x)),
-// so n = integral of max(1, (H / cap)^3) / H^3 (cap sampled as `caps`, cells of volume
-// `cell`). H^3 n - integral grows with H (its derivative is 3 H^2 times n minus the
-// cap's own count, positive while a root exists): bisection. 0 when no H gives n (the
-// cap alone needs n sites or more).
-double capped_spacing(const std::vector<double>& caps, double cell, double n) {
+// The lfs cap's samples over a volume: the field over the boundary vertices off the sharp
+// edges (their pole distance measures the input's sampling, not its shape), and the cap,
+// lfs_cap times it, at the cells of sample_over_volume's grid, each of volume `cell`.
+struct CapSamples {
+  std::unique_ptr<SizingField3> field;
+  std::vector<double> caps;
+  double cell = 0;
+};
+
+CapSamples lfs_cap_samples(const Domain3& domain, const TriangleSurface& surface,
+                           const Mesh3Options& options) {
+  std::vector<std::uint8_t> skip(domain.nb_vertices(), 0);
+  if (options.features) {
+    const FeatureLines sharp =
+        extract_feature_lines(surface, options.feature_angle_deg, domain.boundary_refs());
+    for (const std::uint32_t v : sharp.line_vertices) skip[v] = 1;
+    for (const std::uint32_t v : sharp.corners) skip[v] = 1;
+  }
+  CapSamples c;
+  c.field = std::make_unique<SizingField3>(domain, options.sizing, skip);
+  const SizingField3* h = c.field.get();
+  const double k = options.lfs_cap;
+  c.caps = sample_over_volume(
+      domain, [h, k](const double* p) { return k * h->size(p); }, c.cell);
+  return c;
+}
+
+// The sites' density under the cap at a sample c (cap value), for the uniform spacing H (0:
+// the cap's shape, lfs_cap / c): (spacing / local spacing)^3.
+double capped_ratio(double c, double H, double k) {
+  const double r = H == 0 ? k / c : std::max(1.0, H / c);
+  return r * r * r;
+}
+
+// The uniform spacing H of n sites under the cap over the volumes `parts` (the whole domain,
+// or each of its bodies): the sites' spacing is min(H, cap(x)), so n = integral of
+// max(1, (H / cap)^3) / H^3. H^3 n - integral grows with H (its derivative is 3 H^2 times n
+// minus the cap's own count, positive while a root exists): bisection. 0 when no H gives n
+// (the cap alone needs n sites or more).
+double capped_spacing(const std::vector<const CapSamples*>& parts, double n) {
   const auto excess = [&](double H) {
     double integral = 0;
-    for (const double c : caps) integral += c < H ? (H / c) * (H / c) * (H / c) : 1.0;
-    return H * H * H * n - integral * cell;
+    for (const CapSamples* part : parts) {
+      double sum = 0;
+      for (const double c : part->caps) sum += c < H ? (H / c) * (H / c) * (H / c) : 1.0;
+      integral += sum * part->cell;
+    }
+    return H * H * H * n - integral;
   };
-  const double volume = cell * static_cast<double>(caps.size());
+  double volume = 0;
+  for (const CapSamples* part : parts)
+    volume += part->cell * static_cast<double>(part->caps.size());
   double lo = std::cbrt(volume / n), hi = lo;
   if (excess(lo) >= 0) return lo;  // the cap binds nowhere at the uniform spacing
   for (int k = 0; excess(hi) < 0; ++k) {
@@ -244,6 +284,73 @@ std::string check_boundary_distance(const TriangleSurface& reference,
 
 }  // namespace
 
+std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
+                                        const Mesh3Options& options) {
+  std::vector<double> integrals;
+  if (!options.density.is_constant()) {
+    for (const Domain3& body : bodies)
+      integrals.push_back(density_sites_integral(body, options.density));
+  } else if (options.adaptive) {
+    for (const Domain3& body : bodies) {
+      const SizingField3 field(body, options.sizing);
+      integrals.push_back(integrate_over_volume(body, [&field](const double* p) {
+        const double s = field.size(p);
+        return 1 / (s * s * s);
+      }));
+    }
+  } else if (options.lfs_cap > 0) {
+    // One uniform spacing H for all the bodies: each body's run, with its integral's share of
+    // the sites, solves its H from its own samples, which are these.
+    std::vector<CapSamples> samples;
+    std::vector<const CapSamples*> parts;
+    for (const Domain3& body : bodies)
+      samples.push_back(lfs_cap_samples(body, boundary_surface(body), options));
+    for (const CapSamples& c : samples) {
+      if (!c.caps.empty()) parts.push_back(&c);
+    }
+    const double H = parts.empty() ? 0 : capped_spacing(parts, options.nb_vertices);
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      double sum = 0;
+      for (const double c : samples[b].caps) sum += capped_ratio(c, H, options.lfs_cap);
+      // A body no cell centre of the grid falls in: uncapped, its volume.
+      integrals.push_back(samples[b].caps.empty() ? bodies[b].volume() : sum * samples[b].cell);
+    }
+  } else {
+    for (const Domain3& body : bodies) integrals.push_back(body.volume());
+  }
+  return integrals;
+}
+
+void measure_mesh3_quality(const Domain3& domain, Mesh3Result& result) {
+  TetQualityOptions qo;
+  qo.keep_per_tet = true;
+  result.quality = tet_quality(result.xyz.data(), result.nb_vertices(), result.tets.data(),
+                               result.nb_tets(), qo);
+  result.input_sharpest_dihedral_deg = sharpest_dihedral_deg(domain.surface());
+  result.dihedral_bound_deg = std::min(20.0, result.input_sharpest_dihedral_deg / 2);
+  result.nb_tets_below_bound = 0;
+  for (Mesh3Result::Q1Class& c : result.q1_by_boundary_vertices) c = {};
+  for (std::uint32_t t = 0; t < result.nb_tets(); ++t) {
+    int on_boundary = 0;
+    for (int k = 0; k < 4; ++k) {
+      on_boundary += result.kinds[result.tets[4 * std::size_t{t} + static_cast<std::size_t>(k)]] !=
+                     Mesh3VertexKind::kInterior;
+    }
+    Mesh3Result::Q1Class& c = result.q1_by_boundary_vertices[on_boundary == 4   ? 0
+                                                             : on_boundary == 3 ? 1
+                                                                                : 2];
+    const double q1 = result.quality.per_tet[t].q1_deg;
+    result.nb_tets_below_bound += q1 < result.dihedral_bound_deg;
+    c.min_deg = c.nb_tets == 0 ? q1 : std::min(c.min_deg, q1);
+    c.mean_deg += q1;
+    ++c.nb_tets;
+  }
+  for (Mesh3Result::Q1Class& c : result.q1_by_boundary_vertices) {
+    if (c.nb_tets > 0) c.mean_deg /= c.nb_tets;
+  }
+  result.quality.per_tet = {};
+}
+
 bool Pipeline::notify(Mesh3Progress p) const {
   p.phase = phase;
   p.seconds = since(t_start);
@@ -309,36 +416,25 @@ void Pipeline::run() {
         throw Error("mesh3d: lfs_cap " + std::to_string(options.lfs_cap) +
                     "; expected a positive number or 0");
       }
-      // The field over the boundary vertices off the sharp edges, scaled by the cap.
-      std::vector<std::uint8_t> skip(domain.nb_vertices(), 0);
-      if (options.features) {
-        const FeatureLines sharp =
-            extract_feature_lines(surface, options.feature_angle_deg, input_tags);
-        for (const std::uint32_t v : sharp.line_vertices) skip[v] = 1;
-        for (const std::uint32_t v : sharp.corners) skip[v] = 1;
-      }
-      auto capped = std::make_unique<SizingField3>(domain, options.sizing, skip);
-      const SizingField3* h = capped.get();
+      CapSamples samples = lfs_cap_samples(domain, surface, options);
+      const SizingField3* h = samples.field.get();
+      const std::vector<double>& caps = samples.caps;
       const double k = options.lfs_cap;
-      double cell = 0;
-      const std::vector<double> caps = sample_over_volume(
-          domain, [h, k](const double* p) { return k * h->size(p); }, cell);
-      const double H = caps.empty() ? 0 : capped_spacing(caps, cell, options.nb_vertices);
+      const double H = caps.empty() ? 0 : capped_spacing({&samples}, options.nb_vertices);
       const double smallest = caps.empty() ? 0 : *std::min_element(caps.begin(), caps.end());
       if (!caps.empty() && (H == 0 || smallest < H)) {
         // The cap binds somewhere: h = min(1, cap / H) (H = 0: the cap's shape, scaled).
         std::size_t bound = 0;
         double sum = 0;
         for (const double c : caps) {
-          const double r = H == 0 ? k / c : std::max(1.0, H / c);
-          sum += r * r * r;
+          sum += capped_ratio(c, H, k);
           bound += H == 0 || c < H ? 1 : 0;
         }
         result.lfs_capped_fraction = static_cast<double>(bound) / static_cast<double>(caps.size());
         result.lfs_cap_spacing = H;
         cap_scale = H == 0 ? 1.0 : H / k;
-        integral = sum * cell;
-        field = std::move(capped);
+        integral = sum * samples.cell;
+        field = std::move(samples.field);
         graded = true;
         const bool uniform_part = H > 0;
         const double scale = cap_scale;
@@ -728,31 +824,7 @@ void Pipeline::run() {
     // between feature lines, from 1) and regions (the input's tet tags, else one per volume
     // component).
     tag_mesh3(domain, surface_tree, triangle_patch, patches, index, result);
-    TetQualityOptions qo;
-    qo.keep_per_tet = true;
-    result.quality = tet_quality(result.xyz.data(), nv, result.tets.data(), result.nb_tets(), qo);
-    result.input_sharpest_dihedral_deg = sharpest_dihedral_deg(domain.surface());
-    result.dihedral_bound_deg = std::min(20.0, result.input_sharpest_dihedral_deg / 2);
-    for (std::uint32_t t = 0; t < result.nb_tets(); ++t) {
-      int on_boundary = 0;
-      for (int k = 0; k < 4; ++k) {
-        on_boundary +=
-            result.kinds[result.tets[4 * std::size_t{t} + static_cast<std::size_t>(k)]] !=
-            Mesh3VertexKind::kInterior;
-      }
-      Mesh3Result::Q1Class& c = result.q1_by_boundary_vertices[on_boundary == 4   ? 0
-                                                               : on_boundary == 3 ? 1
-                                                                                  : 2];
-      const double q1 = result.quality.per_tet[t].q1_deg;
-      result.nb_tets_below_bound += q1 < result.dihedral_bound_deg;
-      c.min_deg = c.nb_tets == 0 ? q1 : std::min(c.min_deg, q1);
-      c.mean_deg += q1;
-      ++c.nb_tets;
-    }
-    for (Mesh3Result::Q1Class& c : result.q1_by_boundary_vertices) {
-      if (c.nb_tets > 0) c.mean_deg /= c.nb_tets;
-    }
-    result.quality.per_tet = {};
+    measure_mesh3_quality(domain, result);
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);
     const Clock::time_point t_distance = Clock::now();
     const double edge_per_spacing = std::cbrt(kMesh3VerticesPerEdgeVolume);
@@ -859,6 +931,8 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
                 "; expected a value in [0, 1]");
   }
   if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
+  const std::vector<Domain3> bodies = mesh3::domain_bodies(domain);
+  if (!bodies.empty()) return mesh3::mesh3d_bodies(domain, bodies, options);
   Mesh3Result result;
   mesh3::Pipeline(domain, options, result).run();
   result.requested_vertices = options.nb_vertices;

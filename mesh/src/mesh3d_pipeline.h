@@ -275,6 +275,28 @@ std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& de
                                                      const std::vector<double>& sites,
                                                      std::uint32_t* nb_deferred);
 
+// Step 8's quality figures of a finished mesh (result.xyz, kinds, tets): the quality report,
+// the input's sharpest dihedral angle and the bound, the tets below it, Q1 by boundary
+// vertices.
+void measure_mesh3_quality(const Domain3& domain, Mesh3Result& result);
+
+// What the sites' count is spread over the bodies by: per body the integral over its
+// volume of h^-3, h the target size's shape (the volume for a uniform size; from the
+// user's density, the local feature size with options.adaptive, or the lfs cap with one
+// uniform spacing for all the bodies).
+std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
+                                        const Mesh3Options& options);
+
+// Several bodies (mesh3d_bodies.cpp). The bodies of the domain, each an outer shell with the
+// cavities directly inside it (for a tet mesh: its face-connected tets), as domains of
+// their own, in the order of their outer shells; empty for a domain of one body.
+std::vector<Domain3> domain_bodies(const Domain3& domain);
+// mesh3d of a domain of several bodies: each body meshed on its own (mesh3d, with its share
+// of options.nb_vertices by body_site_integrals, at least 4), the meshes put together in body
+// order, tags and figures for the whole.
+Mesh3Result mesh3d_bodies(const Domain3& domain, const std::vector<Domain3>& bodies,
+                          const Mesh3Options& options);
+
 // One mesh3d() run: the caller's domain and options, the result being filled, the phase
 // clock and the sites with their constraints. Each step is a member, defined in the file
 // named above.

@@ -356,6 +356,10 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
                                     patch_tag, triangle_patch, closest);
   result.tet_tags = region_tags(domain, result.xyz, result.tets, face_tet, closest,
                                 result.nb_tets_across_regions);
+  name_and_group_tags(domain, result);
+}
+
+void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
   {
     std::vector<std::int32_t> refs = domain.tet_refs();
     std::sort(refs.begin(), refs.end());

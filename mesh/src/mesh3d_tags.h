@@ -55,4 +55,8 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
                const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
                const std::vector<std::uint32_t>& index, Mesh3Result& result);
 
+// The end of tag_mesh3, also for meshes put together from several (mesh3d_bodies): the
+// count of the input's regions, the tag names (the input's, then "patch <tag>" and "region
+// <tag>" for the tags used without one) and the boundary triangles grouped by tag (stable).
+void name_and_group_tags(const Domain3& domain, Mesh3Result& result);
 }  // namespace voroclip::mesh3

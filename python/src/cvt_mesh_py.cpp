@@ -314,6 +314,11 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
       d["slivers"] = p.slivers;
       d["min_dihedral_deg"] = p.min_dihedral_deg;
       d["seconds"] = p.seconds;
+      if (p.nb_bodies > 0) {
+        d["body"] = p.body;
+        d["nb_bodies"] = p.nb_bodies;
+      }
+      if (p.body_vertices > 0) d["body_vertices"] = p.body_vertices;
       return d;
     });
   };
@@ -358,6 +363,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["mean_q1_before_deg"] = m.mean_q1_before_deg;
   s["mean_q1_after_deg"] = m.mean_q1_after_deg;
   s["mean_seconds"] = m.mean_seconds;
+  s["bodies"] = m.nb_bodies;
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;

@@ -218,3 +218,30 @@ def test_mesh2d_mean_angle_raise_and_exact_vertices():
     assert s["vertex_count_note"].startswith("%d vertices for 300 asked" % len(raised.points))
     with pytest.raises(voroclip.Error, match="mean angle target"):
         voroclip.mesh2d(ring, vertices=300, mean_angle_target=60)
+
+
+def test_mesh3d_meshes_each_body_on_its_own():
+    # Two unit boxes 0.01 apart along x: each body meshed with its share of the vertices,
+    # no tet across the gap, the region tag its box's (in shell order).
+    cube_v = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+    cube_t = np.array([
+        (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+        (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+    vertices = np.vstack([cube_v, cube_v + [1.01, 0, 0]])
+    triangles = np.vstack([cube_t, cube_t + 8])
+    starts = []
+
+    def callback(info):
+        if "body_vertices" in info:
+            starts.append((info["body"], info["nb_bodies"], info["body_vertices"]))
+
+    mesh = voroclip.mesh3d((vertices, triangles), 400, callback=callback, threads=2,
+                           unconstrained_iterations=8, constrained_iterations=12)
+    assert starts == [(1, 2, 200), (2, 2, 200)]
+    assert mesh.stats["bodies"] == 2
+    assert mesh.shape_problem == ""
+    x = mesh.points[mesh.cells][:, :, 0]
+    right = (x > 1.005).all(axis=1)
+    assert ((x > 1.005).any(axis=1) == right).all()  # no tet across the gap
+    assert (mesh.cell_tags == np.where(right, 2, 1)).all()
+    assert sorted(set(mesh.boundary_tags.tolist())) == list(range(1, 13))

@@ -593,3 +593,133 @@ TEST_CASE("sharpest_dihedral_deg: convex edges count, reflex ones do not", "[mes
   CHECK(voroclip::mesh3::sharpest_dihedral_deg(voroclip::Surface3(t)) ==
         Approx(std::acos(1.0 / 3) * 180 / M_PI).epsilon(1e-12));
 }
+
+TEST_CASE("mesh3d meshes bodies 0.01 apart each on its own", "[mesh][regression]") {
+  // One CVT over both boxes gave cells across the gap: tets bridging it, then a topology
+  // refinement that fed itself (an error after three retries at 1,000 vertices). Each body
+  // is now meshed apart, with its share of the vertices.
+  voroclip::TriangleSurface s;
+  s.source = "two boxes 0.01 apart";
+  const double a0[3] = {0, 0, 0}, a1[3] = {1, 1, 1}, b0[3] = {1.01, 0, 0}, b1[3] = {2.01, 1, 1};
+  add_box(s, a0, a1);
+  add_box(s, b0, b1);
+  const Domain3 d(s);
+  Mesh3Options o = small_options(500);
+  std::vector<std::array<std::uint32_t, 3>> starts;  // body, bodies, vertices
+  bool numbered = true;
+  o.progress = [&](const voroclip::Mesh3Progress& p) {
+    if (p.body_vertices > 0) starts.push_back({p.body, p.nb_bodies, p.body_vertices});
+    numbered = numbered && p.nb_bodies == 2 && p.body >= 1 && p.body <= 2;
+    return true;
+  };
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(numbered);
+  CHECK(starts == std::vector<std::array<std::uint32_t, 3>>{{1, 2, 250}, {2, 2, 250}});
+  CHECK(r.shape_problem.empty());
+  CHECK(r.shape_retries == 0);
+  CHECK(r.requested_vertices == 500);
+  CHECK(voroclip::check_mesh3_shape(d, r.xyz, r.tets).empty());
+  check_boundary(r);
+  const std::vector<std::uint32_t> comp = components(r);
+  CHECK(std::set<std::uint32_t>(comp.begin(), comp.end()).size() == 2);
+  // No tet reaches across the gap; the region is the body's (in shell order).
+  std::uint32_t wrong = 0;
+  for (std::size_t t = 0; t < comp.size(); ++t) {
+    int side = 0;
+    for (int k = 0; k < 4; ++k)
+      side += point(r, r.tets[4 * t + static_cast<std::size_t>(k)])[0] > 1.005;
+    wrong += (side == 0 && r.tet_tags[t] == 1) || (side == 4 && r.tet_tags[t] == 2) ? 0 : 1;
+  }
+  CHECK(wrong == 0);
+  // Patches body after body: the first box's six faces 1..6, the second's 7..12.
+  std::set<std::int32_t> left, right;
+  for (std::size_t b = 0; b < r.boundary_tags.size(); ++b) {
+    const bool second = point(r, r.boundary_triangles[3 * b])[0] > 1.005;
+    (second ? right : left).insert(r.boundary_tags[b]);
+  }
+  CHECK(left == std::set<std::int32_t>{1, 2, 3, 4, 5, 6});
+  CHECK(right == std::set<std::int32_t>{7, 8, 9, 10, 11, 12});
+  CHECK(r.tag_names.size() == 14);
+  // The figures are the whole mesh's.
+  CHECK(r.quality.nb_tets == r.nb_tets());
+  CHECK(r.q1_by_boundary_vertices[0].nb_tets + r.q1_by_boundary_vertices[1].nb_tets +
+            r.q1_by_boundary_vertices[2].nb_tets ==
+        r.nb_tets());
+  CHECK(r.distance.max_relative() < 1e-9);
+  std::uint32_t kinds[4] = {0, 0, 0, 0};
+  for (const auto k : r.kinds) ++kinds[static_cast<int>(k)];
+  CHECK(kinds[3] == 16);  // the two boxes' corners
+  CHECK(kinds[1] == r.nb_boundary_sites);
+  // The same bits with 1 and N threads.
+  o.progress = nullptr;
+  voroclip_test::check_same_mesh3d_with_1_and_2_threads(d, o);
+}
+
+TEST_CASE("mesh3d: a body inside another's cavity is a body of its own", "[mesh]") {
+  // A hollow box (its cavity [1, 2]^3) and a box [1.2, 1.8]^3 inside the cavity: two
+  // bodies, the inner one at depth 2.
+  voroclip::TriangleSurface s;
+  s.source = "box in a hollow box";
+  const double o0[3] = {0, 0, 0}, o1[3] = {3, 3, 3}, c0[3] = {1, 1, 1}, c1[3] = {2, 2, 2};
+  const double i0[3] = {1.2, 1.2, 1.2}, i1[3] = {1.8, 1.8, 1.8};
+  add_box(s, o0, o1);
+  add_box(s, c0, c1, true);
+  add_box(s, i0, i1);
+  const Domain3 d(s);
+  REQUIRE(voroclip::mesh3::domain_bodies(d).size() == 2);
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(800));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.shape_retries == 0);
+  check_boundary(r);
+  std::uint32_t wrong = 0;
+  for (std::size_t t = 0; t < r.tet_tags.size(); ++t) {
+    int inner = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double* p = point(r, r.tets[4 * t + static_cast<std::size_t>(k)]);
+      inner += p[0] > 1.1 && p[0] < 1.9 && p[1] > 1.1 && p[1] < 1.9 && p[2] > 1.1 && p[2] < 1.9;
+    }
+    wrong += (inner == 0 && r.tet_tags[t] == 1) || (inner == 4 && r.tet_tags[t] == 2) ? 0 : 1;
+  }
+  CHECK(wrong == 0);
+  // 18 faces: the outer box's and the cavity's (body 1), then the inner box's.
+  CHECK(std::set<std::int32_t>(r.boundary_tags.begin(), r.boundary_tags.end()).size() == 18);
+}
+
+TEST_CASE("mesh3d keeps the tags of a tet mesh of two bodies", "[mesh]") {
+  // The tagged Kuhn cube and a copy of it 0.2 along x whose tets are region 3 and whose
+  // triangles are patch 13.
+  voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  const auto nv = static_cast<std::uint32_t>(in.xyz.size() / 3);
+  for (std::uint32_t v = 0; v < 8; ++v) {
+    in.xyz.insert(in.xyz.end(), {in.xyz[3 * v] + 0.2, in.xyz[3 * v + 1], in.xyz[3 * v + 2]});
+  }
+  const std::size_t nt = in.tets.size(), ntri = in.triangles.size();
+  for (std::size_t i = 0; i < nt; ++i) in.tets.push_back(in.tets[i] + nv);
+  for (std::size_t i = 0; i < ntri; ++i) in.triangles.push_back(in.triangles[i] + nv);
+  in.tet_ref.resize(2 * (nt / 4), 3);
+  in.triangle_ref.resize(2 * (ntri / 3), 13);
+  in.tag_names.push_back({3, 3, "lead"});
+  const Domain3 d(in);
+  REQUIRE(voroclip::mesh3::domain_bodies(d).size() == 2);
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(600));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  std::set<std::int32_t> first_regions, second_regions, first_patches, second_patches;
+  const double middle = 1.0 / 3 + 0.15;
+  for (std::size_t t = 0; t < r.tet_tags.size(); ++t) {
+    (point(r, r.tets[4 * t])[0] > middle ? second_regions : first_regions).insert(r.tet_tags[t]);
+  }
+  for (std::size_t b = 0; b < r.boundary_tags.size(); ++b) {
+    (point(r, r.boundary_triangles[3 * b])[0] > middle ? second_patches : first_patches)
+        .insert(r.boundary_tags[b]);
+  }
+  CHECK(first_regions == std::set<std::int32_t>{1, 2});
+  CHECK(second_regions == std::set<std::int32_t>{3});
+  CHECK(first_patches == std::set<std::int32_t>{10, 11, 12});
+  CHECK(second_patches == std::set<std::int32_t>{13});
+  CHECK(r.nb_input_regions == 3);
+  std::vector<voroclip::TetMeshInput::TagName> names = in.tag_names;
+  names.push_back({2, 11, "patch 11"});
+  names.push_back({2, 13, "patch 13"});
+  CHECK(r.tag_names == names);
+}

@@ -896,7 +896,11 @@ struct Mesh3Progress {
   // Non-zero once, at the start of a new run with this many vertices: the last run's mesh
   // did not have the domain's shape (Mesh3Options::max_shape_retries).
   std::uint32_t retry_vertices = 0;
-  double seconds = 0;  // since the start of the pipeline
+  // A domain of several bodies (outer shells) meshes them one by one: body (from 1) of
+  // nb_bodies is being meshed (0 and 0 for a domain of one body); body_vertices is non-zero
+  // once, at the start of each body: its share of the vertices.
+  std::uint32_t body = 0, nb_bodies = 0, body_vertices = 0;
+  double seconds = 0;  // since the start of the pipeline (of the body's)
 };
 
 // A smooth surface over a triangle surface: Phong tessellation (Boubekeur and Alexa,
@@ -1145,7 +1149,8 @@ struct Mesh3Result {
   // patch), 3 vertex indices each; the patch tag of each
   // (the input's triangle tags when a tet mesh file gives them, whose borders the mesh
   // keeps as feature lines; otherwise the patches of the surface between the feature
-  // lines, numbered from 1 in the order of their first input triangle); the region tag of
+  // lines, numbered from 1 in the order of their first input triangle, body after body
+  // when the domain has several); the region tag of
   // each tet (the input's tet tags, by the input tet that holds the tet's centroid; otherwise
   // one region per volume component, numbered from 1 by its outer shell's order among the
   // surface's outer shells); the input's tag names (Gmsh files), then for each tag used
@@ -1229,8 +1234,11 @@ struct Mesh3Result {
   std::string shape_problem;
   // The vertices asked for (Mesh3Options::nb_vertices), the runs redone with twice as many
   // because the mesh did not have the domain's shape, and the first run's shape problem.
+  // With several bodies (nb_bodies > 1, each meshed on its own): shape_retries is the most
+  // any body needed, and raised_because and shape_problem name the body.
   std::uint32_t requested_vertices = 0, shape_retries = 0;
   std::string raised_because;
+  std::uint32_t nb_bodies = 1;
   // Wall-clock seconds per phase (Mesh3Phase order) and in all.
   double seconds[kNbMesh3Phases] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   double total_seconds = 0;
@@ -1240,7 +1248,12 @@ struct Mesh3Result {
   std::uint32_t nb_tets() const { return static_cast<std::uint32_t>(tets.size() / 4); }
 };
 
-// Meshes the volume of `domain` (mesh.h, "the pipeline"). Throws Error for invalid options
+// Meshes the volume of `domain` (mesh.h, "the pipeline"). A domain of several bodies (outer
+// shells, each with the cavities directly inside it) has each body meshed on its own, with
+// its share of nb_vertices (by the integral of h^-3 over it: its volume for a uniform size;
+// at least 4), and the meshes put together in the order of their outer shells: one CVT over
+// all would let a cell, and the tets, reach across a gap narrower than the spacing between
+// two bodies. Throws Error for invalid options
 // (fewer than 4 vertices, a feature angle outside [0, 180], a smooth_shape outside
 // [0, 1]) or a domain without boundary.
 Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
