@@ -43,12 +43,19 @@ double since(Pipeline::Clock::time_point t) {
   return std::chrono::duration<double>(Pipeline::Clock::now() - t).count();
 }
 
+}  // namespace
+
 // Sites on a body-centred cubic lattice (the points a (i, j, k) + o and a (i + 1/2, j + 1/2,
 // k + 1/2) + o) strictly inside the domain (exact point location), about n of them: the
-// spacing starts at (2 V / n)^(1/3) and is corrected by the count's cube root until the
-// count is within 0.5 % of n (at most 6 times). The offset o is a function of the seed.
-// The BCC lattice is the best known CVT in space (its cells are truncated octahedra,
-// Du & Wang 2005), so only the sites near the boundary have far to go.
+// spacing starts at (2 V / n)^(1/3) and is corrected by the count's cube root (by a factor
+// within [1/2, 2], and between the spacings known to give too many and too few once both are
+// known) until the count is within 0.5 % of n, at most 12 times; the closest count is kept.
+// The offset o is a function of the seed. The BCC lattice is the best known CVT in space
+// (its cells are truncated octahedra, Du & Wang 2005), so only the sites near the boundary
+// have far to go. But in a part thinner than the layers' spacing the count jumps between 0
+// and several times n as the layers move (a plate 0.1 thick at 1,000 sites had 0, then
+// 950,544, then 0, ...: the CVT of a million sites ran for hours): when no spacing comes
+// within 10 % of n, the result is empty and the caller draws the sites at random instead.
 std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& locator,
                                   std::uint32_t n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -56,9 +63,8 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
   for (double& o : offset) o = static_cast<double>(rng() >> 11) * 0x1p-53;
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
-  double a = std::cbrt(2 * domain.volume() / n);
-  std::vector<double> xyz;
-  for (int attempt = 0; attempt < 6; ++attempt) {
+  // The lattice points inside for spacing a; stops past `cap` points.
+  const auto fill = [&](double a, std::size_t cap, std::vector<double>& xyz) {
     xyz.clear();
     std::int64_t first[3], last[3];
     for (int c = 0; c < 3; ++c) {
@@ -74,18 +80,42 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
             for (int c = 0; c < 3; ++c) {
               p[c] = a * (static_cast<double>(ijk[c]) + offset[c] + 0.5 * shift);
             }
-            if (locator.point_side(p) == Sign::positive) xyz.insert(xyz.end(), p, p + 3);
+            if (locator.point_side(p) == Sign::positive) {
+              xyz.insert(xyz.end(), p, p + 3);
+              if (xyz.size() / 3 > cap) return;
+            }
           }
         }
       }
     }
+  };
+  const double target = n;
+  const std::size_t cap = 4 * std::size_t{n} + 16;
+  double a = std::cbrt(2 * domain.volume() / target);
+  double too_small = 0, too_large = 0;  // spacings known to give more / fewer than n
+  std::vector<double> xyz, best;
+  double best_error = -1;
+  for (int attempt = 0; attempt < 12; ++attempt) {
+    fill(a, cap, xyz);
     const double count = static_cast<double>(xyz.size() / 3);
-    if (std::fabs(count - n) <= 0.005 * n) break;
-    a *= std::cbrt(std::max(count, 1.0) / n);
+    const double error = std::fabs(count - target);
+    if (best_error < 0 || error < best_error) {
+      best_error = error;
+      best.swap(xyz);
+    }
+    if (error <= 0.005 * target) break;
+    (count > target ? too_small : too_large) = a;
+    double next = a * std::clamp(std::cbrt(std::max(count, 1.0) / target), 0.5, 2.0);
+    if (too_small > 0 && too_large > 0 && !(next > too_small && next < too_large)) {
+      next = std::sqrt(too_small * too_large);
+    }
+    a = next;
   }
-  if (xyz.size() < 12) throw Error("mesh3d: the lattice has fewer than 4 points in the domain");
-  return xyz;
+  if (best_error > 0.1 * target || best.size() < 12) return {};
+  return best;
 }
+
+namespace {
 
 // f at the centres of the cells of a grid of 48 cells along the longest side of the
 // bounding box that lie in the volume (each centre located exactly), in the grid's order
@@ -488,15 +518,19 @@ void Pipeline::run() {
     // 2. Sampling.
     next_phase(Mesh3Phase::kSampling);
     const TetExtractor3 extractor(domain);
-    sites = options.sampling == Mesh3Sampling::kLattice && !graded
-                ? lattice_sites(domain, extractor, options.nb_vertices, options.seed)
-                : random_points3(
-                      domain, options.nb_vertices, options.seed,
-                      user_density.is_constant()
-                          ? clip.density
-                          : Density3::function([&user_density](double x, double y, double z) {
-                              return std::pow(user_density.callback(x, y, z), 0.6);
-                            }));
+    if (options.sampling == Mesh3Sampling::kLattice && !graded) {
+      sites = lattice_sites(domain, extractor, options.nb_vertices, options.seed);
+    }
+    if (sites.empty()) {
+      // Graded, or a part too thin for the lattice: drawn at random with the density.
+      sites =
+          random_points3(domain, options.nb_vertices, options.seed,
+                         user_density.is_constant()
+                             ? clip.density
+                             : Density3::function([&user_density](double x, double y, double z) {
+                                 return std::pow(user_density.callback(x, y, z), 0.6);
+                               }));
+    }
 
     // 3. Unconstrained CVT.
     next_phase(Mesh3Phase::kUnconstrained);

@@ -275,6 +275,12 @@ std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& de
                                                      const std::vector<double>& sites,
                                                      std::uint32_t* nb_deferred);
 
+// Step 2 (mesh3d.cpp): about n sites on a body-centred cubic lattice strictly inside the
+// domain (its spacing fitted to the count, the offset from the seed); empty when no spacing
+// gives within 10 % of n (a part thinner than the lattice's layers): sample at random then.
+std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& locator,
+                                  std::uint32_t n, std::uint64_t seed);
+
 // Step 8's quality figures of a finished mesh (result.xyz, kinds, tets): the quality report,
 // the input's sharpest dihedral angle and the bound, the tets below it, Q1 by boundary
 // vertices.

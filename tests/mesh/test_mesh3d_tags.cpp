@@ -723,3 +723,49 @@ TEST_CASE("mesh3d keeps the tags of a tet mesh of two bodies", "[mesh]") {
   names.push_back({2, 13, "patch 13"});
   CHECK(r.tag_names == names);
 }
+
+TEST_CASE("lattice_sites: about n sites, or none in a part thinner than its layers",
+          "[mesh][regression]") {
+  // A plate 0.1 thick at 1,000 sites: the layers (0.135 apart) held 0, then 950,544 sites as
+  // the spacing was corrected, and mesh3d's CVT of a million sites ran for hours. Now the
+  // count is within 10 % of n or the lattice gives up (mesh3d draws the sites at random).
+  voroclip::TriangleSurface s;
+  s.source = "plate";
+  const double p0[3] = {0, 0, 0}, p1[3] = {10, 10, 0.1};
+  add_box(s, p0, p1);
+  const Domain3 plate(s);
+  const voroclip::TetExtractor3 in_plate(plate);
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const std::vector<double> sites = voroclip::mesh3::lattice_sites(plate, in_plate, 1000, seed);
+    INFO("seed " << seed << ": " << sites.size() / 3 << " sites");
+    CHECK((sites.empty() || (sites.size() / 3 >= 900 && sites.size() / 3 <= 1100)));
+  }
+  // A cube: within 0.5 %, strictly inside.
+  voroclip::TriangleSurface c;
+  c.source = "cube";
+  const double c0[3] = {0, 0, 0}, c1[3] = {1, 1, 1};
+  add_box(c, c0, c1);
+  const Domain3 cube(c);
+  const voroclip::TetExtractor3 in_cube(cube);
+  const std::vector<double> sites = voroclip::mesh3::lattice_sites(cube, in_cube, 1000, 1);
+  CHECK(sites.size() / 3 >= 995);
+  CHECK(sites.size() / 3 <= 1005);
+  for (std::size_t i = 0; i < sites.size(); i += 3) CHECK(cube.locate(&sites[i]) == Sign::positive);
+}
+
+TEST_CASE("mesh3d meshes a plate thinner than the lattice's layers", "[mesh][regression]") {
+  // 150 sites in a plate 3 x 3 x 0.1: the lattice has no spacing near that count (its layers
+  // are 0.115 apart), so the sites are drawn at random; the topology refinement then adds
+  // the sites the thickness needs (about a thousand), with the plate's shape.
+  voroclip::TriangleSurface s;
+  s.source = "plate";
+  const double p0[3] = {0, 0, 0}, p1[3] = {3, 3, 0.1};
+  add_box(s, p0, p1);
+  const Domain3 plate(s);
+  const Mesh3Result r = voroclip::mesh3d(plate, small_options(150));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.shape_retries == 0);
+  CHECK(r.nb_topology_sites > 0);
+  CHECK(r.nb_sites < 3000);
+  check_boundary(r);
+}
