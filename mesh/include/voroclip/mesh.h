@@ -801,7 +801,9 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      h^-5 on the domain's vertices);
 //   2. initial sampling: about nb_vertices sites on a body-centred cubic lattice strictly
 //      inside the domain (uniform sizing: the lattice is the best known CVT in space, so
-//      only the boundary layer has far to go), or drawn with the density (random_points3);
+//      only the boundary layer has far to go), or drawn with the density (random_points3),
+//      also when no lattice spacing gives within 10 % of nb_vertices (a part thinner than
+//      the lattice's layers);
 //   3. unconstrained CVT (L-BFGS);
 //   4. classification and snapping: the sites whose Voronoi cell meets the boundary
 //      surface move to their closest point on it (lifted onto its smooth interpolant with
@@ -962,7 +964,8 @@ class PhongSurface {
 };
 
 enum class Mesh3Sampling : std::uint8_t {
-  kLattice,  // body-centred cubic lattice (uniform sizing only; adaptive sizing draws)
+  kLattice,  // body-centred cubic lattice (uniform sizing only; adaptive sizing draws, and
+             // so does a domain thinner than the lattice's layers)
   kRandom,   // random_points3 with the density
 };
 
