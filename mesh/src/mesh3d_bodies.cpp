@@ -209,7 +209,9 @@ Mesh3Result mesh3d_bodies(const Domain3& domain, const std::vector<Domain3>& bod
       // The body's error (VertexCount::kExact: the count that would do is the body's), named.
       const std::string what = e.what();
       const std::string head = "mesh3d: ";
-      throw Error(head + which + ": " +
+      // Its counts are the body's: say how they scale to the whole.
+      throw Error(head + which + ", its share " + std::to_string(o.nb_vertices) + " of the " +
+                  std::to_string(options.nb_vertices) + " vertices: " +
                   (what.compare(0, head.size(), head) == 0 ? what.substr(head.size()) : what));
     }
     if (r.cancelled) {
