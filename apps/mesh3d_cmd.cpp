@@ -179,8 +179,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     throw Error(
         "mesh3d: the mesh of " + domain.source() + " does not have its shape: " + r.shape_problem +
         "; no file written (" +
-        (r.shape_retries > 0 && r.nb_bodies > 1 ? "also after " + count_of(r.shape_retries, "run") +
-                                                      " of that body with twice its vertices; "
+        (r.shape_retries > 0 && r.nb_bodies > 1
+             ? "also after " + count_of(r.shape_retries, "run") + " with twice the vertices; "
          : r.shape_retries > 0 ? "also with " + std::to_string(r.nb_sites) + " sites after " +
                                      count_of(r.shape_retries, "run") + " with twice the vertices; "
                                : std::string()) +
@@ -200,10 +200,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                  "between regions\n";
   }
   if (r.shape_retries > 0 && out && r.shape_problem.empty() && r.nb_bodies > 1) {
-    *out << "note: the first mesh of " << r.raised_because
-         << "; that body was meshed again with twice its vertices ("
-         << count_of(r.shape_retries, "run") << " at most), which has it; --exact-vertices fails "
-         << "instead\n";
+    *out << "note: a mesh without the domain's shape (" << r.raised_because
+         << ") was meshed again with twice the vertices (" << count_of(r.shape_retries, "run")
+         << " at most), which has it; --exact-vertices fails instead\n";
   } else if (r.shape_retries > 0 && out && r.shape_problem.empty()) {
     *out << "note: " << r.requested_vertices << " vertices gave a mesh without the domain's shape ("
          << r.raised_because << "); meshed again with " << (r.requested_vertices << r.shape_retries)

@@ -768,3 +768,39 @@ TEST_CASE("mesh3d meshes a plate thinner than the lattice's layers", "[mesh][reg
   CHECK(r.nb_sites < 3000);
   check_boundary(r);
 }
+
+TEST_CASE("mesh3d: bodies whose meshes meet are meshed again with more vertices",
+          "[mesh][regression]") {
+  // A ball of radius 0.95 in a spherical cavity of radius 1 (icospheres of 320 triangles)
+  // in the box [-1.5, 1.5]^3. At 200 vertices each body's mesh has its shape, but the
+  // cavity's triangles, chords of the cavity, cut into the ball's mesh: the whole is meshed
+  // again with 400, whose meshes are apart.
+  voroclip::TriangleSurface s;
+  s.source = "ball in a cavity";
+  const double lo[3] = {-1.5, -1.5, -1.5}, hi[3] = {1.5, 1.5, 1.5};
+  add_box(s, lo, hi);
+  s = voroclip_test::merged(s, voroclip_test::reversed(voroclip_test::icosphere(2)));
+  s = voroclip_test::merged(s, voroclip_test::icosphere(2, 0.95));
+  const Domain3 d(s);
+  REQUIRE(voroclip::mesh3::domain_bodies(d).size() == 2);
+  Mesh3Options o;
+  o.nb_vertices = 200;
+  std::vector<std::uint32_t> retries;
+  o.progress = [&](const voroclip::Mesh3Progress& p) {
+    if (p.retry_vertices > 0) retries.push_back(p.retry_vertices);
+    return true;
+  };
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(retries == std::vector<std::uint32_t>{400});
+  CHECK(r.shape_retries == 1);
+  CHECK(r.raised_because.rfind("the meshes of the bodies meet: ", 0) == 0);
+  CHECK(r.shape_problem.empty());
+  CHECK(voroclip::check_mesh3_shape(d, r.xyz, r.tets).empty());
+  check_boundary(r);
+  // Without retries, the problem is the result's.
+  o.max_shape_retries = 0;
+  o.progress = nullptr;
+  const Mesh3Result once = voroclip::mesh3d(d, o);
+  CHECK(once.shape_retries == 0);
+  CHECK(once.shape_problem.find("intersect") != std::string::npos);
+}

@@ -1256,7 +1256,8 @@ struct Mesh3Result {
 // its share of nb_vertices (by the integral of h^-3 over it: its volume for a uniform size;
 // at least 4), and the meshes put together in the order of their outer shells: one CVT over
 // all would let a cell, and the tets, reach across a gap narrower than the spacing between
-// two bodies. Throws Error for invalid options
+// two bodies. Where the bodies' meshes meet (closer than their triangles' sag), kRaise meshes
+// the whole again with twice the vertices (max_shape_retries). Throws Error for invalid options
 // (fewer than 4 vertices, a feature angle outside [0, 180], a smooth_shape outside
 // [0, 1]) or a domain without boundary.
 Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options = {});
