@@ -351,6 +351,37 @@ std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
   return integrals;
 }
 
+Mesh3Result raise_vertices(const Mesh3Options& options, Mesh3Result result,
+                           const std::function<Mesh3Result(const Mesh3Options&)>& run,
+                           const std::function<bool(const Mesh3Result&)>& wrong,
+                           const std::string& what) {
+  Mesh3Options raised = options;
+  double seconds = result.total_seconds;
+  for (std::uint32_t retry = 1; retry <= options.max_shape_retries && !result.cancelled &&
+                                wrong(result) && raised.nb_vertices <= 0x7fffffffu;
+       ++retry) {
+    raised.nb_vertices *= 2;
+    if (options.progress) {
+      Mesh3Progress p;
+      p.retry_vertices = raised.nb_vertices;
+      if (!options.progress(p)) {
+        result.cancelled = true;
+        break;
+      }
+    }
+    const std::string because =
+        result.raised_because.empty() ? what + result.shape_problem : result.raised_because;
+    Mesh3Result next = run(raised);
+    seconds += next.total_seconds;
+    next.total_seconds = seconds;
+    next.requested_vertices = options.nb_vertices;
+    next.shape_retries = std::max(next.shape_retries, retry);
+    next.raised_because = because;
+    result = std::move(next);
+  }
+  return result;
+}
+
 void measure_mesh3_quality(const Domain3& domain, Mesh3Result& result) {
   TetQualityOptions qo;
   qo.keep_per_tet = true;
@@ -973,31 +1004,14 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
   if (options.vertex_count != Mesh3Options::VertexCount::kRaise) return result;
   // A mesh of the wrong shape: features thinner than the sites' spacing. Run again with
   // twice the vertices until the shape is right.
-  Mesh3Options raised = options;
-  double seconds = result.total_seconds;
-  for (std::uint32_t retry = 1; retry <= options.max_shape_retries && !result.cancelled &&
-                                !result.shape_problem.empty() && raised.nb_vertices <= 0x7fffffffu;
-       ++retry) {
-    raised.nb_vertices *= 2;
-    if (options.progress) {
-      Mesh3Progress p;
-      p.retry_vertices = raised.nb_vertices;
-      if (!options.progress(p)) {
-        result.cancelled = true;
-        break;
-      }
-    }
-    const std::string because =
-        result.raised_because.empty() ? result.shape_problem : result.raised_because;
-    Mesh3Result next;
-    mesh3::Pipeline(domain, raised, next).run();
-    seconds += next.total_seconds;
-    next.total_seconds = seconds;
-    next.requested_vertices = options.nb_vertices;
-    next.shape_retries = retry;
-    next.raised_because = because;
-    result = std::move(next);
-  }
+  result = mesh3::raise_vertices(
+      options, std::move(result),
+      [&domain](const Mesh3Options& raised) {
+        Mesh3Result next;
+        mesh3::Pipeline(domain, raised, next).run();
+        return next;
+      },
+      [](const Mesh3Result& r) { return !r.shape_problem.empty(); }, "");
   return result;
 }
 

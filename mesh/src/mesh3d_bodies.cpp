@@ -337,31 +337,10 @@ Mesh3Result mesh3d_bodies(const Domain3& domain, const std::vector<Domain3>& bod
   // Each body's mesh has its shape but two of them meet: where two bodies are closer than
   // their triangles' sag (a ball in a cavity 0.01 wider at 3,000 vertices). Again with twice
   // the vertices, as mesh3d does for one body.
-  Mesh3Options raised = options;
-  double seconds = result.total_seconds;
-  for (std::uint32_t retry = 1; retry <= options.max_shape_retries && clash && !result.cancelled &&
-                                raised.nb_vertices <= 0x7fffffffu;
-       ++retry) {
-    raised.nb_vertices *= 2;
-    if (options.progress) {
-      Mesh3Progress p;
-      p.retry_vertices = raised.nb_vertices;
-      if (!options.progress(p)) {
-        result.cancelled = true;
-        break;
-      }
-    }
-    const std::string because = result.raised_because.empty()
-                                    ? "the meshes of the bodies meet: " + result.shape_problem
-                                    : result.raised_because;
-    Mesh3Result next = mesh_bodies_once(domain, bodies, raised, clash);
-    seconds += next.total_seconds;
-    next.total_seconds = seconds;
-    next.requested_vertices = options.nb_vertices;
-    next.shape_retries = std::max(next.shape_retries, retry);
-    next.raised_because = because;
-    result = std::move(next);
-  }
+  result = raise_vertices(
+      options, std::move(result),
+      [&](const Mesh3Options& raised) { return mesh_bodies_once(domain, bodies, raised, clash); },
+      [&clash](const Mesh3Result&) { return clash; }, "the meshes of the bodies meet: ");
   return result;
 }
 

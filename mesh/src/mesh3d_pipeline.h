@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "voroclip/mesh.h"
@@ -280,6 +281,15 @@ std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& de
 // gives within 10 % of n (a part thinner than the lattice's layers): sample at random then.
 std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& locator,
                                   std::uint32_t n, std::uint64_t seed);
+
+// VertexCount::kRaise's retries (mesh3d.cpp): while `wrong(result)`, at most
+// options.max_shape_retries times, `run` again with twice the vertices (a progress report
+// with retry_vertices first); the result keeps the count asked for, the retries and why
+// (`what` + the first result's shape problem), and the time of all the runs.
+Mesh3Result raise_vertices(const Mesh3Options& options, Mesh3Result result,
+                           const std::function<Mesh3Result(const Mesh3Options&)>& run,
+                           const std::function<bool(const Mesh3Result&)>& wrong,
+                           const std::string& what);
 
 // Step 8's quality figures of a finished mesh (result.xyz, kinds, tets): the quality report,
 // the input's sharpest dihedral angle and the bound, the tets below it, Q1 by boundary
