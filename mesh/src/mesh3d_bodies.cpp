@@ -211,10 +211,10 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     try {
       r = mesh3d(bodies[b], o);
     } catch (const Error& e) {
-      // The body's error (VertexCount::kExact: the count that would do is the body's), named.
+      // The body's error, named, with its share: its counts (VertexCount::kExact: the count
+      // that would do) are the body's, and scale to the whole by that share.
       const std::string what = e.what();
       const std::string head = "mesh3d: ";
-      // Its counts are the body's: say how they scale to the whole.
       throw Error(head + which + ", its share " + std::to_string(o.nb_vertices) + " of the " +
                   std::to_string(options.nb_vertices) + " vertices: " +
                   (what.compare(0, head.size(), head) == 0 ? what.substr(head.size()) : what));
