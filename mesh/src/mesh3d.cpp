@@ -256,13 +256,6 @@ std::string shape_of(const Domain3& domain, const std::vector<double>& sites,
   return check_mesh3_shape(domain, xyz, renumbered);
 }
 
-// x to 4 significant digits.
-std::string brief(double x) {
-  std::ostringstream out;
-  out << std::setprecision(4) << x;
-  return out.str();
-}
-
 // "more than" (bound 1) or "<ratio> times" (bound other than 1).
 std::string more_than(double ratio, double bound) {
   return bound == 1 ? "more than" : brief(ratio) + " times";
@@ -313,6 +306,13 @@ std::string check_boundary_distance(const TriangleSurface& reference,
 }
 
 }  // namespace
+
+// x to 4 significant digits.
+std::string brief(double x) {
+  std::ostringstream out;
+  out << std::setprecision(4) << x;
+  return out.str();
+}
 
 std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
                                         const Mesh3Options& options) {

@@ -10,8 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -133,14 +131,12 @@ void add_perturbation(Perturb3Stats& into, const Perturb3Stats& r, bool first) {
   into.undone = into.undone || r.undone;
 }
 
-// "(x, y, z)" of the centre of a body's bounding box, in 6 significant digits.
+// "(x, y, z)" of the centre of a body's bounding box (brief: 4 significant digits).
 std::string centre(const Domain3& body) {
-  std::ostringstream out;
-  out << std::setprecision(6) << "(";
+  std::string s = "(";
   for (int k = 0; k < 3; ++k)
-    out << (k ? ", " : "") << 0.5 * (body.bbox_lo()[k] + body.bbox_hi()[k]);
-  out << ")";
-  return out.str();
+    s += (k ? ", " : "") + brief(0.5 * (body.bbox_lo()[k] + body.bbox_hi()[k]));
+  return s + ")";
 }
 
 }  // namespace

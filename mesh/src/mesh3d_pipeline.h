@@ -291,6 +291,9 @@ Mesh3Result raise_vertices(const Mesh3Options& options, Mesh3Result result,
                            const std::function<bool(const Mesh3Result&)>& wrong,
                            const std::string& what);
 
+// x to 4 significant digits, for messages (mesh3d.cpp).
+std::string brief(double x);
+
 // Step 8's quality figures of a finished mesh (result.xyz, kinds, tets): the quality report,
 // the input's sharpest dihedral angle and the bound, the tets below it, Q1 by boundary
 // vertices.

@@ -1238,7 +1238,9 @@ struct Mesh3Result {
   // The vertices asked for (Mesh3Options::nb_vertices), the runs redone with twice as many
   // because the mesh did not have the domain's shape, and the first run's shape problem.
   // With several bodies (nb_bodies > 1, each meshed on its own): shape_retries is the most
-  // any body needed, and raised_because and shape_problem name the body.
+  // any body needed (or the whole's retries, when two bodies' meshes met), raised_because
+  // and shape_problem name the body; the other figures are the whole mesh's, counts summed,
+  // mean_q1_before_deg weighted by each body's tets.
   std::uint32_t requested_vertices = 0, shape_retries = 0;
   std::string raised_because;
   std::uint32_t nb_bodies = 1;
