@@ -191,13 +191,20 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
               << " does not have its shape: " << r.shape_problem << '\n';
   }
-  if (r.nb_tets_across_regions > 0) {
+  if (r.nb_tets_across_regions > 0 && r.nb_interfaces_followed > 0) {
+    std::cerr << "voroclip: warning: the mesh of " << domain.source() << " follows the "
+              << count_of(r.nb_interfaces_followed, "interface") << " between its "
+              << r.nb_input_regions << " regions, yet " << count_of(r.nb_tets_across_regions, "tet")
+              << " have their centroid in an input tet of another region (an interface "
+                 "thinner than the edges; try more --vertices)\n";
+  } else if (r.nb_tets_across_regions > 0) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
               << " does not follow the interfaces between its " << r.nb_input_regions
               << " regions: " << count_of(r.nb_tets_across_regions, "tet")
               << " reach across one (a tet takes the region of the input tet holding its "
-                 "centroid); mesh3d makes the outer boundary conforming, not the interfaces "
-                 "between regions\n";
+                 "centroid); mesh3d follows interfaces that are closed surfaces inside the "
+                 "volume (inclusions), and these are not ("
+              << r.interfaces_not_followed << ")\n";
   }
   if (r.shape_retries > 0 && out && r.shape_problem.empty() && r.nb_bodies > 1) {
     *out << "note: a mesh without the domain's shape (" << r.raised_because
@@ -318,7 +325,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       j["q1_by_boundary_vertices"] = classes;
     }
     j["regions"] = {{"input_regions", r.nb_input_regions},
-                    {"tets_across_interfaces", r.nb_tets_across_regions}};
+                    {"tets_across_interfaces", r.nb_tets_across_regions},
+                    {"interfaces_followed", r.nb_interfaces_followed},
+                    {"interfaces_not_followed", r.interfaces_not_followed}};
     j["dihedral_bound"] = {{"bound_deg", r.dihedral_bound_deg},
                            {"input_sharpest_dihedral_deg", r.input_sharpest_dihedral_deg},
                            {"tets_below", r.nb_tets_below_bound}};
@@ -414,6 +423,11 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       *out << "Boundary: " << r.boundary_triangles.size() / 3 << " triangles in " << patches.size()
            << " patch tag(s) [" << list(patches) << "]; " << regions.size() << " region tag(s) ["
            << list(regions) << "]\n";
+      if (r.nb_interfaces_followed > 0) {
+        *out << "Regions: the mesh follows the " << count_of(r.nb_interfaces_followed, "interface")
+             << " between the input's " << r.nb_input_regions
+             << " regions (vertices on them, each tet on one side)\n";
+      }
     }
     write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,
                        &distance, domain.source());

@@ -50,15 +50,15 @@ void Projection::operator()(std::uint32_t site, Kind kind, const double* p, doub
   }
 }
 
-std::vector<std::uint64_t> tag_border_edges(const Domain3& domain) {
-  const std::vector<std::int32_t>& tags = domain.boundary_refs();
+std::vector<std::uint64_t> tag_border_edges(const Surface3& surface,
+                                            const std::vector<std::int32_t>& tags) {
   std::vector<std::uint64_t> borders;
-  for (std::uint32_t b = 0; b < domain.surface().nb_triangles() && !tags.empty(); ++b) {
+  for (std::uint32_t b = 0; b < surface.nb_triangles() && !tags.empty(); ++b) {
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = domain.surface().adjacent(b, e);
+      const std::uint32_t a = surface.adjacent(b, e);
       if (a > b && tags[a] != tags[b]) {
-        borders.push_back(edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
-                                   domain.surface().triangle_vertex(b, (e + 2) % 3)));
+        borders.push_back(edge_key(surface.triangle_vertex(b, (e + 1) % 3),
+                                   surface.triangle_vertex(b, (e + 2) % 3)));
       }
     }
   }

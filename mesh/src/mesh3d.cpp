@@ -450,11 +450,21 @@ void Pipeline::run() {
     double integral = domain.volume();
     const Density3& user_density = options.density;
     bool graded = options.adaptive || !user_density.is_constant();
-    const TriangleSurface surface = boundary_surface(domain);
+    // Interfaces between the input's regions, when the mesh can follow them (closed surfaces
+    // inside the volume): the sites are then sampled on the boundary and the interfaces.
+    {
+      auto found = std::make_unique<RegionInterfaces>();
+      if (region_interfaces(domain, *found, result.interfaces_not_followed)) {
+        interfaces = std::move(found);
+        result.nb_interfaces_followed = interfaces->nb_shells;
+      }
+    }
+    const TriangleSurface surface = boundary_surface(sampled());
     // The input's triangle tags (a tet mesh file's boundary triangles): the borders of
     // their patches are feature lines too, kept however short or flat, so that every
     // boundary triangle of the mesh lies in one patch and carries its tag.
-    const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+    const std::vector<std::int32_t>& input_tags =
+        interfaces ? interfaces->refs : domain.boundary_refs();
     double cap_scale = 0;  // > 0: h = min(1, field / cap_scale)
     if (!user_density.is_constant()) {
       if (options.adaptive) throw Error("mesh3d: a density and adaptive sizing exclude each other");
@@ -517,7 +527,8 @@ void Pipeline::run() {
       return field ? scale * field->size(x) : scale;
     };
     const SurfaceTree surface_tree(surface);
-    const std::vector<std::uint64_t> tag_borders = tag_border_edges(domain);
+    const std::vector<std::uint64_t> tag_borders =
+        tag_border_edges(sampled().surface(), input_tags);
     FeatureLines lines;
     if (options.features || !tag_borders.empty()) {
       // Without features, only the tags' borders (no edge is sharper than 180 degrees).
@@ -528,7 +539,7 @@ void Pipeline::run() {
           options.min_feature_length, local_spacing, tag_borders);
     }
     const FeatureTree line_tree(surface, lines);
-    const std::vector<std::uint32_t> triangle_patch = triangle_patches(domain, lines);
+    const std::vector<std::uint32_t> triangle_patch = triangle_patches(sampled(), lines);
     // The smooth surface's patches are bounded by every edge sharper than feature_angle_deg,
     // and pinned there, kept feature line or not: a crease too short to keep (or
     // features = false) is not rounded by the interpolant, which would bulge the large flat
@@ -540,7 +551,7 @@ void Pipeline::run() {
       std::vector<std::uint8_t> pinned(surface.nb_vertices(), 0);
       for (const std::uint32_t v : sharp.line_vertices) pinned[v] = 1;
       for (const std::uint32_t v : sharp.corners) pinned[v] = 1;
-      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(domain, sharp), pinned,
+      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(sampled(), sharp), pinned,
                                               options.smooth_shape);
     }
     result.nb_feature_lines = lines.nb_lines();
@@ -575,6 +586,7 @@ void Pipeline::run() {
     cvt.boundary_sites = &boundary;
     result.unconstrained = optimize_cvt3(domain, sites, cvt);
     if (result.unconstrained.cancelled) throw Cancelled{};
+    mark_interface_sites(boundary, false);
 
     // 4. Classification and snapping.
     next_phase(Mesh3Phase::kSnapping);
@@ -594,6 +606,7 @@ void Pipeline::run() {
       cvt.constraints = kinds;
       const CvtResult r = optimize_cvt3(domain, sites, cvt);
       if (r.cancelled) throw Cancelled{};
+      mark_interface_sites(boundary, true);
       if (stage == 0) {
         result.constrained = r;
       } else {
@@ -610,7 +623,7 @@ void Pipeline::run() {
 
     // 5a. Distance to the input: sites fixed at the input vertices the boundary cuts off.
     approximate_boundary(extractor, cvt, local_spacing, boundary, project, [&] {
-      return site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of,
+      return site_patches(sampled(), lines, surface_tree, line_tree, sites, kinds, line_of,
                           corner_vertex, triangle_patch);
     });
 
@@ -636,7 +649,7 @@ void Pipeline::run() {
              triangle_patch[surface_tree.closest(q).triangle] == patches.patches[patches.begin[s]];
     };
     const auto extract_and_perturb = [&] {
-      patches = site_patches(domain, lines, surface_tree, line_tree, sites, kinds, line_of,
+      patches = site_patches(sampled(), lines, surface_tree, line_tree, sites, kinds, line_of,
                              corner_vertex, triangle_patch);
       // The caller's extraction settings (options.perturbation.extraction), with the surface
       // patches of these sites.
@@ -755,6 +768,24 @@ void Pipeline::run() {
                                                  });
     }
 
+    // The regions, while the tets are still Delaunay: from here on flips and moves work
+    // within each region (per_region), so the interfaces stay.
+    TetRegions regions;
+    if (interfaces) regions = interface_regions(*interfaces, sites, tets, patches);
+    const auto flip = [&](const mesh3::Flip3Options& o) {
+      if (!interfaces) return flip_slivers3(sites, kinds, tets, o);
+      mesh3::Flip3Stats sum;
+      per_region(sites, kinds, tets, regions,
+                 [&](std::vector<std::uint32_t>& mine, const std::vector<Kind>& k) {
+                   const mesh3::Flip3Stats f = flip_slivers3(sites, k, mine, o);
+                   sum.flips += f.flips;
+                   sum.moves += f.moves;
+                   sum.insertions += f.insertions;
+                   sum.boundary_flips += f.boundary_flips;
+                 });
+      return sum;
+    };
+
     // 7c. Flips, moves of free vertices and insertions against the worst tets left: the
     // boundary stays, the tets need not be Delaunay.
     if (options.flip_dihedral_deg > 0) {
@@ -797,8 +828,8 @@ void Pipeline::run() {
         return p != SurfaceTree::kNone && common(a, b, d) == p && common(a, c, d) == p &&
                common(b, d, c) == p;
       };
-      const auto before_flips = std::make_tuple(sites, tets);
-      mesh3::Flip3Stats fs = flip_slivers3(sites, kinds, tets, fo);
+      const auto before_flips = std::make_tuple(sites, tets, regions);
+      mesh3::Flip3Stats fs = flip(fo);
       if ((fs.boundary_flips > 0 || (fs.moves > 0 && fo.on_surface)) &&
           !shape_of(domain, sites, tets).empty() &&
           shape_of(domain, std::get<0>(before_flips), std::get<1>(before_flips)).empty()) {
@@ -808,13 +839,13 @@ void Pipeline::run() {
         // 500 vertices, seed 2, where the sites are mostly on the surface). 7c again without
         // the boundary flips, then also without the surface moves. Interior flips and moves
         // keep the boundary.
-        std::tie(sites, tets) = before_flips;
+        std::tie(sites, tets, regions) = before_flips;
         fo.same_patch = nullptr;
-        fs = flip_slivers3(sites, kinds, tets, fo);
+        fs = flip(fo);
         if (fs.moves > 0 && fo.on_surface && !shape_of(domain, sites, tets).empty()) {
-          std::tie(sites, tets) = before_flips;
+          std::tie(sites, tets, regions) = before_flips;
           fo.on_surface = nullptr;
-          fs = flip_slivers3(sites, kinds, tets, fo);
+          fs = flip(fo);
         }
         result.flips_rerun_for_shape = true;
       }
@@ -843,18 +874,41 @@ void Pipeline::run() {
           return on_own_patch_at(s, q);
         };
       }
+      const auto mean = [&](const std::function<bool(std::uint32_t, const double*, double*)>& o) {
+        if (!interfaces) return raise_mean3(sites, kinds, tets, options.mean_rounds, o);
+        // Per region; the means weighted by the regions' tets.
+        mesh3::Mean3Stats sum;
+        per_region(sites, kinds, tets, regions,
+                   [&](std::vector<std::uint32_t>& mine, const std::vector<Kind>& k) {
+                     const mesh3::Mean3Stats m =
+                         raise_mean3(sites, k, mine, options.mean_rounds, o);
+                     const double w = static_cast<double>(mine.size() / 4);
+                     sum.flips += m.flips;
+                     sum.moves += m.moves;
+                     sum.rounds = std::max(sum.rounds, m.rounds);
+                     sum.mean_before += w * m.mean_before;
+                     sum.mean_after += w * m.mean_after;
+                   });
+        const double nt = static_cast<double>(std::max<std::size_t>(tets.size() / 4, 1));
+        sum.mean_before /= nt;
+        sum.mean_after /= nt;
+        return sum;
+      };
       // Kept for the rerun without surface moves (only they can change the shape).
       std::vector<double> sites_before;
       std::vector<std::uint32_t> tets_before;
+      TetRegions regions_before;
       if (on_surface) {
         sites_before = sites;
         tets_before = tets;
+        regions_before = regions;
       }
-      mesh3::Mean3Stats ms = raise_mean3(sites, kinds, tets, options.mean_rounds, on_surface);
+      mesh3::Mean3Stats ms = mean(on_surface);
       if (ms.moves > 0 && on_surface && !shape_of(domain, sites, tets).empty()) {
         sites = std::move(sites_before);
         tets = std::move(tets_before);
-        ms = raise_mean3(sites, kinds, tets, options.mean_rounds, nullptr);
+        regions = std::move(regions_before);
+        ms = mean(nullptr);
       }
       result.nb_mean_flips = ms.flips;
       result.nb_mean_moves = ms.moves;
@@ -888,13 +942,20 @@ void Pipeline::run() {
     // Boundary triangles and tags: patches (the input's triangle tags, else the patches
     // between feature lines, from 1) and regions (the input's tet tags, else one per volume
     // component).
-    tag_mesh3(domain, surface_tree, triangle_patch, patches, index, result);
+    tag_mesh3(domain, surface_tree, triangle_patch, input_tags, patches, index,
+              interfaces ? &regions : nullptr, result);
     measure_mesh3_quality(domain, result);
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);
+    if (result.shape_problem.empty() && interfaces)
+      result.shape_problem = interface_shape(*interfaces, result.xyz, result.tets, regions);
     const Clock::time_point t_distance = Clock::now();
     const double edge_per_spacing = std::cbrt(kMesh3VerticesPerEdgeVolume);
+    // The distance of the boundary to the domain's surface (without the interfaces).
+    const TriangleSurface boundary_only = interfaces ? boundary_surface(domain) : TriangleSurface{};
+    const std::unique_ptr<SurfaceTree> boundary_tree =
+        interfaces ? std::make_unique<SurfaceTree>(boundary_only) : nullptr;
     std::string far = check_boundary_distance(
-        surface, surface_tree, graded,
+        interfaces ? boundary_only : surface, interfaces ? *boundary_tree : surface_tree, graded,
         [&](const double* x) { return edge_per_spacing * local_spacing(x); },
         options.max_boundary_distance, result);
     result.distance_seconds = since(t_distance);

@@ -259,6 +259,9 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     add_perturbation(result.perturbation, r.perturbation, b == 0);
     result.nb_peeled += r.nb_peeled;
     result.nb_tets_across_regions += r.nb_tets_across_regions;
+    result.nb_interfaces_followed += r.nb_interfaces_followed;
+    if (result.interfaces_not_followed.empty())
+      result.interfaces_not_followed = r.interfaces_not_followed;
     result.nb_topology_sites += r.nb_topology_sites;
     result.topology_rounds = std::max(result.topology_rounds, r.topology_rounds);
     result.topology_defects_left += r.topology_defects_left;

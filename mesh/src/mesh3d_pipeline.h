@@ -9,7 +9,8 @@
 //   phong3d.cpp              the smooth surface the surface sites are projected onto;
 //   slivers3d.cpp            step 7: sliver perturbation;
 //   flips3d.cpp              step 7c: flips against the worst tets;
-//   mesh3d_tags.cpp          boundary triangles, patch and region tags.
+//   mesh3d_tags.cpp          boundary triangles, patch and region tags;
+//   mesh3d_interfaces.cpp    interfaces between the input's regions, followed by the mesh.
 // Internal to the mesh module.
 #pragma once
 
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -118,8 +120,10 @@ struct Projection {
 // Feature lines (features3d.cpp).
 
 // The sorted edge keys of the borders between the input's tagged boundary patches (a tet
-// mesh file's boundary triangle refs); empty without tags.
-std::vector<std::uint64_t> tag_border_edges(const Domain3& domain);
+// mesh file's boundary triangle refs: `tags`, one per triangle of `surface`); empty without
+// tags.
+std::vector<std::uint64_t> tag_border_edges(const Surface3& surface,
+                                            const std::vector<std::int32_t>& tags);
 
 // The surface's sharpest dihedral angle, degrees: the smallest angle, measured inside the
 // volume, between two triangles that share an edge (180 - the angle between their normals
@@ -316,6 +320,48 @@ std::vector<Domain3> domain_bodies(const Domain3& domain);
 Mesh3Result mesh3d_bodies(const Domain3& domain, const std::vector<Domain3>& bodies,
                           const Mesh3Options& options);
 
+// Interfaces between the regions of a tet mesh domain (mesh3d_interfaces.cpp has the method).
+constexpr std::uint32_t kNoRegion = 0xffffffffu;
+struct RegionInterfaces {
+  // The domain's boundary triangles (first, in the domain's order) and the interfaces' (the
+  // facets between tets of different tags), one surface whose interface shells are cavities
+  // (or, nested deeper, bodies again): the surface the sites are sampled on.
+  Domain3 surfaces;
+  // Per triangle of `surfaces`: the domain's boundary_refs, 0 on the interfaces (empty when
+  // the domain has no triangle tags).
+  std::vector<std::int32_t> refs;
+  std::uint32_t nb_boundary_triangles = 0, nb_shells = 0;  // nb_shells: the interfaces'
+};
+// Whether the domain has several regions whose interfaces are closed surfaces inside the
+// volume, meeting neither the boundary nor each other; then `out` is filled. Not when the
+// domain has no tet tags or one; `why_not` says why when it has several but their
+// interfaces do not make such a surface.
+bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string& why_not);
+// The regions of a tet mesh whose tets are Delaunay (each tet's circumcentre located exactly
+// in `surfaces`, then the extraction's crease rule with the sites' patches `sp` where a face
+// between the sides crosses a feature line): the face-connected parts of the tets on one
+// side, numbered in the order of their first tet; per region whether it is outside every
+// inclusion (in `surfaces`'s volume).
+struct TetRegions {
+  std::vector<std::uint32_t> region;  // per tet
+  std::vector<std::uint8_t> outside;  // per region
+};
+TetRegions interface_regions(const RegionInterfaces& interfaces, const std::vector<double>& sites,
+                             const std::vector<std::uint32_t>& tets, const SurfacePatches& sp);
+// Runs `pass` on the tets of each region in turn (with `kinds` but the vertices of two
+// regions' tets kFixed, and kFree for sites an earlier pass added), the tets put together
+// region after region (regions.region follows): a pass that keeps its tets' union and
+// boundary (flips, moves of vertices off that boundary, insertions) never makes a tet across
+// an interface.
+void per_region(
+    std::vector<double>& sites, const std::vector<Kind>& kinds, std::vector<std::uint32_t>& tets,
+    TetRegions& regions,
+    const std::function<void(std::vector<std::uint32_t>&, const std::vector<Kind>&)>& pass);
+// What is wrong with the mesh's interfaces, empty when nothing: the tets of the regions
+// outside the inclusions must have `surfaces`'s shape (check_mesh3_shape).
+std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,
+                            const std::vector<std::uint32_t>& tets, const TetRegions& regions);
+
 // One mesh3d() run: the caller's domain and options, the result being filled, the phase
 // clock and the sites with their constraints. Each step is a member, defined in the file
 // named above.
@@ -364,13 +410,24 @@ struct Pipeline {
                             const Spacing& local_spacing, const std::vector<std::uint8_t>& boundary,
                             const Projection& project,
                             const std::function<SurfacePatches()>& site_patches_now);
+  // With interfaces: the free sites whose cells cross an interface are marked in `boundary`
+  // (resized to the sites' count), as the CVT marks those whose cells reach the boundary, so
+  // that they go onto it. The first time (after the unconstrained CVT) only those inside an
+  // inclusion (not in `surfaces`'s volume): one layer of sites onto each interface, as the
+  // boundary gets; after that (both_sides) the cells of either side that still reach
+  // across (mesh3d_interfaces.cpp).
+  void mark_interface_sites(std::vector<std::uint8_t>& boundary, bool both_sides) const;
+  // The surface the sites are sampled on: the domain's, or with interfaces `surfaces`.
+  const Domain3& sampled() const { return interfaces ? interfaces->surfaces : domain; }
   // Step 5b (topology_repair3d.cpp).
   void repair_topology(const TriangleSurface& surface, const Clip3Options& clip, Cvt3Options& cvt,
-                       const std::vector<std::uint8_t>& boundary, const Projection& project);
+                       std::vector<std::uint8_t>& boundary, const Projection& project);
 
   const Domain3& domain;
   const Mesh3Options& options;
   Mesh3Result& result;
+  // Set when the domain's regions have interfaces the mesh follows (region_interfaces).
+  std::unique_ptr<RegionInterfaces> interfaces;
   Clock::time_point t_start, t_phase;
   Mesh3Phase phase = Mesh3Phase::kSizing;
 

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "mesh3d_pipeline.h"
 #include "union_find.h"
 #include "voroclip/predicates.h"
 
@@ -212,11 +213,65 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
                                       const std::vector<std::uint32_t>& tets,
                                       const std::vector<std::uint32_t>& face_tet,
                                       const std::vector<std::uint32_t>& closest_input,
+                                      const std::vector<std::uint32_t>* regions,
                                       std::uint32_t& tets_across) {
   const auto nt = static_cast<std::uint32_t>(tets.size() / 4);
   std::vector<std::int32_t> tags(nt, 0);
   tets_across = 0;
   const std::vector<std::int32_t>& input = domain.tet_refs();
+  const auto centroid = [&](std::uint32_t t, double* c) {
+    c[0] = c[1] = c[2] = 0;
+    for (int q = 0; q < 4; ++q) {
+      for (int k = 0; k < 3; ++k)
+        c[k] += 0.25 * xyz[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(q)]} +
+                           static_cast<std::size_t>(k)];
+    }
+  };
+  if (!input.empty() && regions != nullptr) {
+    // A mesh that follows the interfaces: each region by its tets' votes.
+    const TetGrid grid(domain);
+    std::vector<std::int32_t> located(nt, 0);
+    std::vector<std::uint8_t> found(nt, 0);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 1024), [&](const auto& range) {
+      for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
+        double c[3];
+        centroid(t, c);
+        const std::uint32_t i = grid.locate(c);
+        if (i != kNone) {
+          located[t] = input[i];
+          found[t] = 1;
+        }
+      }
+    });
+    std::vector<std::pair<std::uint32_t, std::int32_t>> votes;  // (region, tag)
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      if (found[t] != 0) votes.emplace_back((*regions)[t], located[t]);
+    }
+    std::sort(votes.begin(), votes.end());
+    std::vector<std::int32_t> region_tag;
+    for (std::size_t i = 0; i < votes.size();) {
+      std::size_t best_count = 0, j = i;
+      std::int32_t best = 0;
+      while (j < votes.size() && votes[j].first == votes[i].first) {
+        std::size_t k = j;
+        while (k < votes.size() && votes[k] == votes[j]) ++k;
+        if (k - j > best_count) {
+          best_count = k - j;
+          best = votes[j].second;
+        }
+        j = k;
+      }
+      if (region_tag.size() <= votes[i].first) region_tag.resize(votes[i].first + 1, input[0]);
+      region_tag[votes[i].first] = best;
+      i = j;
+    }
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      const std::uint32_t r = (*regions)[t];
+      tags[t] = r < region_tag.size() ? region_tag[r] : input[0];
+      tets_across += found[t] != 0 && located[t] != tags[t] ? 1 : 0;
+    }
+    return tags;
+  }
   if (!input.empty()) {
     if (std::all_of(input.begin(), input.end(), [&](std::int32_t r) { return r == input[0]; })) {
       std::fill(tags.begin(), tags.end(), input[0]);
@@ -317,9 +372,10 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
 }
 
 void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
-               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
-               const std::vector<std::uint32_t>& index, Mesh3Result& result) {
-  const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+               const std::vector<std::uint32_t>& triangle_patch,
+               const std::vector<std::int32_t>& input_tags, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& index, const TetRegions* regions,
+               Mesh3Result& result) {
   std::vector<std::uint32_t> face_tet;
   boundary_triangles(result.tets, result.boundary_triangles, face_tet);
   const std::size_t nb = face_tet.size();
@@ -354,8 +410,9 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
   }
   result.boundary_tags = patch_tags(result.boundary_triangles, vertex_patch_begin, vertex_patch,
                                     patch_tag, triangle_patch, closest);
-  result.tet_tags = region_tags(domain, result.xyz, result.tets, face_tet, closest,
-                                result.nb_tets_across_regions);
+  result.tet_tags =
+      region_tags(domain, result.xyz, result.tets, face_tet, closest,
+                  regions ? &regions->region : nullptr, result.nb_tets_across_regions);
   name_and_group_tags(domain, result);
 }
 

@@ -10,6 +10,8 @@
 
 namespace voroclip::mesh3 {
 
+struct TetRegions;  // mesh3d_pipeline.h
+
 // The faces of exactly one tet of `tets` (4 vertex indices each, right-handed: det(p1 - p0,
 // p2 - p0, p3 - p0) > 0), oriented outward (counter-clockwise seen from outside), in the
 // order of (tet, facet opposite vertex 0..3); `face_tet` gets each one's tet.
@@ -40,20 +42,29 @@ std::vector<std::int32_t> patch_tags(const std::vector<std::uint32_t>& triangles
 // (`closest_input`, per triangle of `triangles` / `face_tet`). `tets_across`: with several
 // input tags, the tets that have a vertex inside the domain but in no (closed) input tet of
 // their own tag, so reach across an interface between regions; else 0.
+// With `regions` (per tet, the region of a mesh that follows the interfaces between the
+// input's regions: mesh3d_interfaces.cpp), each region takes the tag most of its tets'
+// centroids lie in (ties to the lower tag), and `tets_across` counts the tets whose centroid
+// lies in an input tet of another tag.
 std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<double>& xyz,
                                       const std::vector<std::uint32_t>& tets,
                                       const std::vector<std::uint32_t>& face_tet,
                                       const std::vector<std::uint32_t>& closest_input,
+                                      const std::vector<std::uint32_t>* regions,
                                       std::uint32_t& tets_across);
 
 // The boundary triangles of `result.tets` (outward), grouped by patch tag, with their tags,
 // and the tets' region tags and the tag names (Mesh3Result). `triangle_patch`: the patch of
-// each input boundary triangle (the input's triangle tags, when it has them, tag the
-// patches; else patch p gets tag p + 1); `patches`: the surface patches of the sites;
-// `index`: each site's vertex in result.xyz, SurfaceTree::kNone for a site no tet uses.
+// each triangle of the surface the sites were sampled on (the input's triangle tags
+// `input_tags`, when it has them, tag the patches; else patch p gets tag p + 1); `patches`:
+// the surface patches of the sites; `index`: each site's vertex in result.xyz,
+// SurfaceTree::kNone for a site no tet uses; `regions`: per tet of result.tets its region
+// when the mesh follows the interfaces between the input's regions (region_tags).
 void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
-               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
-               const std::vector<std::uint32_t>& index, Mesh3Result& result);
+               const std::vector<std::uint32_t>& triangle_patch,
+               const std::vector<std::int32_t>& input_tags, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& index, const TetRegions* regions,
+               Mesh3Result& result);
 
 // The end of tag_mesh3, also for meshes put together from several (mesh3d_bodies): the
 // count of the input's regions, the tag names (the input's, then "patch <tag>" and "region

@@ -63,7 +63,7 @@ std::vector<std::array<double, 3>> refinement_points(const ClosedBallDefects& de
 }
 
 void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Options& clip,
-                               Cvt3Options& cvt, const std::vector<std::uint8_t>& boundary,
+                               Cvt3Options& cvt, std::vector<std::uint8_t>& boundary,
                                const Projection& project) {
   Clip3Options with_surface = clip;
   with_surface.keep_surface = true;
@@ -97,9 +97,9 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   std::uint32_t cycles = 0;
   for (std::uint32_t round = 0;; ++round) {
     ClippedVoronoi3 cv;
-    cv.compute(domain, sites.data(), n, with_surface);
+    cv.compute(sampled(), sites.data(), n, with_surface);
     const ClosedBallDefects defects =
-        closed_ball_defects(cv, sites.data(), knife_edges, &domain.surface());
+        closed_ball_defects(cv, sites.data(), knife_edges, &sampled().surface());
     const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
     if (round == 0) first_points = defects.points;
     Mesh3Progress p;
@@ -132,6 +132,7 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
       cvt.constraints = kinds;
       const CvtResult r = optimize_cvt3(domain, sites, cvt);
       if (r.cancelled) throw Cancelled{};
+      mark_interface_sites(boundary, true);
       snap_boundary_free_sites(boundary, project);
       ++cycles;
       inserted_since_cvt = false;

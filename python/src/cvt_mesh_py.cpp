@@ -380,6 +380,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["tets_below_dihedral_bound"] = m.nb_tets_below_bound;
   s["input_regions"] = m.nb_input_regions;
   s["tets_across_region_interfaces"] = m.nb_tets_across_regions;
+  s["region_interfaces_followed"] = m.nb_interfaces_followed;
+  s["region_interfaces_not_followed"] = m.interfaces_not_followed;
   s["seconds"] = m.total_seconds;
   s["cancelled"] = m.cancelled;
   r["stats"] = s;

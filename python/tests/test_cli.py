@@ -5,6 +5,7 @@ round-trip doubles, ASCII .vtu with 17 significant digits)."""
 import json
 import subprocess
 
+import meshio
 import numpy as np
 import pytest
 
@@ -132,9 +133,65 @@ def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):
     # A tet of region 1 with a vertex at x > 1, or of region 2 with one at x < 1.
     across = int((((tags == 1) & (x.max(1) > 1)) | ((tags == 2) & (x.min(1) < 1))).sum())
     assert across > 0
-    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across}
+    # The interface meets the boundary: not followed, and the stats say where.
+    why = stats["regions"]["interfaces_not_followed"]
+    assert "meets the boundary at vertex" in why
+    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across,
+                                "interfaces_followed": 0, "interfaces_not_followed": why}
     assert m.stats["input_regions"] == 2
     assert m.stats["tets_across_region_interfaces"] == across
+    assert m.stats["region_interfaces_followed"] == 0
+    assert m.stats["region_interfaces_not_followed"] == why
+
+
+def test_mesh3d_follows_the_interface_around_an_inclusion(cli, tmp_path):
+    # The unit cube as 6^3 voxels of six Kuhn tets, the middle 2^3 voxels (the box
+    # [1/3, 2/3]^3) region 2, the rest region 1: the interface is a closed surface inside.
+    n = 6
+    index = {}
+    pts = []
+    tets = []
+    for k in range(n):
+        for j in range(n):
+            for i in range(n):
+                ref = 2 if all(2 <= c < 4 for c in (i, j, k)) else 1
+                for axes in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
+                    c = [i, j, k]
+                    path = [tuple(c)]
+                    for a in axes:
+                        c[a] += 1
+                        path.append(tuple(c))
+                    for p in path:
+                        if p not in index:
+                            index[p] = len(pts) + 1
+                            pts.append(p)
+                    tets.append("%d %d %d %d %d" % (*(index[p] for p in path), ref))
+    lines = ["MeshVersionFormatted 2", "Dimension 3", "Vertices", str(len(pts))]
+    lines += ["%r %r %r 0" % tuple(c / n for c in p) for p in pts]
+    lines += ["Tetrahedra", str(len(tets))] + tets + ["End"]
+    domain = tmp_path / "inclusion.mesh"
+    domain.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "m.msh"
+    stats = run(cli, "mesh3d", domain, "--vertices", 1500, "-o", out)
+    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": 0,
+                                "interfaces_followed": 1, "interfaces_not_followed": ""}
+    assert stats["shape_problem"] == ""
+    back = meshio.read(out, file_format="gmsh")
+    p = back.points
+    t = back.cells_dict["tetra"]
+    tags = back.cell_data_dict["gmsh:physical"]["tetra"]
+    assert set(tags.tolist()) == {1, 2}
+    # Every tet on its side of the box: region 2's vertices in the closed box, region 1's
+    # outside the open one (vertices on the interface are projected onto it: 1e-12).
+    lo, hi, eps = 1 / 3, 2 / 3, 1e-12
+    inner = ((p > lo + eps) & (p < hi - eps)).all(axis=1)
+    closed = ((p >= lo - eps) & (p <= hi + eps)).all(axis=1)
+    assert closed[t[tags == 2]].all()
+    assert not inner[t[tags == 1]].any()
+    a, b, c, d = (p[t[:, k]] for k in range(4))
+    vol = np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))) / 6
+    assert vol.sum() == pytest.approx(1, rel=1e-9)
+    assert vol[tags == 2].sum() == pytest.approx(1 / 27, rel=0.05)
 
 
 def test_mesh3d_facet_distance_agrees_with_cli(cli, tmp_path):

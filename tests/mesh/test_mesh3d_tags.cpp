@@ -284,6 +284,151 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   CHECK(r.nb_tets_across_regions == across);
 }
 
+// The unit cube as a grid of n^3 voxels, six Kuhn tets each (around the diagonal of the
+// voxel), region 2 for the voxels with every index in [lo, hi), region 1 elsewhere: an
+// inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor
+// another interface when 0 < lo < hi < n. The boundary triangles tagged by the face they lie
+// on (10 + axis, 13 + axis on the far side) when `tag_faces`.
+voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::uint32_t hi,
+                                      bool tag_faces) {
+  voroclip::TetMeshInput m;
+  m.source = "inclusion grid";
+  const auto id = [n](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return (k * (n + 1) + j) * (n + 1) + i;
+  };
+  for (std::uint32_t k = 0; k <= n; ++k) {
+    for (std::uint32_t j = 0; j <= n; ++j) {
+      for (std::uint32_t i = 0; i <= n; ++i) {
+        m.xyz.insert(m.xyz.end(), {static_cast<double>(i) / n, static_cast<double>(j) / n,
+                                   static_cast<double>(k) / n});
+      }
+    }
+  }
+  const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (std::uint32_t k = 0; k < n; ++k) {
+    for (std::uint32_t j = 0; j < n; ++j) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const bool in = i >= lo && i < hi && j >= lo && j < hi && k >= lo && k < hi;
+        for (const auto& a : axes) {
+          std::uint32_t c[3] = {i, j, k};
+          m.tets.push_back(id(c[0], c[1], c[2]));
+          for (const int axis : a) {
+            ++c[axis];
+            m.tets.push_back(id(c[0], c[1], c[2]));
+          }
+          m.tet_ref.push_back(in ? 2 : 1);
+        }
+      }
+    }
+  }
+  if (tag_faces) {
+    const Domain3 d(m);
+    const voroclip::Surface3& s = d.surface();
+    for (std::uint32_t t = 0; t < s.nb_triangles(); ++t) {
+      double c[3] = {0, 0, 0};
+      for (int q = 0; q < 3; ++q) {
+        for (int a = 0; a < 3; ++a) c[a] += s.vertex(s.triangle_vertex(t, q))[a] / 3;
+      }
+      int tag = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (c[a] < 1e-9) tag = 10 + a;
+        if (c[a] > 1 - 1e-9) tag = 13 + a;
+      }
+      m.triangles.insert(m.triangles.end(), s.triangle(t), s.triangle(t) + 3);
+      m.triangle_ref.push_back(tag);
+    }
+  }
+  return m;
+}
+
+TEST_CASE("mesh3d follows the interface around an inclusion", "[mesh][threads]") {
+  // The inclusion [1/3, 2/3]^3 in the unit cube, regions 2 and 1.
+  const voroclip::TetMeshInput in = inclusion_grid(9, 3, 6, true);
+  const Domain3 d(in);
+  const Mesh3Result r =
+      voroclip_test::check_same_mesh3d_with_1_and_2_threads(d, small_options(2000));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  CHECK(r.nb_input_regions == 2);
+  CHECK(r.nb_interfaces_followed == 1);
+  CHECK(r.interfaces_not_followed.empty());
+  CHECK(r.nb_tets_across_regions == 0);
+  // The boundary keeps the faces' tags; the interface adds none.
+  std::set<std::int32_t> patch_tags(r.boundary_tags.begin(), r.boundary_tags.end());
+  CHECK(patch_tags == std::set<std::int32_t>{10, 11, 12, 13, 14, 15});
+  // Each tet on its side of the box [a, b]^3, by its vertices (a vertex on the interface is
+  // projected onto it: within 1e-12).
+  const double a = 3.0 / 9, b = 6.0 / 9, eps = 1e-12;
+  const auto inside = [&](const double* p, double margin) {
+    return p[0] > a + margin && p[0] < b - margin && p[1] > a + margin && p[1] < b - margin &&
+           p[2] > a + margin && p[2] < b - margin;
+  };
+  double volume[3] = {0, 0, 0};
+  std::size_t tets_in_2 = 0;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    const std::int32_t tag = r.tet_tags[t / 4];
+    REQUIRE((tag == 1 || tag == 2));
+    for (int j = 0; j < 4; ++j) {
+      const double* p = point(r, r.tets[t + j]);
+      if (tag == 2) {
+        CHECK(inside(p, -eps));
+      } else {
+        CHECK_FALSE(inside(p, eps));
+      }
+    }
+    volume[tag] += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
+                                 point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
+    tets_in_2 += tag == 2 ? 1 : 0;
+  }
+  CHECK(tets_in_2 > 100);
+  // The volumes: the cube's whole; the inclusion's up to the chamfers at its edges.
+  CHECK(volume[1] + volume[2] == Approx(1).epsilon(1e-9));
+  CHECK(volume[2] == Approx(1.0 / 27).epsilon(0.03));
+  // The interface (the faces between the two regions) lies on the box's surface, and the
+  // inclusion's tets make one closed volume of genus 0 around it.
+  std::map<std::array<std::uint32_t, 3>, std::set<std::int32_t>> face_tags;
+  voroclip::TetMeshInput inner;
+  inner.source = "region 2";
+  inner.xyz = r.xyz;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> key{};
+      std::size_t k = 0;
+      for (int j = 0; j < 4; ++j) {
+        if (j != f) key[k++] = r.tets[t + j];
+      }
+      std::sort(key.begin(), key.end());
+      face_tags[key].insert(r.tet_tags[t / 4]);
+    }
+    if (r.tet_tags[t / 4] == 2) inner.tets.insert(inner.tets.end(), &r.tets[t], &r.tets[t] + 4);
+  }
+  std::size_t interface_faces = 0;
+  for (const auto& [key, tags] : face_tags) {
+    if (tags.size() < 2) continue;
+    ++interface_faces;
+    for (const std::uint32_t v : key) {
+      const double* p = point(r, v);
+      CHECK(inside(p, -eps));
+      CHECK_FALSE(inside(p, eps));
+    }
+  }
+  CHECK(interface_faces > 50);
+  const Domain3 region2(inner);
+  REQUIRE(region2.surface().shells().size() == 1);
+  CHECK(region2.surface().shells()[0].genus == 0);
+  CHECK(region2.volume() == Approx(volume[2]).epsilon(1e-9));
+}
+
+TEST_CASE("mesh3d does not follow interfaces that meet the boundary, and says why", "[mesh]") {
+  // The inclusion reaches the cube's face x = 0: its interface meets the boundary.
+  const Domain3 d(inclusion_grid(6, 0, 3, false));
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(500));
+  CHECK(r.nb_input_regions == 2);
+  CHECK(r.nb_interfaces_followed == 0);
+  CHECK_FALSE(r.interfaces_not_followed.empty());
+  CHECK(r.nb_tets_across_regions > 0);
+}
+
 TEST_CASE("mesh3d: one region per volume component; a cavity is no region", "[mesh]") {
   // Two boxes apart: two components, tagged 1 and 2 in the order of their shells.
   const Domain3 d2(two_boxes(1.5));

@@ -1,0 +1,316 @@
+// Interfaces between the regions of a tet mesh domain, followed by the mesh (mesh3d_pipeline.h,
+// RegionInterfaces).
+//
+// A tet mesh's regions (its tet tags) meet along interfaces: the facets between two tets of
+// different tags. When each interface is a closed surface inside the volume (an inclusion, a
+// core in a shell of another material), the boundary and the interfaces together make one
+// surface, `surfaces`, whose shells are nested: the volume outside every inclusion is a
+// domain with the interfaces as cavities (an inclusion in an inclusion a body again). The
+// mesh follows the interfaces as it follows the boundary (Yan et al. 2011, sec. 5.2, applied
+// to both): sites whose cells cross an interface from its inside go onto it (one side only, so
+// that the interface gets one layer of sites, as the boundary does), the feature lines, the
+// surface patches and the topology refinement see both, and each Delaunay tet takes the side
+// of `surfaces` its circumcentre lies on (exact). A Delaunay face between tets of two sides
+// is dual to a Voronoi edge that crosses an interface: the interface of the mesh is the
+// restricted Delaunay triangulation of the interface, as its boundary is that of the
+// boundary. The regions are then the face-connected parts of one side; after that, flips and
+// moves work within each region, the vertices two regions share fixed, so that no tet ever
+// crosses an interface.
+//
+// Interfaces that meet the boundary or each other (layers across the whole part, three
+// regions along one curve) are not closed surfaces inside the volume: `surfaces` cannot be
+// built (its edges there have four triangles), and mesh3d meshes the volume as one, tagging
+// each tet by its centroid, with a warning that counts the tets across (region_tags).
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mesh3d_pipeline.h"
+#include "union_find.h"
+
+namespace voroclip::mesh3 {
+
+namespace {
+
+// The facet opposite vertex f of Domain3's tet t, clockwise seen from outside t (Domain3's
+// convention: reversed, it is a boundary triangle's orientation).
+std::array<std::uint32_t, 3> facet(const Domain3& d, std::uint32_t t, int f) {
+  std::array<std::uint32_t, 3> v{};
+  for (int k = 0; k < 3; ++k)
+    v[static_cast<std::size_t>(k)] = d.tet_vertex(t, Domain3::kTetFacetVertex[f][k]);
+  return v;
+}
+
+}  // namespace
+
+bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string& why_not) {
+  why_not.clear();
+  const std::vector<std::int32_t>& refs = domain.tet_refs();
+  if (!domain.has_tets() || refs.empty() ||
+      std::all_of(refs.begin(), refs.end(), [&](std::int32_t r) { return r == refs[0]; })) {
+    return false;
+  }
+  TriangleSurface s;
+  s.source = domain.source() + " (its boundary and the interfaces between its regions)";
+  s.xyz = domain.coords();
+  s.triangles = domain.surface().triangles();
+  const std::uint32_t nb_boundary = domain.surface().nb_triangles();
+  // Each interface facet as the tet of the lower tag sees it from outside (the boundary's
+  // orientation: Domain3's facet reversed): the same side along a whole closed interface,
+  // whose orientation Surface3Options::reorient then fixes by its nesting.
+  std::vector<std::pair<std::int32_t, std::int32_t>> sides;  // per interface facet: its tags
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t u = domain.tet_adjacent(t, f);
+      if (u == Domain3::kNone || u < t || refs[u] == refs[t]) continue;
+      std::array<std::uint32_t, 3> v{};
+      if (refs[t] < refs[u]) {
+        v = facet(domain, t, f);
+      } else {
+        int g = 0;
+        while (domain.tet_adjacent(u, g) != t) ++g;
+        v = facet(domain, u, g);
+      }
+      s.triangles.insert(s.triangles.end(), {v[0], v[2], v[1]});
+      sides.emplace_back(std::min(refs[t], refs[u]), std::max(refs[t], refs[u]));
+    }
+  }
+  s.triangle_line.assign(s.triangles.size() / 3, 0);
+  // Where an interface meets the boundary (a vertex of both) or other interfaces (an edge of
+  // more than two interface facets), named by the first such vertex or edge.
+  const Surface3& boundary = domain.surface();
+  const auto where = [&](std::uint32_t v) {
+    const double* p = domain.vertex(v);
+    return boundary.vertex_name(v) + " (" + brief(p[0]) + ", " + brief(p[1]) + ", " + brief(p[2]) +
+           ")";
+  };
+  const auto between = [](const std::pair<std::int32_t, std::int32_t>& tags) {
+    return "regions " + std::to_string(tags.first) + " and " + std::to_string(tags.second);
+  };
+  std::vector<std::uint8_t> on_boundary(domain.nb_vertices(), 0);
+  for (const std::uint32_t v : boundary.triangles()) on_boundary[v] = 1;
+  std::vector<std::array<std::uint32_t, 3>> edges;  // (low vertex, high vertex, facet)
+  for (std::size_t i = 3 * std::size_t{nb_boundary}; i < s.triangles.size(); i += 3) {
+    const auto f = static_cast<std::uint32_t>(i / 3 - nb_boundary);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = s.triangles[i + k], w = s.triangles[i + (k + 1) % 3];
+      if (on_boundary[v] != 0) {
+        why_not =
+            "the interface between " + between(sides[f]) + " meets the boundary at " + where(v);
+        return false;
+      }
+      edges.push_back({std::min(v, w), std::max(v, w), f});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    if (j - i != 2) {
+      std::vector<std::int32_t> tags;
+      for (std::size_t k = i; k < j; ++k) {
+        tags.push_back(sides[edges[k][2]].first);
+        tags.push_back(sides[edges[k][2]].second);
+      }
+      std::sort(tags.begin(), tags.end());
+      tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+      std::string list;
+      for (std::size_t k = 0; k < tags.size(); ++k)
+        list += (k == 0 ? "" : k + 1 == tags.size() ? " and " : ", ") + std::to_string(tags[k]);
+      why_not = (tags.size() == 2 ? "the interface between regions " + list +
+                                        " touches itself (tets of one region meet along an "
+                                        "edge only)"
+                                  : "the interfaces between regions " + list + " meet") +
+                " along the edge from " + where(edges[i][0]) + " to " + where(edges[i][1]);
+      return false;
+    }
+    i = j;
+  }
+  Surface3Options so;
+  so.reorient = true;
+  try {
+    out.surfaces = Domain3(s, so);
+  } catch (const Error& e) {
+    why_not = e.what();
+    return false;
+  }
+  out.nb_boundary_triangles = nb_boundary;
+  out.nb_shells = static_cast<std::uint32_t>(out.surfaces.surface().shells().size() -
+                                             domain.surface().shells().size());
+  out.refs.clear();
+  if (!domain.boundary_refs().empty()) {
+    out.refs = domain.boundary_refs();
+    out.refs.resize(out.surfaces.surface().nb_triangles(), 0);
+  }
+  return true;
+}
+
+TetRegions interface_regions(const RegionInterfaces& interfaces, const std::vector<double>& sites,
+                             const std::vector<std::uint32_t>& tets, const SurfacePatches& sp) {
+  const std::size_t nt = tets.size() / 4;
+  std::vector<std::uint8_t> side(nt, 0);
+  const Surface3& s = interfaces.surfaces.surface();
+  for (std::size_t t = 0; t < nt; ++t) {
+    const double* p[4];
+    for (int k = 0; k < 4; ++k)
+      p[k] = &sites[3 * std::size_t{tets[4 * t + static_cast<std::size_t>(k)]}];
+    side[t] = s.locate_circumcenter(p[0], p[1], p[2], p[3]) == Sign::positive ? 1 : 0;
+  }
+  std::vector<std::array<std::uint32_t, 4>> faces;  // sorted vertices, tet
+  faces.reserve(4 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> v{};
+      std::size_t j = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (k != f) v[j++] = tets[4 * t + static_cast<std::size_t>(k)];
+      }
+      std::sort(v.begin(), v.end());
+      faces.push_back({v[0], v[1], v[2], static_cast<std::uint32_t>(t)});
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  // The extraction's crease rule (extract3d.cpp, fill_boundary) at the interfaces: where a
+  // face between the two sides crosses a feature line of an interface (its vertices share no
+  // patch), a tet whose centroid lies strictly on the other side goes there (the chamfer of a
+  // convex edge of an inclusion, a bridge over a concave one). Each tet at most once, in
+  // passes until none changes.
+  const auto shared = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const auto has = [&](std::uint32_t v, std::uint32_t patch) {
+      return std::find(sp.patches.begin() + sp.begin[v], sp.patches.begin() + sp.begin[v + 1],
+                       patch) != sp.patches.begin() + sp.begin[v + 1];
+    };
+    for (std::uint32_t i = sp.begin[a]; i < sp.begin[a + 1]; ++i) {
+      if (has(b, sp.patches[i]) && has(c, sp.patches[i])) return true;
+    }
+    return false;
+  };
+  const auto centroid_side = [&](std::uint32_t t) {
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+      const double* p =
+          &sites[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(k)]}];
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * p[a];
+    }
+    return s.locate(c);
+  };
+  std::vector<std::uint8_t> changed(nt, 0);
+  std::vector<std::uint32_t> todo;
+  for (int pass = 0; pass < 8; ++pass) {
+    todo.clear();
+    for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+      const auto& a = faces[i];
+      const auto& b = faces[i + 1];
+      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2] || side[a[3]] == side[b[3]]) continue;
+      if (a[0] + 1 >= sp.begin.size() || a[1] + 1 >= sp.begin.size() ||
+          a[2] + 1 >= sp.begin.size() || shared(a[0], a[1], a[2]))
+        continue;
+      for (const std::uint32_t t : {a[3], b[3]}) {
+        if (changed[t] != 0) continue;
+        const Sign c = centroid_side(t);
+        if ((c == Sign::positive && side[t] == 0) || (c == Sign::negative && side[t] == 1))
+          todo.push_back(t);
+      }
+    }
+    if (todo.empty()) break;
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    for (const std::uint32_t t : todo) {
+      changed[t] = 1;
+      side[t] ^= 1;
+    }
+  }
+  // Face-connected parts of one side, numbered in the order of their first tet.
+  UnionFind parts(static_cast<std::uint32_t>(nt));
+  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+    const auto& a = faces[i];
+    const auto& b = faces[i + 1];
+    if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2] && side[a[3]] == side[b[3]])
+      parts.unite(a[3], b[3]);
+  }
+  TetRegions r;
+  std::vector<std::uint32_t> number(nt, kNoRegion);
+  r.region.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const std::uint32_t root = parts.find(static_cast<std::uint32_t>(t));
+    if (number[root] == kNoRegion) {
+      number[root] = static_cast<std::uint32_t>(r.outside.size());
+      r.outside.push_back(side[t]);
+    }
+    r.region[t] = number[root];
+  }
+  return r;
+}
+
+void per_region(
+    std::vector<double>& sites, const std::vector<Kind>& kinds, std::vector<std::uint32_t>& tets,
+    TetRegions& regions,
+    const std::function<void(std::vector<std::uint32_t>&, const std::vector<Kind>&)>& pass) {
+  const std::size_t nt = tets.size() / 4;
+  const std::vector<std::uint32_t>& region = regions.region;
+  // The vertices of tets of two regions or more stay: kFixed for the passes.
+  std::vector<std::uint32_t> first(sites.size() / 3, kNoRegion);
+  std::vector<Kind> fixed = kinds;
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t v = tets[4 * t + static_cast<std::size_t>(k)];
+      if (first[v] == kNoRegion) {
+        first[v] = region[t];
+      } else if (first[v] != region[t]) {
+        fixed[v] = Kind::kFixed;
+      }
+    }
+  }
+  std::vector<std::uint32_t> all, all_region, mine;
+  all.reserve(tets.size());
+  all_region.reserve(nt);
+  for (std::uint32_t r = 0; r < regions.outside.size(); ++r) {
+    mine.clear();
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (region[t] == r) mine.insert(mine.end(), &tets[4 * t], &tets[4 * t] + 4);
+    }
+    fixed.resize(sites.size() / 3, Kind::kFree);  // vertices an earlier region's pass added
+    pass(mine, fixed);
+    all.insert(all.end(), mine.begin(), mine.end());
+    all_region.insert(all_region.end(), mine.size() / 4, r);
+  }
+  tets = std::move(all);
+  regions.region = std::move(all_region);
+}
+
+std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,
+                            const std::vector<std::uint32_t>& tets, const TetRegions& regions) {
+  // The tets outside every inclusion (the regions whose circumcentres lie in `surfaces`'s
+  // volume: the parts that border the outer boundary, and those in an inclusion of an
+  // inclusion): their boundary must be `surfaces`, shell for shell.
+  std::vector<std::uint32_t> kept;
+  for (std::size_t t = 0; t < tets.size() / 4; ++t) {
+    if (regions.outside[regions.region[t]] != 0)
+      kept.insert(kept.end(), &tets[4 * t], &tets[4 * t] + 4);
+  }
+  const std::string problem = check_mesh3_shape(interfaces.surfaces, xyz, kept);
+  if (problem.empty()) return "";
+  return "the tets outside the inclusions (the interfaces between the regions as cavities) "
+         "do not have the input's shape: " +
+         problem;
+}
+
+void Pipeline::mark_interface_sites(std::vector<std::uint8_t>& boundary, bool both_sides) const {
+  if (!interfaces) return;
+  const auto m = static_cast<std::uint32_t>(sites.size() / 3);  // n is set from step 4 on
+  ClippedVoronoi3 cv;
+  cv.compute(interfaces->surfaces, sites.data(), m);
+  boundary.resize(m, 0);
+  const Surface3& s = interfaces->surfaces.surface();
+  for (std::uint32_t v = 0; v < m; ++v) {
+    if (kinds.size() > v && kinds[v] != Kind::kFree) continue;
+    if (cv.is_boundary(v) && (both_sides || s.locate(&sites[3 * std::size_t{v}]) != Sign::positive))
+      boundary[v] = 1;
+  }
+}
+
+}  // namespace voroclip::mesh3
