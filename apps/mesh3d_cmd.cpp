@@ -236,6 +236,11 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   // tags, the tets with their region tags (every format keeps them; Gmsh also the names).
   mesh.triangles = r.boundary_triangles;
   mesh.triangle_ref = r.boundary_tags;
+  // The interfaces between regions the mesh follows, after the boundary.
+  mesh.triangles.insert(mesh.triangles.end(), r.interface_triangles.begin(),
+                        r.interface_triangles.end());
+  mesh.triangle_ref.insert(mesh.triangle_ref.end(), r.interface_tags.begin(),
+                           r.interface_tags.end());
   mesh.tet_ref = r.tet_tags;
   mesh.tag_names = r.tag_names;
   // The Hausdorff distance between the output's boundary and the input's: mesh3d measured
@@ -246,10 +251,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (!args.output.empty()) {
     progress.phase("writing " + args.output);
     if (ext == ".vtu") {
-      // The tets, then the boundary triangles (as write_tet_mesh: cell data "region", 0 on
-      // triangles, and "patch", 0 on tets), and per tet its smallest dihedral angle (NaN on
-      // the triangles); the vertex kinds go with the statistics only.
-      const std::size_t nb = r.boundary_triangles.size() / 3;
+      // The tets, then the boundary and interface triangles (as write_tet_mesh: cell data
+      // "region", 0 on triangles, and "patch", 0 on tets), and per tet its smallest dihedral
+      // angle (NaN on the triangles); the vertex kinds go with the statistics only.
+      const std::size_t nb = mesh.triangles.size() / 3;
       std::vector<VtuCellField> fields(1);
       fields[0].name = "q1_min_dihedral_deg";
       fields[0].values.reserve(r.nb_tets() + nb);
@@ -267,9 +272,10 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       tags[0].values.resize(r.nb_tets() + nb, 0);
       tags[1].name = "patch";
       tags[1].values.assign(r.nb_tets(), 0);
-      tags[1].values.insert(tags[1].values.end(), r.boundary_tags.begin(), r.boundary_tags.end());
+      tags[1].values.insert(tags[1].values.end(), mesh.triangle_ref.begin(),
+                            mesh.triangle_ref.end());
       const std::vector<VtuCellBlock> blocks = {{r.tets.data(), r.nb_tets(), 4},
-                                                {r.boundary_triangles.data(), nb, 3}};
+                                                {mesh.triangles.data(), nb, 3}};
       write_file_atomically(args.output, [&](std::ostream& os) {
         write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, blocks,
                   args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64, fields, tags);
@@ -338,6 +344,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
       std::sort(regions.begin(), regions.end());
       regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
       j["boundary_triangles"] = r.boundary_triangles.size() / 3;
+      j["interface_triangles"] = r.interface_triangles.size() / 3;
       j["patch_tags"] = patches;
       j["region_tags"] = regions;
     }
@@ -424,9 +431,14 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
            << " patch tag(s) [" << list(patches) << "]; " << regions.size() << " region tag(s) ["
            << list(regions) << "]\n";
       if (r.nb_interfaces_followed > 0) {
+        std::vector<std::int32_t> tags = r.interface_tags;
+        std::sort(tags.begin(), tags.end());
+        tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
         *out << "Regions: the mesh follows the " << count_of(r.nb_interfaces_followed, "interface")
              << " between the input's " << r.nb_input_regions
-             << " regions (vertices on them, each tet on one side)\n";
+             << " regions (vertices on them, each tet on one side): "
+             << r.interface_triangles.size() / 3 << " interface triangles, tag(s) [" << list(tags)
+             << "]\n";
       }
     }
     write_quality_text(*out, r.quality, args.output.empty() ? std::string("mesh3d") : args.output,

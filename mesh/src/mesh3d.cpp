@@ -944,6 +944,7 @@ void Pipeline::run() {
     // component).
     tag_mesh3(domain, surface_tree, triangle_patch, input_tags, patches, index,
               interfaces ? &regions : nullptr, result);
+    if (interfaces) tag_interfaces(*interfaces, surface_tree, result);
     measure_mesh3_quality(domain, result);
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);
     if (result.shape_problem.empty() && interfaces)

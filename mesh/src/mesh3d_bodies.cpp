@@ -237,6 +237,20 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
       result.boundary_tags.push_back(own_patch_tags ? t + patch_offset : t);
       largest = std::max(largest, t);
     }
+    // The interfaces' triangles and tags (after the body's patch tags) and their names.
+    for (const std::uint32_t v : r.interface_triangles)
+      result.interface_triangles.push_back(base + v);
+    const std::int32_t offset = own_patch_tags ? patch_offset : 0;
+    for (const std::int32_t t : r.interface_tags) {
+      result.interface_tags.push_back(t + offset);
+      largest = std::max(largest, t);
+    }
+    for (const TetMeshInput::TagName& name : r.tag_names) {
+      if (name.dimension == 2 && std::find(r.interface_tags.begin(), r.interface_tags.end(),
+                                           name.tag) != r.interface_tags.end()) {
+        result.tag_names.push_back({2, name.tag + offset, name.name});
+      }
+    }
     patch_offset += largest;
     for (const std::int32_t t : r.tet_tags)
       result.tet_tags.push_back(own_region_tags ? static_cast<std::int32_t>(b + 1) : t);
@@ -290,6 +304,8 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     result.tets.clear();
     result.boundary_triangles.clear();
     result.boundary_tags.clear();
+    result.interface_triangles.clear();
+    result.interface_tags.clear();
     result.tet_tags.clear();
     result.total_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -299,6 +299,81 @@ std::string interface_shape(const RegionInterfaces& interfaces, const std::vecto
          problem;
 }
 
+void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
+                    Mesh3Result& result) {
+  // The interface shells of `surfaces` (those after the boundary's triangles), ranked.
+  const Surface3& s = interfaces.surfaces.surface();
+  std::vector<std::uint32_t> rank(s.shells().size(), 0);
+  std::uint32_t nb_interfaces = 0;
+  for (std::size_t h = 0; h < s.shells().size(); ++h) {
+    if (s.shells()[h].first_triangle >= interfaces.nb_boundary_triangles) rank[h] = ++nb_interfaces;
+  }
+  std::int32_t base = 0;
+  for (const std::int32_t t : result.boundary_tags) base = std::max(base, t);
+  // The faces shared by two tets of different tags; right-handed tets, so the facet opposite
+  // vertex f listed as kOutward[f] is counter-clockwise seen from outside its tet.
+  static constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  const std::vector<std::uint32_t>& tets = result.tets;
+  const std::size_t nt = tets.size() / 4;
+  std::vector<std::array<std::uint32_t, 4>> faces;  // sorted vertices, 4 tet + facet
+  faces.reserve(4 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::uint32_t, 3> v{};
+      for (int k = 0; k < 3; ++k)
+        v[static_cast<std::size_t>(k)] = tets[4 * t + static_cast<std::size_t>(kOutward[f][k])];
+      std::sort(v.begin(), v.end());
+      faces.push_back(
+          {v[0], v[1], v[2], static_cast<std::uint32_t>(4 * t) + static_cast<std::uint32_t>(f)});
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  struct Face {
+    std::int32_t tag;
+    std::uint32_t code;  // 4 tet + facet, of the tet of the lower region tag
+    std::int32_t low, high;
+  };
+  std::vector<Face> found;
+  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+    const auto& a = faces[i];
+    const auto& b = faces[i + 1];
+    if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) continue;
+    const std::int32_t ta = result.tet_tags[a[3] / 4], tb = result.tet_tags[b[3] / 4];
+    if (ta == tb) continue;
+    const std::uint32_t code = ta < tb ? a[3] : b[3];
+    double c[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      for (int q = 0; q < 3; ++q)
+        c[q] += result.xyz[3 * std::size_t{a[static_cast<std::size_t>(k)]} +
+                           static_cast<std::size_t>(q)] /
+                3;
+    }
+    const std::uint32_t shell = s.shell_of(sampled_tree.closest(c).triangle);
+    const std::int32_t tag =
+        base + static_cast<std::int32_t>(std::max<std::uint32_t>(rank[shell], 1));
+    found.push_back({tag, code, std::min(ta, tb), std::max(ta, tb)});
+  }
+  std::stable_sort(found.begin(), found.end(), [](const Face& x, const Face& y) {
+    return x.tag != y.tag ? x.tag < y.tag : x.code < y.code;
+  });
+  result.interface_triangles.clear();
+  result.interface_tags.clear();
+  for (const Face& f : found) {
+    const std::size_t t = f.code / 4;
+    const int k = static_cast<int>(f.code % 4);
+    for (int q = 0; q < 3; ++q)
+      result.interface_triangles.push_back(tets[4 * t + static_cast<std::size_t>(kOutward[k][q])]);
+    result.interface_tags.push_back(f.tag);
+    const bool named = std::any_of(
+        result.tag_names.begin(), result.tag_names.end(),
+        [&](const TetMeshInput::TagName& n) { return n.dimension == 2 && n.tag == f.tag; });
+    if (!named) {
+      result.tag_names.push_back(
+          {2, f.tag, "interface " + std::to_string(f.low) + "-" + std::to_string(f.high)});
+    }
+  }
+}
+
 void Pipeline::mark_interface_sites(std::vector<std::uint8_t>& boundary, bool both_sides) const {
   if (!interfaces) return;
   const auto m = static_cast<std::uint32_t>(sites.size() / 3);  // n is set from step 4 on

@@ -357,6 +357,12 @@ void per_region(
     std::vector<double>& sites, const std::vector<Kind>& kinds, std::vector<std::uint32_t>& tets,
     TetRegions& regions,
     const std::function<void(std::vector<std::uint32_t>&, const std::vector<Kind>&)>& pass);
+// The mesh's interfaces (Mesh3Result::interface_triangles, interface_tags, their names) from
+// its tets and region tags: a face between tets of two tags is on the interface of
+// `interfaces.surfaces` nearest its centroid (`sampled_tree`: that surface's tree), tagged
+// after result.boundary_tags' largest.
+void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
+                    Mesh3Result& result);
 // What is wrong with the mesh's interfaces, empty when nothing: the tets of the regions
 // outside the inclusions must have `surfaces`'s shape (check_mesh3_shape).
 std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,

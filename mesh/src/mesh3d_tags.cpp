@@ -425,7 +425,14 @@ void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
   }
   // The input's names, then one for each tag used without a name: "patch <tag>" on the
   // boundary, "region <tag>" for the tets (as mesh2d names its "boundary" and "region"
-  // groups), so that a Gmsh file's physical groups all carry a name.
+  // groups), so that a Gmsh file's physical groups all carry a name; the interfaces keep the
+  // names they have (tag_interfaces: "interface <a>-<b>").
+  std::vector<TetMeshInput::TagName> interface_names;
+  for (const TetMeshInput::TagName& n : result.tag_names) {
+    if (n.dimension == 2 && std::find(result.interface_tags.begin(), result.interface_tags.end(),
+                                      n.tag) != result.interface_tags.end())
+      interface_names.push_back(n);
+  }
   result.tag_names = domain.tag_names();
   const auto name_the_rest = [&](int dimension, std::vector<std::int32_t> tags, const char* what) {
     std::sort(tags.begin(), tags.end());
@@ -437,6 +444,12 @@ void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
       if (!named) result.tag_names.push_back({dimension, t, what + std::to_string(t)});
     }
   };
+  for (const TetMeshInput::TagName& n : interface_names) {
+    const bool named = std::any_of(
+        result.tag_names.begin(), result.tag_names.end(),
+        [&](const TetMeshInput::TagName& m) { return m.dimension == 2 && m.tag == n.tag; });
+    if (!named) result.tag_names.push_back(n);
+  }
   name_the_rest(2, result.boundary_tags, "patch ");
   name_the_rest(3, result.tet_tags, "region ");
   // Triangles grouped by patch tag (stable: (tet, facet) order within a patch), so that

@@ -334,6 +334,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   r["vertex_kind"] = to_array(std::move(kind));
   r["boundary_triangles"] = as_int32(m.boundary_triangles, 3);
   r["boundary_tags"] = as_int32(m.boundary_tags);
+  r["interface_triangles"] = as_int32(m.interface_triangles, 3);
+  r["interface_tags"] = as_int32(m.interface_tags);
   r["tet_tags"] = as_int32(m.tet_tags);
   py::list names;
   for (const auto& t : m.tag_names) names.append(py::make_tuple(t.dimension, t.tag, t.name));

@@ -181,6 +181,12 @@ def test_mesh3d_follows_the_interface_around_an_inclusion(cli, tmp_path):
     t = back.cells_dict["tetra"]
     tags = back.cell_data_dict["gmsh:physical"]["tetra"]
     assert set(tags.tolist()) == {1, 2}
+    # The boundary's six patches (1 .. 6), then the interface (7), named.
+    tri = back.cells_dict["triangle"]
+    tri_tags = back.cell_data_dict["gmsh:physical"]["triangle"]
+    assert set(tri_tags.tolist()) == {1, 2, 3, 4, 5, 6, 7}
+    assert back.field_data["interface 1-2"].tolist() == [7, 2]
+    assert stats["interface_triangles"] == int((tri_tags == 7).sum()) > 0
     # Every tet on its side of the box: region 2's vertices in the closed box, region 1's
     # outside the open one (vertices on the interface are projected onto it: 1e-12).
     lo, hi, eps = 1 / 3, 2 / 3, 1e-12
@@ -192,6 +198,23 @@ def test_mesh3d_follows_the_interface_around_an_inclusion(cli, tmp_path):
     vol = np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))) / 6
     assert vol.sum() == pytest.approx(1, rel=1e-9)
     assert vol[tags == 2].sum() == pytest.approx(1 / 27, rel=0.05)
+    # The interface triangles: on the box's surface, and each a face of a tet of each region.
+    it = tri[tri_tags == 7]
+    assert closed[it].all() and not inner[it].any()
+    faces = {}
+    for k, cell in enumerate(t):
+        for f in range(4):
+            faces.setdefault(tuple(sorted(np.delete(cell, f))), set()).add(int(tags[k]))
+    assert all(faces[tuple(sorted(x))] == {1, 2} for x in it)
+    # Python: the same mesh, its interface triangles and their tag among the triangles.
+    m = voroclip.mesh3d(domain, vertices=1500)
+    assert m.stats["region_interfaces_followed"] == 1
+    assert m.stats["region_interfaces_not_followed"] == ""
+    assert len(m.points) == len(p) and len(m.cells) == len(t)
+    assert m.interface_triangles.shape == (len(it), 3)
+    assert set(m.interface_tags.tolist()) == {7}
+    mm = m.to_meshio()
+    assert len(mm.cells_dict["triangle"]) == len(m.boundary_triangles) + len(it)
 
 
 def test_mesh3d_facet_distance_agrees_with_cli(cli, tmp_path):

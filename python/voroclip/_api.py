@@ -260,6 +260,8 @@ class Mesh:
     * ``vertex_kind`` (n,) uint8: 2D 0 interior, 1 sliding on the boundary, 2 fixed;
       3D 0 interior, 1 surface, 2 feature line, 3 corner;
     * 3D: ``boundary_triangles`` (k, 3) outward, ``boundary_tags`` (k,) patch tags,
+      ``interface_triangles`` (j, 3), ``interface_tags`` (j,) (the interfaces between
+      regions the mesh follows: outward from the lower region tag; else empty),
       ``cell_tags`` (m,) region tags, ``tag_names`` [(dimension, tag, name)],
       ``shape_problem`` ('' when the boundary has the domain's shape);
       2D: ``vertex_domain``, ``vertex_edge`` (the domain vertex / edge a boundary vertex
@@ -288,6 +290,8 @@ class Mesh:
         else:
             self.boundary_triangles = r["boundary_triangles"]
             self.boundary_tags = r["boundary_tags"]
+            self.interface_triangles = r["interface_triangles"]
+            self.interface_tags = r["interface_tags"]
             self.cell_tags = r["tet_tags"]
             self.tag_names = r["tag_names"]
             self.shape_problem = r["shape_problem"]
@@ -298,20 +302,22 @@ class Mesh:
 
     def to_meshio(self, tags: str = "gmsh"):
         """A ``meshio.Mesh``: 2D triangles (z = 0 added, as meshio's writers expect) or 3D
-        tets and boundary triangles with the region / patch tags as cell data:
+        tets and boundary (then interface) triangles with the region / patch tags as cell data:
         ``tags="gmsh"``: ``gmsh:physical`` and ``gmsh:geometrical`` (Gmsh files, and any
         other format under those names), ``"medit"``: ``medit:ref`` (Medit .mesh).
         Note: meshio reads and writes ``.msh`` as ANSYS unless told ``file_format="gmsh"``
         (or ``"gmsh22"``); :meth:`write` does that."""
         import meshio
 
-        t = [self.cell_tags, self.boundary_tags]
         if self.dim == 2:
+            t = [self.cell_tags, self.boundary_tags]
             points = np.column_stack([self.points, np.zeros(len(self.points))])
             blocks = [("triangle", self.cells), ("line", self.boundary_edges)]
         else:
+            t = [self.cell_tags, np.concatenate([self.boundary_tags, self.interface_tags])]
             points = self.points
-            blocks = [("tetra", self.cells), ("triangle", self.boundary_triangles)]
+            blocks = [("tetra", self.cells),
+                      ("triangle", np.vstack([self.boundary_triangles, self.interface_triangles]))]
         if tags == "gmsh":
             cell_data = {"gmsh:physical": t, "gmsh:geometrical": t}
         elif tags == "medit":
@@ -348,8 +354,9 @@ class Mesh:
             fmt = {".msh": "msh-binary" if binary else "msh", ".mesh": "mesh", ".node": "tetgen",
                    ".ele": "tetgen", ".vtk": "vtk", ".vtu": "vtu-zlib" if compress else "vtu"}[ext]
             _core.write_tet_mesh(os.fspath(path), self.points, self.cells,
-                                 self.boundary_triangles, self.boundary_tags, self.cell_tags,
-                                 list(self.tag_names), fmt)
+                                 np.vstack([self.boundary_triangles, self.interface_triangles]),
+                                 np.concatenate([self.boundary_tags, self.interface_tags]),
+                                 self.cell_tags, list(self.tag_names), fmt)
             return
         if self.dim == 2 and ext in (".msh", ".mesh", ".vtu"):
             if kwargs or binary or compress:

@@ -413,6 +413,24 @@ TEST_CASE("mesh3d follows the interface around an inclusion", "[mesh][threads]")
     }
   }
   CHECK(interface_faces > 50);
+  // They are the output's interface triangles, one tag after the boundary's (10 .. 15),
+  // named by the regions on their sides, oriented outward from region 1: their cones from
+  // the box's centre make minus region 2's volume.
+  REQUIRE(r.interface_triangles.size() == 3 * interface_faces);
+  CHECK(std::all_of(r.interface_tags.begin(), r.interface_tags.end(),
+                    [](std::int32_t t) { return t == 16; }));
+  CHECK(std::count(r.tag_names.begin(), r.tag_names.end(),
+                   voroclip::TetMeshInput::TagName{2, 16, "interface 1-2"}) == 1);
+  const double centre[3] = {0.5, 0.5, 0.5};
+  double cones = 0;
+  for (std::size_t i = 0; i < r.interface_triangles.size(); i += 3) {
+    std::array<std::uint32_t, 3> key = {r.interface_triangles[i], r.interface_triangles[i + 1],
+                                        r.interface_triangles[i + 2]};
+    cones += signed_volume(centre, point(r, key[0]), point(r, key[1]), point(r, key[2]));
+    std::sort(key.begin(), key.end());
+    CHECK(face_tags[key].size() == 2);
+  }
+  CHECK(cones == Approx(-volume[2]).epsilon(1e-9));
   const Domain3 region2(inner);
   REQUIRE(region2.surface().shells().size() == 1);
   CHECK(region2.surface().shells()[0].genus == 0);

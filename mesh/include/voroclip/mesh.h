@@ -1166,6 +1166,15 @@ struct Mesh3Result {
   // without one "patch <tag>" (dimension 2) or "region <tag>" (dimension 3), by increasing tag.
   std::vector<std::uint32_t> boundary_triangles;
   std::vector<std::int32_t> boundary_tags, tet_tags;
+  // The interfaces the mesh follows (nb_interfaces_followed below): the faces between two
+  // tets of different region tags, each once, oriented outward from its tet of the lower
+  // region tag, 3 vertex indices each, grouped by tag; one tag per interface, after the
+  // largest boundary tag, in the order of the input's interfaces, named "interface <a>-<b>"
+  // (the region tags on its two sides) in tag_names. Empty otherwise. The writers put them
+  // with the boundary triangles (the .mesh Triangles, Gmsh physical surfaces, the .vtu
+  // triangles' "patch").
+  std::vector<std::uint32_t> interface_triangles;
+  std::vector<std::int32_t> interface_tags;
   std::vector<TetMeshInput::TagName> tag_names;
   std::uint32_t nb_sites = 0;          // sites optimised (corners added included)
   std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
