@@ -333,6 +333,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     j["regions"] = {{"input_regions", r.nb_input_regions},
                     {"tets_across_interfaces", r.nb_tets_across_regions},
                     {"interfaces_followed", r.nb_interfaces_followed},
+                    {"interface_distance_to_edge_length", r.interface_distance_to_edge_length},
                     {"interfaces_not_followed", r.interfaces_not_followed}};
     j["dihedral_bound"] = {{"bound_deg", r.dihedral_bound_deg},
                            {"input_sharpest_dihedral_deg", r.input_sharpest_dihedral_deg},

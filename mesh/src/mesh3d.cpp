@@ -959,6 +959,11 @@ void Pipeline::run() {
         interfaces ? boundary_only : surface, interfaces ? *boundary_tree : surface_tree, graded,
         [&](const double* x) { return edge_per_spacing * local_spacing(x); },
         options.max_boundary_distance, result);
+    if (far.empty() && interfaces) {
+      far = interface_distance(
+          *interfaces, [&](const double* x) { return edge_per_spacing * local_spacing(x); },
+          options.max_boundary_distance, result);
+    }
     result.distance_seconds = since(t_distance);
     if (result.shape_problem.empty()) result.shape_problem = std::move(far);
     result.seconds[static_cast<int>(phase)] += since(t_phase);

@@ -295,6 +295,8 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     result.mean_seconds += r.mean_seconds;
     result.distance_to_edge_length =
         std::max(result.distance_to_edge_length, r.distance_to_edge_length);
+    result.interface_distance_to_edge_length =
+        std::max(result.interface_distance_to_edge_length, r.interface_distance_to_edge_length);
     result.distance_seconds += r.distance_seconds;
     for (int k = 0; k < kNbMesh3Phases; ++k) result.seconds[k] += r.seconds[k];
   }

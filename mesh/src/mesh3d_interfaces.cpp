@@ -23,6 +23,7 @@
 // each tet by its centroid, with a warning that counts the tets across (region_tags).
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -372,6 +373,38 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
           {2, f.tag, "interface " + std::to_string(f.low) + "-" + std::to_string(f.high)});
     }
   }
+}
+
+std::string interface_distance(const RegionInterfaces& interfaces,
+                               const std::function<double(const double*)>& edge_length,
+                               double bound, Mesh3Result& result) {
+  result.interface_distance_to_edge_length = 0;
+  TriangleSurface input, mine;
+  input.source = "the input's interfaces";
+  input.xyz = interfaces.surfaces.coords();
+  const std::vector<std::uint32_t>& all = interfaces.surfaces.surface().triangles();
+  input.triangles.assign(all.begin() + 3 * std::ptrdiff_t{interfaces.nb_boundary_triangles},
+                         all.end());
+  mine.source = "the mesh's interfaces";
+  mine.xyz = result.xyz;
+  mine.triangles = result.interface_triangles;
+  if (input.triangles.empty() || mine.triangles.empty()) {
+    return mine.triangles.empty() ? "it has no interface between its regions" : "";
+  }
+  const SurfaceTree input_tree(input), mine_tree(mine);
+  HausdorffOptions relative;
+  relative.scale = edge_length;
+  const OneSidedDistance forward = sampled_distance(mine, input_tree, relative);
+  const OneSidedDistance backward = sampled_distance(input, mine_tree, relative);
+  const bool cut = backward.max >= forward.max;
+  const OneSidedDistance& worst = cut ? backward : forward;
+  result.interface_distance_to_edge_length = worst.max;
+  if (!(bound > 0 && worst.max > bound)) return "";
+  return std::string(cut ? "the input's interface between regions at (" : "its interface at (") +
+         brief(worst.where[0]) + ", " + brief(worst.where[1]) + ", " + brief(worst.where[2]) +
+         ") is " + brief(worst.max) + " local edge lengths from " +
+         (cut ? "the mesh's" : "the input's") + " (bound " + brief(bound) +
+         "): an inclusion thinner than the edges, or closer than them to another";
 }
 
 void Pipeline::mark_interface_sites(std::vector<std::uint8_t>& boundary, bool both_sides) const {

@@ -363,6 +363,13 @@ void per_region(
 // after result.boundary_tags' largest.
 void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
                     Mesh3Result& result);
+// The distance between the mesh's interfaces (result.interface_triangles) and the input's,
+// either way, sampled, in local edge lengths (`edge_length`) into
+// result.interface_distance_to_edge_length; what is wrong when it exceeds `bound` (> 0),
+// or when the mesh has no interface, else empty.
+std::string interface_distance(const RegionInterfaces& interfaces,
+                               const std::function<double(const double*)>& edge_length,
+                               double bound, Mesh3Result& result);
 // What is wrong with the mesh's interfaces, empty when nothing: the tets of the regions
 // outside the inclusions must have `surfaces`'s shape (check_mesh3_shape).
 std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,

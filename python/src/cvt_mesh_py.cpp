@@ -384,6 +384,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["tets_across_region_interfaces"] = m.nb_tets_across_regions;
   s["region_interfaces_followed"] = m.nb_interfaces_followed;
   s["region_interfaces_not_followed"] = m.interfaces_not_followed;
+  s["interface_distance_to_edge_length"] = m.interface_distance_to_edge_length;
   s["seconds"] = m.total_seconds;
   s["cancelled"] = m.cancelled;
   r["stats"] = s;

@@ -137,7 +137,8 @@ def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):
     why = stats["regions"]["interfaces_not_followed"]
     assert "meets the boundary at vertex" in why
     assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across,
-                                "interfaces_followed": 0, "interfaces_not_followed": why}
+                                "interfaces_followed": 0, "interfaces_not_followed": why,
+                                "interface_distance_to_edge_length": 0}
     assert m.stats["input_regions"] == 2
     assert m.stats["tets_across_region_interfaces"] == across
     assert m.stats["region_interfaces_followed"] == 0
@@ -173,8 +174,10 @@ def test_mesh3d_follows_the_interface_around_an_inclusion(cli, tmp_path):
     domain.write_text("\n".join(lines) + "\n")
     out = tmp_path / "m.msh"
     stats = run(cli, "mesh3d", domain, "--vertices", 1500, "-o", out)
-    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": 0,
-                                "interfaces_followed": 1, "interfaces_not_followed": ""}
+    regions = stats["regions"]
+    assert 0 < regions.pop("interface_distance_to_edge_length") <= 1
+    assert regions == {"input_regions": 2, "tets_across_interfaces": 0,
+                       "interfaces_followed": 1, "interfaces_not_followed": ""}
     assert stats["shape_problem"] == ""
     back = meshio.read(out, file_format="gmsh")
     p = back.points

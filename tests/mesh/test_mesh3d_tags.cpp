@@ -353,6 +353,8 @@ TEST_CASE("mesh3d follows the interface around an inclusion", "[mesh][threads]")
   CHECK(r.nb_interfaces_followed == 1);
   CHECK(r.interfaces_not_followed.empty());
   CHECK(r.nb_tets_across_regions == 0);
+  CHECK(r.interface_distance_to_edge_length > 0);
+  CHECK(r.interface_distance_to_edge_length <= 1);
   // The boundary keeps the faces' tags; the interface adds none.
   std::set<std::int32_t> patch_tags(r.boundary_tags.begin(), r.boundary_tags.end());
   CHECK(patch_tags == std::set<std::int32_t>{10, 11, 12, 13, 14, 15});

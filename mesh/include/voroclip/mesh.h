@@ -1253,6 +1253,9 @@ struct Mesh3Result {
   // distance_seconds its time.
   HausdorffDistance distance;
   double distance_to_edge_length = 0;
+  // The same between the interfaces the mesh follows and the input's (0 without them), held
+  // to the same bound.
+  double interface_distance_to_edge_length = 0;
   double distance_seconds = 0;
   // Empty when the output's boundary has the domain's shape (check_mesh3_shape, and the
   // distance above within max_boundary_distance), else what differs; a caller should not
