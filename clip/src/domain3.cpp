@@ -322,12 +322,33 @@ Domain3::Domain3(const TetMeshInput& mesh) {
     }
     std::sort(listed.begin(), listed.end());
     boundary_ref_.assign(nb, 0);
+    std::vector<std::uint8_t> on_surface(ntri, 0);
     for (std::uint32_t b = 0; b < nb; ++b) {
       const Key k = key_of(surface.triangle(b));
-      const auto it = std::lower_bound(listed.begin(), listed.end(), std::make_pair(k, 0u));
+      auto it = std::lower_bound(listed.begin(), listed.end(), std::make_pair(k, 0u));
       if (it != listed.end() && it->first == k) boundary_ref_[b] = mesh.triangle_ref[it->second];
+      for (; it != listed.end() && it->first == k; ++it) on_surface[it->second] = 1;
+    }
+    // No surface triangle tagged: none (the boundary's patches are then the mesher's own).
+    if (std::all_of(boundary_ref_.begin(), boundary_ref_.end(),
+                    [](std::int32_t r) { return r == 0; }))
+      boundary_ref_.clear();
+    // The rest, tagged: faces inside the volume (interfaces), or no face at all.
+    for (const auto& [k, i] : listed) {
+      if (on_surface[i] == 0 && mesh.triangle_ref[i] != 0)
+        inner_ref_.emplace_back(k, mesh.triangle_ref[i]);
     }
   }
+}
+
+std::int32_t Domain3::inner_triangle_ref(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+  std::array<std::uint32_t, 3> k = {a, b, c};
+  std::sort(k.begin(), k.end());
+  const auto it =
+      std::lower_bound(inner_ref_.begin(), inner_ref_.end(), k,
+                       [](const std::pair<std::array<std::uint32_t, 3>, std::int32_t>& e,
+                          const std::array<std::uint32_t, 3>& key) { return e.first < key; });
+  return it != inner_ref_.end() && it->first == k ? it->second : 0;
 }
 
 std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {

@@ -942,8 +942,8 @@ void Pipeline::run() {
     // Boundary triangles and tags: patches (the input's triangle tags, else the patches
     // between feature lines, from 1) and regions (the input's tet tags, else one per volume
     // component).
-    tag_mesh3(domain, surface_tree, triangle_patch, input_tags, patches, index,
-              interfaces ? &regions : nullptr, result);
+    tag_mesh3(domain, surface_tree, triangle_patch, patches, index, interfaces ? &regions : nullptr,
+              result);
     if (interfaces) tag_interfaces(*interfaces, surface_tree, result);
     measure_mesh3_quality(domain, result);
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);

@@ -142,11 +142,17 @@ bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string
   out.nb_boundary_triangles = nb_boundary;
   out.nb_shells = static_cast<std::uint32_t>(out.surfaces.surface().shells().size() -
                                              domain.surface().shells().size());
-  out.refs.clear();
-  if (!domain.boundary_refs().empty()) {
-    out.refs = domain.boundary_refs();
-    out.refs.resize(out.surfaces.surface().nb_triangles(), 0);
+  // The tags: the boundary's, and the file's tags of the interface triangles.
+  out.refs.assign(out.surfaces.surface().nb_triangles(), 0);
+  bool tagged = !domain.boundary_refs().empty();
+  if (tagged)
+    std::copy(domain.boundary_refs().begin(), domain.boundary_refs().end(), out.refs.begin());
+  for (std::uint32_t t = nb_boundary; t < out.surfaces.surface().nb_triangles(); ++t) {
+    const std::uint32_t* v = &s.triangles[3 * std::size_t{t}];
+    out.refs[t] = domain.inner_triangle_ref(v[0], v[1], v[2]);
+    tagged = tagged || out.refs[t] != 0;
   }
+  if (!tagged) out.refs.clear();
   return true;
 }
 
@@ -349,9 +355,13 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
                            static_cast<std::size_t>(q)] /
                 3;
     }
-    const std::uint32_t shell = s.shell_of(sampled_tree.closest(c).triangle);
+    // The file's tag of the nearest input interface triangle, else one per interface.
+    const std::uint32_t nearest = sampled_tree.closest(c).triangle;
+    const std::uint32_t shell = s.shell_of(nearest);
+    const std::int32_t input = interfaces.refs.empty() ? 0 : interfaces.refs[nearest];
     const std::int32_t tag =
-        base + static_cast<std::int32_t>(std::max<std::uint32_t>(rank[shell], 1));
+        input != 0 ? input
+                   : base + static_cast<std::int32_t>(std::max<std::uint32_t>(rank[shell], 1));
     found.push_back({tag, code, std::min(ta, tb), std::max(ta, tb)});
   }
   std::stable_sort(found.begin(), found.end(), [](const Face& x, const Face& y) {

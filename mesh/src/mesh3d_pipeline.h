@@ -327,8 +327,9 @@ struct RegionInterfaces {
   // facets between tets of different tags), one surface whose interface shells are cavities
   // (or, nested deeper, bodies again): the surface the sites are sampled on.
   Domain3 surfaces;
-  // Per triangle of `surfaces`: the domain's boundary_refs, 0 on the interfaces (empty when
-  // the domain has no triangle tags).
+  // Per triangle of `surfaces`: the domain's boundary_refs, then the file's tags of the
+  // interface triangles (Domain3::inner_triangle_ref; 0 where it lists none); empty when the
+  // file tags no triangle of either.
   std::vector<std::int32_t> refs;
   std::uint32_t nb_boundary_triangles = 0, nb_shells = 0;  // nb_shells: the interfaces'
 };
@@ -358,9 +359,10 @@ void per_region(
     TetRegions& regions,
     const std::function<void(std::vector<std::uint32_t>&, const std::vector<Kind>&)>& pass);
 // The mesh's interfaces (Mesh3Result::interface_triangles, interface_tags, their names) from
-// its tets and region tags: a face between tets of two tags is on the interface of
-// `interfaces.surfaces` nearest its centroid (`sampled_tree`: that surface's tree), tagged
-// after result.boundary_tags' largest.
+// its tets and region tags: a face between tets of two tags takes the file's tag of the
+// input interface triangle nearest its centroid (`sampled_tree`: the tree of
+// `interfaces.surfaces`), or when that has none its interface's rank after
+// result.boundary_tags' largest.
 void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
                     Mesh3Result& result);
 // The distance between the mesh's interfaces (result.interface_triangles) and the input's,

@@ -372,8 +372,7 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
 }
 
 void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
-               const std::vector<std::uint32_t>& triangle_patch,
-               const std::vector<std::int32_t>& input_tags, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
                const std::vector<std::uint32_t>& index, const TetRegions* regions,
                Mesh3Result& result) {
   std::vector<std::uint32_t> face_tet;
@@ -404,10 +403,11 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
                              : 1 + *std::max_element(triangle_patch.begin(), triangle_patch.end());
   std::vector<std::int32_t> patch_tag(nb_patches, 0);
   for (std::uint32_t p = 0; p < nb_patches; ++p) patch_tag[p] = static_cast<std::int32_t>(p + 1);
-  if (!input_tags.empty()) {
-    for (std::size_t t = triangle_patch.size(); t-- > 0;)
-      patch_tag[triangle_patch[t]] = input_tags[t];
-  }
+  // The boundary's tags (its triangles come first in `triangle_patch`, in the domain's
+  // order) when the file tags it; the interfaces' patches keep p + 1 (tag_interfaces tags
+  // the interface triangles).
+  const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
+  for (std::size_t t = input_tags.size(); t-- > 0;) patch_tag[triangle_patch[t]] = input_tags[t];
   result.boundary_tags = patch_tags(result.boundary_triangles, vertex_patch_begin, vertex_patch,
                                     patch_tag, triangle_patch, closest);
   result.tet_tags =

@@ -55,14 +55,14 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
 
 // The boundary triangles of `result.tets` (outward), grouped by patch tag, with their tags,
 // and the tets' region tags and the tag names (Mesh3Result). `triangle_patch`: the patch of
-// each triangle of the surface the sites were sampled on (the input's triangle tags
-// `input_tags`, when it has them, tag the patches; else patch p gets tag p + 1); `patches`:
+// each triangle of the surface the sites were sampled on, the domain's boundary triangles
+// first (the domain's boundary_refs, when the file tags them, tag the patches; else patch p
+// gets tag p + 1); `patches`:
 // the surface patches of the sites; `index`: each site's vertex in result.xyz,
 // SurfaceTree::kNone for a site no tet uses; `regions`: per tet of result.tets its region
 // when the mesh follows the interfaces between the input's regions (region_tags).
 void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
-               const std::vector<std::uint32_t>& triangle_patch,
-               const std::vector<std::int32_t>& input_tags, const SurfacePatches& patches,
+               const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
                const std::vector<std::uint32_t>& index, const TetRegions* regions,
                Mesh3Result& result);
 

@@ -439,6 +439,59 @@ TEST_CASE("mesh3d follows the interface around an inclusion", "[mesh][threads]")
   CHECK(region2.volume() == Approx(volume[2]).epsilon(1e-9));
 }
 
+TEST_CASE("mesh3d keeps the file's tags of an interface's triangles", "[mesh]") {
+  // The inclusion of the test above, its interface's triangles listed with tags: 42 on the
+  // side x < 1/2, 43 on the rest; the name of 43 given.
+  voroclip::TetMeshInput in = inclusion_grid(6, 2, 4, false);
+  {
+    const Domain3 d(in);
+    for (std::uint32_t t = 0; t < d.nb_tets(); ++t) {
+      for (int f = 0; f < 4; ++f) {
+        const std::uint32_t u = d.tet_adjacent(t, f);
+        if (u == Domain3::kNone || u < t || in.tet_ref[t] == in.tet_ref[u]) continue;
+        double x = 0;
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t v = d.tet_vertex(t, Domain3::kTetFacetVertex[f][k]);
+          in.triangles.push_back(v);
+          x += d.vertex(v)[0] / 3;
+        }
+        in.triangle_ref.push_back(x < 0.5 ? 42 : 43);
+      }
+    }
+  }
+  in.tag_names = {{2, 43, "right half"}};
+  const Domain3 d(in);
+  CHECK(d.boundary_refs().empty());
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(1500));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_interfaces_followed == 1);
+  REQUIRE(!r.interface_tags.empty());
+  // Each interface triangle keeps the tag of the side it lies on (away from the border x = 1/2).
+  std::size_t far = 0;
+  for (std::size_t i = 0; i < r.interface_tags.size(); ++i) {
+    double lo = 1, hi = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double x = point(r, r.interface_triangles[3 * i + static_cast<std::size_t>(k)])[0];
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    if (hi < 0.45) {
+      CHECK(r.interface_tags[i] == 42);
+      ++far;
+    } else if (lo > 0.55) {
+      CHECK(r.interface_tags[i] == 43);
+      ++far;
+    }
+  }
+  CHECK(far * 2 > r.interface_tags.size());
+  using Name = voroclip::TetMeshInput::TagName;
+  CHECK(std::count(r.tag_names.begin(), r.tag_names.end(), Name{2, 42, "interface 1-2"}) == 1);
+  CHECK(std::count(r.tag_names.begin(), r.tag_names.end(), Name{2, 43, "right half"}) == 1);
+  // The boundary, untagged in the file: its patches between the feature lines (1 .. 6).
+  const std::set<std::int32_t> patches(r.boundary_tags.begin(), r.boundary_tags.end());
+  CHECK(patches == std::set<std::int32_t>{1, 2, 3, 4, 5, 6});
+}
+
 TEST_CASE("mesh3d does not follow interfaces that meet the boundary, and says why", "[mesh]") {
   // The inclusion reaches the cube's face x = 0: its interface meets the boundary.
   const Domain3 d(inclusion_grid(6, 0, 3, false));

@@ -5,12 +5,14 @@
 // CAD 2011, sec. 3), with every combinatorial decision exact (see clip2d.cpp).
 #pragma once
 
+#include <array>
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "voroclip/core.h"
@@ -520,11 +522,15 @@ class Domain3 {
 
   // ---- Tags from a tet mesh file (TetMeshInput): per tet its region tag (empty: none
   // given); per surface triangle the tag of the file's triangle with the same three
-  // vertices, 0 when the file lists none (empty when the file tags no triangle); the tag
+  // vertices, 0 when the file lists none (empty when the file tags no surface triangle); the tag
   // names (Gmsh).
   const std::vector<std::int32_t>& tet_refs() const { return tet_ref_; }
   const std::vector<std::int32_t>& boundary_refs() const { return boundary_ref_; }
   const std::vector<TetMeshInput::TagName>& tag_names() const { return tag_names_; }
+  // The tag the file gives the triangle with vertices a, b, c (any order) when it is not a
+  // surface triangle (a face between two tets: an interface between regions), 0 when the
+  // file tags no such triangle. O(log of the file's tagged triangles).
+  std::int32_t inner_triangle_ref(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
 
  private:
   Surface3 surface_;
@@ -537,6 +543,8 @@ class Domain3 {
   std::vector<std::uint32_t> tet_boundary_begin_;
   double tet_volume_ = 0;
   std::vector<std::int32_t> tet_ref_, boundary_ref_;
+  // The file's tagged triangles that are no surface triangle: sorted vertices, tag; sorted.
+  std::vector<std::pair<std::array<std::uint32_t, 3>, std::int32_t>> inner_ref_;
   std::vector<TetMeshInput::TagName> tag_names_;
 };
 

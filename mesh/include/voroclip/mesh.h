@@ -1168,9 +1168,11 @@ struct Mesh3Result {
   std::vector<std::int32_t> boundary_tags, tet_tags;
   // The interfaces the mesh follows (nb_interfaces_followed below): the faces between two
   // tets of different region tags, each once, oriented outward from its tet of the lower
-  // region tag, 3 vertex indices each, grouped by tag; one tag per interface, after the
-  // largest boundary tag, in the order of the input's interfaces, named "interface <a>-<b>"
-  // (the region tags on its two sides) in tag_names. Empty otherwise. The writers put them
+  // region tag, 3 vertex indices each, grouped by tag; the tag of the file's interface
+  // triangle nearest each (a tet mesh file that lists them with tags), else one tag per
+  // interface, after the largest boundary tag, in the order of the input's interfaces; named
+  // "interface <a>-<b>" (the region tags on its two sides) in tag_names when the file names
+  // no such tag. Empty otherwise. The writers put them
   // with the boundary triangles (the .mesh Triangles, Gmsh physical surfaces, the .vtu
   // triangles' "patch").
   std::vector<std::uint32_t> interface_triangles;
