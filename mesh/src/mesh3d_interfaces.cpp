@@ -18,9 +18,11 @@
 // crosses an interface.
 //
 // Interfaces that meet the boundary or each other (layers across the whole part, three
-// regions along one curve) are not closed surfaces inside the volume: `surfaces` cannot be
-// built (its edges there have four triangles), and mesh3d meshes the volume as one, tagging
-// each tet by its centroid, with a warning that counts the tets across (region_tags).
+// regions along one curve, tets of one region meeting along an edge only) are not closed
+// surfaces inside the volume: `surfaces` would not be a 2-manifold. region_interfaces says
+// where (a vertex of the boundary on an interface, an edge of more than two interface facets,
+// or Surface3's own message), and mesh3d meshes the volume as one, tagging each tet by its
+// centroid, with a warning that counts the tets across (region_tags).
 #include <algorithm>
 #include <array>
 #include <cstddef>

@@ -155,6 +155,27 @@ class TetGrid {
   std::vector<std::uint32_t> begin_, tets_;
 };
 
+// For votes (key, value) sorted: per key, the value with the most votes (ties to the lower
+// value), given to take(key, value) in key order.
+template <class Key, class Value, class Take>
+void majority(const std::vector<std::pair<Key, Value>>& votes, const Take& take) {
+  for (std::size_t i = 0; i < votes.size();) {
+    std::size_t best_count = 0, j = i;
+    Value best{};
+    while (j < votes.size() && votes[j].first == votes[i].first) {
+      std::size_t k = j;
+      while (k < votes.size() && votes[k] == votes[j]) ++k;
+      if (k - j > best_count) {
+        best_count = k - j;
+        best = votes[j].second;
+      }
+      j = k;
+    }
+    take(votes[i].first, best);
+    i = j;
+  }
+}
+
 }  // namespace
 
 void boundary_triangles(const std::vector<std::uint32_t>& tets,
@@ -227,11 +248,15 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
                            static_cast<std::size_t>(k)];
     }
   };
-  if (!input.empty() && regions != nullptr) {
-    // A mesh that follows the interfaces: each region by its tets' votes.
+  if (!input.empty()) {
+    if (std::all_of(input.begin(), input.end(), [&](std::int32_t r) { return r == input[0]; })) {
+      std::fill(tags.begin(), tags.end(), input[0]);
+      return tags;
+    }
+    // The input tet holding each tet's centroid.
     const TetGrid grid(domain);
     std::vector<std::int32_t> located(nt, 0);
-    std::vector<std::uint8_t> found(nt, 0);
+    std::vector<std::uint8_t> known(nt, 0);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 1024), [&](const auto& range) {
       for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
         double c[3];
@@ -239,60 +264,30 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
         const std::uint32_t i = grid.locate(c);
         if (i != kNone) {
           located[t] = input[i];
-          found[t] = 1;
+          known[t] = 1;
         }
       }
     });
-    std::vector<std::pair<std::uint32_t, std::int32_t>> votes;  // (region, tag)
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      if (found[t] != 0) votes.emplace_back((*regions)[t], located[t]);
-    }
-    std::sort(votes.begin(), votes.end());
-    std::vector<std::int32_t> region_tag;
-    for (std::size_t i = 0; i < votes.size();) {
-      std::size_t best_count = 0, j = i;
-      std::int32_t best = 0;
-      while (j < votes.size() && votes[j].first == votes[i].first) {
-        std::size_t k = j;
-        while (k < votes.size() && votes[k] == votes[j]) ++k;
-        if (k - j > best_count) {
-          best_count = k - j;
-          best = votes[j].second;
-        }
-        j = k;
+    if (regions != nullptr) {
+      // A mesh that follows the interfaces: each region by its tets' votes.
+      std::vector<std::pair<std::uint32_t, std::int32_t>> votes;  // (region, tag)
+      for (std::uint32_t t = 0; t < nt; ++t) {
+        if (known[t] != 0) votes.emplace_back((*regions)[t], located[t]);
       }
-      if (region_tag.size() <= votes[i].first) region_tag.resize(votes[i].first + 1, input[0]);
-      region_tag[votes[i].first] = best;
-      i = j;
-    }
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      const std::uint32_t r = (*regions)[t];
-      tags[t] = r < region_tag.size() ? region_tag[r] : input[0];
-      tets_across += found[t] != 0 && located[t] != tags[t] ? 1 : 0;
-    }
-    return tags;
-  }
-  if (!input.empty()) {
-    if (std::all_of(input.begin(), input.end(), [&](std::int32_t r) { return r == input[0]; })) {
-      std::fill(tags.begin(), tags.end(), input[0]);
+      std::sort(votes.begin(), votes.end());
+      std::vector<std::int32_t> region_tag;
+      majority(votes, [&](std::uint32_t region, std::int32_t tag) {
+        if (region_tag.size() <= region) region_tag.resize(region + 1, input[0]);
+        region_tag[region] = tag;
+      });
+      for (std::uint32_t t = 0; t < nt; ++t) {
+        const std::uint32_t r = (*regions)[t];
+        tags[t] = r < region_tag.size() ? region_tag[r] : input[0];
+        tets_across += known[t] != 0 && located[t] != tags[t] ? 1 : 0;
+      }
       return tags;
     }
-    const TetGrid grid(domain);
-    std::vector<std::uint8_t> known(nt, 0);
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      double c[3] = {0, 0, 0};
-      for (int q = 0; q < 4; ++q) {
-        for (int k = 0; k < 3; ++k)
-          c[k] +=
-              0.25 * xyz[3 * std::size_t{tets[4 * std::size_t{t} + static_cast<std::size_t>(q)]} +
-                         static_cast<std::size_t>(k)];
-      }
-      const std::uint32_t i = grid.locate(c);
-      if (i != kNone) {
-        tags[t] = input[i];
-        known[t] = 1;
-      }
-    }
+    tags = located;
     // The rest from their neighbours, breadth first (in tet order within a wave).
     const std::vector<FaceRef> faces = sorted_faces(tets);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;  // (tet, tet) both ways
@@ -351,22 +346,8 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
   }
   std::sort(votes.begin(), votes.end());
   std::vector<std::int32_t> root_tag(nt, 0);
-  for (std::size_t i = 0; i < votes.size();) {
-    std::size_t best_count = 0;
-    std::uint32_t best = 0;
-    std::size_t j = i;
-    while (j < votes.size() && votes[j].first == votes[i].first) {
-      std::size_t k = j;
-      while (k < votes.size() && votes[k] == votes[j]) ++k;
-      if (k - j > best_count) {
-        best_count = k - j;
-        best = votes[j].second;
-      }
-      j = k;
-    }
-    root_tag[votes[i].first] = outer_rank[best];
-    i = j;
-  }
+  majority(votes,
+           [&](std::uint32_t root, std::uint32_t shell) { root_tag[root] = outer_rank[shell]; });
   for (std::uint32_t t = 0; t < nt; ++t) tags[t] = root_tag[components.find(t)];
   return tags;
 }
