@@ -397,8 +397,8 @@ int main(int argc, char** argv) {
       "Tetrahedral mesh of a volume (a closed surface or a tet mesh) by centroidal Voronoi "
       "tessellation (Yan et "
       "al. 2011, sec. 5.2): CVT, boundary and feature sites constrained, exact extraction, "
-      "sliver perturbation; a tet mesh's regions keep their tags, and the interfaces between "
-      "them that are closed surfaces inside the volume (inclusions) are followed; progress per "
+      "sliver perturbation; a tet mesh's regions keep their tags and the interfaces between "
+      "them are followed (when each region is a volume of its own); progress per "
       "phase and the quality report");
   mesh3d->add_option("DOMAIN", mesh3d_args.domain, domain3_help)->required()->type_name("");
   mesh3d->add_flag("--reorient", mesh3d_args.reorient, reorient_help);

@@ -195,16 +195,16 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source() << " follows the "
               << count_of(r.nb_interfaces_followed, "interface") << " between its "
               << r.nb_input_regions << " regions, yet " << count_of(r.nb_tets_across_regions, "tet")
-              << " have their centroid in an input tet of another region (an interface "
-                 "thinner than the edges; try more --vertices)\n";
+              << " have their centroid in an input tet of another region (a region thinner "
+                 "than the edges; try more --vertices)\n";
   } else if (r.nb_tets_across_regions > 0) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
               << " does not follow the interfaces between its " << r.nb_input_regions
               << " regions: " << count_of(r.nb_tets_across_regions, "tet")
               << " reach across one (a tet takes the region of the input tet holding its "
-                 "centroid); mesh3d follows interfaces that are closed surfaces inside the "
-                 "volume (inclusions), and these are not ("
-              << r.interfaces_not_followed << ")\n";
+                 "centroid): mesh3d follows the interfaces when each region is a volume of its "
+                 "own, and here "
+              << r.interfaces_not_followed << "\n";
   }
   if (r.shape_retries > 0 && out && r.shape_problem.empty() && r.nb_bodies > 1) {
     *out << "note: a mesh without the domain's shape (" << r.raised_because

@@ -19,6 +19,7 @@
 // constrained site is within kLineGapRoom spacings (nearer, the two lines are closer than
 // that, the wall between them thinner: sites on both would make flat tets across it).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -50,15 +51,41 @@ void Projection::operator()(std::uint32_t site, Kind kind, const double* p, doub
   }
 }
 
-std::vector<std::uint64_t> tag_border_edges(const Surface3& surface,
+std::vector<std::uint32_t> triangle_neighbours(const TriangleSurface& surface) {
+  const std::size_t nt = surface.nb_triangles();
+  std::vector<std::array<std::uint32_t, 3>> edges(3 * nt);  // lo, hi, 3 triangle + edge
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = surface.triangles[3 * t + (e + 1) % 3];
+      const std::uint32_t b = surface.triangles[3 * t + (e + 2) % 3];
+      edges[3 * t + e] = {std::min(a, b), std::max(a, b), static_cast<std::uint32_t>(3 * t + e)};
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint32_t> next(3 * nt, SurfaceTree::kNone);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    if (j - i == 2) {
+      next[edges[i][2]] = edges[i + 1][2] / 3;
+      next[edges[i + 1][2]] = edges[i][2] / 3;
+    }
+    i = j;
+  }
+  return next;
+}
+
+std::vector<std::uint64_t> tag_border_edges(const TriangleSurface& surface,
                                             const std::vector<std::int32_t>& tags) {
   std::vector<std::uint64_t> borders;
-  for (std::uint32_t b = 0; b < surface.nb_triangles() && !tags.empty(); ++b) {
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = surface.adjacent(b, e);
-      if (a > b && tags[a] != tags[b]) {
-        borders.push_back(edge_key(surface.triangle_vertex(b, (e + 1) % 3),
-                                   surface.triangle_vertex(b, (e + 2) % 3)));
+  if (tags.empty()) return borders;
+  const std::vector<std::uint32_t> next = triangle_neighbours(surface);
+  for (std::uint32_t b = 0; b < surface.nb_triangles(); ++b) {
+    for (std::uint32_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = next[3 * std::size_t{b} + e];
+      if (a != SurfaceTree::kNone && a > b && tags[a] != tags[b]) {
+        borders.push_back(edge_key(surface.triangles[3 * std::size_t{b} + (e + 1) % 3],
+                                   surface.triangles[3 * std::size_t{b} + (e + 2) % 3]));
       }
     }
   }
@@ -218,9 +245,11 @@ std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines) {
   return features;
 }
 
-std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const FeatureLines& lines) {
+std::vector<std::uint32_t> triangle_patches(const TriangleSurface& surface,
+                                            const FeatureLines& lines) {
   const std::vector<std::uint64_t> features = sorted_feature_edges(lines);
-  const std::uint32_t nb = domain.surface().nb_triangles();
+  const std::vector<std::uint32_t> next = triangle_neighbours(surface);
+  const std::uint32_t nb = surface.nb_triangles();
   std::vector<std::uint32_t> patch(nb, SurfaceTree::kNone), queue;
   std::uint32_t nb_patches = 0;
   for (std::uint32_t b0 = 0; b0 < nb; ++b0) {
@@ -229,11 +258,11 @@ std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const Feature
     queue.assign(1, b0);
     for (std::size_t q = 0; q < queue.size(); ++q) {
       const std::uint32_t b = queue[q];
-      for (int e = 0; e < 3; ++e) {
-        const std::uint32_t a = domain.surface().adjacent(b, e);
-        const std::uint64_t key = edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
-                                           domain.surface().triangle_vertex(b, (e + 2) % 3));
-        if (patch[a] != SurfaceTree::kNone ||
+      for (std::uint32_t e = 0; e < 3; ++e) {
+        const std::uint32_t a = next[3 * std::size_t{b} + e];
+        const std::uint64_t key = edge_key(surface.triangles[3 * std::size_t{b} + (e + 1) % 3],
+                                           surface.triangles[3 * std::size_t{b} + (e + 2) % 3]);
+        if (a == SurfaceTree::kNone || patch[a] != SurfaceTree::kNone ||
             std::binary_search(features.begin(), features.end(), key))
           continue;
         patch[a] = nb_patches;
@@ -245,7 +274,7 @@ std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const Feature
   return patch;
 }
 
-SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
+SurfacePatches site_patches(const TriangleSurface& input, const FeatureLines& lines,
                             const SurfaceTree& surface, const FeatureTree& line_tree,
                             const std::vector<double>& sites, const std::vector<Kind>& kinds,
                             const std::vector<std::uint32_t>& line_of,
@@ -255,21 +284,21 @@ SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
   const auto is_feature = [&](std::uint64_t k) {
     return std::binary_search(features.begin(), features.end(), k);
   };
-  const std::uint32_t nb = domain.surface().nb_triangles();
+  const std::uint32_t nb = input.nb_triangles();
   const auto edge_of = [&](std::uint32_t b, int e) {
-    return edge_key(domain.surface().triangle_vertex(b, (e + 1) % 3),
-                    domain.surface().triangle_vertex(b, (e + 2) % 3));
+    return edge_key(input.triangles[3 * std::size_t{b} + static_cast<std::size_t>((e + 1) % 3)],
+                    input.triangles[3 * std::size_t{b} + static_cast<std::size_t>((e + 2) % 3)]);
   };
   // (feature edge, patch) and (corner vertex, patch) pairs.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edge_patch, vertex_patch;
-  std::vector<std::uint32_t> corner_mark(domain.nb_vertices(), 0);
+  std::vector<std::uint32_t> corner_mark(input.nb_vertices(), 0);
   for (const std::uint32_t v : corner_vertex) {
     if (v != SurfaceTree::kNone) corner_mark[v] = 1;
   }
   for (std::uint32_t b = 0; b < nb; ++b) {
     for (int e = 0; e < 3; ++e) {
       if (is_feature(edge_of(b, e))) edge_patch.emplace_back(edge_of(b, e), patch[b]);
-      const std::uint32_t v = domain.surface().triangle_vertex(b, e);
+      const std::uint32_t v = input.triangles[3 * std::size_t{b} + static_cast<std::size_t>(e)];
       if (corner_mark[v] != 0) vertex_patch.emplace_back(v, patch[b]);
     }
   }
@@ -457,6 +486,22 @@ void Pipeline::fill_line_gaps(const FeatureTree& line_tree, const Spacing& local
       }
     }
   }
+}
+
+std::uint32_t Pipeline::refill_line_gaps(const FeatureTree& line_tree,
+                                         const Spacing& local_spacing) {
+  std::vector<double> added;
+  std::vector<std::uint32_t> added_line;
+  fill_line_gaps(line_tree, local_spacing, added, added_line);
+  const auto extra = static_cast<std::uint32_t>(added_line.size());
+  sites.insert(sites.end(), added.begin(), added.end());
+  kinds.insert(kinds.end(), extra, Kind::kCurve);
+  line_of.insert(line_of.end(), added_line.begin(), added_line.end());
+  corner_vertex.insert(corner_vertex.end(), extra, SurfaceTree::kNone);
+  n += extra;
+  result.nb_feature_sites += extra;
+  result.nb_sites = n;
+  return extra;
 }
 
 std::uint32_t Pipeline::snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,

@@ -456,10 +456,10 @@ void Pipeline::run() {
       auto found = std::make_unique<RegionInterfaces>();
       if (region_interfaces(domain, *found, result.interfaces_not_followed)) {
         interfaces = std::move(found);
-        result.nb_interfaces_followed = interfaces->nb_shells;
+        result.nb_interfaces_followed = interfaces->nb_interfaces;
       }
     }
-    const TriangleSurface surface = boundary_surface(sampled());
+    const TriangleSurface surface = interfaces ? interfaces->surface : boundary_surface(domain);
     // The input's triangle tags (a tet mesh file's boundary triangles): the borders of
     // their patches are feature lines too, kept however short or flat, so that every
     // boundary triangle of the mesh lies in one patch and carries its tag.
@@ -527,8 +527,7 @@ void Pipeline::run() {
       return field ? scale * field->size(x) : scale;
     };
     const SurfaceTree surface_tree(surface);
-    const std::vector<std::uint64_t> tag_borders =
-        tag_border_edges(sampled().surface(), input_tags);
+    const std::vector<std::uint64_t> tag_borders = tag_border_edges(surface, input_tags);
     FeatureLines lines;
     if (options.features || !tag_borders.empty()) {
       // Without features, only the tags' borders (no edge is sharper than 180 degrees).
@@ -539,7 +538,7 @@ void Pipeline::run() {
           options.min_feature_length, local_spacing, tag_borders);
     }
     const FeatureTree line_tree(surface, lines);
-    const std::vector<std::uint32_t> triangle_patch = triangle_patches(sampled(), lines);
+    const std::vector<std::uint32_t> triangle_patch = triangle_patches(surface, lines);
     // The smooth surface's patches are bounded by every edge sharper than feature_angle_deg,
     // and pinned there, kept feature line or not: a crease too short to keep (or
     // features = false) is not rounded by the interpolant, which would bulge the large flat
@@ -551,7 +550,7 @@ void Pipeline::run() {
       std::vector<std::uint8_t> pinned(surface.nb_vertices(), 0);
       for (const std::uint32_t v : sharp.line_vertices) pinned[v] = 1;
       for (const std::uint32_t v : sharp.corners) pinned[v] = 1;
-      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(sampled(), sharp), pinned,
+      smooth = std::make_unique<PhongSurface>(surface, triangle_patches(surface, sharp), pinned,
                                               options.smooth_shape);
     }
     result.nb_feature_lines = lines.nb_lines();
@@ -623,7 +622,7 @@ void Pipeline::run() {
 
     // 5a. Distance to the input: sites fixed at the input vertices the boundary cuts off.
     approximate_boundary(extractor, cvt, local_spacing, boundary, project, [&] {
-      return site_patches(sampled(), lines, surface_tree, line_tree, sites, kinds, line_of,
+      return site_patches(surface, lines, surface_tree, line_tree, sites, kinds, line_of,
                           corner_vertex, triangle_patch);
     });
 
@@ -634,6 +633,10 @@ void Pipeline::run() {
     // breaks the property is undone when more rounds cannot repair it).
     next_phase(Mesh3Phase::kTopology);
     repair_topology(surface, clip, cvt, boundary, project);
+    // With interfaces, the CVT can open gaps along the lines where an interface meets the
+    // boundary (a flat face on both sides: its surface sites close in on the line from both),
+    // and a tet across such a gap lies in two regions: the gaps get sites again, as in step 4.
+    if (interfaces) refill_line_gaps(line_tree, local_spacing);
 
     // 6. Extraction; 7. slivers (the perturbation extracts as it goes and returns the
     // final mesh).
@@ -649,7 +652,7 @@ void Pipeline::run() {
              triangle_patch[surface_tree.closest(q).triangle] == patches.patches[patches.begin[s]];
     };
     const auto extract_and_perturb = [&] {
-      patches = site_patches(sampled(), lines, surface_tree, line_tree, sites, kinds, line_of,
+      patches = site_patches(surface, lines, surface_tree, line_tree, sites, kinds, line_of,
                              corner_vertex, triangle_patch);
       // The caller's extraction settings (options.perturbation.extraction), with the surface
       // patches of these sites.
@@ -944,7 +947,7 @@ void Pipeline::run() {
     // component).
     tag_mesh3(domain, surface_tree, triangle_patch, patches, index, interfaces ? &regions : nullptr,
               result);
-    if (interfaces) tag_interfaces(*interfaces, surface_tree, result);
+    if (interfaces) tag_interfaces(*interfaces, surface_tree, regions, result);
     measure_mesh3_quality(domain, result);
     result.shape_problem = check_mesh3_shape(domain, result.xyz, result.tets);
     if (result.shape_problem.empty() && interfaces)

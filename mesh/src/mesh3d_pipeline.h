@@ -122,8 +122,12 @@ struct Projection {
 // The sorted edge keys of the borders between the input's tagged boundary patches (a tet
 // mesh file's boundary triangle refs: `tags`, one per triangle of `surface`); empty without
 // tags.
-std::vector<std::uint64_t> tag_border_edges(const Surface3& surface,
+std::vector<std::uint64_t> tag_border_edges(const TriangleSurface& surface,
                                             const std::vector<std::int32_t>& tags);
+// Per triangle edge (3 t + e, the edge opposite corner e) the triangle across it, or
+// SurfaceTree::kNone where the edge is not shared by exactly two triangles (a border, or where
+// an interface meets the boundary); on a closed 2-manifold, Surface3::adjacent.
+std::vector<std::uint32_t> triangle_neighbours(const TriangleSurface& surface);
 
 // The surface's sharpest dihedral angle, degrees: the smallest angle, measured inside the
 // volume, between two triangles that share an edge (180 - the angle between their normals
@@ -149,13 +153,14 @@ std::vector<std::uint64_t> sorted_feature_edges(const FeatureLines& lines);
 
 // The patch of each boundary triangle: the triangles grouped by a flood fill across the
 // edges that are not feature edges, numbered in the order of their first triangle.
-std::vector<std::uint32_t> triangle_patches(const Domain3& domain, const FeatureLines& lines);
+std::vector<std::uint32_t> triangle_patches(const TriangleSurface& surface,
+                                            const FeatureLines& lines);
 
 // The surface patches of the sites (SurfacePatches), `patch` the patch of each boundary
 // triangle: a surface site is on the patch of the triangle it projects onto, a feature site
 // on the patches beside the segment it projects onto, a corner on the patches around its
 // vertex.
-SurfacePatches site_patches(const Domain3& domain, const FeatureLines& lines,
+SurfacePatches site_patches(const TriangleSurface& input, const FeatureLines& lines,
                             const SurfaceTree& surface, const FeatureTree& line_tree,
                             const std::vector<double>& sites, const std::vector<Kind>& kinds,
                             const std::vector<std::uint32_t>& line_of,
@@ -323,29 +328,41 @@ Mesh3Result mesh3d_bodies(const Domain3& domain, const std::vector<Domain3>& bod
 // Interfaces between the regions of a tet mesh domain (mesh3d_interfaces.cpp has the method).
 constexpr std::uint32_t kNoRegion = 0xffffffffu;
 struct RegionInterfaces {
+  // The regions, by increasing tag: each the volume of the input's tets of that tag (a
+  // Domain3 of them, on the domain's vertices).
+  std::vector<Domain3> regions;
+  std::vector<std::int32_t> tags;
   // The domain's boundary triangles (first, in the domain's order) and the interfaces' (the
-  // facets between tets of different tags), one surface whose interface shells are cavities
-  // (or, nested deeper, bodies again): the surface the sites are sampled on.
-  Domain3 surfaces;
-  // Per triangle of `surfaces`: the domain's boundary_refs, then the file's tags of the
+  // facets between tets of two regions, oriented outward from the lower region): the surface
+  // the sites are sampled on; not a 2-manifold where an interface meets the boundary or
+  // another interface.
+  TriangleSurface surface;
+  std::uint32_t nb_boundary_triangles = 0;
+  // Per interface triangle: its two regions (lower, higher) and its interface (one per pair of
+  // regions that meet, numbered in the order of their first triangle); nb_interfaces of them.
+  std::vector<std::array<std::uint32_t, 2>> sides;
+  std::vector<std::uint32_t> interface_of;
+  std::uint32_t nb_interfaces = 0;
+  // Per triangle of `surface`: the domain's boundary_refs, then the file's tags of the
   // interface triangles (Domain3::inner_triangle_ref; 0 where it lists none); empty when the
   // file tags no triangle of either.
   std::vector<std::int32_t> refs;
-  std::uint32_t nb_boundary_triangles = 0, nb_shells = 0;  // nb_shells: the interfaces'
+  // The region holding p (strictly; else the first whose boundary holds it; kNoRegion
+  // outside the domain). Exact.
+  std::uint32_t region_of(const double* p) const;
 };
-// Whether the domain has several regions whose interfaces are closed surfaces inside the
-// volume, meeting neither the boundary nor each other; then `out` is filled. Not when the
-// domain has no tet tags or one; `why_not` says why when it has several but their
-// interfaces do not make such a surface.
+// Whether the domain has several regions (tet tags) the mesh can follow: each region's tets a
+// valid volume on its own (Domain3: a closed 2-manifold boundary, no tets meeting along an
+// edge or at a vertex only); then `out` is filled. Not when the domain has no tet tags or
+// one; `why_not` says why when it has several it cannot follow.
 bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string& why_not);
-// The regions of a tet mesh whose tets are Delaunay (each tet's circumcentre located exactly
-// in `surfaces`, then the extraction's crease rule with the sites' patches `sp` where a face
-// between the sides crosses a feature line): the face-connected parts of the tets on one
-// side, numbered in the order of their first tet; per region whether it is outside every
-// inclusion (in `surfaces`'s volume).
+// The region of each tet of a mesh whose tets are Delaunay: the input region holding its
+// circumcentre (exact; a tet with its circumcentre outside the domain, kept at the boundary,
+// by its centroid or a face neighbour), then the extraction's crease rule with the sites'
+// patches `sp` where a face between two regions crosses a feature line.
 struct TetRegions {
-  std::vector<std::uint32_t> region;  // per tet
-  std::vector<std::uint8_t> outside;  // per region
+  std::vector<std::uint32_t> region;  // per tet, an index into RegionInterfaces::regions
+  std::uint32_t nb = 0;               // regions
 };
 TetRegions interface_regions(const RegionInterfaces& interfaces, const std::vector<double>& sites,
                              const std::vector<std::uint32_t>& tets, const SurfacePatches& sp);
@@ -359,12 +376,12 @@ void per_region(
     TetRegions& regions,
     const std::function<void(std::vector<std::uint32_t>&, const std::vector<Kind>&)>& pass);
 // The mesh's interfaces (Mesh3Result::interface_triangles, interface_tags, their names) from
-// its tets and region tags: a face between tets of two tags takes the file's tag of the
-// input interface triangle nearest its centroid (`sampled_tree`: the tree of
-// `interfaces.surfaces`), or when that has none its interface's rank after
+// its tets and `regions`: a face between tets of two regions takes the file's tag of the input
+// interface triangle between the same regions nearest its centroid (`sampled_tree`: the tree
+// of `interfaces.surface`), or when that has none its interface's rank after
 // result.boundary_tags' largest.
 void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
-                    Mesh3Result& result);
+                    const TetRegions& regions, Mesh3Result& result);
 // The distance between the mesh's interfaces (result.interface_triangles) and the input's,
 // either way, sampled, in local edge lengths (`edge_length`) into
 // result.interface_distance_to_edge_length; what is wrong when it exceeds `bound` (> 0),
@@ -372,8 +389,8 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
 std::string interface_distance(const RegionInterfaces& interfaces,
                                const std::function<double(const double*)>& edge_length,
                                double bound, Mesh3Result& result);
-// What is wrong with the mesh's interfaces, empty when nothing: the tets of the regions
-// outside the inclusions must have `surfaces`'s shape (check_mesh3_shape).
+// What is wrong with the mesh's regions, empty when nothing: each region's tets must have the
+// shape of the input's region (check_mesh3_shape).
 std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,
                             const std::vector<std::uint32_t>& tets, const TetRegions& regions);
 
@@ -413,6 +430,9 @@ struct Pipeline {
   // spacing; their positions go to `added`, their lines to `added_line`.
   void fill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing,
                       std::vector<double>& added, std::vector<std::uint32_t>& added_line);
+  // Sites on the lines' gaps (fill_line_gaps) after the CVT has moved the line sites, appended
+  // as line sites; their number.
+  std::uint32_t refill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing);
   // Free sites whose cells reach the boundary (`boundary`, from the CVT's last diagram) go
   // onto the surface: they would become boundary vertices inside the volume. Their number.
   std::uint32_t snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,
@@ -427,13 +447,11 @@ struct Pipeline {
                             const std::function<SurfacePatches()>& site_patches_now);
   // With interfaces: the free sites whose cells cross an interface are marked in `boundary`
   // (resized to the sites' count), as the CVT marks those whose cells reach the boundary, so
-  // that they go onto it. The first time (after the unconstrained CVT) only those inside an
-  // inclusion (not in `surfaces`'s volume): one layer of sites onto each interface, as the
-  // boundary gets; after that (both_sides) the cells of either side that still reach
-  // across (mesh3d_interfaces.cpp).
+  // that they go onto it. The first time (after the unconstrained CVT) only those of the
+  // higher region of the two: one layer of sites onto each interface, as the boundary gets;
+  // after that (both_sides) the cells of either side that still reach across
+  // (mesh3d_interfaces.cpp).
   void mark_interface_sites(std::vector<std::uint8_t>& boundary, bool both_sides) const;
-  // The surface the sites are sampled on: the domain's, or with interfaces `surfaces`.
-  const Domain3& sampled() const { return interfaces ? interfaces->surfaces : domain; }
   // Step 5b (topology_repair3d.cpp).
   void repair_topology(const TriangleSurface& surface, const Clip3Options& clip, Cvt3Options& cvt,
                        std::vector<std::uint8_t>& boundary, const Projection& project);

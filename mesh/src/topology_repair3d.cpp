@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh3d_pipeline.h"
@@ -17,6 +18,27 @@
 namespace voroclip::mesh3 {
 
 namespace {
+
+// Adds the defects of b to a (cells kept increasing, each once with its first point).
+void merge_defects(ClosedBallDefects& a, const ClosedBallDefects& b) {
+  a.nb_not_disk += b.nb_not_disk;
+  a.nb_facets += b.nb_facets;
+  a.nb_edges += b.nb_edges;
+  std::vector<std::pair<std::uint32_t, std::array<double, 3>>> all;
+  for (std::size_t i = 0; i < a.cells.size(); ++i)
+    all.push_back({a.cells[i], {a.points[3 * i], a.points[3 * i + 1], a.points[3 * i + 2]}});
+  for (std::size_t i = 0; i < b.cells.size(); ++i)
+    all.push_back({b.cells[i], {b.points[3 * i], b.points[3 * i + 1], b.points[3 * i + 2]}});
+  std::stable_sort(all.begin(), all.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  a.cells.clear();
+  a.points.clear();
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i > 0 && all[i].first == all[i - 1].first) continue;
+    a.cells.push_back(all[i].first);
+    a.points.insert(a.points.end(), all[i].second.begin(), all[i].second.end());
+  }
+}
 
 // The shortest decimal of x.
 std::string shortest(double x) {
@@ -96,10 +118,21 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   bool inserted_since_cvt = false;
   std::uint32_t cycles = 0;
   for (std::uint32_t round = 0;; ++round) {
-    ClippedVoronoi3 cv;
-    cv.compute(sampled(), sites.data(), n, with_surface);
-    const ClosedBallDefects defects =
-        closed_ball_defects(cv, sites.data(), knife_edges, &sampled().surface());
+    // The restricted Voronoi diagram on the domain's surface; with interfaces, on each
+    // region's (its part of the boundary and its interfaces), the defects of all.
+    ClosedBallDefects defects;
+    if (!interfaces) {
+      ClippedVoronoi3 cv;
+      cv.compute(domain, sites.data(), n, with_surface);
+      defects = closed_ball_defects(cv, sites.data(), knife_edges, &domain.surface());
+    } else {
+      for (const Domain3& region : interfaces->regions) {
+        ClippedVoronoi3 cv;
+        cv.compute(region, sites.data(), n, with_surface);
+        merge_defects(defects,
+                      closed_ball_defects(cv, sites.data(), knife_edges, &region.surface()));
+      }
+    }
     const auto nb_defects = static_cast<std::uint32_t>(defects.cells.size());
     if (round == 0) first_points = defects.points;
     Mesh3Progress p;

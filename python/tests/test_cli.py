@@ -112,36 +112,65 @@ def test_mesh3d_agrees_with_cli(cli, data, tmp_path):
     assert 0 < m.stats["hausdorff_to_edge_length"] <= 1
 
 
-def test_mesh3d_counts_tets_across_region_interfaces(cli, tmp_path):
-    # Two unit cubes side by side, regions 1 (x <= 1) and 2 (x >= 1), six tets each.
-    pts = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1, 2)]
+def kuhn_cubes(path, cubes):
+    """A Medit file of unit cubes (x0, y0, z0, ref), six Kuhn tets each."""
+    pts = sorted({(x0 + (k & 1), y0 + ((k >> 1) & 1), z0 + ((k >> 2) & 1))
+                  for x0, y0, z0, _ in cubes for k in range(8)})
     index = {p: i + 1 for i, p in enumerate(pts)}
     lines = ["MeshVersionFormatted 2", "Dimension 3", "Vertices", str(len(pts))]
     lines += ["%g %g %g 0" % p for p in pts]
     tets = []
-    for x0, ref in ((0, 1), (1, 2)):
-        c = [index[(x0 + (k & 1), (k >> 1) & 1, (k >> 2) & 1)] for k in range(8)]
+    for x0, y0, z0, ref in cubes:
+        c = [index[(x0 + (k & 1), y0 + ((k >> 1) & 1), z0 + ((k >> 2) & 1))] for k in range(8)]
         for a, b in ((1, 2), (1, 4), (2, 1), (2, 4), (4, 1), (4, 2)):
             tets.append("%d %d %d %d %d" % (c[0], c[a], c[a + b], c[7], ref))
     lines += ["Tetrahedra", str(len(tets))] + tets + ["End"]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_mesh3d_follows_the_interface_between_two_cubes(cli, tmp_path):
+    # Two unit cubes side by side, regions 1 (x <= 1) and 2 (x >= 1): the interface meets the
+    # boundary along the square's four sides.
     domain = tmp_path / "two.mesh"
-    domain.write_text("\n".join(lines) + "\n")
+    kuhn_cubes(domain, [(0, 0, 0, 1), (1, 0, 0, 2)])
     stats = run(cli, "mesh3d", domain, "--vertices", 300, "-o", tmp_path / "m.mesh")
     m = voroclip.mesh3d(domain, vertices=300)
     x = m.points[m.cells][:, :, 0]
     tags = np.asarray(m.cell_tags)
-    # A tet of region 1 with a vertex at x > 1, or of region 2 with one at x < 1.
-    across = int((((tags == 1) & (x.max(1) > 1)) | ((tags == 2) & (x.min(1) < 1))).sum())
+    # No tet of region 1 with a vertex at x > 1, nor of region 2 with one at x < 1 (vertices
+    # on the interface are projected onto it: 1e-12).
+    eps = 1e-12
+    assert not (((tags == 1) & (x.max(1) > 1 + eps)) | ((tags == 2) & (x.min(1) < 1 - eps))).any()
+    regions = stats["regions"]
+    assert 0 <= regions.pop("interface_distance_to_edge_length") <= 1
+    assert regions == {"input_regions": 2, "tets_across_interfaces": 0,
+                       "interfaces_followed": 1, "interfaces_not_followed": ""}
+    assert m.stats["region_interfaces_followed"] == 1
+    assert m.stats["tets_across_region_interfaces"] == 0
+    assert set(m.interface_tags.tolist()) == {int(m.boundary_tags.max()) + 1}
+
+
+def test_mesh3d_counts_tets_across_regions_it_cannot_follow(cli, tmp_path):
+    # Region 2: two cubes that share an edge only, so it is no volume of its own.
+    domain = tmp_path / "edge.mesh"
+    kuhn_cubes(domain, [(0, 0, 0, 2), (1, 0, 0, 1), (0, 1, 0, 1), (1, 1, 0, 2)])
+    stats = run(cli, "mesh3d", domain, "--vertices", 300, "-o", tmp_path / "m.mesh")
+    m = voroclip.mesh3d(domain, vertices=300)
+    p = m.points[m.cells]
+    tags = np.asarray(m.cell_tags)
+    # A tet with a vertex strictly inside a cube of the other region.
+    def inside(lo, hi):
+        return ((p[:, :, 0] > lo[0]) & (p[:, :, 0] < hi[0]) & (p[:, :, 1] > lo[1])
+                & (p[:, :, 1] < hi[1])).any(axis=1)
+    in2 = inside((0, 0), (1, 1)) | inside((1, 1), (2, 2))
+    in1 = inside((1, 0), (2, 1)) | inside((0, 1), (1, 2))
+    across = int((((tags == 1) & in2) | ((tags == 2) & in1)).sum())
     assert across > 0
-    # The interface meets the boundary: not followed, and the stats say where.
     why = stats["regions"]["interfaces_not_followed"]
-    assert "meets the boundary at vertex" in why
-    assert stats["regions"] == {"input_regions": 2, "tets_across_interfaces": across,
-                                "interfaces_followed": 0, "interfaces_not_followed": why,
-                                "interface_distance_to_edge_length": 0}
-    assert m.stats["input_regions"] == 2
-    assert m.stats["tets_across_region_interfaces"] == across
-    assert m.stats["region_interfaces_followed"] == 0
+    assert "meet along an edge only" in why
+    assert stats["regions"]["interfaces_followed"] == 0
+    assert stats["regions"]["tets_across_interfaces"] == m.stats["tets_across_region_interfaces"]
+    assert stats["regions"]["tets_across_interfaces"] >= across
     assert m.stats["region_interfaces_not_followed"] == why
 
 

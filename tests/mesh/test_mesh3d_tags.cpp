@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -289,8 +290,38 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
 // inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor
 // another interface when 0 < lo < hi < n. The boundary triangles tagged by the face they lie
 // on (10 + axis, 13 + axis on the far side) when `tag_faces`.
+// The unit cube as a grid of n^3 voxels, six Kuhn tets each, region 2 for the voxels
+// (i, j, k) where `in` holds, region 1 elsewhere.
+voroclip::TetMeshInput region_grid(
+    std::uint32_t n, const std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t)>& in);
+
 voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::uint32_t hi,
                                       bool tag_faces) {
+  voroclip::TetMeshInput m = region_grid(n, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return i >= lo && i < hi && j >= lo && j < hi && k >= lo && k < hi;
+  });
+  if (tag_faces) {
+    const Domain3 d(m);
+    const voroclip::Surface3& s = d.surface();
+    for (std::uint32_t t = 0; t < s.nb_triangles(); ++t) {
+      double c[3] = {0, 0, 0};
+      for (int q = 0; q < 3; ++q) {
+        for (int a = 0; a < 3; ++a) c[a] += s.vertex(s.triangle_vertex(t, q))[a] / 3;
+      }
+      int tag = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (c[a] < 1e-9) tag = 10 + a;
+        if (c[a] > 1 - 1e-9) tag = 13 + a;
+      }
+      m.triangles.insert(m.triangles.end(), s.triangle(t), s.triangle(t) + 3);
+      m.triangle_ref.push_back(tag);
+    }
+  }
+  return m;
+}
+
+voroclip::TetMeshInput region_grid(
+    std::uint32_t n, const std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t)>& in) {
   voroclip::TetMeshInput m;
   m.source = "inclusion grid";
   const auto id = [n](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
@@ -308,7 +339,7 @@ voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::ui
   for (std::uint32_t k = 0; k < n; ++k) {
     for (std::uint32_t j = 0; j < n; ++j) {
       for (std::uint32_t i = 0; i < n; ++i) {
-        const bool in = i >= lo && i < hi && j >= lo && j < hi && k >= lo && k < hi;
+        const bool inside = in(i, j, k);
         for (const auto& a : axes) {
           std::uint32_t c[3] = {i, j, k};
           m.tets.push_back(id(c[0], c[1], c[2]));
@@ -316,26 +347,9 @@ voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::ui
             ++c[axis];
             m.tets.push_back(id(c[0], c[1], c[2]));
           }
-          m.tet_ref.push_back(in ? 2 : 1);
+          m.tet_ref.push_back(inside ? 2 : 1);
         }
       }
-    }
-  }
-  if (tag_faces) {
-    const Domain3 d(m);
-    const voroclip::Surface3& s = d.surface();
-    for (std::uint32_t t = 0; t < s.nb_triangles(); ++t) {
-      double c[3] = {0, 0, 0};
-      for (int q = 0; q < 3; ++q) {
-        for (int a = 0; a < 3; ++a) c[a] += s.vertex(s.triangle_vertex(t, q))[a] / 3;
-      }
-      int tag = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (c[a] < 1e-9) tag = 10 + a;
-        if (c[a] > 1 - 1e-9) tag = 13 + a;
-      }
-      m.triangles.insert(m.triangles.end(), s.triangle(t), s.triangle(t) + 3);
-      m.triangle_ref.push_back(tag);
     }
   }
   return m;
@@ -492,13 +506,43 @@ TEST_CASE("mesh3d keeps the file's tags of an interface's triangles", "[mesh]") 
   CHECK(patches == std::set<std::int32_t>{1, 2, 3, 4, 5, 6});
 }
 
-TEST_CASE("mesh3d does not follow interfaces that meet the boundary, and says why", "[mesh]") {
-  // The inclusion reaches the cube's face x = 0: its interface meets the boundary.
+TEST_CASE("mesh3d follows interfaces that meet the boundary", "[mesh]") {
+  // The box [0, 1/2]^3 at a corner of the unit cube, region 2: its interface meets three
+  // faces of the cube along lines where the boundary is flat on both sides.
   const Domain3 d(inclusion_grid(6, 0, 3, false));
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(1500));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_interfaces_followed == 1);
+  CHECK(r.nb_tets_across_regions == 0);
+  const double eps = 1e-12;
+  double volume2 = 0;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    for (int j = 0; j < 4; ++j) {
+      const double* p = point(r, r.tets[t + j]);
+      const bool closed = p[0] <= 0.5 + eps && p[1] <= 0.5 + eps && p[2] <= 0.5 + eps;
+      const bool open = p[0] < 0.5 - eps && p[1] < 0.5 - eps && p[2] < 0.5 - eps;
+      if (r.tet_tags[t / 4] == 2) {
+        CHECK(closed);
+      } else {
+        CHECK_FALSE(open);
+      }
+    }
+    if (r.tet_tags[t / 4] == 2) {
+      volume2 += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
+                               point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
+    }
+  }
+  CHECK(volume2 == Approx(0.125).epsilon(0.01));
+}
+
+TEST_CASE("mesh3d does not follow a region that is no volume on its own, and says why", "[mesh]") {
+  // Region 2: two voxels that share an edge only.
+  const Domain3 d(region_grid(
+      2, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return k == 0 && i == j; }));
   const Mesh3Result r = voroclip::mesh3d(d, small_options(500));
   CHECK(r.nb_input_regions == 2);
   CHECK(r.nb_interfaces_followed == 0);
-  CHECK_FALSE(r.interfaces_not_followed.empty());
+  CHECK(r.interfaces_not_followed.find("meet along an edge only") != std::string::npos);
   CHECK(r.nb_tets_across_regions > 0);
 }
 

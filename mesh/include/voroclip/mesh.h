@@ -844,12 +844,12 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //      the surface), then 6 and 7 again, kept only when the smallest angle rises and the
 //      shape stays right (else tried once with every site on the surface);
 //   7b. flat tets on the boundary (four boundary vertices, two boundary faces) are peeled;
-//   regions: a tet mesh whose regions' interfaces are closed surfaces inside the volume
-//      (Mesh3Result::nb_interfaces_followed) has them sampled with the boundary from step
-//      4 on (sites whose cells cross one go onto it), and here each tet takes the side its
-//      circumcentre lies on (exact; the crease rule of the extraction at the interfaces'
-//      feature lines), the regions the face-connected parts of one side; 7c and 7d then
-//      work within each region, the vertices two regions share fixed;
+//   regions: a tet mesh whose regions are volumes of their own
+//      (Mesh3Result::nb_interfaces_followed) has its interfaces sampled with the boundary
+//      from step 4 on (sites whose cells cross one go onto it; after 5b the gaps of the lines
+//      get sites again), and here each tet takes the region its circumcentre lies in (exact;
+//      the crease rule of the extraction at feature lines); 7c and 7d then work within each
+//      region, the vertices two regions share fixed;
 //   7c. flips (2-3, edge removal: 3-2, 4-4, ...), else moves of interior vertices, else
 //      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
 //      each raising the smallest angle of the tets it replaces (the mesh need not stay
@@ -1211,16 +1211,16 @@ struct Mesh3Result {
   double dihedral_bound_deg = 20;
   std::uint32_t nb_tets_below_bound = 0;
   // Regions (tet_tags): the input's distinct tet tags (0 without them).
-  // When the interfaces between them are closed surfaces inside the volume (inclusions,
-  // meeting neither the boundary nor each other), the mesh follows them as it follows the
-  // boundary: sites on them, the tets of each region on its side (mesh3d_interfaces.cpp);
-  // nb_interfaces_followed counts them, each region takes the tag most of its tets lie in,
-  // and nb_tets_across_regions counts the tets whose centroid lies in an input tet of
-  // another tag. Otherwise (interfaces that meet the boundary or each other:
-  // interfaces_not_followed says where) the sites follow the boundary only, a tet takes the
-  // region of the input tet holding its centroid, and nb_tets_across_regions counts the tets
-  // that reach across an interface (a vertex inside the domain but in no input tet of the
-  // tet's own region). 0 when the input has one region or none.
+  // When each region is a volume of its own (its tets a valid tet mesh), the mesh follows
+  // the interfaces between them as it follows the boundary: sites on them, each tet in one
+  // region (mesh3d_interfaces.cpp); nb_interfaces_followed counts them (one per pair of
+  // regions that meet), each region takes the tag most of its tets lie in, and
+  // nb_tets_across_regions counts the tets whose centroid lies in an input tet of another
+  // tag. Otherwise (interfaces_not_followed says why: a region whose tets meet along an edge
+  // only, ...) the sites follow the boundary only, a tet takes the region of the input tet
+  // holding its centroid, and nb_tets_across_regions counts the tets that reach across an
+  // interface (a vertex inside the domain but in no input tet of the tet's own region). 0
+  // when the input has one region or none.
   std::uint32_t nb_input_regions = 0, nb_tets_across_regions = 0;
   std::uint32_t nb_interfaces_followed = 0;
   std::string interfaces_not_followed;
