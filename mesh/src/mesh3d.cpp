@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <iomanip>
+#include <limits>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -38,6 +39,10 @@ namespace {
 // 100,000 the pass with 2 free sites broke the shape: tried again with both on the surface it
 // is the old pass (the same mesh, 27.5 degrees).
 constexpr double kSliverSiteDepth = 0.5;
+
+// Passes of step 7a' (sites on the lines where interfaces meet the boundary or each other,
+// against tets in two regions).
+constexpr std::uint32_t kJunctionPasses = 3;
 
 double since(Pipeline::Clock::time_point t) {
   return std::chrono::duration<double>(Pipeline::Clock::now() - t).count();
@@ -555,6 +560,29 @@ void Pipeline::run() {
     }
     result.nb_feature_lines = lines.nb_lines();
     result.nb_feature_corners = static_cast<std::uint32_t>(lines.corners.size());
+    // With interfaces, the feature lines where an interface meets the boundary or another
+    // interface (an edge of three triangles or more): their sites stay put in the sliver
+    // perturbation, which would otherwise open gaps along them that a tet in two regions fills.
+    std::vector<std::uint8_t> junction_line;
+    if (interfaces) {
+      const std::vector<std::uint32_t> next = triangle_neighbours(surface);
+      std::vector<std::uint64_t> junctions;
+      for (std::size_t i = 0; i < next.size(); ++i) {
+        if (next[i] != SurfaceTree::kNone) continue;
+        const std::size_t t = i / 3, e = i % 3;
+        junctions.push_back(edge_key(surface.triangles[3 * t + (e + 1) % 3],
+                                     surface.triangles[3 * t + (e + 2) % 3]));
+      }
+      std::sort(junctions.begin(), junctions.end());
+      junction_line.assign(lines.nb_lines(), 0);
+      for (std::uint32_t l = 0; l < lines.nb_lines(); ++l) {
+        for (std::uint32_t i = lines.line_begin[l]; i + 1 < lines.line_begin[l + 1]; ++i) {
+          if (std::binary_search(junctions.begin(), junctions.end(),
+                                 edge_key(lines.line_vertices[i], lines.line_vertices[i + 1])))
+            junction_line[l] = 1;
+        }
+      }
+    }
 
     // 2. Sampling.
     next_phase(Mesh3Phase::kSampling);
@@ -675,7 +703,9 @@ void Pipeline::run() {
         // after its candidates are scored, so sites[s] is the current position).
         const SiteProjector3 on_own_patch = [&](std::uint32_t s, Kind k, const double* p, double* q,
                                                 double* d) {
-          project(s, k, p, q, d);
+          const bool stays =
+              k == Kind::kCurve && !junction_line.empty() && junction_line[line_of[s]] != 0;
+          project(s, k, stays ? &sites[3 * std::size_t{s}] : p, q, d);
           if (k == Kind::kSurface && !on_own_patch_at(s, q))
             project(s, k, &sites[3 * std::size_t{s}], q, d);
         };
@@ -761,6 +791,109 @@ void Pipeline::run() {
       result.nb_sliver_sites_inside += inside;
       result.nb_sliver_sites += static_cast<std::uint32_t>(centers.size());
       result.nb_sites = n;
+    }
+
+    // 7a'. With interfaces: a tet with a vertex in one region only and another in another
+    // region only lies across an interface, next to a line where it meets the boundary or
+    // another interface (the boundary flat on both sides, a surface site close to the line or
+    // a gap between the line's sites): its surface vertices within a quarter spacing of such
+    // a line go onto it, else a site goes on the line's point nearest the tet; then 6 and 7
+    // again; at most kJunctionPasses passes.
+    // The regions of each patch of the surface (those of its triangles).
+    std::vector<std::uint64_t> patch_regions;
+    if (interfaces && !interfaces->triangle_regions.empty()) {
+      for (std::size_t t = 0; t < triangle_patch.size(); ++t) {
+        if (triangle_patch[t] >= patch_regions.size())
+          patch_regions.resize(std::size_t{triangle_patch[t]} + 1, 0);
+        patch_regions[triangle_patch[t]] |= interfaces->triangle_regions[t];
+      }
+    }
+    for (std::uint32_t pass = 0; !patch_regions.empty() && pass < kJunctionPasses; ++pass) {
+      // Per site, the regions it belongs to: those of its patches (a site on the surface:
+      // on an interface, both sides, whatever the rounding of its projection), or the one
+      // holding it (a free site, located exactly).
+      std::vector<std::uint64_t> in(n, 0);
+      for (const std::uint32_t v : tets) {
+        if (in[v] != 0) continue;
+        for (std::uint32_t i = patches.begin[v]; i < patches.begin[v + 1]; ++i)
+          in[v] |= patch_regions[patches.patches[i]];
+        if (patches.begin[v] == patches.begin[v + 1]) {
+          const std::uint32_t k = interfaces->region_of(&sites[3 * std::size_t{v}]);
+          in[v] = k == kNoRegion ? ~std::uint64_t{0} : std::uint64_t{1} << k;
+        }
+      }
+      // The point of a junction line nearest x, and its distance.
+      const auto nearest_junction = [&](const double* x, double& distance) {
+        FeatureTree::Closest best;
+        double best2 = std::numeric_limits<double>::infinity();
+        for (std::uint32_t l = 0; l < junction_line.size(); ++l) {
+          if (junction_line[l] == 0) continue;
+          const FeatureTree::Closest q = line_tree.closest(x, l);
+          double d[3];
+          sub3(q.point, x, d);
+          if (dot3(d, d) < best2) {
+            best2 = dot3(d, d);
+            best = q;
+            best.line = l;
+          }
+        }
+        distance = std::sqrt(best2);
+        return best;
+      };
+      std::vector<double> added;
+      std::vector<std::uint32_t> added_line;
+      std::uint32_t snapped = 0;
+      for (std::size_t t = 0; t < tets.size(); t += 4) {
+        if ((in[tets[t]] & in[tets[t + 1]] & in[tets[t + 2]] & in[tets[t + 3]]) != 0) continue;
+        // A surface site within a quarter spacing of the line goes onto it (it stood on the
+        // line's other side of the boundary: the boundary's triangles from it cross the line).
+        bool moved = false;
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t v = tets[t + k];
+          if (kinds[v] != Kind::kSurface) continue;
+          double distance = 0;
+          const FeatureTree::Closest q = nearest_junction(&sites[3 * std::size_t{v}], distance);
+          if (q.line == SurfaceTree::kNone || !(distance < 0.25 * local_spacing(q.point))) continue;
+          std::copy_n(q.point, 3, &sites[3 * std::size_t{v}]);
+          kinds[v] = Kind::kCurve;
+          line_of[v] = q.line;
+          moved = true;
+          ++snapped;
+        }
+        if (moved) continue;
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 4; ++k) {
+          for (int a = 0; a < 3; ++a) c[a] += 0.25 * sites[3 * std::size_t{tets[t + k]} + a];
+        }
+        double distance = 0;
+        const FeatureTree::Closest best = nearest_junction(c, distance);
+        if (best.line == SurfaceTree::kNone) continue;
+        // Not within a quarter spacing of a site or of a point taken.
+        const double h = 0.25 * local_spacing(best.point);
+        const auto near = [&](const std::vector<double>& xyz) {
+          for (std::size_t i = 0; i < xyz.size(); i += 3) {
+            double d[3];
+            sub3(&xyz[i], best.point, d);
+            if (dot3(d, d) < h * h) return true;
+          }
+          return false;
+        };
+        if (near(sites) || near(added)) continue;
+        added.insert(added.end(), best.point, best.point + 3);
+        added_line.push_back(best.line);
+      }
+      if (added_line.empty() && snapped == 0) break;
+      result.nb_boundary_sites -= snapped;
+      result.nb_feature_sites += snapped;
+      const auto extra = static_cast<std::uint32_t>(added_line.size());
+      sites.insert(sites.end(), added.begin(), added.end());
+      kinds.insert(kinds.end(), extra, Kind::kCurve);
+      line_of.insert(line_of.end(), added_line.begin(), added_line.end());
+      corner_vertex.insert(corner_vertex.end(), extra, SurfaceTree::kNone);
+      n += extra;
+      result.nb_feature_sites += extra;
+      result.nb_sites = n;
+      extract_and_perturb();
     }
 
     // 7b. Flat tets on the boundary, which no move of their (surface) vertices fixes.
@@ -856,10 +989,13 @@ void Pipeline::run() {
       result.nb_boundary_flips = fs.boundary_flips;
       result.nb_flip_moves = fs.moves;
       result.nb_flip_sites = fs.insertions;
+      // The vertices inserted are free: on no patch (tag_mesh3 and 7d read the patches of
+      // every site).
       for (; n < sites.size() / 3; ++n) {
         kinds.push_back(Kind::kFree);
         line_of.push_back(SurfaceTree::kNone);
         corner_vertex.push_back(SurfaceTree::kNone);
+        patches.begin.push_back(static_cast<std::uint32_t>(patches.patches.size()));
       }
       result.nb_sites = n;
     }

@@ -149,6 +149,14 @@ bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string
     if (it == pairs.end()) pairs.push_back(out.sides[f]);
   }
   out.nb_interfaces = static_cast<std::uint32_t>(pairs.size());
+  out.triangle_regions.clear();
+  if (out.tags.size() <= 64) {
+    for (std::uint32_t b = 0; b < out.nb_boundary_triangles; ++b)
+      out.triangle_regions.push_back(std::uint64_t{1}
+                                     << region_of_tag(refs[domain.boundary_tet(b)]));
+    for (const std::array<std::uint32_t, 2>& side : out.sides)
+      out.triangle_regions.push_back(std::uint64_t{1} << side[0] | std::uint64_t{1} << side[1]);
+  }
   // The tags: the boundary's, and the file's tags of the interface triangles.
   out.refs.assign(s.nb_triangles(), 0);
   bool tagged = !domain.boundary_refs().empty();

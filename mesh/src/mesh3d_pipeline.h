@@ -343,6 +343,9 @@ struct RegionInterfaces {
   std::vector<std::array<std::uint32_t, 2>> sides;
   std::vector<std::uint32_t> interface_of;
   std::uint32_t nb_interfaces = 0;
+  // Per triangle of `surface`, the regions it bounds (bit k: region k; one for a boundary
+  // triangle, two for an interface's); empty with more than 64 regions.
+  std::vector<std::uint64_t> triangle_regions;
   // Per triangle of `surface`: the domain's boundary_refs, then the file's tags of the
   // interface triangles (Domain3::inner_triangle_ref; 0 where it lists none); empty when the
   // file tags no triangle of either.

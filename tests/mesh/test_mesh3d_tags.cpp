@@ -290,15 +290,16 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
 // inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor
 // another interface when 0 < lo < hi < n. The boundary triangles tagged by the face they lie
 // on (10 + axis, 13 + axis on the far side) when `tag_faces`.
-// The unit cube as a grid of n^3 voxels, six Kuhn tets each, region 2 for the voxels
-// (i, j, k) where `in` holds, region 1 elsewhere.
+// The unit cube as a grid of n^3 voxels, six Kuhn tets each, voxel (i, j, k) in region
+// tag(i, j, k).
 voroclip::TetMeshInput region_grid(
-    std::uint32_t n, const std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t)>& in);
+    std::uint32_t n,
+    const std::function<std::int32_t(std::uint32_t, std::uint32_t, std::uint32_t)>& tag);
 
 voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::uint32_t hi,
                                       bool tag_faces) {
   voroclip::TetMeshInput m = region_grid(n, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-    return i >= lo && i < hi && j >= lo && j < hi && k >= lo && k < hi;
+    return i >= lo && i < hi && j >= lo && j < hi && k >= lo && k < hi ? 2 : 1;
   });
   if (tag_faces) {
     const Domain3 d(m);
@@ -321,7 +322,8 @@ voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::ui
 }
 
 voroclip::TetMeshInput region_grid(
-    std::uint32_t n, const std::function<bool(std::uint32_t, std::uint32_t, std::uint32_t)>& in) {
+    std::uint32_t n,
+    const std::function<std::int32_t(std::uint32_t, std::uint32_t, std::uint32_t)>& tag) {
   voroclip::TetMeshInput m;
   m.source = "inclusion grid";
   const auto id = [n](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
@@ -339,7 +341,7 @@ voroclip::TetMeshInput region_grid(
   for (std::uint32_t k = 0; k < n; ++k) {
     for (std::uint32_t j = 0; j < n; ++j) {
       for (std::uint32_t i = 0; i < n; ++i) {
-        const bool inside = in(i, j, k);
+        const std::int32_t ref = tag(i, j, k);
         for (const auto& a : axes) {
           std::uint32_t c[3] = {i, j, k};
           m.tets.push_back(id(c[0], c[1], c[2]));
@@ -347,7 +349,7 @@ voroclip::TetMeshInput region_grid(
             ++c[axis];
             m.tets.push_back(id(c[0], c[1], c[2]));
           }
-          m.tet_ref.push_back(inside ? 2 : 1);
+          m.tet_ref.push_back(ref);
         }
       }
     }
@@ -535,10 +537,89 @@ TEST_CASE("mesh3d follows interfaces that meet the boundary", "[mesh]") {
   CHECK(volume2 == Approx(0.125).epsilon(0.01));
 }
 
+TEST_CASE("mesh3d follows three regions that meet along a line", "[mesh]") {
+  // Region 1 below z = 1/2, 2 above it with x < 1/2, 3 above it with x > 1/2: three
+  // interfaces, meeting along the line x = z = 1/2, each meeting the boundary.
+  const Domain3 d(region_grid(4, [](std::uint32_t i, std::uint32_t, std::uint32_t k) {
+    return k < 2 ? 1 : i < 2 ? 2 : 3;
+  }));
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(1500));
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_input_regions == 3);
+  CHECK(r.nb_interfaces_followed == 3);
+  CHECK(r.nb_tets_across_regions == 0);
+  // Each tet in its region's box (vertices on an interface projected onto it: 1e-12).
+  const double eps = 1e-12;
+  double volume[4] = {0, 0, 0, 0};
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    const std::int32_t tag = r.tet_tags[t / 4];
+    REQUIRE((tag >= 1 && tag <= 3));
+    for (int j = 0; j < 4; ++j) {
+      const double* p = point(r, r.tets[t + j]);
+      CHECK((tag == 1 ? p[2] <= 0.5 + eps : p[2] >= 0.5 - eps));
+      if (tag == 2) CHECK(p[0] <= 0.5 + eps);
+      if (tag == 3) CHECK(p[0] >= 0.5 - eps);
+    }
+    volume[tag] += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
+                                 point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
+  }
+  CHECK(volume[1] == Approx(0.5).epsilon(1e-9));
+  CHECK(volume[2] == Approx(0.25).epsilon(1e-9));
+  CHECK(volume[3] == Approx(0.25).epsilon(1e-9));
+  // Three interface tags after the boundary's, named by their regions.
+  std::set<std::int32_t> tags(r.interface_tags.begin(), r.interface_tags.end());
+  CHECK(tags.size() == 3);
+  using Name = voroclip::TetMeshInput::TagName;
+  for (const char* name : {"interface 1-2", "interface 1-3", "interface 2-3"}) {
+    CHECK(std::count_if(r.tag_names.begin(), r.tag_names.end(), [&](const Name& n) {
+            return n.dimension == 2 && n.name == name && tags.count(n.tag) == 1;
+          }) == 1);
+  }
+}
+
+TEST_CASE("mesh3d follows a plate region thinner than the spacing", "[mesh][regression]") {
+  // Region 2: the plate [8/25, 17/25]^2 x [12/25, 13/25] (0.04 thick) in the unit cube, at
+  // 2000 vertices (spacing about 0.08): the topology refinement adds sites on it, and the
+  // flips insert a vertex (whose surface patches, none, tag_mesh3 reads: before, past the
+  // end of the patches' table, which threw at random).
+  const Domain3 d(region_grid(25, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return i >= 8 && i < 17 && j >= 8 && j < 17 && k == 12 ? 2 : 1;
+  }));
+  Mesh3Options o;
+  o.nb_vertices = 2000;
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_interfaces_followed == 1);
+  CHECK(r.nb_tets_across_regions == 0);
+  CHECK(r.nb_topology_sites > 0);
+  const double eps = 1e-12;
+  double volume2 = 0;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    for (int j = 0; j < 4; ++j) {
+      const double* p = point(r, r.tets[t + j]);
+      const bool closed = p[0] >= 0.32 - eps && p[0] <= 0.68 + eps && p[1] >= 0.32 - eps &&
+                          p[1] <= 0.68 + eps && p[2] >= 0.48 - eps && p[2] <= 0.52 + eps;
+      const bool open = p[0] > 0.32 + eps && p[0] < 0.68 - eps && p[1] > 0.32 + eps &&
+                        p[1] < 0.68 - eps && p[2] > 0.48 + eps && p[2] < 0.52 - eps;
+      if (r.tet_tags[t / 4] == 2) {
+        CHECK(closed);
+      } else {
+        CHECK_FALSE(open);
+      }
+    }
+    if (r.tet_tags[t / 4] == 2) {
+      volume2 += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
+                               point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
+    }
+  }
+  CHECK(volume2 == Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
+}
+
 TEST_CASE("mesh3d does not follow a region that is no volume on its own, and says why", "[mesh]") {
   // Region 2: two voxels that share an edge only.
-  const Domain3 d(region_grid(
-      2, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return k == 0 && i == j; }));
+  const Domain3 d(region_grid(2, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return k == 0 && i == j ? 2 : 1;
+  }));
   const Mesh3Result r = voroclip::mesh3d(d, small_options(500));
   CHECK(r.nb_input_regions == 2);
   CHECK(r.nb_interfaces_followed == 0);

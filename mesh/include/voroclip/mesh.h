@@ -847,8 +847,11 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
 //   regions: a tet mesh whose regions are volumes of their own
 //      (Mesh3Result::nb_interfaces_followed) has its interfaces sampled with the boundary
 //      from step 4 on (sites whose cells cross one go onto it; after 5b the gaps of the lines
-//      get sites again), and here each tet takes the region its circumcentre lies in (exact;
-//      the crease rule of the extraction at feature lines); 7c and 7d then work within each
+//      get sites again; the sites of the lines where an interface meets the boundary or
+//      another stay put in step 7; after 7a, a tet with vertices in two regions only gets a
+//      site on such a line, or its surface vertex near one goes onto it, and 6 and 7 run
+//      again), and here each tet takes the region its circumcentre lies in (exact; the
+//      crease rule of the extraction at feature lines); 7c and 7d then work within each
 //      region, the vertices two regions share fixed;
 //   7c. flips (2-3, edge removal: 3-2, 4-4, ...), else moves of interior vertices, else
 //      interior vertices inserted, against the tets below flip_dihedral_deg, worst first,
