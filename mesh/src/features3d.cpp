@@ -493,15 +493,20 @@ std::uint32_t Pipeline::refill_line_gaps(const FeatureTree& line_tree,
   std::vector<double> added;
   std::vector<std::uint32_t> added_line;
   fill_line_gaps(line_tree, local_spacing, added, added_line);
-  const auto extra = static_cast<std::uint32_t>(added_line.size());
-  sites.insert(sites.end(), added.begin(), added.end());
+  append_line_sites(added, added_line);
+  return static_cast<std::uint32_t>(added_line.size());
+}
+
+void Pipeline::append_line_sites(const std::vector<double>& xyz,
+                                 const std::vector<std::uint32_t>& line) {
+  const auto extra = static_cast<std::uint32_t>(line.size());
+  sites.insert(sites.end(), xyz.begin(), xyz.end());
   kinds.insert(kinds.end(), extra, Kind::kCurve);
-  line_of.insert(line_of.end(), added_line.begin(), added_line.end());
+  line_of.insert(line_of.end(), line.begin(), line.end());
   corner_vertex.insert(corner_vertex.end(), extra, SurfaceTree::kNone);
   n += extra;
   result.nb_feature_sites += extra;
   result.nb_sites = n;
-  return extra;
 }
 
 std::uint32_t Pipeline::snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,

@@ -885,14 +885,7 @@ void Pipeline::run() {
       if (added_line.empty() && snapped == 0) break;
       result.nb_boundary_sites -= snapped;
       result.nb_feature_sites += snapped;
-      const auto extra = static_cast<std::uint32_t>(added_line.size());
-      sites.insert(sites.end(), added.begin(), added.end());
-      kinds.insert(kinds.end(), extra, Kind::kCurve);
-      line_of.insert(line_of.end(), added_line.begin(), added_line.end());
-      corner_vertex.insert(corner_vertex.end(), extra, SurfaceTree::kNone);
-      n += extra;
-      result.nb_feature_sites += extra;
-      result.nb_sites = n;
+      append_line_sites(added, added_line);
       extract_and_perturb();
     }
 

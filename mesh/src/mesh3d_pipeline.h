@@ -436,6 +436,8 @@ struct Pipeline {
   // Sites on the lines' gaps (fill_line_gaps) after the CVT has moved the line sites, appended
   // as line sites; their number.
   std::uint32_t refill_line_gaps(const FeatureTree& line_tree, const Spacing& local_spacing);
+  // Appends line sites (kCurve) at `xyz` (3 each) on the feature lines `line`.
+  void append_line_sites(const std::vector<double>& xyz, const std::vector<std::uint32_t>& line);
   // Free sites whose cells reach the boundary (`boundary`, from the CVT's last diagram) go
   // onto the surface: they would become boundary vertices inside the volume. Their number.
   std::uint32_t snap_boundary_free_sites(const std::vector<std::uint8_t>& boundary,

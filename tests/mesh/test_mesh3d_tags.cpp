@@ -357,6 +357,34 @@ voroclip::TetMeshInput region_grid(
   return m;
 }
 
+// Region 2's tets have their vertices in the box [lo, hi] (closed), the others none strictly
+// inside it (a vertex on an interface is projected onto it: within 1e-12); region 2's volume.
+double region2_in_box(const Mesh3Result& r, const std::array<double, 3>& lo,
+                      const std::array<double, 3>& hi) {
+  const double eps = 1e-12;
+  double volume = 0;
+  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
+    for (int j = 0; j < 4; ++j) {
+      const double* p = point(r, r.tets[t + j]);
+      bool closed = true, open = true;
+      for (int a = 0; a < 3; ++a) {
+        closed = closed && p[a] >= lo[a] - eps && p[a] <= hi[a] + eps;
+        open = open && p[a] > lo[a] + eps && p[a] < hi[a] - eps;
+      }
+      if (r.tet_tags[t / 4] == 2) {
+        CHECK(closed);
+      } else {
+        CHECK_FALSE(open);
+      }
+    }
+    if (r.tet_tags[t / 4] == 2) {
+      volume += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]), point(r, r.tets[t + 2]),
+                              point(r, r.tets[t + 3]));
+    }
+  }
+  return volume;
+}
+
 TEST_CASE("mesh3d follows the interface around an inclusion", "[mesh][threads]") {
   // The inclusion [1/3, 2/3]^3 in the unit cube, regions 2 and 1.
   const voroclip::TetMeshInput in = inclusion_grid(9, 3, 6, true);
@@ -516,25 +544,7 @@ TEST_CASE("mesh3d follows interfaces that meet the boundary", "[mesh]") {
   CHECK(r.shape_problem.empty());
   CHECK(r.nb_interfaces_followed == 1);
   CHECK(r.nb_tets_across_regions == 0);
-  const double eps = 1e-12;
-  double volume2 = 0;
-  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
-    for (int j = 0; j < 4; ++j) {
-      const double* p = point(r, r.tets[t + j]);
-      const bool closed = p[0] <= 0.5 + eps && p[1] <= 0.5 + eps && p[2] <= 0.5 + eps;
-      const bool open = p[0] < 0.5 - eps && p[1] < 0.5 - eps && p[2] < 0.5 - eps;
-      if (r.tet_tags[t / 4] == 2) {
-        CHECK(closed);
-      } else {
-        CHECK_FALSE(open);
-      }
-    }
-    if (r.tet_tags[t / 4] == 2) {
-      volume2 += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
-                               point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
-    }
-  }
-  CHECK(volume2 == Approx(0.125).epsilon(0.01));
+  CHECK(region2_in_box(r, {0, 0, 0}, {0.5, 0.5, 0.5}) == Approx(0.125).epsilon(0.01));
 }
 
 TEST_CASE("mesh3d follows three regions that meet along a line", "[mesh]") {
@@ -592,27 +602,8 @@ TEST_CASE("mesh3d follows a plate region thinner than the spacing", "[mesh][regr
   CHECK(r.nb_interfaces_followed == 1);
   CHECK(r.nb_tets_across_regions == 0);
   CHECK(r.nb_topology_sites > 0);
-  const double eps = 1e-12;
-  double volume2 = 0;
-  for (std::size_t t = 0; t < r.tets.size(); t += 4) {
-    for (int j = 0; j < 4; ++j) {
-      const double* p = point(r, r.tets[t + j]);
-      const bool closed = p[0] >= 0.32 - eps && p[0] <= 0.68 + eps && p[1] >= 0.32 - eps &&
-                          p[1] <= 0.68 + eps && p[2] >= 0.48 - eps && p[2] <= 0.52 + eps;
-      const bool open = p[0] > 0.32 + eps && p[0] < 0.68 - eps && p[1] > 0.32 + eps &&
-                        p[1] < 0.68 - eps && p[2] > 0.48 + eps && p[2] < 0.52 - eps;
-      if (r.tet_tags[t / 4] == 2) {
-        CHECK(closed);
-      } else {
-        CHECK_FALSE(open);
-      }
-    }
-    if (r.tet_tags[t / 4] == 2) {
-      volume2 += signed_volume(point(r, r.tets[t]), point(r, r.tets[t + 1]),
-                               point(r, r.tets[t + 2]), point(r, r.tets[t + 3]));
-    }
-  }
-  CHECK(volume2 == Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
+  CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
+        Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
 }
 
 TEST_CASE("mesh3d does not follow a region that is no volume on its own, and says why", "[mesh]") {
