@@ -433,7 +433,10 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     none; stats ``mean_flips``, ``mean_moves``, ``mean_rounds``, ``mean_q1_before_deg``,
     ``mean_q1_after_deg``, ``mean_seconds``); an unknown name raises :class:`Error`.
     Tags: the input's (tet mesh files) or one patch per surface region between feature
-    lines and one region per volume component. A domain of several bodies (outer shells, each
+    lines and one region per volume component. A tet mesh's regions that are volumes of their
+    own have their interfaces followed (``interface_triangles``, ``interface_tags``; stats
+    ``region_interfaces_followed``, ``region_interfaces_not_followed``: why not,
+    ``tets_across_region_interfaces``). A domain of several bodies (outer shells, each
     with its cavities) has each meshed on its own, with its share of the vertices, patches
     numbered body after body. ``callback(info)`` gets phase, iteration, energy, ... (and,
     with several bodies, ``body``, ``nb_bodies``, and ``body_vertices`` once at the start of
