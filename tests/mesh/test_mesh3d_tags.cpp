@@ -278,9 +278,12 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   }
   CHECK(checked * 10 > r.tets.size() / 4 * 9);
   CHECK(regions == std::set<std::int32_t>{1, 2});
-  // The interfaces between the regions are not conforming (the sites follow the boundary
+  // The cube's two regions are interleaved, their tets meeting along edges only: no region is
+  // a volume of its own, so the interfaces are not followed (the sites follow the boundary
   // only), and mesh3d counts the tets across them, as this brute force does.
   CHECK(r.nb_input_regions == 2);
+  CHECK(r.nb_interfaces_followed == 0);
+  CHECK(r.interfaces_not_followed.find("meet along an edge only") != std::string::npos);
   CHECK(across > 0);
   CHECK(r.nb_tets_across_regions == across);
 }
