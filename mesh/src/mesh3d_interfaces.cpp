@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "mesh3d_pipeline.h"
+#include "mesh3d_tags.h"
 #include "union_find.h"
 
 namespace voroclip::mesh3 {
@@ -211,33 +212,29 @@ TetRegions interface_regions(const RegionInterfaces& interfaces, const std::vect
     }
     if (r.region[t] == kNoRegion) r.region[t] = on != kNoRegion ? on : centroid_region(t);
   }
-  std::vector<std::array<std::uint32_t, 4>> faces;  // sorted vertices, tet
-  faces.reserve(4 * nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    for (int f = 0; f < 4; ++f) {
-      std::array<std::uint32_t, 3> v{};
-      std::size_t j = 0;
-      for (int k = 0; k < 4; ++k) {
-        if (k != f) v[j++] = tets[4 * t + static_cast<std::size_t>(k)];
-      }
-      std::sort(v.begin(), v.end());
-      faces.push_back({v[0], v[1], v[2], static_cast<std::uint32_t>(t)});
+  // The faces two tets share: (vertices, tet, tet), in face order.
+  struct Shared {
+    std::array<std::uint32_t, 3> v;
+    std::uint32_t a, b;
+  };
+  std::vector<Shared> pairs;
+  {
+    const std::vector<FaceRef> faces = sorted_faces(tets);
+    for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+      if (faces[i].key == faces[i + 1].key)
+        pairs.push_back({faces[i].key, faces[i].code / 4, faces[i + 1].code / 4});
     }
   }
-  std::sort(faces.begin(), faces.end());
   // The rest (a centroid outside the domain too): the region of a face neighbour, in
   // passes.
   for (bool changed = true; changed;) {
     changed = false;
-    for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-      const auto& a = faces[i];
-      const auto& b = faces[i + 1];
-      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) continue;
-      if (r.region[a[3]] == kNoRegion && r.region[b[3]] != kNoRegion) {
-        r.region[a[3]] = r.region[b[3]];
+    for (const auto& [v, a, b] : pairs) {
+      if (r.region[a] == kNoRegion && r.region[b] != kNoRegion) {
+        r.region[a] = r.region[b];
         changed = true;
-      } else if (r.region[b[3]] == kNoRegion && r.region[a[3]] != kNoRegion) {
-        r.region[b[3]] = r.region[a[3]];
+      } else if (r.region[b] == kNoRegion && r.region[a] != kNoRegion) {
+        r.region[b] = r.region[a];
         changed = true;
       }
     }
@@ -273,15 +270,10 @@ TetRegions interface_regions(const RegionInterfaces& interfaces, const std::vect
   std::vector<std::pair<std::uint32_t, std::uint32_t>> todo;  // (tet, region)
   for (int pass = 0; pass < 8; ++pass) {
     todo.clear();
-    for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-      const auto& a = faces[i];
-      const auto& b = faces[i + 1];
-      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2] || r.region[a[3]] == r.region[b[3]])
-        continue;
-      if (a[0] + 1 >= sp.begin.size() || a[1] + 1 >= sp.begin.size() ||
-          a[2] + 1 >= sp.begin.size() || shared(a[0], a[1], a[2]))
-        continue;
-      for (const std::uint32_t t : {a[3], b[3]}) {
+    for (const auto& [v, a, b] : pairs) {
+      if (r.region[a] == r.region[b]) continue;
+      if (v[2] + 1 >= sp.begin.size() || shared(v[0], v[1], v[2])) continue;
+      for (const std::uint32_t t : {a, b}) {
         if (changed[t] != 0) continue;
         const std::uint32_t k = strictly_in(t);
         if (k != kNoRegion && k != r.region[t]) todo.emplace_back(t, k);
@@ -356,24 +348,8 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
                     const TetRegions& regions, Mesh3Result& result) {
   std::int32_t base = 0;
   for (const std::int32_t t : result.boundary_tags) base = std::max(base, t);
-  // The faces shared by tets of two regions; right-handed tets, so the facet opposite vertex
-  // f listed as kOutward[f] is counter-clockwise seen from outside its tet.
-  static constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   const std::vector<std::uint32_t>& tets = result.tets;
-  const std::size_t nt = tets.size() / 4;
-  std::vector<std::array<std::uint32_t, 4>> faces;  // sorted vertices, 4 tet + facet
-  faces.reserve(4 * nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    for (int f = 0; f < 4; ++f) {
-      std::array<std::uint32_t, 3> v{};
-      for (int k = 0; k < 3; ++k)
-        v[static_cast<std::size_t>(k)] = tets[4 * t + static_cast<std::size_t>(kOutward[f][k])];
-      std::sort(v.begin(), v.end());
-      faces.push_back(
-          {v[0], v[1], v[2], static_cast<std::uint32_t>(4 * t) + static_cast<std::uint32_t>(f)});
-    }
-  }
-  std::sort(faces.begin(), faces.end());
+  const std::vector<FaceRef> faces = sorted_faces(tets);
   struct Face {
     std::int32_t tag;
     std::uint32_t code;  // 4 tet + facet, of the tet of the lower region
@@ -381,17 +357,17 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
   };
   std::vector<Face> found;
   for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-    const auto& a = faces[i];
-    const auto& b = faces[i + 1];
-    if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) continue;
-    const std::uint32_t ra = regions.region[a[3] / 4], rb = regions.region[b[3] / 4];
+    const FaceRef& a = faces[i];
+    const FaceRef& b = faces[i + 1];
+    if (a.key != b.key) continue;
+    const std::uint32_t ra = regions.region[a.code / 4], rb = regions.region[b.code / 4];
     if (ra == rb) continue;
-    const std::uint32_t code = ra < rb ? a[3] : b[3];
+    const std::uint32_t code = ra < rb ? a.code : b.code;
     const std::array<std::uint32_t, 2> pair = {std::min(ra, rb), std::max(ra, rb)};
     double c[3] = {0, 0, 0};
     for (int k = 0; k < 3; ++k) {
       for (int q = 0; q < 3; ++q)
-        c[q] += result.xyz[3 * std::size_t{a[static_cast<std::size_t>(k)]} +
+        c[q] += result.xyz[3 * std::size_t{a.key[static_cast<std::size_t>(k)]} +
                            static_cast<std::size_t>(q)] /
                 3;
     }
@@ -422,7 +398,8 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
     const std::size_t t = f.code / 4;
     const int k = static_cast<int>(f.code % 4);
     for (int q = 0; q < 3; ++q)
-      result.interface_triangles.push_back(tets[4 * t + static_cast<std::size_t>(kOutward[k][q])]);
+      result.interface_triangles.push_back(
+          tets[4 * t + static_cast<std::size_t>(kOutwardFacet[k][q])]);
     result.interface_tags.push_back(f.tag);
     const bool named = std::any_of(
         result.tag_names.begin(), result.tag_names.end(),

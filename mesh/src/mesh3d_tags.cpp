@@ -24,17 +24,8 @@ namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
 
-// The facet opposite vertex f of a right-handed tet, counter-clockwise seen from outside.
-constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+}  // namespace
 
-struct FaceRef {
-  std::array<std::uint32_t, 3> key;  // sorted vertices
-  std::uint32_t code;                // 4 tet + facet
-  bool operator<(const FaceRef& o) const { return key != o.key ? key < o.key : code < o.code; }
-};
-
-// Every tet facet, sorted by its vertices: a boundary facet appears once, an inner one
-// twice (consecutive).
 std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets) {
   const std::size_t nt = tets.size() / 4;
   std::vector<FaceRef> faces(4 * nt);
@@ -42,7 +33,8 @@ std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets) {
     for (int f = 0; f < 4; ++f) {
       FaceRef& r = faces[4 * t + static_cast<std::size_t>(f)];
       for (int k = 0; k < 3; ++k) {
-        r.key[static_cast<std::size_t>(k)] = tets[4 * t + static_cast<std::size_t>(kOutward[f][k])];
+        r.key[static_cast<std::size_t>(k)] =
+            tets[4 * t + static_cast<std::size_t>(kOutwardFacet[f][k])];
       }
       std::sort(r.key.begin(), r.key.end());
       r.code = static_cast<std::uint32_t>(4 * t + static_cast<std::size_t>(f));
@@ -51,6 +43,8 @@ std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets) {
   std::sort(faces.begin(), faces.end());
   return faces;
 }
+
+namespace {
 
 // The input tets on a uniform grid of their bounding boxes, for point location.
 class TetGrid {
@@ -196,7 +190,7 @@ void boundary_triangles(const std::vector<std::uint32_t>& tets,
     const std::size_t t = code / 4;
     const int f = static_cast<int>(code % 4);
     for (int k = 0; k < 3; ++k) {
-      triangles.push_back(tets[4 * t + static_cast<std::size_t>(kOutward[f][k])]);
+      triangles.push_back(tets[4 * t + static_cast<std::size_t>(kOutwardFacet[f][k])]);
     }
     face_tet.push_back(static_cast<std::uint32_t>(t));
   }

@@ -3,6 +3,7 @@
 // mesh3d_tags.cpp. Internal to the mesh module.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,19 @@
 namespace voroclip::mesh3 {
 
 struct TetRegions;  // mesh3d_pipeline.h
+
+// The facet opposite vertex f of a right-handed tet, counter-clockwise seen from outside.
+constexpr int kOutwardFacet[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// A facet of a tet mesh: its sorted vertices and 4 tet + facet (opposite vertex).
+struct FaceRef {
+  std::array<std::uint32_t, 3> key;
+  std::uint32_t code;
+  bool operator<(const FaceRef& o) const { return key != o.key ? key < o.key : code < o.code; }
+};
+// Every tet facet, sorted by its vertices: a boundary facet appears once, an inner one
+// twice (consecutive).
+std::vector<FaceRef> sorted_faces(const std::vector<std::uint32_t>& tets);
 
 // The faces of exactly one tet of `tets` (4 vertex indices each, right-handed: det(p1 - p0,
 // p2 - p0, p3 - p0) > 0), oriented outward (counter-clockwise seen from outside), in the
