@@ -166,31 +166,60 @@ double integrate_over_volume(const Domain3& domain, const F& f) {
   return total * cell;
 }
 
-// The lfs cap's samples over a volume: the field over the boundary vertices off the sharp
-// edges (their pole distance measures the input's sampling, not its shape), and the cap,
-// lfs_cap times it, at the cells of sample_over_volume's grid, each of volume `cell`.
+// The field of the local feature size (adaptive sizing and the lfs cap): the domain's, or,
+// with interfaces, that of its regions, each region's boundary (its part of the domain's
+// boundary and its interfaces) seeding it, so that an inclusion or a thin layer is sized by
+// its own shape as a part of the boundary would be. With skip_sharp, without the vertices of
+// sharp edges (their pole distance measures the input's sampling, not its shape).
+std::unique_ptr<SizingField3> lfs_field(const Domain3& domain, const RegionInterfaces* interfaces,
+                                        const Mesh3Options& options, bool skip_sharp) {
+  const auto sharp_vertices = [&](const Domain3& d) {
+    std::vector<std::uint8_t> skip;
+    if (!skip_sharp || !options.features) return skip;
+    skip.assign(d.nb_vertices(), 0);
+    const FeatureLines sharp =
+        extract_feature_lines(boundary_surface(d), options.feature_angle_deg, d.boundary_refs());
+    for (const std::uint32_t v : sharp.line_vertices) skip[v] = 1;
+    for (const std::uint32_t v : sharp.corners) skip[v] = 1;
+    return skip;
+  };
+  if (!interfaces) {
+    return std::make_unique<SizingField3>(domain, options.sizing, sharp_vertices(domain));
+  }
+  std::vector<const Domain3*> parts;
+  std::vector<std::vector<std::uint8_t>> skips;
+  for (const Domain3& region : interfaces->regions) {
+    parts.push_back(&region);
+    skips.push_back(sharp_vertices(region));
+  }
+  return std::make_unique<SizingField3>(domain, parts, options.sizing, skips);
+}
+
+// The lfs cap's samples over a volume: the lfs field off the sharp edges (lfs_field), and
+// the cap, lfs_cap times it, at the cells of sample_over_volume's grid, each of volume `cell`.
 struct CapSamples {
   std::unique_ptr<SizingField3> field;
   std::vector<double> caps;
   double cell = 0;
 };
 
-CapSamples lfs_cap_samples(const Domain3& domain, const TriangleSurface& surface,
+CapSamples lfs_cap_samples(const Domain3& domain, const RegionInterfaces* interfaces,
                            const Mesh3Options& options) {
-  std::vector<std::uint8_t> skip(domain.nb_vertices(), 0);
-  if (options.features) {
-    const FeatureLines sharp =
-        extract_feature_lines(surface, options.feature_angle_deg, domain.boundary_refs());
-    for (const std::uint32_t v : sharp.line_vertices) skip[v] = 1;
-    for (const std::uint32_t v : sharp.corners) skip[v] = 1;
-  }
   CapSamples c;
-  c.field = std::make_unique<SizingField3>(domain, options.sizing, skip);
+  c.field = lfs_field(domain, interfaces, options, true);
   const SizingField3* h = c.field.get();
   const double k = options.lfs_cap;
   c.caps = sample_over_volume(
       domain, [h, k](const double* p) { return k * h->size(p); }, c.cell);
   return c;
+}
+
+// The regions of a body whose interfaces mesh3d follows (null when it follows none).
+std::unique_ptr<RegionInterfaces> followed_interfaces(const Domain3& body) {
+  auto found = std::make_unique<RegionInterfaces>();
+  std::string why_not;
+  if (!region_interfaces(body, *found, why_not)) return nullptr;
+  return found;
 }
 
 // The sites' density under the cap at a sample c (cap value), for the uniform spacing H (0:
@@ -327,7 +356,9 @@ std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
       integrals.push_back(density_sites_integral(body, options.density));
   } else if (options.adaptive) {
     for (const Domain3& body : bodies) {
-      const SizingField3 field(body, options.sizing);
+      const std::unique_ptr<SizingField3> h =
+          lfs_field(body, followed_interfaces(body).get(), options, false);
+      const SizingField3& field = *h;
       integrals.push_back(integrate_over_volume(body, [&field](const double* p) {
         const double s = field.size(p);
         return 1 / (s * s * s);
@@ -339,7 +370,7 @@ std::vector<double> body_site_integrals(const std::vector<Domain3>& bodies,
     std::vector<CapSamples> samples;
     std::vector<const CapSamples*> parts;
     for (const Domain3& body : bodies)
-      samples.push_back(lfs_cap_samples(body, boundary_surface(body), options));
+      samples.push_back(lfs_cap_samples(body, followed_interfaces(body).get(), options));
     for (const CapSamples& c : samples) {
       if (!c.caps.empty()) parts.push_back(&c);
     }
@@ -476,7 +507,7 @@ void Pipeline::run() {
       clip.density = user_density;
       integral = density_sites_integral(domain, user_density);
     } else if (options.adaptive) {
-      field = std::make_unique<SizingField3>(domain, options.sizing);
+      field = lfs_field(domain, interfaces.get(), options, false);
       const SizingField3* h = field.get();
       clip.density = Density3::function([h](double x, double y, double z) {
         const double p[3] = {x, y, z};
@@ -492,7 +523,7 @@ void Pipeline::run() {
         throw Error("mesh3d: lfs_cap " + std::to_string(options.lfs_cap) +
                     "; expected a positive number or 0");
       }
-      CapSamples samples = lfs_cap_samples(domain, surface, options);
+      CapSamples samples = lfs_cap_samples(domain, interfaces.get(), options);
       const SizingField3* h = samples.field.get();
       const std::vector<double>& caps = samples.caps;
       const double k = options.lfs_cap;

@@ -109,21 +109,26 @@ class BucketGrid {
   std::vector<double> min_weight_;
 };
 
-}  // namespace
+// The pole distances (lfs estimates) of a domain's boundary vertices.
+struct PoleDistances {
+  std::vector<double> lfs;              // per domain vertex (0 off the boundary)
+  std::vector<std::uint32_t> boundary;  // the boundary vertices, in the order of their first use
+  std::vector<double> xyz;              // and their positions
+  double max = 0;  // the largest, at most the bounding box's diagonal (none exceeds it)
+};
 
-SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
-    : SizingField3(domain, options, {}) {}
-
-SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
-                           const std::vector<std::uint8_t>& skip) {
-  const Surface3& surface = domain.surface();
-  if (surface.nb_triangles() == 0) {
+void check_sizing(const Domain3& domain, const Sizing3Options& options) {
+  if (domain.surface().nb_triangles() == 0) {
     throw Error("sizing: the domain " + domain.source() + " has no boundary triangles");
   }
   if (!(options.gradation > 0) || !(options.max_ratio >= 1) || options.resolution < 2 ||
       options.resolution > 1024) {
     throw Error("sizing: gradation must be > 0, max_ratio >= 1 and resolution within [2, 1024]");
   }
+}
+
+PoleDistances pole_distances(const Domain3& domain) {
+  const Surface3& surface = domain.surface();
   // Boundary vertices (local numbering) and their area-weighted outward normals (the
   // surface's triangles face outward: Surface3).
   const std::uint32_t nv = domain.nb_vertices();
@@ -164,7 +169,9 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
   };
   std::vector<std::uint8_t> on_hull(m, 0);
   for (const std::uint32_t v : dt.hull_vertices()) on_hull[v] = 1;
-  lfs_.assign(nv, 0);
+  PoleDistances out;
+  std::vector<double>& lfs = out.lfs;
+  lfs.assign(nv, 0);
   double lfs_max = 0;
   std::vector<std::uint32_t> tets;
   for (std::uint32_t k = 0; k < m; ++k) {
@@ -188,28 +195,79 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
     for (const double b2 : best) {
       if (b2 >= 0) d = std::min(d, std::sqrt(b2));
     }
-    lfs_[global[k]] = d;
+    lfs[global[k]] = d;
     if (std::isfinite(d)) lfs_max = std::max(lfs_max, d);
   }
   const double diag = dist(domain.bbox_lo(), domain.bbox_hi());
   // No pole at all (a flat sampling): a uniform field. No lfs exceeds the diagonal.
   lfs_max = lfs_max > 0 ? std::min(lfs_max, diag) : diag;
-  for (const std::uint32_t v : global) lfs_[v] = std::min(lfs_[v], lfs_max);
-  h_min_ = lfs_max / options.max_ratio;
-  // The seeds of the field: the boundary vertices not skipped (renumbered 0..m-1 below).
-  {
-    std::uint32_t kept = 0;
-    for (std::uint32_t k = 0; k < m; ++k) {
-      if (global[k] < skip.size() && skip[global[k]] != 0) continue;
-      global[kept] = global[k];
-      std::copy_n(&xyz[3 * std::size_t{k}], 3, &xyz[3 * std::size_t{kept}]);
-      ++kept;
-    }
-    global.resize(kept);
-    xyz.resize(3 * std::size_t{kept});
-  }
-  const auto seeds = static_cast<std::uint32_t>(global.size());
+  for (const std::uint32_t v : global) lfs[v] = std::min(lfs[v], lfs_max);
+  out.max = lfs_max;
+  out.boundary = std::move(global);
+  out.xyz = std::move(xyz);
+  return out;
+}
 
+}  // namespace
+
+SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options)
+    : SizingField3(domain, options, {}) {}
+
+SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
+                           const std::vector<std::uint8_t>& skip) {
+  check_sizing(domain, options);
+  PoleDistances poles = pole_distances(domain);
+  // The seeds of the field: the boundary vertices not skipped.
+  std::vector<double> xyz, seed_lfs;
+  for (std::size_t k = 0; k < poles.boundary.size(); ++k) {
+    const std::uint32_t v = poles.boundary[k];
+    if (v < skip.size() && skip[v] != 0) continue;
+    xyz.insert(xyz.end(), &poles.xyz[3 * k], &poles.xyz[3 * k] + 3);
+    seed_lfs.push_back(poles.lfs[v]);
+  }
+  lfs_ = std::move(poles.lfs);
+  h_min_ = poles.max / options.max_ratio;
+  spread(domain, xyz, seed_lfs, options);
+}
+
+SizingField3::SizingField3(const Domain3& domain, const std::vector<const Domain3*>& parts,
+                           const Sizing3Options& options,
+                           const std::vector<std::vector<std::uint8_t>>& skips) {
+  if (parts.empty()) throw Error("sizing: no part of the domain " + domain.source());
+  for (const Domain3* part : parts) {
+    check_sizing(*part, options);
+    if (part->nb_vertices() != domain.nb_vertices()) {
+      throw Error("sizing: the part " + part->source() + " has " +
+                  std::to_string(part->nb_vertices()) + " vertices, the domain " +
+                  std::to_string(domain.nb_vertices()) + ": a part is on the domain's vertices");
+    }
+  }
+  lfs_.assign(domain.nb_vertices(), 0);
+  double largest = 0;
+  std::vector<double> xyz, seed_lfs;
+  const std::vector<std::uint8_t> none;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const PoleDistances poles = pole_distances(*parts[i]);
+    largest = std::max(largest, poles.max);
+    const std::vector<std::uint8_t>& skip = i < skips.size() ? skips[i] : none;
+    for (std::size_t k = 0; k < poles.boundary.size(); ++k) {
+      const std::uint32_t v = poles.boundary[k];
+      lfs_[v] = lfs_[v] == 0 ? poles.lfs[v] : std::min(lfs_[v], poles.lfs[v]);
+      if (v < skip.size() && skip[v] != 0) continue;
+      xyz.insert(xyz.end(), &poles.xyz[3 * k], &poles.xyz[3 * k] + 3);
+      seed_lfs.push_back(poles.lfs[v]);
+    }
+  }
+  h_min_ = largest / options.max_ratio;
+  spread(domain, xyz, seed_lfs, options);
+}
+
+// The field on a grid over the domain's bounding box: the smallest seed_lfs[s] + g |x - s|
+// over the seeds s (xyz), at least h_min_; the diagonal everywhere without seeds.
+void SizingField3::spread(const Domain3& domain, const std::vector<double>& xyz,
+                          const std::vector<double>& seed_lfs, const Sizing3Options& options) {
+  const auto seeds = static_cast<std::uint32_t>(seed_lfs.size());
+  const double diag = dist(domain.bbox_lo(), domain.bbox_hi());
   // The grid and the minimising boundary vertex of each node.
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
@@ -233,7 +291,7 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
     return (std::size_t{k} * n_[1] + j) * n_[0] + i;
   };
   const auto offer = [&](std::size_t node, const double* x, std::uint32_t s) {
-    const double value = lfs_[global[s]] + g * dist(x, &xyz[3 * std::size_t{s}]);
+    const double value = seed_lfs[s] + g * dist(x, &xyz[3 * std::size_t{s}]);
     if (value < h_[node]) {
       h_[node] = value;
       source[node] = s;
@@ -302,7 +360,7 @@ SizingField3::SizingField3(const Domain3& domain, const Sizing3Options& options,
   }
   // Exact minimum: boundary vertices in buckets, each with its smallest lfs; a bucket at
   // distance r from x cannot beat the current value h when min lfs + g r >= h.
-  BucketGrid buckets(xyz, seeds, [&](std::uint32_t s) { return lfs_[global[s]]; });
+  BucketGrid buckets(xyz, seeds, [&](std::uint32_t s) { return seed_lfs[s]; });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 512), [&](const auto& range) {
     for (std::size_t node = range.begin(); node != range.end(); ++node) {
       const auto i = static_cast<std::uint32_t>(node % n_[0]);

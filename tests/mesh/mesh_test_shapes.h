@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <utility>
 #include <vector>
@@ -41,6 +42,44 @@ inline voroclip::Domain3 six_tet_box(double sx, double sy, double sz, const char
 
 // The cube [0, 2]^3 cut into the six tets around its diagonal (0, 0, 0) - (2, 2, 2).
 inline voroclip::Domain3 cube_domain() { return six_tet_box(2, 2, 2, "cube"); }
+
+// The unit cube as a grid of n^3 voxels, six Kuhn tets each, voxel (i, j, k) in region
+// tag(i, j, k).
+inline voroclip::TetMeshInput region_grid(
+    std::uint32_t n,
+    const std::function<std::int32_t(std::uint32_t, std::uint32_t, std::uint32_t)>& tag) {
+  voroclip::TetMeshInput m;
+  m.source = "inclusion grid";
+  const auto id = [n](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return (k * (n + 1) + j) * (n + 1) + i;
+  };
+  for (std::uint32_t k = 0; k <= n; ++k) {
+    for (std::uint32_t j = 0; j <= n; ++j) {
+      for (std::uint32_t i = 0; i <= n; ++i) {
+        m.xyz.insert(m.xyz.end(), {static_cast<double>(i) / n, static_cast<double>(j) / n,
+                                   static_cast<double>(k) / n});
+      }
+    }
+  }
+  const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (std::uint32_t k = 0; k < n; ++k) {
+    for (std::uint32_t j = 0; j < n; ++j) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const std::int32_t ref = tag(i, j, k);
+        for (const auto& a : axes) {
+          std::uint32_t c[3] = {i, j, k};
+          m.tets.push_back(id(c[0], c[1], c[2]));
+          for (const int axis : a) {
+            ++c[axis];
+            m.tets.push_back(id(c[0], c[1], c[2]));
+          }
+          m.tet_ref.push_back(ref);
+        }
+      }
+    }
+  }
+  return m;
+}
 
 // Mesh3Options for n vertices with short CVT and perturbation phases (the tests' budget).
 inline voroclip::Mesh3Options small_options(std::uint32_t n) {

@@ -31,6 +31,7 @@ using voroclip::Domain3;
 using voroclip::Mesh3Options;
 using voroclip::Mesh3Result;
 using voroclip::Sign;
+using voroclip_test::region_grid;
 using voroclip_test::small_options;
 
 namespace {
@@ -293,12 +294,6 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
 // inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor
 // another interface when 0 < lo < hi < n. The boundary triangles tagged by the face they lie
 // on (10 + axis, 13 + axis on the far side) when `tag_faces`.
-// The unit cube as a grid of n^3 voxels, six Kuhn tets each, voxel (i, j, k) in region
-// tag(i, j, k).
-voroclip::TetMeshInput region_grid(
-    std::uint32_t n,
-    const std::function<std::int32_t(std::uint32_t, std::uint32_t, std::uint32_t)>& tag);
-
 voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::uint32_t hi,
                                       bool tag_faces) {
   voroclip::TetMeshInput m = region_grid(n, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
@@ -319,42 +314,6 @@ voroclip::TetMeshInput inclusion_grid(std::uint32_t n, std::uint32_t lo, std::ui
       }
       m.triangles.insert(m.triangles.end(), s.triangle(t), s.triangle(t) + 3);
       m.triangle_ref.push_back(tag);
-    }
-  }
-  return m;
-}
-
-voroclip::TetMeshInput region_grid(
-    std::uint32_t n,
-    const std::function<std::int32_t(std::uint32_t, std::uint32_t, std::uint32_t)>& tag) {
-  voroclip::TetMeshInput m;
-  m.source = "inclusion grid";
-  const auto id = [n](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-    return (k * (n + 1) + j) * (n + 1) + i;
-  };
-  for (std::uint32_t k = 0; k <= n; ++k) {
-    for (std::uint32_t j = 0; j <= n; ++j) {
-      for (std::uint32_t i = 0; i <= n; ++i) {
-        m.xyz.insert(m.xyz.end(), {static_cast<double>(i) / n, static_cast<double>(j) / n,
-                                   static_cast<double>(k) / n});
-      }
-    }
-  }
-  const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (std::uint32_t k = 0; k < n; ++k) {
-    for (std::uint32_t j = 0; j < n; ++j) {
-      for (std::uint32_t i = 0; i < n; ++i) {
-        const std::int32_t ref = tag(i, j, k);
-        for (const auto& a : axes) {
-          std::uint32_t c[3] = {i, j, k};
-          m.tets.push_back(id(c[0], c[1], c[2]));
-          for (const int axis : a) {
-            ++c[axis];
-            m.tets.push_back(id(c[0], c[1], c[2]));
-          }
-          m.tet_ref.push_back(ref);
-        }
-      }
     }
   }
   return m;
@@ -605,6 +564,42 @@ TEST_CASE("mesh3d follows a plate region thinner than the spacing", "[mesh][regr
   CHECK(r.nb_interfaces_followed == 1);
   CHECK(r.nb_tets_across_regions == 0);
   CHECK(r.nb_topology_sites > 0);
+  CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
+        Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
+}
+
+TEST_CASE("mesh3d's lfs cap sizes a region thinner than the spacing by its own thickness",
+          "[mesh]") {
+  // The plate of the case above: its thickness (0.04, half of the spacing) is the local
+  // feature size of region 2, whose interfaces now seed the field as the boundary does. With
+  // lfs_cap 1 the cap binds around the plate, and its tets are smaller than the rest.
+  const Domain3 d(region_grid(25, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return i >= 8 && i < 17 && j >= 8 && j < 17 && k == 12 ? 2 : 1;
+  }));
+  Mesh3Options o = small_options(1500);
+  o.lfs_cap = 1;
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_interfaces_followed == 1);
+  CHECK(r.nb_tets_across_regions == 0);
+  CHECK(r.lfs_capped_fraction > 0.03);
+  // Mean edge length of each region's tets.
+  double sum[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+  for (std::size_t t = 0; t < r.tet_tags.size(); ++t) {
+    const auto tag = static_cast<std::size_t>(r.tet_tags[t]);
+    REQUIRE((tag == 1 || tag == 2));
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a + 1; b < 4; ++b) {
+        const double* p = point(r, r.tets[4 * t + a]);
+        const double* q = point(r, r.tets[4 * t + b]);
+        sum[tag] += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                              (p[2] - q[2]) * (p[2] - q[2]));
+        count[tag] += 1;
+      }
+    }
+  }
+  INFO("mean edge: region 1 " << sum[1] / count[1] << ", region 2 " << sum[2] / count[2]);
+  CHECK(sum[2] / count[2] < 0.5 * sum[1] / count[1]);
   CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
         Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
 }

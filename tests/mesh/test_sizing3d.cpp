@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_test_shapes.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/mesh.h"
@@ -34,9 +35,21 @@ std::vector<std::uint32_t> boundary_vertices(const Domain3& d) {
   return v;
 }
 
-// Every grid node against min over boundary vertices of lfs(v) + g |x - v| (and h_min).
-void check_envelope(const Domain3& d, const SizingField3& f, double g) {
-  const std::vector<std::uint32_t> bv = boundary_vertices(d);
+// Every grid node against min over boundary vertices of lfs(v) + g |x - v| (and h_min); the
+// boundary vertices of `d` with f's vertex_lfs, or of each of `parts` with its own lfs.
+void check_envelope(const Domain3& d, const SizingField3& f, double g,
+                    const std::vector<const Domain3*>& parts = {},
+                    const std::vector<const SizingField3*>& part_fields = {}) {
+  std::vector<std::pair<const double*, double>> seeds;  // position, lfs
+  if (parts.empty()) {
+    for (const std::uint32_t v : boundary_vertices(d))
+      seeds.emplace_back(d.vertex(v), f.vertex_lfs()[v]);
+  }
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    for (const std::uint32_t v : boundary_vertices(*parts[i])) {
+      seeds.emplace_back(parts[i]->vertex(v), part_fields[i]->vertex_lfs()[v]);
+    }
+  }
   const std::uint32_t* n = f.grid_size();
   std::size_t exact = 0, nodes = 0;
   double worst = 0;
@@ -47,11 +60,10 @@ void check_envelope(const Domain3& d, const SizingField3& f, double g) {
                              f.grid_origin()[1] + f.grid_spacing() * j,
                              f.grid_origin()[2] + f.grid_spacing() * k};
         double best = HUGE_VAL;
-        for (const std::uint32_t v : bv) {
-          const double* p = d.vertex(v);
-          best = std::min(best, f.vertex_lfs()[v] + g * std::sqrt((x[0] - p[0]) * (x[0] - p[0]) +
-                                                                  (x[1] - p[1]) * (x[1] - p[1]) +
-                                                                  (x[2] - p[2]) * (x[2] - p[2])));
+        for (const auto& [p, lfs] : seeds) {
+          best = std::min(best, lfs + g * std::sqrt((x[0] - p[0]) * (x[0] - p[0]) +
+                                                    (x[1] - p[1]) * (x[1] - p[1]) +
+                                                    (x[2] - p[2]) * (x[2] - p[2])));
         }
         best = std::max(best, f.min_size());
         const double h = f.grid_values()[(std::size_t{k} * n[1] + j) * n[0] + i];
@@ -109,6 +121,50 @@ TEST_CASE("sizing3d: bunny: envelope, floor and densities", "[mesh]") {
     const double h = f.size(d.vertex(v));
     REQUIRE(rho[v] == 1 / (h * h * h * h * h));
   }
+}
+
+TEST_CASE("sizing3d: a domain of regions is sized by each region's boundary", "[mesh]") {
+  // The unit cube in 6^3 voxels, the box [1/3, 2/3]^3 region 2 (an inclusion), the rest 1.
+  const voroclip::TetMeshInput in =
+      voroclip_test::region_grid(6, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        return i >= 2 && i < 4 && j >= 2 && j < 4 && k >= 2 && k < 4 ? 2 : 1;
+      });
+  const Domain3 whole(in);
+  const auto region = [&](std::int32_t tag) {
+    voroclip::TetMeshInput r;
+    r.source = "region " + std::to_string(tag);
+    r.xyz = in.xyz;
+    for (std::size_t t = 0; t < in.tet_ref.size(); ++t) {
+      if (in.tet_ref[t] == tag) r.tets.insert(r.tets.end(), &in.tets[4 * t], &in.tets[4 * t] + 4);
+    }
+    return Domain3(r);
+  };
+  const Domain3 outer = region(1), inner = region(2);
+  voroclip::Sizing3Options o;
+  o.resolution = 16;
+  const SizingField3 one(whole, o), f_outer(outer, o), f_inner(inner, o);
+  const SizingField3 f(whole, {&outer, &inner}, o);
+  // The grid is the domain's; every node is the minimum over both regions' boundary vertices,
+  // each with its lfs in its own region, exactly.
+  REQUIRE(f.grid_spacing() == one.grid_spacing());
+  REQUIRE(f.min_size() == std::max(f_outer.min_size(), f_inner.min_size()));
+  check_envelope(whole, f, o.gradation, {&outer, &inner}, {&f_outer, &f_inner});
+  // A vertex's lfs is the smaller of its regions' (the interface's vertices have both).
+  std::size_t on_interface = 0;
+  for (std::uint32_t v = 0; v < whole.nb_vertices(); ++v) {
+    const double a = f_outer.vertex_lfs()[v], b = f_inner.vertex_lfs()[v];
+    if (a > 0 && b > 0) ++on_interface;
+    REQUIRE(f.vertex_lfs()[v] == (a == 0 ? b : b == 0 ? a : std::min(a, b)));
+  }
+  REQUIRE(on_interface == 3 * 3 * 3 - 1);  // the grid points on the inner box's surface
+  // The inclusion sizes the field around it: at the centre, within its half width (1/6) plus
+  // the gradation over that distance; the outer boundary alone gives more.
+  const double centre[3] = {0.5, 0.5, 0.5};
+  REQUIRE(f.size(centre) <= 1.0 / 6 * (1 + o.gradation) + 1e-12);
+  REQUIRE(one.size(centre) > 1.5 * f.size(centre));
+  // A part on other vertices is refused.
+  const Domain3 sphere = model("sphere");
+  REQUIRE_THROWS_AS(SizingField3(whole, {&outer, &sphere}, o), voroclip::Error);
 }
 
 TEST_CASE("sizing3d: invalid options", "[mesh]") {

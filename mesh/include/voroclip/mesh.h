@@ -216,6 +216,15 @@ class SizingField3 {
   // everywhere.
   SizingField3(const Domain3& domain, const Sizing3Options& options,
                const std::vector<std::uint8_t>& skip);
+  // The field of a domain made of parts (the regions of a tet mesh, each a Domain3 of some of
+  // its tets on all of its vertices, numbered alike): the minimum over every part's boundary
+  // vertices, each with its lfs in that part, so that each part's own thickness and features
+  // size it, and an interface between two parts as the boundary does. skips[i], when given,
+  // leaves out vertices of part i. vertex_lfs() holds a vertex's smallest estimate.
+  // Throws Error for a part on other vertices.
+  SizingField3(const Domain3& domain, const std::vector<const Domain3*>& parts,
+               const Sizing3Options& options,
+               const std::vector<std::vector<std::uint8_t>>& skips = {});
 
   // h at p (trilinear on the grid; points outside the grid clamp to it).
   double size(const double* p) const;
@@ -233,6 +242,9 @@ class SizingField3 {
   const std::vector<double>& grid_values() const { return h_; }
 
  private:
+  void spread(const Domain3& domain, const std::vector<double>& xyz,
+              const std::vector<double>& seed_lfs, const Sizing3Options& options);
+
   std::vector<double> lfs_;
   std::vector<double> h_;
   std::uint32_t n_[3] = {0, 0, 0};
@@ -991,6 +1003,9 @@ struct Mesh3Options {
   // feature corner without a site nearby, minus the sites no tet uses).
   std::uint32_t nb_vertices = 10000;
   // Density from the local feature size (SizingField3 with `sizing`) instead of uniform.
+  // With interfaces followed (a tet mesh's regions), here and for lfs_cap the field is the
+  // regions' (SizingField3 of parts): each region's boundary, its interfaces included, sizes
+  // it, so that an inclusion or a layer thinner than the spacing is sized by its own shape.
   bool adaptive = false;
   // A cap on the uniform size (no adaptive, constant density): the sites' spacing is at most
   // lfs_cap times the local feature size field (SizingField3 with `sizing`, seeded by the
