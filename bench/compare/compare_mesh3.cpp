@@ -30,7 +30,8 @@
 // min), the two-sided Hausdorff distance (hausdorff_distance, default sampling) between the
 // mesh's boundary (the faces of exactly one tet, tet_mesh_boundary) and the input surface
 // as read, relative to the input's bounding-box diagonal; and min Q1 of the tets with 4, 3
-// and at most 2 boundary vertices (a boundary vertex is on a face of exactly one tet).
+// and at most 2 boundary vertices (a boundary vertex is on a face of exactly one tet), and
+// how many vertices are boundary vertices (CGAL's facet criteria put more of them there).
 // Times: wall clock, and the process's CPU time over all threads (less disturbed by other
 // load on the machine); ours / CGAL is the ratio of each. Both run on T threads
 // (tbb::global_control).
@@ -123,7 +124,8 @@ struct Measures {
   double hausdorff_percent = 0;  // of the input's bounding-box diagonal
   // min Q1 of the tets with 4, 3, <= 2 boundary vertices (-1: no such tet)
   double q1_min_by_boundary[3] = {-1, -1, -1};
-  std::uint32_t nb_bad = 0;  // inverted + degenerate tets
+  std::uint32_t nb_bad = 0;       // inverted + degenerate tets
+  std::uint32_t nb_boundary = 0;  // vertices on a face of exactly one tet
 };
 
 Measures measure(const FlatMesh& mesh, const voroclip::TriangleSurface& input) {
@@ -145,6 +147,7 @@ Measures measure(const FlatMesh& mesh, const voroclip::TriangleSurface& input) {
 
   std::vector<std::uint8_t> on_boundary(mesh.nb_vertices(), 0);
   for (const std::uint32_t v : boundary.triangles) on_boundary[v] = 1;
+  for (const std::uint8_t b : on_boundary) m.nb_boundary += b;
   for (std::uint32_t t = 0; t < mesh.nb_tets(); ++t) {
     int nb = 0;
     for (int k = 0; k < 4; ++k) nb += on_boundary[mesh.tets[4 * std::size_t{t} + std::size_t(k)]];
@@ -310,8 +313,8 @@ CgalRun run_cgal(const voroclip::Surface3& surface, std::uint32_t wanted, double
 void print_row(const std::string& model, const char* mesher, const FlatMesh& mesh,
                const Measures& m, Times seconds, const std::string& ratio,
                const std::string& note) {
-  std::printf("| %s | %s | %u | %u | %.2f | %.2f | %.3f | %.3f | ", model.c_str(), mesher,
-              mesh.nb_vertices(), mesh.nb_tets(), m.q1_min, m.q1_mean, m.q4_min,
+  std::printf("| %s | %s | %u | %u | %u | %.2f | %.2f | %.3f | %.3f | ", model.c_str(), mesher,
+              mesh.nb_vertices(), m.nb_boundary, mesh.nb_tets(), m.q1_min, m.q1_mean, m.q4_min,
               m.hausdorff_percent);
   for (const double q : m.q1_min_by_boundary) {
     if (q < 0) {
@@ -325,7 +328,7 @@ void print_row(const std::string& model, const char* mesher, const FlatMesh& mes
 }
 
 void print_failure(const std::string& model, const char* mesher, const std::string& note) {
-  std::printf("| %s | %s | | | | | | | | | | | | | %s |\n", model.c_str(), mesher, note.c_str());
+  std::printf("| %s | %s | | | | | | | | | | | | | | %s |\n", model.c_str(), mesher, note.c_str());
   std::fflush(stdout);
 }
 
@@ -416,9 +419,10 @@ int main(int argc, char** argv) {
       "thread(s); seconds\n\n",
       nb_vertices, kCgalMode, kFeatureAngleDeg, threads);
   std::printf(
-      "| model | mesher | vertices | tets | min Q1 | mean Q1 | min Q4 | Hausdorff %% | min Q1 "
+      "| model | mesher | vertices | boundary vertices | tets | min Q1 | mean Q1 | min Q4 | "
+      "Hausdorff %% | min Q1 "
       "(4 bnd) | (3 bnd) | (<=2 bnd) | wall s | CPU s | ours / CGAL wall, CPU | note |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::fflush(stdout);
 
   bool ok = true;
