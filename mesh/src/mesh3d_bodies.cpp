@@ -139,6 +139,29 @@ std::string centre(const Domain3& body) {
   return s + ")";
 }
 
+// The tags the file gives triangles between tets of two regions (its interfaces' own tags),
+// sorted.
+std::vector<std::int32_t> file_interface_tags(const Domain3& domain) {
+  std::vector<std::int32_t> tags;
+  const std::vector<std::int32_t>& refs = domain.tet_refs();
+  if (refs.empty()) return tags;
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t u = domain.tet_adjacent(t, f);
+      if (u == Domain3::kNone || u < t || refs[t] == refs[u]) continue;
+      std::uint32_t v[3];
+      for (int k = 0, j = 0; k < 4; ++k) {
+        if (k != f) v[j++] = domain.tet_vertex(t, k);
+      }
+      const std::int32_t tag = domain.inner_triangle_ref(v[0], v[1], v[2]);
+      if (tag != 0) tags.push_back(tag);
+    }
+  }
+  std::sort(tags.begin(), tags.end());
+  tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  return tags;
+}
+
 }  // namespace
 
 std::vector<Domain3> domain_bodies(const Domain3& domain) {
@@ -180,6 +203,13 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
   const bool own_patch_tags = domain.boundary_refs().empty();
   const bool own_region_tags = domain.tet_refs().empty();
   std::int32_t patch_offset = 0;
+  // The interface tags each body's run made up (one per pair of regions, after that body's
+  // patch tags, named "interface a-b"), numbered again after every body's tags below, so that
+  // two bodies' interfaces never share a tag: (body, its tag) per interface triangle, and the
+  // names.
+  const std::vector<std::int32_t> file_tags = file_interface_tags(domain);
+  std::vector<std::pair<std::uint32_t, std::int32_t>> made_up;  // per interface triangle
+  std::vector<std::pair<std::pair<std::uint32_t, std::int32_t>, std::string>> made_up_names;
   double volume_capped = 0, mean_before = 0, mean_after = 0;
   for (std::uint32_t b = 0; b < nb_bodies; ++b) {
     Mesh3Options o = options;
@@ -237,21 +267,33 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
       result.boundary_tags.push_back(own_patch_tags ? t + patch_offset : t);
       largest = std::max(largest, t);
     }
-    // The interfaces' triangles and tags (after the body's patch tags) and their names.
+    patch_offset += largest;
+    // The interfaces' triangles and tags: the file's as they are, the made-up ones for later.
     for (const std::uint32_t v : r.interface_triangles)
       result.interface_triangles.push_back(base + v);
-    const std::int32_t offset = own_patch_tags ? patch_offset : 0;
+    const auto is_file_tag = [&](std::int32_t t) {
+      return std::binary_search(file_tags.begin(), file_tags.end(), t);
+    };
     for (const std::int32_t t : r.interface_tags) {
-      result.interface_tags.push_back(t + offset);
-      largest = std::max(largest, t);
+      result.interface_tags.push_back(t);
+      made_up.emplace_back(b, is_file_tag(t) ? 0 : t);
     }
     for (const TetMeshInput::TagName& name : r.tag_names) {
-      if (name.dimension == 2 && std::find(r.interface_tags.begin(), r.interface_tags.end(),
-                                           name.tag) != r.interface_tags.end()) {
-        result.tag_names.push_back({2, name.tag + offset, name.name});
+      if (name.dimension != 2 || std::find(r.interface_tags.begin(), r.interface_tags.end(),
+                                           name.tag) == r.interface_tags.end()) {
+        continue;
+      }
+      if (is_file_tag(name.tag)) {
+        if (std::none_of(result.tag_names.begin(), result.tag_names.end(),
+                         [&](const TetMeshInput::TagName& n) {
+                           return n.dimension == 2 && n.tag == name.tag;
+                         })) {
+          result.tag_names.push_back(name);
+        }
+      } else {
+        made_up_names.push_back({{b, name.tag}, name.name});
       }
     }
-    patch_offset += largest;
     for (const std::int32_t t : r.tet_tags)
       result.tet_tags.push_back(own_region_tags ? static_cast<std::int32_t>(b + 1) : t);
 
@@ -312,6 +354,29 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     result.total_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     return result;
+  }
+  // The made-up interface tags after every other triangle tag, by body, then by the body's
+  // own order.
+  {
+    std::int32_t top = 0;
+    for (const std::int32_t t : result.boundary_tags) top = std::max(top, t);
+    for (const std::int32_t t : file_tags) top = std::max(top, t);
+    std::vector<std::pair<std::uint32_t, std::int32_t>> keys;
+    for (const auto& key : made_up) {
+      if (key.second != 0) keys.push_back(key);
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const auto renumbered = [&](const std::pair<std::uint32_t, std::int32_t>& key) {
+      return top + 1 +
+             static_cast<std::int32_t>(std::lower_bound(keys.begin(), keys.end(), key) -
+                                       keys.begin());
+    };
+    for (std::size_t i = 0; i < made_up.size(); ++i) {
+      if (made_up[i].second != 0) result.interface_tags[i] = renumbered(made_up[i]);
+    }
+    for (const auto& [key, name] : made_up_names)
+      result.tag_names.push_back({2, renumbered(key), name});
   }
   const auto t_whole = std::chrono::steady_clock::now();
   result.lfs_capped_fraction = volume_capped / domain.volume();

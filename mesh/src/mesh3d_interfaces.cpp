@@ -346,8 +346,10 @@ std::string interface_shape(const RegionInterfaces& interfaces, const std::vecto
 
 void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
                     const TetRegions& regions, Mesh3Result& result) {
+  // Made-up tags follow every tag of the boundary and of the file's triangles.
   std::int32_t base = 0;
   for (const std::int32_t t : result.boundary_tags) base = std::max(base, t);
+  for (const std::int32_t t : interfaces.refs) base = std::max(base, t);
   const std::vector<std::uint32_t>& tets = result.tets;
   const std::vector<FaceRef> faces = sorted_faces(tets);
   struct Face {

@@ -1136,3 +1136,68 @@ TEST_CASE("mesh3d: bodies whose meshes meet are meshed again with more vertices"
   CHECK(once.shape_retries == 0);
   CHECK(once.shape_problem.find("intersect") != std::string::npos);
 }
+
+TEST_CASE("mesh3d gives the interfaces of two bodies tags of their own", "[mesh]") {
+  // Two unit cubes 1 apart along x, each 3^3 voxels with the middle one an inclusion: regions
+  // 1 and 2 in the first, 3 and 4 in the second. Each body is meshed on its own; the tag
+  // each run makes up for its interface (after its patch tags) must not be the other's.
+  const auto two_bodies = [](bool tag_boundary) {
+    voroclip::TetMeshInput in;
+    in.source = "two bodies";
+    for (int body = 0; body < 2; ++body) {
+      const voroclip::TetMeshInput one =
+          region_grid(3, [body](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+            return (i == 1 && j == 1 && k == 1 ? 2 : 1) + 2 * body;
+          });
+      const auto base = static_cast<std::uint32_t>(in.xyz.size() / 3);
+      for (std::size_t v = 0; v < one.xyz.size(); v += 3)
+        in.xyz.insert(in.xyz.end(), {one.xyz[v] + 2.0 * body, one.xyz[v + 1], one.xyz[v + 2]});
+      for (const std::uint32_t v : one.tets) in.tets.push_back(base + v);
+      in.tet_ref.insert(in.tet_ref.end(), one.tet_ref.begin(), one.tet_ref.end());
+    }
+    if (tag_boundary) {
+      const Domain3 d(in);
+      const voroclip::Surface3& s = d.surface();
+      for (std::uint32_t t = 0; t < s.nb_triangles(); ++t) {
+        in.triangles.insert(in.triangles.end(), s.triangle(t), s.triangle(t) + 3);
+        in.triangle_ref.push_back(5);
+      }
+    }
+    return in;
+  };
+  for (const bool tag_boundary : {false, true}) {
+    INFO("boundary triangles tagged by the file: " << tag_boundary);
+    const Mesh3Result r = voroclip::mesh3d(Domain3(two_bodies(tag_boundary)), small_options(1200));
+    CHECK(r.shape_problem.empty());
+    REQUIRE(r.nb_bodies == 2);
+    CHECK(r.nb_interfaces_followed == 2);
+    CHECK(r.nb_tets_across_regions == 0);
+    const std::int32_t top = *std::max_element(r.boundary_tags.begin(), r.boundary_tags.end());
+    if (tag_boundary) CHECK(top == 5);
+    // The interface triangles of each body (by x) carry one tag, the bodies' differ, and both
+    // follow every patch tag.
+    std::set<std::int32_t> tags_of[2];
+    for (std::size_t f = 0; f < r.interface_tags.size(); ++f) {
+      const double x = point(r, r.interface_triangles[3 * f])[0];
+      tags_of[x < 1.5 ? 0 : 1].insert(r.interface_tags[f]);
+    }
+    REQUIRE(tags_of[0].size() == 1);
+    REQUIRE(tags_of[1].size() == 1);
+    const std::int32_t first = *tags_of[0].begin(), second = *tags_of[1].begin();
+    CHECK(first == top + 1);
+    CHECK(second == top + 2);
+    // Named by the regions on their two sides.
+    const auto name_of = [&](std::int32_t tag) {
+      std::string name;
+      for (const voroclip::TetMeshInput::TagName& n : r.tag_names) {
+        if (n.dimension == 2 && n.tag == tag) {
+          CHECK(name.empty());
+          name = n.name;
+        }
+      }
+      return name;
+    };
+    CHECK(name_of(first) == "interface 1-2");
+    CHECK(name_of(second) == "interface 3-4");
+  }
+}

@@ -1188,7 +1188,8 @@ struct Mesh3Result {
   // tets of different region tags, each once, oriented outward from its tet of the lower
   // region tag, 3 vertex indices each, grouped by tag; the tag of the file's interface
   // triangle nearest each (a tet mesh file that lists them with tags), else one tag per
-  // interface, after the largest boundary tag, in the order of the input's interfaces; named
+  // interface, after the largest boundary tag and file triangle tag, in the order of the
+  // input's interfaces (several bodies: body by body, after all their boundary tags); named
   // "interface <a>-<b>" (the region tags on its two sides) in tag_names when the file names
   // no such tag. Empty otherwise. The writers put them
   // with the boundary triangles (the .mesh Triangles, Gmsh physical surfaces, the .vtu
