@@ -599,6 +599,10 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
   // from it, each checked: as if they had run checked from the start, without a second run
   // from the start (skull_low_resolution at 10,000 vertices: 13.24 s, now 11.64) and without a
   // check per round when the final mesh is kept (3.5 % of bunny's time at 10,000; session 30).
+  // The mesh is also checked after rounds 1, 4, 16, ...: a refusal there ends the unchecked
+  // rounds, and the rounds go on checked from the first refused one (elk at 10,000: round 1
+  // refused, and 17 more rounds were run for nothing, all undone; session 36), unless the
+  // starting mesh is refused too: that is left to the moves, which may repair it.
   const bool record = static_cast<bool>(options.keep_round);
   std::vector<double> first_sites;
   if (record) first_sites = sites;
@@ -606,10 +610,27 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
   std::vector<std::size_t> moves_begin;    // per round, into round_moves, and its end
   std::vector<Perturb3Stats> round_stats;  // at the start of each round
   bool checking = false;
+  bool early_checks = true;               // the unchecked rounds' meshes checked after rounds 4^k
+  bool refused_early = false;             // one of them was refused
+  std::vector<std::uint32_t> first_tets;  // the starting mesh (checked after such a refusal)
   for (std::uint32_t first_round = 0;;) {
     for (std::uint32_t round = first_round;; ++round) {
       build_state(g, extractor, sites, options.extraction, extraction);
-      if (record && !checking) round_stats.push_back(stats);
+      if (record && !checking) {
+        round_stats.push_back(stats);
+        if (round == 0) {
+          first_tets = g.tets;
+        } else if (early_checks && (round & (round - 1)) == 0 && (round & 0x55555555u) != 0 &&
+                   !options.keep_round(sites, g.tets)) {
+          // Refused after round 1, 4, 16, ...: the end of the unchecked rounds, unless the
+          // start was refused too (the moves may yet repair it).
+          early_checks = options.keep_round(first_sites, first_tets);
+          if (early_checks) {
+            refused_early = true;
+            break;
+          }
+        }
+      }
       bool just_undone = false;
       if (round > 0 && checking && !options.keep_round(sites, g.tets)) {
         // Undone; the rounds go on with the surface, feature and corner vertices fixed (their
@@ -718,8 +739,8 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
       if (nb_moved == 0) break;
     }
     // The final sites are the last ones kept (every exit follows a triangulation of them).
-    if (!options.keep_round || checking || stats.cancelled || stats.moves == 0 ||
-        options.keep_round(sites, g.tets)) {
+    if (!refused_early && (!options.keep_round || checking || stats.cancelled || stats.moves == 0 ||
+                           options.keep_round(sites, g.tets))) {
       break;
     }
     // The sites at the start of each round from the first one's and the moves, checked in
@@ -743,6 +764,7 @@ Perturb3Stats perturb_slivers3(const TetExtractor3& extractor, std::vector<doubl
     stats = round_stats[refused];
     first_round = static_cast<std::uint32_t>(refused);
     checking = true;
+    refused_early = false;
   }
   // Every exit follows a triangulation of the final sites (no move since): g holds the
   // final mesh.

@@ -180,19 +180,27 @@ TEST_CASE("perturb_slivers3: keep_round undoes a refused round", "[mesh]") {
   o.target_dihedral_deg = 25;
   // Every moved state refused: the first round is undone, the rounds go on with the free
   // sites only, the second refusal undoes that one too and stops: the sites are where they
-  // started. The calls: the final mesh of the unchecked rounds, round 1's in the search for
-  // the first refused round, then round 1 and 2 again as they run checked.
+  // started. The calls: round 1's mesh (refused), the starting one (kept: the unchecked rounds
+  // end there), then round 1's and 2's again as they run checked.
   std::vector<double> sites = s.sites;
   std::uint32_t calls = 0;
   o.keep_round = [&calls, &s](const std::vector<double>& at, const std::vector<std::uint32_t>&) {
     ++calls;
     return at == s.sites;
   };
+  // The rounds run: 0 (unchecked), then 1 checked (undone); none after round 1 unchecked.
+  std::vector<std::uint32_t> rounds;
+  o.progress = [&rounds](std::uint32_t round, std::uint32_t, double) {
+    rounds.push_back(round);
+    return true;
+  };
   std::vector<std::uint32_t> mesh;
   const voroclip::Perturb3Stats none =
       voroclip::perturb_slivers3(ex, sites, s.kinds, on_unit_sphere, o, &mesh);
+  o.progress = nullptr;
   CHECK(none.undone);
   CHECK(calls == 4);
+  CHECK(rounds == std::vector<std::uint32_t>{0, 1});
   CHECK(sites == s.sites);
   // The extraction of the starting sites: the same tets (the perturbation's triangulation
   // inserts in zones, which numbers them otherwise).
