@@ -549,23 +549,33 @@ TEST_CASE("mesh3d follows three regions that meet along a line", "[mesh]") {
   }
 }
 
+namespace {
+// mesh3d of region 2, the plate [8/25, 17/25]^2 x [12/25, 13/25] (0.04 thick), in the unit
+// cube, and the facts every mesh of it must have: the right shape, the interface followed
+// (no tet across it), the plate's volume.
+Mesh3Result mesh_plate(const Mesh3Options& o) {
+  const Domain3 d(region_grid(25, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return i >= 8 && i < 17 && j >= 8 && j < 17 && k == 12 ? 2 : 1;
+  }));
+  const Mesh3Result r = voroclip::mesh3d(d, o);
+  CHECK(r.shape_problem.empty());
+  CHECK(r.nb_interfaces_followed == 1);
+  CHECK(r.nb_tets_across_regions == 0);
+  CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
+        Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
+  return r;
+}
+}  // namespace
+
 TEST_CASE("mesh3d follows a plate region thinner than the spacing", "[mesh][regression]") {
   // Region 2: the plate [8/25, 17/25]^2 x [12/25, 13/25] (0.04 thick) in the unit cube, at
   // 2000 vertices (spacing about 0.08): the topology refinement adds sites on it, and the
   // flips insert a vertex (whose surface patches, none, tag_mesh3 reads: before, past the
   // end of the patches' table, which threw at random).
-  const Domain3 d(region_grid(25, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-    return i >= 8 && i < 17 && j >= 8 && j < 17 && k == 12 ? 2 : 1;
-  }));
   Mesh3Options o;
   o.nb_vertices = 2000;
-  const Mesh3Result r = voroclip::mesh3d(d, o);
-  CHECK(r.shape_problem.empty());
-  CHECK(r.nb_interfaces_followed == 1);
-  CHECK(r.nb_tets_across_regions == 0);
+  const Mesh3Result r = mesh_plate(o);
   CHECK(r.nb_topology_sites > 0);
-  CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
-        Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
 }
 
 TEST_CASE("mesh3d's lfs cap sizes a region thinner than the spacing by its own thickness",
@@ -573,15 +583,9 @@ TEST_CASE("mesh3d's lfs cap sizes a region thinner than the spacing by its own t
   // The plate of the case above: its thickness (0.04, half of the spacing) is the local
   // feature size of region 2, whose interfaces now seed the field as the boundary does. With
   // lfs_cap 1 the cap binds around the plate, and its tets are smaller than the rest.
-  const Domain3 d(region_grid(25, [](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-    return i >= 8 && i < 17 && j >= 8 && j < 17 && k == 12 ? 2 : 1;
-  }));
   Mesh3Options o = small_options(1500);
   o.lfs_cap = 1;
-  const Mesh3Result r = voroclip::mesh3d(d, o);
-  CHECK(r.shape_problem.empty());
-  CHECK(r.nb_interfaces_followed == 1);
-  CHECK(r.nb_tets_across_regions == 0);
+  const Mesh3Result r = mesh_plate(o);
   CHECK(r.lfs_capped_fraction > 0.03);
   // Mean edge length of each region's tets.
   double sum[3] = {0, 0, 0}, count[3] = {0, 0, 0};
@@ -600,8 +604,6 @@ TEST_CASE("mesh3d's lfs cap sizes a region thinner than the spacing by its own t
   }
   INFO("mean edge: region 1 " << sum[1] / count[1] << ", region 2 " << sum[2] / count[2]);
   CHECK(sum[2] / count[2] < 0.5 * sum[1] / count[1]);
-  CHECK(region2_in_box(r, {0.32, 0.32, 0.48}, {0.68, 0.68, 0.52}) ==
-        Approx(0.36 * 0.36 * 0.04).epsilon(0.05));
 }
 
 TEST_CASE("mesh3d does not follow a region that is no volume on its own, and says why", "[mesh]") {
