@@ -414,7 +414,9 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
     topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
     Mesh3Options (an option not given keeps the library's default): ``adaptive``,
-    ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none),
+    ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none;
+    both sized by each region's own boundary, its interfaces included, when the regions of a
+    tet mesh are followed),
     ``facet_distance`` (a site fixed at each input vertex farther than this times the
     spacing from the mesh's boundary; 0, the default: none),
     ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
