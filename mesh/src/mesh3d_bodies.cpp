@@ -139,29 +139,6 @@ std::string centre(const Domain3& body) {
   return s + ")";
 }
 
-// The tags the file gives triangles between tets of two regions (its interfaces' own tags),
-// sorted.
-std::vector<std::int32_t> file_interface_tags(const Domain3& domain) {
-  std::vector<std::int32_t> tags;
-  const std::vector<std::int32_t>& refs = domain.tet_refs();
-  if (refs.empty()) return tags;
-  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
-    for (int f = 0; f < 4; ++f) {
-      const std::uint32_t u = domain.tet_adjacent(t, f);
-      if (u == Domain3::kNone || u < t || refs[t] == refs[u]) continue;
-      std::uint32_t v[3];
-      for (int k = 0, j = 0; k < 4; ++k) {
-        if (k != f) v[j++] = domain.tet_vertex(t, k);
-      }
-      const std::int32_t tag = domain.inner_triangle_ref(v[0], v[1], v[2]);
-      if (tag != 0) tags.push_back(tag);
-    }
-  }
-  std::sort(tags.begin(), tags.end());
-  tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
-  return tags;
-}
-
 }  // namespace
 
 std::vector<Domain3> domain_bodies(const Domain3& domain) {

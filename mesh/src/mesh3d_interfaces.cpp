@@ -172,6 +172,24 @@ bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string
   return true;
 }
 
+std::vector<std::int32_t> file_interface_tags(const Domain3& domain) {
+  std::vector<std::int32_t> tags;
+  const std::vector<std::int32_t>& refs = domain.tet_refs();
+  if (refs.empty()) return tags;
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t u = domain.tet_adjacent(t, f);
+      if (u == Domain3::kNone || u < t || refs[u] == refs[t]) continue;
+      const std::array<std::uint32_t, 3> v = facet(domain, t, f);
+      const std::int32_t tag = domain.inner_triangle_ref(v[0], v[1], v[2]);
+      if (tag != 0) tags.push_back(tag);
+    }
+  }
+  std::sort(tags.begin(), tags.end());
+  tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  return tags;
+}
+
 std::uint32_t RegionInterfaces::region_of(const double* p) const {
   std::uint32_t on = kNoRegion;
   for (std::uint32_t k = 0; k < regions.size(); ++k) {

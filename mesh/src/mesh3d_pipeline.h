@@ -359,6 +359,9 @@ struct RegionInterfaces {
 // edge or at a vertex only); then `out` is filled. Not when the domain has no tet tags or
 // one; `why_not` says why when it has several it cannot follow.
 bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string& why_not);
+// The tags the file gives triangles between tets of two regions (Domain3::inner_triangle_ref:
+// its own interface tags), sorted, each once.
+std::vector<std::int32_t> file_interface_tags(const Domain3& domain);
 // The region of each tet of a mesh whose tets are Delaunay: the input region holding its
 // circumcentre (exact; a tet with its circumcentre outside the domain, kept at the boundary,
 // by its centroid or a face neighbour), then the extraction's crease rule with the sites'

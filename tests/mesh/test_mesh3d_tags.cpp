@@ -602,8 +602,9 @@ TEST_CASE("mesh3d's lfs cap sizes a region thinner than the spacing by its own t
       }
     }
   }
+  // 0.41 here; 0.51 when the field was the outer boundary's only (session 36).
   INFO("mean edge: region 1 " << sum[1] / count[1] << ", region 2 " << sum[2] / count[2]);
-  CHECK(sum[2] / count[2] < 0.5 * sum[1] / count[1]);
+  CHECK(sum[2] / count[2] < 0.45 * sum[1] / count[1]);
 }
 
 TEST_CASE("mesh3d does not follow a region that is no volume on its own, and says why", "[mesh]") {
