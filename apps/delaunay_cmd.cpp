@@ -66,7 +66,12 @@ Result triangulate_3d(const std::vector<double>& xyz, bool check) {
   r.cells.reserve(4 * static_cast<std::size_t>(dt.nb_finite_tets()));
   for (std::uint32_t t = 0; t < dt.nb_tet_slots(); ++t) {
     if (dt.is_free(t) || dt.is_infinite(t)) continue;
-    for (int k = 0; k < 4; ++k) r.cells.push_back(dt.tet_vertex(t, k));
+    // Delaunay3's tets have orient3d(p0, p1, p2, p3) > 0, i.e. det(p1 - p0, p2 - p0, p3 - p0)
+    // < 0; VTK's (and mesh3d's) have det > 0: p0 and p1 swapped.
+    r.cells.push_back(dt.tet_vertex(t, 1));
+    r.cells.push_back(dt.tet_vertex(t, 0));
+    r.cells.push_back(dt.tet_vertex(t, 2));
+    r.cells.push_back(dt.tet_vertex(t, 3));
   }
   if (check) {
     r.check = dt.check_topology();

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <initializer_list>
@@ -311,6 +312,42 @@ TEST_CASE("delaunay3d on random points: exact check, stats, VTK output", "[apps]
   const std::string vtk = slurp(out);
   CHECK(vtk.rfind("# vtk DataFile Version 3.0\n", 0) == 0);
   CHECK(contains(vtk, "CELLS " + std::to_string(stats["tetrahedra"].get<int>()) + " "));
+  std::remove(out.c_str());
+}
+
+TEST_CASE("delaunay3d writes right-handed tets, as VTK and mesh3d have them", "[apps][delaunay]") {
+  // The unit tet's corners: one tet, det(p1 - p0, p2 - p0, p3 - p0) must be > 0 (VTK's
+  // convention: the first three counter-clockwise seen from the fourth). Before, the tets
+  // were written as Delaunay3 stores them (det < 0), every one inverted for VTK.
+  const std::string in = "test_cli_d3_four.txt", out = "test_cli_d3_four.vtk";
+  {
+    std::ofstream f(in);
+    f << "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  }
+  std::remove(out.c_str());
+  REQUIRE(run_cli({"-q", "delaunay3d", in, "-o", out}).status == 0);
+  std::istringstream vtk(slurp(out));
+  std::string word;
+  while (vtk >> word && word != "CELLS") {
+  }
+  int cells = 0, entries = 0, per = 0;
+  std::array<int, 4> v{};
+  vtk >> cells >> entries >> per >> v[0] >> v[1] >> v[2] >> v[3];
+  REQUIRE(cells == 1);
+  REQUIRE(per == 4);
+  const double p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double e[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) e[k][c] = p[v[k + 1]][c] - p[v[0]][c];
+  const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                     e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                     e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+  CHECK(det == 1);
+  // voroclip's own quality command reads it back with every tet right-handed.
+  const Run q = run_cli({"quality", out});
+  CHECK(q.status == 0);
+  CHECK(contains(q.out + q.err, "det(p1-p0, p2-p0, p3-p0) > 0"));
+  std::remove(in.c_str());
   std::remove(out.c_str());
 }
 
