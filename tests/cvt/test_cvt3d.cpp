@@ -374,3 +374,34 @@ TEST_CASE("random_points3: uniform and linear-density samples", "[cvt]") {
           d, 10, 2, voroclip::Density3::function([](double x, double, double) { return x - 1; })),
       Catch::Contains("density") && Catch::Contains("positive"));
 }
+
+TEST_CASE("cvt3d: the same iterations in any units (a cube scaled by 2^-40 and 2^30)", "[cvt]") {
+  // LBFGSpp's first step has unit length in the variables: in the coordinates' units, the
+  // cube scaled by 2^-40 made no iteration (the step was 10^12 cubes long) and by 2^30 went
+  // a few nanometres a step. The variables are scaled by a power of two (cvt3d.cpp,
+  // variable_scale), exactly: the runs are the unit cube's bit for bit, times the scale.
+  const Domain3 unit(kuhn_cube(2));
+  const std::vector<double> start = voroclip::random_points3(unit, 40, 3);
+  Cvt3Options o;
+  o.max_iterations = 20;
+  o.gradient_tolerance = 0;
+  std::vector<double> reference = start;
+  const auto r = voroclip::optimize_cvt3(unit, reference, o);
+  REQUIRE(r.iterations == 20);
+  REQUIRE(r.gradient_norm < 0.1 * r.initial_gradient_norm);
+  for (const int e : {-40, 30}) {
+    INFO("scale 2^" << e);
+    const Domain3 scaled(kuhn_cube(2, std::ldexp(1.0, e)));
+    std::vector<double> sites = start;
+    for (double& x : sites) x = std::ldexp(x, e);
+    const auto s = voroclip::optimize_cvt3(scaled, sites, o);
+    CHECK(s.iterations == r.iterations);
+    CHECK(s.evaluations == r.evaluations);
+    CHECK(s.energy == std::ldexp(r.energy, 5 * e));
+    CHECK(s.gradient_norm == std::ldexp(r.gradient_norm, 4 * e));
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < sites.size(); ++k)
+      differ += sites[k] != std::ldexp(reference[k], e);
+    CHECK(differ == 0);
+  }
+}
