@@ -6,6 +6,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,13 @@ std::string fixed(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, x);
   return buf;
+}
+
+// x to 4 significant digits.
+std::string brief(double x) {
+  std::ostringstream out;
+  out << std::setprecision(4) << x;
+  return out.str();
 }
 
 }  // namespace
@@ -184,8 +192,16 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
          : r.shape_retries > 0 ? "also with " + std::to_string(r.nb_sites) + " sites after " +
                                      count_of(r.shape_retries, "run") + " with twice the vertices; "
                                : std::string()) +
-        "try more --vertices, a smaller edge length where the shape is lost "
-        "(--sizing), or --allow-shape-mismatch to write it anyway)");
+        (r.topology_capped
+             ? "the sites needed to resolve the surface near (" + brief(r.topology_capped_near[0]) +
+                   ", " + brief(r.topology_capped_near[1]) + ", " +
+                   brief(r.topology_capped_near[2]) + ") grew past " +
+                   format_double(o.max_topology_sites) +
+                   " times the vertices, a part far thinner than the spacing: give it a "
+                   "smaller edge length (--sizing), or "
+             : "try more --vertices, a smaller edge length where the shape is lost "
+               "(--sizing), or ") +
+        "--allow-shape-mismatch to write it anyway)");
   }
   if (!r.shape_problem.empty()) {
     std::cerr << "voroclip: warning: the mesh of " << domain.source()
@@ -309,7 +325,8 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     j["topology"] = {{"sites_added", r.nb_topology_sites},
                      {"rounds", r.topology_rounds},
                      {"deferred", r.nb_topology_deferred},
-                     {"defects_left", r.topology_defects_left}};
+                     {"defects_left", r.topology_defects_left},
+                     {"capped", r.topology_capped}};
     j["sliver_sites"] = r.nb_sliver_sites;
     j["sliver_sites_inside"] = r.nb_sliver_sites_inside;
     j["shape_problem"] = r.shape_problem;

@@ -298,6 +298,10 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     result.nb_topology_sites += r.nb_topology_sites;
     result.topology_rounds = std::max(result.topology_rounds, r.topology_rounds);
     result.topology_defects_left += r.topology_defects_left;
+    if (r.topology_capped && !result.topology_capped) {
+      result.topology_capped = true;
+      result.topology_capped_near = r.topology_capped_near;
+    }
     result.nb_topology_deferred += r.nb_topology_deferred;
     result.nb_sliver_sites += r.nb_sliver_sites;
     result.nb_sliver_sites_inside += r.nb_sliver_sites_inside;

@@ -117,6 +117,7 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   std::uint32_t last_defects = std::numeric_limits<std::uint32_t>::max();
   bool inserted_since_cvt = false;
   std::uint32_t cycles = 0;
+  std::uint32_t capped_sites = 0, capped_defects = 0;  // at max_topology_sites
   for (std::uint32_t round = 0;; ++round) {
     // The restricted Voronoi diagram on the domain's surface; with interfaces, on each
     // region's (its part of the boundary and its interfaces), the defects of all.
@@ -176,6 +177,14 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
     // surface.
     const std::vector<std::array<double, 3>> points =
         refinement_points(defects, sites, &result.nb_topology_deferred);
+    if (static_cast<double>(result.nb_topology_sites) + static_cast<double>(points.size()) >
+        options.max_topology_sites * static_cast<double>(options.nb_vertices)) {
+      result.topology_capped = true;
+      capped_sites = result.nb_topology_sites;
+      capped_defects = nb_defects;
+      std::copy_n(first_points.begin(), 3, result.topology_capped_near.begin());
+      break;
+    }
     for (const std::array<double, 3>& x : points) {
       double q[3], d[3];
       project(n, Kind::kSurface, x.data(), q, d);
@@ -199,6 +208,18 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   result.nb_boundary_sites = best.nb_boundary_sites;
   result.topology_defects_left = best_defects;
   result.nb_sites = n;
+  if (options.vertex_count == Mesh3Options::VertexCount::kExact && result.topology_capped) {
+    throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
+                " vertices do not resolve the surface of " + domain.source() +
+                ": the restricted Voronoi cells of the sites near (" + shortest(first_points[0]) +
+                ", " + shortest(first_points[1]) + ", " + shortest(first_points[2]) + ") and " +
+                std::to_string(first_points.size() / 3 - 1) +
+                " other places are not disks meeting along single arcs, and " +
+                std::to_string(capped_sites) + " sites added left " +
+                std::to_string(capped_defects) +
+                " such cells: a part far thinner than the spacing; mesh it with a smaller edge "
+                "length there (--sizing) or many more vertices");
+  }
   if (options.vertex_count == Mesh3Options::VertexCount::kExact && result.nb_topology_sites > 0) {
     throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
                 " vertices do not resolve the surface of " + domain.source() +

@@ -198,3 +198,26 @@ TEST_CASE("sliver_centers: circumcentres of the tets below the angle, worst firs
   CHECK(sliver_centers(sites, {}, 20, &lowest).empty());
   CHECK(lowest == 180);
 }
+
+TEST_CASE("mesh3d: a plate far thinner than the spacing stops the topology sites at their cap",
+          "[mesh][regression]") {
+  // A 1 x 1 x 0.001 plate at 300 vertices (spacing about 0.015): the restricted cells reach
+  // across it, and each round's sites made more such cells than they split (876, 1409, 2210,
+  // ... at 1,000 vertices; 27,048 sites by round 8, then again with twice the vertices,
+  // without end). The sites the rounds add stop at max_topology_sites times the vertices.
+  const voroclip::Domain3 plate = voroclip_test::six_tet_box(1, 1, 0.001, "plate");
+  voroclip::Mesh3Options o = voroclip_test::small_options(300);
+  o.max_shape_retries = 0;
+  const voroclip::Mesh3Result r = voroclip::mesh3d(plate, o);
+  CHECK(r.topology_capped);
+  CHECK(r.nb_topology_sites <= 4 * 300);
+  CHECK(r.topology_capped_near[2] >= 0);
+  CHECK(r.topology_capped_near[2] <= 0.001);
+  // A plate it cannot resolve: mesh3d says so (check_mesh3_shape, below), it does not hang.
+  CHECK_FALSE(r.shape_problem.empty());
+  // With --exact-vertices, an error that says why.
+  o.vertex_count = voroclip::Mesh3Options::VertexCount::kExact;
+  CHECK_THROWS_WITH(voroclip::mesh3d(plate, o),
+                    Catch::Contains("300 vertices do not resolve the surface of plate") &&
+                        Catch::Contains("a part far thinner than the spacing"));
+}

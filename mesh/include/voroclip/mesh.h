@@ -1105,6 +1105,14 @@ struct Mesh3Options {
   std::uint32_t topology_iterations = 10;
   std::uint32_t topology_cycles = 1;
   std::uint32_t max_topology_stall = 8;
+  // At most max_topology_sites times nb_vertices sites added by step 5b in one run: a part
+  // far thinner than the spacing (a 1 x 1 x 0.001 plate at 1,000 vertices) needs millions,
+  // and its defects grew round after round (876 to 27,799 cells, 27,048 sites added by round
+  // 8; then again with twice the vertices, without end). At the cap the rounds stop
+  // (Mesh3Result::topology_capped): kRaise meshes the state with the fewest defects, whose
+  // shape check_mesh3_shape judges; kExact throws. The shared models add at most 2.1 times
+  // the vertices (skull_low_resolution.obj at 500: 1,040 sites).
+  double max_topology_sites = 4;
   // kRaise: when the output's boundary does not have the domain's shape (check_mesh3_shape;
   // features thinner than the sites' spacing), the whole pipeline runs again with twice the
   // vertices, at most max_shape_retries times; the first run with the right shape is
@@ -1247,6 +1255,10 @@ struct Mesh3Result {
   // (zero when the surface is resolved); nb_topology_deferred counts the bad cells whose
   // new site, too close to one added in the same round, was left for a later round.
   std::uint32_t nb_topology_sites = 0, topology_rounds = 0, topology_defects_left = 0;
+  // Step 5b stopped at Mesh3Options::max_topology_sites with defects left, the first of them
+  // near this point.
+  bool topology_capped = false;
+  std::array<double, 3> topology_capped_near{};
   std::uint32_t nb_topology_deferred = 0;
   // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes), and of
   // them those inside the volume (a circumcentre deep enough, step 7a).
