@@ -417,15 +417,22 @@ void bind_domains(py::module_& m) {
                                return py::make_tuple(d.bbox_lo()[0], d.bbox_lo()[1], d.bbox_hi()[0],
                                                      d.bbox_hi()[1]);
                              })
-      .def("ring",
-           [](const Domain2& d, std::uint32_t r) {
-             if (r >= d.nb_rings()) throw Error("ring: no ring " + std::to_string(r));
-             const double* b = d.vertex(d.ring_begin(r));
-             std::vector<double> xy(b, b + 2 * std::size_t{d.ring_end(r) - d.ring_begin(r)});
-             const auto nv = static_cast<py::ssize_t>(xy.size() / 2);
-             return to_array(std::move(xy), {nv, 2});
-           })
-      .def("is_hole", &Domain2::is_hole)
+      .def(
+          "ring",
+          [](const Domain2& d, const py::object& ring) {
+            const std::uint32_t r = index_arg(ring, d.nb_rings(), "ring", "ring");
+            const double* b = d.vertex(d.ring_begin(r));
+            std::vector<double> xy(b, b + 2 * std::size_t{d.ring_end(r) - d.ring_begin(r)});
+            const auto nv = static_cast<py::ssize_t>(xy.size() / 2);
+            return to_array(std::move(xy), {nv, 2});
+          },
+          py::arg("r"))
+      .def(
+          "is_hole",
+          [](const Domain2& d, const py::object& r) {
+            return d.is_hole(index_arg(r, d.nb_rings(), "is_hole", "ring"));
+          },
+          py::arg("r"))
       .def("locate", [](const Domain2& d, const DoubleArray& p) {
         return locate_all(p, 2, [&](const double* q) { return d.locate(q); });
       });

@@ -47,6 +47,14 @@ py::array_t<T> to_array(std::vector<T>&& v) {
   return to_array(std::move(v), {n});
 }
 
+// ---- Arguments from Python, checked here: a bad value throws Error naming the argument
+// and the value, never pybind11's TypeError listing C++ signatures. An integer is a Python
+// int or anything with __index__ (numpy integers, bool), not a float.
+
+// v as an index in [0, count): "what: no <noun> v (<noun>s 0 to count - 1)".
+std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* what,
+                        const char* noun);
+
 // Runs f with the GIL released, on `threads` TBB threads (0: TBB's default, all cores).
 // Every parallel loop of the library runs inside that arena.
 void run_released(int threads, const std::function<void()>& f);

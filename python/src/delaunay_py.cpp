@@ -240,9 +240,8 @@ void bind_delaunay(py::module_& m) {
           py::arg("xi"))
       .def(
           "vertex_neighbors",
-          [](const PyDelaunay2& d, std::uint32_t v) {
-            if (v >= d.dt.nb_points())
-              throw Error("vertex_neighbors: no point " + std::to_string(v));
+          [](const PyDelaunay2& d, const py::object& point) {
+            const std::uint32_t v = index_arg(point, d.dt.nb_points(), "vertex_neighbors", "point");
             std::vector<std::uint32_t> around;
             if (d.dt.duplicate_of(v) == v) d.dt.vertex_neighbors(v, around);
             return to_array(std::vector<std::int32_t>(around.begin(), around.end()));
@@ -361,9 +360,8 @@ void bind_delaunay(py::module_& m) {
           py::arg("xi"))
       .def(
           "vertex_neighbors",
-          [](const PyDelaunay3& d, std::uint32_t v) {
-            if (v >= d.dt.nb_points())
-              throw Error("vertex_neighbors: no point " + std::to_string(v));
+          [](const PyDelaunay3& d, const py::object& point) {
+            const std::uint32_t v = index_arg(point, d.dt.nb_points(), "vertex_neighbors", "point");
             std::vector<std::uint32_t> around;
             if (d.dt.duplicate_of(v) == v) d.dt.vertex_neighbors(v, around);
             return to_array(std::vector<std::int32_t>(around.begin(), around.end()));

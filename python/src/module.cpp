@@ -24,6 +24,41 @@ std::uint32_t rows(const py::array& a, int dim, const char* what) {
   return static_cast<std::uint32_t>(a.shape(0));
 }
 
+namespace {
+
+// "type repr" of a value for a message, the repr cut at 60 characters.
+std::string describe(const py::handle& v) {
+  std::string r = py::repr(v).cast<std::string>();
+  if (r.size() > 60) r = r.substr(0, 57) + "...";
+  return std::string(Py_TYPE(v.ptr())->tp_name) + " " + r;
+}
+
+// v through __index__, or Error "what: expected an integer, got <type> <repr>".
+py::int_ as_int(const py::handle& v, const char* what) {
+  PyObject* i = PyNumber_Index(v.ptr());
+  if (i == nullptr) {
+    PyErr_Clear();
+    throw Error(std::string(what) + ": expected an integer, got " + describe(v));
+  }
+  return py::reinterpret_steal<py::int_>(i);
+}
+
+}  // namespace
+
+std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* what,
+                        const char* noun) {
+  const py::int_ i = as_int(v, what);
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow != 0 || x < 0 || x >= static_cast<long long>(count)) {
+    throw Error(std::string(what) + ": no " + noun + " " + py::repr(i).cast<std::string>() +
+                (count == 0
+                     ? std::string(" (there is none)")
+                     : " (" + std::string(noun) + "s 0 to " + std::to_string(count - 1) + ")"));
+  }
+  return static_cast<std::uint32_t>(x);
+}
+
 void run_released(int threads, const std::function<void()>& f) {
   if (threads < 0)
     throw Error("threads: expected a number >= 0 (0: all cores), got " + std::to_string(threads));

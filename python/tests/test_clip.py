@@ -328,3 +328,23 @@ def test_ctrl_c_cancels_a_long_clip(dim, sigint_interrupts):
             clip(domain, sites, geometry=True)
     finally:
         timer.cancel()
+
+
+def test_regression_domain2_ring_index_is_checked():
+    # Domain2.is_hole was bound without a range check: on a one-ring domain is_hole(1)
+    # returned True (read past the ring flags) and is_hole(10**6) crashed; ring(-1) and
+    # is_hole(-1) raised pybind11's TypeError.
+    d = voroclip.domain2([[(0, 0), (1, 0), (1, 1), (0, 1)]])
+    assert d.nb_rings == 1 and d.is_hole(0) is False
+    for r in (1, 5, 10**6, 2**32 - 1, 2**64, -1):
+        with pytest.raises(voroclip.Error, match=rf"^is_hole: no ring {r} \(rings 0 to 0\)$"):
+            d.is_hole(r)
+        with pytest.raises(voroclip.Error, match=rf"^ring: no ring {r} \(rings 0 to 0\)$"):
+            d.ring(r)
+    with pytest.raises(voroclip.Error, match="^is_hole: expected an integer, got float 0.5$"):
+        d.is_hole(0.5)
+    holed = voroclip.domain2([[(0, 0), (4, 0), (4, 4), (0, 4)], [(1, 1), (2, 1), (2, 2)]])
+    assert [holed.is_hole(np.int64(r)) for r in range(holed.nb_rings)] == [False, True]
+    assert holed.ring(1).shape == (3, 2)
+    with pytest.raises(voroclip.Error, match=r"^is_hole: no ring 2 \(rings 0 to 1\)$"):
+        holed.is_hole(2)

@@ -100,3 +100,16 @@ def test_bad_input_raises(cls, dim):
     with pytest.raises(voroclip.Error):
         cls(np.zeros((10, dim)))  # all points equal: no triangulation
     assert issubclass(voroclip.Error, ValueError)
+
+
+@pytest.mark.parametrize("cls,dim", [(voroclip.Delaunay2, 2), (voroclip.Delaunay3, 3)])
+def test_regression_vertex_neighbors_index_is_checked(cls, dim):
+    # vertex_neighbors(-1) raised pybind11's TypeError (an unsigned C++ argument).
+    d = cls(np.random.default_rng(5).random((20, dim)))
+    assert len(d.vertex_neighbors(np.int32(19))) >= dim
+    for v in (20, 2**32, -1):
+        with pytest.raises(voroclip.Error, match=rf"^vertex_neighbors: no point {v} "
+                                                 r"\(points 0 to 19\)$"):
+            d.vertex_neighbors(v)
+    with pytest.raises(voroclip.Error, match="^vertex_neighbors: expected an integer, got str"):
+        d.vertex_neighbors("3")
