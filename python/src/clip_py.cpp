@@ -218,7 +218,7 @@ py::dict clip_progress_info(const ClipProgress& p) {
 
 // Runs a clipping with the GIL released; Ctrl-C or a callback's exception, which cancel it
 // (the library then throws Error "cancelled"), are re-raised as themselves.
-void run_clip(int threads, Progress& progress, const std::function<void()>& f) {
+void run_clip(const py::object& threads, Progress& progress, const std::function<void()>& f) {
   try {
     run_released(threads, f);
   } catch (const Error&) {
@@ -229,7 +229,8 @@ void run_clip(int threads, Progress& progress, const std::function<void()>& f) {
 }
 
 py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::object& density,
-                bool geometry, bool neighbors, const py::object& callback_, int threads) {
+                bool geometry, bool neighbors, const py::object& callback_,
+                const py::object& threads) {
   const std::uint32_t n = rows(sites, 2, "sites");
   if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
   std::shared_ptr<PyDensity> callback;
@@ -292,7 +293,8 @@ py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::objec
 }
 
 py::dict clip3d(const Domain3& domain, const DoubleArray& sites, const py::object& density,
-                bool geometry, bool neighbors, const py::object& callback_, int threads) {
+                bool geometry, bool neighbors, const py::object& callback_,
+                const py::object& threads) {
   const std::uint32_t n = rows(sites, 3, "sites");
   if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   std::shared_ptr<PyDensity> callback;
@@ -514,7 +516,7 @@ void bind_clip(py::module_& m) {
   m.def(
       "random_points3",
       [](const Domain3& domain, std::uint32_t n, std::uint64_t seed, const py::object& density,
-         int threads) {
+         const py::object& threads) {
         std::shared_ptr<PyDensity> callback;
         const Density3 rho = density3(density, callback);
         std::vector<double> xyz;

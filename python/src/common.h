@@ -55,9 +55,15 @@ py::array_t<T> to_array(std::vector<T>&& v) {
 std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* what,
                         const char* noun);
 
-// Runs f with the GIL released, on `threads` TBB threads (0: TBB's default, all cores).
-// Every parallel loop of the library runs inside that arena.
-void run_released(int threads, const std::function<void()>& f);
+// The `threads` argument of every call that takes one: None or 0 for all cores, n >= 1 for
+// min(n, tbb::global_control::max_allowed_parallelism) threads (the cores, unless the
+// process set a lower limit): TBB runs no more at once, and an arena of 100,000 slots
+// crashed inside TBB. A negative count or a non-integer throws Error.
+int thread_count(const py::handle& threads);
+
+// Runs f with the GIL released, on thread_count(threads) TBB threads. Every parallel loop
+// of the library runs inside that arena.
+void run_released(const py::handle& threads, const std::function<void()>& f);
 
 // The bridge between a C++ progress callback (called on the computing thread, the GIL
 // released) and Python: check() takes the GIL, runs the user's callback if any (a false

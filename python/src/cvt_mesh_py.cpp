@@ -47,7 +47,7 @@ py::dict progress_info(const CvtProgress& p) {
 
 py::dict cvt2d(const Domain2& domain, const DoubleArray& sites, const std::string& method,
                std::uint32_t iterations, double tolerance, const py::object& density,
-               const py::object& callback, int threads) {
+               const py::object& callback, const py::object& threads) {
   const std::uint32_t n = rows(sites, 2, "sites");
   if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
@@ -76,7 +76,7 @@ py::dict cvt2d(const Domain2& domain, const DoubleArray& sites, const std::strin
 
 py::dict cvt3d(const Domain3& domain, const DoubleArray& sites, const std::string& method,
                std::uint32_t iterations, double tolerance, const py::object& density,
-               const py::object& callback, int threads) {
+               const py::object& callback, const py::object& threads) {
   const std::uint32_t n = rows(sites, 3, "sites");
   if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
@@ -151,7 +151,7 @@ class OptionSetter {
 };
 
 py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object& density,
-                const py::object& callback, int threads) {
+                const py::object& callback, const py::object& threads) {
   using S = OptionSetter<Mesh2Options>;
   static const S setter(
       "mesh2d",
@@ -261,7 +261,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
 }
 
 py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object& callback,
-                int threads) {
+                const py::object& threads) {
   using S = OptionSetter<Mesh3Options>;
   static const S setter(
       "mesh3d",
@@ -391,7 +391,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   return r;
 }
 
-py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets, int threads) {
+py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets,
+                        const py::object& threads) {
   const std::uint32_t nv = rows(points, 3, "points");
   if (tets.ndim() != 2 || tets.shape(1) != 4) throw Error("tets: expected an (n, 4) array");
   const auto nt = static_cast<std::uint32_t>(tets.shape(0));

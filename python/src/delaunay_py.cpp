@@ -138,7 +138,7 @@ void bind_predicates(py::module_& m) {
 
 void bind_delaunay(py::module_& m) {
   py::class_<PyDelaunay2>(m, "Delaunay2")
-      .def(py::init([](const DoubleArray& points, int threads) {
+      .def(py::init([](const DoubleArray& points, const py::object& threads) {
              const std::uint32_t n = rows(points, 2, "points");
              if (n > Delaunay2::kMaxPoints) throw Error("points: more than 2^29 points");
              auto d = std::make_unique<PyDelaunay2>();
@@ -254,7 +254,7 @@ void bind_delaunay(py::module_& m) {
       });
 
   py::class_<PyDelaunay3>(m, "Delaunay3")
-      .def(py::init([](const DoubleArray& points, int threads) {
+      .def(py::init([](const DoubleArray& points, const py::object& threads) {
              const std::uint32_t n = rows(points, 3, "points");
              auto d = std::make_unique<PyDelaunay3>();
              d->xyz.assign(points.data(), points.data() + 3 * std::size_t{n});

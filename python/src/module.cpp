@@ -2,8 +2,10 @@
 // (voroclip._core): the error type, shared helpers, and the module definition. The Python
 // layer (python/voroclip/*.py) turns user inputs into the arrays these functions take and
 // their dicts of arrays into result objects.
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "common.h"
@@ -59,14 +61,27 @@ std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* wh
   return static_cast<std::uint32_t>(x);
 }
 
-void run_released(int threads, const std::function<void()>& f) {
-  if (threads < 0)
-    throw Error("threads: expected a number >= 0 (0: all cores), got " + std::to_string(threads));
+int thread_count(const py::handle& threads) {
+  if (threads.is_none()) return 0;
+  const py::int_ i = as_int(threads, "threads");
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow < 0 || (overflow == 0 && x < 0)) {
+    throw Error("threads: expected 0 or None (all cores) or a count >= 1, got " +
+                py::repr(i).cast<std::string>());
+  }
+  const auto most = static_cast<long long>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return static_cast<int>(overflow > 0 ? most : std::min(x, most));
+}
+
+void run_released(const py::handle& threads, const std::function<void()>& f) {
+  const int n = thread_count(threads);
   py::gil_scoped_release release;
-  if (threads == 0) {
+  if (n == 0) {
     f();
   } else {
-    tbb::task_arena arena(threads);
+    tbb::task_arena arena(n);
     arena.execute(f);
   }
 }

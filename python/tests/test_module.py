@@ -1,0 +1,70 @@
+"""What every call of the package shares (python/src/module.cpp): the `threads` argument and
+the checks of counts, indices, seeds and arrays from Python."""
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import voroclip
+
+SQUARE = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+CUBE_V = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+CUBE_T = np.array([
+    (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+    (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+
+
+def threads_calls():
+    """(name, f(threads) -> a tuple of arrays) for every call that takes `threads`."""
+    rng = np.random.default_rng(4)
+    s2, s3 = rng.random((40, 2)), rng.random((40, 3))
+    cube = voroclip.domain3((CUBE_V, CUBE_T))
+    tets = voroclip.Delaunay3(s3).simplices
+    return [
+        ("Delaunay2", lambda t: (voroclip.Delaunay2(s2, threads=t).simplices,)),
+        ("Delaunay3", lambda t: (voroclip.Delaunay3(s3, threads=t).simplices,)),
+        ("clip2d", lambda t: (voroclip.clip2d(SQUARE, s2, threads=t).energies,)),
+        ("clip3d", lambda t: (voroclip.clip3d(cube, s3, threads=t).energies,)),
+        ("random_points", lambda t: (voroclip.random_points(cube, 10, threads=t),)),
+        ("cvt2d", lambda t: (voroclip.cvt2d(SQUARE, s2, iterations=3, threads=t).sites,)),
+        ("cvt3d", lambda t: (voroclip.cvt3d(cube, s3, iterations=3, threads=t).sites,)),
+        ("mesh2d", lambda t: (voroclip.mesh2d(SQUARE, vertices=30, threads=t).points,)),
+        ("mesh3d", lambda t: (voroclip.mesh3d(cube, vertices=60, threads=t).points,)),
+        ("quality", lambda t: (voroclip.quality(s3, tets, threads=t).q1,)),
+    ]
+
+
+def test_regression_threads_beyond_the_cores_run_on_the_cores():
+    # threads=100000 crashed in tbb::task_arena (threads=50000 did not); any count above the
+    # cores printed "TBB Warning: The number of workers is currently limited to ...". A
+    # count is now clamped to the cores TBB may use: the same bits as threads=1, no warning.
+    # A child process, so that a crash fails this test and not the whole run.
+    code = textwrap.dedent("""
+        import numpy as np, voroclip
+        from test_module import threads_calls
+        for name, f in threads_calls():
+            one = f(1)
+            for t in (3, 100000, 2**70, np.int64(7)):
+                assert all(np.array_equal(a, b) for a, b in zip(one, f(t))), (name, t)
+            print(name)
+        """)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [os.path.dirname(os.path.dirname(voroclip.__file__)), os.path.dirname(__file__)]))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == [name for name, _ in threads_calls()]
+    assert "TBB" not in r.stderr, r.stderr
+
+
+def test_negative_threads_raise_for_every_call():
+    for name, f in threads_calls():
+        with pytest.raises(voroclip.Error, match=r"^threads: expected 0 or None \(all cores\) "
+                                                 r"or a count >= 1, got -1$"):
+            f(-1)
+        f(0)  # all cores
+    with pytest.raises(voroclip.Error, match="^threads: expected an integer, got str 'two'$"):
+        voroclip._core.Delaunay2(np.random.default_rng(1).random((5, 2)), "two")
