@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -85,7 +86,9 @@ class Progress {
 
 // A Python density callback called from the library's worker threads: each call takes the
 // GIL. The first Python exception is kept (and 1.0 returned from then on) and re-raised by
-// rethrow() after the computation.
+// rethrow() after the computation. A value that is not finite and positive throws Error
+// naming the point and the value at once (the library stops the run), as the CLI's
+// --density formulas do.
 class PyDensity {
  public:
   explicit PyDensity(py::object f) : f_(std::move(f)) {}
@@ -93,15 +96,23 @@ class PyDensity {
     py::gil_scoped_acquire acquire;
     std::lock_guard<std::mutex> lock(mutex_);
     if (error_) return 1.0;
+    double v = 1.0;
     try {
-      return (dim == 2 ? f_(x, y) : f_(x, y, z)).cast<double>();
+      v = (dim == 2 ? f_(x, y) : f_(x, y, z)).cast<double>();
     } catch (py::error_already_set& e) {
       error_ = std::make_unique<py::error_already_set>(std::move(e));
+      return 1.0;
     } catch (py::cast_error&) {
       PyErr_SetString(PyExc_TypeError, "density: the function must return a number");
       error_ = std::make_unique<py::error_already_set>();
+      return 1.0;
     }
-    return 1.0;
+    if (!(v > 0) || !std::isfinite(v)) {
+      const auto r = [](double t) { return py::repr(py::float_(t)).cast<std::string>(); };
+      throw Error("density: the callable returned " + r(v) + " at (" + r(x) + ", " + r(y) +
+                  (dim == 2 ? "" : ", " + r(z)) + "): the density must be finite and positive");
+    }
+    return v;
   }
   void rethrow() {
     if (error_) {

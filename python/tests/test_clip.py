@@ -3,6 +3,8 @@ half-space intersection, measured by ConvexHull), partition of the domain, 1 vs 
 bit for bit, geometry and neighbours consistent with the measures, every domain input
 form, and the errors bad input gets."""
 
+import re
+
 import numpy as np
 import pytest
 from scipy.spatial import ConvexHull, HalfspaceIntersection, Voronoi
@@ -348,3 +350,38 @@ def test_regression_domain2_ring_index_is_checked():
     assert holed.ring(1).shape == (3, 2)
     with pytest.raises(voroclip.Error, match=r"^is_hole: no ring 2 \(rings 0 to 1\)$"):
         holed.is_hole(2)
+
+
+@pytest.mark.parametrize("bad", [-1.0, 0.0, float("nan"), float("inf")])
+def test_regression_density_callable_values_are_checked(bad):
+    # A callable density's values went unchecked in clip2d, clip3d and cvt2d: rho = -1 gave
+    # negative masses, NaN NaN masses and a NaN energy, with no error. Now the first value
+    # that is not finite and positive raises, naming the point; here rho is 1 for x < 0.5.
+    rng = np.random.default_rng(8)
+    s2, s3 = rng.random((30, 2)), rng.random((30, 3))
+    sq = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+    cube = voroclip.domain3((CUBE_V, CUBE_T))
+
+    def rho(x, y, z=0.0):
+        return 1.0 if x < 0.5 else bad
+
+    calls = {
+        "clip2d": lambda: voroclip.clip2d(sq, s2, density=rho, threads=1),
+        "clip3d": lambda: voroclip.clip3d(cube, s3, density=rho, threads=1),
+        "cvt2d": lambda: voroclip.cvt2d(sq, s2, density=rho, iterations=5, threads=1),
+        "cvt3d": lambda: voroclip.cvt3d(cube, s3, density=rho, iterations=5, threads=1),
+        "mesh2d": lambda: voroclip.mesh2d(sq, vertices=50, density=rho, threads=1),
+        "random_points": lambda: voroclip.random_points(cube, 100, density=rho, threads=1),
+    }
+    number = r"(-?[0-9.e+-]+)"
+    for name, call in calls.items():
+        with pytest.raises(voroclip.Error) as e:
+            call()
+        m = re.fullmatch(r"density: the callable returned %s at \(%s\): the density must be "
+                         r"finite and positive" % (re.escape(repr(bad)), ", ".join(
+                             [number] * (2 if name in ("clip2d", "cvt2d", "mesh2d") else 3))),
+                         str(e.value))
+        assert m, (name, str(e.value))
+        point = [float(t) for t in m.groups()]
+        # In 2D the quadrature points lie in the domain; in 3D in cells that meet it.
+        assert 0.5 <= point[0] <= (1 if len(point) == 2 else 2), (name, point)
