@@ -178,6 +178,13 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
         [](Mesh2Options& o, const py::handle& v) { o.raise_for_mean_angle = !v.cast<bool>(); }},
        {"mean_angle_target", S::field<double>(&Mesh2Options::mean_angle_target_deg)},
        {"max_mean_angle_runs", S::field<std::uint32_t>(&Mesh2Options::max_mean_angle_runs)}});
+  // As the CLI's "give exactly one of --vertices N and --edge-length H": with both,
+  // Mesh2Options would take nb_vertices and drop edge_length without a word.
+  if (options.contains("vertices") && options.contains("edge_length")) {
+    throw Error("mesh2d: give exactly one of vertices and edge_length, got vertices=" +
+                py::repr(options["vertices"]).cast<std::string>() +
+                " and edge_length=" + py::repr(options["edge_length"]).cast<std::string>());
+  }
   Mesh2Options o;
   setter.apply(o, options);
   std::shared_ptr<PyDensity> rho;

@@ -245,3 +245,17 @@ def test_mesh3d_meshes_each_body_on_its_own():
     assert ((x > 1.005).any(axis=1) == right).all()  # no tet across the gap
     assert (mesh.cell_tags == np.where(right, 2, 1)).all()
     assert sorted(set(mesh.boundary_tags.tolist())) == list(range(1, 13))
+
+
+def test_regression_mesh2d_vertices_and_edge_length_together_raise():
+    # mesh2d(vertices=100, edge_length=0.01) meshed at 100 vertices (108) and dropped the
+    # edge length without a word; the CLI refuses both ("give exactly one of --vertices N
+    # and --edge-length H"), and so does Python now.
+    with pytest.raises(voroclip.Error, match=r"^mesh2d: give exactly one of vertices and "
+                                             r"edge_length, got vertices=100 and "
+                                             r"edge_length=0\.01$"):
+        voroclip.mesh2d(SQUARE, vertices=100, edge_length=0.01)
+    with pytest.raises(voroclip.Error, match="give a number of vertices or a positive edge"):
+        voroclip.mesh2d(SQUARE)
+    by_length = voroclip.mesh2d(SQUARE, edge_length=0.2, threads=1)
+    assert by_length.stats["edge_length"] == 0.2
