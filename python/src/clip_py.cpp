@@ -79,9 +79,9 @@ Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callbac
     // (values (ny, nx), lo (2,), hi (2,)): piecewise linear on a grid.
     const auto t = density.cast<py::tuple>();
     if (t.size() != 3) throw Error("density: a grid is (values[ny, nx], lo[2], hi[2])");
-    const auto values = t[0].cast<DoubleArray>();
-    const auto lo = t[1].cast<DoubleArray>();
-    const auto hi = t[2].cast<DoubleArray>();
+    const auto values = double_array(t[0], "density: the grid's values");
+    const auto lo = double_array(t[1], "density: the grid's lo");
+    const auto hi = double_array(t[2], "density: the grid's hi");
     if (values.ndim() != 2 || values.shape(0) < 2 || values.shape(1) < 2 || lo.size() != 2 ||
         hi.size() != 2) {
       throw Error("density: a grid is (values[ny, nx] with nx, ny >= 2, lo[2], hi[2])");
@@ -112,8 +112,8 @@ Density3 density3(const py::object& density, std::shared_ptr<PyDensity>& callbac
     auto c = callback;
     return Density3::function([c](double x, double y, double z) { return (*c)(x, y, z, 3); });
   }
-  const auto values = density.cast<DoubleArray>();
-  if (values.ndim() != 1) {
+  const auto values = DoubleArray::ensure(density);
+  if (!values || values.ndim() != 1) {
     throw Error(
         "density: expected None, a number, a callable rho(x, y, z) or one value per "
         "vertex of the tet mesh");
@@ -228,9 +228,10 @@ void run_clip(const py::object& threads, Progress& progress, const std::function
   progress.rethrow();
 }
 
-py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::object& density,
+py::dict clip2d(const Domain2& domain, const py::object& sites_arg, const py::object& density,
                 bool geometry, bool neighbors, const py::object& callback_,
                 const py::object& threads) {
+  const DoubleArray sites = double_array(sites_arg, "sites");
   const std::uint32_t n = rows(sites, 2, "sites");
   if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
   std::shared_ptr<PyDensity> callback;
@@ -292,9 +293,10 @@ py::dict clip2d(const Domain2& domain, const DoubleArray& sites, const py::objec
   return r;
 }
 
-py::dict clip3d(const Domain3& domain, const DoubleArray& sites, const py::object& density,
+py::dict clip3d(const Domain3& domain, const py::object& sites_arg, const py::object& density,
                 bool geometry, bool neighbors, const py::object& callback_,
                 const py::object& threads) {
+  const DoubleArray sites = double_array(sites_arg, "sites");
   const std::uint32_t n = rows(sites, 3, "sites");
   if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   std::shared_ptr<PyDensity> callback;
@@ -389,8 +391,11 @@ TriangleSurface make_surface(const DoubleArray& vertices, const IndexArray& tria
 
 void bind_domains(py::module_& m) {
   py::class_<Domain2>(m, "Domain2")
-      .def(py::init([](const DoubleArray& xy, const IndexArray& ring_begin,
-                       const IndexArray& ring_polygon, const std::string& source) {
+      .def(py::init([](const py::object& xy_arg, const py::object& ring_begin_arg,
+                       const py::object& ring_polygon_arg, const std::string& source) {
+             const DoubleArray xy = double_array(xy_arg, "rings");
+             const IndexArray ring_begin = index_array(ring_begin_arg, "ring_begin");
+             const IndexArray ring_polygon = index_array(ring_polygon_arg, "ring_polygon");
              const std::uint32_t n = rows(xy, 2, "rings");
              PolygonRings rings;
              rings.source = source;
@@ -435,16 +440,18 @@ void bind_domains(py::module_& m) {
             return d.is_hole(index_arg(r, d.nb_rings(), "is_hole", "ring"));
           },
           py::arg("r"))
-      .def("locate", [](const Domain2& d, const DoubleArray& p) {
-        return locate_all(p, 2, [&](const double* q) { return d.locate(q); });
+      .def("locate", [](const Domain2& d, const py::object& p) {
+        return locate_all(double_array(p, "points"), 2,
+                          [&](const double* q) { return d.locate(q); });
       });
 
   py::class_<Domain3>(m, "Domain3")
       .def_static(
           "from_surface",
-          [](const DoubleArray& vertices, const IndexArray& triangles, const std::string& source,
+          [](const py::object& vertices, const py::object& triangles, const std::string& source,
              bool reorient) {
-            const TriangleSurface s = make_surface(vertices, triangles, source);
+            const TriangleSurface s = make_surface(double_array(vertices, "vertices"),
+                                                   index_array(triangles, "triangles"), source);
             Surface3Options o;
             o.reorient = reorient;
             py::gil_scoped_release release;
@@ -453,9 +460,14 @@ void bind_domains(py::module_& m) {
           py::arg("vertices"), py::arg("triangles"), py::arg("source"), py::arg("reorient") = false)
       .def_static(
           "from_tets",
-          [](const DoubleArray& vertices, const IndexArray& tets, const IndexArray& triangles,
-             const IndexArray& tet_tags, const IndexArray& triangle_tags,
-             const std::string& source) {
+          [](const py::object& vertices_arg, const py::object& tets_arg,
+             const py::object& triangles_arg, const py::object& tet_tags_arg,
+             const py::object& triangle_tags_arg, const std::string& source) {
+            const DoubleArray vertices = double_array(vertices_arg, "vertices");
+            const IndexArray tets = index_array(tets_arg, "tets");
+            const IndexArray triangles = index_array(triangles_arg, "triangles");
+            const IndexArray tet_tags = index_array(tet_tags_arg, "tet_tags");
+            const IndexArray triangle_tags = index_array(triangle_tags_arg, "triangle_tags");
             const std::uint32_t nv = rows(vertices, 3, "vertices");
             const std::uint32_t nt = index_rows(tets, 4, "tets");
             TetMeshInput mesh;
@@ -504,8 +516,9 @@ void bind_domains(py::module_& m) {
              return py::make_tuple(to_array(std::move(s.xyz), {nv, 3}),
                                    to_array(std::move(t), {nt, 3}));
            })
-      .def("locate", [](const Domain3& d, const DoubleArray& p) {
-        return locate_all(p, 3, [&](const double* q) { return d.locate(q); });
+      .def("locate", [](const Domain3& d, const py::object& p) {
+        return locate_all(double_array(p, "points"), 3,
+                          [&](const double* q) { return d.locate(q); });
       });
 }
 
@@ -515,8 +528,10 @@ void bind_clip(py::module_& m) {
         py::arg("threads") = 0);
   m.def(
       "random_points3",
-      [](const Domain3& domain, std::uint32_t n, std::uint64_t seed, const py::object& density,
-         const py::object& threads) {
+      [](const Domain3& domain, const py::object& n_arg, const py::object& seed_arg,
+         const py::object& density, const py::object& threads) {
+        const auto n = static_cast<std::uint32_t>(count_arg(n_arg, "n", UINT32_MAX));
+        const std::uint64_t seed = count_arg(seed_arg, "seed", UINT64_MAX);
         std::shared_ptr<PyDensity> callback;
         const Density3 rho = density3(density, callback);
         std::vector<double> xyz;

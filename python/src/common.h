@@ -52,9 +52,16 @@ py::array_t<T> to_array(std::vector<T>&& v) {
 // and the value, never pybind11's TypeError listing C++ signatures. An integer is a Python
 // int or anything with __index__ (numpy integers, bool), not a float.
 
+// v as an integer in [0, max]: "what: expected an integer in [0, max], got v".
+std::uint64_t count_arg(const py::handle& v, const char* what, std::uint64_t max);
 // v as an index in [0, count): "what: no <noun> v (<noun>s 0 to count - 1)".
 std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* what,
                         const char* noun);
+// v as a float64 (int64) C-contiguous array: passed through when it is one, else
+// converted by numpy; "what: expected an array of numbers, got <type> <repr> (numpy's
+// reason)" when numpy cannot.
+DoubleArray double_array(const py::handle& v, const char* what);
+IndexArray index_array(const py::handle& v, const char* what);
 
 // The `threads` argument of every call that takes one: None or 0 for all cores, n >= 1 for
 // min(n, tbb::global_control::max_allowed_parallelism) threads (the cores, unless the

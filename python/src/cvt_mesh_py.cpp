@@ -1,7 +1,9 @@
 // python/src/cvt_mesh_py.cpp — CVT (cvt2d, cvt3d), meshing (mesh2d, mesh3d) and quality,
 // with progress callbacks that can stop a run and Ctrl-C that cancels it.
 #include <algorithm>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include "common.h"
@@ -12,10 +14,13 @@ namespace voroclip::python {
 
 namespace {
 
-CvtMethod parse_method(const std::string& method) {
-  if (method == "lbfgs") return CvtMethod::kLbfgs;
-  if (method == "lloyd") return CvtMethod::kLloyd;
-  throw Error("method: expected 'lbfgs' or 'lloyd', got '" + method + "'");
+CvtMethod parse_method(const py::handle& method, const std::string& what = "method") {
+  if (py::isinstance<py::str>(method)) {
+    const auto m = method.cast<std::string>();
+    if (m == "lbfgs") return CvtMethod::kLbfgs;
+    if (m == "lloyd") return CvtMethod::kLloyd;
+  }
+  throw Error(what + ": expected 'lbfgs' or 'lloyd', got " + py::repr(method).cast<std::string>());
 }
 
 py::dict cvt_result(const CvtResult& r, std::vector<double>&& sites, int dim,
@@ -45,9 +50,12 @@ py::dict progress_info(const CvtProgress& p) {
   return d;
 }
 
-py::dict cvt2d(const Domain2& domain, const DoubleArray& sites, const std::string& method,
-               std::uint32_t iterations, double tolerance, const py::object& density,
+py::dict cvt2d(const Domain2& domain, const py::object& sites_arg, const py::object& method,
+               const py::object& iterations_arg, double tolerance, const py::object& density,
                const py::object& callback, const py::object& threads) {
+  const DoubleArray sites = double_array(sites_arg, "sites");
+  const auto iterations =
+      static_cast<std::uint32_t>(count_arg(iterations_arg, "iterations", UINT32_MAX));
   const std::uint32_t n = rows(sites, 2, "sites");
   if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
@@ -74,9 +82,12 @@ py::dict cvt2d(const Domain2& domain, const DoubleArray& sites, const std::strin
   return cvt_result(r, std::move(x), 2, std::move(energies), std::move(gradients));
 }
 
-py::dict cvt3d(const Domain3& domain, const DoubleArray& sites, const std::string& method,
-               std::uint32_t iterations, double tolerance, const py::object& density,
+py::dict cvt3d(const Domain3& domain, const py::object& sites_arg, const py::object& method,
+               const py::object& iterations_arg, double tolerance, const py::object& density,
                const py::object& callback, const py::object& threads) {
+  const DoubleArray sites = double_array(sites_arg, "sites");
+  const auto iterations =
+      static_cast<std::uint32_t>(count_arg(iterations_arg, "iterations", UINT32_MAX));
   const std::uint32_t n = rows(sites, 3, "sites");
   if (n < 1) throw Error("sites: at least 1 site is needed, got 0");
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
@@ -114,17 +125,25 @@ py::array_t<std::int32_t> as_int32(const std::vector<T>& v, py::ssize_t cols = 0
 
 // Options given by name (a dict from Python): each sets its field of the library's
 // default-constructed options struct, so that an option not given keeps the library's
-// default. An unknown name or a value of the wrong type throws Error naming it.
+// default. An unknown name or a value of the wrong type throws Error naming it, as does an
+// integer option out of its type's range (count_arg: -5 is not 2^32 - 5).
 template <class Options>
 class OptionSetter {
  public:
-  using Setter = std::function<void(Options&, const py::handle&)>;
+  // Sets the option from v; `what` ("mesh2d: option 'vertices'") names it in errors.
+  using Setter = std::function<void(Options&, const py::handle& v, const std::string& what)>;
   OptionSetter(const char* what, std::vector<std::pair<std::string, Setter>> setters)
       : what_(what), setters_(std::move(setters)) {}
   template <class T, class Field>
   static Setter field(Field Options::*member) {
-    return
-        [member](Options& o, const py::handle& v) { o.*member = static_cast<Field>(v.cast<T>()); };
+    return [member](Options& o, const py::handle& v, const std::string& what) {
+      if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+        static_assert(std::is_unsigned_v<T>);
+        o.*member = static_cast<Field>(count_arg(v, what.c_str(), std::numeric_limits<T>::max()));
+      } else {
+        o.*member = static_cast<Field>(v.cast<T>());
+      }
+    };
   }
   void apply(Options& o, const py::dict& options) const {
     for (const auto& [key, value] : options) {
@@ -137,7 +156,7 @@ class OptionSetter {
         throw Error(std::string(what_) + ": unknown option '" + name + "' (known: " + known + ")");
       }
       try {
-        it->second(o, value);
+        it->second(o, value, std::string(what_) + ": option '" + name + "'");
       } catch (py::cast_error&) {
         throw Error(std::string(what_) + ": option '" + name + "': a value of the wrong type (" +
                     py::str(py::type::of(value)).cast<std::string>() + ")");
@@ -164,8 +183,8 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
        {"keep_gaps", S::field<bool>(&Mesh2Options::keep_gaps)},
        {"conforming", S::field<bool>(&Mesh2Options::conforming)},
        {"seed", S::field<std::uint64_t>(&Mesh2Options::seed)},
-       {"method", [](Mesh2Options& o,
-                     const py::handle& v) { o.method = parse_method(v.cast<std::string>()); }},
+       {"method", [](Mesh2Options& o, const py::handle& v,
+                     const std::string& what) { o.method = parse_method(v, what); }},
        {"unconstrained_iterations",
         S::field<std::uint32_t>(&Mesh2Options::unconstrained_iterations)},
        {"constrained_iterations", S::field<std::uint32_t>(&Mesh2Options::constrained_iterations)},
@@ -174,8 +193,8 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
        {"repair_rounds", S::field<std::uint32_t>(&Mesh2Options::repair_rounds)},
        {"repair_angle", S::field<double>(&Mesh2Options::repair_angle_deg)},
        {"repair_iterations", S::field<std::uint32_t>(&Mesh2Options::repair_iterations)},
-       {"exact_vertices",
-        [](Mesh2Options& o, const py::handle& v) { o.raise_for_mean_angle = !v.cast<bool>(); }},
+       {"exact_vertices", [](Mesh2Options& o, const py::handle& v,
+                             const std::string&) { o.raise_for_mean_angle = !v.cast<bool>(); }},
        {"mean_angle_target", S::field<double>(&Mesh2Options::mean_angle_target_deg)},
        {"max_mean_angle_runs", S::field<std::uint32_t>(&Mesh2Options::max_mean_angle_runs)}});
   // As the CLI's "give exactly one of --vertices N and --edge-length H": with both,
@@ -280,7 +299,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
        {"feature_angle", S::field<double>(&Mesh3Options::feature_angle_deg)},
        {"min_feature_length", S::field<double>(&Mesh3Options::min_feature_length)},
        {"sampling",
-        [](Mesh3Options& o, const py::handle& v) {
+        [](Mesh3Options& o, const py::handle& v, const std::string&) {
           const auto s = v.cast<std::string>();
           if (s != "lattice" && s != "random") {
             throw Error("mesh3d: sampling: expected 'lattice' or 'random', got '" + s + "'");
@@ -295,7 +314,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
        {"smooth_surface", S::field<bool>(&Mesh3Options::smooth_surface)},
        {"smooth_shape", S::field<double>(&Mesh3Options::smooth_shape)},
        {"exact_vertices",
-        [](Mesh3Options& o, const py::handle& v) {
+        [](Mesh3Options& o, const py::handle& v, const std::string&) {
           o.vertex_count = v.cast<bool>() ? Mesh3Options::VertexCount::kExact
                                           : Mesh3Options::VertexCount::kRaise;
         }},
@@ -303,7 +322,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
        {"max_boundary_distance", S::field<double>(&Mesh3Options::max_boundary_distance)},
        {"perturb", S::field<bool>(&Mesh3Options::perturb)},
        {"sliver_angle",
-        [](Mesh3Options& o, const py::handle& v) {
+        [](Mesh3Options& o, const py::handle& v, const std::string&) {
           o.perturbation.target_dihedral_deg = v.cast<double>();
         }},
        {"flip_angle", S::field<double>(&Mesh3Options::flip_dihedral_deg)},
@@ -398,8 +417,10 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   return r;
 }
 
-py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets,
+py::dict tet_quality_py(const py::object& points_arg, const py::object& tets_arg,
                         const py::object& threads) {
+  const DoubleArray points = double_array(points_arg, "points");
+  const IndexArray tets = index_array(tets_arg, "tets");
   const std::uint32_t nv = rows(points, 3, "points");
   if (tets.ndim() != 2 || tets.shape(1) != 4) throw Error("tets: expected an (n, 4) array");
   const auto nt = static_cast<std::uint32_t>(tets.shape(0));
@@ -436,7 +457,9 @@ py::dict tet_quality_py(const DoubleArray& points, const IndexArray& tets,
   return r;
 }
 
-py::dict triangle_quality_py(const DoubleArray& points, const IndexArray& triangles) {
+py::dict triangle_quality_py(const py::object& points_arg, const py::object& triangles_arg) {
+  const DoubleArray points = double_array(points_arg, "points");
+  const IndexArray triangles = index_array(triangles_arg, "triangles");
   const std::uint32_t nv = rows(points, 2, "points");
   if (triangles.ndim() != 2 || triangles.shape(1) != 3) {
     throw Error("triangles: expected an (n, 3) array");

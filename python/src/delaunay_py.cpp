@@ -19,7 +19,8 @@ struct Rows {
   }
 };
 
-Rows as_rows(const DoubleArray& a, int dim, const char* what) {
+Rows as_rows(const py::handle& v, int dim, const char* what) {
+  const DoubleArray a = double_array(v, what);
   Rows r;
   if (a.ndim() == 1) {
     r.a = py::cast<DoubleArray>(a.attr("reshape")(1, a.shape(0)));
@@ -31,7 +32,7 @@ Rows as_rows(const DoubleArray& a, int dim, const char* what) {
 }
 
 template <int kArgs, class F>
-py::array_t<std::int8_t> vectorised(const std::vector<DoubleArray>& args, int dim, F&& predicate) {
+py::array_t<std::int8_t> vectorised(const std::vector<py::object>& args, int dim, F&& predicate) {
   std::vector<Rows> r;
   std::uint32_t n = 1;
   static const char* const kNames[] = {"a", "b", "c", "d", "e"};
@@ -103,7 +104,7 @@ py::tuple neighbor_vertices(const Dt& dt, std::uint32_t n) {
 void bind_predicates(py::module_& m) {
   m.def(
       "orient2d",
-      [](const DoubleArray& a, const DoubleArray& b, const DoubleArray& c) {
+      [](const py::object& a, const py::object& b, const py::object& c) {
         return vectorised<3>({a, b, c}, 2, [](const double* const* p) {
           return static_cast<int>(orient2d(p[0], p[1], p[2]));
         });
@@ -111,7 +112,7 @@ void bind_predicates(py::module_& m) {
       py::arg("a"), py::arg("b"), py::arg("c"));
   m.def(
       "incircle",
-      [](const DoubleArray& a, const DoubleArray& b, const DoubleArray& c, const DoubleArray& d) {
+      [](const py::object& a, const py::object& b, const py::object& c, const py::object& d) {
         return vectorised<4>({a, b, c, d}, 2, [](const double* const* p) {
           return static_cast<int>(incircle(p[0], p[1], p[2], p[3]));
         });
@@ -119,7 +120,7 @@ void bind_predicates(py::module_& m) {
       py::arg("a"), py::arg("b"), py::arg("c"), py::arg("d"));
   m.def(
       "orient3d",
-      [](const DoubleArray& a, const DoubleArray& b, const DoubleArray& c, const DoubleArray& d) {
+      [](const py::object& a, const py::object& b, const py::object& c, const py::object& d) {
         return vectorised<4>({a, b, c, d}, 3, [](const double* const* p) {
           return static_cast<int>(orient3d(p[0], p[1], p[2], p[3]));
         });
@@ -127,8 +128,8 @@ void bind_predicates(py::module_& m) {
       py::arg("a"), py::arg("b"), py::arg("c"), py::arg("d"));
   m.def(
       "insphere",
-      [](const DoubleArray& a, const DoubleArray& b, const DoubleArray& c, const DoubleArray& d,
-         const DoubleArray& e) {
+      [](const py::object& a, const py::object& b, const py::object& c, const py::object& d,
+         const py::object& e) {
         return vectorised<5>({a, b, c, d, e}, 3, [](const double* const* p) {
           return static_cast<int>(insphere(p[0], p[1], p[2], p[3], p[4]));
         });
@@ -138,7 +139,8 @@ void bind_predicates(py::module_& m) {
 
 void bind_delaunay(py::module_& m) {
   py::class_<PyDelaunay2>(m, "Delaunay2")
-      .def(py::init([](const DoubleArray& points, const py::object& threads) {
+      .def(py::init([](const py::object& points_arg, const py::object& threads) {
+             const DoubleArray points = double_array(points_arg, "points");
              const std::uint32_t n = rows(points, 2, "points");
              if (n > Delaunay2::kMaxPoints) throw Error("points: more than 2^29 points");
              auto d = std::make_unique<PyDelaunay2>();
@@ -195,7 +197,8 @@ void bind_delaunay(py::module_& m) {
           [](const PyDelaunay2& d) { return neighbor_vertices(d.dt, d.dt.nb_points()); })
       .def(
           "find_simplex",
-          [](const PyDelaunay2& d, const DoubleArray& xi) {
+          [](const PyDelaunay2& d, const py::object& xi_arg) {
+            const DoubleArray xi = double_array(xi_arg, "xi");
             const std::uint32_t n = rows(xi, 2, "xi");
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
@@ -218,7 +221,8 @@ void bind_delaunay(py::module_& m) {
           py::arg("xi"))
       .def(
           "nearest_vertex",
-          [](const PyDelaunay2& d, const DoubleArray& xi) {
+          [](const PyDelaunay2& d, const py::object& xi_arg) {
+            const DoubleArray xi = double_array(xi_arg, "xi");
             const std::uint32_t n = rows(xi, 2, "xi");
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
@@ -254,7 +258,8 @@ void bind_delaunay(py::module_& m) {
       });
 
   py::class_<PyDelaunay3>(m, "Delaunay3")
-      .def(py::init([](const DoubleArray& points, const py::object& threads) {
+      .def(py::init([](const py::object& points_arg, const py::object& threads) {
+             const DoubleArray points = double_array(points_arg, "points");
              const std::uint32_t n = rows(points, 3, "points");
              auto d = std::make_unique<PyDelaunay3>();
              d->xyz.assign(points.data(), points.data() + 3 * std::size_t{n});
@@ -319,7 +324,8 @@ void bind_delaunay(py::module_& m) {
           [](const PyDelaunay3& d) { return neighbor_vertices(d.dt, d.dt.nb_points()); })
       .def(
           "find_simplex",
-          [](const PyDelaunay3& d, const DoubleArray& xi) {
+          [](const PyDelaunay3& d, const py::object& xi_arg) {
+            const DoubleArray xi = double_array(xi_arg, "xi");
             const std::uint32_t n = rows(xi, 3, "xi");
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
@@ -342,7 +348,8 @@ void bind_delaunay(py::module_& m) {
           py::arg("xi"))
       .def(
           "nearest_vertex",
-          [](const PyDelaunay3& d, const DoubleArray& xi) {
+          [](const PyDelaunay3& d, const py::object& xi_arg) {
+            const DoubleArray xi = double_array(xi_arg, "xi");
             const std::uint32_t n = rows(xi, 3, "xi");
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();

@@ -45,7 +45,35 @@ py::int_ as_int(const py::handle& v, const char* what) {
   return py::reinterpret_steal<py::int_>(i);
 }
 
+std::string bound_text(std::uint64_t max) {
+  if (max == UINT64_MAX) return "2^64 - 1";
+  if (max == UINT32_MAX) return "2^32 - 1";
+  return std::to_string(max);
+}
+
+// numpy's reason for not converting v to dtype, for a message.
+std::string numpy_refusal(const py::handle& v, const char* dtype) {
+  try {
+    py::module_::import("numpy").attr("asarray")(v, py::arg("dtype") = dtype);
+  } catch (py::error_already_set& e) {
+    return py::str(e.value()).cast<std::string>();
+  }
+  return "not convertible";
+}
+
 }  // namespace
+
+std::uint64_t count_arg(const py::handle& v, const char* what, std::uint64_t max) {
+  const py::int_ i = as_int(v, what);
+  const unsigned long long x = PyLong_AsUnsignedLongLong(i.ptr());
+  const bool overflow = x == static_cast<unsigned long long>(-1) && PyErr_Occurred() != nullptr;
+  if (overflow) PyErr_Clear();
+  if (overflow || x > max) {
+    throw Error(std::string(what) + ": expected an integer in [0, " + bound_text(max) + "], got " +
+                py::repr(i).cast<std::string>());
+  }
+  return x;
+}
 
 std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* what,
                         const char* noun) {
@@ -59,6 +87,24 @@ std::uint32_t index_arg(const py::handle& v, std::uint32_t count, const char* wh
                      : " (" + std::string(noun) + "s 0 to " + std::to_string(count - 1) + ")"));
   }
   return static_cast<std::uint32_t>(x);
+}
+
+DoubleArray double_array(const py::handle& v, const char* what) {
+  auto a = DoubleArray::ensure(v);
+  if (!a) {
+    throw Error(std::string(what) + ": expected an array of numbers, got " + describe(v) + " (" +
+                numpy_refusal(v, "float64") + ")");
+  }
+  return a;
+}
+
+IndexArray index_array(const py::handle& v, const char* what) {
+  auto a = IndexArray::ensure(v);
+  if (!a) {
+    throw Error(std::string(what) + ": expected an array of integers, got " + describe(v) + " (" +
+                numpy_refusal(v, "int64") + ")");
+  }
+  return a;
 }
 
 int thread_count(const py::handle& threads) {

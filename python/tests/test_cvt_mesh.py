@@ -156,8 +156,10 @@ def test_mesh_callback_and_errors():
         voroclip.mesh3d((CUBE_V, CUBE_T), vertices=2)
     with pytest.raises(voroclip.Error, match="unknown option 'vertex'"):
         voroclip.mesh2d(SQUARE, vertex=50)
-    with pytest.raises(voroclip.Error, match="option 'seed': a value of the wrong type"):
+    with pytest.raises(voroclip.Error, match="option 'seed': expected an integer, got str 'one'"):
         voroclip.mesh3d((CUBE_V, CUBE_T), vertices=50, seed="one")
+    with pytest.raises(voroclip.Error, match="option 'gradation': a value of the wrong type"):
+        voroclip.mesh2d(SQUARE, vertices=50, gradation="steep")
     with pytest.raises(voroclip.Error, match="method"):
         voroclip.cvt2d(SQUARE, np.random.default_rng(0).random((10, 2)), method="newton")
 

@@ -68,3 +68,56 @@ def test_negative_threads_raise_for_every_call():
         f(0)  # all cores
     with pytest.raises(voroclip.Error, match="^threads: expected an integer, got str 'two'$"):
         voroclip._core.Delaunay2(np.random.default_rng(1).random((5, 2)), "two")
+
+
+def test_regression_bad_counts_seeds_and_arrays_raise_error():
+    # These raised pybind11's TypeError "incompatible function arguments" with the C++
+    # signatures (the C++ arguments were unsigned, or float64 arrays numpy could not make),
+    # and mesh2d(vertices=-5) said "a value of the wrong type (<class 'int'>)"; the README
+    # promises voroclip.Error, naming the argument and the value.
+    rng = np.random.default_rng(6)
+    s2 = rng.random((10, 2))
+    cube = voroclip.domain3((CUBE_V, CUBE_T))
+    words = [["a", "b"], ["c", "d"], ["e", "f"]]
+    u32, u64 = r"\[0, 2\^32 - 1\]", r"\[0, 2\^64 - 1\]"
+    cases = [
+        (lambda: voroclip.cvt2d(SQUARE, s2, iterations=-1),
+         rf"iterations: expected an integer in {u32}, got -1"),
+        (lambda: voroclip.cvt3d(cube, s2[:, [0, 1, 1]], iterations=2**32),
+         rf"iterations: expected an integer in {u32}, got 4294967296"),
+        (lambda: voroclip.cvt2d(SQUARE, s2, method=3),
+         "method: expected 'lbfgs' or 'lloyd', got 3"),
+        (lambda: voroclip.random_points(cube, -3), rf"n: expected an integer in {u32}, got -3"),
+        (lambda: voroclip.random_points(cube, 3, seed=-1),
+         rf"seed: expected an integer in {u64}, got -1"),
+        (lambda: voroclip.random_points(cube, 3, seed=2**64),
+         rf"seed: expected an integer in {u64}, got 18446744073709551616"),
+        (lambda: voroclip.mesh2d(SQUARE, vertices=-5),
+         rf"mesh2d: option 'vertices': expected an integer in {u32}, got -5"),
+        (lambda: voroclip.mesh2d(SQUARE, vertices=100.0),
+         "mesh2d: option 'vertices': expected an integer, got float 100.0"),
+        (lambda: voroclip.mesh2d(SQUARE, vertices=50, method="newton"),
+         "mesh2d: option 'method': expected 'lbfgs' or 'lloyd', got 'newton'"),
+        (lambda: voroclip.mesh3d(cube, vertices=50, max_topology_rounds=-1),
+         rf"mesh3d: option 'max_topology_rounds': expected an integer in {u32}, got -1"),
+        (lambda: voroclip.Delaunay2(words),
+         r"points: expected an array of numbers, got list \[\['a', 'b'\], .*\] "
+         r"\(could not convert string to float: 'a'\)"),
+        (lambda: voroclip.Delaunay3([[1, 2, 3], [4, 5]]),
+         r"points: expected an array of numbers, got list \[\[1, 2, 3\], \[4, 5\]\] "
+         r"\(setting an array element with a sequence.*\)"),
+        (lambda: voroclip.orient2d(words, [0, 0], [1, 1]),
+         r"a: expected an array of numbers, got list .*"),
+        (lambda: voroclip.domain2(SQUARE).locate(words),
+         r"points: expected an array of numbers, got list .*"),
+        (lambda: voroclip.clip2d(SQUARE, s2, density=(words, (0, 0), (1, 1))),
+         r"density: the grid's values: expected an array of numbers, got list .*"),
+    ]
+    for call, message in cases:
+        with pytest.raises(voroclip.Error, match=f"^{message}$"):
+            call()
+    # The edges of the ranges, and numpy integers, are taken.
+    assert voroclip.random_points(cube, np.uint8(0)).shape == (0, 3)
+    top = voroclip.random_points(cube, 2, seed=2**64 - 1)
+    assert np.array_equal(top, voroclip.random_points(cube, 2, seed=np.uint64(2**64 - 1)))
+    assert not np.array_equal(top, voroclip.random_points(cube, 2, seed=0))
