@@ -80,6 +80,28 @@ struct PyDelaunay3 {
   std::vector<std::uint32_t> finite_slot;  // per finite tet: its slot
 };
 
+// Query points the scipy way (scipy.spatial.Delaunay.find_simplex): xi of shape (..., dim),
+// one point (dim,) included, read as n = xi.size / dim rows; the answers take the shape
+// xi.shape[:-1] (a 0-d array for one point, as scipy's).
+struct Queries {
+  Queries(const py::object& xi_arg, int dim) : xi(double_array(xi_arg, "xi")) {
+    const py::ssize_t nd = xi.ndim();
+    if (nd == 0 || xi.shape(nd - 1) != dim) {
+      std::string got;
+      for (py::ssize_t k = 0; k < nd; ++k) got += (k ? ", " : "") + std::to_string(xi.shape(k));
+      throw Error("xi: expected an (n, " + std::to_string(dim) + ") array or one point (" +
+                  std::to_string(dim) + ",), got shape (" + got + (nd == 1 ? ",)" : ")"));
+    }
+    shape.assign(xi.shape(), xi.shape() + nd - 1);
+    const py::ssize_t count = xi.size() / dim;
+    if (count >= py::ssize_t{0xffffffff}) throw Error("xi: more than 2^32 - 2 points");
+    n = static_cast<std::uint32_t>(count);
+  }
+  DoubleArray xi;  // C-contiguous: point i at xi.data() + dim * i
+  std::uint32_t n = 0;
+  std::vector<py::ssize_t> shape;  // of the answers
+};
+
 std::int32_t as_simplex(std::uint32_t t, std::uint32_t nb_finite) {
   return t < nb_finite ? static_cast<std::int32_t>(t) : -1;
 }
@@ -198,8 +220,9 @@ void bind_delaunay(py::module_& m) {
       .def(
           "find_simplex",
           [](const PyDelaunay2& d, const py::object& xi_arg) {
-            const DoubleArray xi = double_array(xi_arg, "xi");
-            const std::uint32_t n = rows(xi, 2, "xi");
+            const Queries queries(xi_arg, 2);
+            const DoubleArray& xi = queries.xi;
+            const std::uint32_t n = queries.n;
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
             {
@@ -216,14 +239,15 @@ void bind_delaunay(py::module_& m) {
                 out[i] = as_simplex(t, d.dt.nb_triangles());
               }
             }
-            return to_array(std::move(out));
+            return to_array(std::move(out), queries.shape);
           },
           py::arg("xi"))
       .def(
           "nearest_vertex",
           [](const PyDelaunay2& d, const py::object& xi_arg) {
-            const DoubleArray xi = double_array(xi_arg, "xi");
-            const std::uint32_t n = rows(xi, 2, "xi");
+            const Queries queries(xi_arg, 2);
+            const DoubleArray& xi = queries.xi;
+            const std::uint32_t n = queries.n;
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
             {
@@ -239,7 +263,7 @@ void bind_delaunay(py::module_& m) {
                 out[i] = static_cast<std::int32_t>(v);
               }
             }
-            return to_array(std::move(out));
+            return to_array(std::move(out), queries.shape);
           },
           py::arg("xi"))
       .def(
@@ -325,8 +349,9 @@ void bind_delaunay(py::module_& m) {
       .def(
           "find_simplex",
           [](const PyDelaunay3& d, const py::object& xi_arg) {
-            const DoubleArray xi = double_array(xi_arg, "xi");
-            const std::uint32_t n = rows(xi, 3, "xi");
+            const Queries queries(xi_arg, 3);
+            const DoubleArray& xi = queries.xi;
+            const std::uint32_t n = queries.n;
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
             {
@@ -343,14 +368,15 @@ void bind_delaunay(py::module_& m) {
                 out[i] = d.finite_index[t];
               }
             }
-            return to_array(std::move(out));
+            return to_array(std::move(out), queries.shape);
           },
           py::arg("xi"))
       .def(
           "nearest_vertex",
           [](const PyDelaunay3& d, const py::object& xi_arg) {
-            const DoubleArray xi = double_array(xi_arg, "xi");
-            const std::uint32_t n = rows(xi, 3, "xi");
+            const Queries queries(xi_arg, 3);
+            const DoubleArray& xi = queries.xi;
+            const std::uint32_t n = queries.n;
             std::vector<std::int32_t> out(n);
             const double* p = xi.data();
             {
@@ -362,7 +388,7 @@ void bind_delaunay(py::module_& m) {
                 out[i] = static_cast<std::int32_t>(v);
               }
             }
-            return to_array(std::move(out));
+            return to_array(std::move(out), queries.shape);
           },
           py::arg("xi"))
       .def(

@@ -113,3 +113,34 @@ def test_regression_vertex_neighbors_index_is_checked(cls, dim):
             d.vertex_neighbors(v)
     with pytest.raises(voroclip.Error, match="^vertex_neighbors: expected an integer, got str"):
         d.vertex_neighbors("3")
+
+
+@pytest.mark.parametrize("cls,dim", [(voroclip.Delaunay2, 2), (voroclip.Delaunay3, 3)])
+def test_regression_find_simplex_takes_one_point_as_scipy_does(cls, dim):
+    # find_simplex / nearest_vertex of one point, shape (d,), raised "expected an (n, d)
+    # array"; scipy.spatial.Delaunay.find_simplex takes xi of any shape (..., d) and answers
+    # in shape (...): a 0-d array for one point.
+    rng = np.random.default_rng(12 + dim)
+    pts = rng.random((200, dim))
+    ours, ref = cls(pts), ScipyDelaunay(pts)
+    q = rng.random((4, 5, dim)) * 1.2 - 0.1
+    flat = ours.find_simplex(q.reshape(-1, dim))
+    got = ours.find_simplex(q)
+    assert got.shape == ref.find_simplex(q).shape == (4, 5)
+    assert np.array_equal(got.ravel(), flat)
+    assert np.array_equal(got == -1, ref.find_simplex(q) == -1)
+    for k in range(20):
+        one = ours.find_simplex(q[k // 5, k % 5])
+        assert one.shape == ref.find_simplex(q[k // 5, k % 5]).shape == ()
+        assert one == flat[k] and ours.find_simplex(list(q[k // 5, k % 5])) == flat[k]
+        near = ours.nearest_vertex(q[k // 5, k % 5])
+        assert near.shape == () and near == np.argmin(((pts - q[k // 5, k % 5]) ** 2).sum(1))
+    assert np.array_equal(ours.nearest_vertex(q).ravel(),
+                          ours.nearest_vertex(q.reshape(-1, dim)))
+    for bad in (np.zeros(dim + 1), np.zeros((2, dim - 1)), 0.5):
+        shape = ", ".join(map(str, np.shape(bad))) + ("," if np.ndim(bad) == 1 else "")
+        for f in (ours.find_simplex, ours.nearest_vertex):
+            with pytest.raises(voroclip.Error, match=rf"^xi: expected an \(n, {dim}\) array or "
+                                                     rf"one point \({dim},\), got shape "
+                                                     rf"\({shape}\)$"):
+                f(bad)
