@@ -319,6 +319,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
                                           : Mesh3Options::VertexCount::kRaise;
         }},
        {"max_topology_rounds", S::field<std::uint32_t>(&Mesh3Options::max_topology_rounds)},
+       {"max_topology_sites", S::field<double>(&Mesh3Options::max_topology_sites)},
        {"max_boundary_distance", S::field<double>(&Mesh3Options::max_boundary_distance)},
        {"perturb", S::field<bool>(&Mesh3Options::perturb)},
        {"sliver_angle",
@@ -395,6 +396,15 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["topology_sites"] = m.nb_topology_sites;
   s["topology_rounds"] = m.topology_rounds;
   s["topology_defects_left"] = m.topology_defects_left;
+  // The topology sites reached max_topology_sites times the vertices with defects left,
+  // the first of them near topology_capped_near (None when not capped).
+  s["topology_capped"] = m.topology_capped;
+  if (m.topology_capped) {
+    const auto& p = m.topology_capped_near;
+    s["topology_capped_near"] = py::make_tuple(p[0], p[1], p[2]);
+  } else {
+    s["topology_capped_near"] = py::none();
+  }
   s["hausdorff"] = m.distance.max;
   s["hausdorff_rel"] = m.distance.max_relative();
   s["hausdorff_to_edge_length"] = m.distance_to_edge_length;

@@ -261,3 +261,28 @@ def test_regression_mesh2d_vertices_and_edge_length_together_raise():
         voroclip.mesh2d(SQUARE)
     by_length = voroclip.mesh2d(SQUARE, edge_length=0.2, threads=1)
     assert by_length.stats["edge_length"] == 0.2
+
+
+def test_mesh3d_max_topology_sites_and_capped_stats():
+    # Mesh3Options::max_topology_sites (the topology phase adds at most this many times the
+    # vertices) and Mesh3Result::topology_capped / topology_capped_near reach Python. A
+    # 1 x 1 x 0.1 slab at 100 vertices needs 45 topology sites (4 rounds): a cap of 0 stops
+    # the rounds at once, with the defects of round 0 left; a cap of 0.5 (50 sites) does not.
+    slab = (CUBE_V * (1, 1, 0.1), CUBE_T)
+    free = voroclip.mesh3d(slab, vertices=100, threads=1)
+    assert free.stats["topology_capped"] is False and free.stats["topology_capped_near"] is None
+    assert free.stats["topology_defects_left"] == 0
+    assert 0 < free.stats["topology_sites"] <= 50
+    roomy = voroclip.mesh3d(slab, vertices=100, max_topology_sites=0.5, threads=1)
+    assert roomy.stats["topology_capped"] is False
+    assert np.array_equal(roomy.points, free.points) and np.array_equal(roomy.cells, free.cells)
+    capped = voroclip.mesh3d(slab, vertices=100, max_topology_sites=0, threads=1)
+    s = capped.stats
+    assert s["topology_capped"] is True
+    assert s["topology_sites"] == 0 and s["topology_defects_left"] > 0
+    x, y, z = s["topology_capped_near"]
+    assert 0 <= x <= 1 and 0 <= y <= 1 and 0 <= z <= 0.1
+    with pytest.raises(voroclip.Error, match="a part far thinner than the spacing"):
+        voroclip.mesh3d(slab, vertices=100, max_topology_sites=0, exact_vertices=True)
+    with pytest.raises(voroclip.Error, match="option 'max_topology_sites': a value of the wrong"):
+        voroclip.mesh3d(slab, vertices=100, max_topology_sites="four")
