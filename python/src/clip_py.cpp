@@ -387,10 +387,43 @@ TriangleSurface make_surface(const DoubleArray& vertices, const IndexArray& tria
   return s;
 }
 
+constexpr const char* kDomain2Doc = R"doc(A validated polygonal domain for clip2d, cvt2d and mesh2d.
+
+Polygons, each an outer ring with holes, checked exactly: no ring crosses or touches
+itself or another, every hole lies inside its polygon, the coordinates are finite
+(voroclip.Error names the rings and the points otherwise).
+
+Build one with voroclip.domain2(...) (a list of rings, ring 0 the outer boundary; a .poly
+or .json path; a shapely-like polygon) or Domain2.read(path). The functions take a
+Domain2 as it is: validate once for several calls.
+
+source (the file, or "rings"), area (outer rings minus holes), nb_rings, bounds (xmin,
+ymin, xmax, ymax); ring(r): the (k, 2) points of ring r, counter-clockwise around a
+polygon and clockwise around a hole; is_hole(r); locate(points): per point +1 strictly
+inside, 0 on the boundary, -1 outside, exactly.)doc";
+
+constexpr const char* kDomain3Doc =
+    R"doc(A validated 3D domain for clip3d, cvt3d, mesh3d and random_points.
+
+The volume inside a closed triangle surface (one or more shells, cavities allowed),
+checked exactly: closed, oriented outward, no pinched vertex, no self-intersection
+(voroclip.Error names the faces otherwise); possibly with a tet mesh of it, whose region
+and patch tags reach mesh3d's output.
+
+Build one with voroclip.domain3(...) (a (vertices, triangles) pair, a surface or tet mesh
+file, a meshio.Mesh), Domain3.read(path, reorient=False), Domain3.from_surface(vertices,
+triangles, source, reorient=False) or Domain3.from_tets(...). The functions take a Domain3
+as it is: validate once for several calls.
+
+source, volume, area (of the surface), nb_shells, has_tets, nb_tets, bounds (xmin, ymin,
+zmin, xmax, ymax, zmax); surface(): the boundary as (vertices (n, 3), triangles (m, 3)
+int32), outward; locate(points): per point +1 strictly inside the volume, 0 on the
+surface, -1 outside, exactly.)doc";
+
 }  // namespace
 
 void bind_domains(py::module_& m) {
-  py::class_<Domain2>(m, "Domain2")
+  py::class_<Domain2>(m, "Domain2", kDomain2Doc)
       .def(py::init([](const py::object& xy_arg, const py::object& ring_begin_arg,
                        const py::object& ring_polygon_arg, const std::string& source) {
              const DoubleArray xy = double_array(xy_arg, "rings");
@@ -415,7 +448,7 @@ void bind_domains(py::module_& m) {
            py::arg("xy"), py::arg("ring_begin"), py::arg("ring_polygon"), py::arg("source"))
       .def_static(
           "read", [](const std::string& path) { return Domain2(read_polygon(path)); },
-          py::arg("path"))
+          "The domain of a .poly (Triangle) or .json polygon file.", py::arg("path"))
       .def_property_readonly("source", &Domain2::source)
       .def_property_readonly("area", &Domain2::area)
       .def_property_readonly("nb_rings", &Domain2::nb_rings)
@@ -433,19 +466,26 @@ void bind_domains(py::module_& m) {
             const auto nv = static_cast<py::ssize_t>(xy.size() / 2);
             return to_array(std::move(xy), {nv, 2});
           },
+          "The (k, 2) points of ring r: counter-clockwise around a polygon, clockwise around a "
+          "hole.",
           py::arg("r"))
       .def(
           "is_hole",
           [](const Domain2& d, const py::object& r) {
             return d.is_hole(index_arg(r, d.nb_rings(), "is_hole", "ring"));
           },
-          py::arg("r"))
-      .def("locate", [](const Domain2& d, const py::object& p) {
-        return locate_all(double_array(p, "points"), 2,
-                          [&](const double* q) { return d.locate(q); });
-      });
+          "True when ring r bounds a hole.", py::arg("r"))
+      .def(
+          "locate",
+          [](const Domain2& d, const py::object& p) {
+            return locate_all(double_array(p, "points"), 2,
+                              [&](const double* q) { return d.locate(q); });
+          },
+          "Per point of an (n, 2) array, exactly: +1 strictly inside, 0 on the boundary, -1 "
+          "outside (int8).",
+          py::arg("points"));
 
-  py::class_<Domain3>(m, "Domain3")
+  py::class_<Domain3>(m, "Domain3", kDomain3Doc)
       .def_static(
           "from_surface",
           [](const py::object& vertices, const py::object& triangles, const std::string& source,
@@ -457,6 +497,9 @@ void bind_domains(py::module_& m) {
             py::gil_scoped_release release;
             return Domain3(s, o);
           },
+          "The volume inside a closed surface: (n, 3) vertices and (m, 3) triangles (vertex "
+          "indices from 0) oriented outward (reorient=True turns inside-out shells); `source` "
+          "names it in messages.",
           py::arg("vertices"), py::arg("triangles"), py::arg("source"), py::arg("reorient") = false)
       .def_static(
           "from_tets",
@@ -484,6 +527,9 @@ void bind_domains(py::module_& m) {
             py::gil_scoped_release release;
             return Domain3(mesh);
           },
+          "The volume of a tet mesh: (n, 3) vertices, (t, 4) tets, (m, 3) boundary or "
+          "interface triangles, t tet tags and m triangle tags (each may be empty); `source` "
+          "names it in messages.",
           py::arg("vertices"), py::arg("tets"), py::arg("triangles"), py::arg("tet_tags"),
           py::arg("triangle_tags"), py::arg("source"))
       .def_static(
@@ -494,6 +540,8 @@ void bind_domains(py::module_& m) {
             py::gil_scoped_release release;
             return read_domain3(path, o);
           },
+          "The domain of a surface file (.obj, .off, .stl, .ply) or a tet mesh file (.mesh, "
+          ".node/.ele, .msh, .vtk, .vtu); reorient=True turns a surface's inside-out shells.",
           py::arg("path"), py::arg("reorient") = false)
       .def_property_readonly("source", &Domain3::source)
       .def_property_readonly("volume", &Domain3::volume)
@@ -507,19 +555,26 @@ void bind_domains(py::module_& m) {
                                const double *lo = d.bbox_lo(), *hi = d.bbox_hi();
                                return py::make_tuple(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
                              })
-      .def("surface",
-           [](const Domain3& d) {
-             TriangleSurface s = boundary_surface(d);
-             const auto nv = static_cast<py::ssize_t>(s.xyz.size() / 3);
-             const auto nt = static_cast<py::ssize_t>(s.triangles.size() / 3);
-             std::vector<std::int32_t> t(s.triangles.begin(), s.triangles.end());
-             return py::make_tuple(to_array(std::move(s.xyz), {nv, 3}),
-                                   to_array(std::move(t), {nt, 3}));
-           })
-      .def("locate", [](const Domain3& d, const py::object& p) {
-        return locate_all(double_array(p, "points"), 3,
-                          [&](const double* q) { return d.locate(q); });
-      });
+      .def(
+          "surface",
+          [](const Domain3& d) {
+            TriangleSurface s = boundary_surface(d);
+            const auto nv = static_cast<py::ssize_t>(s.xyz.size() / 3);
+            const auto nt = static_cast<py::ssize_t>(s.triangles.size() / 3);
+            std::vector<std::int32_t> t(s.triangles.begin(), s.triangles.end());
+            return py::make_tuple(to_array(std::move(s.xyz), {nv, 3}),
+                                  to_array(std::move(t), {nt, 3}));
+          },
+          "The boundary surface: (vertices (n, 3), triangles (m, 3) int32), outward.")
+      .def(
+          "locate",
+          [](const Domain3& d, const py::object& p) {
+            return locate_all(double_array(p, "points"), 3,
+                              [&](const double* q) { return d.locate(q); });
+          },
+          "Per point of an (n, 3) array, exactly: +1 strictly inside the volume, 0 on the "
+          "surface, -1 outside (int8).",
+          py::arg("points"));
 }
 
 void bind_clip(py::module_& m) {

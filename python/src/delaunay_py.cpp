@@ -178,15 +178,18 @@ void bind_delaunay(py::module_& m) {
                                const auto n = static_cast<py::ssize_t>(xy.size() / 2);
                                return to_array(std::move(xy), {n, 2});
                              })
-      .def_property_readonly("simplices",
-                             [](const PyDelaunay2& d) {
-                               const std::uint32_t nt = d.dt.nb_triangles();
-                               std::vector<std::int32_t> s(3 * std::size_t{nt});
-                               for (std::size_t k = 0; k < s.size(); ++k) {
-                                 s[k] = static_cast<std::int32_t>(d.dt.tri_vertices()[k]);
-                               }
-                               return to_array(std::move(s), {py::ssize_t{nt}, 3});
-                             })
+      .def_property_readonly(
+          "simplices",
+          [](const PyDelaunay2& d) {
+            const std::uint32_t nt = d.dt.nb_triangles();
+            std::vector<std::int32_t> s(3 * std::size_t{nt});
+            for (std::size_t k = 0; k < s.size(); ++k) {
+              s[k] = static_cast<std::int32_t>(d.dt.tri_vertices()[k]);
+            }
+            return to_array(std::move(s), {py::ssize_t{nt}, 3});
+          },
+          "(m, 3) int32: the triangles' point indices, counter-clockwise "
+          "(orient2d(p0, p1, p2) = +1).")
       .def_property_readonly("neighbors",
                              [](const PyDelaunay2& d) {
                                const std::uint32_t nt = d.dt.nb_triangles();
@@ -317,7 +320,11 @@ void bind_delaunay(py::module_& m) {
               }
             }
             return to_array(std::move(s), {static_cast<py::ssize_t>(nt), 4});
-          })
+          },
+          "(m, 4) int32: the tets' point indices, with det(p1 - p0, p2 - p0, p3 - p0) < 0 "
+          "(orient3d(p0, p1, p2, p3) = +1 in Shewchuk's convention), exactly: the opposite "
+          "of Mesh.cells (and VTK), whose tets have det > 0; simplices[:, [1, 0, 2, 3]] turns "
+          "them so.")
       .def_property_readonly("neighbors",
                              [](const PyDelaunay3& d) {
                                const std::size_t nt = d.finite_slot.size();

@@ -170,7 +170,13 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = voroclip::version();
   // voroclip::Error -> voroclip.Error, a ValueError: bad input or an impossible request,
   // with the library's message.
-  vp::py::register_exception<voroclip::Error>(m, "Error", PyExc_ValueError);
+  const auto error = vp::py::register_exception<voroclip::Error>(m, "Error", PyExc_ValueError);
+  error.attr("__doc__") =
+      "Bad input or an impossible request, with the library's message: it names the argument "
+      "and the value, the file and the line, or the point. A ValueError (`except ValueError` "
+      "catches it). The functions of voroclip raise it for bad input and for a clipping "
+      "cancelled by its callback; Ctrl-C raises KeyboardInterrupt, and an exception raised "
+      "by a callback (progress, density) is re-raised as itself.";
   vp::bind_predicates(m);
   vp::bind_delaunay(m);
   vp::bind_domains(m);

@@ -217,8 +217,8 @@ def test_density():
     c2 = voroclip.clip2d(sq, sites, density=2.0)
     c1 = voroclip.clip2d(sq, sites)
     assert np.array_equal(c2.masses, 2 * c1.masses)
-    # Linear rho = 1 + x on a grid is integrated exactly; the callable with the 6-point rule
-    # is exact for it too.
+    # Linear rho = 1 + x on a grid is integrated exactly; the callable with the degree-5
+    # rule (7 points per fan triangle, clip/src/clip2d.cpp) is exact for it too.
     grid = (np.array([[1.0, 2.0], [1.0, 2.0]]), (0, 0), (1, 1))
     g = voroclip.clip2d(sq, sites, density=grid)
     f = voroclip.clip2d(sq, sites, density=lambda x, y: 1 + x)

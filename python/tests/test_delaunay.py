@@ -144,3 +144,19 @@ def test_regression_find_simplex_takes_one_point_as_scipy_does(cls, dim):
                                                      rf"one point \({dim},\), got shape "
                                                      rf"\({shape}\)$"):
                 f(bad)
+
+
+def test_delaunay3_simplices_orientation_is_documented_and_holds():
+    # Delaunay3's tets are the opposite of Mesh.cells' (det > 0): det(p1 - p0, p2 - p0,
+    # p3 - p0) < 0, i.e. orient3d(p0, p1, p2, p3) = +1, exactly, on generic and degenerate
+    # (grid) input; the docstring says so (it said nothing). Delaunay2's are counter-clockwise.
+    grid = np.array([(x, y, z) for x in range(4) for y in range(4) for z in range(4)], float)
+    for pts in (np.random.default_rng(9).random((500, 3)), grid):
+        p = pts[voroclip.Delaunay3(pts).simplices]
+        assert (voroclip.orient3d(p[:, 0], p[:, 1], p[:, 2], p[:, 3]) == 1).all()
+        assert (np.linalg.det(p[:, 1:] - p[:, :1]) < 0).all()
+    p = grid[:16, 1:][voroclip.Delaunay2(grid[:16, 1:]).simplices]
+    assert (voroclip.orient2d(p[:, 0], p[:, 1], p[:, 2]) == 1).all()
+    assert "det(p1 - p0, p2 - p0, p3 - p0) < 0" in voroclip.Delaunay3.simplices.__doc__
+    assert "orient3d(p0, p1, p2, p3) = +1" in voroclip.Delaunay3.simplices.__doc__
+    assert "counter-clockwise" in voroclip.Delaunay2.simplices.__doc__

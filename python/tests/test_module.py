@@ -121,3 +121,18 @@ def test_regression_bad_counts_seeds_and_arrays_raise_error():
     top = voroclip.random_points(cube, 2, seed=2**64 - 1)
     assert np.array_equal(top, voroclip.random_points(cube, 2, seed=np.uint64(2**64 - 1)))
     assert not np.array_equal(top, voroclip.random_points(cube, 2, seed=0))
+
+
+def test_domains_and_error_have_docstrings():
+    # Domain2, Domain3 and Error had no docstrings (None): what they are, how to build one,
+    # their main methods.
+    for cls, build, methods in ((voroclip.Domain2, "voroclip.domain2(", ("ring", "is_hole",
+                                                                        "locate", "read")),
+                                (voroclip.Domain3, "voroclip.domain3(", ("surface", "locate",
+                                                                        "read"))):
+        doc = cls.__doc__
+        assert doc and doc.startswith("A validated ") and build in doc
+        for name in methods:
+            assert name + "(" in doc and getattr(cls, name).__doc__.count("\n") >= 2, name
+    assert "A ValueError" in voroclip.Error.__doc__
+    assert issubclass(voroclip.Error, ValueError)
