@@ -91,6 +91,22 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+void check_outputs(const std::vector<OutputOption>& outputs) {
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    for (std::size_t j = 0; j < k; ++j) {
+      if (same_file(outputs[j].path, outputs[k].path)) {
+        const std::string both =
+            outputs[j].path == outputs[k].path
+                ? "'" + outputs[k].path + "'"
+                : "'" + outputs[j].path + "' and '" + outputs[k].path + "', the same file,";
+        throw UsageError(outputs[j].option + " and " + outputs[k].option + " both name " + both +
+                         ": one would overwrite the other; give them different files");
+      }
+    }
+  }
+  for (const OutputOption& o : outputs) check_output_path(o.path);
+}
+
 std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension) {
   const auto d = static_cast<std::size_t>(dimension);
   std::vector<std::uint32_t> order(sites.size() / d);

@@ -57,6 +57,17 @@ std::string lower_extension(const std::string& path);
 // that has no such variant: "<flag>: only a .vtu output ... (<ext> is a text format ...)".
 std::string no_encoding_message(const std::string& flag, const std::string& ext);
 
+/// An output file of a command: the option that names it ("-o", "--neighbors") and the path.
+struct OutputOption {
+  std::string option;
+  std::string path;  // empty: not written
+};
+
+/// Checks a command's outputs before any work: two options naming the same file (same_file:
+/// also through "..", symbolic or hard links) are a UsageError naming both, then every path
+/// must be writable (check_output_path, an Error otherwise).
+void check_outputs(const std::vector<OutputOption>& outputs);
+
 /// Input indices (0-based) of the sites that repeat the coordinates of an earlier site (in
 /// input order): their cells are empty. `sites` holds `dimension` values per site.
 std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension);
@@ -135,12 +146,14 @@ struct Mesh2dArgs {
 
 void run_clip2d(const ClipArgs& args, const GlobalOptions& options);
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options);
-/// Writes a 3D clipped diagram by extension, atomically: .obj the restricted surface
-/// (keep_surface), .vtu every cell's faces (keep_geometry; in `encoding`), .csv / .json
-/// the per-cell table (keep_geometry, for the neighbour counts: `neighbors`, computed
-/// when not given).
-void write_cells3_file(const std::string& path, const std::vector<double>& sites,
-                       const ClippedVoronoi3& cv, VtuEncoding encoding = VtuEncoding::kAscii,
+/// The writer of a 3D clipped diagram's file, by extension (for write_files_atomically):
+/// .obj the restricted surface (keep_surface; its header names `command`), .vtu every
+/// cell's faces (keep_geometry; in `encoding`), .csv / .json the per-cell table
+/// (keep_geometry, for the neighbour counts: `neighbors`, computed when not given). It
+/// refers to `sites`, `cv` and `neighbors`, which must outlive it.
+FileWriter cells3_file(const std::string& path, const std::string& command,
+                       const std::vector<double>& sites, const ClippedVoronoi3& cv,
+                       VtuEncoding encoding = VtuEncoding::kAscii,
                        const NeighborTable* neighbors = nullptr);
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
 

@@ -63,10 +63,10 @@ void cell_rgb(std::uint32_t i, double* rgb) {
 
 // The restricted surface as OBJ polygons with per-vertex colours (x y z r g b, the
 // colour extension read by MeshLab and Blender), one colour per cell.
-void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv) {
+void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv, const std::string& command) {
   const ClippedVoronoi3::Polygons& s = cv.surface_polygons();
-  out << std::setprecision(17) << "# voroclip clip3d: restricted Voronoi diagram on the "
-      << "boundary surface, coloured by cell\n";
+  out << std::setprecision(17) << "# voroclip " << command
+      << ": restricted Voronoi diagram on the boundary surface, coloured by cell\n";
   for (std::size_t p = 0; p + 1 < s.polygon_begin.size(); ++p) {
     double rgb[3];
     cell_rgb(s.site[p], rgb);
@@ -131,26 +131,26 @@ void write_cells_json(std::ostream& out, const std::vector<double>& sites,
 
 }  // namespace
 
-void write_cells3_file(const std::string& path, const std::vector<double>& sites,
-                       const ClippedVoronoi3& cv, VtuEncoding encoding,
-                       const NeighborTable* neighbors) {
+FileWriter cells3_file(const std::string& path, const std::string& command,
+                       const std::vector<double>& sites, const ClippedVoronoi3& cv,
+                       VtuEncoding encoding, const NeighborTable* neighbors) {
   const std::string ext = lower_extension(path);
-  NeighborTable local;
-  if ((ext == ".csv" || ext == ".json") && !neighbors) {
-    local = cell_neighbors(cv);
-    neighbors = &local;
-  }
-  write_file_atomically(path, [&](std::ostream& out) {
-    if (ext == ".obj") {
-      write_surface_obj(out, cv);
-    } else if (ext == ".vtu") {
-      write_cells_vtu(out, cv, encoding);
-    } else if (ext == ".csv") {
-      write_cell_table_csv(out, cell_table(cv, sites.data(), neighbors));
-    } else {
-      write_cells_json(out, sites, cv, cell_table(cv, sites.data(), neighbors));
-    }
-  });
+  return {path, [ext, command, &sites, &cv, encoding, neighbors](std::ostream& out) {
+            if (ext == ".obj") {
+              write_surface_obj(out, cv, command);
+            } else if (ext == ".vtu") {
+              write_cells_vtu(out, cv, encoding);
+            } else {
+              NeighborTable local;
+              if (!neighbors) local = cell_neighbors(cv);
+              const CellTable table = cell_table(cv, sites.data(), neighbors ? neighbors : &local);
+              if (ext == ".csv") {
+                write_cell_table_csv(out, table);
+              } else {
+                write_cells_json(out, sites, cv, table);
+              }
+            }
+          }};
 }
 
 void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
@@ -169,8 +169,7 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   if ((args.binary || args.compress) && ext != ".vtu") {
     throw UsageError(no_encoding_message(args.compress ? "--compress" : "--binary", ext));
   }
-  check_output_path(args.output);
-  check_output_path(args.neighbors);
+  check_outputs({{"-o", args.output}, {"--neighbors", args.neighbors}});
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
@@ -213,21 +212,25 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() || tables) progress.phase("writing");
   NeighborTable neighbors;
   if (tables) neighbors = cell_neighbors(cv);
+  // -o and --neighbors appear together or not at all.
+  std::vector<FileWriter> files;
   if (!args.output.empty()) {
-    write_cells3_file(args.output, sites, cv,
-                      args.compress ? VtuEncoding::kZlibBase64
-                                    : (args.binary ? VtuEncoding::kBase64 : VtuEncoding::kAscii),
-                      tables ? &neighbors : nullptr);
+    files.push_back(cells3_file(args.output, "clip3d", sites, cv,
+                                args.compress ? VtuEncoding::kZlibBase64
+                                : args.binary ? VtuEncoding::kBase64
+                                              : VtuEncoding::kAscii,
+                                tables ? &neighbors : nullptr));
   }
   if (!args.neighbors.empty()) {
-    write_file_atomically(args.neighbors, [&](std::ostream& out) {
-      if (neighbors_ext == ".json") {
-        write_neighbor_table_json(out, neighbors);
-      } else {
-        write_neighbor_table_csv(out, neighbors);
-      }
-    });
+    files.push_back({args.neighbors, [&](std::ostream& out) {
+                       if (neighbors_ext == ".json") {
+                         write_neighbor_table_json(out, neighbors);
+                       } else {
+                         write_neighbor_table_csv(out, neighbors);
+                       }
+                     }});
   }
+  write_files_atomically(files);
   progress.done();
   if (options.stats_json) {
     std::cout << nlohmann::json{{"tets", domain.nb_tets()},

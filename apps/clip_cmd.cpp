@@ -294,38 +294,40 @@ void check_neighbors_name(const std::string& path) {
   }
 }
 
-// -o and --neighbors. The tables need the cells' geometry (the diagram computed with
-// keep_geometry).
+// -o and --neighbors, together or not at all. The tables need the cells' geometry (the
+// diagram computed with keep_geometry).
 void write_output(const ClipArgs& args, const Domain2& domain, const std::vector<double>& sites,
                   const ClippedVoronoi2& cv) {
   const std::string ext = lower_extension(args.output);
   NeighborTable neighbors;
   const bool tables = ext == ".csv" || ext == ".json" || !args.neighbors.empty();
   if (tables) neighbors = cell_neighbors(cv);
+  std::vector<FileWriter> files;
   if (!args.output.empty()) {
-    write_file_atomically(args.output, [&](std::ostream& out) {
-      if (ext == ".svg") {
-        write_clip_svg(out, domain, sites, cv);
-      } else if (ext == ".vtu") {
-        write_clip_vtu(out, cv, vtu_encoding(args));
-      } else if (ext == ".json") {
-        write_clip_json(out, sites, cv, cell_table(cv, sites.data(), &neighbors));
-      } else if (ext == ".csv") {
-        write_cell_table_csv(out, cell_table(cv, sites.data(), &neighbors));
-      } else {
-        write_sites(out, sites);
-      }
-    });
+    files.push_back({args.output, [&](std::ostream& out) {
+                       if (ext == ".svg") {
+                         write_clip_svg(out, domain, sites, cv);
+                       } else if (ext == ".vtu") {
+                         write_clip_vtu(out, cv, vtu_encoding(args));
+                       } else if (ext == ".json") {
+                         write_clip_json(out, sites, cv, cell_table(cv, sites.data(), &neighbors));
+                       } else if (ext == ".csv") {
+                         write_cell_table_csv(out, cell_table(cv, sites.data(), &neighbors));
+                       } else {
+                         write_sites(out, sites);
+                       }
+                     }});
   }
   if (!args.neighbors.empty()) {
-    write_file_atomically(args.neighbors, [&](std::ostream& out) {
-      if (lower_extension(args.neighbors) == ".json") {
-        write_neighbor_table_json(out, neighbors);
-      } else {
-        write_neighbor_table_csv(out, neighbors);
-      }
-    });
+    files.push_back({args.neighbors, [&](std::ostream& out) {
+                       if (lower_extension(args.neighbors) == ".json") {
+                         write_neighbor_table_json(out, neighbors);
+                       } else {
+                         write_neighbor_table_csv(out, neighbors);
+                       }
+                     }});
   }
+  write_files_atomically(files);
 }
 
 // Given sites outside the domain or repeated: a warning (an error with --strict); their
@@ -361,8 +363,7 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, false);
   check_encoding(args);
   check_neighbors_name(args.neighbors);
-  check_output_path(args.output);
-  check_output_path(args.neighbors);
+  check_outputs({{"-o", args.output}, {"--neighbors", args.neighbors}});
   Progress progress(options);
   progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
@@ -416,8 +417,7 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   check_output_name(args.output, true);
   check_encoding(args);
   check_neighbors_name(args.neighbors);
-  check_output_path(args.output);
-  check_output_path(args.neighbors);
+  check_outputs({{"-o", args.output}, {"--neighbors", args.neighbors}});
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }

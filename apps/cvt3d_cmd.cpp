@@ -73,7 +73,7 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
         "got '" +
         args.output + "'");
   }
-  check_output_path(args.output);
+  check_outputs({{"-o", args.output}});
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }
@@ -124,7 +124,8 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
       co.keep_surface = ext == ".obj";
       co.keep_geometry = ext == ".vtu" || ext == ".json";
       cv.compute(domain, sites.data(), n, co);
-      write_cells3_file(args.output, sites, cv);
+      const FileWriter file = cells3_file(args.output, "cvt3d", sites, cv);
+      write_file_atomically(file.path, file.write);
     }
   }
   progress.done();

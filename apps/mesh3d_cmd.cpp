@@ -61,7 +61,16 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (args.compress && ext != ".vtu") {
     throw UsageError("--compress: only a .vtu output is compressed");
   }
-  check_output_path(args.output);
+  // TetGen's three files are checked, and written, together.
+  {
+    std::vector<OutputOption> outputs;
+    for (const std::string& path :
+         tet_mesh_files(args.output, ext == ".node" || ext == ".ele" ? TetMeshFormat::kTetGen
+                                                                     : TetMeshFormat::kMedit)) {
+      outputs.push_back({"-o", path});
+    }
+    check_outputs(outputs);
+  }
   // --sizing / --sizing-file alone: h is the edge length in model units and the vertex
   // count follows from it; with --vertices, h gives the shape and --vertices the count.
   const bool sizing = !args.density.sizing.empty() || !args.density.sizing_file.empty();

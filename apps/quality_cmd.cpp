@@ -42,8 +42,7 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
     throw UsageError("-o: the output must end in .vtu (the mesh with Q1..Q4 per tet), got '" +
                      args.output + "'");
   }
-  check_output_path(args.output);
-  check_output_path(args.histogram);
+  check_outputs({{"-o", args.output}, {"--histogram", args.histogram}});
   const std::string ref_ext = lower_extension(args.surface);
   if (!args.surface.empty() && !is_surface_file(ref_ext) && !is_tet_mesh_file(ref_ext)) {
     throw UsageError("--surface: unknown format " +
@@ -89,13 +88,15 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
   }
   const HausdorffDistance* d = args.surface.empty() ? nullptr : &distance;
 
+  // --histogram and -o appear together or not at all.
+  std::vector<FileWriter> files;
   if (!args.histogram.empty()) {
-    progress.phase("writing " + args.histogram);
-    write_file_atomically(args.histogram,
-                          [&](std::ostream& out) { write_quality_svg(out, q, args.mesh); });
+    files.push_back(
+        {args.histogram, [&](std::ostream& out) { write_quality_svg(out, q, args.mesh); }});
   }
+  std::vector<VtuCellField> fields;
   if (!args.output.empty()) {
-    std::vector<VtuCellField> fields(4);
+    fields.resize(4);
     fields[0].name = "q1_min_dihedral_deg";
     fields[1].name = "q2_max_dihedral_deg";
     fields[2].name = "q3_radius_ratio";
@@ -107,12 +108,18 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
       fields[2].values.push_back(s.q3);
       fields[3].values.push_back(s.q4);
     }
-    progress.phase("writing " + args.output);
-    write_file_atomically(args.output, [&](std::ostream& out) {
-      write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3,
-                {{mesh.tets.data(), mesh.nb_tets(), 4}},
-                args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64, fields);
-    });
+    files.push_back({args.output, [&](std::ostream& out) {
+                       write_vtu(out, mesh.xyz.data(), mesh.nb_vertices(), 3,
+                                 {{mesh.tets.data(), mesh.nb_tets(), 4}},
+                                 args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64,
+                                 fields);
+                     }});
+  }
+  if (!files.empty()) {
+    progress.phase("writing " + (args.histogram.empty() ? args.output
+                                 : args.output.empty()  ? args.histogram
+                                                        : args.histogram + " and " + args.output));
+    write_files_atomically(files);
   }
   progress.done();
   if (options.stats_json) {

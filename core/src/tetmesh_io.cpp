@@ -2157,10 +2157,19 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
       write_text(path, medit_text(mesh));
       return;
     case TetMeshFormat::kTetGen: {
-      const std::string base = without_extension(path);
-      write_text(base + ".node", tetgen_node_text(mesh));
-      write_text(base + ".ele", tetgen_cells_text(mesh.tets, 4, mesh.tet_ref));
-      write_text(base + ".face", tetgen_cells_text(mesh.triangles, 3, mesh.triangle_ref));
+      // The three files appear together or not at all.
+      const std::vector<std::string> paths = tet_mesh_files(path, format);
+      const std::string texts[3] = {tetgen_node_text(mesh),
+                                    tetgen_cells_text(mesh.tets, 4, mesh.tet_ref),
+                                    tetgen_cells_text(mesh.triangles, 3, mesh.triangle_ref)};
+      std::vector<FileWriter> files;
+      for (std::size_t k = 0; k < 3; ++k) {
+        files.push_back({paths[k], [&texts, k](std::ostream& out) {
+                           out.write(texts[k].data(),
+                                     static_cast<std::streamsize>(texts[k].size()));
+                         }});
+      }
+      write_files_atomically(files);
       return;
     }
     case TetMeshFormat::kGmsh22:
@@ -2201,6 +2210,12 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
       return;
   }
   throw Error("cannot write '" + path + "': unknown format");
+}
+
+std::vector<std::string> tet_mesh_files(const std::string& path, TetMeshFormat format) {
+  if (format != TetMeshFormat::kTetGen) return {path};
+  const std::string base = without_extension(path);
+  return {base + ".node", base + ".ele", base + ".face"};
 }
 
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh) {

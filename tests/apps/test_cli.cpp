@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -411,5 +412,77 @@ TEST_CASE("an output in a missing directory fails before any work", "[apps]") {
     CHECK(contains(run.err, "cannot write '/nonexistent/dir/"));
     CHECK(contains(run.err, "no directory '/nonexistent/dir'"));
     CHECK(run.out.empty());  // no progress, no report: nothing was computed
+  }
+}
+
+TEST_CASE("an output where no file can be created fails before any work", "[apps][regression]") {
+  // The check was access(dir, W_OK), which root passes for /proc: mesh3d ran to its end and
+  // failed writing. The temporary file is now created and removed: the output's error
+  // comes before the domain (which does not exist) is even read.
+  for (const std::string out : {"/proc/out.mesh", "/proc/out.node", "/proc/out.vtu"}) {
+    INFO(out);
+    const Run run = run_cli({"mesh3d", "no-such-domain.obj", "--vertices", "300", "-o", out});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "cannot write '/proc/out."));
+    CHECK_FALSE(contains(run.err, "no-such-domain"));
+  }
+}
+
+TEST_CASE("mesh3d -o FILE.node: TetGen's three files checked first, written together",
+          "[apps][regression]") {
+  // With a directory named like the .face, the .node and .ele were written and left behind
+  // (the exit status 1 came after the whole run).
+  const std::string dir = temp_path("_tetgen");
+  REQUIRE(::mkdir(dir.c_str(), 0755) == 0);
+  const std::string base = dir + "/tg";
+  REQUIRE(::mkdir((base + ".face").c_str(), 0755) == 0);
+  const std::string sphere = std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj";
+  for (const char* ext : {".node", ".ele"}) {
+    INFO(ext);
+    const Run run = run_cli({"mesh3d", sphere, "--vertices", "300", "-o", base + ext});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "cannot write '" + base + ".face': it is a directory"));
+    CHECK_FALSE(exists(base + ".node"));
+    CHECK_FALSE(exists(base + ".ele"));
+  }
+  REQUIRE(::rmdir((base + ".face").c_str()) == 0);
+  const Run run = run_cli({"-q", "mesh3d", sphere, "--vertices", "300", "-o", base + ".ele"});
+  REQUIRE(run.status == 0);
+  const voroclip::TetMeshInput mesh = voroclip::read_tet_mesh(base + ".node");
+  CHECK(mesh.nb_tets() > 0);
+  CHECK(mesh.nb_triangles() > 0);  // from tg.face
+  for (const char* ext : {".node", ".ele", ".face"}) std::remove((base + ext).c_str());
+  ::rmdir(dir.c_str());
+}
+
+TEST_CASE("two outputs naming one file: a usage error before any work", "[apps][regression]") {
+  // clip3d -o x.csv --neighbors x.csv exited 0 with the pairs table in x.csv.
+  const std::string data = VOROCLIP_SHARED_DATA_DIR;
+  const std::string sphere = data + "/surfaces/sphere.obj";
+  const std::string polygon = data + "/polygons/valid/issue35.json";
+  const std::string csv = temp_path(".csv"), json = temp_path(".json");
+  const std::vector<std::vector<std::string>> commands = {
+      {"clip3d", sphere, "--random", "100", "-o", csv, "--neighbors", csv},
+      {"clip3d", sphere, "--random", "100", "-o", json, "--neighbors", "./" + json},
+      {"clip2d", polygon, "--random", "10", "-o", csv, "--neighbors", csv},
+      {"cvt2d", polygon, "--random", "10", "-o", json, "--neighbors", "../" + json},
+  };
+  for (std::vector<std::string> c : commands) {
+    if (c.back().rfind("../", 0) == 0) {
+      // The same file through its directory's parent.
+      char cwd[4096];
+      REQUIRE(::getcwd(cwd, sizeof cwd) != nullptr);
+      const std::string here = cwd;
+      c.back() = "../" + here.substr(here.find_last_of('/') + 1) + "/" + json;
+    }
+    INFO(c[0] << " " << c.back());
+    const Run run = run_cli(c);
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "-o and --neighbors both name"));
+    CHECK_FALSE(exists(csv));
+    CHECK_FALSE(exists(json));
   }
 }

@@ -1,4 +1,7 @@
 #include <catch2/catch.hpp>
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -97,6 +100,108 @@ TEST_CASE("check_output_path: a missing, unwritable or file directory, a directo
   }
   fs::permissions(base / "ro", fs::perms::owner_all);
   fs::remove_all(base);
+}
+
+TEST_CASE("write_files_atomically: all the files or none", "[core][regression]") {
+  namespace fs = std::filesystem;
+  const fs::path base =
+      fs::temp_directory_path() / ("voroclip_write_files_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  fs::create_directories(base);
+  const std::string a = (base / "a.txt").string(), b = (base / "b.txt").string(),
+                    c = (base / "c.txt").string();
+  const auto text = [](const char* t) { return [t](std::ostream& out) { out << t; }; };
+  SECTION("every writer succeeds") {
+    voroclip::write_files_atomically({{a, text("A")}, {b, text("B")}, {c, text("C")}});
+    CHECK(slurp(a) == "A");
+    CHECK(slurp(b) == "B");
+    CHECK(slurp(c) == "C");
+  }
+  SECTION("the second writer throws: no file, no temporary, the old file kept") {
+    voroclip::write_file_atomically(c, text("old"));
+    CHECK_THROWS_WITH(voroclip::write_files_atomically(
+                          {{a, text("A")},
+                           {b, [](std::ostream&) { throw voroclip::Error("writer failed"); }},
+                           {c, text("C")}}),
+                      "writer failed");
+    CHECK_FALSE(exists(a));
+    CHECK_FALSE(exists(b));
+    CHECK(slurp(c) == "old");
+  }
+  SECTION("the last file cannot be created (a directory of that name)") {
+    fs::create_directories(base / "c.txt");
+    CHECK_THROWS_AS(
+        voroclip::write_files_atomically({{a, text("A")}, {b, text("B")}, {c, text("C")}}),
+        voroclip::Error);
+    CHECK_FALSE(exists(a));
+    CHECK_FALSE(exists(b));
+  }
+  SECTION("two writers of one file") {
+    CHECK_THROWS_WITH(voroclip::write_files_atomically(
+                          {{a, text("A")}, {(base / "." / "a.txt").string(), text("B")}}),
+                      Catch::Contains("it is the same file as"));
+    CHECK_FALSE(exists(a));
+  }
+  for (const fs::directory_entry& e : fs::directory_iterator(base)) {
+    CHECK(e.path().string().find(".voroclip-tmp") == std::string::npos);
+  }
+  fs::remove_all(base);
+}
+
+TEST_CASE("same_file: one file under several names", "[core]") {
+  namespace fs = std::filesystem;
+  const fs::path base =
+      fs::temp_directory_path() / ("voroclip_same_file_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  fs::create_directories(base / "sub");
+  const std::string x = (base / "x.csv").string();
+  CHECK(voroclip::same_file(x, x));
+  CHECK(voroclip::same_file(x, (base / "sub" / ".." / "x.csv").string()));
+  CHECK(voroclip::same_file(x, (base / "." / "x.csv").string()));
+  CHECK_FALSE(voroclip::same_file(x, (base / "y.csv").string()));
+  CHECK_FALSE(voroclip::same_file(x, ""));
+  CHECK_FALSE(voroclip::same_file("", ""));
+  // Through a symbolic link to the directory (the file need not exist), and a hard link.
+  fs::create_directory_symlink(base / "sub", base / "link");
+  CHECK(voroclip::same_file((base / "sub" / "z.csv").string(), (base / "link" / "z.csv").string()));
+  std::ofstream(x) << "x";
+  fs::create_hard_link(x, base / "hard.csv");
+  CHECK(voroclip::same_file(x, (base / "hard.csv").string()));
+  fs::remove_all(base);
+}
+
+TEST_CASE("check_output_path: where no file can be created, whoever runs it",
+          "[core][regression]") {
+  // access(dir, W_OK), the former test, passes for root in /proc; the temporary is now
+  // created and removed, so the work does not run before a late failure.
+  try {
+    voroclip::check_output_path("/proc/out.mesh");
+    FAIL("expected an error");
+  } catch (const voroclip::Error& e) {
+    CHECK(std::string(e.what()).rfind("cannot write '/proc/out.mesh': ", 0) == 0);
+  }
+  const std::string ok = "test_core_check_output_ok.mesh";
+  voroclip::check_output_path(ok);
+  CHECK_FALSE(exists(ok));
+  CHECK_FALSE(exists(ok + ".voroclip-tmp"));
+  // An immutable file (chattr +i) cannot be replaced, not even by root. Setting the flag
+  // needs CAP_LINUX_IMMUTABLE and a file system that has it (ext4, xfs, btrfs).
+  const std::string frozen = "test_core_check_output_immutable.mesh";
+  std::ofstream(frozen) << "old";
+  const int fd = ::open(frozen.c_str(), O_RDONLY);
+  REQUIRE(fd >= 0);
+  int flags = 0;
+  const bool set = ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0 &&
+                   (flags |= FS_IMMUTABLE_FL, ::ioctl(fd, FS_IOC_SETFLAGS, &flags) == 0);
+  if (set) {
+    CHECK_THROWS_WITH(voroclip::check_output_path(frozen), Catch::Contains("immutable"));
+    flags &= ~FS_IMMUTABLE_FL;
+    ::ioctl(fd, FS_IOC_SETFLAGS, &flags);
+  } else {
+    WARN("the immutable flag cannot be set here: that case is not checked");
+  }
+  ::close(fd);
+  std::remove(frozen.c_str());
 }
 
 TEST_CASE("version is MAJOR.MINOR.PATCH", "[core]") {

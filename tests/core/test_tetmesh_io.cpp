@@ -918,6 +918,30 @@ TEST_CASE("read_tet_mesh: Medit Triangles and Tetrahedra refs", "[core]") {
   CHECK(mesh.triangle_ref == std::vector<std::int32_t>{5, 0, 2147483647});
 }
 
+TEST_CASE("write_tet_mesh TetGen: a .face that cannot be written leaves no .node or .ele",
+          "[core][regression]") {
+  // The three files were written one after the other: .node and .ele stayed behind when
+  // the .face failed (a directory of its name), a mesh that reads back without its faces.
+  const TetMeshInput mesh = voroclip_test::tagged_kuhn_cube();
+  const std::string base = temp().file("partial");
+  std::filesystem::create_directory(base + ".face");
+  CHECK(voroclip::tet_mesh_files(base + ".ele", TetMeshFormat::kTetGen) ==
+        std::vector<std::string>{base + ".node", base + ".ele", base + ".face"});
+  CHECK(voroclip::tet_mesh_files(base + ".mesh", TetMeshFormat::kMedit) ==
+        std::vector<std::string>{base + ".mesh"});
+  CHECK_THROWS_WITH(voroclip::write_tet_mesh(base + ".node", mesh, TetMeshFormat::kTetGen),
+                    Catch::StartsWith("cannot write '" + base + ".face'"));
+  CHECK_FALSE(std::filesystem::exists(base + ".node"));
+  CHECK_FALSE(std::filesystem::exists(base + ".ele"));
+  for (const char* ext : {".node", ".ele", ".face"}) {
+    CHECK_FALSE(std::filesystem::exists(base + ext + std::string(".voroclip-tmp")));
+  }
+  // Written whole once the way is clear.
+  std::filesystem::remove(base + ".face");
+  voroclip::write_tet_mesh(base + ".node", mesh, TetMeshFormat::kTetGen);
+  CHECK(voroclip::read_tet_mesh(base + ".ele").triangle_ref == mesh.triangle_ref);
+}
+
 TEST_CASE("read_tet_mesh: TetGen .face with markers and extra columns, from 0", "[core]") {
   write_temp("tf.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 1 1 1\n");
   write_temp("tf.ele", "2 4 2\n0 0 1 2 3 -1 0.5\n1 1 2 3 4 4.0 7\n");

@@ -35,10 +35,35 @@ std::string count_of(std::uint64_t n, const std::string& singular, const std::st
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
 
+/// One file of write_files_atomically: where it goes and what writes its content.
+struct FileWriter {
+  std::string path;
+  std::function<void(std::ostream&)> write;
+};
+
+/// Writes files that belong together (TetGen's .node, .ele and .face; a cell table and its
+/// neighbour pairs) so that they appear together or not at all: each is written to its
+/// temporary beside its path, as write_file_atomically does, and only when every one was
+/// written and flushed are they renamed over their paths, in order. If a write fails, every
+/// temporary is removed and no path changes; the error is write_file_atomically's. A rename
+/// that fails after others succeeded (check_output_path checks what makes it fail, before
+/// any work) removes the files already renamed that did not exist before (a file that was
+/// replaced cannot be restored) and the remaining temporaries. Two writers with the same
+/// path are an Error, thrown before anything is written.
+void write_files_atomically(const std::vector<FileWriter>& files);
+
 /// Checks, before any work, that write_file_atomically can create `path`: its directory
-/// exists and is writable, and `path` is not a directory. Throws Error "cannot write
-/// 'path': ..." naming what is wrong. An empty path (no output) passes.
+/// exists, `path` is not a directory, a temporary file can be created beside it (it is
+/// created and removed again: a directory that takes no new files, such as /proc, or a
+/// read-only file system fails here, whoever runs the check), and an existing file at
+/// `path` can be replaced (not immutable or append-only, chattr +i / +a). Throws Error
+/// "cannot write 'path': ..." naming what is wrong. An empty path (no output) passes.
 void check_output_path(const std::string& path);
+
+/// True when `a` and `b` name the same file: the same path once made absolute, "." and
+/// ".." and symbolic links resolved (files that do not exist yet included), or two names
+/// of one existing file (hard links). Empty paths name no file.
+bool same_file(const std::string& a, const std::string& b);
 
 /// Reads points of `dimension` (2 or 3) coordinates, returned packed (x y [z] per point),
 /// from either format, recognised by the first non-blank character:
@@ -266,22 +291,23 @@ TetMeshInput read_tetgen_mesh(std::istream& node, std::istream& ele, std::istrea
 /// Tetrahedral mesh file formats that write_tet_mesh can write. Every format keeps the
 /// triangles and the tags; only Gmsh keeps tag_names.
 enum class TetMeshFormat {
-  kMedit,          // .mesh, MeshVersionFormatted 2, numbered from 1: Vertices (ref 0), Triangles
-                   // (when there are triangles) and Tetrahedra, refs the tags
-  kTetGen,         // .node + .ele + .face (all written, whichever extension `path` has),
-                   // numbered from 1; .ele has one region attribute when tet_ref is not empty,
-                   // .face the triangles (maybe none), with markers when triangle_ref is not empty
-  kGmsh22,         // .msh ASCII 2.2, node tags 1..n, element tags: tets 1..nt, then triangles;
-                   // each element's tags: physical = its tag, elementary = its entity (as 4.1)
-  kGmsh41,         // .msh ASCII 4.1: one surface entity per distinct triangle tag and one volume
-                   // entity per distinct tet tag (increasing tags, entity tags from 1), each in
-                   // the physical group of its tag; all nodes in volume entity 1; tets (element
-                   // tags 1..nt) then triangles, one element block per run of equal tags
-  kVtk,            // legacy ASCII .vtk: tets (VTK_TETRA) then triangles (VTK_TRIANGLE), cell
-                   // data "cell_id", "region" (when tet_ref is not empty), "patch" (when
-                   // triangle_ref is not empty)
-  kVtu,            // VTK XML .vtu, binary: base64-encoded appended data (write_vtu), cells and
-                   // cell data as kVtk ("region"/"patch" Int32)
+  kMedit,   // .mesh, MeshVersionFormatted 2, numbered from 1: Vertices (ref 0), Triangles
+            // (when there are triangles) and Tetrahedra, refs the tags
+  kTetGen,  // .node + .ele + .face (all written, whichever extension `path` has, and
+            // all or none: write_files_atomically), numbered from 1; .ele has one region attribute
+            // when tet_ref is not empty, .face the triangles (maybe none), with markers when
+            // triangle_ref is not empty
+  kGmsh22,  // .msh ASCII 2.2, node tags 1..n, element tags: tets 1..nt, then triangles;
+            // each element's tags: physical = its tag, elementary = its entity (as 4.1)
+  kGmsh41,  // .msh ASCII 4.1: one surface entity per distinct triangle tag and one volume
+            // entity per distinct tet tag (increasing tags, entity tags from 1), each in
+            // the physical group of its tag; all nodes in volume entity 1; tets (element
+            // tags 1..nt) then triangles, one element block per run of equal tags
+  kVtk,     // legacy ASCII .vtk: tets (VTK_TETRA) then triangles (VTK_TRIANGLE), cell
+            // data "cell_id", "region" (when tet_ref is not empty), "patch" (when
+            // triangle_ref is not empty)
+  kVtu,     // VTK XML .vtu, binary: base64-encoded appended data (write_vtu), cells and
+            // cell data as kVtk ("region"/"patch" Int32)
   kVtuAscii,       // VTK XML .vtu, ASCII data arrays (write_vtu), as kVtu
   kGmsh41Binary,   // .msh binary 4.1 (file-type 1, little endian, size_t of 8 bytes): as
                    // kGmsh41, $PhysicalNames in ASCII as Gmsh writes it
@@ -305,6 +331,11 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
 /// As above, the format chosen by the extension: .mesh, .node/.ele, .msh (4.1), .vtk, .vtu
 /// (binary).
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh);
+
+/// The files write_tet_mesh(path, mesh, format) writes: `path`, or for TetGen the .node,
+/// .ele and .face beside it (whichever of them `path` names), so that a caller can check
+/// every one of them (check_output_path) before any work.
+std::vector<std::string> tet_mesh_files(const std::string& path, TetMeshFormat format);
 
 /// A named per-cell scalar of a .vtu file (one value per cell, written as Float64).
 struct VtuCellField {
