@@ -1101,25 +1101,38 @@ TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) 
 // Legacy VTK (.vtk), ASCII, DATASET UNSTRUCTURED_GRID: POINTS, CELLS (the classic layout
 // "n i0 .. i(n-1)" per cell, or the VTK 5.1 layout OFFSETS + CONNECTIVITY), CELL_TYPES;
 // cells of type 10 (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept. Then POINT_DATA / CELL_DATA
-// attributes and FIELD arrays: the CELL_DATA arrays `region` and `patch` (SCALARS or FIELD
-// arrays of one component) are kept, everything else is read past by its size.
+// attributes and FIELD arrays: the CELL_DATA arrays of tags (SCALARS or FIELD arrays of one
+// component; VtkCellTags) are kept, everything else is read past by its size.
 
 constexpr std::uint64_t kVtkTetra = 10;
 constexpr std::uint64_t kVtkTriangle = 5;
 
 // The tag arrays of a legacy VTK file (ASCII or binary): the first CELL_DATA array of one
-// component named `region` (the tets' tags) and the first named `patch` (the triangles').
+// component of each name that may hold tags (kVtkTagNames); the tets' tags and the
+// triangles' are then the first present in the order of kVtkTetTags and kVtkTriangleTags
+// (`region` / `patch`, else meshio's names: see text_lexer.h).
 struct VtkCellTags {
-  std::vector<std::int32_t> region, patch;
-  bool have_region = false, have_patch = false;
+  std::vector<std::int32_t> arrays[std::size(kVtkTagNames)];
+  bool have[std::size(kVtkTagNames)] = {};
   // The array to fill with an array `name` of `components` components (nullptr: none).
   std::vector<std::int32_t>* array(bool cell_data, std::string_view name,
                                    std::uint64_t components) {
-    if (!cell_data || components != 1 || (name != "region" && name != "patch")) return nullptr;
-    bool& have = name == "region" ? have_region : have_patch;
-    if (have) return nullptr;
-    have = true;
-    return name == "region" ? &region : &patch;
+    if (!cell_data || components != 1) return nullptr;
+    for (std::size_t k = 0; k < std::size(kVtkTagNames); ++k) {
+      if (name != kVtkTagNames[k]) continue;
+      if (have[k]) return nullptr;
+      have[k] = true;
+      return &arrays[k];
+    }
+    return nullptr;
+  }
+  // The tags of the tets (`tets` true) or of the triangles, per cell (empty: none).
+  const std::vector<std::int32_t>& of(bool tets) const {
+    static const std::vector<std::int32_t> kNone;
+    for (const std::size_t k : tets ? kVtkTetTags : kVtkTriangleTags) {
+      if (have[k]) return arrays[k];
+    }
+    return kNone;
   }
 };
 
@@ -1185,8 +1198,6 @@ TetMeshInput read_vtk(const std::string& path, std::string text) {
   enum class Data { kNone, kPoint, kCell } data = Data::kNone;
   std::uint64_t tuples = 0;
   VtkCellTags cell_tags;
-  std::vector<std::int32_t>& region = cell_tags.region;
-  std::vector<std::int32_t>& patch = cell_tags.patch;
   // The tag array an array of CELL_DATA named `name` with `components` fills (nullptr: none).
   const auto tag_array = [&](std::string_view name, std::uint64_t components) {
     return cell_tags.array(data == Data::kCell, name, components);
@@ -1360,7 +1371,8 @@ TetMeshInput read_vtk(const std::string& path, std::string text) {
                                           : "CELL_TYPES") +
                 " section");
   }
-  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, region, patch, mesh);
+  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, cell_tags.of(true),
+             cell_tags.of(false), mesh);
   return mesh;
 }
 
@@ -1530,8 +1542,6 @@ TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
   enum class Data { kNone, kPoint, kCell } data = Data::kNone;
   std::uint64_t tuples = 0;
   VtkCellTags cell_tags;
-  std::vector<std::int32_t>& region = cell_tags.region;
-  std::vector<std::int32_t>& patch = cell_tags.patch;
   // The tag array an array of CELL_DATA named `name` with `components` fills (nullptr: none).
   const auto tag_array = [&](std::string_view name, std::uint64_t components) {
     return cell_tags.array(data == Data::kCell, name, components);
@@ -1688,7 +1698,8 @@ TetMeshInput read_vtk_binary(const std::string& path, const std::string& text) {
                                           : "CELL_TYPES") +
                 " section");
   }
-  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, region, patch, mesh);
+  finish_vtk(path, cell_begin, cell_index, cell_line, cell_type, cell_tags.of(true),
+             cell_tags.of(false), mesh);
   return mesh;
 }
 

@@ -284,6 +284,17 @@ inline std::string without_extension(const std::string& path) {
   return extension_of(path).empty() ? path : path.substr(0, path.find_last_of('.'));
 }
 
+// The cell data arrays of VTK files (.vtk, .vtu) that hold tags: voroclip's own `region`
+// (tets) and `patch` (triangles), and meshio's names for the tags of the formats it
+// converts from, "gmsh:physical" (Gmsh's physical tags, from .msh) and "medit:ref"
+// (Medit's refs, from .mesh), one array for tets and triangles alike. The tets' tags are
+// the first array present in the order kVtkTetTags gives, the triangles' in the order of
+// kVtkTriangleTags. Other cell data ("gmsh:geometrical", the entity tags, "cell_id", ...)
+// is not read as tags.
+inline constexpr const char* kVtkTagNames[] = {"region", "patch", "gmsh:physical", "medit:ref"};
+inline constexpr std::size_t kVtkTetTags[] = {0, 2, 3};
+inline constexpr std::size_t kVtkTriangleTags[] = {1, 2, 3};
+
 // The reader of VTK XML unstructured grids behind read_tet_mesh (vtu_io.cpp).
 TetMeshInput read_vtu_tet_mesh(const std::string& path, std::string text);
 

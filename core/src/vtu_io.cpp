@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -376,13 +377,23 @@ class VtuReader {
     const std::vector<double> typ = values(*types, nb_cells, 1);
     const std::uint64_t size = nb_cells == 0 ? 0 : static_cast<std::uint64_t>(off.back());
     const std::vector<double> idx = values(*conn, size, 1);
-    // Tags: CellData region (tets) and patch (triangles), read with the cells they tag.
-    const XmlElement* region = array_in("CellData", "region");
-    const XmlElement* patch = array_in("CellData", "patch");
+    // Tags: CellData region (tets) and patch (triangles), else meshio's names for them
+    // (kVtkTagNames), read with the cells they tag.
+    const auto first_of = [&](const std::size_t* names, std::size_t n) -> const XmlElement* {
+      for (std::size_t k = 0; k < n; ++k) {
+        if (const XmlElement* a = array_in("CellData", kVtkTagNames[names[k]]); a != nullptr) {
+          return a;
+        }
+      }
+      return nullptr;
+    };
+    const XmlElement* region = first_of(kVtkTetTags, std::size(kVtkTetTags));
+    const XmlElement* patch = first_of(kVtkTriangleTags, std::size(kVtkTriangleTags));
     const std::vector<double> region_values =
         region == nullptr ? std::vector<double>{} : values(*region, nb_cells, 1);
-    const std::vector<double> patch_values =
-        patch == nullptr ? std::vector<double>{} : values(*patch, nb_cells, 1);
+    const std::vector<double> patch_values = patch == nullptr  ? std::vector<double>{}
+                                             : patch == region ? region_values
+                                                               : values(*patch, nb_cells, 1);
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);

@@ -1034,6 +1034,81 @@ TEST_CASE("read_tet_mesh: VTK region and patch cell data, .vtk and .vtu", "[core
   CHECK(mesh.triangle_ref == std::vector<std::int32_t>{-3});
 }
 
+// A .vtu and a legacy .vtk as meshio 5 writes them (ASCII): two triangles, then two tets,
+// with `cell_data` the CellData / FIELD arrays, each "name v0 v1 v2 v3" (Int64, per cell).
+std::string meshio_vtu(const std::vector<std::string>& cell_data) {
+  std::string text =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+      "byte_order=\"LittleEndian\">\n<!--This file was created by meshio v5.0.0-->\n"
+      "<UnstructuredGrid>\n<Piece NumberOfPoints=\"5\" NumberOfCells=\"4\">\n<Points>\n"
+      "<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">\n0 0 0 1 0 0 0 1 0 0 0 1 1 1 1\n</DataArray>\n</Points>\n<Cells>\n"
+      "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n"
+      "0 2 1 0 1 3 0 1 2 3 1 2 3 4\n</DataArray>\n"
+      "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n3 6 10 14\n</DataArray>\n"
+      "<DataArray type=\"Int64\" Name=\"types\" format=\"ascii\">\n5 5 10 10\n</DataArray>\n"
+      "</Cells>\n<CellData>\n";
+  for (const std::string& a : cell_data) {
+    const std::size_t blank = a.find(' ');
+    text += "<DataArray type=\"Int64\" Name=\"" + a.substr(0, blank) + "\" format=\"ascii\">\n" +
+            a.substr(blank + 1) + "\n</DataArray>\n";
+  }
+  return text + "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+std::string meshio_vtk(const std::vector<std::string>& cell_data) {
+  std::string text =
+      "# vtk DataFile Version 5.1\nwritten by meshio v5.0.0\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+      "POINTS 5 double\n0.0 0.0 0.0 1.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0 1.0 1.0 1.0 1.0\n"
+      "CELLS 5 14\nOFFSETS vtktypeint64\n0\n3\n6\n10\n14\nCONNECTIVITY vtktypeint64\n"
+      "0\n2\n1\n0\n1\n3\n0\n1\n2\n3\n1\n2\n3\n4\nCELL_TYPES 4\n5\n5\n10\n10\n"
+      "CELL_DATA 4\nFIELD FieldData " +
+      std::to_string(cell_data.size()) + "\n";
+  for (const std::string& a : cell_data) {
+    const std::size_t blank = a.find(' ');
+    text += a.substr(0, blank) + " 1 4 vtktypeint64\n" + a.substr(blank + 1) + "\n";
+  }
+  return text;
+}
+
+TEST_CASE("read_tet_mesh: meshio's tags in .vtu and .vtk, gmsh:physical and medit:ref",
+          "[core][regression]") {
+  // A .msh or .mesh converted by meshio keeps its tags as the cell data gmsh:physical
+  // (gmsh:geometrical holds the entities) or medit:ref, one array for every cell; they were
+  // dropped, and a two-region mesh read as one region without interfaces.
+  using Arrays = std::vector<std::string>;
+  const std::vector<std::pair<std::string, Arrays>> cases = {
+      {"gmsh", {"gmsh:physical 7 8 1 2", "gmsh:geometrical 3 4 5 6"}},
+      {"gmsh_reversed", {"gmsh:geometrical 3 4 5 6", "gmsh:physical 7 8 1 2"}},
+      {"medit", {"medit:ref 7 8 1 2"}},
+      // The first of region / gmsh:physical / medit:ref for the tets, of patch /
+      // gmsh:physical / medit:ref for the triangles.
+      {"region", {"medit:ref 0 0 9 9", "region 0 0 1 2", "gmsh:physical 7 8 5 5"}},
+      {"patch", {"patch 7 8 0 0", "medit:ref 9 9 1 2"}},
+  };
+  for (const auto& [name, arrays] : cases) {
+    for (const bool xml : {true, false}) {
+      INFO(name << (xml ? ".vtu" : ".vtk"));
+      const std::string path = write_temp("meshio_" + name + (xml ? ".vtu" : ".vtk"),
+                                          xml ? meshio_vtu(arrays) : meshio_vtk(arrays));
+      const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+      CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3, 1, 2, 3, 4});
+      CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 2, 1, 0, 1, 3});
+      CHECK(mesh.tet_ref == std::vector<std::int32_t>{1, 2});
+      CHECK(mesh.triangle_ref == std::vector<std::int32_t>{7, 8});
+    }
+  }
+  // Integer cell data of other names is not a tag.
+  for (const bool xml : {true, false}) {
+    const Arrays other = {"gmsh:geometrical 3 4 5 6", "material 1 1 2 2"};
+    const TetMeshInput mesh =
+        voroclip::read_tet_mesh(write_temp(std::string("meshio_other") + (xml ? ".vtu" : ".vtk"),
+                                           xml ? meshio_vtu(other) : meshio_vtk(other)));
+    CHECK(mesh.tet_ref.empty());
+    CHECK(mesh.triangle_ref.empty());
+  }
+}
+
 TEST_CASE("read_tet_mesh: triangle indices out of range name the element", "[core]") {
   std::string path = write_temp("trirange.mesh",
                                 "MeshVersionFormatted 2\nVertices\n4\n0 0 0 0\n1 0 0 0\n"

@@ -170,8 +170,9 @@ PolygonRings square_with_holes(std::uint32_t k, double hole_fraction);
 ///
 /// Tags. A tag is a 32-bit integer, 0 meaning "untagged": Medit refs, TetGen region
 /// attributes and face markers, Gmsh physical tags, the cell data `region` and `patch` of
-/// VTK files. A tag vector is either empty (every tag 0: readers return it empty when the
-/// file has no tags or only zeros) or holds one tag per tet / triangle.
+/// VTK files (or meshio's `gmsh:physical` and `medit:ref`). A tag vector is either empty (every tag
+/// 0: readers return it empty when the file has no tags or only zeros) or holds one tag per tet /
+/// triangle.
 struct TetMeshInput {
   /// Where it came from (a file name), for error messages.
   std::string source;
@@ -253,13 +254,15 @@ struct TetMeshInput {
 ///   .vtk           legacy VTK ASCII or BINARY (big endian, of the types the lines name; no
 ///                  string or bit arrays), DATASET UNSTRUCTURED_GRID: POINTS, CELLS (classic or
 ///                  VTK 5.1 OFFSETS/CONNECTIVITY layout), CELL_TYPES; cells of type 10
-///                  (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept, others skipped; the CELL_DATA
-///                  arrays `region` (the tets' tags) and `patch` (the triangles' tags), as
-///                  SCALARS or FIELD arrays of one component, integers; other data is read
-///                  past;
+///                  (VTK_TETRA) and 5 (VTK_TRIANGLE) are kept, others skipped; tags from
+///                  CELL_DATA arrays (SCALARS or FIELD arrays of one component, integers):
+///                  the tets' from `region`, else `gmsh:physical`, else `medit:ref`, the
+///                  triangles' from `patch`, else `gmsh:physical`, else `medit:ref` (meshio
+///                  names so the tags of a .msh or .mesh it converts); other data
+///                  (`gmsh:geometrical`, ...) is read past;
 ///   .vtu           VTK XML UnstructuredGrid, one Piece: Points and the Cells arrays
 ///                  connectivity, offsets, types (tetra and triangle cells kept), CellData
-///                  `region` and `patch` as for .vtk, each ascii, binary (inline base64) or
+///                  tags as for .vtk, each ascii, binary (inline base64) or
 ///                  appended (base64 or raw), UInt32 or UInt64 headers, either byte order,
 ///                  uncompressed or zlib-compressed (compressor="vtkZLibDataCompressor";
 ///                  LZ4 and LZMA are rejected); tet_line is the line of the connectivity
