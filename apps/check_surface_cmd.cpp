@@ -73,7 +73,7 @@ void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& option
   if (!defect.empty()) {
     if (options.stats_json) {
       std::cout << nlohmann::json{{"valid", false},
-                                  {"error", defect},
+                                  {"error", cli_message(defect)},
                                   {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
                        .dump()
                 << '\n';

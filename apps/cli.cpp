@@ -4,9 +4,11 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <numeric>
 #include <system_error>
+#include <utility>
 
 #include "progress.h"
 
@@ -22,6 +24,23 @@ std::string no_encoding_message(const std::string& flag, const std::string& ext)
                         "specification; gzip the file if its size matters";
   return flag + ": only a .vtu output (-o FILE.vtu) is written in binary or compressed (" + what +
          ")";
+}
+
+std::string cli_message(const std::string& what) {
+  // What the library tells a caller of its API, and what says the same on the command line.
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"Surface3Options::reorient, --reorient", "--reorient"},
+      {"ClippedVoronoi3::compute(domain, sites, n) takes them", "clip3d takes them"},
+  };
+  std::string text = what;
+  for (const auto& [api, cli] : kNames) {
+    const std::string from = api;
+    for (std::size_t at = text.find(from); at != std::string::npos;
+         at = text.find(from, at + std::strlen(cli))) {
+      text.replace(at, from.size(), cli);
+    }
+  }
+  return text;
 }
 
 std::ostream* human_stream(const GlobalOptions& options) {

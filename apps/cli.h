@@ -34,6 +34,12 @@ struct GlobalOptions {
 /// (--stats json); with --quiet it is dropped (nullptr).
 std::ostream* human_stream(const GlobalOptions& options);
 
+/// A library message as the command line says it: the library's API names that it gives
+/// for a caller of the library (Surface3Options::reorient, ClippedVoronoi3::compute) become
+/// the options and commands that do the same. Every error line and JSON "error" goes
+/// through it.
+std::string cli_message(const std::string& what);
+
 /// Parses a finite double written in decimal ("-1.25e-3") or C99 hexadecimal ("0x1.8p-3"),
 /// independently of the locale; the whole string must be the number. `what` names the
 /// argument in the error message, e.g. "coordinate 3".
@@ -211,8 +217,9 @@ struct Mesh3dArgs {
   std::uint32_t mean_rounds = Mesh3Options{}.mean_rounds;
   std::string output;  // .mesh, .msh, .vtu, .node / .ele; empty: no file
   std::string msh_version = "4.1";
-  bool binary = false;    // .msh: Gmsh 4.1 binary
-  bool compress = false;  // .vtu: zlib-compressed data
+  bool msh_version_set = false;  // --msh-version given (an error without a .msh output)
+  bool binary = false;           // .msh: Gmsh 4.1 binary
+  bool compress = false;         // .vtu: zlib-compressed data
   DensityArgs density;
 };
 

@@ -39,7 +39,7 @@ CLI::App* add_cvt3d_command(CLI::App& app, Cvt3dArgs& args, const std::string& d
       "cvt3d",
       "Centroidal Voronoi tessellation of a volume (L-BFGS or Lloyd; Yan et al. 2011, eq. 1-2), "
       "from given or random sites, with an optional density");
-  cmd->add_option("DOMAIN", args.domain, domain_help)->required()->type_name("DOMAIN");
+  cmd->add_option("DOMAIN", args.domain, domain_help)->required()->type_name("");
   cmd->add_flag("--reorient", args.reorient, reorient_help);
   cmd->add_option("--sites", args.sites,
                   "Site file: one 'x y z' per line ('#' comments) or a JSON array [[x,y,z],...]")

@@ -97,10 +97,27 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
   const std::vector<double> points =
       args.random_set ? random_points(args.random, args.seed, dim) : read_points(args.input, dim);
   const auto n = static_cast<std::uint32_t>(points.size() / static_cast<std::size_t>(dim));
+  // Where the points come from, for messages (the library's name its triangulation class).
+  const std::string source =
+      args.random_set ? "--random " + std::to_string(args.random) : args.input;
+  if (n < static_cast<std::uint32_t>(dim) + 1) {
+    throw Error(source + ": " + count_of(n, "point") + "; delaunay" + std::to_string(dim) +
+                "d needs at least " + std::to_string(dim + 1) + " points, not all on a line" +
+                (dim == 3 ? " or in a plane" : ""));
+  }
 
   progress.phase("Delaunay");
   const auto start = std::chrono::steady_clock::now();
-  Result r = dim == 2 ? triangulate_2d(points, false) : triangulate_3d(points, false);
+  Result r;
+  try {
+    r = dim == 2 ? triangulate_2d(points, false) : triangulate_3d(points, false);
+  } catch (const Error& e) {
+    std::string what = e.what();
+    for (const std::string prefix : {"Delaunay2: ", "Delaunay3: "}) {
+      if (what.rfind(prefix, 0) == 0) what.erase(0, prefix.size());
+    }
+    throw Error(source + ": " + what);
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.check) {

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -94,6 +95,10 @@ struct Tokens {
   std::size_t next = 0;
 
   explicit Tokens(const std::string& file) : path(file) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) {
+      throw Error(file + ": is a directory, not a file");
+    }
     std::ifstream in(file);
     if (!in) throw Error(file + ": cannot open the file");
     std::string line;

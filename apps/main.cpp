@@ -32,7 +32,7 @@ constexpr int kRuntimeError = 1;
 constexpr int kUsageError = 2;
 
 int report_error(const std::string& what, int status) {
-  std::string line = what;
+  std::string line = voroclip::cli::cli_message(what);
   for (char& c : line) {
     if (c == '\n' || c == '\r') c = ' ';
   }
@@ -570,6 +570,7 @@ int main(int argc, char** argv) {
     }
     if (*mesh3d) {
       mesh3d_args.vertices_set = mesh3d->get_option("--vertices")->count() > 0;
+      mesh3d_args.msh_version_set = mesh3d->get_option("--msh-version")->count() > 0;
       voroclip::cli::run_mesh3d(mesh3d_args, global);
     }
     if (*check_surface) voroclip::cli::run_check_surface(check_args, global);

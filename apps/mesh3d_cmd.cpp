@@ -58,6 +58,11 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (args.binary && (ext != ".msh" || args.msh_version != "4.1")) {
     throw UsageError("--binary: only a .msh output in Gmsh 4.1 is written in binary");
   }
+  if (args.msh_version_set && ext != ".msh") {
+    throw UsageError(
+        "--msh-version: only a .msh output (Gmsh) has a format version, got " +
+        (args.output.empty() ? std::string("no output file") : "'" + args.output + "'"));
+  }
   if (args.compress && ext != ".vtu") {
     throw UsageError("--compress: only a .vtu output is compressed");
   }

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "text_lexer.h"
 #include "voroclip/core.h"
 
 namespace voroclip {
@@ -89,6 +90,7 @@ std::vector<double> read_points(const std::string& path, int dimension) {
   if (dimension != 2 && dimension != 3) {
     throw Error("read_points: dimension must be 2 or 3, got " + std::to_string(dimension));
   }
+  detail::check_not_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
   return read_points(in, path, dimension);

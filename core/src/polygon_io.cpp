@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "text_lexer.h"
 #include "voroclip/core.h"
 
 namespace voroclip {
@@ -409,6 +410,7 @@ PolygonRings read_polygon(const std::string& path) {
   if (!ends_with(ext, ".json") && !ends_with(ext, ".poly")) {
     throw Error(path + ": unknown polygon format: expected a .json or a .poly file");
   }
+  detail::check_not_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
   return read_polygon(in, path);

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -45,7 +46,16 @@ inline std::string read_whole_stream(std::istream& in, const std::string& name) 
   return ss.str();
 }
 
+// A directory opens as a file but reads as an error ("read error"): named as what it is.
+inline void check_not_directory(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(path + ": is a directory, not a file");
+  }
+}
+
 inline std::string read_whole_file(const std::string& path) {
+  check_not_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
   return read_whole_stream(in, path);

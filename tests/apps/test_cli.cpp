@@ -486,3 +486,81 @@ TEST_CASE("two outputs naming one file: a usage error before any work", "[apps][
     CHECK_FALSE(exists(json));
   }
 }
+
+TEST_CASE("messages say what the command line calls things", "[apps][regression]") {
+  // Library API names and printf artefacts had leaked into the error lines.
+  SECTION("an inside-out surface: --reorient, not Surface3Options::reorient") {
+    const std::string obj = temp_path(".obj");
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                          "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+    for (const char* command : {"check-surface", "clip3d"}) {
+      INFO(command);
+      const Run run = std::string(command) == "clip3d" ? run_cli({command, obj, "--random", "10"})
+                                                       : run_cli({command, obj});
+      CHECK(run.status == 1);
+      check_one_error_line(run);
+      CHECK(contains(run.err, "the surface is inside out"));
+      CHECK(contains(run.err, "(--reorient)"));
+      CHECK_FALSE(contains(run.err, "::"));
+    }
+    const Run json = run_cli({"--stats", "json", "check-surface", obj});
+    CHECK_FALSE(contains(nlohmann::json::parse(json.out)["error"].get<std::string>(), "::"));
+    std::remove(obj.c_str());
+  }
+  SECTION("delaunay3d: too few points, or all in a plane") {
+    const std::string one = temp_path(".txt"), plane = temp_path(".txt");
+    std::ofstream(one) << "0 0 0\n";
+    std::ofstream(plane) << "0 0 0\n1 0 0\n0 1 0\n1 1 0\n";
+    const Run few = run_cli({"delaunay3d", one});
+    CHECK(few.status == 1);
+    check_one_error_line(few);
+    CHECK(contains(few.err, one + ": 1 point; delaunay3d needs at least 4 points"));
+    const Run flat = run_cli({"delaunay3d", plane});
+    CHECK(flat.status == 1);
+    check_one_error_line(flat);
+    CHECK(contains(flat.err, plane + ": all points are coplanar"));
+    CHECK(contains(flat.err, "clip3d takes them"));
+    for (const Run* r : {&few, &flat}) {
+      CHECK_FALSE(contains(r->err, "Delaunay3"));
+      CHECK_FALSE(contains(r->err, "::"));
+    }
+    const Run random = run_cli({"delaunay2d", "--random", "2"});
+    CHECK(random.status == 1);
+    CHECK(contains(random.err, "--random 2: 2 points; delaunay2d needs at least 3 points"));
+    std::remove(one.c_str());
+    std::remove(plane.c_str());
+  }
+  SECTION("a directory given as the input") {
+    const std::string dir = temp_path(".obj");
+    REQUIRE(::mkdir(dir.c_str(), 0755) == 0);
+    const Run run = run_cli({"check-surface", dir});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, dir + ": is a directory, not a file"));
+    ::rmdir(dir.c_str());
+  }
+  SECTION("cvt3d -o FILE.obj: the header names cvt3d") {
+    const std::string sphere = std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj";
+    const std::string obj = temp_path(".obj");
+    const Run run =
+        run_cli({"-q", "cvt3d", sphere, "--random", "20", "--iterations", "1", "-o", obj});
+    REQUIRE(run.status == 0);
+    const std::string text = slurp(obj);
+    CHECK(text.rfind("# voroclip cvt3d: restricted Voronoi diagram", 0) == 0);
+    std::remove(obj.c_str());
+  }
+  SECTION("mesh3d --msh-version without a .msh output, as --binary") {
+    const std::string sphere = std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj";
+    const std::string mesh = temp_path(".mesh");
+    for (const char* option : {"--binary", "--msh-version"}) {
+      INFO(option);
+      std::vector<std::string> args = {"mesh3d", sphere, "--vertices", "100", "-o", mesh, option};
+      if (std::string(option) == "--msh-version") args.push_back("2.2");
+      const Run run = run_cli(args);
+      CHECK(run.status == 2);
+      check_one_error_line(run);
+      CHECK(contains(run.err, std::string(option) + ": only a .msh output"));
+      CHECK_FALSE(exists(mesh));
+    }
+  }
+}

@@ -158,9 +158,13 @@ TEST_CASE("help text: no CLI11 artefacts", "[apps]") {
   const Run top = run_cli({"--help"});
   CHECK(!contains(top.out, "json:{json}"));
   CHECK(contains(top.out, "--progress"));
-  for (const char* command : {"clip2d", "clip3d", "mesh2d", "mesh3d", "cvt2d", "quality"}) {
+  for (const char* command : {"clip2d", "clip3d", "mesh2d", "mesh3d", "cvt2d", "cvt3d", "quality",
+                              "check-surface", "delaunay2d", "delaunay3d", "predicate", "demo"}) {
+    INFO(command);
     const Run h = run_cli({command, "--help"});
     CHECK(h.status == 0);
+    CHECK(h.out == run_cli({"help", command}).out);
+    CHECK(!contains(h.out, "FILE FILE"));
     CHECK(!contains(h.out, "DOMAIN DOMAIN"));
     CHECK(!contains(h.out, "MESH MESH"));
     CHECK(!contains(h.out, "REQUIRED"));
