@@ -49,37 +49,41 @@ void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& option
     return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".msh" || ext == ".vtk" ||
            ext == ".vtu";
   }();
-  // Read first (a file that cannot be read is an error either way), then validate: an
-  // invalid surface is a verdict, printed as such, with exit status 1.
+  // Read, then validate. Any defect, in the file or in the surface, is a verdict: with
+  // --stats json the JSON says valid: false and the error, then the error line and exit
+  // status 1.
+  const auto invalid = [&](const Error& e, double t_read, double t_validate) {
+    if (options.stats_json) {
+      std::cout << nlohmann::json{{"valid", false},
+                                  {"error", cli_message(e.what())},
+                                  {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
+                       .dump()
+                << '\n';
+    }
+    throw e;
+  };
   TriangleSurface input;
   TetMeshInput mesh;
-  if (tets) {
-    mesh = read_tet_mesh(args.path);
-  } else {
-    input = read_surface(args.path);
+  try {
+    if (tets) {
+      mesh = read_tet_mesh(args.path);
+    } else {
+      input = read_surface(args.path);
+    }
+  } catch (const Error& e) {
+    invalid(e, seconds_since(t0), 0);
   }
   const double t_read = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   Domain3 domain;
-  std::string defect;
   try {
     Surface3Options so;
     so.reorient = args.reorient;
     domain = tets ? Domain3(mesh) : Domain3(input, so);
   } catch (const Error& e) {
-    defect = e.what();
+    invalid(e, t_read, seconds_since(t1));
   }
   const double t_validate = seconds_since(t1);
-  if (!defect.empty()) {
-    if (options.stats_json) {
-      std::cout << nlohmann::json{{"valid", false},
-                                  {"error", cli_message(defect)},
-                                  {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
-                       .dump()
-                << '\n';
-    }
-    throw Error(defect);
-  }
   note_reoriented(domain, options);
   const Surface3& s = domain.surface();
   std::uint32_t used = 0;

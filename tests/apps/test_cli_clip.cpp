@@ -257,6 +257,39 @@ TEST_CASE("check-surface: the verdict, the shells, genus, area and volume", "[ap
   std::remove(open.c_str());
 }
 
+TEST_CASE("check-surface --stats json: every invalid input says valid false and the error",
+          "[apps][regression]") {
+  // Defects found while reading (an index out of range, a coordinate that is not finite, a
+  // truncated or empty file) printed no JSON at all, only the error line.
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 5\nf 2 3 4\n"},
+      {".obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"},
+      {".off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"},
+      {".obj", ""},
+      {".mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n"},
+  };
+  std::vector<std::string> paths;
+  for (const auto& [ext, text] : files) {
+    paths.push_back(temp_path(ext));
+    std::ofstream(paths.back()) << text;
+  }
+  paths.push_back(temp_path(".obj"));  // no such file
+  for (const std::string& path : paths) {
+    INFO(path);
+    const Run run = run_cli({"--stats", "json", "check-surface", path});
+    CHECK(run.status == 1);
+    REQUIRE(!run.out.empty());
+    const nlohmann::json j = nlohmann::json::parse(run.out);
+    CHECK(j["valid"] == false);
+    // The JSON's error is the error line's.
+    const std::string error = j["error"].get<std::string>();
+    CHECK(run.err == "voroclip: error: " + error + "\n");
+    CHECK(contains(error, path));
+    CHECK(j["seconds"].contains("read"));
+    std::remove(path.c_str());
+  }
+}
+
 TEST_CASE("clip3d, clip2d: --binary / --compress refuse outputs without such a variant", "[apps]") {
   // OBJ (and SVG, CSV, JSON) have no binary or compressed form in their specifications.
   const std::string sphere = kData + "/surfaces/sphere.obj";
