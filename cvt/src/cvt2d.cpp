@@ -250,10 +250,12 @@ class Problem {
 
   // Diagonal preconditioning: variables of site i scaled by lambda sqrt(2 m_i), from the
   // last evaluate. sqrt(2 m_i) is the square root of the CVT Hessian's diagonal (d2F/dx_i^2
-  // is about 2 m_i I), so the scaled Hessian is about the identity and the Newton step
-  // about minus the scaled gradient; lambda = 1 / |scaled gradient| makes that step of unit
-  // length, the length of L-BFGS-B's first step. Cells of mass below 1e-6 of the mean are
-  // treated as of that mass.
+  // is about 2 m_i I), so the scaled Hessian is about I / lambda^2 and the Newton step
+  // about minus lambda^2 times the scaled gradient; lambda = 1 / |sqrt(2 m)-scaled gradient|
+  // makes that step of unit length, the length of L-BFGS-B's first step. The energy is
+  // then scaled by lambda^2 (objective_scale): the Hessian becomes about the identity and
+  // the gradient about the Newton step, of unit length too. Cells of mass below 1e-6 of
+  // the mean are treated as of that mass.
   void set_scales() {
     scale_.assign(n_, 1.0);
     const double floor =
@@ -268,6 +270,7 @@ class Problem {
     }
     const double lambda = g2 > 0 ? 1 / std::sqrt(g2) : 1.0;
     for (double& w : scale_) w *= lambda;
+    set_objective_scale(lambda * lambda);
   }
 
   // Without preconditioning, one scale for every variable, 2 m / |g| (m the mean mass of the
@@ -277,15 +280,29 @@ class Problem {
   // search extrapolates from there by small factors: on earcut.json (14,000 units wide,
   // 2000 sites) 30 trials moved the sites by a few units and the solver stopped with
   // "no progress" at |g|/|g0| 0.91, while the same polygon scaled by 1e-3 converged.
+  // In the variables z = s x the Hessian is 2 m / s^2 = |g|^2 / (2 m): the energy is scaled
+  // by its inverse (objective_scale), so that the gradient too is about the Newton step.
   void set_uniform_scale() {
     scale_.clear();
+    set_objective_scale(1);
     double g2 = 0;
     for (Eigen::Index k = 0; k < unscaled_.size(); ++k) g2 += unscaled_[k] * unscaled_[k];
     const double m = cv_.total_mass() / static_cast<double>(std::max<std::size_t>(n_, 1));
     if (!(g2 > 0 && m > 0)) return;
     const double s = 2 * m / std::sqrt(g2);
-    if (std::isfinite(s) && s > 0) scale_.assign(n_, s);
+    if (std::isfinite(s) && s > 0) {
+      scale_.assign(n_, s);
+      set_objective_scale(2 * m / g2);
+    }
   }
+
+  // The factor of the energy (and its gradient) that L-BFGS-B minimises: a power of two
+  // (exact both ways) within a factor 2 of the inverse of the Hessian in the variables z.
+  // Without it the gradient in z scales as the fourth power of the model's units (energy
+  // ~ L^4, variables ~ 1): at 2^-20 it is 2^-80 of the variables, LBFGSpp's projected
+  // gradient (z - g) - z rounds to 0 and the solver returned at once, having taken no step
+  // (cvt2d on a polygon scaled by 2^-20: 0 iterations of 30).
+  double objective_scale() const { return objective_scale_; }
 
   // Lloyd: every site to its centroid (sliding sites: to the closest point of their path).
   void lloyd_step() {
@@ -310,6 +327,11 @@ class Problem {
 
  private:
   double scale(std::size_t i) const { return scale_.empty() ? 1.0 : scale_[i]; }
+  // The largest power of two not above c (1 for c not a positive finite number).
+  void set_objective_scale(double c) {
+    objective_scale_ =
+        std::isfinite(c) && c > 0 ? std::ldexp(1.0, std::clamp(std::ilogb(c), -1000, 1000)) : 1.0;
+  }
   std::size_t nb_vars(std::size_t i) const {
     switch (kind(i)) {
       case SiteConstraint2::Kind::kFree:
@@ -339,6 +361,7 @@ class Problem {
   std::vector<PathParam2> params_;
   std::vector<std::size_t> offset_;
   std::vector<double> scale_;  // per site; empty: 1
+  double objective_scale_ = 1;
   Eigen::VectorXd unscaled_;
   Clip2Options clip_options_;
   Delaunay2 dt_;
@@ -426,6 +449,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
         } else {
           problem.set_uniform_scale();
         }
+        const double c = problem.objective_scale();
         problem.bounds(lo, hi);
         z = problem.variables();
         LBFGSpp::LBFGSBParam<double> param;
@@ -450,6 +474,8 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
           if (!x.allFinite()) throw std::runtime_error("cvt2d: L-BFGS stopped making progress");
           problem.place(x);
           const double fx = problem.evaluate(x, &grad);
+          // L-BFGS-B sees the energy times c (objective_scale); best_f is the energy itself.
+          grad *= c;
           if (fx < best_f) {
             best_f = fx;
             best_z = x;
@@ -462,12 +488,17 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
               throw Converged{};
             }
           }
-          return fx;
+          return fx * c;
         };
-        double fx = f;
+        double fx = f * c;
         stop = true;
         try {
           solver.minimize(fun, z, fx, lo, hi);
+          // LBFGSpp returned by itself, before the budget or the target: its projected
+          // gradient vanished at the precision of the variables, or its own count of outer
+          // iterations (more than the points accepted here) ran out. The best point so far
+          // is kept, and the solver restarted from it while that makes progress.
+          stalled = accepted < options.max_iterations;
         } catch (const Converged&) {
           stop = !restart;
         } catch (const Error&) {

@@ -247,3 +247,40 @@ TEST_CASE("cvt2d: the default budget reaches the default tolerance on the shared
     CHECK(r.stop == voroclip::CvtStop::kConverged);
   }
 }
+
+TEST_CASE("cvt2d: a scale sweep 2^-60 .. 2^60, the same run in every unit", "[cvt][regression]") {
+  // The gradient in L-BFGS-B's variables scaled as the fourth power of the units: at 2^-20
+  // LBFGSpp's projected gradient rounded to 0 against the variables, the solver returned
+  // without a step and the run reported 0 iterations, stopped by the "iteration budget" of
+  // 30. The energy is now scaled by a power of two too, so that with powers of two the
+  // run is the same, bit for bit, in every unit, with and without preconditioning.
+  const PolygonRings l_shape = rings_of({{0, 0, 1, 0, 1, 0.6, 0.4, 0.6, 0.4, 1, 0, 1}});
+  const Domain2 unit(l_shape);
+  const std::vector<double> start = random_inside(unit, 300, 11);
+  for (const bool precondition : {false, true}) {
+    Cvt2Options o;
+    o.max_iterations = 30;
+    o.precondition = precondition;
+    std::vector<double> reference = start;
+    const auto r0 = voroclip::optimize_cvt2(unit, reference, o);
+    REQUIRE(r0.iterations == 30);
+    REQUIRE(r0.stop == voroclip::CvtStop::kIterationBudget);
+    REQUIRE(r0.gradient_norm < 0.1 * r0.initial_gradient_norm);
+    for (const int e : {-60, -40, -20, -1, 1, 20, 40, 60}) {
+      INFO("precondition " << precondition << ", scale 2^" << e);
+      const double k = std::ldexp(1.0, e);
+      const Domain2 d(scaled(l_shape, k));
+      std::vector<double> sites = start;
+      for (double& x : sites) x *= k;
+      const auto r = voroclip::optimize_cvt2(d, sites, o);
+      CHECK(r.iterations == r0.iterations);
+      CHECK(r.evaluations == r0.evaluations);
+      CHECK(r.stop == r0.stop);
+      CHECK(r.gradient_norm / r.initial_gradient_norm ==
+            r0.gradient_norm / r0.initial_gradient_norm);
+      std::size_t same = 0;
+      for (std::size_t i = 0; i < sites.size(); ++i) same += sites[i] == reference[i] * k ? 1 : 0;
+      CHECK(same == sites.size());
+    }
+  }
+}
