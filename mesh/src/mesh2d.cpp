@@ -379,7 +379,8 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
 }
 
 // Moves p (computed on edge e, up to rounding) to a double point in the closed domain:
-// unchanged when it is on the edge or inside already, else a few ulps towards the inside.
+// unchanged when it is on the edge or inside already, else a few ulps towards the inside;
+// onto the edge's end vertex when it is past that end.
 void round_into_domain(const Domain2& domain, std::uint32_t e, double* p) {
   const double* a = domain.vertex(e);
   const double* b = domain.vertex(domain.next(e));
@@ -395,6 +396,24 @@ void round_into_domain(const Domain2& domain, std::uint32_t e, double* p) {
     const double* q = da <= db ? a : b;
     p[0] = q[0];
     p[1] = q[1];
+    return;
+  }
+  // Past an end of the edge, in the order the conforming extraction puts a ring's sites
+  // along it (extract2d_conforming.cpp, AlongEdge: by the coordinate along which the edge
+  // extends most, ties by the other): the end. A site rounded 1 ulp past a hole's corner,
+  // still in the domain, came after that corner in its ring's chain, which then went back
+  // over the corner, and the extraction failed ("the boundary chains cross": two holes
+  // 2e-4 apart at 400 vertices).
+  const int axis = std::fabs(b[0] - a[0]) >= std::fabs(b[1] - a[1]) ? 0 : 1;
+  const bool up[2] = {b[0] >= a[0], b[1] >= a[1]};
+  const auto before = [&](const double* x, const double* y) {
+    if (x[axis] != y[axis]) return up[axis] ? x[axis] < y[axis] : x[axis] > y[axis];
+    return up[1 - axis] ? x[1 - axis] < y[1 - axis] : x[1 - axis] > y[1 - axis];
+  };
+  const double* end = before(p, a) ? a : before(b, p) ? b : nullptr;
+  if (end != nullptr) {
+    p[0] = end[0];
+    p[1] = end[1];
   }
 }
 
