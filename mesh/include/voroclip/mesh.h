@@ -1111,8 +1111,9 @@ struct Mesh3Options {
   // 8; then again with twice the vertices, without end). At the cap the rounds stop
   // (Mesh3Result::topology_capped): kRaise meshes the state with the fewest defects, whose
   // shape check_mesh3_shape judges; kExact throws. The shared models add at most 2.1 times
-  // the vertices (skull_low_resolution.obj at 500: 1,040 sites).
-  double max_topology_sites = 4;
+  // the vertices (skull_low_resolution.obj at 500: 1,040 sites); a 3 x 3 x 0.1 plate at 150
+  // vertices (test_mesh3d_tags) adds about 1,000.
+  double max_topology_sites = 8;
   // kRaise: when the output's boundary does not have the domain's shape (check_mesh3_shape;
   // features thinner than the sites' spacing), the whole pipeline runs again with twice the
   // vertices, at most max_shape_retries times; the first run with the right shape is
