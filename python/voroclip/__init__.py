@@ -4,7 +4,8 @@ meshing in 2D (polygons with holes) and 3D (volumes bounded by triangle surfaces
 numpy in, numpy out. Every combinatorial decision (which cell, which side, which
 triangle) is exact; only constructed coordinates are rounded. Bad input raises
 :class:`Error` (a ValueError) with the library's message. Heavy calls release the GIL,
-take ``threads=`` (None: all cores) and give the same bits for any thread count.
+take ``threads=`` (None or 0: all cores; a count above the cores runs on the cores) and
+give the same bits for any thread count.
 
 Main entry points: :func:`clip2d`, :func:`clip3d`, :func:`cvt2d`, :func:`cvt3d`,
 :func:`mesh2d`, :func:`mesh3d`, :func:`quality`, :func:`random_points`, :class:`Delaunay2`, :class:`Delaunay3`,
@@ -48,7 +49,8 @@ class Delaunay2(_core.Delaunay2):
 
     scipy.spatial.Delaunay's conventions: ``simplices`` (m, 3) int32 point indices,
     counter-clockwise; ``neighbors`` (m, 3): the triangle opposite vertex k, -1 on the
-    hull; ``find_simplex(xi)`` the triangle holding each (k, 2) point, -1 outside;
+    hull; ``find_simplex(xi)`` the triangle holding each point of xi, shaped (..., 2), -1
+    outside, in shape (...) (one point (2,): a 0-d array);
     ``vertex_neighbor_vertices`` (indptr, indices). Also ``vertex_neighbors(v)``,
     ``nearest_vertex(xi)`` (exact nearest point), ``convex_hull`` (h, 2) edges,
     ``duplicate_of`` (for each point, the smallest index with the same coordinates; only
@@ -57,17 +59,20 @@ class Delaunay2(_core.Delaunay2):
     affinely independent points."""
 
     def __init__(self, points, threads=None):
-        super().__init__(points, 0 if threads is None else int(threads))
+        super().__init__(points, threads)
 
 
 class Delaunay3(_core.Delaunay3):
     """The Delaunay tetrahedralisation of (n, 3) points, exact; as :class:`Delaunay2`
     with ``simplices`` / ``neighbors`` (m, 4) and ``hull_vertices`` instead of
-    ``convex_hull``. Raises :class:`Error` for non-finite coordinates or fewer than 4
-    affinely independent points."""
+    ``convex_hull``. The tets of ``simplices`` have det(p1 - p0, p2 - p0, p3 - p0) < 0
+    (orient3d(p0, p1, p2, p3) = +1, Shewchuk's convention), exactly: the opposite of
+    :attr:`Mesh.cells` and VTK (det > 0); ``simplices[:, [1, 0, 2, 3]]`` turns them so.
+    Raises :class:`Error` for non-finite coordinates or fewer than 4 affinely independent
+    points."""
 
     def __init__(self, points, threads=None):
-        super().__init__(points, 0 if threads is None else int(threads))
+        super().__init__(points, threads)
 
 
 def orient2d(a, b, c):

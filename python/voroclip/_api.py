@@ -14,8 +14,9 @@ from ._core import Error
 from ._domains import domain2, domain3
 
 
-def _threads(threads: Optional[int]) -> int:
-    return 0 if threads is None else int(threads)
+def _threads(threads: Optional[int]):
+    # The core checks it (an integer >= 0; above the cores, the cores) and says what is wrong.
+    return 0 if threads is None else threads
 
 
 class CSR(NamedTuple):
@@ -109,12 +110,19 @@ class Cells:
         if not self.has_geometry:
             raise Error("geometry: not computed; pass geometry=True to clip2d/clip3d")
 
+    def _cell(self, i, what: str) -> int:
+        if not isinstance(i, (int, np.integer)) or isinstance(i, bool) or \
+                not 0 <= i < len(self):
+            raise Error(f"{what}: no cell {i!r} (cells 0 to {len(self) - 1})")
+        return int(i)
+
     def polygons(self, i: int) -> list:
         """2D: the rings of cell i, a list of (k, 2) arrays (pieces counter-clockwise,
         holes clockwise)."""
         self._need_geometry()
         if self.dim != 2:
             raise Error("polygons: a 2D diagram's; use faces(i) in 3D")
+        i = self._cell(i, "polygons")
         b, e = self.cell_ring_begin[i], self.cell_ring_begin[i + 1]
         return [self.vertices[self.ring_vertex_begin[r]:self.ring_vertex_begin[r + 1]]
                 for r in range(b, e)]
@@ -125,6 +133,7 @@ class Cells:
         self._need_geometry()
         if self.dim != 3:
             raise Error("faces: a 3D diagram's; use polygons(i) in 2D")
+        i = self._cell(i, "faces")
         if self._faces_by_cell is None:
             order = np.argsort(self.face_site, kind="stable")
             starts = np.searchsorted(self.face_site[order], np.arange(len(self) + 1))
@@ -137,7 +146,10 @@ class Cells:
 def _sites(sites, dim):
     # A C-contiguous float64 array passes through without a copy (the C++ side reads it in
     # place); anything else is converted once here.
-    a = np.ascontiguousarray(sites, dtype=np.float64)
+    try:
+        a = np.ascontiguousarray(sites, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise Error(f"sites: expected an (n, {dim}) array of numbers ({e})") from None
     if a.ndim != 2 or a.shape[1] != dim:
         raise Error(f"sites: expected an (n, {dim}) array, got shape {a.shape}")
     return a
@@ -150,14 +162,17 @@ def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     domain (anything :func:`domain2` takes), every combinatorial decision exact.
 
     ``density``: None (1), a number, a callable ``rho(x, y) -> float`` (integrated with a
-    degree-4 rule per fan triangle; called from worker threads, slow), or a grid tuple
+    degree-5 rule, 7 points, per fan triangle: exact for rho of degree <= 3; called from
+    worker threads, slow; a value that is not finite and positive raises :class:`Error`
+    naming the point), or a grid tuple
     ``(values[ny, nx], (xmin, ymin), (xmax, ymax))`` interpolated linearly.
     ``geometry``/``neighbors``: also return the cells' rings / the neighbour lists (else
     computed on first access of ``neighbors``).
     ``callback(info)``: called now and then (a dict: phase, done, total, seconds) on the
     calling thread; returning False cancels (raises :class:`Error` "clip2d: cancelled").
     Ctrl-C cancels too and raises KeyboardInterrupt.
-    ``threads``: TBB threads (None: all cores); the result is the same for any count.
+    ``threads``: TBB threads (None or 0: all cores; a count above the cores runs on the
+    cores); the result is the same for any count.
     Returns :class:`Cells`."""
     d = domain2(domain)
     s = _sites(sites, 2)
@@ -182,7 +197,8 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     them ``neighbors`` is computed on first access). ``callback(info)`` and Ctrl-C: as
     :func:`clip2d` (phases 'delaunay', 'surface', 'boundary cells', 'inner cells',
     'geometry').
-    ``threads``: TBB threads (None: all cores); the result is the same for any count.
+    ``threads``: TBB threads (None or 0: all cores; a count above the cores runs on the
+    cores); the result is the same for any count.
     Returns :class:`Cells` (``seconds``: the phases' wall times)."""
     d = domain3(domain)
     s = _sites(sites, 3)
@@ -198,7 +214,7 @@ def random_points(domain, n: int, seed: int = 1, density=None, *,
     value per vertex of the domain's tet mesh), decided inside exactly. The library's
     generator (std::mt19937_64(seed), turned into doubles bit by bit): the same points on
     every platform, and the CLI's ``--random n --seed seed`` sites."""
-    return _core.random_points3(domain3(domain), int(n), int(seed), density, _threads(threads))
+    return _core.random_points3(domain3(domain), n, seed, density, _threads(threads))
 
 
 class CvtResult(NamedTuple):
@@ -223,6 +239,13 @@ class CvtResult(NamedTuple):
     seconds: float
 
 
+def _number(tolerance) -> float:
+    try:
+        return float(tolerance)
+    except (TypeError, ValueError):
+        raise Error(f"tolerance: expected a number, got {tolerance!r}") from None
+
+
 def _cvt_result(r: dict) -> CvtResult:
     return CvtResult(*(r[k] for k in CvtResult._fields))
 
@@ -237,7 +260,7 @@ def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 1000, toleranc
     and after every iteration with a dict (iteration, energy, gradient_norm, seconds);
     returning False stops (``cancelled``). Ctrl-C stops the run and raises
     KeyboardInterrupt. Deterministic for any ``threads``."""
-    r = _core.cvt2d(domain2(domain), _sites(sites, 2), method, int(iterations), float(tolerance),
+    r = _core.cvt2d(domain2(domain), _sites(sites, 2), method, iterations, _number(tolerance),
                     density, callback, _threads(threads))
     return _cvt_result(r)
 
@@ -247,7 +270,7 @@ def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance
           threads: Optional[int] = None) -> CvtResult:
     """Centroidal Voronoi tessellation in a 3D volume; as :func:`cvt2d` with (n, 3)
     sites, n >= 1 (one site, sites on a line or in a plane too)."""
-    r = _core.cvt3d(domain3(domain), _sites(sites, 3), method, int(iterations), float(tolerance),
+    r = _core.cvt3d(domain3(domain), _sites(sites, 3), method, iterations, _number(tolerance),
                     density, callback, _threads(threads))
     return _cvt_result(r)
 
@@ -385,7 +408,7 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
            threads: Optional[int] = None, **options) -> Mesh:
     """A CVT triangle mesh of a polygonal domain (anything :func:`domain2` takes) of about
     ``vertices`` vertices, or with edge length ``edge_length`` (L) far from small features;
-    give one. Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
+    give exactly one (both raise :class:`Error`, as the CLI). Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
     the library's default, so Python and the CLI agree): ``gradation``, ``corner_angle``,
     ``sharp_angle``, ``repair_angle`` (degrees), ``fix_input_vertices``, ``keep_gaps``,
     ``conforming`` (False: the paper's circumcentre rule instead of the conforming mesh),
@@ -422,7 +445,10 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     ``features``, ``feature_angle`` (degrees), ``min_feature_length``, ``sampling``
     ('lattice' | 'random'), ``seed``, ``unconstrained_iterations``,
     ``constrained_iterations``, ``gradient_tolerance``, ``smooth_surface``,
-    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``,
+    ``smooth_shape``, ``exact_vertices``, ``max_topology_rounds``, ``max_topology_sites``
+    (the topology phase adds at most this many times the vertices, default 4; stats
+    ``topology_capped`` and ``topology_capped_near``, the point near the first defect left,
+    or None),
     ``max_boundary_distance`` (the mesh's boundary at most this many local edge lengths from
     the input's surface, default 1, else ``shape_problem`` says where; 0: not checked; stats
     ``hausdorff``, ``hausdorff_rel`` (of the bounding box's diagonal) and
@@ -503,8 +529,11 @@ def quality(mesh, cells=None, *, threads: Optional[int] = None) -> Quality:
         cells = np.concatenate(blocks)
     else:
         points, cells = mesh
-    points = np.ascontiguousarray(points, dtype=np.float64)
-    cells = np.ascontiguousarray(cells, dtype=np.int64)
+    try:
+        points = np.ascontiguousarray(points, dtype=np.float64)
+        cells = np.ascontiguousarray(cells, dtype=np.int64)
+    except (TypeError, ValueError) as e:
+        raise Error(f"quality: expected arrays of points and vertex indices ({e})") from None
     if cells.ndim == 2 and cells.shape[1] == 4:
         r = _core.tet_quality(points, cells, _threads(threads))
         return Quality(r["q1"], r["q2"], r["q3"], r["q4"], r["volume"], r["dihedral"],

@@ -13,7 +13,10 @@ from ._core import Error
 
 def _ring_array(ring, where):
     coords = getattr(ring, "coords", ring)  # shapely LinearRing or an array
-    a = np.asarray(coords, dtype=np.float64)
+    try:
+        a = np.asarray(coords, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise Error(f"{where}: expected an (n, 2) array of numbers ({e})") from None
     if a.ndim != 2 or a.shape[1] not in (2, 3) or a.shape[0] < 3:
         raise Error(f"{where}: expected an (n, 2) array of n >= 3 points, got shape {a.shape}")
     return a[:, :2]
@@ -127,8 +130,11 @@ def domain3(domain, reorient: bool = False) -> _core.Domain3:
     if hasattr(domain, "points") and hasattr(domain, "cells"):
         return _meshio_domain(domain, reorient)
     if isinstance(domain, (tuple, list)) and len(domain) == 2:
-        vertices = np.asarray(domain[0], dtype=np.float64)
-        triangles = np.asarray(domain[1])
+        try:
+            vertices = np.asarray(domain[0], dtype=np.float64)
+            triangles = np.asarray(domain[1])
+        except (TypeError, ValueError) as e:
+            raise Error(f"domain: expected (vertices, triangles) arrays ({e})") from None
         if triangles.dtype.kind not in "iu":
             raise Error(f"triangles: expected integer vertex indices, got dtype {triangles.dtype}")
         return _core.Domain3.from_surface(vertices, triangles.astype(np.int64, copy=False),
