@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <iomanip>
 #include <limits>
@@ -1188,7 +1189,11 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     const double h = options.edge_length;
     const double n = std::round(kMesh3VerticesPerEdgeVolume * integral / (h * h * h));
     if (!(n <= 2e9)) {
-      throw Error("mesh3d: the edge length asks for " + std::to_string(n) +
+      // n as an integer ("7880381944 vertices", not "7880381944.000000"); %.0f also for n
+      // beyond 64 bits.
+      char count[64];
+      std::snprintf(count, sizeof count, "%.0f", n);
+      throw Error("mesh3d: the edge length asks for " + std::string(count) +
                   " vertices; at most 2e9");
     }
     Mesh3Options o = options;
