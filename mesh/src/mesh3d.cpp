@@ -1214,6 +1214,10 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
                 ", facet_distance_budget " + std::to_string(options.facet_distance_budget) +
                 "; expected a number >= 0 and a fraction in [0, 1]");
   }
+  if (!(options.max_topology_sites >= 0) || !std::isfinite(options.max_topology_sites)) {
+    throw Error("mesh3d: max_topology_sites " + std::to_string(options.max_topology_sites) +
+                "; expected a finite number >= 0");
+  }
   if (!(options.flip_dihedral_deg >= 0 && options.flip_dihedral_deg < 70.5) ||
       !(options.flip_gain_deg >= 0) || !std::isfinite(options.flip_gain_deg) ||
       !(options.flip_q4 >= 0 && options.flip_q4 <= 1)) {

@@ -208,28 +208,25 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   result.nb_boundary_sites = best.nb_boundary_sites;
   result.topology_defects_left = best_defects;
   result.nb_sites = n;
-  if (options.vertex_count == Mesh3Options::VertexCount::kExact && result.topology_capped) {
-    throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
-                " vertices do not resolve the surface of " + domain.source() +
-                ": the restricted Voronoi cells of the sites near (" + shortest(first_points[0]) +
-                ", " + shortest(first_points[1]) + ", " + shortest(first_points[2]) + ") and " +
-                std::to_string(first_points.size() / 3 - 1) +
-                " other places are not disks meeting along single arcs, and " +
-                std::to_string(capped_sites) + " sites added left " +
+  if (options.vertex_count != Mesh3Options::VertexCount::kExact ||
+      (!result.topology_capped && result.nb_topology_sites == 0)) {
+    return;
+  }
+  const std::string where = "mesh3d: " + std::to_string(options.nb_vertices) +
+                            " vertices do not resolve the surface of " + domain.source() +
+                            ": the restricted Voronoi cells of the sites near (" +
+                            shortest(first_points[0]) + ", " + shortest(first_points[1]) + ", " +
+                            shortest(first_points[2]) + ") and " +
+                            std::to_string(first_points.size() / 3 - 1) +
+                            " other places are not disks meeting along single arcs";
+  if (result.topology_capped) {
+    throw Error(where + ", and " + std::to_string(capped_sites) + " sites added left " +
                 std::to_string(capped_defects) +
                 " such cells: a part far thinner than the spacing; mesh it with a smaller edge "
                 "length there (--sizing) or many more vertices");
   }
-  if (options.vertex_count == Mesh3Options::VertexCount::kExact && result.nb_topology_sites > 0) {
-    throw Error("mesh3d: " + std::to_string(options.nb_vertices) +
-                " vertices do not resolve the surface of " + domain.source() +
-                ": the restricted Voronoi cells of the sites near (" + shortest(first_points[0]) +
-                ", " + shortest(first_points[1]) + ", " + shortest(first_points[2]) + ") and " +
-                std::to_string(first_points.size() / 3 - 1) +
-                " other places are not disks meeting along single arcs; about " +
-                std::to_string(options.nb_vertices + result.nb_topology_sites) +
-                " vertices would (or let mesh3d add the sites it needs)");
-  }
+  throw Error(where + "; about " + std::to_string(options.nb_vertices + result.nb_topology_sites) +
+              " vertices would (or let mesh3d add the sites it needs)");
 }
 
 }  // namespace voroclip::mesh3

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -215,6 +216,12 @@ TEST_CASE("mesh3d: a plate far thinner than the spacing stops the topology sites
   CHECK(r.topology_capped_near[2] <= 0.001);
   // A plate it cannot resolve: mesh3d says so (check_mesh3_shape, below), it does not hang.
   CHECK_FALSE(r.shape_problem.empty());
+  // The cap must be a number >= 0.
+  for (const double bad : {-1.0, std::nan("")}) {
+    voroclip::Mesh3Options b = o;
+    b.max_topology_sites = bad;
+    CHECK_THROWS_WITH(voroclip::mesh3d(plate, b), Catch::Contains("max_topology_sites"));
+  }
   // With --exact-vertices, an error that says why.
   o.vertex_count = voroclip::Mesh3Options::VertexCount::kExact;
   CHECK_THROWS_WITH(voroclip::mesh3d(plate, o),
