@@ -463,6 +463,25 @@ struct Pipeline {
   // Step 5b (topology_repair3d.cpp).
   void repair_topology(const TriangleSurface& surface, const Clip3Options& clip, Cvt3Options& cvt,
                        std::vector<std::uint8_t>& boundary, const Projection& project);
+  // What steps 6 and 7 read of the steps before: the extractor, the surface the sites are on
+  // (the boundary, and the interfaces when followed) with its tree, feature lines and
+  // patches, the feature lines where interfaces meet, the local spacing and the projection.
+  struct Surroundings {
+    const TetExtractor3& extractor;
+    const TriangleSurface& surface;
+    const SurfaceTree& surface_tree;
+    const FeatureLines& lines;
+    const FeatureTree& line_tree;
+    const std::vector<std::uint32_t>& triangle_patch;
+    const std::vector<std::uint8_t>& junction_line;
+    const Spacing& local_spacing;
+    const Projection& project;
+  };
+  // Steps 6 and 7 (mesh3d_slivers.cpp): the extraction and the sliver perturbation, the
+  // insertions at the slivers left, the junction lines' sites, the peeling, the flips and
+  // moves; the tets, the sites' surface patches and, with interfaces, the tets' regions.
+  void make_tets(const Surroundings& around, std::vector<std::uint32_t>& tets,
+                 SurfacePatches& patches, TetRegions& regions);
 
   const Domain3& domain;
   const Mesh3Options& options;
@@ -479,5 +498,10 @@ struct Pipeline {
   std::vector<std::uint32_t> line_of, corner_vertex;
   std::uint32_t n = 0;
 };
+
+// Seconds since t.
+inline double since(Pipeline::Clock::time_point t) {
+  return std::chrono::duration<double>(Pipeline::Clock::now() - t).count();
+}
 
 }  // namespace voroclip::mesh3
