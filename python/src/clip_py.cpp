@@ -452,6 +452,12 @@ void bind_domains(py::module_& m) {
       .def_property_readonly("source", &Domain2::source)
       .def_property_readonly("area", &Domain2::area)
       .def_property_readonly("nb_rings", &Domain2::nb_rings)
+      .def("__repr__",
+           [](const Domain2& d) {
+             return "Domain2(source=" + py::repr(py::str(d.source())).cast<std::string>() +
+                    ", rings=" + std::to_string(d.nb_rings()) +
+                    ", area=" + py::repr(py::float_(d.area())).cast<std::string>() + ")";
+           })
       .def_property_readonly("bounds",
                              [](const Domain2& d) {
                                return py::make_tuple(d.bbox_lo()[0], d.bbox_lo()[1], d.bbox_hi()[0],
@@ -550,6 +556,13 @@ void bind_domains(py::module_& m) {
       .def_property_readonly("nb_tets", &Domain3::nb_tets)
       .def_property_readonly("nb_shells",
                              [](const Domain3& d) { return d.surface().shells().size(); })
+      .def("__repr__",
+           [](const Domain3& d) {
+             return "Domain3(source=" + py::repr(py::str(d.source())).cast<std::string>() +
+                    ", triangles=" + std::to_string(d.surface().nb_triangles()) +
+                    (d.has_tets() ? ", tets=" + std::to_string(d.nb_tets()) : std::string()) +
+                    ", volume=" + py::repr(py::float_(d.volume())).cast<std::string>() + ")";
+           })
       .def_property_readonly("bounds",
                              [](const Domain3& d) {
                                const double *lo = d.bbox_lo(), *hi = d.bbox_hi();

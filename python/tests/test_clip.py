@@ -139,7 +139,8 @@ def test_clip3d_geometry_and_neighbors():
             for k in range(len(pts)):
                 a, b = pts[k] - c, pts[(k + 1) % len(pts)] - c
                 vol += np.dot(c, np.cross(a, b)) / 6
-        assert abs(vol) == pytest.approx(cells.volumes[i], rel=1e-9)
+        # Clockwise seen from outside the cell: the signed sum is minus the volume.
+        assert -vol == pytest.approx(cells.volumes[i], rel=1e-9)
     ip, ix = cells.neighbors
     pairs = {(i, j) for i in range(len(cells)) for j in ix[ip[i]:ip[i + 1]]}
     assert all((j, i) in pairs for i, j in pairs)
@@ -204,6 +205,7 @@ def test_domain3_input_forms(data):
     d = voroclip.domain3(data / "surfaces" / "sphere.obj")
     v, t = d.surface()
     by_pair = voroclip.clip3d((v, t), sites)
+    assert repr(d) == "Domain3(source=%r, triangles=%d, volume=%r)" % (d.source, len(t), d.volume)
     assert by_surface.total_measure == pytest.approx(d.volume, rel=1e-12)
     # The same surface (the tet mesh's boundary is the OBJ's triangles): the same cells.
     np.testing.assert_allclose(by_tets.volumes, by_surface.volumes, rtol=0, atol=1e-14)

@@ -160,3 +160,20 @@ def test_delaunay3_simplices_orientation_is_documented_and_holds():
     assert "det(p1 - p0, p2 - p0, p3 - p0) < 0" in voroclip.Delaunay3.simplices.__doc__
     assert "orient3d(p0, p1, p2, p3) = +1" in voroclip.Delaunay3.simplices.__doc__
     assert "counter-clockwise" in voroclip.Delaunay2.simplices.__doc__
+
+
+def test_vertex_neighbors_2d_go_counter_clockwise():
+    pts = np.random.default_rng(8).random((200, 2))
+    dt = voroclip.Delaunay2(pts)
+    hull = set(np.unique(dt.convex_hull).tolist())
+    indptr, indices = dt.vertex_neighbor_vertices
+    checked = 0
+    for v in range(len(pts)):
+        ring = dt.vertex_neighbors(v)
+        assert np.array_equal(ring, indices[indptr[v]:indptr[v + 1]])
+        if v in hull:
+            continue
+        a, b = pts[ring] - pts[v], pts[np.roll(ring, -1)] - pts[v]
+        assert np.all(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0)
+        checked += 1
+    assert checked > 150

@@ -51,7 +51,8 @@ class Delaunay2(_core.Delaunay2):
     counter-clockwise; ``neighbors`` (m, 3): the triangle opposite vertex k, -1 on the
     hull; ``find_simplex(xi)`` the triangle holding each point of xi, shaped (..., 2), -1
     outside, in shape (...) (one point (2,): a 0-d array);
-    ``vertex_neighbor_vertices`` (indptr, indices). Also ``vertex_neighbors(v)``,
+    ``vertex_neighbor_vertices`` (indptr, indices). Also ``vertex_neighbors(v)`` (counter-
+    clockwise around v, as in ``vertex_neighbor_vertices``; Delaunay3's are sorted),
     ``nearest_vertex(xi)`` (exact nearest point), ``convex_hull`` (h, 2) edges,
     ``duplicate_of`` (for each point, the smallest index with the same coordinates; only
     that one is a vertex), ``check()`` ('' when valid and Delaunay, checked exactly).

@@ -54,7 +54,8 @@ class Cells:
     * 3D: ``face_points`` (m, 3), ``face_begin`` (F + 1,), ``face_site`` (F,), ``face_across``
       (F,): face f is the polygon ``face_points[face_begin[f]:face_begin[f+1]]`` of cell
       ``face_site[f]``, on the bisector with site ``face_across[f]`` or, -1, on the domain's
-      boundary; :meth:`faces` gives them per cell.
+      boundary; :meth:`faces` gives them per cell. A face's points go clockwise seen from
+      outside its cell (their right-hand normal points into the cell).
     """
 
     def __init__(self, dim: int, sites: np.ndarray, r: dict, recompute=None):
