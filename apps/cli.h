@@ -137,6 +137,7 @@ struct Mesh2dArgs {
   bool keep_gaps = false;
   bool circumcenter_rule = false;
   std::string msh_version = "4.1";
+  bool msh_version_set = false;  // --msh-version given (an error without a .msh output)
   std::uint32_t repair_rounds = 4;
   std::uint64_t seed = 1;
   double gradation = 0.3;
@@ -189,9 +190,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options);
 /// SVG picture of a 2D mesh: triangles coloured by their smallest angle (red below 30
 /// degrees), the domain's rings, fixed vertices as dots.
 void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh);
-/// Writes a 2D mesh by extension: .svg (triangles coloured by their smallest angle), .vtu,
-/// .mesh (Medit), .msh (Gmsh 2.2), atomically.
-void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
+/// The writer of a 2D mesh's file, by extension (for write_files_atomically): .svg
+/// (triangles coloured by their smallest angle), .vtu, .mesh (Medit), .msh (Gmsh 4.1, or
+/// 2.2 with `msh22`). The mesh carries its tags (mesh_domain2 fills them; tag_mesh2). It
+/// refers to `domain` and `mesh`, which must outlive it.
+FileWriter mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
                       bool msh22 = false);
 
 struct Mesh3dArgs {

@@ -580,6 +580,7 @@ int main(int argc, char** argv) {
     } else if (*mesh2d) {
       mesh_args.vertices_set = mesh2d->get_option("--vertices")->count() > 0;
       mesh_args.edge_length_set = mesh2d->get_option("--edge-length")->count() > 0;
+      mesh_args.msh_version_set = mesh2d->get_option("--msh-version")->count() > 0;
       voroclip::cli::run_mesh2d(mesh_args, global);
     }
     if (*clip3d) {

@@ -25,7 +25,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Fails before a long computation when a file could not be written at its end.
 }  // namespace
 
 // Triangles filled by their smallest angle (red below 30 degrees, through yellow to green at
@@ -88,27 +87,19 @@ void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh)
   out << "</g>\n</svg>\n";
 }
 
-void write_mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& untagged,
+FileWriter mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
                       bool msh22) {
-  Mesh2 tagged;
-  const bool has_tags = untagged.triangle_regions.size() == untagged.nb_triangles() &&
-                        untagged.boundary_tags.size() * 2 == untagged.boundary_edges.size();
-  if (!has_tags) {
-    tagged = untagged;
-    tag_mesh2(domain, tagged);
-  }
-  const Mesh2& mesh = has_tags ? untagged : tagged;
-  write_file_atomically(path, [&](std::ostream& out) {
-    if (ends_with(path, ".svg")) {
-      write_mesh_svg(out, domain, mesh);
-    } else if (ends_with(path, ".vtu")) {
-      write_mesh2(out, mesh, Mesh2FileFormat::kVtu);
-    } else if (ends_with(path, ".mesh")) {
-      write_mesh2(out, mesh, Mesh2FileFormat::kMedit);
-    } else {
-      write_mesh2(out, mesh, msh22 ? Mesh2FileFormat::kGmsh22 : Mesh2FileFormat::kGmsh41);
-    }
-  });
+  return {path, [path, &domain, &mesh, msh22](std::ostream& out) {
+            if (ends_with(path, ".svg")) {
+              write_mesh_svg(out, domain, mesh);
+            } else if (ends_with(path, ".vtu")) {
+              write_mesh2(out, mesh, Mesh2FileFormat::kVtu);
+            } else if (ends_with(path, ".mesh")) {
+              write_mesh2(out, mesh, Mesh2FileFormat::kMedit);
+            } else {
+              write_mesh2(out, mesh, msh22 ? Mesh2FileFormat::kGmsh22 : Mesh2FileFormat::kGmsh41);
+            }
+          }};
 }
 
 // Triangles with an angle below 30 degrees, each with the sharpest domain corner among its
@@ -164,6 +155,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (args.msh_version != "2.2" && args.msh_version != "4.1") {
     throw UsageError("--msh-version: expected 2.2 or 4.1, got '" + args.msh_version + "'");
   }
+  if (args.msh_version_set && !ends_with(args.output, ".msh")) {
+    throw UsageError(
+        "--msh-version: only a .msh output (Gmsh) has a format version, got " +
+        (args.output.empty() ? std::string("no output file") : "'" + args.output + "'"));
+  }
   if (args.vertices_set && args.vertices < 3) throw UsageError("--vertices: needs at least 3");
   if (by_length && !(args.edge_length > 0 && std::isfinite(args.edge_length))) {
     throw UsageError("--edge-length: expected a positive number");
@@ -180,8 +176,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (args.method != "lbfgs" && args.method != "lloyd") {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }
-  check_output_path(args.output);
-  check_output_path(args.histogram);
+  check_outputs({{"-o", args.output}, {"--histogram", args.histogram}});
   const Domain2 domain = load_domain(args.domain);
   Mesh2Options o;
   o.nb_vertices = args.vertices;
@@ -242,15 +237,22 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   progress.phase("quality");
   const TriangleQuality2 q = triangle_quality2(mesh, 2.0);
   const std::vector<LowAngle> lows = low_angles(domain, mesh);
+  // -o and --histogram appear together or not at all.
+  std::vector<FileWriter> files;
   if (!args.output.empty()) {
-    progress.phase("writing " + args.output);
-    write_mesh2_file(args.output, domain, mesh, args.msh_version == "2.2");
+    files.push_back(mesh2_file(args.output, domain, mesh, args.msh_version == "2.2"));
   }
   if (!args.histogram.empty()) {
-    progress.phase("writing " + args.histogram);
-    write_file_atomically(args.histogram, [&](std::ostream& out) {
-      write_quality_svg(out, q, "voroclip mesh2d: " + domain.source());
-    });
+    files.push_back({args.histogram, [&](std::ostream& out) {
+                       write_quality_svg(out, q, "voroclip mesh2d: " + domain.source());
+                     }});
+  }
+  if (!files.empty()) {
+    progress.phase("writing " + (args.output.empty() ? args.histogram
+                                 : args.histogram.empty()
+                                     ? args.output
+                                     : args.output + " and " + args.histogram));
+    write_files_atomically(files);
   }
   progress.done();
   if (options.stats_json) {

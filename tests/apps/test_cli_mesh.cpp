@@ -163,6 +163,52 @@ TEST_CASE("mesh2d: errors are one line, exit status, and no file", "[apps]") {
   CHECK_FALSE(exists(out));
 }
 
+TEST_CASE("mesh2d: two outputs naming one file, --msh-version without a .msh output",
+          "[apps][regression]") {
+  // mesh2d -o x.svg --histogram x.svg exited 0 with the histogram in x.svg, and
+  // --msh-version was accepted, and ignored, with an output that is not .msh.
+  SECTION("-o and --histogram naming one file") {
+    const std::string svg = temp_path(".svg");
+    for (const std::string& histogram : {svg, "./" + svg}) {
+      INFO(histogram);
+      const Run run = run_cli(
+          {"mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", svg, "--histogram", histogram});
+      CHECK(run.status == 2);
+      check_one_error_line(run);
+      CHECK(contains(run.err, "-o and --histogram both name '"));
+      CHECK(contains(run.err, "one would overwrite the other"));
+      CHECK_FALSE(exists(svg));
+    }
+  }
+  SECTION("--msh-version with a .mesh output, or none") {
+    const std::string mesh = temp_path(".mesh");
+    const Run run = run_cli(
+        {"mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", mesh, "--msh-version", "2.2"});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--msh-version: only a .msh output (Gmsh) has a format version, got '" +
+                                mesh + "'"));
+    CHECK_FALSE(exists(mesh));
+    const Run none =
+        run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "--msh-version", "4.1"});
+    CHECK(none.status == 2);
+    check_one_error_line(none);
+    CHECK(contains(none.err,
+                   "--msh-version: only a .msh output (Gmsh) has a format version, "
+                   "got no output file"));
+  }
+  SECTION("--msh-version with a .msh output, and -o with --histogram, still written") {
+    const std::string msh = temp_path(".msh"), svg = temp_path(".svg");
+    const Run run = run_cli({"-q", "mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", msh,
+                             "--msh-version", "2.2", "--histogram", svg});
+    CHECK(run.status == 0);
+    CHECK(slurp(msh).rfind("$MeshFormat\n2.2 0 8\n", 0) == 0);
+    CHECK(contains(slurp(svg), "smallest angle"));
+    std::remove(msh.c_str());
+    std::remove(svg.c_str());
+  }
+}
+
 TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes", "[apps]") {
   const std::string path = "test_cli_mesh_demo.svg";
   const Run run = run_cli({"demo", "--stats", "json", "-o", path});
