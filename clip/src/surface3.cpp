@@ -52,7 +52,7 @@ std::string Surface3::triangle_name(std::uint32_t t) const {
     case Naming::kFace:
       return "face " + std::to_string(triangle_face_[t]) + at_line;
     case Naming::kTetFacet:
-      return "the boundary facet of " + tet_name(triangle_face_[t]) + at_line;
+      return tet_facet_name(t) + at_line;
     case Naming::kIndex:
       break;
   }
@@ -63,9 +63,20 @@ std::string Surface3::tet_name(std::uint32_t t) const {
   return tet_noun_ + " " + std::to_string(t < tet_label_.size() ? tet_label_[t] : std::uint64_t{t});
 }
 
-std::string Surface3::vertex_name(std::uint32_t v) const {
-  if (v < vertex_label_.size()) return "vertex " + std::to_string(vertex_label_[v]);
-  return "vertex " + std::to_string(std::uint64_t{v} + vertex_base_);
+std::string Surface3::vertex_number(std::uint32_t v) const {
+  if (v < vertex_label_.size()) return std::to_string(vertex_label_[v]);
+  return std::to_string(std::uint64_t{v} + vertex_base_);
+}
+
+std::string Surface3::vertex_name(std::uint32_t v) const { return "vertex " + vertex_number(v); }
+
+// A tet has up to four boundary facets: its name alone does not say which one. Its vertices
+// do, in increasing order of their index as Domain3 names a facet.
+std::string Surface3::tet_facet_name(std::uint32_t t) const {
+  std::uint32_t a = triangle_vertex(t, 0), b = triangle_vertex(t, 1), c = triangle_vertex(t, 2);
+  detail::sort3(a, b, c);
+  return "the boundary facet (vertices " + vertex_number(a) + " " + vertex_number(b) + " " +
+         vertex_number(c) + ") of " + tet_name(triangle_face_[t]);
 }
 
 std::string Surface3::at(std::uint32_t t) const {
@@ -75,7 +86,7 @@ std::string Surface3::at(std::uint32_t t) const {
     case Naming::kFace:
       return where + "face " + std::to_string(triangle_face_[t]);
     case Naming::kTetFacet:
-      return where + "the boundary facet of " + tet_name(triangle_face_[t]);
+      return where + tet_facet_name(t);
     case Naming::kIndex:
       break;
   }
@@ -226,8 +237,7 @@ void Surface3::build(const Surface3Options& options) {
   const std::uint32_t nv = nb_vertices();
   const std::uint32_t nt = nb_triangles();
   const auto edge_text = [&](std::uint32_t a, std::uint32_t b) {
-    // vertex_name without its noun: the file's numbers (labels, or from vertex_base_).
-    return "(vertices " + vertex_name(a).substr(7) + " " + vertex_name(b).substr(7) + ")";
+    return "(vertices " + vertex_number(a) + " " + vertex_number(b) + ")";
   };
 
   // ---- 5. Edges: edge e of t runs from corner e + 1 to corner e + 2.

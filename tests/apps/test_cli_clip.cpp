@@ -257,6 +257,28 @@ TEST_CASE("check-surface: the verdict, the shells, genus, area and volume", "[ap
   std::remove(open.c_str());
 }
 
+TEST_CASE("check-surface: a tet mesh's message tells the facets of one tet apart",
+          "[apps][regression]") {
+  // Two tets sharing only the edge (1, 2): its four boundary triangles, two facets of each
+  // tet, were named "the boundary facet of tetrahedron 1 (line 13)" twice, and the same
+  // for tetrahedron 2. Their vertices tell them apart, numbered as the file numbers them.
+  const std::string path = temp_path(".mesh");
+  std::ofstream(path) << "MeshVersionFormatted 2\nDimension 3\nVertices\n6\n"
+                         "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 -1 0 0\n0 0 -1 0\n"
+                         "Tetrahedra\n2\n1 2 3 4 0\n1 2 5 6 0\nEnd\n";
+  const Run run = run_cli({"check-surface", path});
+  CHECK(run.status == 1);
+  check_one_error_line(run);
+  CHECK(run.err ==
+        "voroclip: error: " + path +
+            ":13: the boundary facet (vertices 1 2 3) of tetrahedron 1: the surface is not a "
+            "2-manifold: the edge (vertices 1 2) is in 4 triangles (2 expected): the boundary "
+            "facet (vertices 1 2 3) of tetrahedron 1 (line 13), the boundary facet (vertices 1 2 "
+            "4) of tetrahedron 1 (line 13), the boundary facet (vertices 1 2 5) of tetrahedron 2 "
+            "(line 14) and the boundary facet (vertices 1 2 6) of tetrahedron 2 (line 14)\n");
+  std::remove(path.c_str());
+}
+
 TEST_CASE("check-surface --stats json: every invalid input says valid false and the error",
           "[apps][regression]") {
   // Defects found while reading (an index out of range, a coordinate that is not finite, a

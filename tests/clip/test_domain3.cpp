@@ -459,29 +459,31 @@ TEST_CASE("Domain3 rejects overlapping tets and facets of three tets", "[clip][d
 TEST_CASE("Domain3 rejects a boundary that is not a closed 2-manifold", "[clip][degenerate]") {
   // Two tets sharing only the edge (0, 1): it is in 4 boundary triangles. (A single tet,
   // or a tet mesh with one tet removed, is always closed modulo 2: this is how an "open"
-  // boundary shows.)
+  // boundary shows.) Two of them are facets of tet 0, two of tet 1: their vertices tell
+  // them apart (regression: both were "the boundary facet of tet 0 (line 100)").
   TetMeshInput m = make(tet_and(0, -1, 0), {0, 1, 2, 3, 0, 1, 4, 5});
   m.xyz.insert(m.xyz.end(), {0, 0, -1});
   CHECK(error_of(m) ==
-        "hand:100: the boundary facet of tet 0: the surface is not a 2-manifold: the edge "
-        "(vertices 0 1) is in 4 triangles (2 expected): the boundary facet of tet 0 (line 100), "
-        "the boundary facet of tet 0 (line 100), the boundary facet of tet 1 (line 101) and the "
-        "boundary facet of tet 1 (line 101)");
+        "hand:100: the boundary facet (vertices 0 1 2) of tet 0: the surface is not a "
+        "2-manifold: the edge (vertices 0 1) is in 4 triangles (2 expected): the boundary facet "
+        "(vertices 0 1 2) of tet 0 (line 100), the boundary facet (vertices 0 1 3) of tet 0 "
+        "(line 100), the boundary facet (vertices 0 1 4) of tet 1 (line 101) and the boundary "
+        "facet (vertices 0 1 5) of tet 1 (line 101)");
   // The Kuhn cube without two opposite tets: two wedges touching along the diagonal.
   TetMeshInput k = kuhn_cube();
   k.tets.erase(k.tets.begin() + 20, k.tets.begin() + 24);  // order {4, 2, 1}
   k.tets.erase(k.tets.begin(), k.tets.begin() + 4);        // order {1, 2, 4}
   k.tet_line = {11, 12, 13, 14};
   const std::string e = error_of(k);
-  CHECK(e.find("kuhn:11: the boundary facet of tet 0: the surface is not a 2-manifold: the "
-               "edge (vertices 0 7) is in 4 triangles") == 0);
+  CHECK(e.find("kuhn:11: the boundary facet (vertices 0 1 7) of tet 0: the surface is not a "
+               "2-manifold: the edge (vertices 0 7) is in 4 triangles") == 0);
   // Two tets sharing only vertex 0: every edge is fine, vertex 0 has two fans.
   TetMeshInput v = make(tet_and(-1, 0, 0), {0, 1, 2, 3, 0, 4, 5, 6});
   v.xyz.insert(v.xyz.end(), {0, -1, 0, 0, 0, -1});
   CHECK(error_of(v) ==
         "hand: the surface is not a 2-manifold at vertex 0 (0, 0, 0) (a pinched vertex): its "
-        "triangles form several fans, one with the boundary facet of tet 0 (line 100), another "
-        "with the boundary facet of tet 1 (line 101)");
+        "triangles form several fans, one with the boundary facet (vertices 0 2 3) of tet 0 "
+        "(line 100), another with the boundary facet (vertices 0 5 6) of tet 1 (line 101)");
 }
 
 TEST_CASE("Domain3 rejects non-finite coordinates and bad indices", "[clip][degenerate]") {

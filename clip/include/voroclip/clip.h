@@ -397,7 +397,8 @@ class Surface3 {
   Sign locate_circumcenter(const double* p0, const double* p1, const double* p2,
                            const double* p3) const;
 
-  // For messages: triangle t as the input names it ("face 12 (line 40)"), and vertex v.
+  // For messages: triangle t as the input names it ("face 12 (line 40)"; from a tet mesh,
+  // "the boundary facet (vertices 2 5 7) of tetrahedron 3 (line 40)"), and vertex v.
   std::string triangle_name(std::uint32_t t) const;
   std::string vertex_name(std::uint32_t v) const;
   std::string tet_name(std::uint32_t t) const;  // kTetFacet
@@ -413,6 +414,10 @@ class Surface3 {
   void build(const Surface3Options& options);
   // "source:line: face 12", the start of a message about triangle t.
   std::string at(std::uint32_t t) const;
+  // kTetFacet: "the boundary facet (vertices 2 5 7) of tetrahedron 3", without the line.
+  std::string tet_facet_name(std::uint32_t t) const;
+  // Vertex v as the file numbers it ("7"): its label, or its index from vertex_base_.
+  std::string vertex_number(std::uint32_t v) const;
   std::string source_;
   std::vector<double> xyz_;
   std::vector<std::uint32_t> triangles_;
