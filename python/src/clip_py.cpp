@@ -498,6 +498,11 @@ void bind_domains(py::module_& m) {
              bool reorient) {
             const TriangleSurface s = make_surface(double_array(vertices, "vertices"),
                                                    index_array(triangles, "triangles"), source);
+            // (The library's Domain3 of nothing is an empty domain, which no function takes.)
+            if (s.triangles.empty()) {
+              throw Error((source.empty() ? std::string("from_surface") : source) +
+                          ": no triangles; a domain is the volume inside a closed surface");
+            }
             Surface3Options o;
             o.reorient = reorient;
             py::gil_scoped_release release;
@@ -519,6 +524,10 @@ void bind_domains(py::module_& m) {
             const IndexArray triangle_tags = index_array(triangle_tags_arg, "triangle_tags");
             const std::uint32_t nv = rows(vertices, 3, "vertices");
             const std::uint32_t nt = index_rows(tets, 4, "tets");
+            if (nt == 0) {
+              throw Error((source.empty() ? std::string("from_tets") : source) +
+                          ": no tets; a domain is the volume of a tet mesh's tets");
+            }
             TetMeshInput mesh;
             mesh.source = source;
             mesh.xyz.assign(vertices.data(), vertices.data() + 3 * std::size_t{nv});

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "common.h"
 
@@ -160,6 +162,30 @@ void Progress::rethrow() {
   }
 }
 
+namespace {
+
+// voroclip.Error, the type the translator below raises (the module holds it).
+PyObject* error_type = nullptr;
+
+// The library's message with the C++ names of what the caller can change replaced by what
+// says the same in Python (as the command line's cli_message does with its options).
+std::string python_message(std::string text) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"Surface3Options::reorient, --reorient", "reorient=True"},
+      {"ClippedVoronoi3::compute(domain, sites, n) takes them", "clip3d takes them"},
+  };
+  for (const auto& [api, python] : kNames) {
+    const std::string from = api, to = python;
+    for (std::size_t at = text.find(from); at != std::string::npos;
+         at = text.find(from, at + to.size())) {
+      text.replace(at, from.size(), to);
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
 }  // namespace voroclip::python
 
 PYBIND11_MODULE(_core, m) {
@@ -171,6 +197,14 @@ PYBIND11_MODULE(_core, m) {
   // voroclip::Error -> voroclip.Error, a ValueError: bad input or an impossible request,
   // with the library's message.
   const auto error = vp::py::register_exception<voroclip::Error>(m, "Error", PyExc_ValueError);
+  vp::error_type = error.ptr();
+  vp::py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const voroclip::Error& e) {
+      PyErr_SetString(vp::error_type, vp::python_message(e.what()).c_str());
+    }
+  });
   error.attr("__doc__") =
       "Bad input or an impossible request, with the library's message: it names the argument "
       "and the value, the file and the line, or the point. A ValueError (`except ValueError` "

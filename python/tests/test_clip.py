@@ -246,6 +246,16 @@ def test_bad_input_raises_error():
         voroclip.clip2d([[(0, 0), (1, 1), (1, 0), (0, 1)]], sites[:, :2])  # a bow tie
     with pytest.raises(voroclip.Error, match="at least 1 site"):
         voroclip.clip3d((CUBE_V, CUBE_T), np.empty((0, 3)))
+    with pytest.raises(voroclip.Error, match="^surface: no triangles; a domain is the volume"):
+        voroclip.domain3((np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)))
+    with pytest.raises(voroclip.Error, match="^from_tets: no tets"):
+        voroclip.Domain3.from_tets(CUBE_V, np.zeros((0, 4), dtype=np.int64), [], [], [], "")
+    # An inside-out surface: the message says what changes it in Python.
+    with pytest.raises(voroclip.Error) as inside_out:
+        voroclip.domain3((CUBE_V, CUBE_T[:, ::-1]))
+    assert "reorient=True" in str(inside_out.value)
+    assert "Surface3Options" not in str(inside_out.value)
+    assert len(voroclip.domain3((CUBE_V, CUBE_T[:, ::-1]), reorient=True).surface()[1]) == 12
 
 
 def csr_pairs(csr):
