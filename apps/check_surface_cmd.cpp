@@ -3,9 +3,11 @@
 // shells, their genus, area and volume. Also the loading of 3D domains for clip3d and mesh3d.
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <system_error>
 
 #include "cli.h"
 #include "voroclip/clip.h"
@@ -37,6 +39,10 @@ void note_reoriented(const Domain3& domain, const GlobalOptions& options) {
 Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions& options) {
   Surface3Options so;
   so.reorient = reorient;
+  // Before read_domain3 looks at the extension: `dir` is a directory, not a file with
+  // no extension.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a file");
   Domain3 domain = read_domain3(path, so);
   note_reoriented(domain, options);
   return domain;

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "cli.h"
@@ -44,6 +46,10 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
   }
   check_outputs({{"-o", args.output}, {"--histogram", args.histogram}});
   const std::string ref_ext = lower_extension(args.surface);
+  std::error_code ec;
+  if (!args.surface.empty() && std::filesystem::is_directory(args.surface, ec)) {
+    throw Error(args.surface + ": is a directory, not a file");
+  }
   if (!args.surface.empty() && !is_surface_file(ref_ext) && !is_tet_mesh_file(ref_ext)) {
     throw UsageError("--surface: unknown format " +
                      (ref_ext.empty() ? std::string("(no extension)") : "'" + ref_ext + "'") +

@@ -399,18 +399,23 @@ PolygonRings read_polygon(std::istream& in, const std::string& name) {
   const std::string ext = lower_case(name);
   const bool json = ends_with(ext, ".json");
   if (!json && !ends_with(ext, ".poly")) {
+    detail::check_not_gzip_name(name);
     throw Error(name + ": unknown polygon format: expected a .json or a .poly file");
   }
-  if (json) return read_json_polygon(in, name);
-  return PolyReader(in, name).read();
+  std::string text = detail::read_whole_stream(in, name);
+  detail::prepare_input(name, text);
+  std::istringstream stream(text);
+  if (json) return read_json_polygon(stream, name);
+  return PolyReader(stream, name).read();
 }
 
 PolygonRings read_polygon(const std::string& path) {
+  detail::check_not_directory(path);
   const std::string ext = lower_case(path);
   if (!ends_with(ext, ".json") && !ends_with(ext, ".poly")) {
+    detail::check_not_gzip_name(path);
     throw Error(path + ": unknown polygon format: expected a .json or a .poly file");
   }
-  detail::check_not_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
   return read_polygon(in, path);

@@ -362,20 +362,48 @@ TriangleSurface read_stl_ascii(const std::string& path, std::string data) {
   return s;
 }
 
+// Binary or ASCII. A file whose size is 84 + 50 x the triangle count of its bytes 80..83 is
+// binary, even when its header starts with "solid" (as some exporters write); else one
+// that starts with "solid" is ASCII; else it is binary with a size that does not match.
+//
+// Trailing bytes. Readers disagree on a binary STL longer than 84 + 50 N bytes: meshio
+// reads it as binary only when the size matches exactly (else as ASCII, which fails);
+// numpy-stl reads N triangles and ignores what follows (and, for a header that starts
+// with "solid", requires floor((size - 84) / 50) == N); Gmsh reads header, count and
+// triangles again until the end of the file (concatenated solids), so that a tail shorter
+// than a header is ignored. We accept a tail made only of zero bytes (padding: an
+// exporter or a transfer that rounds the size up), and reject any other: a tail of data
+// means that the count and the triangles disagree (a count too small, two files joined),
+// and reading N triangles of it would silently drop the others.
 TriangleSurface read_stl(const std::string& path, std::string data) {
+  std::uint64_t count = 0, expected = 0;
   if (data.size() >= 84) {
     std::uint32_t n = 0;
     ByteReader(path, data, 80, false).read(&n, 4, true, "the triangle count");
-    if (data.size() == 84 + 50 * std::uint64_t{n}) return read_stl_binary(path, data);
+    count = n;
+    expected = 84 + 50 * count;
+    if (data.size() == expected) return read_stl_binary(path, data);
   }
+  prepare_input(path, data);
   std::size_t first = 0;
   while (first < data.size() && std::isspace(static_cast<unsigned char>(data[first]))) ++first;
   if (lower(std::string_view(data).substr(first, 5)) == "solid") {
     return read_stl_ascii(path, std::move(data));
   }
-  throw Error(path + ": not an STL file: it does not start with 'solid' (ASCII), and its size (" +
-              std::to_string(data.size()) +
-              " bytes) is not 84 + 50 x the triangle count of a binary STL");
+  const std::string not_stl = path + ": not an STL file: it does not start with 'solid' (ASCII)";
+  if (data.size() < 84) {
+    throw Error(not_stl + ", and it has " + std::to_string(data.size()) +
+                " bytes, fewer than the 84 of a binary STL's header and triangle count");
+  }
+  if (data.size() > expected && std::all_of(data.begin() + static_cast<std::ptrdiff_t>(expected),
+                                            data.end(), [](char c) { return c == 0; })) {
+    data.resize(static_cast<std::size_t>(expected));  // zero padding, see above
+    return read_stl_binary(path, data);
+  }
+  throw Error(path + ": binary STL: the header says " + std::to_string(count) +
+              " triangles (84 + 50 x " + std::to_string(count) + " = " + std::to_string(expected) +
+              " bytes) but the file has " + std::to_string(data.size()) + " bytes" +
+              (data.size() > expected ? " (a tail that is not zero padding)" : ""));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -826,13 +854,16 @@ int surface_format_of(const std::string& path) {
   if (ext == ".off") return 1;
   if (ext == ".stl") return 2;
   if (ext == ".ply") return 3;
+  check_not_gzip_name(path);
   throw Error(path + ": unknown surface format " +
               (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
               ": expected .obj, .off, .stl or .ply");
 }
 
 TriangleSurface read_surface_text(const std::string& path, std::string text) {
-  switch (surface_format_of(path)) {
+  const int format = surface_format_of(path);
+  if (format != 2) prepare_input(path, text);  // STL: once it is known not to be binary
+  switch (format) {
     case 0:
       return read_obj(path, std::move(text));
     case 1:
@@ -847,6 +878,7 @@ TriangleSurface read_surface_text(const std::string& path, std::string text) {
 }  // namespace
 
 TriangleSurface read_surface(const std::string& path) {
+  check_not_directory(path);
   surface_format_of(path);
   return read_surface_text(path, read_whole_file(path));
 }

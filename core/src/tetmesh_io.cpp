@@ -176,6 +176,56 @@ int medit_skipped_section_size(const std::string& kw) {
   return 0;
 }
 
+// Medit's Triangles in a volume mesh are its boundary and interface faces, and their refs
+// are the tags of those faces (boundary conditions: Domain3 gives each boundary facet the
+// ref of the listed triangle with its three vertices). A triangle with a repeated vertex,
+// or whose three vertices are no tetrahedron's face, can tag nothing: its ref would be
+// dropped without a word, so it is an error naming the entry (its number from 1, as
+// Medit counts across Triangles sections) and its vertices. `raw` holds the entries as
+// read, `mesh` the tets and triangles once checked against the vertex count.
+void check_medit_triangles(const std::string& path, const RawCells& raw, const TetMeshInput& mesh) {
+  const std::size_t ntri = mesh.nb_triangles();
+  if (ntri == 0) return;
+  using Key = std::array<std::uint32_t, 3>;
+  const auto key_of = [](const std::uint32_t* v) {
+    Key k = {v[0], v[1], v[2]};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  const auto vertices = [&](std::size_t t) {
+    return "vertices " + std::to_string(raw.v[3 * t]) + " " + std::to_string(raw.v[3 * t + 1]) +
+           " " + std::to_string(raw.v[3 * t + 2]);
+  };
+  for (std::size_t t = 0; t < ntri; ++t) {
+    const Key k = key_of(&mesh.triangles[3 * t]);
+    if (k[0] == k[1] || k[1] == k[2]) {
+      fail_at(path, raw.line[t],
+              "triangle " + std::to_string(raw.label[t]) + ": " + vertices(t) +
+                  " repeat a vertex (a degenerate triangle, the face of no tetrahedron)");
+    }
+  }
+  static constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  std::vector<Key> faces;
+  faces.reserve(4 * std::size_t{mesh.nb_tets()});
+  for (std::size_t t = 0; t < mesh.nb_tets(); ++t) {
+    for (const auto& f : kFaces) {
+      const std::uint32_t v[3] = {mesh.tets[4 * t + static_cast<std::size_t>(f[0])],
+                                  mesh.tets[4 * t + static_cast<std::size_t>(f[1])],
+                                  mesh.tets[4 * t + static_cast<std::size_t>(f[2])]};
+      faces.push_back(key_of(v));
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  for (std::size_t t = 0; t < ntri; ++t) {
+    if (!std::binary_search(faces.begin(), faces.end(), key_of(&mesh.triangles[3 * t]))) {
+      fail_at(path, raw.line[t],
+              "triangle " + std::to_string(raw.label[t]) + ": " + vertices(t) +
+                  " are not a face of any tetrahedron (Triangles lists boundary and interface "
+                  "faces)");
+    }
+  }
+}
+
 TetMeshInput read_medit(const std::string& path, std::string text) {
   Lexer lx(path, std::move(text), '#');
   TetMeshInput mesh;
@@ -239,6 +289,7 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
                                      : ": no tetrahedra (no Tetrahedra section)"));
   }
   finish_mesh(path, tets, path, triangles, 1, mesh);
+  check_medit_triangles(path, triangles, mesh);
   mesh.numbering = "Medit numbering, from 1";
   return mesh;
 }
@@ -259,7 +310,10 @@ std::string_view line_field(Lexer& lx, const std::string& entry, std::size_t exp
 
 // The three files' contents (`face_text` nullptr: no .face file); `base` names them.
 TetMeshInput read_tetgen(const std::string& base, std::string node_text, std::string ele_text,
-                         const std::string* face_text) {
+                         std::string* face_text) {
+  prepare_input(base + ".node", node_text);
+  prepare_input(base + ".ele", ele_text);
+  if (face_text != nullptr) prepare_input(base + ".face", *face_text);
   TetMeshInput mesh;
   std::uint64_t first_node = 0;
   {
@@ -2106,6 +2160,7 @@ void check_tet_mesh_extension(const std::string& path) {
   if (ext == ".meshb") {
     throw Error(path + ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
   }
+  check_not_gzip_name(path);
   throw Error(path + ": unknown tetrahedral mesh format " +
               (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
               ": expected .mesh, .node/.ele, .msh, .vtk or .vtu");
@@ -2114,6 +2169,7 @@ void check_tet_mesh_extension(const std::string& path) {
 // The single-file formats, from the file's bytes (`path` names it and its extension,
 // checked by check_tet_mesh_extension, tells the format).
 TetMeshInput read_tet_mesh_text(const std::string& path, std::string text) {
+  prepare_input(path, text);
   const std::string ext = extension_of(path);
   if (ext == ".mesh") return read_medit(path, std::move(text));
   if (ext == ".msh") return read_gmsh(path, std::move(text));
@@ -2124,6 +2180,7 @@ TetMeshInput read_tet_mesh_text(const std::string& path, std::string text) {
 }  // namespace
 
 TetMeshInput read_tet_mesh(const std::string& path) {
+  check_not_directory(path);
   const std::string ext = extension_of(path);
   if (ext == ".node" || ext == ".ele") {
     const std::string base = without_extension(path);
@@ -2132,7 +2189,7 @@ TetMeshInput read_tet_mesh(const std::string& path) {
     std::string ele_text = read_whole_file(base + ".ele");
     const std::string face_path = base + ".face";
     if (std::ifstream(face_path, std::ios::binary)) {
-      const std::string face_text = read_whole_file(face_path);
+      std::string face_text = read_whole_file(face_path);
       return read_tetgen(base, std::move(node_text), std::move(ele_text), &face_text);
     }
     return read_tetgen(base, std::move(node_text), std::move(ele_text), nullptr);
@@ -2155,7 +2212,7 @@ TetMeshInput read_tetgen_mesh(std::istream& node, std::istream& ele, std::istrea
   std::string node_text = read_whole_stream(node, base + ".node");
   std::string ele_text = read_whole_stream(ele, base + ".ele");
   if (face != nullptr) {
-    const std::string face_text = read_whole_stream(*face, base + ".face");
+    std::string face_text = read_whole_stream(*face, base + ".face");
     return read_tetgen(base, std::move(node_text), std::move(ele_text), &face_text);
   }
   return read_tetgen(base, std::move(node_text), std::move(ele_text), nullptr);

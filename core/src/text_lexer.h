@@ -26,17 +26,27 @@ inline std::string lower(std::string_view s) {
   return out;
 }
 
-// A token as it may appear in a message: at most 40 characters, non-printable bytes as '?'
-// (a binary file read by mistake must not fill the terminal with garbage).
-inline std::string quote(std::string_view t) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < t.size() && i < 40; ++i) {
+// A token as it may appear in a message: at most 40 characters, a byte that is not
+// printable ASCII escaped as \xHH (a binary file read by mistake must not put control
+// bytes on the terminal, and the escape shows what the byte was: \xef\xbb\xbf a BOM).
+inline std::string escape(std::string_view t, std::size_t max_size = 40) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < t.size() && i < max_size; ++i) {
     const auto c = static_cast<unsigned char>(t[i]);
-    out += std::isprint(c) ? static_cast<char>(c) : '?';
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
   }
-  if (t.size() > 40) out += "...";
-  return out + "'";
+  if (t.size() > max_size) out += "...";
+  return out;
 }
+
+inline std::string quote(std::string_view t) { return "'" + escape(t) + "'"; }
 
 // The bytes of a stream up to its end; `name` stands for the file in messages.
 inline std::string read_whole_stream(std::istream& in, const std::string& name) {
@@ -47,6 +57,8 @@ inline std::string read_whole_stream(std::istream& in, const std::string& name) 
 }
 
 // A directory opens as a file but reads as an error ("read error"): named as what it is.
+// The readers call it before they look at the extension, so that `dir` and `dir.obj`
+// alike are reported as directories.
 inline void check_not_directory(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -59,6 +71,48 @@ inline std::string read_whole_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file");
   return read_whole_stream(in, path);
+}
+
+// No reader decompresses: a name ending in .gz is named as a compressed file rather than
+// as an unknown format, and so is a file that starts with the gzip magic bytes 1f 8b
+// (RFC 1952, section 2.3.1) whatever its name.
+inline void check_not_gzip_name(const std::string& path) {
+  std::string ext = path.size() >= 3 ? path.substr(path.size() - 3) : std::string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".gz") {
+    throw Error(path + ": gzip-compressed files are not read: decompress it first (gunzip)");
+  }
+}
+inline bool is_gzip(std::string_view data) {
+  return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
+         static_cast<unsigned char>(data[1]) == 0x8b;
+}
+inline void check_not_gzip(const std::string& path, std::string_view data) {
+  if (is_gzip(data)) {
+    throw Error(path +
+                ": the file is gzip-compressed (it starts with the bytes 1f 8b); files are "
+                "read uncompressed: decompress it first (gunzip)");
+  }
+}
+
+// What every reader does to a file's bytes before it parses them (the binary STL reader
+// after it has recognised a binary file by its size, whose 80-byte header is arbitrary):
+//  - a gzip-compressed file is reported as such (check_not_gzip);
+//  - a UTF-8 byte order mark (EF BB BF), which Windows editors put at the start of text
+//    files, is dropped: no format gives these bytes a meaning at the start of a file;
+//  - a text whose lines end in CR alone (classic Mac OS), with no LF anywhere, gets LF
+//    line ends. A file with control bytes other than blanks is binary data (a binary PLY,
+//    .msh or .vtk whose header lines would end in CR) and is left as it is, so that no
+//    byte of its data is changed. CRLF needs nothing: CR is a blank to every tokenizer.
+inline void prepare_input(const std::string& path, std::string& text) {
+  check_not_gzip(path, text);
+  if (text.size() >= 3 && text.compare(0, 3, "\xef\xbb\xbf") == 0) text.erase(0, 3);
+  if (text.find('\r') == std::string::npos || text.find('\n') != std::string::npos) return;
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 && c != '\t' && c != '\r' && c != '\v' && c != '\f') return;
+  }
+  std::replace(text.begin(), text.end(), '\r', '\n');
 }
 
 // Splits a text into tokens separated by blanks; `comment` (0: none) starts a comment that

@@ -258,9 +258,8 @@ TEST_CASE("read_surface: STL ASCII with several solids, binary by size", "[core]
   CHECK(b.triangles == std::vector<std::uint32_t>{0, 1, 2});
   const std::string bad = write_temp("bad.stl", std::string(100, 'x'));
   CHECK(error_of(bad) == bad +
-                             ": not an STL file: it does not start with 'solid' (ASCII), and its "
-                             "size (100 bytes) is not 84 + 50 x the triangle count of a binary "
-                             "STL");
+                             ": binary STL: the header says 2021161080 triangles (84 + 50 x "
+                             "2021161080 = 101058054084 bytes) but the file has 100 bytes");
   const std::string trunc = write_temp("t.stl",
                                        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
                                        "vertex 1 0 0\nendloop\n");
@@ -420,4 +419,92 @@ TEST_CASE("read_surface from a stream reads what read_surface reads from the fil
   std::istringstream empty;
   CHECK_THROWS_WITH(voroclip::read_surface(empty, "x.png"),
                     "x.png: unknown surface format '.png': expected .obj, .off, .stl or .ply");
+}
+
+namespace {
+
+// A binary STL of `n` copies of one triangle, with `count` in its header.
+std::string binary_stl(std::uint32_t count, std::uint32_t n) {
+  std::string bin = "binary";
+  bin.resize(80, ' ');
+  bin.append(reinterpret_cast<const char*>(&count), 4);
+  const float tri[12] = {0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 2, 0};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    bin.append(reinterpret_cast<const char*>(tri), sizeof tri);
+    bin.append(2, '\0');
+  }
+  return bin;
+}
+
+const char* const kCubeObj =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+}  // namespace
+
+TEST_CASE("read_surface: a binary STL whose size disagrees with its count", "[core][regression]") {
+  // All were "not an STL file ... size is not 84 + 50 x the triangle count".
+  const std::string trunc = write_temp("trunc.stl", binary_stl(5, 4));
+  CHECK(error_of(trunc) == trunc +
+                               ": binary STL: the header says 5 triangles (84 + 50 x 5 = 334 "
+                               "bytes) but the file has 284 bytes");
+  const std::string small = write_temp("small.stl", binary_stl(1, 3));
+  CHECK(error_of(small) == small +
+                               ": binary STL: the header says 1 triangles (84 + 50 x 1 = 134 "
+                               "bytes) but the file has 234 bytes (a tail that is not zero "
+                               "padding)");
+  const std::string tiny = write_temp("tiny.stl", "abc");
+  CHECK(error_of(tiny) == tiny +
+                              ": not an STL file: it does not start with 'solid' (ASCII), and it "
+                              "has 3 bytes, fewer than the 84 of a binary STL's header and "
+                              "triangle count");
+  // Zero padding after the last triangle is read past (numpy-stl and Gmsh ignore a tail).
+  const std::string padded = write_temp("padded.stl", binary_stl(2, 2) + std::string(50, '\0'));
+  const TriangleSurface s = voroclip::read_surface(padded);
+  CHECK(s.nb_triangles() == 2);
+  CHECK(s.xyz == std::vector<double>{0, 0, 0, 2, 0, 0, 0, 2, 0});
+}
+
+TEST_CASE("read_surface: a UTF-8 BOM and CR-only line ends", "[core][regression]") {
+  // "not an OBJ statement: '???v'", "found '???OFF'", and CR-only lines gave "no faces".
+  const std::string obj = write_temp("bom.obj", std::string("\xef\xbb\xbf") + kCubeObj);
+  CHECK(voroclip::read_surface(obj).nb_triangles() == 12);
+  const std::string off =
+      write_temp("bom.off",
+                 "\xef\xbb\xbfOFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n"
+                 "3 0 3 2\n3 1 2 3\n");
+  CHECK(voroclip::read_surface(off).nb_triangles() == 4);
+  std::string cr = kCubeObj;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  const TriangleSurface c = voroclip::read_surface(write_temp("cr.obj", cr));
+  CHECK(c.nb_triangles() == 12);
+  CHECK(c.triangle_line[11] == 14);  // lines counted at the CRs
+  const std::string crstl =
+      write_temp("cr.stl",
+                 "solid s\rfacet normal 0 0 1\router loop\rvertex 0 0 0\rvertex 1 0 0\r"
+                 "vertex 0 1 0\rendloop\rendfacet\rendsolid s\r");
+  CHECK(voroclip::read_surface(crstl).triangle_line == std::vector<std::uint32_t>{2});
+  const std::string crbad = write_temp("crbad.obj", "v 0 0 0\rv 1 0 0\rf 1 2 x\r");
+  CHECK(error_of(crbad).rfind(crbad + ":3: ", 0) == 0);
+}
+
+TEST_CASE("read_surface: a gzip file, a directory, bytes that are not printable",
+          "[core][regression]") {
+  // A gzip file named .obj printed its raw bytes; a directory without an extension was
+  // "unknown surface format (no extension)".
+  const std::string gz = write_temp("gz.obj", std::string("\x1f\x8b\x08\x08\x00\x00v 0", 9));
+  CHECK(error_of(gz) == gz + ": the file is gzip-compressed (it starts with the bytes 1f 8b); "
+                             "files are read uncompressed: decompress it first (gunzip)");
+  const std::string gzstl = write_temp("gz.stl", std::string("\x1f\x8b\x08\x08\x00\x00", 6));
+  CHECK(error_of(gzstl).find("gzip-compressed") != std::string::npos);
+  const std::string named = write_temp("x.obj.gz", "v 0 0 0\n");
+  CHECK(error_of(named) ==
+        named + ": gzip-compressed files are not read: decompress it first (gunzip)");
+  const std::string dir = temp().file("adir");
+  std::filesystem::create_directories(dir);
+  CHECK(error_of(dir) == dir + ": is a directory, not a file");
+  std::filesystem::create_directories(dir + ".obj");
+  CHECK(error_of(dir + ".obj") == dir + ".obj: is a directory, not a file");
+  const std::string ctl = write_temp("ctl.obj", "v 0 0 0\n\x02\x1bv 1 0 0\n");
+  CHECK(error_of(ctl) == ctl + ":2: not an OBJ statement: '\\x02\\x1bv'");
 }

@@ -412,7 +412,8 @@ TEST_CASE("read_tet_mesh: missing files, unknown formats and versions, binary fi
   CHECK(error_of(medit2d) == medit2d + ":2: Dimension 2: only 3D meshes are read");
   const std::string garbage = write_temp("garbage.mesh", std::string("\x01\x02\xff\0abc", 7));
   CHECK(error_of(garbage) ==
-        garbage + ":1: not a Medit mesh: expected MeshVersionFormatted, found '????abc'");
+        garbage +
+            ":1: not a Medit mesh: expected MeshVersionFormatted, found '\\x01\\x02\\xff\\x00abc'");
   const std::string keyword = write_temp("kw.mesh", "MeshVersionFormatted 2\nFoo 3\n");
   CHECK(error_of(keyword) == keyword + ":2: unknown Medit keyword 'Foo'");
 
@@ -1795,4 +1796,63 @@ TEST_CASE("fuzz regression: a .vtu DataArray that is never closed", "[core][regr
   // announced, and base64 decoding would have read past the end of the file.
   const std::string path = kFuzzRegressions + "vtu_unclosed_data_array.vtu";
   CHECK(error_of(path) == path + ":6: DataArray Points is not closed");
+}
+
+TEST_CASE("read_tet_mesh: Medit Triangles that are no tet face are errors", "[core][regression]") {
+  // Both were read and their refs dropped without a word (m_tris_degen.mesh,
+  // m_tris_bogus.mesh of a user test).
+  const std::string head =
+      "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n"
+      "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\nTetrahedra\n1\n1 2 3 4 0\nTriangles\n3\n"
+      "1 2 3 1\n";
+  std::string path = write_temp("tdegen.mesh", head + "4 3 2 1\n1 1 3 0\nEnd\n");
+  CHECK(error_of(path) ==
+        path +
+            ":17: triangle 3: vertices 1 1 3 repeat a vertex (a degenerate triangle, the face "
+            "of no tetrahedron)");
+  path = write_temp("tbogus.mesh", head + "1 2 5 2\n4 3 2 0\nEnd\n");
+  CHECK(error_of(path) == path +
+                              ":16: triangle 2: vertices 1 2 5 are not a face of any tetrahedron "
+                              "(Triangles lists boundary and interface faces)");
+  path = write_temp("toob.mesh", head + "1 2 9999 0\n4 3 2 0\nEnd\n");
+  CHECK(error_of(path) == path + ":16: triangle 2: vertex 9999 is out of range 1..5");
+  // Faces in either orientation, and in a second Triangles section, are read.
+  path = write_temp("tok.mesh", head + "2 4 3 7\n1 4 3 0\nTriangles\n1\n4 2 1 9\nEnd\n");
+  const TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2, 0, 3, 2, 3, 1, 0});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{1, 7, 0, 9});
+}
+
+TEST_CASE("read_tet_mesh: a UTF-8 BOM, CR-only line ends, gzip, directories",
+          "[core][regression]") {
+  const std::string medit =
+      "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n"
+      "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\nTetrahedra\n1\n1 2 3 4 5\nEnd\n";
+  const TetMeshInput bom = voroclip::read_tet_mesh(write_temp("bom.mesh", "\xef\xbb\xbf" + medit));
+  CHECK(bom.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(bom.tet_ref == std::vector<std::int32_t>{5});
+  std::string cr = medit;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  const TetMeshInput crm = voroclip::read_tet_mesh(write_temp("cr.mesh", cr));
+  CHECK(crm.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(crm.tet_line == std::vector<std::uint32_t>{11});
+  write_temp("bomtg.node",
+             "\xef\xbb\xbf"
+             "4 3 0 0\r1 0 0 0\r2 1 0 0\r3 0 1 0\r4 0 0 1\r");
+  write_temp("bomtg.ele",
+             "\xef\xbb\xbf"
+             "1 4 0\n1 1 2 3 4\n");
+  CHECK(voroclip::read_tet_mesh(temp().file("bomtg.ele")).tets ==
+        std::vector<std::uint32_t>{0, 1, 2, 3});
+  const std::string gz = write_temp("gz.mesh", std::string("\x1f\x8b\x08\x00\x01\x02", 6));
+  CHECK(error_of(gz) == gz + ": the file is gzip-compressed (it starts with the bytes 1f 8b); "
+                             "files are read uncompressed: decompress it first (gunzip)");
+  const std::string named = write_temp("m.mesh.gz", medit);
+  CHECK(error_of(named) ==
+        named + ": gzip-compressed files are not read: decompress it first (gunzip)");
+  const std::string dir = temp().file("tdir");
+  std::filesystem::create_directories(dir);
+  CHECK(error_of(dir) == dir + ": is a directory, not a file");
+  std::filesystem::create_directories(dir + ".vtu");
+  CHECK(error_of(dir + ".vtu") == dir + ".vtu: is a directory, not a file");
 }
