@@ -9,8 +9,6 @@
 #include <atomic>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -95,12 +93,7 @@ struct Tokens {
   std::size_t next = 0;
 
   explicit Tokens(const std::string& file) : path(file) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) {
-      throw Error(file + ": is a directory, not a file");
-    }
-    std::ifstream in(file);
-    if (!in) throw Error(file + ": cannot open the file");
+    std::istringstream in(read_text_file(file));  // BOM, CR-only line ends, gzip: as core
     std::string line;
     std::uint32_t number = 0;
     while (std::getline(in, line)) {
@@ -175,7 +168,7 @@ Grid read_vtk_grid(const std::string& path, bool sizing, int dimension) {
   Tokens t(path);
   // The header: "# vtk DataFile Version x.y" (a comment to Tokens) and a title line.
   {
-    std::ifstream in(path);
+    std::istringstream in(read_text_file(path));
     std::string first;
     std::getline(in, first);
     if (first.rfind("# vtk DataFile", 0) != 0) {

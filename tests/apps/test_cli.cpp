@@ -564,3 +564,58 @@ TEST_CASE("messages say what the command line calls things", "[apps][regression]
     }
   }
 }
+
+TEST_CASE("the sites and cell tables the commands write read back as --sites",
+          "[apps][regression]") {
+  // cvt3d -o sites.csv wrote an x,y,z header and commas that --sites rejected
+  // ("'x,y,z' is not a number").
+  const std::string sphere = std::string(VOROCLIP_SHARED_DATA_DIR) + "/surfaces/sphere.obj";
+  for (const char* ext : {".csv", ".txt"}) {
+    INFO(ext);
+    const std::string sites = temp_path(ext), cells = temp_path(".csv"), again = temp_path(".csv");
+    REQUIRE(run_cli({"-q", "cvt3d", sphere, "--random", "20", "--iterations", "2", "-o", sites})
+                .status == 0);
+    const std::vector<double> xyz = voroclip::read_points(sites, 3);
+    CHECK(xyz.size() == 60);
+    const Run clip = run_cli({"-q", "clip3d", sphere, "--sites", sites, "-o", cells});
+    CHECK(clip.status == 0);
+    CHECK(clip.err.empty());
+    // The cell table's x, y, z columns are the sites, and read back as sites in turn.
+    CHECK(voroclip::read_points(cells, 3) == xyz);
+    CHECK(run_cli({"-q", "clip3d", sphere, "--sites", cells, "-o", again}).status == 0);
+    CHECK(slurp(again) == slurp(cells));
+    const Run delaunay = run_cli({"--stats", "json", "delaunay3d", sites});
+    CHECK(delaunay.status == 0);
+    CHECK(nlohmann::json::parse(delaunay.out)["points"] == 20);
+    for (const std::string& f : {sites, cells, again}) std::remove(f.c_str());
+  }
+  const std::string sites2 = temp_path(".txt"), cells2 = temp_path(".csv");
+  REQUIRE(run_cli({"-q", "cvt2d", "annulus:1,2,64", "--random", "10", "--iterations", "2", "-o",
+                   sites2})
+              .status == 0);
+  CHECK(run_cli({"-q", "clip2d", "annulus:1,2,64", "--sites", sites2, "-o", cells2}).status == 0);
+  CHECK(voroclip::read_points(cells2, 2) == voroclip::read_points(sites2, 2));
+  CHECK(run_cli({"-q", "cvt2d", "annulus:1,2,64", "--sites", cells2, "--iterations", "1"}).status ==
+        0);
+  std::remove(sites2.c_str());
+  std::remove(cells2.c_str());
+}
+
+TEST_CASE("a directory as a 3D domain is named as a directory", "[apps][regression]") {
+  // "unknown 3D domain format ''" for a directory without an extension.
+  const std::string dir = temp_path("");
+  REQUIRE(::mkdir(dir.c_str(), 0755) == 0);
+  for (const char* command : {"check-surface", "clip3d", "cvt3d", "mesh3d"}) {
+    INFO(command);
+    std::vector<std::string> args = {command, dir};
+    if (std::string(command) != "check-surface") {
+      args.insert(args.end(), {"--random", "5"});
+    }
+    if (std::string(command) == "mesh3d") args = {command, dir, "--vertices", "100"};
+    const Run run = run_cli(args);
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(contains(run.err, dir + ": is a directory, not a file"));
+  }
+  ::rmdir(dir.c_str());
+}

@@ -103,3 +103,78 @@ TEST_CASE("fuzz regression: a JSON number out of the range of a double", "[core]
                                      "overflow parsing '1e3080'");
   }
 }
+
+TEST_CASE("read_points reads back the .csv and .txt sites the CLI writes", "[core][regression]") {
+  // cvt3d -o sites.csv writes an x,y,z header and commas: read_points stopped at the
+  // header ("'x,y,z' is not a number") and at every comma-separated line.
+  std::istringstream csv("x,y,z\n0,0,0\n0.5,0,0\n0.1,0,0.2\n");
+  CHECK(voroclip::read_points(csv, "s.csv", 3) ==
+        std::vector<double>{0, 0, 0, 0.5, 0, 0, 0.1, 0, 0.2});
+  std::istringstream commas("0,0,0\n0.5, 0 ,0\n");
+  CHECK(voroclip::read_points(commas, "c.txt", 3) == std::vector<double>{0, 0, 0, 0.5, 0, 0});
+  // A cell table (clip3d/cvt3d -o cells.csv): the columns x, y, z are the sites.
+  std::istringstream table(
+      "site,x,y,z,volume,centroid_x,centroid_y,centroid_z,energy,boundary\n"
+      "0,0.25,0.5,0.75,1,0,0,0,0,1\n1,-1,-2,-3,1,0,0,0,0,0\n");
+  CHECK(voroclip::read_points(table, "cells.csv", 3) ==
+        std::vector<double>{0.25, 0.5, 0.75, -1, -2, -3});
+  std::istringstream table2("site,x,y,area\n0,1,2,3\n");
+  CHECK(voroclip::read_points(table2, "cells2.csv", 2) == std::vector<double>{1, 2});
+  std::istringstream quoted("\"X\", \"Y\"\n1,2\n");
+  CHECK(voroclip::read_points(quoted, "q.csv", 2) == std::vector<double>{1, 2});
+  // Genuinely bad lines are still errors naming the line and the token.
+  const auto error = [](const std::string& text, int dim) {
+    std::istringstream in(text);
+    try {
+      voroclip::read_points(in, "e.csv", dim);
+    } catch (const voroclip::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  CHECK(error("x,y,z\n0,0,0\nx,y,z\n", 3) == "e.csv:3: 'x' is not a number");
+  CHECK(error("0,0,0\n1,2,abc\n", 3) == "e.csv:2: 'abc' is not a number");
+  CHECK(error("x,y,z\n1,2\n", 3) == "e.csv:2: expected 3 fields, as the header names, found 2");
+  CHECK(error("x,y,z\n1,,2\n", 3) == "e.csv:2: field 2 is empty");
+  CHECK(error("0,0,0,\n", 3) == "e.csv:1: more than 3 coordinates");
+  CHECK(error("x,y,z\n1,2,3\n", 2) ==
+        "e.csv:1: the header names a column z: 3D points, 2D expected");
+  CHECK(error("a,b,c\n1,2,3\n", 3) == "e.csv:1: 'a' is not a number");
+  CHECK(error("site,x,y\n1,2,3\n", 3) ==
+        "e.csv:1: the header names no column z: 2D points, 3D expected");
+  CHECK(error("{\"cells\": []}", 3) == "e.csv: expected a JSON array of points");
+}
+
+TEST_CASE("read_points: a UTF-8 BOM, CR-only line ends, a gzip file", "[core][regression]") {
+  // The BOM was read as part of the first number ("'\xef\xbb\xbf0' is not a number"), CR
+  // line ends made one line of the file.
+  std::istringstream bom(
+      "\xef\xbb\xbf"
+      "0 0 0\n1 2 3\n");
+  CHECK(voroclip::read_points(bom, "b.txt", 3) == std::vector<double>{0, 0, 0, 1, 2, 3});
+  std::istringstream cr("# c\r0 0 0\r1 2 3\r");
+  CHECK(voroclip::read_points(cr, "cr.txt", 3) == std::vector<double>{0, 0, 0, 1, 2, 3});
+  std::istringstream crlf("x,y\r\n0,1\r\n");
+  CHECK(voroclip::read_points(crlf, "crlf.csv", 2) == std::vector<double>{0, 1});
+  std::istringstream crbad("0 0 0\r1 2\r");
+  CHECK_THROWS_WITH(voroclip::read_points(crbad, "crbad.txt", 3),
+                    "crbad.txt:2: expected 3 coordinates, found 2");
+  std::istringstream gz(std::string("\x1f\x8b\x08\x00\x00\x00", 6));
+  CHECK_THROWS_WITH(voroclip::read_points(gz, "s.txt", 3),
+                    "s.txt: the file is gzip-compressed (it starts with the bytes 1f 8b); files "
+                    "are read uncompressed: decompress it first (gunzip)");
+  // Bytes that are not printable are escaped in messages.
+  std::istringstream ctl("0 0 \x01\x7f\n");
+  CHECK_THROWS_WITH(voroclip::read_points(ctl, "ctl.txt", 3),
+                    "ctl.txt:1: '\\x01\\x7f' is not a number");
+}
+
+TEST_CASE("read_polygon: a UTF-8 BOM and CR-only line ends in a .poly", "[core][regression]") {
+  std::istringstream poly(
+      "\xef\xbb\xbf"
+      "3 2 0 0\r1 0 0\r2 1 0\r3 0 1\r3 0\r1 1 2\r2 2 3\r3 3 1\r0\r");
+  CHECK(voroclip::read_polygon(poly, "p.poly").xy == std::vector<double>{0, 0, 1, 0, 0, 1});
+  std::istringstream any("[]");
+  CHECK_THROWS_WITH(voroclip::read_polygon(any, "p.json.gz"),
+                    "p.json.gz: gzip-compressed files are not read: decompress it first (gunzip)");
+}

@@ -65,11 +65,21 @@ void check_output_path(const std::string& path);
 /// of one existing file (hard links). Empty paths name no file.
 bool same_file(const std::string& a, const std::string& b);
 
+/// The contents of a text file as voroclip's readers see them: a gzip-compressed file (it
+/// starts with the bytes 1f 8b) or a directory is an Error naming it, a leading UTF-8 byte
+/// order mark is dropped, and CR-only line ends (classic Mac OS) become LF.
+std::string read_text_file(const std::string& path);
+
 /// Reads points of `dimension` (2 or 3) coordinates, returned packed (x y [z] per point),
 /// from either format, recognised by the first non-blank character:
 ///   - JSON: an array of points, each an array of `dimension` numbers: [[0, 1.5], [2, 3]]
-///   - text: one point per line, `dimension` numbers separated by blanks; empty lines and
-///     everything after '#' are ignored.
+///   - text: one point per line, `dimension` numbers separated by blanks or by commas;
+///     empty lines and everything after '#' are ignored. The first line may be a header
+///     naming the columns (no number in it, and columns named x, y and, in 3D, z, in any
+///     case, maybe quoted): the lines then hold as many fields as the header and the
+///     columns x, y (, z) are the point, the others are not read. So the .txt and .csv
+///     outputs of cvt2d/cvt3d (`x,y,z`) and the cell tables (`site,x,y,z,volume,...`) read
+///     back as sites. Lines end in LF, CRLF or CR; a leading UTF-8 BOM is skipped.
 /// Throws Error naming the file and the line (text) or the point (JSON) and what is wrong:
 /// a missing file, a value that is not a finite number, a wrong number of coordinates.
 std::vector<double> read_points(const std::string& path, int dimension);
@@ -184,7 +194,7 @@ struct TetMeshInput {
   std::vector<std::int32_t> tet_ref;
   /// Triangles the file lists (boundary or interface faces, or any other): 3 vertex indices
   /// each, 0-based, in the file's order and orientation, all of them, whether or not they
-  /// are faces of tets.
+  /// are faces of tets (except Medit's: the reader requires each to be a tet face).
   std::vector<std::uint32_t> triangles;
   /// Per triangle: its tag, the surface patch it belongs to (empty: all 0).
   std::vector<std::int32_t> triangle_ref;
@@ -230,7 +240,9 @@ struct TetMeshInput {
 /// Reads a tetrahedral mesh, by extension (case-insensitive):
 ///   .mesh          Medit (INRIA) ASCII: keywords case-insensitive, '#' comments; the
 ///                  Vertices (x y z ref), Triangles (3 indices from 1, ref) and Tetrahedra
-///                  (4 indices from 1, ref) sections, refs as tags; other sections (Edges,
+///                  (4 indices from 1, ref) sections, refs as tags (a triangle that
+///                  repeats a vertex or is no tet's face is an error: its ref would
+///                  tag nothing); other sections (Edges,
 ///                  Corners, Normals, ...) are read past by their counts;
 ///                  MeshVersionFormatted 1 to 4, Dimension 3;
 ///   .node / .ele   TetGen: either file may be given, the other is found beside it (same
