@@ -20,9 +20,9 @@ namespace voroclip::cli {
 
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+// Whether the file's extension is `ext` (".svg"), in any case, as the other commands take them.
+bool ends_with(const std::string& path, const std::string& ext) {
+  return lower_extension(path) == ext;
 }
 
 }  // namespace
@@ -159,6 +159,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     throw UsageError(
         "--msh-version: only a .msh output (Gmsh) has a format version, got " +
         (args.output.empty() ? std::string("no output file") : "'" + args.output + "'"));
+  }
+  if (args.keep_gaps && !args.circumcenter_rule) {
+    throw UsageError(
+        "--keep-gaps: only with --circumcenter-rule (the default extraction leaves "
+        "no gaps)");
   }
   if (args.vertices_set && args.vertices < 3) throw UsageError("--vertices: needs at least 3");
   if (by_length && !(args.edge_length > 0 && std::isfinite(args.edge_length))) {

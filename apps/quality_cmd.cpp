@@ -57,6 +57,9 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
                      "': expected a surface (.obj, .off, .stl, .ply) or a tet mesh (.mesh, "
                      ".node/.ele, .msh, .vtk, .vtu) whose boundary is used");
   }
+  if (args.samples_set && args.surface.empty()) {
+    throw UsageError("--samples: only with --surface (it sets the samples of the distance to it)");
+  }
   if (args.compress && args.output.empty()) {
     throw UsageError("--compress: needs -o FILE.vtu (it compresses the .vtu output)");
   }

@@ -33,6 +33,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -360,6 +361,8 @@ std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {
 }
 
 Domain3 read_domain3(const std::string& path, const Surface3Options& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a file");
   const std::size_t dot = path.find_last_of('.');
   const std::size_t slash = path.find_last_of("/\\");
   std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)

@@ -3,6 +3,7 @@ half-space intersection, measured by ConvexHull), partition of the domain, 1 vs 
 bit for bit, geometry and neighbours consistent with the measures, every domain input
 form, and the errors bad input gets."""
 
+import os
 import re
 
 import numpy as np
@@ -250,6 +251,8 @@ def test_bad_input_raises_error():
         voroclip.domain3((np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)))
     with pytest.raises(voroclip.Error, match="^from_tets: no tets"):
         voroclip.Domain3.from_tets(CUBE_V, np.zeros((0, 4), dtype=np.int64), [], [], [], "")
+    with pytest.raises(voroclip.Error, match="is a directory, not a file"):
+        voroclip.domain3(os.path.dirname(__file__))
     # An inside-out surface: the message says what changes it in Python.
     with pytest.raises(voroclip.Error) as inside_out:
         voroclip.domain3((CUBE_V, CUBE_T[:, ::-1]))

@@ -209,6 +209,24 @@ TEST_CASE("mesh2d: two outputs naming one file, --msh-version without a .msh out
   }
 }
 
+TEST_CASE("mesh2d: extensions in any case; --keep-gaps only with --circumcenter-rule",
+          "[apps][regression]") {
+  // mesh2d took only lower-case extensions (X.SVG was an error) and --keep-gaps without
+  // --circumcenter-rule was accepted and ignored.
+  const std::string svg = temp_path(".SVG");
+  const Run upper = run_cli({"-q", "mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", svg});
+  CHECK(upper.status == 0);
+  CHECK(contains(slurp(svg), "<svg"));
+  std::remove(svg.c_str());
+  const Run gaps = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "--keep-gaps"});
+  CHECK(gaps.status == 2);
+  check_one_error_line(gaps);
+  CHECK(contains(gaps.err, "--keep-gaps: only with --circumcenter-rule"));
+  const Run both = run_cli({"-q", "mesh2d", "annulus:1,2,32", "--vertices", "100",
+                            "--circumcenter-rule", "--keep-gaps"});
+  CHECK(both.status == 0);
+}
+
 TEST_CASE("demo: a CVT mesh and a clipped Voronoi diagram of a domain with holes", "[apps]") {
   const std::string path = "test_cli_mesh_demo.svg";
   const Run run = run_cli({"demo", "--stats", "json", "-o", path});

@@ -161,3 +161,11 @@ TEST_CASE("quality --compress: a zlib .vtu that reads back the same", "[apps]") 
   check_one_error_line(bad);
   CHECK(contains(bad.err, "--compress"));
 }
+
+TEST_CASE("quality: --samples without --surface is a usage error", "[apps][regression]") {
+  // It was accepted and ignored: no distance is measured without a reference surface.
+  const Run run = run_cli({"quality", kData + "/tetmeshes/sphere.mesh", "--samples", "1000"});
+  CHECK(run.status == 2);
+  CHECK(run.err.find("--samples: only with --surface") != std::string::npos);
+  CHECK(run.out.empty());
+}
