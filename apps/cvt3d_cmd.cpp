@@ -146,9 +146,10 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
               << '\n';
   }
   if (human) {
-    *human << "CVT (" << args.method << "): " << n << " sites in " << domain.source() << ", "
-           << r.iterations << " iterations, " << r.evaluations << " diagrams, energy "
-           << std::setprecision(12) << r.energy << ", |g|/|g0| " << std::setprecision(3)
+    *human << "CVT (" << args.method << "): " << count_of(n, "site") << " in " << domain.source()
+           << ", " << count_of(r.iterations, "iteration") << ", "
+           << count_of(r.evaluations, "diagram") << ", energy " << std::setprecision(12) << r.energy
+           << ", |g|/|g0| " << std::setprecision(3)
            << (r.initial_gradient_norm > 0 ? r.gradient_norm / r.initial_gradient_norm : 0)
            << "; stopped: " << cvt_stop_name(r.stop) << ", " << r.seconds << " s\n";
     if (!args.output.empty()) *human << "Written to " << args.output << '\n';

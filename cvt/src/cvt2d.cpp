@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cvt_range.h"
 #include "voroclip/cvt.h"
 
 namespace voroclip {
@@ -236,16 +237,23 @@ class Problem {
   }
 
   // Norm of the (unscaled) gradient of the last evaluate, without the components that
-  // push a bounded variable out.
+  // push a bounded variable out. The squares are summed scaled by a power of two when they
+  // would overflow or underflow (cvt_range.h): the gradient grows as L^3 for a domain of
+  // size L, its squares overflowed from L ~ 2^170 (|g| inf) and underflowed below 2^-170
+  // (|g| 0), and such runs stopped "converged" at iteration 0.
   double projected_norm(const Eigen::VectorXd& z, const Eigen::VectorXd& lo,
                         const Eigen::VectorXd& hi) const {
-    double s = 0;
-    for (Eigen::Index k = 0; k < unscaled_.size(); ++k) {
-      const double g = unscaled_[k];
-      if ((z[k] <= lo[k] && g > 0) || (z[k] >= hi[k] && g < 0)) continue;
-      s += g * g;
-    }
-    return std::sqrt(s);
+    int k = 0;
+    const double s = cvt_detail::sum_of_squares(
+        [&](const auto& visit) {
+          for (Eigen::Index e = 0; e < unscaled_.size(); ++e) {
+            const double g = unscaled_[e];
+            if ((z[e] <= lo[e] && g > 0) || (z[e] >= hi[e] && g < 0)) continue;
+            visit(g);
+          }
+        },
+        &k);
+    return std::ldexp(std::sqrt(s), k);
   }
 
   // Diagonal preconditioning: variables of site i scaled by lambda sqrt(2 m_i), from the
@@ -260,17 +268,25 @@ class Problem {
     scale_.assign(n_, 1.0);
     const double floor =
         1e-6 * cv_.total_mass() / static_cast<double>(std::max<std::size_t>(n_, 1));
-    double g2 = 0;
     for (std::size_t i = 0; i < n_; ++i) {
       scale_[i] = std::sqrt(2 * std::max(cv_.mass(static_cast<std::uint32_t>(i)), floor));
-      for (std::size_t k = offset_[i]; k < offset_[i + 1]; ++k) {
-        const double g = unscaled_[static_cast<Eigen::Index>(k)] / scale_[i];
-        g2 += g * g;
-      }
     }
-    const double lambda = g2 > 0 ? 1 / std::sqrt(g2) : 1.0;
+    // g2 = |scaled gradient|^2 = g2s 4^e (sum_of_squares: without overflow or underflow).
+    int e = 0;
+    const double g2s = cvt_detail::sum_of_squares(
+        [&](const auto& visit) {
+          for (std::size_t i = 0; i < n_; ++i) {
+            for (std::size_t k = offset_[i]; k < offset_[i + 1]; ++k) {
+              visit(unscaled_[static_cast<Eigen::Index>(k)] / scale_[i]);
+            }
+          }
+        },
+        &e);
+    const double lambda_s = g2s > 0 ? 1 / std::sqrt(g2s) : 1.0;
+    if (!(g2s > 0)) e = 0;
+    const double lambda = std::ldexp(lambda_s, -e);
     for (double& w : scale_) w *= lambda;
-    set_objective_scale(lambda * lambda);
+    set_objective_scale(lambda_s * lambda_s, -2 * e);
   }
 
   // Without preconditioning, one scale for every variable, 2 m / |g| (m the mean mass of the
@@ -285,14 +301,19 @@ class Problem {
   void set_uniform_scale() {
     scale_.clear();
     set_objective_scale(1);
-    double g2 = 0;
-    for (Eigen::Index k = 0; k < unscaled_.size(); ++k) g2 += unscaled_[k] * unscaled_[k];
+    // |g|^2 = g2s 4^e (sum_of_squares: without overflow or underflow).
+    int e = 0;
+    const double g2s = cvt_detail::sum_of_squares(
+        [&](const auto& visit) {
+          for (Eigen::Index k = 0; k < unscaled_.size(); ++k) visit(unscaled_[k]);
+        },
+        &e);
     const double m = cv_.total_mass() / static_cast<double>(std::max<std::size_t>(n_, 1));
-    if (!(g2 > 0 && m > 0)) return;
-    const double s = 2 * m / std::sqrt(g2);
+    if (!(g2s > 0 && m > 0)) return;
+    const double s = std::ldexp(2 * m / std::sqrt(g2s), -e);
     if (std::isfinite(s) && s > 0) {
       scale_.assign(n_, s);
-      set_objective_scale(2 * m / g2);
+      set_objective_scale(2 * m / g2s, -2 * e);
     }
   }
 
@@ -327,10 +348,11 @@ class Problem {
 
  private:
   double scale(std::size_t i) const { return scale_.empty() ? 1.0 : scale_[i]; }
-  // The largest power of two not above c (1 for c not a positive finite number).
-  void set_objective_scale(double c) {
-    objective_scale_ =
-        std::isfinite(c) && c > 0 ? std::ldexp(1.0, std::clamp(std::ilogb(c), -1000, 1000)) : 1.0;
+  // The largest power of two not above c 2^e (1 for c not a positive finite number).
+  void set_objective_scale(double c, int e = 0) {
+    objective_scale_ = std::isfinite(c) && c > 0
+                           ? std::ldexp(1.0, std::clamp(std::ilogb(c) + e, -1000, 1000))
+                           : 1.0;
   }
   std::size_t nb_vars(std::size_t i) const {
     switch (kind(i)) {
@@ -399,6 +421,13 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
   const auto t0 = std::chrono::steady_clock::now();
   Problem problem(domain, sites, options);
   Cvt2Result result;
+  const double size = std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
+                                 domain.bbox_hi()[1] - domain.bbox_lo()[1]);
+  const std::string model = cvt_detail::model_name("cvt2d", domain.source(), size);
+  const bool has_sites = !sites.empty();
+  // An area of 0 or inf in double precision: every energy and gradient would be 0 (inf), and
+  // the start "converged".
+  if (has_sites) cvt_detail::check_representable(model, size, "the area", domain.area(), 2);
   Eigen::VectorXd lo, hi;
   problem.bounds(lo, hi);
   Eigen::VectorXd z = problem.variables();
@@ -406,6 +435,12 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
   Eigen::VectorXd g;
   double f = problem.evaluate(z, &g);
   result.initial_gradient_norm = problem.projected_norm(z, lo, hi);
+  if (has_sites) {
+    // The energy of sites in an area is positive: 0 is an underflow (size^4 below 2^-1022).
+    cvt_detail::check_representable(model, size, "the CVT energy of the start sites", f, 4);
+    cvt_detail::check_representable(model, size, "the norm of the start gradient",
+                                    result.initial_gradient_norm, 3, true);
+  }
   result.energy = f;
   result.gradient_norm = result.initial_gradient_norm;
   const double target = options.gradient_tolerance * result.initial_gradient_norm;
@@ -423,6 +458,9 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
     report(0, f, result.gradient_norm);
     if (result.gradient_norm <= target || z.size() == 0) {
       result.converged = true;
+    } else if (options.max_iterations == 0) {
+      // No iteration: the start, evaluated once (LBFGSpp would take max_iterations = 0 for
+      // "no limit", and the budget is tested after an accepted point).
     } else if (options.method == CvtMethod::kLloyd) {
       for (std::uint32_t it = 1; it <= options.max_iterations; ++it) {
         problem.lloyd_step();
@@ -476,6 +514,8 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
           const double fx = problem.evaluate(x, &grad);
           // L-BFGS-B sees the energy times c (objective_scale); best_f is the energy itself.
           grad *= c;
+          // (A NaN energy is never lower, nor a NaN |g| within the tolerance: a trial point
+          // whose diagram is not finite is rejected, and the line search goes on or fails.)
           if (fx < best_f) {
             best_f = fx;
             best_z = x;

@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cvt_range.h"
 #include "voroclip/cvt.h"
 
 namespace voroclip {
@@ -38,7 +39,8 @@ struct Budget3 {};
 // 0.14 for bunny.obj at 10^4 sites and 0.001 for elk.off (diagonal 269), where the line
 // searches cope, but bunny scaled by 2^-40 (r ~ 10^11) made no iteration and scaled by 2^20
 // (r ~ 10^-7) lowered |g| by 3 % in 16 (the 2D CVT preconditions for the same reason). Within
-// [2^-16, 2^8] s = 1, so such models keep their bits; outside, s brings r to 1/8.
+// [2^-16, 2^8] s = 1, so such models keep their bits; outside, s brings r to 1/8 (and the
+// energy is scaled too: Problem3::objective_scale).
 double variable_scale(const Domain3& domain, std::size_t n, std::size_t nb_variables) {
   if (n == 0 || nb_variables == 0) return 1;
   const double h = std::cbrt(domain.volume() / static_cast<double>(n));
@@ -77,6 +79,21 @@ class Problem3 {
   std::size_t nb_variables() const { return offset_[n_]; }
   // The variables are the coordinates times this power of two (variable_scale).
   double scale() const { return scale_; }
+  // L-BFGS minimises the energy times this power of two, c, fixed at the first evaluation:
+  // 1 when scale() is 1 (models in common units keep their bits), otherwise within a factor
+  // 2 of s^2 / (2 m), m the mean mass of the cells, which makes the Hessian in the variables
+  // about the identity (the coordinates' Hessian is about 2 m I). Without it the gradient in
+  // the variables grows as L^5 for a model of size L (L^4 for the coordinates' gradient, L
+  // for 1 / s), its squared norm overflowed from L ~ 10^31 and underflowed below 10^-31,
+  // and the sphere scaled by 1e32 or 1e-35 stopped "converged" at iteration 0 with |g| inf
+  // or 0. With it the variables, the energy and the gradient L-BFGS sees are about 1 in any
+  // units, and powers of two keep the bits of the run (the same iterations, scaled).
+  double objective_scale() const { return std::ldexp(1.0, objective_exponent_); }
+  // |g_x|, the norm of the coordinates' gradient, from the gradient g in the variables
+  // (c g_x / s), without overflow or underflow of the squares.
+  double coordinate_norm(const Eigen::VectorXd& g) const {
+    return std::ldexp(cvt_detail::euclidean_norm(g), std::ilogb(scale_) - objective_exponent_);
+  }
   Kind3 kind(std::size_t i) const {
     return options_.constraints.empty() ? Kind3::kFree : options_.constraints[i];
   }
@@ -106,11 +123,12 @@ class Problem3 {
     }
   }
 
-  // Energy at the current sites; gradient with respect to the variables (the coordinates'
-  // gradient over scale()).
+  // Energy at the current sites (not scaled); gradient with respect to the variables of the
+  // objective: the coordinates' gradient times objective_scale() / scale().
   double evaluate(Eigen::VectorXd* grad) {
     // (The triangulation of the sites in spatial order: ClippedVoronoi3 sorts them.)
     cv_.compute(domain_, sites_.data(), static_cast<std::uint32_t>(n_), clip_options_);
+    if (evaluations_ == 0) set_objective_scale();
     ++evaluations_;
     if (grad) {
       grad->resize(static_cast<Eigen::Index>(nb_variables()));
@@ -131,7 +149,7 @@ class Problem3 {
           for (int a = 0; a < 3; ++a) g[a] = gd * d[a];
         }
         const auto o = static_cast<Eigen::Index>(offset_[i]);
-        for (int a = 0; a < 3; ++a) (*grad)[o + a] = g[a] / scale_;
+        for (int a = 0; a < 3; ++a) (*grad)[o + a] = g[a] * gradient_factor_;
       }
     }
     return cv_.total_energy();
@@ -175,6 +193,16 @@ class Problem3 {
     }
   }
 
+  // objective_scale() from the first diagram's masses (see there).
+  void set_objective_scale() {
+    objective_exponent_ = 0;
+    const double m2 = 2 * cv_.total_mass() / static_cast<double>(std::max<std::size_t>(n_, 1));
+    if (scale_ != 1 && m2 > 0 && std::isfinite(m2)) {
+      objective_exponent_ = std::clamp(2 * std::ilogb(scale_) - std::ilogb(m2), -1000, 1000);
+    }
+    gradient_factor_ = std::ldexp(1.0, objective_exponent_ - std::ilogb(scale_));
+  }
+
   const Domain3& domain_;
   std::vector<double>& sites_;
   const Cvt3Options& options_;
@@ -185,6 +213,8 @@ class Problem3 {
   ClippedVoronoi3 cv_;
   std::uint32_t evaluations_ = 0;
   double scale_ = 1;
+  int objective_exponent_ = 0;  // objective_scale() = 2^objective_exponent_
+  double gradient_factor_ = 1;  // objective_scale() / scale()
 };
 
 double seconds_since3(std::chrono::steady_clock::time_point t0) {
@@ -243,12 +273,25 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
   const auto t0 = std::chrono::steady_clock::now();
   Problem3 problem(domain, sites, options);
   Cvt3Result result;
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const double size = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  const std::string model = cvt_detail::model_name("cvt3d", domain.source(), size);
+  const bool has_sites = !sites.empty();
+  // A volume of 0 or inf in double precision (a cube scaled by 1e-300 is valid, of volume
+  // 0): every energy and gradient would be 0 and the start "converged".
+  if (has_sites) cvt_detail::check_representable(model, size, "the volume", domain.volume(), 3);
   Eigen::VectorXd z = problem.variables();
   Eigen::VectorXd g;
   double f = problem.evaluate(&g);
-  // Norms of the gradient in the coordinates' units: |g_z| s.
-  const double s = problem.scale();
-  result.initial_gradient_norm = g.norm() * s;
+  const double c = problem.objective_scale();
+  result.initial_gradient_norm = problem.coordinate_norm(g);
+  if (has_sites) {
+    // The energy of sites in a volume is positive: 0 is an underflow (size^5 below 2^-1022).
+    cvt_detail::check_representable(model, size, "the CVT energy of the start sites", f, 5);
+    cvt_detail::check_representable(model, size, "the norm of the start gradient",
+                                    result.initial_gradient_norm, 4, true);
+  }
   result.energy = f;
   result.gradient_norm = result.initial_gradient_norm;
   const double target = options.gradient_tolerance * result.initial_gradient_norm;
@@ -266,11 +309,14 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
     report(0, f, result.gradient_norm);
     if (result.gradient_norm <= target || z.size() == 0) {
       result.converged = true;
+    } else if (options.max_iterations == 0) {
+      // No iteration: the start, evaluated once (LBFGSpp would take max_iterations = 0 for
+      // "no limit", and the budget is tested after an accepted point).
     } else if (options.method == CvtMethod::kLloyd) {
       for (std::uint32_t it = 1; it <= options.max_iterations; ++it) {
         problem.lloyd_step();
         f = problem.evaluate(&g);
-        report(it, f, g.norm() * s);
+        report(it, f, problem.coordinate_norm(g));
         if (result.gradient_norm <= target) {
           result.converged = true;
           break;
@@ -306,10 +352,12 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
         problem.place(x);
         last_is_best = false;
         const double fx = problem.evaluate(&grad);
+        // (A NaN energy is never lower, nor a NaN |g| within the tolerance: a trial point
+        // whose diagram is not finite is rejected, and the line search goes on or fails.)
         if (fx < best_f) {
           best_f = fx;
           best_z = x;
-          best_gnorm = grad.norm() * s;
+          best_gnorm = problem.coordinate_norm(grad);
           last_is_best = true;
           report(++accepted, fx, best_gnorm);
           if (best_gnorm <= target) throw Converged3{};
@@ -317,9 +365,9 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
           // several improving points in one: the budget is in accepted points (as cvt2d).
           if (accepted >= options.max_iterations) throw Budget3{};
         }
-        return fx;
+        return fx * c;
       };
-      double fx = f;
+      double fx = f * c;
       try {
         solver.minimize(fun, z, fx);
       } catch (const Converged3&) {
@@ -345,7 +393,7 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
         result.gradient_norm = best_gnorm;
       } else {
         result.energy = problem.evaluate(&g);
-        result.gradient_norm = g.norm() * s;
+        result.gradient_norm = problem.coordinate_norm(g);
       }
       result.converged = result.converged || result.gradient_norm <= target;
     }

@@ -136,6 +136,61 @@ TEST_CASE("cvt3d: progress, stop reason, the sites are a CVT", "[apps][density]"
   }
 }
 
+TEST_CASE("cvt3d / cvt2d --iterations 0 and 1: the start sites; the counts in the report",
+          "[apps][density][regression]") {
+  // L-BFGS with --iterations 0 made one iteration and moved the sites; cvt3d's report (on
+  // stdout without --stats) said "1 iterations" and "1 diagrams".
+  const TempFile cube(".obj", kCubeObj);
+  const TempFile square(".json", "[[[0,0],[1,0],[1,1],[0,1]]]");
+  struct Case {
+    const char* command;
+    const TempFile& domain;
+    std::string sites;
+  };
+  for (const Case& c :
+       {Case{"cvt3d", cube, "0.1 0.2 0.3\n0.7 0.6 0.4\n0.3 0.8 0.9\n0.55 0.25 0.65\n"},
+        Case{"cvt2d", square, "0.1 0.2\n0.7 0.6\n0.3 0.8\n0.55 0.25\n"}}) {
+    for (const char* method : {"lbfgs", "lloyd"}) {
+      INFO(c.command << " --method " << method);
+      const TempFile start(".txt", c.sites);
+      const TempFile out(".txt");
+      const Run zero = run_cli({c.command, c.domain.path, "--sites", start.path, "--method", method,
+                                "--iterations", "0", "--progress", "none", "-o", out.path});
+      REQUIRE(zero.status == 0);
+      CHECK(read_numbers(slurp(out.path)) == read_numbers(c.sites));
+      CHECK(contains(zero.out, "0 iterations, 1 diagram, "));
+      CHECK(contains(zero.out, "stopped: iteration budget"));
+      const Run one = run_cli({c.command, c.domain.path, "--sites", start.path, "--method", method,
+                               "--iterations", "1", "--progress", "none", "-o", out.path});
+      REQUIRE(one.status == 0);
+      CHECK(contains(one.out, "1 iteration, "));
+      CHECK(!contains(one.out, "1 iterations"));
+      CHECK(read_numbers(slurp(out.path)) != read_numbers(c.sites));
+    }
+  }
+}
+
+TEST_CASE("cvt3d: a cube scaled by 1e-300 (volume 0) is an error naming the fix",
+          "[apps][density][regression]") {
+  // It is a valid surface whose volume underflows to 0: cvt3d printed "stopped: converged"
+  // after 0 iterations.
+  std::string obj;
+  for (const char* v : {"0 0 0", "1 0 0", "0 1 0", "1 1 0", "0 0 1", "1 0 1", "0 1 1", "1 1 1"}) {
+    std::istringstream in(v);
+    obj += "v";
+    for (double x; in >> x;) obj += x == 0 ? " 0" : " 1e-300";
+    obj += "\n";
+  }
+  obj += std::string(kCubeObj).substr(std::string(kCubeObj).find("f "));
+  const TempFile tiny(".obj", obj);
+  const Run run = run_cli({"cvt3d", tiny.path, "--random", "20", "--progress", "none"});
+  CHECK(run.status != 0);
+  CHECK(contains(run.err, "the volume is 0 in double precision"));
+  CHECK(contains(run.err, "too small"));
+  CHECK(contains(run.err, "rescale the model"));
+  CHECK(!contains(run.err, "converged"));
+}
+
 TEST_CASE("cvt3d: identical with 1 and 2 threads, and to the library's CVT",
           "[apps][density][threads]") {
   const TempFile cube(".obj", kCubeObj);

@@ -284,3 +284,95 @@ TEST_CASE("cvt2d: a scale sweep 2^-60 .. 2^60, the same run in every unit", "[cv
     }
   }
 }
+
+TEST_CASE("cvt2d: a domain scaled by 2^+-180 and 2^+-200 runs as in unit size",
+          "[cvt][regression]") {
+  // The gradient grows as L^3 for a domain of size L and its norm summed the squares: they
+  // overflowed from 2^170 (|g| inf) and underflowed below 2^-170 (|g| 0), and the run
+  // stopped "converged" at iteration 0 with the sites unchanged. The squares are now summed
+  // scaled by a power of two (projected_norm, set_uniform_scale, set_scales), exactly. (The
+  // clipped cells there are no longer the unit domain's scaled bit for bit, so the runs
+  // differ in the last bits.)
+  const PolygonRings l_shape = rings_of({{0, 0, 1, 0, 1, 0.6, 0.4, 0.6, 0.4, 1, 0, 1}});
+  const Domain2 unit(l_shape);
+  const std::vector<double> start = random_inside(unit, 300, 11);
+  for (const bool precondition : {false, true}) {
+    Cvt2Options o;
+    o.max_iterations = 30;
+    o.precondition = precondition;
+    std::vector<double> reference = start;
+    const auto r0 = voroclip::optimize_cvt2(unit, reference, o);
+    REQUIRE(r0.iterations == 30);
+    REQUIRE(r0.gradient_norm < 0.1 * r0.initial_gradient_norm);
+    for (const int e : {-200, -180, 180, 200}) {
+      INFO("precondition " << precondition << ", scale 2^" << e);
+      const double k = std::ldexp(1.0, e);
+      const Domain2 d(scaled(l_shape, k));
+      std::vector<double> sites = start;
+      for (double& x : sites) x *= k;
+      const auto r = voroclip::optimize_cvt2(d, sites, o);
+      CHECK(r.iterations == r0.iterations);
+      CHECK(r.stop == voroclip::CvtStop::kIterationBudget);
+      CHECK(std::ldexp(r.initial_gradient_norm, -3 * e) ==
+            Approx(r0.initial_gradient_norm).epsilon(1e-12));
+      CHECK(std::ldexp(r.energy, -4 * e) == Approx(r0.energy).epsilon(1e-3));
+      CHECK(r.gradient_norm < 0.1 * r.initial_gradient_norm);
+    }
+  }
+}
+
+TEST_CASE("cvt2d: a domain too small or too large for double precision is an error",
+          "[cvt][regression]") {
+  // A square scaled by 2^-300 has an area (2^-600) but its energy (L^4 = 2^-1200) is 0:
+  // the run said "converged" at iteration 0; by 2^300 the energy overflows (inf, and the
+  // run said "converged" as well).
+  for (const int e : {-300, 300}) {
+    INFO("scale 2^" << e);
+    const double k = std::ldexp(1.0, e);
+    const Domain2 d(rings_of({square(0, 0, k, k)}));
+    for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+      std::vector<double> sites = {0.25 * k, 0.5 * k, 0.75 * k, 0.5 * k, 0.5 * k, 0.8 * k};
+      Cvt2Options o;
+      o.method = method;
+      REQUIRE_THROWS_AS(voroclip::optimize_cvt2(d, sites, o), voroclip::Error);
+      REQUIRE_THROWS_WITH(
+          voroclip::optimize_cvt2(d, sites, o),
+          Catch::Contains("cvt2d: test (") &&
+              Catch::Contains(e < 0 ? "the CVT energy of the start sites is 0 "
+                                    : "the CVT energy of the start sites is NaN ") &&
+              Catch::Contains(e < 0 ? "too small" : "too large") &&
+              Catch::Contains("rescale the model"));
+    }
+  }
+}
+
+TEST_CASE("cvt2d: 0 iterations return the start, evaluated once", "[cvt][regression]") {
+  // LBFGSpp takes max_iterations = 0 for "no limit", and the budget was tested after the
+  // first accepted point: L-BFGS made one iteration and moved the sites.
+  const Domain2 d(rings_of({square(0, 0, 1, 1)}));
+  const std::vector<double> start = random_inside(d, 40, 4);
+  std::vector<double> gradient;
+  const double energy = voroclip::cvt_energy2(d, start, {}, &gradient);
+  double g2 = 0;
+  for (const double g : gradient) g2 += g * g;
+  for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+    for (const bool precondition : {false, true}) {
+      INFO("method " << (method == CvtMethod::kLbfgs ? "lbfgs" : "lloyd") << ", precondition "
+                     << precondition);
+      std::vector<double> sites = start;
+      Cvt2Options o;
+      o.method = method;
+      o.precondition = precondition;
+      o.max_iterations = 0;
+      const auto r = voroclip::optimize_cvt2(d, sites, o);
+      CHECK(sites == start);
+      CHECK(r.iterations == 0);
+      CHECK(r.evaluations == 1);
+      CHECK(r.stop == voroclip::CvtStop::kIterationBudget);
+      CHECK(!r.converged);
+      CHECK(r.energy == energy);
+      CHECK(r.gradient_norm == r.initial_gradient_norm);
+      CHECK(r.gradient_norm == Approx(std::sqrt(g2)).epsilon(1e-14));
+    }
+  }
+}

@@ -405,3 +405,150 @@ TEST_CASE("cvt3d: the same iterations in any units (a cube scaled by 2^-40 and 2
     CHECK(differ == 0);
   }
 }
+
+namespace {
+
+// The unit cube [0, 1]^3 by 12 triangles, scaled by k.
+voroclip::TriangleSurface box_surface(double k) {
+  voroclip::TriangleSurface box;
+  box.source = "box";
+  for (int i = 0; i < 8; ++i) {
+    for (int c = 0; c < 3; ++c) box.xyz.push_back((i >> c) & 1 ? k : 0.0);
+  }
+  box.triangles = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                   2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  return box;
+}
+
+}  // namespace
+
+TEST_CASE("cvt3d: the cube scaled by 2^-120 and 2^120, the same run as in unit size",
+          "[cvt][regression]") {
+  // The variables are scaled by 1 / L for a model of size L (variable_scale), and the
+  // gradient L-BFGS saw grew as L^5: its squared norm overflowed at 2^120 (|g| inf) and
+  // underflowed at 2^-120 (|g| 0), and the run stopped "converged" at iteration 0 with
+  // the sites unchanged (the sphere scaled by 1e32 or 1e-35). The energy is now scaled by
+  // a power of two too (Problem3::objective_scale): the runs are the unit cube's bit for
+  // bit, times the scale. (Beyond 2^+-150 the clipped cells themselves are no longer the
+  // unit cube's scaled bit for bit; the next test runs there.)
+  const Domain3 unit(kuhn_cube(2));
+  const std::vector<double> start = voroclip::random_points3(unit, 40, 3);
+  Cvt3Options o;
+  o.max_iterations = 20;
+  o.gradient_tolerance = 0;
+  std::vector<double> reference = start;
+  const auto r = voroclip::optimize_cvt3(unit, reference, o);
+  REQUIRE(r.iterations == 20);
+  REQUIRE(r.gradient_norm < 0.1 * r.initial_gradient_norm);
+  for (const int e : {-120, -100, 100, 120}) {
+    INFO("scale 2^" << e);
+    const Domain3 scaled(kuhn_cube(2, std::ldexp(1.0, e)));
+    std::vector<double> sites = start;
+    for (double& x : sites) x = std::ldexp(x, e);
+    const auto s = voroclip::optimize_cvt3(scaled, sites, o);
+    CHECK(s.iterations == r.iterations);
+    CHECK(s.evaluations == r.evaluations);
+    CHECK(s.stop == voroclip::CvtStop::kIterationBudget);
+    CHECK(s.energy == std::ldexp(r.energy, 5 * e));
+    CHECK(s.initial_gradient_norm == std::ldexp(r.initial_gradient_norm, 4 * e));
+    CHECK(s.gradient_norm == std::ldexp(r.gradient_norm, 4 * e));
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < sites.size(); ++k)
+      differ += sites[k] != std::ldexp(reference[k], e);
+    CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("cvt3d: a cube scaled by 1e32, 1e-35, 2^180, 2^-180 converges as the unit cube does",
+          "[cvt][regression]") {
+  // The runs differ from the unit cube's in the last bits, but they run (they stopped
+  // "converged" at iteration 0, |g| inf or 0) and reach the unit cube's tolerance.
+  Cvt3Options o;
+  o.gradient_tolerance = 1e-3;
+  o.max_iterations = 200;
+  const Domain3 unit(kuhn_cube(2));
+  std::vector<double> reference = voroclip::random_points3(unit, 40, 5);
+  const auto r = voroclip::optimize_cvt3(unit, reference, o);
+  REQUIRE(r.converged);
+  for (const double k : {1e32, 1e-35, std::ldexp(1.0, 180), std::ldexp(1.0, -180)}) {
+    INFO("scale " << k);
+    const Domain3 scaled(kuhn_cube(2, k));
+    std::vector<double> sites = voroclip::random_points3(scaled, 40, 5);
+    const auto s = voroclip::optimize_cvt3(scaled, sites, o);
+    CHECK(std::isfinite(s.initial_gradient_norm));
+    CHECK(s.initial_gradient_norm > 0);
+    CHECK(s.iterations > 10);
+    CHECK(s.converged);
+    CHECK(s.gradient_norm <= 1e-3 * s.initial_gradient_norm);
+    CHECK(s.energy / std::pow(k, 5) == Approx(r.energy).epsilon(1e-2));
+  }
+}
+
+TEST_CASE("cvt3d: a model too small or too large for double precision is an error",
+          "[cvt][regression]") {
+  // A cube scaled by 1e-300 is a valid surface of volume 0 (the volume underflows): cvt3d
+  // said "converged" after 0 iterations. Scaled by 2^-250 its volume is representable but
+  // not the energy (L^5 = 2^-1250); by 2^210 the energy overflows (2^1050).
+  const auto sites_in = [](double k) {
+    std::vector<double> s;
+    for (const double f : {0.25, 0.75}) {
+      s.insert(s.end(), {f * k, 0.5 * k, 0.5 * k});
+    }
+    return s;
+  };
+  struct Case {
+    double k;
+    const char* quantity;
+    const char* size;
+  };
+  for (const Case& c :
+       {Case{1e-300, "the volume is 0", "too small"},
+        Case{std::ldexp(1.0, -250), "the CVT energy of the start sites is 0", "too small"},
+        Case{std::ldexp(1.0, 210), "the CVT energy of the start sites is inf", "too large"}}) {
+    INFO("scale " << c.k);
+    const Domain3 d(box_surface(c.k));
+    for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+      std::vector<double> sites = sites_in(c.k);
+      Cvt3Options o;
+      o.method = method;
+      REQUIRE_THROWS_AS(voroclip::optimize_cvt3(d, sites, o), voroclip::Error);
+      REQUIRE_THROWS_WITH(voroclip::optimize_cvt3(d, sites, o),
+                          Catch::Contains("cvt3d: box (") && Catch::Contains(c.quantity) &&
+                              Catch::Contains(c.size) && Catch::Contains("rescale the model"));
+    }
+  }
+}
+
+TEST_CASE("cvt3d: 0 iterations return the start, evaluated once", "[cvt][regression]") {
+  // LBFGSpp takes max_iterations = 0 for "no limit" and the budget was tested after the
+  // first accepted point: L-BFGS made one iteration and moved the sites (Lloyd did not).
+  const Domain3 d(kuhn_cube(2));
+  const std::vector<double> start = voroclip::random_points3(d, 30, 7);
+  std::vector<double> gradient;
+  const double energy = voroclip::cvt_energy3(d, start, {}, &gradient);
+  double g2 = 0;
+  for (const double g : gradient) g2 += g * g;
+  for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+    INFO("method " << (method == CvtMethod::kLbfgs ? "lbfgs" : "lloyd"));
+    std::vector<double> sites = start;
+    Cvt3Options o;
+    o.method = method;
+    o.max_iterations = 0;
+    std::uint32_t calls = 0;
+    o.progress = [&](const voroclip::CvtProgress& p) {
+      CHECK(p.iteration == 0);
+      ++calls;
+      return true;
+    };
+    const auto r = voroclip::optimize_cvt3(d, sites, o);
+    CHECK(sites == start);
+    CHECK(r.iterations == 0);
+    CHECK(r.evaluations == 1);
+    CHECK(calls == 1);
+    CHECK(r.stop == voroclip::CvtStop::kIterationBudget);
+    CHECK(!r.converged);
+    CHECK(r.energy == energy);
+    CHECK(r.gradient_norm == r.initial_gradient_norm);
+    CHECK(r.gradient_norm == Approx(std::sqrt(g2)).epsilon(1e-14));
+  }
+}

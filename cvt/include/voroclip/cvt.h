@@ -80,7 +80,9 @@ struct Cvt2Options {
   CvtMethod method = CvtMethod::kLbfgs;
   // The default budget lets L-BFGS reach the default tolerance on the polygons of
   // ../shared/data/polygons/valid from uniform random sites (2,000 sites: 213-429
-  // iterations; 10,000: 344-608; session 25). Lloyd needs many more.
+  // iterations; 10,000: 344-608; session 25). Lloyd needs many more. 0: no iteration, the
+  // start sites evaluated once and returned (stop: kIterationBudget, unless already
+  // converged).
   std::uint32_t max_iterations = 1000;
   // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
   double gradient_tolerance = 1e-4;
@@ -132,7 +134,10 @@ double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, cons
 
 // Minimises the CVT energy from the given sites (updated in place). Sliding sites must
 // lie on their path on entry (snap them with PathParam2::closest/eval). Deterministic:
-// identical results for any thread count.
+// identical results for any thread count. Throws Error, asking to rescale the model, when
+// (with sites) the domain's area or the start energy (~ size^4) is 0, subnormal or not
+// finite in double precision, or the start gradient is not finite: a domain beyond about
+// 2^+-250 in size.
 Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
                          const Cvt2Options& options);
 
@@ -167,7 +172,7 @@ using SiteProjector3 = std::function<void(std::uint32_t site, SiteConstraint3::K
 struct Cvt3Options {
   CvtMethod method = CvtMethod::kLbfgs;
   // Iterations: Lloyd steps, or L-BFGS points accepted with a lower energy (a line search
-  // may accept several in one L-BFGS iteration; each counts), as Cvt2Options.
+  // may accept several in one L-BFGS iteration; each counts), as Cvt2Options (0 included).
   std::uint32_t max_iterations = 100;
   // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
   double gradient_tolerance = 1e-4;
@@ -197,7 +202,8 @@ double cvt_energy3(const Domain3& domain, const std::vector<double>& sites,
 // Minimises the CVT energy from the given sites (updated in place; constrained sites are
 // projected first). Lloyd moves each site to its cell's centroid (projected for
 // constrained sites); L-BFGS (LBFGSpp, Nocedal-Wright strong-Wolfe line search) minimises F(P(z)).
-// Deterministic: identical results for any thread count.
+// Deterministic: identical results for any thread count. Throws Error as optimize_cvt2 for
+// the volume and the start energy (~ size^5): a domain beyond about 2^+-200 in size.
 Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
                          const Cvt3Options& options);
 
