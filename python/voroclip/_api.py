@@ -43,7 +43,9 @@ class Cells:
     * ``total_measure``, ``total_mass``, ``total_energy``: sums in index order.
 
     ``neighbors``: a :class:`CSR` of the cells sharing an edge (2D) or a face (3D) inside the
-    domain, read from the cells' geometry: computed with the diagram under ``neighbors=True``
+    domain (cospherical sites, such as a grid's, also give edges and faces of measure 0
+    between cells that touch at a point: the symbolic perturbation's), read from the cells'
+    geometry: computed with the diagram under ``neighbors=True``
     or ``geometry=True``, otherwise on first access (the diagram is computed again, with
     its geometry: a few times the plain call). With ``geometry=True``, flat arrays:
 
