@@ -510,6 +510,21 @@ void Surface3::build(const Surface3Options& options) {
   }
   area_ = area.value();
   volume_ = volume.value();
+  // Coordinates whose area or volume double cannot hold (beyond about 1e77 the area's
+  // squares overflow, below about 1e-100 the volume underflows): every integral over the
+  // domain would be inf, NaN or 0, and the cells' volumes with them.
+  if (nt > 0 && !(std::isfinite(area_) && std::isnormal(volume_))) {
+    double largest = 0;
+    for (const double c : xyz_) largest = std::max(largest, std::abs(c));
+    const bool large = !std::isfinite(area_) || !std::isfinite(volume_);
+    throw Error(source_ + ": its " +
+                (large ? std::string(std::isfinite(volume_) ? "area is " : "area and volume are ") +
+                             "not finite in double precision"
+                       : "volume is " + detail::number(volume_) + " in double precision") +
+                " (coordinates up to " + detail::number(largest) + ": too " +
+                (large ? "large, it overflows" : "small, it underflows") +
+                "); rescale the model (e.g. to a size of about 1)");
+  }
 
   // ---- 10. The locator.
   locator_.reset();

@@ -172,8 +172,8 @@ TEST_CASE("cvt3d / cvt2d --iterations 0 and 1: the start sites; the counts in th
 
 TEST_CASE("cvt3d: a cube scaled by 1e-300 (volume 0) is an error naming the fix",
           "[apps][density][regression]") {
-  // It is a valid surface whose volume underflows to 0: cvt3d printed "stopped: converged"
-  // after 0 iterations.
+  // It was a valid surface whose volume underflows to 0: cvt3d printed "stopped: converged"
+  // after 0 iterations. Now the surface is an error.
   std::string obj;
   for (const char* v : {"0 0 0", "1 0 0", "0 1 0", "1 1 0", "0 0 1", "1 0 1", "0 1 1", "1 1 1"}) {
     std::istringstream in(v);
@@ -185,7 +185,7 @@ TEST_CASE("cvt3d: a cube scaled by 1e-300 (volume 0) is an error naming the fix"
   const TempFile tiny(".obj", obj);
   const Run run = run_cli({"cvt3d", tiny.path, "--random", "20", "--progress", "none"});
   CHECK(run.status != 0);
-  CHECK(contains(run.err, "the volume is 0 in double precision"));
+  CHECK(contains(run.err, "its volume is 0 in double precision"));
   CHECK(contains(run.err, "too small"));
   CHECK(contains(run.err, "rescale the model"));
   CHECK(!contains(run.err, "converged"));

@@ -388,3 +388,22 @@ TEST_CASE("Surface3: duplicates welded; messages name the file's faces and lines
             ":6: face 1: the surface is not closed: its edge (vertices 1 4) belongs to no other "
             "triangle");
 }
+
+TEST_CASE("Surface3: coordinates whose area or volume double cannot hold are an error",
+          "[clip][regression]") {
+  // A cube scaled by 1e300 was valid with volume and area NaN (clip3d then wrote NaN
+  // volumes, exit 0); scaled by 1e-300, valid with volume 0.
+  REQUIRE_THROWS_WITH(Surface3(box_surface({0, 0, 0}, {1e300, 1e300, 1e300})),
+                      "box: its area and volume are not finite in double precision (coordinates "
+                      "up to 1e+300: too large, it overflows); rescale the model (e.g. to a "
+                      "size of about 1)");
+  REQUIRE_THROWS_WITH(Surface3(box_surface({0, 0, 0}, {1e-300, 1e-300, 1e-300})),
+                      "box: its volume is 0 in double precision (coordinates up to 1e-300: too "
+                      "small, it underflows); rescale the model (e.g. to a size of about 1)");
+  // Within range at both ends: 2^-200 (volume 2^-600) and 2^200 (area 6 2^400).
+  for (const double k : {std::ldexp(1.0, -200), std::ldexp(1.0, 200)}) {
+    const Surface3 s(box_surface({0, 0, 0}, {k, k, k}));
+    CHECK(s.volume() == k * k * k);
+    CHECK(s.area() == 6 * k * k);
+  }
+}
