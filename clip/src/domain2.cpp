@@ -47,6 +47,7 @@
 #include <utility>
 #include <vector>
 
+#include "validation.h"
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 #include "voroclip/predicates.h"
@@ -920,6 +921,18 @@ void Domain2Impl::compute_area() {
     total.add(0.5 * sum.value());
   }
   d.area_ = total.value();
+  // Coordinates whose area double cannot hold (beyond about 1e154 it overflows, below about
+  // 1e-154 it underflows): every integral over the domain would be inf, NaN or 0.
+  if (d.nb_rings() > 0 && !std::isnormal(d.area_)) {
+    double largest = 0;
+    for (const double c : d.xy_) largest = std::max(largest, std::abs(c));
+    const bool large = !std::isfinite(d.area_);
+    throw Error(d.source_ + ": its area is " +
+                (large ? std::string("not finite") : detail::number(d.area_)) +
+                " in double precision (coordinates up to " + detail::number(largest) + ": too " +
+                (large ? "large, it overflows" : "small, it underflows") +
+                "); rescale the model (e.g. to a size of about 1)");
+  }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1046,3 +1046,18 @@ TEST_CASE("Domain2 keeps edge tags and regions; a region point outside is refuse
   CHECK_THROWS_WITH(Domain2(r), Catch::Contains("regional attribute 1") &&
                                     Catch::Contains("not inside the domain"));
 }
+
+TEST_CASE("Domain2: coordinates whose area double cannot hold are an error", "[clip][regression]") {
+  // A square scaled by 1e200 had area inf, by 1e-200 area 0: every cell's area with it.
+  for (const double k : {1e200, 1e-200}) {
+    INFO(k);
+    PolygonRings r = make_rings({{0, 0, k, 0, k, k, 0, k}});
+    r.source = "square";
+    REQUIRE_THROWS_WITH(
+        Domain2(r),
+        std::string("square: its area is ") + (k > 1 ? "not finite" : "0") +
+            " in double precision (coordinates up to " +
+            (k > 1 ? "1e+200: too large, it overflows" : "1e-200: too small, it underflows") +
+            "); rescale the model (e.g. to a size of about 1)");
+  }
+}
