@@ -306,20 +306,47 @@ SizeModel build_size_model(const Domain2& domain, const Mesh2Options& o,
   return model;
 }
 
-// N sites with density proportional to h^-2, strictly inside the domain.
+// N sites with density proportional to h^-2, strictly inside the domain, by rejection: a
+// coarse cell c of the sizing field is proposed with probability proportional to its area
+// (in the bounding box) times a weight w_c, a point uniformly in it, accepted with
+// probability (m_c / h(p))^2 for a lower bound m_c of h on the cell. The density is
+// w_c m_c^2 h^-2: exactly h^-2 (up to one factor) where w_c = m_c^-2, as for the constant
+// cells (m_c = w_c^-1/2 = the cap). The other cells have w_c = mean of h^-2 (the node
+// average), a factor w_c m_c^2 <= 1 (kept: every graded mesh depends on it).
+//
+// A cell whose smallest size m_c is far below the rest of it (a feature much smaller than
+// the cell: a hole of side 1e-6 in a unit square, with cells of 0.06) accepts about
+// w_c m_c^2 of its proposals and takes most of them; the attempt budget ran out. Such a
+// cell (w_c m_c^2 below kRefineBelow, with the feature field alone) is tiled by squares
+// with their own lower bound m_q (SizingField2::cell_squares): a square is proposed with
+// probability proportional to its area times m_q^-2, a point uniformly in it, accepted with
+// probability (m_q / h(p))^2, which is at least 1 / kSquareRatio^2. The density there is
+// exactly h^-2, up to the rounding of h near the squares' corners (the ratio is clamped to
+// 1). The other cells draw the same numbers as before.
 std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, std::uint32_t n,
                                  std::uint64_t seed) {
+  // The real inputs (shared/data polygons) have w_c m_c^2 >= 0.008; a hole of side 1e-6
+  // about 1e-4 (one node of 97^2 near the hole).
+  constexpr double kRefineBelow = 1e-3;
+  constexpr double kSquareRatio = 2;
+  // The sizes are at least 1e-9 times the diagonal: 2^40 covers any ratio within a cell.
+  constexpr int kSquareDepth = 40;
+  using Square = SizingField2::BoundedSquare;
   const SizingField2& field = model.field;
   const std::uint32_t nc = field.nb_cells();
-  std::vector<double> cumulative(nc), hmin(nc);
-  double total = 0;
+  std::vector<double> cumulative(nc), hmin(nc), mass(nc);
+  std::vector<std::uint32_t> refined;  // cells sampled through squares, increasing
   const double* blo = domain.bbox_lo();
   const double* bhi = domain.bbox_hi();
+  const auto area_in_box = [&](const double* lo, const double* hi) {
+    const double w = std::max(0.0, std::min(hi[0], bhi[0]) - std::max(lo[0], blo[0]));
+    const double h = std::max(0.0, std::min(hi[1], bhi[1]) - std::max(lo[1], blo[1]));
+    return w * h;
+  };
   for (std::uint32_t c = 0; c < nc; ++c) {
     double lo[2], hi[2];
     field.cell_box(c, lo, hi);
-    const double w = std::max(0.0, std::min(hi[0], bhi[0]) - std::max(lo[0], blo[0]));
-    const double h = std::max(0.0, std::min(hi[1], bhi[1]) - std::max(lo[1], blo[1]));
+    const double area = area_in_box(lo, hi);
     double weight = field.cell_mean_inverse_square(c);
     hmin[c] = field.cell_min(c);
     if (model.user_density) {
@@ -346,8 +373,35 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
         weight = inv2 / inside;
         break;
       }
+    } else if (hmin[c] * hmin[c] * weight < kRefineBelow && area > 0) {
+      refined.push_back(c);
     }
-    total += w * h * weight;
+    mass[c] = area * weight;
+  }
+  // Per refined cell: its squares and their cumulative masses.
+  std::vector<std::vector<Square>> squares(refined.size());
+  std::vector<std::vector<double>> square_cumulative(refined.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refined.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        field.cell_squares(refined[r], kSquareRatio, kSquareDepth, &squares[r]);
+                        double sum = 0;
+                        for (const Square& q : squares[r]) {
+                          const double lo[2] = {q.x, q.y};
+                          const double hi[2] = {q.x + q.side, q.y + q.side};
+                          sum += area_in_box(lo, hi) / (q.min * q.min);
+                          square_cumulative[r].push_back(sum);
+                        }
+                      }
+                    });
+  std::vector<std::uint32_t> refined_index(refined.empty() ? 0 : nc, kNone);
+  for (std::uint32_t r = 0; r < refined.size(); ++r) {
+    refined_index[refined[r]] = r;
+    mass[refined[r]] = square_cumulative[r].back();
+  }
+  double total = 0;
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    total += mass[c];
     cumulative[c] = total;
   }
   std::mt19937_64 rng(seed);
@@ -363,7 +417,22 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     const auto c = static_cast<std::uint32_t>(std::min<std::size_t>(
         std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(), nc - 1));
     double lo[2], hi[2];
-    field.cell_box(c, lo, hi);
+    double bound = hmin[c];
+    const std::uint32_t r = refined.empty() ? kNone : refined_index[c];
+    if (r == kNone) {
+      field.cell_box(c, lo, hi);
+    } else {
+      const std::vector<double>& cum = square_cumulative[r];
+      const double v = uniform() * cum.back();
+      const std::size_t k = std::min<std::size_t>(
+          std::upper_bound(cum.begin(), cum.end(), v) - cum.begin(), cum.size() - 1);
+      const Square& q = squares[r][k];
+      lo[0] = q.x;
+      lo[1] = q.y;
+      hi[0] = q.x + q.side;
+      hi[1] = q.y + q.side;
+      bound = q.min;
+    }
     lo[0] = std::max(lo[0], blo[0]);
     lo[1] = std::max(lo[1], blo[1]);
     hi[0] = std::min(hi[0], bhi[0]);
@@ -371,7 +440,7 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     const double p[2] = {lo[0] + uniform() * (hi[0] - lo[0]), lo[1] + uniform() * (hi[1] - lo[1])};
     const double accept = uniform();
     if (domain.locate(p) != Sign::positive) continue;
-    const double ratio = std::min(1.0, hmin[c] / model.size(p[0], p[1]));
+    const double ratio = std::min(1.0, bound / model.size(p[0], p[1]));
     if (accept >= ratio * ratio) continue;
     xy.insert(xy.end(), p, p + 2);
   }

@@ -180,6 +180,55 @@ double SizingField2::max_spacing() const {
   return m;
 }
 
+void SizingField2::cell_squares(std::uint32_t c, double ratio, int max_depth,
+                                std::vector<BoundedSquare>* out) const {
+  double lo[2], hi[2];
+  cell_box(c, lo, hi);
+  const Cell& cell = cells_[c];
+  if (cell.res == 0) {
+    out->push_back({lo[0], lo[1], size_, cap_});
+    return;
+  }
+  const double step = size_ / cell.res;
+  // A square of a node patch: its lower left corner (u, v) in the patch's unit square, its
+  // side, its depth.
+  struct Part {
+    double u, v, side;
+    int depth;
+  };
+  std::vector<Part> stack;
+  for (std::uint32_t b = 0; b < cell.res; ++b) {
+    for (std::uint32_t a = 0; a < cell.res; ++a) {
+      const double* n = &nodes_[cell.first + b * (cell.res + 1) + a];
+      const double* m = n + cell.res + 1;
+      // feature()'s interpolant on this patch.
+      const auto value = [&](double fu, double fv) {
+        return (1 - fv) * ((1 - fu) * n[0] + fu * n[1]) + fv * ((1 - fu) * m[0] + fu * m[1]);
+      };
+      const double x0 = lo[0] + a * step, y0 = lo[1] + b * step;
+      stack.push_back({0, 0, 1, 0});
+      while (!stack.empty()) {
+        const Part q = stack.back();
+        stack.pop_back();
+        const double corner[4] = {value(q.u, q.v), value(q.u + q.side, q.v),
+                                  value(q.u, q.v + q.side), value(q.u + q.side, q.v + q.side)};
+        const double mn = std::min({corner[0], corner[1], corner[2], corner[3]});
+        const double mx = std::max({corner[0], corner[1], corner[2], corner[3]});
+        if (mx > ratio * mn && q.depth < max_depth) {
+          const double h = 0.5 * q.side;
+          // Pushed in reverse so that the squares come out in (v, u) order.
+          stack.push_back({q.u + h, q.v + h, h, q.depth + 1});
+          stack.push_back({q.u, q.v + h, h, q.depth + 1});
+          stack.push_back({q.u + h, q.v, h, q.depth + 1});
+          stack.push_back({q.u, q.v, h, q.depth + 1});
+          continue;
+        }
+        out->push_back({x0 + q.u * step, y0 + q.v * step, q.side * step, mn});
+      }
+    }
+  }
+}
+
 void SizingField2::cell_box(std::uint32_t c, double* lo, double* hi) const {
   lo[0] = lo_[0] + static_cast<double>(c % nx_) * size_;
   lo[1] = lo_[1] + static_cast<double>(c / nx_) * size_;

@@ -68,6 +68,19 @@ class SizingField2 {
   // Mean of feature()^-2 over cell c (node average; exact for constant cells).
   double cell_mean_inverse_square(std::uint32_t c) const { return cells_[c].mean_inv2; }
 
+  // A square [x, x + side] x [y, y + side] and the smallest value of feature() on it.
+  struct BoundedSquare {
+    double x, y, side, min;
+  };
+  // Appends squares tiling cell c, each with the smallest value of the interpolant on it:
+  // the cell itself when it is constant, else its node squares, each split into four while
+  // its largest corner value exceeds `ratio` times its smallest (at most `max_depth`
+  // times). A bilinear patch, and each square of it, takes its extremes at its corners, so
+  // the smallest corner value is the minimum up to the rounding of the evaluation. For a
+  // rejection sampler's envelope where cell_min() is far below most of the cell.
+  void cell_squares(std::uint32_t c, double ratio, int max_depth,
+                    std::vector<BoundedSquare>* out) const;
+
  private:
   struct Cell {
     std::uint32_t first = 0;  // first node; res == 0: constant cell (value cap)

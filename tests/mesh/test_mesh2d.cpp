@@ -528,6 +528,74 @@ TEST_CASE("mesh2d: a triangle whose own vertex encroaches its boundary edge is r
   CHECK(b.below_30 == 3);
 }
 
+TEST_CASE("mesh2d: a unit square with a hole of side 1e-6 is meshed", "[mesh][regression]") {
+  // The hole sits on a node of the sizing table, which is 1e-6 there and about 2e-4 at the
+  // other nodes around it: the sampler's envelope for that coarse cell (its smallest size
+  // over all of it) accepted about one proposal in 10^5 and took nearly all of them, and
+  // the initial sampling gave up ("cannot sample points inside the domain").
+  const double lo = 0.5 - 0.5e-6, hi = 0.5 + 0.5e-6;
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, 1, 0, 1}, {lo, lo, hi, lo, hi, hi, lo, hi}}));
+  Mesh2Options o;
+  o.raise_for_mean_angle = false;
+  o.seed = 1;
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, 300, &st, o);
+  check_fixed_vertices(d, m, 0);
+  check_boundary_vertices(d, m, true);
+  // The hole is a boundary loop of the mesh: its edges (tag 2) join the hole's 4 corners
+  // and points on its sides, each vertex entered once and left once, one cycle.
+  REQUIRE(m.boundary_edges.size() == 2 * m.boundary_tags.size());
+  std::vector<std::uint32_t> next(m.nb_vertices(), Mesh2::kNone);
+  std::uint32_t nb_hole = 0, start = Mesh2::kNone;
+  for (std::size_t e = 0; e < m.boundary_tags.size(); ++e) {
+    if (m.boundary_tags[e] != 2) continue;
+    const std::uint32_t a = m.boundary_edges[2 * e], b = m.boundary_edges[2 * e + 1];
+    REQUIRE(d.locate(&m.xy[2 * a]) == Sign::zero);
+    REQUIRE(lo <= m.xy[2 * a]);
+    REQUIRE(m.xy[2 * a] <= hi);
+    REQUIRE(lo <= m.xy[2 * a + 1]);
+    REQUIRE(m.xy[2 * a + 1] <= hi);
+    REQUIRE(next[a] == Mesh2::kNone);
+    next[a] = b;
+    start = a;
+    ++nb_hole;
+  }
+  REQUIRE(nb_hole >= 4);
+  std::uint32_t steps = 0, corners = 0;
+  std::uint32_t v = start;
+  do {
+    REQUIRE(next[v] != Mesh2::kNone);
+    corners += m.vertex_domain[v] != Mesh2::kNone;
+    v = next[v];
+    ++steps;
+  } while (v != start && steps <= nb_hole);
+  CHECK(v == start);
+  CHECK(steps == nb_hole);
+  CHECK(corners == 4);
+  // The triangles at the hole are as small as the hole: sites were sampled near it.
+  double shortest = 1;
+  for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const double* p = &m.xy[2 * m.triangles[3 * t + k]];
+      const double* q = &m.xy[2 * m.triangles[3 * t + (k + 1) % 3]];
+      shortest = std::min(shortest, std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+  }
+  CHECK(shortest <= 1e-6);
+  const voroclip::TriangleQuality2 q = voroclip::triangle_quality2(m);
+  INFO(voroclip::quality_text(q));
+  CHECK(q.min_angle >= 30);
+  // The same bits with 1 and N threads (the envelope's squares are built in parallel).
+  Mesh2 one;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    o.nb_vertices = 300;
+    one = voroclip::mesh_domain2(d, o);
+  }
+  CHECK(one.xy == m.xy);
+  CHECK(one.triangles == m.triangles);
+}
+
 TEST_CASE("mesh2d: every valid polygon and a 10^4-vertex annulus meet the target",
           "[mesh][.slow]") {
   // N per input as in bench/RESULTS.md, but where the mean of 53 degrees needs more: hilbert
