@@ -349,6 +349,33 @@ struct Clip2Impl {
   detail::ClipPoll poll;             // progress and cancel, between chunks
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
+  // Sites far outside the domain: outside its bounding box grown by its largest extent on
+  // every side. Their bisectors' points on domain edges and their Voronoi vertices are
+  // constructed exactly (bisector_value2d_exact, circumcenter2d_absolute): in floating
+  // point, (x - (p + q) / 2).(q - p) keeps nothing of F for sites 1e20 away, and a
+  // circumcentre offset from a site 1e20 away nothing of the centre near the domain.
+  // Other sites keep every bit of their constructions. (Cells are integrated from a ring
+  // vertex, near the cell, whatever the site.)
+  bool any_far = false;
+  double near_lo[2] = {0, 0}, near_hi[2] = {0, 0};
+  bool far(std::uint32_t i) const {
+    if (!any_far) return false;
+    const double* p = site(i);
+    return !(p[0] >= near_lo[0] && p[0] <= near_hi[0] && p[1] >= near_lo[1] && p[1] <= near_hi[1]);
+  }
+  void find_far_sites() {
+    const double* lo = domain.bbox_lo();
+    const double* hi = domain.bbox_hi();
+    const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    for (int k = 0; k < 2; ++k) {
+      near_lo[k] = lo[k] - extent;
+      near_hi[k] = hi[k] + extent;
+    }
+    any_far = true;
+    bool found = false;
+    for (std::uint32_t i = 0; i < n && !found; ++i) found = far(i);
+    any_far = found;
+  }
 
   // ---- Symbolic vertex coordinates (one formula per vertex, shared by every cell)
   void coords(const ClipVertex2& v, double* xy) const {
@@ -363,10 +390,16 @@ struct Clip2Impl {
         const double* pi = site(v.b);
         const double* pk = site(v.c);
         // F(x) = |x - pi|^2 - |x - pk|^2 = 2 x.(pk - pi) + |pi|^2 - |pk|^2, zero at q.
-        const double dx = pk[0] - pi[0], dy = pk[1] - pi[1];
-        const double mx = 0.5 * (pi[0] + pk[0]), my = 0.5 * (pi[1] + pk[1]);
-        const double fa = (a[0] - mx) * dx + (a[1] - my) * dy;
-        const double fb = (b[0] - mx) * dx + (b[1] - my) * dy;
+        double fa, fb;
+        if (far(v.b) || far(v.c)) {
+          fa = bisector_value2d_exact(a, pi, pk);
+          fb = bisector_value2d_exact(b, pi, pk);
+        } else {
+          const double dx = pk[0] - pi[0], dy = pk[1] - pi[1];
+          const double mx = 0.5 * (pi[0] + pk[0]), my = 0.5 * (pi[1] + pk[1]);
+          fa = (a[0] - mx) * dx + (a[1] - my) * dy;
+          fb = (b[0] - mx) * dx + (b[1] - my) * dy;
+        }
         double t = fa / (fa - fb);
         if (!(t >= 0)) t = 0;  // rounding (or a symbolic tie) at an end
         if (t > 1) t = 1;
@@ -633,10 +666,17 @@ struct Clip2Impl {
     const std::uint32_t nt = dt.nb_triangles();
     poll.phase("cells", n);
     circ.resize(2 * std::size_t{nt});
+    find_far_sites();
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 4096), [&](const auto& range) {
       if (!poll.running()) return;
       for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-        dt.circumcenter(t, circ.data() + 2 * std::size_t{t});
+        const std::uint32_t a = dt.tri_vertex(t, 0), b = dt.tri_vertex(t, 1),
+                            c = dt.tri_vertex(t, 2);
+        if (far(a) || far(b) || far(c)) {
+          circumcenter2d_absolute(site(a), site(b), site(c), circ.data() + 2 * std::size_t{t});
+        } else {
+          dt.circumcenter(t, circ.data() + 2 * std::size_t{t});
+        }
       }
       poll.chunk(0);
     });
@@ -865,6 +905,14 @@ struct Clip2Impl {
         const Acc& a = acc[pos[i]];
         const double* s = site(i);
         const double dx = a.o[0] - s[0], dy = a.o[1] - s[1];
+        // Offsets above 2^500 (~3e150): the energy |o - s|^2 area may overflow.
+        if (a.m.area != 0 && !(std::fabs(dx) <= 0x1p500 && std::fabs(dy) <= 0x1p500)) {
+          throw Error("clip2d: site " + std::to_string(i) + " (" + std::to_string(s[0]) + ", " +
+                      std::to_string(s[1]) +
+                      ") is too far from the domain for its cell's integrals in double "
+                      "precision (a coordinate more than 2^500 from its cell), and its cell "
+                      "meets the domain");
+        }
         ClippedVoronoi2::Cell& cell = out.cells_[i];
         cell.area = a.m.area;
         cell.mass = a.m.mass;

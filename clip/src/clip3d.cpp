@@ -238,6 +238,20 @@ void Clip3Impl::run() {
   const auto write_cell = [&](std::uint32_t i, const Moments* r) {
     ClippedVoronoi3::Cell& cell = cells[i];
     const double* p = ctx.site(i);
+    const double* origin = p;  // of the first moment: the apex of the cones
+    Moments far_r;
+    if (r && ctx.far(i)) {
+      // Integrated from the apex a (Clip3Context::far): the energy moved to the site,
+      // ∫|x - p|^2 = ∫|x - a|^2 + 2 (a - p).∫(x - a) + |a - p|^2 ∫1.
+      far_r = *r;
+      origin = ctx.apex(i);
+      const double d[3] = {origin[0] - p[0], origin[1] - p[1], origin[2] - p[2]};
+      const double m = weighted ? r->mass : r->volume;
+      far_r.energy = r->energy +
+                     2 * ((d[0] * r->moment[0] + d[1] * r->moment[1]) + d[2] * r->moment[2]) +
+                     ((d[0] * d[0] + d[1] * d[1]) + d[2] * d[2]) * m;
+      r = &far_r;
+    }
     cell.volume = r ? r->volume : 0;
     if (weighted) {
       cell.mass = r ? r->mass : 0;
@@ -248,7 +262,7 @@ void Clip3Impl::run() {
     }
     const double m = weighted ? cell.mass : cell.volume;
     for (int c = 0; c < 3; ++c) {
-      cell.centroid[c] = r && m > 0 ? p[c] + r->moment[c] / m : p[c];
+      cell.centroid[c] = r && m > 0 ? origin[c] + r->moment[c] / m : p[c];
     }
     cell.surface_area = rs.surface_area[i];
     cell.boundary = rs.is_boundary[i];
@@ -658,9 +672,12 @@ void ClippedVoronoi3::compute(const Domain3& domain, const double* sites, std::u
       bhi[k] = std::max(hi[k], domain.bbox_hi()[k]);
     }
     const double c[3] = {0.5 * (blo[0] + bhi[0]), 0.5 * (blo[1] + bhi[1]), 0.5 * (blo[2] + bhi[2])};
-    const double diagonal =
+    double diagonal =
         std::sqrt((bhi[0] - blo[0]) * (bhi[0] - blo[0]) + (bhi[1] - blo[1]) * (bhi[1] - blo[1]) +
                   (bhi[2] - blo[2]) * (bhi[2] - blo[2]));
+    // Sites beyond 1e154: the squares overflow (hypot does not; the same value otherwise).
+    if (!std::isfinite(diagonal))
+      diagonal = std::hypot(bhi[0] - blo[0], bhi[1] - blo[1], bhi[2] - blo[2]);
     const double far = std::ldexp(1.0, std::ilogb(std::max(diagonal, 1e-300)) + 3);  // >= 4 D
     std::vector<std::array<double, 3>> directions;
     const auto point = [&](std::uint32_t i) { return sites + 3 * std::size_t{i}; };

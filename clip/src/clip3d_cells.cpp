@@ -237,7 +237,7 @@ bool DelaunayCells::boundary_cell(std::uint32_t i, const std::int8_t* global_fla
   // them the first-layer reports (every vertex of the star is in one of its finite tets:
   // at most two tets around an edge are infinite; all tets of a non-boundary site carry
   // the same flag, so which one reports it does not matter).
-  const double* pi = ctx_.site(i);
+  const double* pi = ctx_.apex(i);  // the cones' apex (Clip3Context::far)
   if (s.chunk.c.size() < m) s.chunk.c.resize(m);
   std::array<double, 3>* cc = s.chunk.c.data();
   for (std::size_t q = 0; q < m; ++q) {
@@ -267,15 +267,13 @@ bool DelaunayCells::boundary_cell(std::uint32_t i, const std::int8_t* global_fla
       const std::uint32_t q2 = st.pos(t2);
       const std::uint32_t vj = v[kFaceOther[li][f][0]];
       const std::uint32_t vk = v[kFaceOther[li][f][1]];
-      const double* pj = ctx_.site(vj);
-      const double* pk = ctx_.site(vk);
       inside_pieces(v, f, cc[q].data(), flag[q] != 0, infinite2 ? nullptr : cc[q2].data(),
                     flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
                       const Rel u = rel(a, pi), w = rel(b, pi);
                       if (ctx_.weighted) {
-                        add_piece<true>(pi, pj, pk, u, w, weighted_sums);
+                        add_piece<true>(i, vj, vk, u, w, weighted_sums);
                       } else {
-                        add_piece<false>(pi, pj, pk, u, w, sums);
+                        add_piece<false>(i, vj, vk, u, w, sums);
                       }
                       if (segments) {
                         Segment sj, sk;
@@ -570,10 +568,9 @@ bool DelaunayCells::boundary_chunk(const std::uint32_t* cells, std::uint32_t cou
                       flag[q2] != 0, fx[4 * q + f], [&](const double* a, const double* b) {
                         for (int k = 0; k < 4; ++k) {
                           if ((facet_mask >> k & 1u) == 0) continue;
-                          const double* px = ctx_.site(v[k]);
-                          add_piece<kWeighted>(px, ctx_.site(v[kFaceOther[k][f][0]]),
-                                               ctx_.site(v[kFaceOther[k][f][1]]), rel(a, px),
-                                               rel(b, px), sums[slot[v[k]] - 1]);
+                          const double* px = ctx_.apex(v[k]);
+                          add_piece<kWeighted>(v[k], v[kFaceOther[k][f][0]], v[kFaceOther[k][f][1]],
+                                               rel(a, px), rel(b, px), sums[slot[v[k]] - 1]);
                         }
                       });
       } catch (...) {
@@ -856,8 +853,8 @@ void DelaunayCells::inner_chunk(const std::uint32_t* cells, std::uint32_t count,
               }
             }
             const std::uint32_t vj = v[kFaceOther[k][f][0]], vk = v[kFaceOther[k][f][1]];
-            add_piece<kWeighted>(px, ctx_.site(vj), ctx_.site(vk), cr[4 * std::size_t{q} + k],
-                                 rel(c2, px), sums[in[k] - 1]);
+            add_piece<kWeighted>(v[k], vj, vk, cr[4 * std::size_t{q} + k], rel(c2, px),
+                                 sums[in[k] - 1]);
           }
         }
       }

@@ -301,18 +301,29 @@ class DelaunayCells {
   // (kFaceOther order: pj, pk): add_edge_piece, or the same cones weighted by the density.
   template <bool kWeighted>
   using PieceAcc = std::conditional_t<kWeighted, Moments, PieceSums>;
+  // The piece's share of cell x's cones from px = ctx_.apex(x) (u, w relative to it), over
+  // its facets on bisectors (x, j) and (x, k).
   template <bool kWeighted>
-  void add_piece(const double* px, const double* pj, const double* pk, const Rel& u, const Rel& w,
+  void add_piece(std::uint32_t x, std::uint32_t j, std::uint32_t k, const Rel& u, const Rel& w,
                  PieceAcc<kWeighted>& acc) const {
+    const Foot hj = foot_of(x, j), hk = foot_of(x, k);
     if constexpr (kWeighted) {
       // Deferred to the unit's DensityBatch::flush (thread_density_batch).
-      const Foot hj = foot(pj, px), hk = foot(pk, px);
+      const double* px = ctx_.apex(x);
       DensityBatch& batch = thread_density_batch();
       batch.add(px, hj.y, u.y, w.y, acc);
       batch.add(px, hk.y, w.y, u.y, acc);
     } else {
-      add_edge_piece(foot(pj, px), foot(pk, px), u, w, acc);
+      add_edge_piece(hj, hk, u, w, acc);
     }
+  }
+  // The foot of bisector(x, j) seen from ctx_.apex(x) (foot() for a site that is not far).
+  Foot foot_of(std::uint32_t x, std::uint32_t j) const {
+    if (!ctx_.far(x)) return foot(ctx_.site(j), ctx_.site(x));
+    Foot f;
+    ctx_.foot(x, j, f.y);
+    f.hh3 = 3 * ((f.y[0] * f.y[0] + f.y[1] * f.y[1]) + f.y[2] * f.y[2]);
+    return f;
   }
 
   // add_piece<true> for an inner chunk under Density3::Rule::kQuadratic, with numbered

@@ -14,9 +14,11 @@
 // their geometry, kept for the rest of the compute.
 #include "clip3d_internal.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace voroclip {
@@ -34,7 +36,54 @@ Clip3Context::Clip3Context(const Domain3& d, const Delaunay3& t, const Clip3Opti
       linear_density(o.density.kind == Density3::Kind::kVertexLinear),
       callback_density(o.density.kind == Density3::Kind::kCallback ? &o.density : nullptr),
       keep_surface(o.keep_surface || o.keep_geometry),
-      poll(p) {}
+      poll(p) {
+  // The near box (Clip3Context::far): the bounding box grown by its largest extent.
+  const double* lo = d.bbox_lo();
+  const double* hi = d.bbox_hi();
+  const double extent = std::max(std::max(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+  for (int k = 0; k < 3; ++k) {
+    near_lo[k] = lo[k] - extent;
+    near_hi[k] = hi[k] + extent;
+    centre[k] = 0.5 * (lo[k] + hi[k]);
+  }
+  any_far = true;  // far() tests the box while any_far is set
+  bool found = false;
+  for (std::uint32_t i = 0; i < n && !found; ++i) found = far(i);
+  any_far = found;
+}
+
+// Offsets of a far site from the domain's centre up to 2^500 (~3e150): the squared
+// distances (F, the feet, the energy ~ |offset|^2 V) stay below 2^1002, finite, and the
+// exact constructions' expansions cover such spans (plan_expansion_scaling, else big
+// integers). Beyond, the energy alone may overflow: an error rather than inf or NaN.
+constexpr double kMaxFarOffset = 0x1p500;
+
+void Clip3Context::check_far_site(std::uint32_t i) const {
+  const double* p = site(i);
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::fabs(p[k] - centre[k]) <= kMaxFarOffset)) {
+      throw Error("clip3d: site " + std::to_string(i) + " (" + std::to_string(p[0]) + ", " +
+                  std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                  ") is too far from the domain for its cell's integrals in double precision "
+                  "(a coordinate more than 2^500 from the domain's centre), and its cell meets "
+                  "the domain");
+    }
+  }
+}
+
+void Clip3Context::foot(std::uint32_t i, std::uint32_t j, double* h) const {
+  const double* pi = site(i);
+  const double* pj = site(j);
+  if (!far(i)) {
+    for (int k = 0; k < 3; ++k) h[k] = 0.5 * (pj[k] - pi[k]);
+    return;
+  }
+  const double f = bisector_value3d_exact(centre, pi, pj);
+  const double e[3] = {pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]};
+  const double ee = (e[0] * e[0] + e[1] * e[1]) + e[2] * e[2];
+  const double t = -f / (2 * ee);
+  for (int k = 0; k < 3; ++k) h[k] = t * e[k];
+}
 
 DensityBatch& thread_density_batch() {
   thread_local DensityBatch batch;
@@ -156,7 +205,15 @@ void Clip3Context::edge_point(std::uint32_t ma, std::uint32_t mb, std::uint32_t 
                               std::uint32_t s1, double* x) const {
   const double* a = domain.vertex(ma);
   const double* b = domain.vertex(mb);
-  const double fa = bisector_f(a, site(s0), site(s1)), fb = bisector_f(b, site(s0), site(s1));
+  double fa, fb;
+  if (far(s0) || far(s1)) {
+    // F exactly: the midpoint form keeps nothing of it for sites 1e20 away.
+    fa = bisector_value3d_exact(a, site(s0), site(s1));
+    fb = bisector_value3d_exact(b, site(s0), site(s1));
+  } else {
+    fa = bisector_f(a, site(s0), site(s1));
+    fb = bisector_f(b, site(s0), site(s1));
+  }
   double s = fa / (fa - fb);
   if (!(s >= 0)) s = 0;
   if (s > 1) s = 1;
@@ -171,6 +228,10 @@ void Clip3Context::facet_point(const std::uint32_t* mesh, const std::uint32_t* s
   const double* p0 = site(sites[0]);
   const double* p1 = site(sites[1]);
   const double* p2 = site(sites[2]);
+  if ((far(sites[0]) || far(sites[1]) || far(sites[2])) &&
+      plane_bisectors_point3d_absolute(a, b, c, p0, p1, p2, x)) {
+    return;
+  }
   const double k0 = bisector_f(a, p0, p1), k1 = bisector_f(b, p0, p1), k2 = bisector_f(c, p0, p1);
   const double l0 = bisector_f(a, p0, p2), l1 = bisector_f(b, p0, p2), l2 = bisector_f(c, p0, p2);
   // Barycentric coordinates: [1 1 1; k; l] lambda = (1, 0, 0). Accurate to the last bits
@@ -200,6 +261,12 @@ void Clip3Context::voronoi_point(const std::uint32_t* sites, double* x) const {
   // symmetric ones, whose floating-point determinant is rounding error or zero.
   // circumcenter3d falls back to exact arithmetic there, so the vertex is accurate, never
   // NaN.
+  // With a far site, exactly to the point's own bits (circumcenter3d: of its offset from
+  // sites[0], which for a site 1e20 away is nothing).
+  if (far(sites[0]) || far(sites[1]) || far(sites[2]) || far(sites[3])) {
+    circumcenter3d_absolute(site(sites[0]), site(sites[1]), site(sites[2]), site(sites[3]), x);
+    return;
+  }
   circumcenter3d(site(sites[0]), site(sites[1]), site(sites[2]), site(sites[3]), x);
 }
 

@@ -427,6 +427,30 @@ struct Clip3Context {
   }
 
   const double* site(std::uint32_t i) const { return dt.point(i); }
+  // Sites far outside the domain: outside its bounding box grown by its largest extent on
+  // every side (near_lo, near_hi). A far site's cell, when it meets the domain, is
+  // integrated from apex(i) = the box's centre instead of from the site (the cones from a
+  // site 1e20 away cancel to nothing: a volume of -8768 for the unit sphere), and the
+  // points on its bisectors are constructed exactly (edge_point, facet_point,
+  // voronoi_point). Other sites keep the site as apex and every bit of their results.
+  // any_far: some site is far (else none of this is looked at).
+  bool any_far = false;
+  double near_lo[3] = {0, 0, 0}, near_hi[3] = {0, 0, 0}, centre[3] = {0, 0, 0};
+  bool far(std::uint32_t i) const {
+    if (!any_far) return false;
+    const double* p = site(i);
+    return !(p[0] >= near_lo[0] && p[0] <= near_hi[0] && p[1] >= near_lo[1] && p[1] <= near_hi[1] &&
+             p[2] >= near_lo[2] && p[2] <= near_hi[2]);
+  }
+  const double* apex(std::uint32_t i) const { return far(i) ? centre : site(i); }
+  // The foot of apex(i) on bisector(i, j), relative to apex(i): (p_j - p_i) / 2 for a site
+  // that is not far (its bits as before); else -F e / (2 |e|^2), e = p_j - p_i, with
+  // F = |a - p_i|^2 - |a - p_j|^2 at the apex a computed exactly (bisector_value3d_exact).
+  // Every point y of the bisector (relative to the apex) has h . y = |h|^2.
+  void foot(std::uint32_t i, std::uint32_t j, double* h) const;
+  // Throws Error when far site i is too far for the cell integrals in double precision
+  // (a coordinate offset from the domain's centre above kMaxFarOffset).
+  void check_far_site(std::uint32_t i) const;
   // (After a build an infinite tet has kInfinite as its vertex 3: Delaunay3.)
   bool infinite(std::uint32_t t) const { return dt.is_infinite(t); }
   // Fills s.tets with the tets around v, finite and infinite.

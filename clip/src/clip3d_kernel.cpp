@@ -262,7 +262,9 @@ void ConvexCell::clip_cell(std::uint32_t c, const std::uint32_t* seeds, std::siz
     queue.push_back(t);
   };
   for (std::size_t q = 0; q < nb_seeds; ++q) push(seeds[q]);
-  const double* pc = ctx_.site(c);
+  // The cones' apex: the site, or for a far one the domain's centre (Clip3Context::far).
+  if (ctx_.far(c)) ctx_.check_far_site(c);
+  const double* pc = ctx_.apex(c);
   for (std::size_t h = 0; h < queue.size(); ++h) {
     const std::uint32_t t = queue[h];
     ++res.pairs;

@@ -365,12 +365,14 @@ ClipVertex3 SurfaceRvd::tri_symbolic(const Tri& tri, const TriVertex& v, std::ui
 void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, Scratch& s,
                               Chunk& chunk) const {
   const std::size_t m = p.size();
-  const double* pc = ctx_.site(c);
+  // The cones' apex: the site, or for a far one the domain's centre (Clip3Context::far).
+  if (ctx_.far(c)) ctx_.check_far_site(c);
+  const double* pc = ctx_.apex(c);
   if (s.xyz.size() < 3 * m) {
     s.xyz.resize(3 * m);
     s.rel.resize(4 * m);
   }
-  // rel: per vertex y = x - p_c and |y|^2.
+  // rel: per vertex y = x - p_c (the apex) and |y|^2.
   for (std::size_t k = 0; k < m; ++k) {
     const TriVertex& v = p.v[k];
     double* xk = &s.xyz[3 * k];
@@ -431,8 +433,8 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
   // 2 (3 |h|^2 + |u|^2 + |w|^2 + u . w) (add_edge_piece).
   for (std::size_t k = 0; k < m; ++k) {
     if (is_facet(p.e[k])) continue;
-    const double* pj = ctx_.site(static_cast<std::uint32_t>(p.e[k]));
-    const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
+    double h[3];
+    ctx_.foot(c, static_cast<std::uint32_t>(p.e[k]), h);
     const double* u = x(k);
     const double* w = x(k + 1);
     const double nv[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
@@ -456,8 +458,8 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
     for (std::size_t k = 1; k + 1 < m; ++k) batch.add(pc, o, x(k), x(k + 1), wm);
     for (std::size_t k = 0; k < m; ++k) {
       if (is_facet(p.e[k])) continue;
-      const double* pj = ctx_.site(static_cast<std::uint32_t>(p.e[k]));
-      const double h[3] = {0.5 * (pj[0] - pc[0]), 0.5 * (pj[1] - pc[1]), 0.5 * (pj[2] - pc[2])};
+      double h[3];
+      ctx_.foot(c, static_cast<std::uint32_t>(p.e[k]), h);
       batch.add(pc, h, x(k + 1), x(k), wm);
     }
     batch.flush();

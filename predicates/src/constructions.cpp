@@ -113,10 +113,13 @@ bool plane_bisectors_terms(C& c, const typename C::Num (&d)[5][3], typename C::N
 }
 
 // origin + N / (2 det) from the exact terms, for the R points pts (the last is the origin)
-// of dimension D, degree `degree` of N. False when det == 0.
+// of dimension D, degree `degree` of N. False when det == 0. With `absolute`, the numerator
+// is N + 2 det origin, exactly, so that the result is within a few ulps of the exact point
+// itself rather than of its offset from the origin (the origin may be a site 1e20 away
+// from a point near 0: origin + N / (2 det) then keeps nothing of the offset's bits).
 template <int R, int D, class Terms>
 bool exact_construction(const double* const (&pts)[R + 1], int degree, const Terms& terms,
-                        double* out) {
+                        double* out, bool absolute = false) {
   const double* origin = pts[R];
   const detail::ExponentSpan span = [&] {
     double coords[(R + 1) * D];
@@ -135,6 +138,14 @@ bool exact_construction(const double* const (&pts)[R + 1], int degree, const Ter
     // N scales by 2^(degree scale), det by 2^((degree - 1) scale): the quotient by 2^scale.
     const double det2 = 2 * value(det);
     for (int k = 0; k < D; ++k) {
+      if (absolute) {
+        // The origin scaled as the differences: origin det as N.
+        const auto o = c.diff(scale == 0 ? origin[k] : detail::times_pow2(origin[k], scale), 0.0);
+        const auto od = c.mul(o, det);
+        const double q = value(c.add(num[k], c.add(od, od))) / det2;
+        out[k] = scale == 0 ? q : detail::times_pow2(q, -scale);
+        continue;
+      }
       const double q = value(num[k]) / det2;
       out[k] = origin[k] + (scale == 0 ? q : detail::times_pow2(q, -scale));
     }
@@ -149,12 +160,79 @@ bool exact_construction(const double* const (&pts)[R + 1], int degree, const Ter
   const double m_det = det.approx(e_det);
   for (int k = 0; k < D; ++k) {
     int e_num = 0;
-    const double m_num = num[k].approx(e_num);
     // N / (2 det) in units of 2^lowest (N in units of 2^(degree lowest), det of
-    // 2^((degree - 1) lowest)).
+    // 2^((degree - 1) lowest); the origin in units of 2^lowest).
+    if (absolute) {
+      const Calc::Num od = c.mul(c.diff(origin[k], 0.0), det);
+      const double m_num = c.add(num[k], c.add(od, od)).approx(e_num);
+      out[k] = std::ldexp(m_num / (2 * m_det), e_num - e_det + span.lowest);
+      continue;
+    }
+    const double m_num = num[k].approx(e_num);
     out[k] = origin[k] + std::ldexp(m_num / (2 * m_det), e_num - e_det + span.lowest);
   }
   return true;
+}
+
+// ---- circumcenter3d_absolute, exact stage: over d = {p1 - p0, p2 - p0, p3 - p0}.
+template <class C>
+bool circumcenter3d_terms(C& c, const typename C::Num (&d)[3][3], typename C::Num (&num)[3],
+                          typename C::Num& det) {
+  using Num = typename C::Num;
+  const auto cross = [&](const Num(&p)[3], const Num(&q)[3], Num(&out)[3]) {
+    out[0] = c.sub(c.mul(p[1], q[2]), c.mul(p[2], q[1]));
+    out[1] = c.sub(c.mul(p[2], q[0]), c.mul(p[0], q[2]));
+    out[2] = c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
+  };
+  const auto dot = [&](const Num(&p)[3], const Num(&q)[3]) {
+    return c.add(c.add(c.mul(p[0], q[0]), c.mul(p[1], q[1])), c.mul(p[2], q[2]));
+  };
+  Num c23[3], c31[3], c12[3];
+  cross(d[1], d[2], c23);
+  cross(d[2], d[0], c31);
+  cross(d[0], d[1], c12);
+  det = dot(d[0], c23);
+  if (C::sign(det) == 0) return false;
+  const Num l1 = dot(d[0], d[0]), l2 = dot(d[1], d[1]), l3 = dot(d[2], d[2]);
+  for (int k = 0; k < 3; ++k) {
+    num[k] = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
+  }
+  return true;
+}
+
+// |x - p|^2 - |x - q|^2 (D coordinates) exactly, then rounded (within an ulp or so).
+template <int D>
+double bisector_value_exact_impl(const double* x, const double* p, const double* q) {
+  const double* const pts[3] = {p, q, x};
+  const auto terms = [](auto& c, const auto& d) {
+    auto f = c.sub(c.mul(d[0][0], d[0][0]), c.mul(d[1][0], d[1][0]));
+    for (int k = 1; k < D; ++k) {
+      f = c.add(f, c.sub(c.mul(d[0][k], d[0][k]), c.mul(d[1][k], d[1][k])));
+    }
+    return f;
+  };
+  double coords[3 * D];
+  for (int r = 0; r < 3; ++r) {
+    for (int j = 0; j < D; ++j) coords[D * r + j] = pts[r][j];
+  }
+  detail::require_finite("bisector_value_exact", coords, 3 * D);
+  const detail::ExponentSpan span = detail::exponent_span(coords, 3 * D);
+  int scale = 0;
+  if (detail::plan_expansion_scaling(span, 2, scale, 12)) {
+    using Calc = detail::ExpansionCalc;
+    Calc c(detail::thread_arena());
+    Calc::Num d[2][D];
+    detail::differences<Calc, 2, D>(c, pts, scale, d);
+    const double f = value(terms(c, d));
+    return scale == 0 ? f : detail::times_pow2(f, -2 * scale);
+  }
+  using Calc = detail::BigIntCalc;
+  Calc c(span.lowest);
+  Calc::Num d[2][D];
+  detail::differences<Calc, 2, D>(c, pts, 0, d);
+  int e = 0;
+  const double m = terms(c, d).approx(e);
+  return std::ldexp(m, e + 2 * span.lowest);
 }
 
 }  // namespace
@@ -246,6 +324,63 @@ bool plane_bisectors_point3d(const double* a, const double* b, const double* c, 
   if (!(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]))) return false;
   for (int k = 0; k < 3; ++k) x[k] = out[k];
   return true;
+}
+
+void circumcenter2d_absolute(const double* a, const double* b, const double* c, double* center) {
+  const double coords[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
+  detail::require_finite("circumcenter2d_absolute", coords, 6);
+  const double* const pts[3] = {b, c, a};
+  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
+    return circumcenter2d_terms(calc, d, num, det);
+  };
+  if (!exact_construction<2, 2>(pts, 3, terms, center, true)) {
+    throw Error(
+        "circumcenter2d: the three points are collinear: their circumcenter is not defined");
+  }
+}
+
+void circumcenter3d_absolute(const double* p0, const double* p1, const double* p2, const double* p3,
+                             double* center) {
+  double coords[12];
+  for (int k = 0; k < 3; ++k) {
+    coords[k] = p0[k];
+    coords[3 + k] = p1[k];
+    coords[6 + k] = p2[k];
+    coords[9 + k] = p3[k];
+  }
+  detail::require_finite("circumcenter3d_absolute", coords, 12);
+  const double* const pts[4] = {p1, p2, p3, p0};
+  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
+    return circumcenter3d_terms(calc, d, num, det);
+  };
+  if (!exact_construction<3, 3>(pts, 4, terms, center, true)) {
+    throw Error("circumcenter3d: the four points are coplanar: their circumcenter is not defined");
+  }
+}
+
+bool plane_bisectors_point3d_absolute(const double* a, const double* b, const double* c,
+                                      const double* p0, const double* p1, const double* p2,
+                                      double* x) {
+  for (const double* p : {a, b, c, p0, p1, p2}) {
+    if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) return false;
+  }
+  const double* const pts[6] = {p1, p2, a, b, c, p0};
+  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
+    return plane_bisectors_terms(calc, d, num, det);
+  };
+  double out[3];
+  if (!exact_construction<5, 3>(pts, 5, terms, out, true)) return false;
+  if (!(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]))) return false;
+  for (int k = 0; k < 3; ++k) x[k] = out[k];
+  return true;
+}
+
+double bisector_value2d_exact(const double* x, const double* p, const double* q) {
+  return bisector_value_exact_impl<2>(x, p, q);
+}
+
+double bisector_value3d_exact(const double* x, const double* p, const double* q) {
+  return bisector_value_exact_impl<3>(x, p, q);
 }
 
 }  // namespace voroclip

@@ -386,3 +386,35 @@ TEST_CASE("clip2d: a variable density is evaluated only inside the cells", "[cli
   REQUIRE(total == Approx(exact).epsilon(1e-13));
   REQUIRE(cv.total_mass() == Approx(exact).epsilon(1e-13));
 }
+
+// Regression: for sites far outside the domain the bisector's point on a domain edge came
+// from (x - (p + q) / 2).(q - p), which keeps nothing for sites 1e20 away, and the Voronoi
+// vertex from its offset to a site 1e20 away: (1e20, 0.3), (-1e20, 0.2), (0.3, 1e20) gave
+// areas 0.15, 0, 0.85 in the unit square. Exact answers for (s, 0.3), (-s, 0.3), (0.3, s):
+// the bisectors are x = 0 and y = x, so areas 1/2, 0, 1/2 and centroids (2/3, 1/3),
+// (1/3, 2/3); for the reported sites the second cell is a sliver at the corner 0 (area
+// below 1e-20) and the others the same. Within 1e-12 of them (measured: to the last bit).
+TEST_CASE("clip2d: sites far outside the domain", "[clip][regression]") {
+  const Domain2 d(rings_of({square(0, 0, 1, 1)}));
+  const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-12; };
+  const auto check = [&](const std::vector<double>& sites) {
+    const Delaunay2 dt(sites.data(), 3);
+    const ClippedVoronoi2 cv = clip(d, dt);
+    CHECK(near(cv.area(0), 0.5));
+    CHECK(near(cv.area(1), 0));
+    CHECK(near(cv.area(2), 0.5));
+    CHECK(near(cv.centroid(0)[0], 2.0 / 3));
+    CHECK(near(cv.centroid(0)[1], 1.0 / 3));
+    CHECK(near(cv.centroid(2)[0], 1.0 / 3));
+    CHECK(near(cv.centroid(2)[1], 2.0 / 3));
+  };
+  for (const double s : {1e3, 1e6, 1e10, 1e20, 1e100}) {
+    INFO("s = " << s);
+    check({s, 0.3, -s, 0.3, 0.3, s});
+  }
+  check({1e20, 0.3, -1e20, 0.2, 0.3, 1e20});
+  // Beyond 2^500 from the domain the energy (~ s^2 area) may overflow: an Error, not inf.
+  const std::vector<double> three = {1e200, 0.3, -1e200, 0.2, 0.3, 1e200};
+  const Delaunay2 dt(three.data(), 3);
+  CHECK_THROWS_WITH(clip(d, dt), Catch::Contains("too far from the domain"));
+}

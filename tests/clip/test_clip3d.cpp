@@ -1456,3 +1456,64 @@ TEST_CASE("clip3d from a surface alone: identical with 1 and 2 threads", "[clip]
   REQUIRE(one.cell_faces().xyz == two.cell_faces().xyz);
   REQUIRE(one.cell_faces().across == two.cell_faces().across);
 }
+
+// Regression: a site far outside the domain had its cell integrated as cones from the site
+// (a site 1e20 away: volume -8768 for the unit sphere) and its bisectors' points built by
+// the midpoint formula (x - (p + q) / 2).(q - p), which keeps nothing for sites 1e20 away:
+// the bisector of (s, 0.3, 0.1) and (0.3, s, 0.1) (the plane x = y) split the cube wrong.
+// The exact answers: one site's cell is the whole cube [-1, 1]^3 (volume 8, centroid 0,
+// ∫|x - p|^2 = 8 (|p|^2 + 1), surface area 24); sites mirrored by x <-> y, or by x -> -x,
+// split it into halves (volume 4, centroid (1/3, -1/3, 0) or (1/2, 0, 0), area 12). Every
+// result is within 1e-12 (relative) of them, measured 2e-16 .. 1e-15.
+TEST_CASE("clip3d: sites far outside the domain", "[clip][regression]") {
+  voroclip::TetMeshInput m = cube_mesh(2);
+  for (double& x : m.xyz) x -= 1;  // [-1, 1]^3, exactly
+  const Domain3 cube(m);
+  const auto near = [](double a, double b, double scale) {
+    return std::fabs(a - b) <= 1e-12 * scale;
+  };
+  for (const bool tet_clipping : {false, true}) {
+    voroclip::Clip3Options o;
+    o.tet_clipping = tet_clipping;
+    for (const double s : {1e3, 1e6, 1e10, 1e20, 1e100}) {
+      INFO("s = " << s << ", tet_clipping " << tet_clipping);
+      {
+        const double p[3] = {s, 0.3, 0.1};
+        ClippedVoronoi3 cv;
+        cv.compute(cube, p, 1, o);
+        CHECK(near(cv.volume(0), 8, 8));
+        for (int k = 0; k < 3; ++k) CHECK(near(cv.centroid(0)[k], 0, 1));
+        CHECK(near(cv.energy(0), 8 * (s * s + 0.1 + 1), 8 * (s * s + 1.1)));
+        CHECK(near(cv.surface_area(0), 24, 24));
+      }
+      {
+        const double p[6] = {s, 0.3, 0.1, 0.3, s, 0.1};
+        ClippedVoronoi3 cv;
+        cv.compute(cube, p, 2, o);
+        for (std::uint32_t i = 0; i < 2; ++i) {
+          CHECK(near(cv.volume(i), 4, 4));
+          CHECK(near(cv.centroid(i)[0], i == 0 ? 1.0 / 3 : -1.0 / 3, 1));
+          CHECK(near(cv.centroid(i)[1], i == 0 ? -1.0 / 3 : 1.0 / 3, 1));
+          CHECK(near(cv.centroid(i)[2], 0, 1));
+          CHECK(near(cv.surface_area(i), 12, 12));
+        }
+      }
+      {
+        const double p[6] = {s, 0.3, 0.1, -s, 0.3, 0.1};
+        ClippedVoronoi3 cv;
+        cv.compute(cube, p, 2, o);
+        for (std::uint32_t i = 0; i < 2; ++i) {
+          CHECK(near(cv.volume(i), 4, 4));
+          CHECK(near(cv.centroid(i)[0], i == 0 ? 0.5 : -0.5, 1));
+          CHECK(near(cv.centroid(i)[1], 0, 1));
+          CHECK(near(cv.centroid(i)[2], 0, 1));
+          CHECK(near(cv.surface_area(i), 12, 12));
+        }
+      }
+    }
+    // Beyond 2^500 from the domain the energy (~ s^2 V) may overflow: an Error, not inf.
+    const double p[3] = {1e200, 0.3, 0.1};
+    ClippedVoronoi3 cv;
+    CHECK_THROWS_WITH(cv.compute(cube, p, 1, o), Catch::Contains("too far from the domain"));
+  }
+}

@@ -688,4 +688,22 @@ void circumcenter2d(const double* a, const double* b, const double* c, double* c
 bool plane_bisectors_point3d(const double* a, const double* b, const double* c, const double* p0,
                              const double* p1, const double* p2, double* x);
 
+// The same points with an absolute accuracy (a few ulps of the point itself, not of its
+// offset from the first site), always by the exact stage (numerator N + 2 D origin): for
+// sites far from the point, such as sites 1e20 away whose Voronoi vertex lies in a unit
+// domain, where origin + N / (2 D) rounds away all of the point's bits. Slower; the clipped
+// diagrams use them only for sites far outside the domain.
+void circumcenter2d_absolute(const double* a, const double* b, const double* c, double* center);
+void circumcenter3d_absolute(const double* p0, const double* p1, const double* p2, const double* p3,
+                             double* center);
+bool plane_bisectors_point3d_absolute(const double* a, const double* b, const double* c,
+                                      const double* p0, const double* p1, const double* p2,
+                                      double* x);
+// |x - p|^2 - |x - q|^2 computed exactly, then rounded (relative error a few ulps), however
+// far p and q are from x: in floating point 2 (x - (p + q) / 2).(q - p) keeps nothing of it
+// when |p + q| / 2 is 1e19 times the distance from x to the bisector. Overflow gives inf.
+// Throws Error for non-finite coordinates.
+double bisector_value2d_exact(const double* x, const double* p, const double* q);
+double bisector_value3d_exact(const double* x, const double* p, const double* q);
+
 }  // namespace voroclip
