@@ -165,33 +165,6 @@ namespace {
 // inverse of the tet's shape: 2^-42 sent 1.7 % of a CVT's tets, 2^-36 a few in ten
 // thousand.)
 
-// Nv and D (circumcenter3d.h) in the exact arithmetic C over the differences d[k] = p_(k+1)
-// - p0; false when D == 0.
-template <class C>
-bool exact_nv_det(C& c, const typename C::Num (&d)[3][3], typename C::Num (&nv)[3],
-                  typename C::Num& det) {
-  using Num = typename C::Num;
-  const auto cross = [&](const Num(&a)[3], const Num(&b)[3], Num(&out)[3]) {
-    out[0] = c.sub(c.mul(a[1], b[2]), c.mul(a[2], b[1]));
-    out[1] = c.sub(c.mul(a[2], b[0]), c.mul(a[0], b[2]));
-    out[2] = c.sub(c.mul(a[0], b[1]), c.mul(a[1], b[0]));
-  };
-  const auto dot = [&](const Num(&a)[3], const Num(&b)[3]) {
-    return c.add(c.add(c.mul(a[0], b[0]), c.mul(a[1], b[1])), c.mul(a[2], b[2]));
-  };
-  Num c23[3], c31[3], c12[3];
-  cross(d[1], d[2], c23);
-  cross(d[2], d[0], c31);
-  cross(d[0], d[1], c12);
-  det = dot(d[0], c23);
-  if (C::sign(det) == 0) return false;
-  const Num l1 = dot(d[0], d[0]), l2 = dot(d[1], d[1]), l3 = dot(d[2], d[2]);
-  for (int k = 0; k < 3; ++k) {
-    nv[k] = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
-  }
-  return true;
-}
-
 [[noreturn]] void throw_coplanar() {
   throw Error("circumcenter3d: the four points are coplanar: their circumcenter is not defined");
 }
@@ -217,7 +190,7 @@ void exact_circumcenter(const double* p0, const double* p1, const double* p2, co
     Calc c(detail::thread_arena());
     Calc::Num d[3][3], nv[3], det;
     detail::differences<Calc, 3, 3>(c, pts, scale, d);
-    if (!exact_nv_det(c, d, nv, det)) throw_coplanar();
+    if (!detail::exact_nv_det(c, d, nv, det)) throw_coplanar();
     // An expansion's value: its components summed from the smallest (non-overlapping,
     // increasing magnitude): within an ulp or so.
     const auto value = [](const Calc::Num& e) {
@@ -236,7 +209,7 @@ void exact_circumcenter(const double* p0, const double* p1, const double* p2, co
   Calc c(span.lowest);
   Calc::Num d[3][3], nv[3], det;
   detail::differences<Calc, 3, 3>(c, pts, 0, d);
-  if (!exact_nv_det(c, d, nv, det)) throw_coplanar();
+  if (!detail::exact_nv_det(c, d, nv, det)) throw_coplanar();
   int e_det = 0;
   const double m_det = det.approx(e_det);
   for (int k = 0; k < 3; ++k) {

@@ -86,6 +86,33 @@ struct CircumcenterApprox {
   double lower, upper;
 };
 
+// Nv and D (above) in the exact arithmetic C over the differences d[k] = p_(k+1)
+// - p0; false when D == 0.
+template <class C>
+bool exact_nv_det(C& c, const typename C::Num (&d)[3][3], typename C::Num (&nv)[3],
+                  typename C::Num& det) {
+  using Num = typename C::Num;
+  const auto cross = [&](const Num(&a)[3], const Num(&b)[3], Num(&out)[3]) {
+    out[0] = c.sub(c.mul(a[1], b[2]), c.mul(a[2], b[1]));
+    out[1] = c.sub(c.mul(a[2], b[0]), c.mul(a[0], b[2]));
+    out[2] = c.sub(c.mul(a[0], b[1]), c.mul(a[1], b[0]));
+  };
+  const auto dot = [&](const Num(&a)[3], const Num(&b)[3]) {
+    return c.add(c.add(c.mul(a[0], b[0]), c.mul(a[1], b[1])), c.mul(a[2], b[2]));
+  };
+  Num c23[3], c31[3], c12[3];
+  cross(d[1], d[2], c23);
+  cross(d[2], d[0], c31);
+  cross(d[0], d[1], c12);
+  det = dot(d[0], c23);
+  if (C::sign(det) == 0) return false;
+  const Num l1 = dot(d[0], d[0]), l2 = dot(d[1], d[1]), l3 = dot(d[2], d[2]);
+  for (int k = 0; k < 3; ++k) {
+    nv[k] = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
+  }
+  return true;
+}
+
 inline CircumcenterApprox circumcenter_approx(const double* p0, const double* p1, const double* p2,
                                               const double* p3) {
   const Diff3 d1 = diff3(p1, p0), d2 = diff3(p2, p0), d3 = diff3(p3, p0);

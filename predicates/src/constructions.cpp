@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "circumcenter3d.h"
 #include "exact.h"
 #include "voroclip/core.h"
 #include "voroclip/predicates.h"
@@ -170,32 +171,6 @@ bool exact_construction(const double* const (&pts)[R + 1], int degree, const Ter
     }
     const double m_num = num[k].approx(e_num);
     out[k] = origin[k] + std::ldexp(m_num / (2 * m_det), e_num - e_det + span.lowest);
-  }
-  return true;
-}
-
-// ---- circumcenter3d_absolute, exact stage: over d = {p1 - p0, p2 - p0, p3 - p0}.
-template <class C>
-bool circumcenter3d_terms(C& c, const typename C::Num (&d)[3][3], typename C::Num (&num)[3],
-                          typename C::Num& det) {
-  using Num = typename C::Num;
-  const auto cross = [&](const Num(&p)[3], const Num(&q)[3], Num(&out)[3]) {
-    out[0] = c.sub(c.mul(p[1], q[2]), c.mul(p[2], q[1]));
-    out[1] = c.sub(c.mul(p[2], q[0]), c.mul(p[0], q[2]));
-    out[2] = c.sub(c.mul(p[0], q[1]), c.mul(p[1], q[0]));
-  };
-  const auto dot = [&](const Num(&p)[3], const Num(&q)[3]) {
-    return c.add(c.add(c.mul(p[0], q[0]), c.mul(p[1], q[1])), c.mul(p[2], q[2]));
-  };
-  Num c23[3], c31[3], c12[3];
-  cross(d[1], d[2], c23);
-  cross(d[2], d[0], c31);
-  cross(d[0], d[1], c12);
-  det = dot(d[0], c23);
-  if (C::sign(det) == 0) return false;
-  const Num l1 = dot(d[0], d[0]), l2 = dot(d[1], d[1]), l3 = dot(d[2], d[2]);
-  for (int k = 0; k < 3; ++k) {
-    num[k] = c.add(c.add(c.mul(l1, c23[k]), c.mul(l2, c31[k])), c.mul(l3, c12[k]));
   }
   return true;
 }
@@ -351,7 +326,7 @@ void circumcenter3d_absolute(const double* p0, const double* p1, const double* p
   detail::require_finite("circumcenter3d_absolute", coords, 12);
   const double* const pts[4] = {p1, p2, p3, p0};
   const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
-    return circumcenter3d_terms(calc, d, num, det);
+    return detail::exact_nv_det(calc, d, num, det);  // over d = {p1 - p0, p2 - p0, p3 - p0}
   };
   if (!exact_construction<3, 3>(pts, 4, terms, center, true)) {
     throw Error("circumcenter3d: the four points are coplanar: their circumcenter is not defined");
