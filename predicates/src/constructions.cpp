@@ -244,6 +244,29 @@ void circumcenter2d(const double* a, const double* b, const double* c, double* c
   }
 }
 
+namespace {
+
+// The exact stage of plane_bisectors_point3d (absolute: of its _absolute variant, the point
+// itself rather than its offset from p0 rounded); false when the point is not defined or not
+// finite.
+bool plane_bisectors_exact(const double* a, const double* b, const double* c, const double* p0,
+                           const double* p1, const double* p2, bool absolute, double* x) {
+  for (const double* p : {a, b, c, p0, p1, p2}) {
+    if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) return false;
+  }
+  const double* const pts[6] = {p1, p2, a, b, c, p0};
+  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
+    return plane_bisectors_terms(calc, d, num, det);
+  };
+  double out[3];
+  if (!exact_construction<5, 3>(pts, 5, terms, out, absolute)) return false;
+  if (!(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]))) return false;
+  for (int k = 0; k < 3; ++k) x[k] = out[k];
+  return true;
+}
+
+}  // namespace
+
 bool plane_bisectors_point3d(const double* a, const double* b, const double* c, const double* p0,
                              const double* p1, const double* p2, double* x) {
   double d1[3], d2[3], u[3], w1[3], w2[3];
@@ -287,18 +310,7 @@ bool plane_bisectors_point3d(const double* a, const double* b, const double* c, 
       }
     }
   }
-  for (const double* p : {a, b, c, p0, p1, p2}) {
-    if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) return false;
-  }
-  const double* const pts[6] = {p1, p2, a, b, c, p0};
-  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
-    return plane_bisectors_terms(calc, d, num, det);
-  };
-  double out[3];
-  if (!exact_construction<5, 3>(pts, 5, terms, out)) return false;
-  if (!(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]))) return false;
-  for (int k = 0; k < 3; ++k) x[k] = out[k];
-  return true;
+  return plane_bisectors_exact(a, b, c, p0, p1, p2, false, x);
 }
 
 void circumcenter2d_absolute(const double* a, const double* b, const double* c, double* center) {
@@ -336,18 +348,7 @@ void circumcenter3d_absolute(const double* p0, const double* p1, const double* p
 bool plane_bisectors_point3d_absolute(const double* a, const double* b, const double* c,
                                       const double* p0, const double* p1, const double* p2,
                                       double* x) {
-  for (const double* p : {a, b, c, p0, p1, p2}) {
-    if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) return false;
-  }
-  const double* const pts[6] = {p1, p2, a, b, c, p0};
-  const auto terms = [](auto& calc, const auto& d, auto& num, auto& det) {
-    return plane_bisectors_terms(calc, d, num, det);
-  };
-  double out[3];
-  if (!exact_construction<5, 3>(pts, 5, terms, out, true)) return false;
-  if (!(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]))) return false;
-  for (int k = 0; k < 3; ++k) x[k] = out[k];
-  return true;
+  return plane_bisectors_exact(a, b, c, p0, p1, p2, true, x);
 }
 
 double bisector_value2d_exact(const double* x, const double* p, const double* q) {
