@@ -51,7 +51,7 @@ Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions
 void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool tets = [&] {
-    const std::string ext = lower_extension(args.path);
+    const std::string ext = input_extension(args.path);
     return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".msh" || ext == ".vtk" ||
            ext == ".vtu";
   }();

@@ -110,6 +110,11 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+std::string input_extension(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".gz" ? lower_extension(path.substr(0, path.size() - 3)) : ext;
+}
+
 void check_outputs(const std::vector<OutputOption>& outputs) {
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     for (std::size_t j = 0; j < k; ++j) {

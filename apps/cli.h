@@ -58,6 +58,9 @@ const char* sign_name(Sign s);
 /// The extension of a file name in lower case, with its dot (".vtu"); "" when it has none
 /// (a dot in a directory name does not count).
 std::string lower_extension(const std::string& path);
+/// The extension an input file is read by: lower_extension, or for NAME.EXT.gz (a
+/// gzip-compressed file, which every reader inflates) that of NAME.EXT.
+std::string input_extension(const std::string& path);
 
 // The usage error for --binary / --compress (`flag`) with an output of extension `ext`
 // that has no such variant: "<flag>: only a .vtu output ... (<ext> is a text format ...)".

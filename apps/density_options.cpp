@@ -1054,7 +1054,7 @@ Density2 make_density2(const DensityArgs& args, const Domain2& domain) {
   if (!args.density_file.empty() || !args.sizing_file.empty()) {
     const bool sizing = args.density_file.empty();
     const std::string& path = sizing ? args.sizing_file : args.density_file;
-    if (lower_extension(path) != ".vtk") {
+    if (input_extension(path) != ".vtk") {
       throw UsageError(std::string(sizing ? "--sizing-file" : "--density-file") +
                        ": in 2D the file must be a legacy .vtk STRUCTURED_POINTS grid, got '" +
                        path + "'");
@@ -1080,7 +1080,7 @@ Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool poin
     const bool sizing = args.density_file.empty();
     const std::string option = sizing ? "--sizing-file" : "--density-file";
     const std::string& path = sizing ? args.sizing_file : args.density_file;
-    const std::string ext = lower_extension(path);
+    const std::string ext = input_extension(path);
     if (ext == ".sol") {
       if (!domain.has_tets()) {
         throw UsageError(option + ": a .sol gives values at the vertices of a tet mesh, and " +

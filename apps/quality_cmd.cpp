@@ -45,7 +45,7 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
                      args.output + "'");
   }
   check_outputs({{"-o", args.output}, {"--histogram", args.histogram}});
-  const std::string ref_ext = lower_extension(args.surface);
+  const std::string ref_ext = input_extension(args.surface);
   std::error_code ec;
   if (!args.surface.empty() && std::filesystem::is_directory(args.surface, ec)) {
     throw Error(args.surface + ": is a directory, not a file");

@@ -363,12 +363,18 @@ std::uint32_t Domain3::tet_boundary(std::uint32_t t, int f) const {
 Domain3 read_domain3(const std::string& path, const Surface3Options& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a file");
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of("/\\");
-  std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
+  const auto extension = [](const std::string& name) {
+    const std::size_t dot = name.find_last_of('.');
+    const std::size_t slash = name.find_last_of("/\\");
+    std::string e = dot == std::string::npos || (slash != std::string::npos && dot < slash)
                         ? std::string()
-                        : path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+                        : name.substr(dot);
+    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+  };
+  // NAME.EXT.gz is read as NAME.EXT (the readers inflate gzip data).
+  std::string ext = extension(path);
+  if (ext == ".gz") ext = extension(path.substr(0, path.size() - 3));
   if (ext == ".obj" || ext == ".off" || ext == ".stl" || ext == ".ply") {
     return Domain3(read_surface(path), options);
   }

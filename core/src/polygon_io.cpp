@@ -23,18 +23,6 @@ namespace voroclip {
 
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string lower_case(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return s;
-}
-
 // Decimal text that reads back as the same double (for the names of generated data).
 std::string number_text(double x) {
   std::ostringstream out;
@@ -396,9 +384,9 @@ PolygonRings PolyReader::read() {
 }  // namespace
 
 PolygonRings read_polygon(std::istream& in, const std::string& name) {
-  const std::string ext = lower_case(name);
-  const bool json = ends_with(ext, ".json");
-  if (!json && !ends_with(ext, ".poly")) {
+  const std::string ext = detail::input_extension_of(name);
+  const bool json = ext == ".json";
+  if (!json && ext != ".poly") {
     detail::check_not_gzip_name(name);
     throw Error(name + ": unknown polygon format: expected a .json or a .poly file");
   }
@@ -411,8 +399,8 @@ PolygonRings read_polygon(std::istream& in, const std::string& name) {
 
 PolygonRings read_polygon(const std::string& path) {
   detail::check_not_directory(path);
-  const std::string ext = lower_case(path);
-  if (!ends_with(ext, ".json") && !ends_with(ext, ".poly")) {
+  const std::string ext = detail::input_extension_of(path);
+  if (ext != ".json" && ext != ".poly") {
     detail::check_not_gzip_name(path);
     throw Error(path + ": unknown polygon format: expected a .json or a .poly file");
   }

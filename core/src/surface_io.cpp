@@ -849,7 +849,7 @@ std::string ply_text(const TriangleSurface& s, bool binary) {
 
 // The format of `path` by its extension: 0 obj, 1 off, 2 stl, 3 ply; throws for another.
 int surface_format_of(const std::string& path) {
-  const std::string ext = extension_of(path);
+  const std::string ext = input_extension_of(path);
   if (ext == ".obj") return 0;
   if (ext == ".off") return 1;
   if (ext == ".stl") return 2;

@@ -2155,8 +2155,13 @@ void check_gmsh_tags(const std::string& path, const TetMeshInput& mesh) {
 
 // Throws unless `path` has the extension of a single-file format (not TetGen's).
 void check_tet_mesh_extension(const std::string& path) {
-  const std::string ext = extension_of(path);
+  const std::string ext = input_extension_of(path);
   if (ext == ".mesh" || ext == ".msh" || ext == ".vtk" || ext == ".vtu") return;
+  if (ext == ".node" || ext == ".ele") {  // (NAME.node.gz: plain ones are read before this)
+    throw Error(path +
+                ": TetGen's files (.node, .ele, .face) are read uncompressed: "
+                "decompress them (gunzip)");
+  }
   if (ext == ".meshb") {
     throw Error(path + ": binary Medit files (.meshb) are not read: convert to ASCII .mesh");
   }
@@ -2170,7 +2175,7 @@ void check_tet_mesh_extension(const std::string& path) {
 // checked by check_tet_mesh_extension, tells the format).
 TetMeshInput read_tet_mesh_text(const std::string& path, std::string text) {
   prepare_input(path, text);
-  const std::string ext = extension_of(path);
+  const std::string ext = input_extension_of(path);
   if (ext == ".mesh") return read_medit(path, std::move(text));
   if (ext == ".msh") return read_gmsh(path, std::move(text));
   if (ext == ".vtk") return read_vtk(path, std::move(text));

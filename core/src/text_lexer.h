@@ -48,12 +48,23 @@ inline std::string escape(std::string_view t, std::size_t max_size = 40) {
 
 inline std::string quote(std::string_view t) { return "'" + escape(t) + "'"; }
 
-// The bytes of a stream up to its end; `name` stands for the file in messages.
+inline bool is_gzip(std::string_view data) {
+  return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
+         static_cast<unsigned char>(data[1]) == 0x8b;
+}
+
+// The bytes that gzip `data` inflates to (its members one after the other); `name` stands
+// for the file in messages (corrupt, truncated or followed by other bytes). gzip_input.cpp.
+std::string gunzip(const std::string& name, std::string_view data);
+
+// The bytes of a stream up to its end, inflated when they are gzip data (is_gzip: every
+// reader reads compressed files); `name` stands for the file in messages.
 inline std::string read_whole_stream(std::istream& in, const std::string& name) {
   std::ostringstream ss;
   if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
   if (in.bad()) throw Error(name + ": read error");
-  return ss.str();
+  std::string bytes = ss.str();
+  return is_gzip(bytes) ? gunzip(name, bytes) : bytes;
 }
 
 // A directory opens as a file but reads as an error ("read error"): named as what it is.
@@ -73,25 +84,24 @@ inline std::string read_whole_file(const std::string& path) {
   return read_whole_stream(in, path);
 }
 
-// No reader decompresses: a name ending in .gz is named as a compressed file rather than
-// as an unknown format, and so is a file that starts with the gzip magic bytes 1f 8b
-// (RFC 1952, section 2.3.1) whatever its name.
+// A file named NAME.EXT.gz is read as NAME.EXT (the bytes are inflated by
+// read_whole_file whatever the name); one named NAME.gz, with no extension before .gz, has
+// no format to be read as.
 inline void check_not_gzip_name(const std::string& path) {
   std::string ext = path.size() >= 3 ? path.substr(path.size() - 3) : std::string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".gz") {
-    throw Error(path + ": gzip-compressed files are not read: decompress it first (gunzip)");
+    throw Error(path +
+                ": a compressed file is read by the extension before .gz (bunny.obj.gz "
+                "as an OBJ), and this one has none that voroclip reads");
   }
 }
-inline bool is_gzip(std::string_view data) {
-  return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
-         static_cast<unsigned char>(data[1]) == 0x8b;
-}
+// Bytes still gzip data after read_whole_file inflated them: compressed twice.
 inline void check_not_gzip(const std::string& path, std::string_view data) {
   if (is_gzip(data)) {
     throw Error(path +
-                ": the file is gzip-compressed (it starts with the bytes 1f 8b); files are "
-                "read uncompressed: decompress it first (gunzip)");
+                ": the data is gzip-compressed twice (after inflating, it starts with the bytes "
+                "1f 8b again): decompress it once more (gunzip)");
   }
 }
 
@@ -342,6 +352,13 @@ inline std::string extension_of(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
   return lower(path.substr(dot));
+}
+
+// The extension a file is read by: extension_of, or for NAME.EXT.gz (a compressed file,
+// inflated by read_whole_file) that of NAME.EXT.
+inline std::string input_extension_of(const std::string& path) {
+  const std::string ext = extension_of(path);
+  return ext == ".gz" ? extension_of(path.substr(0, path.size() - 3)) : ext;
 }
 
 inline std::string without_extension(const std::string& path) {

@@ -196,6 +196,22 @@ def test_domain2_input_forms(data, tmp_path):
         assert cells.total_measure == pytest.approx(d.area, rel=1e-12), f.name
 
 
+def test_gzip_compressed_domain_files_are_read(data, tmp_path):
+    import gzip
+
+    for sub, name in (("surfaces", "sphere.obj"), ("tetmeshes", "sphere.mesh")):
+        plain = voroclip.domain3(data / sub / name)
+        packed = tmp_path / (name + ".gz")
+        packed.write_bytes(gzip.compress((data / sub / name).read_bytes()))
+        d = voroclip.domain3(packed)
+        assert d.volume == plain.volume
+        assert np.array_equal(d.surface()[0], plain.surface()[0])
+    with pytest.raises(voroclip.Error, match="the gzip data is truncated"):
+        cut = tmp_path / "cut.obj.gz"
+        cut.write_bytes(packed.read_bytes()[:200])
+        voroclip.domain3(cut)
+
+
 def test_domain3_input_forms(data):
     import meshio
 

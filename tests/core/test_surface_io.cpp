@@ -491,15 +491,19 @@ TEST_CASE("read_surface: a UTF-8 BOM and CR-only line ends", "[core][regression]
 TEST_CASE("read_surface: a gzip file, a directory, bytes that are not printable",
           "[core][regression]") {
   // A gzip file named .obj printed its raw bytes; a directory without an extension was
-  // "unknown surface format (no extension)".
+  // "unknown surface format (no extension)". Gzip data is now read, whatever the name:
+  // NAME.obj.gz as an OBJ, and cut short it is named as such.
   const std::string gz = write_temp("gz.obj", std::string("\x1f\x8b\x08\x08\x00\x00v 0", 9));
-  CHECK(error_of(gz) == gz + ": the file is gzip-compressed (it starts with the bytes 1f 8b); "
-                             "files are read uncompressed: decompress it first (gunzip)");
+  CHECK(error_of(gz) == gz + ": the gzip data is truncated");
   const std::string gzstl = write_temp("gz.stl", std::string("\x1f\x8b\x08\x08\x00\x00", 6));
-  CHECK(error_of(gzstl).find("gzip-compressed") != std::string::npos);
+  CHECK(error_of(gzstl) == gzstl + ": the gzip data is truncated");
   const std::string named = write_temp("x.obj.gz", "v 0 0 0\n");
-  CHECK(error_of(named) ==
-        named + ": gzip-compressed files are not read: decompress it first (gunzip)");
+  CHECK(error_of(named) == named + ": no faces");
+  const std::string bare = write_temp("x.gz", "v 0 0 0\n");
+  CHECK(error_of(bare) == bare +
+                              ": a compressed file is read by the extension before .gz "
+                              "(bunny.obj.gz as an OBJ), and this one has none that voroclip "
+                              "reads");
   const std::string dir = temp().file("adir");
   std::filesystem::create_directories(dir);
   CHECK(error_of(dir) == dir + ": is a directory, not a file");
@@ -507,4 +511,36 @@ TEST_CASE("read_surface: a gzip file, a directory, bytes that are not printable"
   CHECK(error_of(dir + ".obj") == dir + ".obj: is a directory, not a file");
   const std::string ctl = write_temp("ctl.obj", "v 0 0 0\n\x02\x1bv 1 0 0\n");
   CHECK(error_of(ctl) == ctl + ":2: not an OBJ statement: '\\x02\\x1bv'");
+}
+
+TEST_CASE("read_surface: gzip-compressed files, by their name or by their bytes", "[core]") {
+  // The tetrahedron of 4 vertices and 4 faces, compressed by gzip (Python's gzip.compress,
+  // mtime 0).
+  const std::string bytes(
+      "\x1f\x8b\x08\x00\x00\x00\x00\x00\x02\x03\x2b\x53\x30\x00\x41\xae\x32\x05\x43\x28\x6d\x00\x62"
+      "\x81\x69\x20\x8b\x2b\x0d\xc8\x33\x56\x30\x02\xd3\x46\x0a\x26\x60\xda\x44\xc1\x18\x48\x1b\x01"
+      "\xc5\x4d\xb8\x00\x19\xf1\x86\xd1\x40\x00\x00\x00",
+      58);
+  const TriangleSurface plain = voroclip::read_surface(write_temp(
+      "tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"));
+  for (const char* name : {"tet.obj.gz", "tet.OBJ.GZ", "tet_gz.obj"}) {
+    INFO(name);
+    const TriangleSurface s = voroclip::read_surface(write_temp(name, bytes));
+    CHECK(s.xyz == plain.xyz);
+    CHECK(s.triangles == plain.triangles);
+  }
+  // Two members one after the other are one file (as gunzip reads them); other bytes after
+  // the data, or data cut short or corrupt, are errors naming the file.
+  const std::string twice = write_temp("twice.obj.gz", bytes + bytes);
+  const TriangleSurface both = voroclip::read_surface(twice);
+  CHECK(both.triangles.size() == 2 * plain.triangles.size());
+  CHECK(both.xyz.size() == 2 * plain.xyz.size());
+  const std::string tail = write_temp("tail.obj.gz", bytes + "xyz");
+  CHECK(error_of(tail) == tail + ": 3 bytes follow the end of the gzip data");
+  const std::string cut = write_temp("cut.obj.gz", bytes.substr(0, 40));
+  CHECK(error_of(cut) == cut + ": the gzip data is truncated");
+  std::string bad = bytes;
+  bad[12] = static_cast<char>(bad[12] ^ 0x55);
+  const std::string corrupt = write_temp("bad.obj.gz", bad);
+  CHECK(error_of(corrupt).rfind(corrupt + ": corrupt gzip data (zlib: ", 0) == 0);
 }

@@ -1845,11 +1845,27 @@ TEST_CASE("read_tet_mesh: a UTF-8 BOM, CR-only line ends, gzip, directories",
   CHECK(voroclip::read_tet_mesh(temp().file("bomtg.ele")).tets ==
         std::vector<std::uint32_t>{0, 1, 2, 3});
   const std::string gz = write_temp("gz.mesh", std::string("\x1f\x8b\x08\x00\x01\x02", 6));
-  CHECK(error_of(gz) == gz + ": the file is gzip-compressed (it starts with the bytes 1f 8b); "
-                             "files are read uncompressed: decompress it first (gunzip)");
-  const std::string named = write_temp("m.mesh.gz", medit);
-  CHECK(error_of(named) ==
-        named + ": gzip-compressed files are not read: decompress it first (gunzip)");
+  CHECK(error_of(gz) == gz + ": the gzip data is truncated");
+  // NAME.mesh.gz is read as a Medit file, compressed (Python's gzip.compress of `medit`,
+  // mtime 0) or not.
+  const std::string packed(
+      "\x1f\x8b\x08\x00\x00\x00\x00\x00\x02\x03\x2d\x8a\x3b\x0e\x80\x20\x10\x44\xfb\x39\xc5\x1e\x81"
+      "\x9f\x37\x50\x3b\x3b\x63\x4f\x64\x13\x28\x80\x64\xe1\xfe\x11\x09\x99\xe2\x4d\xde\xcc\xc5\x2d"
+      "\x3e\x2c\x2d\xd5\x72\x56\xc9\xbe\x77\x0e\x64\xb0\xa7\xcc\xe5\x97\x64\x31\xe6\x9e\x5e\x6e\x70"
+      "\x50\x34\x03\xbd\xa8\x48\x2f\xce\x86\x9b\xbb\xf8\xc8\x41\x3c\xf4\x38\x19\xb2\xe4\x68\xc3\x51"
+      "\x02\x3e\xc7\x95\x12\x1c\x69\x00\x00\x00",
+      102);
+  for (const std::string& named : {write_temp("m.mesh.gz", medit), write_temp("z.mesh.gz", packed),
+                                   write_temp("z.mesh", packed)}) {
+    INFO(named);
+    const TetMeshInput m = voroclip::read_tet_mesh(named);
+    CHECK(m.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+    CHECK(m.tet_ref == std::vector<std::int32_t>{5});
+  }
+  const std::string node = write_temp("t.node.gz", packed);
+  CHECK(error_of(node) == node +
+                              ": TetGen's files (.node, .ele, .face) are read uncompressed: "
+                              "decompress them (gunzip)");
   const std::string dir = temp().file("tdir");
   std::filesystem::create_directories(dir);
   CHECK(error_of(dir) == dir + ": is a directory, not a file");
