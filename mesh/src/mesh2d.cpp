@@ -1786,6 +1786,13 @@ std::string fixed(double x, int digits) {
   return buf;
 }
 
+// Three significant digits ("0.0123", "1e-06"): a length of any size.
+std::string significant(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
 // A signed percentage with one decimal ("+12.5%").
 std::string percent(double x) {
   char buf[32];
@@ -1804,13 +1811,13 @@ std::string two_digits(double n) {
 std::string mean_angle_cause(const Mesh2& mesh, const Mesh2Stats& st, const MeanSplit& m,
                              double target) {
   if (m.corridors()) {
-    return "corridors a few triangles wide (smallest feature " + fixed(st.min_size, 3) +
-           ", edge length " + fixed(st.edge_length, 3) +
+    return "corridors a few triangles wide (smallest feature " + significant(st.min_size) +
+           ", edge length " + significant(st.edge_length) +
            "): an edge length about a feature / 2.5 puts rows of vertices inside, about " +
            two_digits(corridor_vertices(mesh, st)) + " vertices (estimate)";
   }
   if (m.count[0] && m.sum[0] / m.count[0] < target) {
-    return "the interior is graded to the small features (smallest " + fixed(st.min_size, 3) +
+    return "the interior is graded to the small features (smallest " + significant(st.min_size) +
            ") and misses it too; more vertices make the grading gentler";
   }
   return "the triangles at the boundary pull it down; more vertices lower their share";
@@ -1888,22 +1895,18 @@ Mesh2 mesh_to_count(const Domain2& domain, const Mesh2Options& options, Mesh2Sta
     if (st.cancelled) break;
   }
   if (wanted > 0 && mesh.nb_vertices() > 0 && miss(mesh) > options.vertex_tolerance) {
-    const auto number = [](double x) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", x);
-      return std::string(buf);
-    };
     const double made = mesh.nb_vertices();
     std::string note = std::to_string(mesh.nb_vertices()) + " vertices for " +
                        std::to_string(wanted) + " asked (" + percent((made - wanted) / wanted) +
                        ", after " + std::to_string(st.vertex_count_runs + 1) + " runs): ";
     if (st.feature_vertices > (1 + options.vertex_tolerance) * wanted) {
       // The count of the feature sizes alone is above the request: no sampling lowers it.
-      note += "the small features force more: their sizes alone (smallest " + number(st.min_size) +
-              ", growing by " + number(options.gradation) + " per unit length; " +
-              std::to_string(st.nb_fixed) + " fixed vertices at corners) ask for about " +
-              std::to_string(st.feature_vertices) + " vertices, " +
-              percent((st.feature_vertices - double(wanted)) / wanted) + " of the request";
+      note += "the small features force more: their sizes alone (smallest " +
+              significant(st.min_size) + ", growing by " + significant(options.gradation) +
+              " per unit length; " + std::to_string(st.nb_fixed) +
+              " fixed vertices at corners) ask for about " + std::to_string(st.feature_vertices) +
+              " vertices, " + percent((st.feature_vertices - double(wanted)) / wanted) +
+              " of the request";
     } else {
       note += "the boundary step, the gap filling (" + std::to_string(st.nb_gap_sites) +
               " sites) and the refinement (" + std::to_string(st.refine_added) +
