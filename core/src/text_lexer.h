@@ -64,7 +64,8 @@ inline std::string read_whole_stream(std::istream& in, const std::string& name) 
   if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
   if (in.bad()) throw Error(name + ": read error");
   std::string bytes = ss.str();
-  return is_gzip(bytes) ? gunzip(name, bytes) : bytes;
+  if (is_gzip(bytes)) return gunzip(name, bytes);
+  return bytes;  // (moved: a conditional expression would copy the whole file)
 }
 
 // A directory opens as a file but reads as an error ("read error"): named as what it is.
