@@ -244,6 +244,17 @@ struct Domain2Impl {
   std::string ring_name(std::uint32_t r, const std::string& detail = "") const {
     return names.ring(d.source_ring_[r], detail);
   }
+  // Hole marker k (in the order given) as the file names it: its own number and line.
+  std::string hole_name(std::size_t k) const {
+    if (in.hole_number.empty()) {
+      std::string name = "hole marker " + std::to_string(k) + " (from 0, in the order given";
+      if (!in.hole_line.empty()) name += "; line " + std::to_string(in.hole_line[k]);
+      return name + ")";
+    }
+    std::string name = "hole " + std::to_string(in.hole_number[k]);
+    if (!in.hole_line.empty()) name += " (line " + std::to_string(in.hole_line[k]) + ")";
+    return name;
+  }
 
   void check_structure() const;
   void copy_rings();
@@ -318,10 +329,28 @@ void Domain2Impl::check_structure() const {
   if (!in.hole_line.empty() && in.hole_line.size() != in.hole_points.size() / 2) {
     fail_structure("hole_line must be empty or have one entry per hole marker");
   }
+  if (!in.hole_number.empty() && in.hole_number.size() != in.hole_points.size() / 2) {
+    fail_structure("hole_number must be empty or have one entry per hole marker");
+  }
+  const std::size_t nb_points = in.xy.size() / 2;
+  if (!in.segment_number.empty() && in.segment_number.size() != nb_points) {
+    fail_structure("segment_number must be empty or have one entry per point");
+  }
+  if (!in.segment_line.empty() && in.segment_line.size() != nb_points) {
+    fail_structure("segment_line must be empty or have one entry per point");
+  }
+  if (in.region_points.size() != 2 * in.region_attributes.size()) {
+    fail_structure("region_points must hold two coordinates per regional attribute");
+  }
+  if (!in.region_number.empty() && in.region_number.size() != in.region_attributes.size()) {
+    fail_structure("region_number must be empty or have one entry per regional attribute");
+  }
+  if (!in.region_line.empty() && in.region_line.size() != in.region_attributes.size()) {
+    fail_structure("region_line must be empty or have one entry per regional attribute");
+  }
   for (std::size_t k = 0; k < in.hole_points.size(); ++k) {
     if (!std::isfinite(in.hole_points[k])) {
-      fail("hole marker " + std::to_string(k / 2) +
-           " (from 0, in the file's order) has a non-finite coordinate");
+      fail(hole_name(k / 2) + " has a non-finite coordinate");
     }
   }
 }
@@ -819,9 +848,7 @@ void Domain2Impl::nest_and_orient() {
   // Hole markers: each strictly inside a hole (its innermost containing ring is a hole).
   for (std::size_t k = 0; k < in.hole_points.size() / 2; ++k) {
     const double* q = &in.hole_points[2 * k];
-    std::string name = "hole marker " + std::to_string(k);
-    if (!in.hole_line.empty()) name += " (line " + std::to_string(in.hole_line[k]) + ")";
-    name += " at " + point_text(q);
+    const std::string name = hole_name(k) + " at " + point_text(q);
     std::uint32_t on_ring = kNone;
     containers(q, kNone, &on_ring, list);
     if (on_ring != kNone) fail(name + " lies on the boundary, on " + ring_name(on_ring));
@@ -870,18 +897,22 @@ void Domain2Impl::nest_and_orient() {
     const auto before = [&](std::uint32_t i) { return i == first ? end - 1 : i - 1; };
     for (std::uint32_t v = d.ring_begin_[r]; v < d.ring_begin_[r + 1]; ++v) {
       const std::uint32_t i = d.source_vertex_[v], j = d.source_vertex_[d.next(v)];
-      d.edge_tag_[v] = !markers ? ring_tag : in.segment_marker[before(ring_reversed[r] ? i : j)];
+      // Marker 0 means "no marker", as in Triangle, whose output gives such boundary
+      // segments marker 1.
+      const std::int32_t marker =
+          markers ? in.segment_marker[before(ring_reversed[r] ? i : j)] : ring_tag;
+      d.edge_tag_[v] = marker == 0 ? 1 : marker;
     }
   }
   d.region_points_ = in.region_points;
   d.region_attributes_ = in.region_attributes;
+  d.region_number_ = in.region_number;
+  d.region_line_ = in.region_line;
   // A region point names the part of the domain it lies in: it must lie inside.
   for (std::size_t k = 0; 2 * k + 1 < d.region_points_.size(); ++k) {
     const double* q = &d.region_points_[2 * k];
     if (d.locate(q) != Sign::positive) {
-      fail("regional attribute " + std::to_string(k + 1) +
-           " (from 1, in the file's order): its point " + point_text(q) +
-           " is not inside the domain");
+      fail(d.region_name(k) + ": its point " + point_text(q) + " is not inside the domain");
     }
   }
 }
@@ -958,6 +989,15 @@ Domain2::Domain2(const PolygonRings& rings) {
 
 bool Domain2::is_corner(std::uint32_t v) const {
   return orient2d(vertex(prev(v)), vertex(v), vertex(next(v))) != Sign::zero;
+}
+
+std::string Domain2::region_name(std::size_t k) const {
+  if (region_number_.empty()) {
+    return "regional attribute " + std::to_string(k) + " (from 0, in the order given)";
+  }
+  std::string name = "regional attribute " + std::to_string(region_number_[k]);
+  if (!region_line_.empty()) name += " (line " + std::to_string(region_line_[k]) + ")";
+  return name;
 }
 
 Sign Domain2::locate(const double* q) const {

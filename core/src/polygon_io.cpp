@@ -270,6 +270,7 @@ PolygonRings PolyReader::read() {
   const auto ns = static_cast<std::size_t>(nb_segments);
   constexpr std::uint32_t kNone = UINT32_MAX;
   std::vector<std::uint32_t> seg_end, seg_line;
+  std::vector<std::int64_t> seg_number;
   std::vector<std::int32_t> seg_marker;
   std::vector<std::uint32_t> incident(2 * nv, kNone);  // the (at most) two segments of a vertex
   std::vector<std::uint8_t> degree(nv, 0);
@@ -280,7 +281,7 @@ PolygonRings PolyReader::read() {
     const TextLine& t = take("segment line " + std::to_string(s + 1) + " of " +
                                  std::to_string(nb_segments) + ": '<i> <v1> <v2> [marker]'",
                              3, static_cast<std::size_t>(3 + nb_segment_markers));
-    integer(t, 0, "the segment number", 0, kMaxCount);
+    seg_number.push_back(integer(t, 0, "the segment number", 0, kMaxCount));
     seg_line.push_back(t.number);
     seg_end.resize(2 * s + 2);
     for (int k = 0; k < 2; ++k) {
@@ -331,7 +332,7 @@ PolygonRings PolyReader::read() {
     const TextLine& t = take("hole line " + std::to_string(k + 1) + " of " +
                                  std::to_string(nb_holes) + ": '<i> <x> <y>'",
                              3, 3);
-    integer(t, 0, "the hole number", 0, kMaxCount);
+    out.hole_number.push_back(integer(t, 0, "the hole number", 0, kMaxCount));
     out.hole_points.push_back(number(t, 1, "x"));
     out.hole_points.push_back(number(t, 2, "y"));
     out.hole_line.push_back(t.number);
@@ -346,6 +347,8 @@ PolygonRings PolyReader::read() {
           take("region line " + std::to_string(k + 1) + " of " + std::to_string(nb_regions) +
                    ": '<i> <x> <y> <attribute> [<maximum area>]'",
                4, 5);
+      out.region_number.push_back(integer(t, 0, "the region number", 0, kMaxCount));
+      out.region_line.push_back(t.number);
       for (std::size_t f = 1; f < t.fields.size(); ++f) number(t, f, "the region value");
       out.region_points.push_back(number(t, 1, "x"));
       out.region_points.push_back(number(t, 2, "y"));
@@ -370,6 +373,8 @@ PolygonRings PolyReader::read() {
       out.xy.push_back(vertex_xy[2 * std::size_t{v} + 1]);
       out.point_number.push_back(static_cast<std::uint32_t>(v + base));
       if (nb_segment_markers > 0) out.segment_marker.push_back(seg_marker[s]);
+      out.segment_number.push_back(seg_number[s]);
+      out.segment_line.push_back(seg_line[s]);
       const std::uint32_t w = seg_end[2 * s] == v ? seg_end[2 * s + 1] : seg_end[2 * s];
       s = incident[2 * w] == s ? incident[2 * w + 1] : incident[2 * w];
       v = w;

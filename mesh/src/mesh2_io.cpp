@@ -98,14 +98,21 @@ std::vector<std::int32_t> distinct(std::vector<std::int32_t> tags) {
 void write_gmsh2(std::ostream& out, const Mesh2& mesh, bool v41) {
   const std::vector<std::int32_t> btags = distinct(mesh.boundary_tags);
   const std::vector<std::int32_t> rtags = distinct(mesh.triangle_regions);
+  // Gmsh physical tags are positive: Gmsh reads a tag 0 as no physical group (2.2 drops
+  // the elements' group) and rejects negative ones.
   for (const std::int32_t t : btags) {
-    if (t < 0)
-      throw Error("write_mesh2: Gmsh files take no negative tag; boundary tag " +
-                  std::to_string(t));
+    if (t <= 0) {
+      throw Error("write_mesh2: boundary tag " + std::to_string(t) +
+                  ": a Gmsh .msh file takes only positive physical tags (write .vtu or .mesh "
+                  "for any integer tag)");
+    }
   }
   for (const std::int32_t t : rtags) {
-    if (t < 0)
-      throw Error("write_mesh2: Gmsh files take no negative tag; region " + std::to_string(t));
+    if (t <= 0) {
+      throw Error("write_mesh2: region " + std::to_string(t) +
+                  ": a Gmsh .msh file takes only positive physical tags (write .vtu or .mesh "
+                  "for any integer tag)");
+    }
   }
   const std::size_t ne = mesh.boundary_edges.size() / 2;
   const std::uint32_t nt = mesh.nb_triangles(), nv = mesh.nb_vertices();

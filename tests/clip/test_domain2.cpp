@@ -693,14 +693,12 @@ TEST_CASE("Domain2 reads roles from nesting in .poly files, checks hole markers"
   };
   const Case cases[] = {
       {"0 5 5",
-       "hole marker 0 (line 28) at (5, 5) lies inside the domain (its innermost ring, "
+       "hole 0 (line 28) at (5, 5) lies inside the domain (its innermost ring, "
        "ring 2 (line 23), is an outer boundary), not in a hole"
        " (.poly numbering: the file's vertex numbers and lines)"},
-      {"0 20 5",
-       "hole marker 0 (line 28) at (20, 5) lies outside every ring, not in a hole"
-       " (.poly numbering: the file's vertex numbers and lines)"},
+      {"0 20 5", "hole 0 (line 28) at (20, 5) lies outside every ring, not in a hole"},
       {"0 2 5",
-       "hole marker 0 (line 28) at (2, 5) lies on the boundary, on ring 0 (line 15)"
+       "hole 0 (line 28) at (2, 5) lies on the boundary, on ring 0 (line 15)"
        " (.poly numbering: the file's vertex numbers and lines)"},
   };
   for (const Case& c : cases) {
@@ -1043,8 +1041,39 @@ TEST_CASE("Domain2 keeps edge tags and regions; a region point outside is refuse
   r.region_attributes = {7};
   CHECK(Domain2(r).region_attributes().size() == 1);
   r.region_points = {2, 2};  // in the hole
-  CHECK_THROWS_WITH(Domain2(r), Catch::Contains("regional attribute 1") &&
-                                    Catch::Contains("not inside the domain"));
+  CHECK_THROWS_WITH(Domain2(r),
+                    Catch::Contains("regional attribute 0 (from 0, in the order given)") &&
+                        Catch::Contains("not inside the domain"));
+  // Segment marker 0 means "no marker": tag 1, as in Triangle's output (Gmsh takes no
+  // physical tag 0), whatever the ring; other markers stay.
+  r.region_points.clear();
+  r.region_attributes.clear();
+  r.segment_marker = {0, 0, 5, 0, 0, -3, 0, 0};
+  const Domain2 zero(r);
+  std::vector<std::int32_t> tags;
+  for (std::uint32_t e = 0; e < zero.nb_edges(); ++e) tags.push_back(zero.edge_tag(e));
+  std::sort(tags.begin(), tags.end());
+  CHECK(tags == std::vector<std::int32_t>{-3, 1, 1, 1, 1, 1, 1, 5});
+}
+
+TEST_CASE("Domain2 names .poly holes and regional attributes by their own numbers and lines",
+          "[clip][regression]") {
+  // 1-based vertices and holes, a 0-based region; the hole numbered 1 stands on line 13,
+  // the region numbered 0 on line 15 (the file's numbers, not positions from 0 or 1).
+  const std::string head =
+      "# a square\n4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n"
+      "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n";
+  const auto hole = write_temp("hole_numbers.poly", head + "1\n1 2 2\n");
+  CHECK(domain_error(voroclip::read_polygon(hole)) ==
+        hole +
+            ": hole 1 (line 13) at (2, 2) lies inside the domain (its innermost ring, ring 0 "
+            "(line 8), is an outer boundary), not in a hole (.poly numbering: the file's "
+            "vertex numbers and lines)");
+  const auto region = write_temp("region_numbers.poly", head + "0\n\n1\n0 9 9 3\n");
+  CHECK(domain_error(voroclip::read_polygon(region)) ==
+        region + ": regional attribute 0 (line 15): its point (9, 9) is not inside the domain");
+  std::remove(hole.c_str());
+  std::remove(region.c_str());
 }
 
 TEST_CASE("Domain2: coordinates whose area double cannot hold are an error", "[clip][regression]") {

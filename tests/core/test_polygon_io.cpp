@@ -210,6 +210,15 @@ TEST_CASE("read_polygon reads Triangle .poly files", "[core]") {
   CHECK(r.ring_line == std::vector<std::uint32_t>{14, 16});
   CHECK(r.hole_points == std::vector<double>{2, 2});
   CHECK(r.hole_line == std::vector<std::uint32_t>{23});
+  // The items' own numbers and lines, for messages: per point the segment from it.
+  CHECK(r.segment_marker == std::vector<std::int32_t>{1, 1, 1, 1, 0, 0, 0, 0});
+  CHECK(r.segment_number == std::vector<std::int64_t>{1, 4, 2, 6, 3, 8, 5, 7});
+  CHECK(r.segment_line == std::vector<std::uint32_t>{14, 17, 15, 19, 16, 21, 18, 20});
+  CHECK(r.hole_number == std::vector<std::int64_t>{1});
+  CHECK(r.region_points == std::vector<double>{0.5, 0.5});
+  CHECK(r.region_attributes == std::vector<double>{3});
+  CHECK(r.region_number == std::vector<std::int64_t>{1});
+  CHECK(r.region_line == std::vector<std::uint32_t>{25});
   std::remove(p.c_str());
 }
 

@@ -98,12 +98,16 @@ class Domain2 {
   // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
   bool is_corner(std::uint32_t v) const;
   // The tag of edge e, for boundary conditions: the .poly segment marker of the input
-  // segment it is, else its ring's tag: 1 for an outer ring, 2, 3, ... for the holes in
-  // ring order.
+  // segment it is, marker 0 meaning "no marker" and giving 1 (as in Triangle's output), else
+  // its ring's tag: 1 for an outer ring, 2, 3, ... for the holes in ring order.
   std::int32_t edge_tag(std::uint32_t e) const { return edge_tag_[e]; }
   // The .poly regional attributes: points (packed x y) and their attribute, as read.
   const std::vector<double>& region_points() const { return region_points_; }
   const std::vector<double>& region_attributes() const { return region_attributes_; }
+  // Regional attribute k (in the order given), for messages, as the file names it:
+  // "regional attribute 3 (line 31)" (.poly: its own number and line), else
+  // "regional attribute k (from 0, in the order given)".
+  std::string region_name(std::size_t k) const;
 
   // Area (outer rings minus holes), summed in floating point: shoelace terms relative to
   // each ring's first vertex, with error-free differences and products, compensated sums
@@ -132,6 +136,8 @@ class Domain2 {
   std::vector<std::uint32_t> source_ring_;
   std::vector<std::int32_t> edge_tag_;
   std::vector<double> region_points_, region_attributes_;
+  std::vector<std::int64_t> region_number_;
+  std::vector<std::uint32_t> region_line_;
   double area_ = 0;
   double bbox_[4] = {0, 0, 0, 0};
   std::uint32_t nb_dropped_ = 0;

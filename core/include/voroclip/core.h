@@ -124,10 +124,15 @@ struct PolygonRings {
   std::vector<std::uint32_t> point_number;
   std::vector<std::uint32_t> hole_line;
   /// .poly with segment markers: per point, the marker of the segment from it to the next
-  /// point of its ring (empty otherwise).
+  /// point of its ring, as written (empty otherwise).
   std::vector<std::int32_t> segment_marker;
   /// .poly regional attributes: points (packed x y) and their attribute.
   std::vector<double> region_points, region_attributes;
+  /// Optional, for messages (.poly; empty otherwise): per point, the number and the line of
+  /// the segment from it to the next point of its ring; per hole marker, its own number;
+  /// per regional attribute, its own number and line. The file's own numbers, as written.
+  std::vector<std::int64_t> segment_number, hole_number, region_number;
+  std::vector<std::uint32_t> segment_line, region_line;
 
   std::uint32_t nb_rings() const {
     return ring_begin.empty() ? 0u : static_cast<std::uint32_t>(ring_begin.size() - 1);
@@ -145,7 +150,9 @@ struct PolygonRings {
 ///          closed rings, each starting at the first segment not yet used, in its direction;
 ///          every vertex used must end exactly two segments, unused vertices are ignored.
 ///          Roles follow from nesting (ring_polygon = -1); point_number keeps the vertex
-///          numbers and hole_line the marker lines; segment markers go to
+///          numbers and hole_line the marker lines (segment_number/segment_line,
+///          hole_number, region_number/region_line the other items' own numbers and lines,
+///          for messages); segment markers go to
 ///          segment_marker, regional attributes to region_points/region_attributes (vertex
 ///          attributes and markers, and maximum areas, are read and ignored); '#' starts a
 ///          comment. A vertex count of 0 (vertices in a
