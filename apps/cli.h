@@ -167,8 +167,10 @@ FileWriter cells3_file(const std::string& path, const std::string& command,
                        const NeighborTable* neighbors = nullptr);
 void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
 
-/// The domain of a 2D command: a polygon file (.json, .poly) or a built-in generator,
-/// "annulus:R_IN,R_OUT,SEGMENTS" or "square-holes:K,FRACTION".
+/// The rings of a 2D command's domain: a polygon file (.json, .poly) or a built-in
+/// generator, "annulus:R_IN,R_OUT,SEGMENTS" or "square-holes:K,FRACTION".
+PolygonRings load_rings(const std::string& spec);
+/// The domain of those rings (Domain2(load_rings(spec))).
 Domain2 load_domain(const std::string& spec);
 /// n uniform random points strictly inside the domain (rejection sampling, exact test).
 std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed);

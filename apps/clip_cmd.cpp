@@ -65,22 +65,24 @@ std::string cell_colour(std::uint32_t i, bool boundary) {
 
 }  // namespace
 
-Domain2 load_domain(const std::string& spec) {
+Domain2 load_domain(const std::string& spec) { return Domain2(load_rings(spec)); }
+
+PolygonRings load_rings(const std::string& spec) {
   if (spec.rfind("annulus:", 0) == 0) {
     const std::vector<double> v = parse_numbers(spec.substr(8), 3, "annulus:R_IN,R_OUT,SEGMENTS");
     if (!(v[0] > 0 && v[1] > v[0]) || v[2] < 3 || v[2] > 1e7 || v[2] != std::floor(v[2])) {
       throw UsageError("annulus:R_IN,R_OUT,SEGMENTS needs 0 < R_IN < R_OUT and 3 <= SEGMENTS");
     }
-    return Domain2(annulus_rings(v[0], v[1], static_cast<std::uint32_t>(v[2])));
+    return annulus_rings(v[0], v[1], static_cast<std::uint32_t>(v[2]));
   }
   if (spec.rfind("square-holes:", 0) == 0) {
     const std::vector<double> v = parse_numbers(spec.substr(13), 2, "square-holes:K,FRACTION");
     if (v[0] < 1 || v[0] > 1000 || v[0] != std::floor(v[0]) || !(v[1] > 0 && v[1] < 1)) {
       throw UsageError("square-holes:K,FRACTION needs 1 <= K <= 1000 and 0 < FRACTION < 1");
     }
-    return Domain2(square_with_holes(static_cast<std::uint32_t>(v[0]), v[1]));
+    return square_with_holes(static_cast<std::uint32_t>(v[0]), v[1]);
   }
-  return Domain2(read_polygon(spec));
+  return read_polygon(spec);
 }
 
 std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed) {

@@ -25,6 +25,40 @@ bool ends_with(const std::string& path, const std::string& ext) {
   return lower_extension(path) == ext;
 }
 
+// The tags a mesh of `rings` would carry, checked before meshing: regional attributes must
+// be integers (mesh tags are), and a Gmsh file (`gmsh`) takes only positive physical tags,
+// so no negative segment marker (0 means "no marker" and becomes 1, see Domain2::edge_tag)
+// and no regional attribute below 1. Named as the file numbers them, with their lines.
+void check_mesh_tags(const PolygonRings& rings, const Domain2& domain, bool gmsh) {
+  const std::string gmsh_fix = ", but a Gmsh .msh file takes only positive physical tags; use ";
+  const std::string other_formats = ", or write .vtu or .mesh, which take any integer tag";
+  for (std::size_t k = 0; k < rings.region_attributes.size(); ++k) {
+    const double value = rings.region_attributes[k];
+    std::ostringstream text;
+    text << std::setprecision(17) << value;
+    if (!(value == std::floor(value) && std::fabs(value) <= 2147483647.0)) {
+      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text.str() +
+                  ", not an integer: mesh regions are tagged by integers");
+    }
+    if (gmsh && value < 1) {
+      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text.str() + gmsh_fix +
+                  "regional attributes >= 1" + other_formats);
+    }
+  }
+  if (!gmsh) return;
+  for (std::size_t i = 0; i < rings.segment_marker.size(); ++i) {
+    const std::int32_t marker = rings.segment_marker[i];
+    if (marker >= 0) continue;
+    std::string where = domain.source();
+    std::string segment = "segment " + std::to_string(i) + " (from 0, in the order given)";
+    if (i < rings.segment_number.size())
+      segment = "segment " + std::to_string(rings.segment_number[i]);
+    if (i < rings.segment_line.size()) where += ":" + std::to_string(rings.segment_line[i]);
+    throw Error(where + ": " + segment + " has boundary marker " + std::to_string(marker) +
+                gmsh_fix + "markers >= 1 (0 means no marker and becomes 1)" + other_formats);
+  }
+}
+
 }  // namespace
 
 // Triangles filled by their smallest angle (red below 30 degrees, through yellow to green at
@@ -165,6 +199,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
         "--keep-gaps: only with --circumcenter-rule (the default extraction leaves "
         "no gaps)");
   }
+  if (args.exact_vertices && !args.vertices_set) {
+    throw UsageError(
+        "--exact-vertices: only with --vertices N (the count it keeps; --edge-length and a "
+        "sizing alone never raise the count)");
+  }
   if (args.vertices_set && args.vertices < 3) throw UsageError("--vertices: needs at least 3");
   if (by_length && !(args.edge_length > 0 && std::isfinite(args.edge_length))) {
     throw UsageError("--edge-length: expected a positive number");
@@ -182,7 +221,9 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     throw UsageError("--method: expected lbfgs or lloyd, got '" + args.method + "'");
   }
   check_outputs({{"-o", args.output}, {"--histogram", args.histogram}});
-  const Domain2 domain = load_domain(args.domain);
+  const PolygonRings rings = load_rings(args.domain);
+  const Domain2 domain(rings);
+  check_mesh_tags(rings, domain, ends_with(args.output, ".msh"));
   Mesh2Options o;
   o.nb_vertices = args.vertices;
   o.edge_length = sizing_alone ? 1.0 : args.edge_length;

@@ -11,7 +11,9 @@ boundary edge's tag is the marker of the side it lies on (by its coordinates), t
 lengths per tag sum to the side lengths (5: 2, 7: 2, 3: 12, 9: 8); every triangle's tag is
 42. Gmsh finds physical groups (1, 3/5/7/9) and (2, 42) with names "boundary N" and
 "region 42". DATA/polygons/valid/issue34.json (one outer ring, seven holes, no markers):
-boundary tags 1 on the outer ring and 2..8 on the holes, one per hole, region 1. Prints one
+boundary tags 1 on the outer ring and 2..8 on the holes, one per hole, region 1. A .poly
+with segment marker 0 (no marker) on its outer ring: tag 1 there in .msh 4.1, 2.2 and .vtu,
+every line in a Gmsh physical group. Prints one
 line per mismatch and exits with 1 when there is any.
 """
 
@@ -117,6 +119,39 @@ def main():
     _, regions = cells(mesh, "triangle", ["gmsh:physical"])
     check("issue34: ring tags 1..8", set(tags.tolist()) == set(range(1, 9)), str(set(tags.tolist())))
     check("issue34: region 1", set(regions.tolist()) == {1})
+
+    # Segment marker 0 is "no marker" and gives tag 1 (Triangle's rule): Gmsh physical tags
+    # are positive, and a tag 0 made a nameless group (in 2.2 the lines lost their group).
+    # The outer ring has marker 0, the hole 4; .msh 4.1, 2.2 and .vtu carry the same tags.
+    zero = os.path.join(out, "marker0.poly")
+    with open(zero, "w") as f:
+        f.write("8 2 0 0\n0 0 0\n1 4 0\n2 4 4\n3 0 4\n4 1 1\n5 3 1\n6 3 3\n7 1 3\n8 1\n"
+                "0 0 1 0\n1 1 2 0\n2 2 3 0\n3 3 0 0\n4 4 5 4\n5 5 6 4\n6 6 7 4\n7 7 4 4\n"
+                "1\n0 2 2\n")
+    for f, extra in {"marker0_41.msh": [], "marker0_22.msh": ["--msh-version", "2.2"],
+                     "marker0.vtu": []}.items():
+        subprocess.run([voroclip, "mesh2d", zero, "--vertices", "300", "-o", os.path.join(out, f)] + extra,
+                       check=True, stdout=subprocess.DEVNULL)
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Verbosity", 0)
+    for f in ["marker0_41.msh", "marker0_22.msh"]:
+        gmsh.open(os.path.join(out, f))
+        groups = {(d, t): gmsh.model.getPhysicalName(d, t) for d, t in gmsh.model.getPhysicalGroups()}
+        expected = {(1, 1): "boundary 1", (1, 4): "boundary 4", (2, 1): "region 1"}
+        check(f + ": marker 0 is tag 1 in Gmsh's physical groups", groups == expected, str(groups))
+        # Every boundary line is in a physical group (2.2 dropped the tag-0 lines' group).
+        lines = sum(len(gmsh.model.mesh.getElements(1, e)[1][0])
+                    for _, e in gmsh.model.getEntities(1))
+        grouped = sum(len(gmsh.model.mesh.getElements(1, e)[1][0])
+                      for d, t in groups if d == 1
+                      for e in gmsh.model.getEntitiesForPhysicalGroup(d, t))
+        check(f + ": every boundary line in a physical group", lines == grouped and lines > 0,
+              "%d lines, %d grouped" % (lines, grouped))
+        gmsh.clear()
+    gmsh.finalize()
+    for f, names in [("marker0_41.msh", ["gmsh:physical"]), ("marker0.vtu", ["tag"])]:
+        _, tags = cells(meshio.read(os.path.join(out, f)), "line", names)
+        check(f + ": boundary tags 1 and 4", set(tags.tolist()) == {1, 4}, str(set(tags.tolist())))
 
     if failures:
         print("%d check(s) failed" % len(failures))

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -351,4 +352,127 @@ TEST_CASE("cvt2d and mesh2d: an L-shape 2^-20 wide is the same run as the unit o
   }
   std::remove(unit.c_str());
   std::remove(tiny.c_str());
+}
+
+namespace {
+
+// A square [0, 4]^2 with the hole [1.5, 2.5]^2, 0-based; the outer segments have marker
+// `outer`, the hole's `hole` (segment k on line 11 + k), and a regional attribute
+// `region` numbered 0 on line 22 when given.
+std::string square_poly(const std::string& outer, const std::string& hole,
+                        const std::string& region = "") {
+  std::string s =
+      "8 2 0 0\n0 0 0\n1 4 0\n2 4 4\n3 0 4\n4 1.5 1.5\n5 2.5 1.5\n6 2.5 2.5\n"
+      "7 1.5 2.5\n8 1\n";
+  for (int k = 0; k < 8; ++k) {
+    const int a = k, b = k < 4 ? (k + 1) % 4 : 4 + (k - 3) % 4;
+    s += std::to_string(k) + " " + std::to_string(a) + " " + std::to_string(b) + " " +
+         (k < 4 ? outer : hole) + "\n";
+  }
+  s += "1\n0 2 2\n";
+  if (!region.empty()) s += "1\n0 0.5 0.5 " + region + " 0\n";
+  return s;
+}
+
+// The $PhysicalNames entries of a .msh file, "dim tag name" per line.
+std::vector<std::string> physical_names(const std::string& msh) {
+  std::istringstream in(msh);
+  std::string line;
+  while (std::getline(in, line) && line != "$PhysicalNames") {
+  }
+  std::vector<std::string> names;
+  long n = 0;
+  in >> n;
+  std::getline(in, line);
+  for (long k = 0; k < n && std::getline(in, line); ++k) names.push_back(line);
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("mesh2d: .poly marker 0 is no marker (tag 1), in .msh as in .vtu", "[apps][regression]") {
+  // Gmsh physical tags are positive: a marker 0 written as tag 0 became a nameless group
+  // (and in .msh 2.2 the lines lost their group). Now 0 means "no marker" and gives 1, as
+  // in Triangle's output, in every format.
+  const std::string poly = temp_path(".poly");
+  std::ofstream(poly) << square_poly("0", "4");
+  const std::string msh = temp_path(".msh"), msh22 = temp_path(".msh"), vtu = temp_path(".vtu");
+  REQUIRE(run_cli({"-q", "mesh2d", poly, "--vertices", "200", "-o", msh}).status == 0);
+  REQUIRE(run_cli({"-q", "mesh2d", poly, "--vertices", "200", "--msh-version", "2.2", "-o", msh22})
+              .status == 0);
+  REQUIRE(run_cli({"-q", "mesh2d", poly, "--vertices", "200", "-o", vtu}).status == 0);
+  const std::vector<std::string> expected = {"1 1 \"boundary 1\"", "1 4 \"boundary 4\"",
+                                             "2 1 \"region 1\""};
+  CHECK(physical_names(slurp(msh)) == expected);
+  CHECK(physical_names(slurp(msh22)) == expected);
+  // The .vtu's tags (boundary edges, then triangles): 1 and 4 on the edges, 1 on triangles.
+  const std::string text = slurp(vtu);
+  const std::size_t at = text.find("Name=\"tag\"");
+  REQUIRE(at != std::string::npos);
+  std::istringstream values(text.substr(text.find('>', at) + 1));
+  std::set<long> tags;
+  for (long t; values >> t;) tags.insert(t);
+  CHECK(tags == std::set<long>{1, 4});
+  for (const std::string& f : {poly, msh, msh22, vtu}) std::remove(f.c_str());
+}
+
+TEST_CASE("mesh2d: tags a .msh cannot hold are an error before meshing, naming the item",
+          "[apps][regression]") {
+  const std::string poly = temp_path(".poly");
+  const std::string msh = temp_path(".msh"), vtu = temp_path(".vtu");
+  const std::string fix = ", but a Gmsh .msh file takes only positive physical tags; use ";
+  const std::string other = ", or write .vtu or .mesh, which take any integer tag\n";
+  // A negative marker: named by the file, the segment's line and its own number. Before
+  // meshing: the error is the only line (after meshing, the phases' lines came first).
+  std::ofstream(poly) << square_poly("2", "-3");
+  Run run = run_cli({"mesh2d", poly, "--vertices", "200", "-o", msh});
+  CHECK(run.status == 1);
+  check_one_error_line(run);
+  CHECK(run.err == "voroclip: error: " + poly + ":15: segment 4 has boundary marker -3" + fix +
+                       "markers >= 1 (0 means no marker and becomes 1)" + other);
+  CHECK(!exists(msh));
+  // A .vtu takes it.
+  run = run_cli({"-q", "mesh2d", poly, "--vertices", "200", "-o", vtu});
+  CHECK(run.status == 0);
+  CHECK(contains(slurp(vtu), "\n-3\n"));
+  std::remove(vtu.c_str());
+  // A regional attribute 0 (and -2): named by its own number and line.
+  for (const char* value : {"0", "-2"}) {
+    std::ofstream(poly) << square_poly("2", "3", value);
+    run = run_cli({"mesh2d", poly, "--vertices", "200", "-o", msh});
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(run.err == "voroclip: error: " + poly + ": regional attribute 0 (line 22) is " + value +
+                         fix + "regional attributes >= 1" + other);
+    CHECK(!exists(msh));
+    run = run_cli({"-q", "mesh2d", poly, "--vertices", "200", "-o", vtu});
+    CHECK(run.status == 0);
+    std::remove(vtu.c_str());
+  }
+  // A regional attribute that is no integer, whatever the format, before meshing.
+  std::ofstream(poly) << square_poly("2", "3", "1.5");
+  run = run_cli({"mesh2d", poly, "--vertices", "200", "-o", vtu});
+  CHECK(run.status == 1);
+  check_one_error_line(run);
+  CHECK(run.err == "voroclip: error: " + poly +
+                       ": regional attribute 0 (line 22) is 1.5, not an integer: mesh regions "
+                       "are tagged by integers\n");
+  CHECK(!exists(vtu));
+  std::remove(poly.c_str());
+}
+
+TEST_CASE("mesh2d: --exact-vertices without --vertices is a usage error", "[apps][regression]") {
+  // It keeps the count --vertices asks; with --edge-length or a sizing alone it meant
+  // nothing and was accepted silently.
+  const std::string out = temp_path(".vtu");
+  for (const std::vector<std::string>& size : {std::vector<std::string>{"--edge-length", "0.1"},
+                                               std::vector<std::string>{"--sizing", "0.1"}}) {
+    std::vector<std::string> args = {"mesh2d", "square-holes:1,0.3", "--exact-vertices", "-o", out};
+    args.insert(args.end(), size.begin(), size.end());
+    const Run run = run_cli(args);
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--exact-vertices: only with --vertices N"));
+    CHECK(!exists(out));
+  }
 }
