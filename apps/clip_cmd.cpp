@@ -338,6 +338,26 @@ struct SiteCheck {
   std::size_t outside = 0, repeated = 0;
 };
 
+// The 2D diagram is built on the sites' Delaunay triangulation, which needs three sites
+// not on one line (exact orientation); else the error names the file and what is needed.
+void check_sites_span_plane(const std::vector<double>& sites, const std::string& path) {
+  const std::size_t n = sites.size() / 2;
+  const std::string need =
+      "; a 2D diagram needs at least 3 distinct sites not all on one line (its cells come "
+      "from their Delaunay triangulation)";
+  const std::string file = path + " (--sites FILE): ";
+  if (n < 3) throw Error(file + count_of(n, "site") + need);
+  const double* a = &sites[0];
+  std::size_t j = 1;
+  while (j < n && sites[2 * j] == a[0] && sites[2 * j + 1] == a[1]) ++j;
+  if (j == n) throw Error(file + "all " + count_of(n, "site") + " are the same point" + need);
+  const double* b = &sites[2 * j];
+  for (std::size_t k = j + 1; k < n; ++k) {
+    if (orient2d(a, b, &sites[2 * k]) != Sign::zero) return;
+  }
+  throw Error(file + "all " + count_of(n, "site") + " lie on one line" + need);
+}
+
 std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check,
                                Progress& progress) {
   if (args.sites.empty() == !args.random_set) {
@@ -346,6 +366,7 @@ std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, Site
   if (args.random_set && args.random < 3) throw UsageError("--random: needs at least 3 sites");
   if (args.random_set) return random_sites_in(domain, args.random, args.seed);
   std::vector<double> sites = read_points(args.sites, 2);
+  check_sites_span_plane(sites, args.sites);
   std::vector<std::uint32_t> outside;
   for (std::size_t i = 0; i < sites.size() / 2; ++i) {
     if (domain.locate(&sites[2 * i]) == Sign::negative) {

@@ -563,6 +563,16 @@ int main(int argc, char** argv) {
       parallelism = std::make_unique<tbb::global_control>(
           tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(global.threads));
     }
+    // --seed seeds --random's points: with given points it would mean nothing.
+    for (CLI::App* cmd :
+         {clip_cmd[0], clip_cmd[1], clip3d, cvt3d, delaunay_cmd[0], delaunay_cmd[1]}) {
+      if (*cmd && cmd->get_option("--seed")->count() > 0 &&
+          cmd->get_option("--random")->count() == 0) {
+        throw voroclip::cli::UsageError(
+            "--seed: only with --random N, whose points it seeds (the points of a file are "
+            "used as they are)");
+      }
+    }
     if (*demo) {
       voroclip::cli::run_demo(demo_args, global);
     } else if (*predicate) {

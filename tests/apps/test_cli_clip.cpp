@@ -330,3 +330,76 @@ TEST_CASE("clip3d, clip2d: --binary / --compress refuse outputs without such a v
   CHECK(contains(run2.err, ".svg is a text format"));
   CHECK(!exists(svg));
 }
+
+TEST_CASE("clip2d and cvt2d: fewer than 3 sites, or all on a line, name --sites and the need",
+          "[apps][regression]") {
+  // Their cells come from the sites' Delaunay triangulation: the error names the option and
+  // the file (it used to be Delaunay2's, naming neither) and writes nothing.
+  const std::string out = temp_path(".csv");
+  struct Case {
+    const char* text;
+    const char* what;
+  };
+  const Case cases[] = {
+      {"0.5 0.5\n", "1 site"},
+      {"0.2 0.5\n0.8 0.5\n", "2 sites"},
+      {"0.1 0.1\n0.5 0.5\n0.9 0.9\n", "all 3 sites lie on one line"},
+      {"0.3 0.3\n0.3 0.3\n0.3 0.3\n0.3 0.3\n", "all 4 sites are the same point"},
+  };
+  for (const char* command : {"clip2d", "cvt2d"}) {
+    for (const Case& c : cases) {
+      const std::string sites = temp_path(".txt");
+      std::ofstream(sites) << c.text;
+      const Run run = run_cli({command, "square-holes:1,0.2", "--sites", sites, "-o", out});
+      std::remove(sites.c_str());
+      CHECK(run.status == 1);
+      check_one_error_line(run);
+      CHECK(run.err == "voroclip: error: " + sites + " (--sites FILE): " + c.what +
+                           "; a 2D diagram needs at least 3 distinct sites not all on one line "
+                           "(its cells come from their Delaunay triangulation)\n");
+      CHECK(!exists(out));
+    }
+  }
+  // Three sites not on a line: fine.
+  const std::string sites = temp_path(".txt");
+  std::ofstream(sites) << "0.1 0.1\n0.2 0.8\n0.9 0.1\n";
+  const Run run = run_cli({"-q", "clip2d", "square-holes:1,0.2", "--sites", sites, "-o", out});
+  std::remove(sites.c_str());
+  CHECK(run.status == 0);
+  CHECK(exists(out));
+  std::remove(out.c_str());
+}
+
+TEST_CASE("--seed without --random is a usage error in every command that has both",
+          "[apps][regression]") {
+  // --seed seeds --random's points; with points from a file it meant nothing and was
+  // accepted silently.
+  const std::string sites2 = temp_path(".txt"), sites3 = temp_path(".txt");
+  std::ofstream(sites2) << "0.1 0.1\n0.5 0.5\n0.9 0.1\n";
+  std::ofstream(sites3) << "0.1 0.1 0.1\n0.5 0.5 0.5\n0.9 0.1 0.2\n0.3 0.8 0.4\n";
+  const std::string cube = temp_path(".obj");
+  std::ofstream(cube) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\n"
+                         "v 1 1 1\nf 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+                         "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+  const std::string out = temp_path(".csv");
+  const std::vector<std::vector<std::string>> commands = {
+      {"clip2d", "square-holes:1,0.2", "--sites", sites2, "-o", out},
+      {"cvt2d", "square-holes:1,0.2", "--sites", sites2, "-o", out},
+      {"clip3d", cube, "--sites", sites3, "-o", out},
+      {"cvt3d", cube, "--sites", sites3, "-o", out},
+      {"delaunay2d", sites2},
+      {"delaunay3d", sites3},
+  };
+  for (std::vector<std::string> args : commands) {
+    args.push_back("--seed");
+    args.push_back("5");
+    const Run run = run_cli(args);
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, "--seed: only with --random N, whose points it seeds"));
+    CHECK(!exists(out));
+  }
+  std::remove(sites2.c_str());
+  std::remove(sites3.c_str());
+  std::remove(cube.c_str());
+}
