@@ -45,8 +45,8 @@ CLI::App* add_cvt3d_command(CLI::App& app, Cvt3dArgs& args, const std::string& d
                   "Site file: one 'x y z' per line ('#' comments) or a JSON array [[x,y,z],...]")
       ->type_name("FILE");
   cmd->add_option("--random", args.random,
-                  "Use N random sites in the volume (uniform; with a --density formula or "
-                  ".vtk grid, drawn with density rho^(3/5), the CVT's)")
+                  "Use N random sites in the volume (uniform; with a --density or "
+                  "--density-file (any format), drawn with density rho^(3/5), the CVT's)")
       ->type_name("N");
   cmd->add_option("--seed", args.seed, "Seed of --random (default 1)")->type_name("S");
   cmd->add_option("--method", args.method, "lbfgs (default) or lloyd")->type_name("NAME");
@@ -91,8 +91,9 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
   if (args.random_set) {
     // A CVT of density rho has about rho^(d/(d+2)) sites per unit volume: start there.
     Density3 draw;
-    if (o.clip.density.kind == Density3::Kind::kCallback) {
-      const Density3 rho = o.clip.density;
+    // Whatever the density's file format: a .sol's is drawn from as a .vtu's is.
+    if (!o.clip.density.is_constant()) {
+      const Density3 rho = pointwise_density3(o.clip.density, domain);
       draw = Density3::function(
           [rho](double x, double y, double z) { return std::pow(rho.callback(x, y, z), 0.6); });
     }

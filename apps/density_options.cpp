@@ -1068,6 +1068,27 @@ Density2 make_density2(const DensityArgs& args, const Domain2& domain) {
   return Density2{};
 }
 
+Density3 pointwise_density3(const Density3& rho, const Domain3& domain) {
+  if (rho.kind != Density3::Kind::kVertexLinear) return rho;
+  if (!domain.has_tets() || rho.vertex_values.size() != domain.nb_vertices()) {
+    throw Error("pointwise_density3: a density linear per tet needs one value per vertex of " +
+                domain.source() + "'s tet mesh");
+  }
+  std::vector<double> xyz(domain.vertex(0),
+                          domain.vertex(0) + 3 * std::size_t{domain.nb_vertices()});
+  std::vector<std::uint32_t> tets(4 * std::size_t{domain.nb_tets()});
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    for (int k = 0; k < 4; ++k)
+      tets[4 * std::size_t{t} + static_cast<std::size_t>(k)] = domain.tet_vertex(t, k);
+  }
+  auto f =
+      std::make_shared<const TetInterpolant>(std::move(xyz), std::move(tets), rho.vertex_values);
+  return Density3::function([f](double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    return (*f)(p);
+  });
+}
+
 Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool pointwise) {
   if (!args.density.empty() || !args.sizing.empty()) {
     const bool sizing = args.density.empty();
@@ -1086,21 +1107,8 @@ Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool poin
         throw UsageError(option + ": a .sol gives values at the vertices of a tet mesh, and " +
                          domain.source() + " is a surface; use a .vtu or .vtk file");
       }
-      std::vector<double> values = read_sol(path, sizing, domain.nb_vertices());
-      if (!pointwise) return Density3::vertex_linear(std::move(values));
-      std::vector<double> xyz(domain.vertex(0),
-                              domain.vertex(0) + 3 * std::size_t{domain.nb_vertices()});
-      std::vector<std::uint32_t> tets(4 * std::size_t{domain.nb_tets()});
-      for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
-        for (int k = 0; k < 4; ++k)
-          tets[4 * std::size_t{t} + static_cast<std::size_t>(k)] = domain.tet_vertex(t, k);
-      }
-      auto f = std::make_shared<const TetInterpolant>(std::move(xyz), std::move(tets),
-                                                      std::move(values));
-      return Density3::function([f](double x, double y, double z) {
-        const double p[3] = {x, y, z};
-        return (*f)(p);
-      });
+      Density3 rho = Density3::vertex_linear(read_sol(path, sizing, domain.nb_vertices()));
+      return pointwise ? pointwise_density3(rho, domain) : rho;
     }
     if (ext == ".vtu") {
       TetMeshInput m = read_vtu_values(path, sizing);

@@ -90,4 +90,10 @@ Density2 make_density2(const DensityArgs& args, const Domain2& domain);
 /// cell, clamped outside the grid).
 Density3 make_density3(const DensityArgs& args, const Domain3& domain, bool pointwise = false);
 
+/// rho as a function of the point: a vertex_linear density (a .sol) becomes its linear
+/// interpolant on the domain's tets, the one a .vtu over the same tets gives, so that what
+/// evaluates rho point by point (the random start sites, mesh3d) sees the same values
+/// whatever the file's format; other densities are returned as they are.
+Density3 pointwise_density3(const Density3& rho, const Domain3& domain);
+
 }  // namespace voroclip::cli

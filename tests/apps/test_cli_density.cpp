@@ -705,3 +705,43 @@ TEST_CASE("fuzz regression: .vtu densities on meshes 1e-200 and 2e308 across",
     CHECK(result["cells"].size() == 20);
   }
 }
+
+TEST_CASE("cvt3d --random: a .sol density draws the start sites as the same .vtu does",
+          "[apps][density][regression]") {
+  // rho = 2 + x + z/2 at the vertices of sphere.mesh, as a .sol and as a .vtu of the same
+  // tets: the same density, hence the same start sites (drawn with rho^(3/5)), bit for bit.
+  // The .sol's used to be drawn uniformly.
+  const std::string mesh = kData + "/tetmeshes/sphere.mesh";
+  const voroclip::TetMeshInput m = voroclip::read_tet_mesh(mesh);
+  std::vector<double> rho(m.nb_vertices());
+  std::ostringstream sol;
+  sol << std::setprecision(17) << "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n"
+      << m.nb_vertices() << "\n1 1\n";
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    rho[v] = 2 + m.xyz[3 * v] + 0.5 * m.xyz[3 * v + 2];
+    sol << rho[v] << '\n';
+  }
+  sol << "End\n";
+  const TempFile sol_file(".sol", sol.str());
+  const TempFile vtu_file(".vtu", vtu_with_point_data(m, rho));
+  const TempFile a(".txt"), b(".txt"), uniform(".txt");
+  const auto start = [&](const std::vector<std::string>& density, const std::string& out) {
+    std::vector<std::string> args = {"-q",           "cvt3d", mesh, "--random", "3000",
+                                     "--iterations", "0",     "-o", out};
+    args.insert(args.end(), density.begin(), density.end());
+    REQUIRE(run_cli(args).status == 0);
+    return read_numbers(slurp(out));
+  };
+  const std::vector<double> from_sol = start({"--density-file", sol_file.path}, a.path);
+  const std::vector<double> from_vtu = start({"--density-file", vtu_file.path}, b.path);
+  const std::vector<double> flat = start({}, uniform.path);
+  REQUIRE(from_sol.size() == 3 * 3000);
+  CHECK(slurp(a.path) == slurp(b.path));
+  // Drawn with the density, not uniformly: the mean x is pulled towards larger rho.
+  double mean_sol = 0, mean_flat = 0;
+  for (std::size_t i = 0; i < 3000; ++i) {
+    mean_sol += from_sol[3 * i] / 3000;
+    mean_flat += flat[3 * i] / 3000;
+  }
+  CHECK(mean_sol > mean_flat + 0.03);
+}
