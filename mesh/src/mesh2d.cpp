@@ -131,11 +131,18 @@ bool paths_adjacent(const BoundaryPath2& p, const BoundaryPath2& q) {
   return p.first == q.first || p.first == q.last || p.last == q.first || p.last == q.last;
 }
 
-// Feature samples along every path (mesh.h, "Feature sizes").
+// Feature samples along every path (mesh.h, "Feature sizes"). An edge has a sample every
+// half feature size, but at most 257 of them: a longer edge with a smaller feature along it
+// (a strip of width 1e-6 and length 1) has samples far apart and the envelope grows between
+// them, so the sizes there are far above the feature. `thin_vertices` is the count of
+// boundary vertices such stretches need (length / feature size over the runs of three or
+// more samples in a row that are so far apart), for a clear error instead of a mesh that
+// no refinement can resolve.
 std::vector<FeatureSample> feature_samples(const Domain2& domain, const Boundary& b,
-                                           const EdgeGrid2& grid) {
+                                           const EdgeGrid2& grid, double* thin_vertices) {
   const std::size_t np = b.paths.size();
   std::vector<std::vector<FeatureSample>> per_path(np);
+  std::vector<double> thin(np, 0.0);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, np), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
@@ -165,11 +172,15 @@ std::vector<FeatureSample> feature_samples(const Domain2& domain, const Boundary
             const double* c = domain.vertex(domain.next(v));
             const double len = std::hypot(c[0] - a[0], c[1] - a[1]);
             double t = 0;
+            int run = 0;  // samples in a row further apart than half their size
             for (;;) {
               const double x[2] = {a[0] + t / len * (c[0] - a[0]), a[1] + t / len * (c[1] - a[1])};
               const double s = std::min(length, lfs(x));
               out.push_back({x[0], x[1], s});
-              t += std::max(0.5 * s, len / 256);
+              const double step = std::max(0.5 * s, len / 256);
+              run = 0.5 * s < step ? run + 1 : 0;
+              if (run >= 3) thin[p] += step / s;
+              t += step;
               if (t >= len) break;
             }
             v = domain.next(v);
@@ -181,6 +192,8 @@ std::vector<FeatureSample> feature_samples(const Domain2& domain, const Boundary
   // A floor far below any meaningful size keeps the density finite.
   const double floor = 1e-9 * std::hypot(domain.bbox_hi()[0] - domain.bbox_lo()[0],
                                          domain.bbox_hi()[1] - domain.bbox_lo()[1]);
+  *thin_vertices = 0;
+  for (const double v : thin) *thin_vertices += v;
   std::vector<FeatureSample> all;
   for (const auto& samples : per_path) {
     for (FeatureSample f : samples) {
@@ -1406,13 +1419,36 @@ struct Sizing {
   Boundary boundary;
   SizeModel model;
   double min_size = 0;
+  double thin_vertices = 0;  // feature_samples
 };
 
 Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_angle,
                    const EdgeGrid2& grid) {
   Sizing z;
   z.boundary = analyse_boundary(domain, o, sharp_angle);
-  const std::vector<FeatureSample> samples = feature_samples(domain, z.boundary, grid);
+  const std::vector<FeatureSample> samples =
+      feature_samples(domain, z.boundary, grid, &z.thin_vertices);
+  // A domain thinner than its feature sampling over a long stretch (feature_samples): the
+  // sizes there are far above its width and the refinement splits the boundary towards the
+  // width, round after round (a strip of 1 by 1e-6: about 2,000,000 boundary vertices, over
+  // 2 minutes in the refinement's first rounds; 1 by 1e-4: 20,000, over 3.5 minutes; 1 by
+  // 0.001 needs 2,000 and makes 13,372 vertices in 32 s). Above kMaxThinVertices, and above
+  // the count asked, a clear error before the sizing field and the sampling.
+  constexpr double kMaxThinVertices = 1e4;
+  if (z.thin_vertices > kMaxThinVertices && z.thin_vertices > o.nb_vertices) {
+    const std::string need = std::to_string(static_cast<std::uint64_t>(z.thin_vertices));
+    double width = kInf;
+    for (const FeatureSample& f : samples) width = std::min(width, f.s);
+    char w[32];
+    std::snprintf(w, sizeof w, "%.3g", width);
+    throw Error("mesh2d: " + domain.source() + ": the domain is too thin to mesh " +
+                (o.nb_vertices ? "with " + std::to_string(o.nb_vertices) + " vertices"
+                               : std::string("at this edge length")) +
+                ": its boundary runs within " + w +
+                " of the other side over long stretches, and resolving them asks for about " +
+                need + " boundary vertices alone; ask for that many or more (--vertices " + need +
+                ", a long run) or thicken the domain");
+  }
   z.model = build_size_model(domain, o, samples, &z.min_size);
   return z;
 }

@@ -846,3 +846,36 @@ TEST_CASE("mesh2d: a mean smallest angle below 53 degrees is raised with more ve
   CHECK(se.mean_angle_raise.find("graded to the small features") != std::string::npos);
   CHECK(angle_bound(e, me).missed == 0);
 }
+
+TEST_CASE("mesh2d: a strip of width 1e-6 is a clear, fast error, diagonal or not",
+          "[mesh][regression]") {
+  // The axis-aligned strip ran for minutes: its sizes (from feature samples 1/256 apart)
+  // were about 6e-4, and the refinement split the boundary towards the width, every round
+  // looping over every boundary edge per bad triangle. The diagonal one said "the domain
+  // has no interior": no point of the size model's 1024 x 1024 grid fell inside it. Both
+  // need about (boundary length) / (width) boundary vertices: far more than asked.
+  const double w = 1e-6;
+  for (const bool diagonal : {false, true}) {
+    const double rise = diagonal ? 1 : 0;
+    const Domain2 d(rings_of({{0, 0, 1, rise, 1, rise + w, 0, w}}));
+    REQUIRE(d.area() > 0);
+    Mesh2Options o;
+    o.nb_vertices = 300;
+    std::string message;
+    try {
+      voroclip::mesh_domain2(d, o);
+    } catch (const voroclip::Error& e) {
+      message = e.what();
+    }
+    INFO(message);
+    REQUIRE(message.find("too thin") != std::string::npos);
+    CHECK(message.find("no interior") == std::string::npos);
+    // The count asked for: the boundary length over the width across the strip.
+    const std::size_t at = message.find("about ");
+    REQUIRE(at != std::string::npos);
+    const double need = std::stod(message.substr(at + 6));
+    const double length = 2 * std::hypot(1.0, rise), across = w / std::hypot(1.0, rise);
+    CHECK(need > 0.95 * length / across);
+    CHECK(need <= length / across);
+  }
+}
