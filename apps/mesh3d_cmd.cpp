@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -39,6 +40,18 @@ std::string brief(double x) {
   std::ostringstream out;
   out << std::setprecision(4) << x;
   return out.str();
+}
+
+// A count to 2 significant digits ("250000"; "3.1e+13" past 1e12).
+std::string about_count(double x) {
+  char buf[64];
+  if (x >= 1e12) {
+    std::snprintf(buf, sizeof buf, "%.1e", x);
+    return buf;
+  }
+  const double unit = x < 100 ? 1 : std::pow(10.0, std::floor(std::log10(x)) - 1);
+  std::snprintf(buf, sizeof buf, "%.0f", std::round(x / unit) * unit);
+  return buf;
 }
 
 }  // namespace
@@ -211,8 +224,18 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                    ", " + brief(r.topology_capped_near[1]) + ", " +
                    brief(r.topology_capped_near[2]) + ") grew past " +
                    format_double(o.max_topology_sites) +
-                   " times the vertices, a part far thinner than the spacing: give it a "
-                   "smaller edge length (--sizing), or "
+                   " times the vertices, a part far thinner than the spacing" +
+                   (r.topology_capped_thickness > 0
+                        ? " (about " + brief(r.topology_capped_thickness) +
+                              " across there, where a uniform spacing needs about " +
+                              about_count(r.topology_capped_vertices) + " vertices" +
+                              (r.shape_retries_skipped
+                                   ? ": not meshed again, " + count_of(o.max_shape_retries, "run") +
+                                         " with twice the vertices would stay far short"
+                                   : std::string()) +
+                              ")"
+                        : std::string()) +
+                   ": give it a smaller edge length (--sizing), or "
              : "try more --vertices, a smaller edge length where the shape is lost "
                "(--sizing), or ") +
         "--allow-shape-mismatch to write it anyway)");
@@ -340,7 +363,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                      {"rounds", r.topology_rounds},
                      {"deferred", r.nb_topology_deferred},
                      {"defects_left", r.topology_defects_left},
-                     {"capped", r.topology_capped}};
+                     {"capped", r.topology_capped},
+                     {"capped_thickness", r.topology_capped_thickness},
+                     {"capped_vertices_needed", r.topology_capped_vertices}};
     j["sliver_sites"] = r.nb_sliver_sites;
     j["sliver_sites_inside"] = r.nb_sliver_sites_inside;
     j["shape_problem"] = r.shape_problem;

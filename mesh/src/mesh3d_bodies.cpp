@@ -301,6 +301,10 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     if (r.topology_capped && !result.topology_capped) {
       result.topology_capped = true;
       result.topology_capped_near = r.topology_capped_near;
+      // The count of a uniform spacing over all the bodies.
+      const double t = r.topology_capped_thickness;
+      result.topology_capped_thickness = t;
+      if (t > 0) result.topology_capped_vertices = domain.volume() / (4 * t * t * t);
     }
     result.nb_topology_deferred += r.nb_topology_deferred;
     result.nb_sliver_sites += r.nb_sliver_sites;

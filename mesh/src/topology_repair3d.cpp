@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
@@ -45,6 +46,56 @@ std::string shortest(double x) {
   char buf[32];
   const auto r = std::to_chars(buf, buf + sizeof buf, x);
   return std::string(buf, r.ptr);
+}
+
+// The diameter of the largest ball inside the surface touching it at p's closest point q:
+// shrinking balls (Ma, Bae, Choi and Kim 2012). A ball tangent at q, its centre on the inward
+// pseudo-normal, passes through the surface point x closest to its centre until none is
+// closer than q: r = |x - q|^2 / (2 (x - q).inward) shrinks it through x. An estimate of the
+// domain's thickness at q, for a message and the retries' count (no geometric decision
+// rests on it). 0 where the surface has no normal.
+double inscribed_diameter(const SurfaceTree& tree, const double* p) {
+  const SurfaceTree::Closest q = tree.closest(p);
+  const double* m = q.normal;  // outward
+  if (q.triangle == SurfaceTree::kNone || (m[0] == 0 && m[1] == 0 && m[2] == 0)) return 0;
+  const double* lo = tree.bbox_lo();
+  const double* hi = tree.bbox_hi();
+  // No ball inside the box is wider than its diagonal.
+  double r = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  std::uint32_t hint = q.triangle;
+  for (int step = 0; step < 100; ++step) {
+    const double centre[3] = {q.point[0] - r * m[0], q.point[1] - r * m[1], q.point[2] - r * m[2]};
+    const SurfaceTree::Closest x = tree.closest(centre, hint);
+    if (x.triangle == SurfaceTree::kNone) break;
+    hint = x.triangle;
+    const double d[3] = {x.point[0] - q.point[0], x.point[1] - q.point[1], x.point[2] - q.point[2]};
+    const double inward = -(d[0] * m[0] + d[1] * m[1] + d[2] * m[2]);
+    if (!(inward > 0)) break;  // x is q, or beside it: nothing is closer
+    const double next = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (2 * inward);
+    if (!(next < r)) break;
+    r = next;
+  }
+  return 2 * r;
+}
+
+// The median inscribed diameter at up to 65 of `points` (3 coordinates each), spread over
+// the list.
+double median_thickness(const SurfaceTree& tree, const std::vector<double>& points) {
+  const std::size_t n = points.size() / 3;
+  if (n == 0) return 0;
+  const std::size_t step = n <= 65 ? 1 : n / 64;
+  std::vector<double> d;
+  for (std::size_t i = 0; i < n; i += step) d.push_back(inscribed_diameter(tree, &points[3 * i]));
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+// x to 3 significant digits.
+std::string three_digits(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
 }
 
 }  // namespace
@@ -183,6 +234,11 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
       capped_sites = result.nb_topology_sites;
       capped_defects = nb_defects;
       std::copy_n(first_points.begin(), 3, result.topology_capped_near.begin());
+      if (project.surface != nullptr) {
+        const double t = median_thickness(*project.surface, first_points);
+        result.topology_capped_thickness = t;
+        if (t > 0) result.topology_capped_vertices = domain.volume() / (4 * t * t * t);
+      }
       break;
     }
     for (const std::array<double, 3>& x : points) {
@@ -222,8 +278,15 @@ void Pipeline::repair_topology(const TriangleSurface& surface, const Clip3Option
   if (result.topology_capped) {
     throw Error(where + ", and " + std::to_string(capped_sites) + " sites added left " +
                 std::to_string(capped_defects) +
-                " such cells: a part far thinner than the spacing; mesh it with a smaller edge "
-                "length there (--sizing) or many more vertices");
+                " such cells: a part far thinner than the spacing" +
+                (result.topology_capped_thickness > 0
+                     ? " (about " + three_digits(result.topology_capped_thickness) +
+                           " across there, where a uniform spacing needs about " +
+                           std::to_string(static_cast<std::uint64_t>(
+                               std::min(result.topology_capped_vertices, 1e18))) +
+                           " vertices)"
+                     : std::string()) +
+                "; mesh it with a smaller edge length there (--sizing) or many more vertices");
   }
   throw Error(where + "; about " + std::to_string(options.nb_vertices + result.nb_topology_sites) +
               " vertices would (or let mesh3d add the sites it needs)");

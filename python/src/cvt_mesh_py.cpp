@@ -405,6 +405,10 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   } else {
     s["topology_capped_near"] = py::none();
   }
+  // When capped: the domain's thickness there, and about how many vertices a uniform
+  // spacing resolving it needs (0 when not capped).
+  s["topology_capped_thickness"] = m.topology_capped_thickness;
+  s["topology_capped_vertices_needed"] = m.topology_capped_vertices;
   s["hausdorff"] = m.distance.max;
   s["hausdorff_rel"] = m.distance.max_relative();
   s["hausdorff_to_edge_length"] = m.distance_to_edge_length;

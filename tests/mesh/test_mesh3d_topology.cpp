@@ -222,9 +222,41 @@ TEST_CASE("mesh3d: a plate far thinner than the spacing stops the topology sites
     b.max_topology_sites = bad;
     CHECK_THROWS_WITH(voroclip::mesh3d(plate, b), Catch::Contains("max_topology_sites"));
   }
+  // How thick it is where the defects are (shrinking balls: the plate's 0.001), and the
+  // count of a uniform spacing that resolves it, volume / (4 t^3).
+  CHECK(r.topology_capped_thickness == Approx(0.001).epsilon(1e-3));
+  CHECK(r.topology_capped_vertices == Approx(0.001 / (4 * 1e-9)).epsilon(3e-3));
   // With --exact-vertices, an error that says why.
   o.vertex_count = voroclip::Mesh3Options::VertexCount::kExact;
   CHECK_THROWS_WITH(voroclip::mesh3d(plate, o),
                     Catch::Contains("300 vertices do not resolve the surface of plate") &&
-                        Catch::Contains("a part far thinner than the spacing"));
+                        Catch::Contains("a part far thinner than the spacing (about 0.001 across"));
+}
+
+TEST_CASE("mesh3d: no retries with more vertices when they cannot reach a thin part's count",
+          "[mesh][regression]") {
+  // The 1 x 1 x 0.001 plate at 1,000 vertices: three retries (2,000 to 8,000 vertices) took
+  // 2.5 minutes to fail, where a uniform spacing through its 0.001 needs about 250,000. Now
+  // the first run's estimate ends it.
+  const voroclip::Domain3 plate = voroclip_test::six_tet_box(1, 1, 0.001, "plate");
+  voroclip::Mesh3Options o = voroclip_test::small_options(1000);
+  const voroclip::Mesh3Result r = voroclip::mesh3d(plate, o);
+  CHECK(r.topology_capped);
+  CHECK(r.shape_retries_skipped);
+  CHECK(r.shape_retries == 0);
+  CHECK_FALSE(r.shape_problem.empty());
+  CHECK(r.topology_capped_vertices > 4 * 8 * 1000);
+  // A 1 x 1 x 0.02 plate at 150 caps its topology sites too, but a uniform spacing needs
+  // about 625 vertices there, within 4 times the 600 that two retries reach: it is meshed
+  // again as before.
+  const voroclip::Domain3 thicker = voroclip_test::six_tet_box(1, 1, 0.02, "plate");
+  o = voroclip_test::small_options(150);
+  o.max_shape_retries = 0;
+  const voroclip::Mesh3Result once = voroclip::mesh3d(thicker, o);
+  CHECK(once.topology_capped);
+  CHECK(once.topology_capped_vertices == Approx(625).epsilon(3e-3));
+  o.max_shape_retries = 2;
+  const voroclip::Mesh3Result t = voroclip::mesh3d(thicker, o);
+  CHECK_FALSE(t.shape_retries_skipped);
+  CHECK(t.shape_retries > 0);
 }

@@ -1260,6 +1260,15 @@ struct Mesh3Result {
   // near this point.
   bool topology_capped = false;
   std::array<double, 3> topology_capped_near{};
+  // When capped: the domain's thickness where the defects were (the median diameter of the
+  // largest inscribed balls touching the surface at the first round's defect points, by
+  // shrinking balls), and about how many vertices a uniform spacing resolving it needs
+  // (volume / (4 thickness^3): a 1 x 1 x 0.01 plate is resolved from 2,400 vertices on);
+  // 0 when not capped. kRaise does not mesh again when even max_shape_retries doublings
+  // stay 4 times short of that count (shape_retries_skipped).
+  double topology_capped_thickness = 0;
+  double topology_capped_vertices = 0;
+  bool shape_retries_skipped = false;
   std::uint32_t nb_topology_deferred = 0;
   // Sites inserted at slivers' circumcentres (Mesh3Options::sliver_insertion_passes), and of
   // them those inside the volume (a circumcentre deep enough, step 7a).
