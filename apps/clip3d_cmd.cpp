@@ -85,7 +85,9 @@ void write_surface_obj(std::ostream& out, const ClippedVoronoi3& cv, const std::
 
 // Every cell's boundary (cell_boundaries()) as VTK XML polygons, each shrunk towards its
 // cell's centroid by 10 % so that cells stand apart, with site_id and across (the site on
-// the other side, -1 for the domain's surface).
+// the other side, -1 for the domain's surface). The polygons face out of their cell
+// (counter-clockwise seen from outside, as viewers light them and as the restricted
+// surface's OBJ is): cell_boundaries() lists them the other way round.
 void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv, VtuEncoding encoding) {
   const ClippedVoronoi3::Polygons f = cv.cell_boundaries();
   const std::size_t nf = f.site.size();
@@ -98,7 +100,7 @@ void write_cells_vtu(std::ostream& out, const ClippedVoronoi3& cv, VtuEncoding e
   for (std::size_t k = 0; k < nf; ++k) {
     const double* c = cv.centroid(f.site[k]);
     for (std::uint32_t v = f.polygon_begin[k]; v < f.polygon_begin[k + 1]; ++v) {
-      indices[v] = v;
+      indices[v] = f.polygon_begin[k] + f.polygon_begin[k + 1] - 1 - v;
       for (std::size_t q = 0; q < 3; ++q) {
         xyz[3 * std::size_t{v} + q] = c[q] + 0.9 * (f.xyz[3 * std::size_t{v} + q] - c[q]);
       }

@@ -57,6 +57,28 @@ def test_clip3d_agrees_with_cli(cli, data, tmp_path):
     assert [c["centroid"] for c in ref] == cells.centroids.tolist()
 
 
+def test_clip3d_vtu_polygons_face_out_of_their_cells(cli, data, tmp_path):
+    # Each cell's polygons, shrunk by 0.9 towards its centroid, enclose 0.729 times its
+    # volume with the sign of their orientation (divergence theorem): + when they face out.
+    domain = data / "surfaces" / "bunny.obj"
+    stats = run(cli, "clip3d", domain, "--random", 300, "-o", tmp_path / "c.vtu")
+    run(cli, "clip3d", domain, "--random", 300, "-o", tmp_path / "c.json")
+    volumes = np.array([c["volume"] for c in
+                        json.loads((tmp_path / "c.json").read_text())["cells"]])
+    m = meshio.read(tmp_path / "c.vtu")
+    site = np.concatenate(m.cell_data["site_id"])
+    enclosed = np.zeros(len(volumes))
+    k = 0
+    for block in m.cells:
+        for poly in block.data:
+            p = m.points[poly]
+            enclosed[site[k]] += sum(np.dot(p[0], np.cross(p[j], p[j + 1]))
+                                     for j in range(1, len(p) - 1)) / 6
+            k += 1
+    assert stats["sites"] == len(volumes)
+    np.testing.assert_allclose(enclosed, 0.729 * volumes, rtol=1e-9, atol=1e-12)
+
+
 def test_mesh2d_agrees_with_cli(cli, tmp_path):
     import meshio
 
