@@ -625,7 +625,7 @@ enum class Mesh2FileFormat {
 
 // Writes a tagged mesh (tags filled, e.g. by mesh_domain2 / tag_mesh2) in `format`: the
 // files the CLI's mesh2d writes. Throws Error for arrays of mismatched sizes, an index out
-// of range, or (Gmsh) a negative tag.
+// of range, or (Gmsh) a tag below 1 (Gmsh physical tags are positive).
 void write_mesh2(std::ostream& out, const Mesh2& mesh, Mesh2FileFormat format);
 
 // Exact checks that a valid mesh (check_mesh2) conforms to its domain: every boundary edge
