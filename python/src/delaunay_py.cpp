@@ -172,6 +172,8 @@ void bind_delaunay(py::module_& m) {
            }),
            py::arg("points"), py::arg("threads") = 0)
       .def_property_readonly("npoints", [](const PyDelaunay2& d) { return d.dt.nb_points(); })
+      .def_property_readonly("ndim", [](const PyDelaunay2&) { return 2; })
+      .def_property_readonly("nsimplex", [](const PyDelaunay2& d) { return d.dt.nb_triangles(); })
       .def_property_readonly("points",
                              [](const PyDelaunay2& d) {
                                std::vector<double> xy = d.xy;
@@ -210,13 +212,24 @@ void bind_delaunay(py::module_& m) {
                                }
                                return to_array(std::move(s));
                              })
-      .def_property_readonly("convex_hull",
-                             [](const PyDelaunay2& d) {
-                               std::vector<std::uint32_t> e = d.dt.hull_edges();
-                               std::vector<std::int32_t> s(e.begin(), e.end());
-                               const auto ne = static_cast<py::ssize_t>(s.size() / 2);
-                               return to_array(std::move(s), {ne, 2});
-                             })
+      .def_property_readonly(
+          "convex_hull",
+          [](const PyDelaunay2& d) {
+            std::vector<std::uint32_t> e = d.dt.hull_edges();
+            std::vector<std::int32_t> s(e.begin(), e.end());
+            const auto ne = static_cast<py::ssize_t>(s.size() / 2);
+            return to_array(std::move(s), {ne, 2});
+          },
+          "(h, 2) int32: the hull's edges (u, w), counter-clockwise (the inside on the left), "
+          "in hull order from the smallest vertex; points on a hull edge are vertices of it.")
+      .def_property_readonly(
+          "hull_vertices",
+          [](const PyDelaunay2& d) {
+            std::vector<std::uint32_t> h = d.dt.hull_vertices();
+            return to_array(std::vector<std::int32_t>(h.begin(), h.end()));
+          },
+          "(h,) int32: the hull's vertices counter-clockwise from the smallest index "
+          "(scipy.spatial.ConvexHull.vertices' 2D order), points on a hull edge included.")
       .def_property_readonly(
           "vertex_neighbor_vertices",
           [](const PyDelaunay2& d) { return neighbor_vertices(d.dt, d.dt.nb_points()); })
@@ -302,6 +315,8 @@ void bind_delaunay(py::module_& m) {
            }),
            py::arg("points"), py::arg("threads") = 0)
       .def_property_readonly("npoints", [](const PyDelaunay3& d) { return d.dt.nb_points(); })
+      .def_property_readonly("ndim", [](const PyDelaunay3&) { return 3; })
+      .def_property_readonly("nsimplex", [](const PyDelaunay3& d) { return d.finite_slot.size(); })
       .def_property_readonly("points",
                              [](const PyDelaunay3& d) {
                                std::vector<double> xyz = d.xyz;
@@ -345,11 +360,34 @@ void bind_delaunay(py::module_& m) {
                                }
                                return to_array(std::move(s));
                              })
-      .def_property_readonly("hull_vertices",
-                             [](const PyDelaunay3& d) {
-                               std::vector<std::uint32_t> h = d.dt.hull_vertices();
-                               return to_array(std::vector<std::int32_t>(h.begin(), h.end()));
-                             })
+      .def_property_readonly(
+          "hull_vertices",
+          [](const PyDelaunay3& d) {
+            std::vector<std::uint32_t> h = d.dt.hull_vertices();
+            return to_array(std::vector<std::int32_t>(h.begin(), h.end()));
+          },
+          "(h,) int32: the hull's vertices, sorted (scipy.spatial.ConvexHull.vertices' order "
+          "in 3D), points on the hull's faces and edges included.")
+      .def_property_readonly(
+          "convex_hull",
+          [](const PyDelaunay3& d) {
+            // The hull facet of an infinite tet is its vertices 0, 1, 2, which appear
+            // counter-clockwise from inside the hull (orient3d(v0, v1, v2, inside) = -1 in
+            // Shewchuk's convention): v1, v0, v2 is counter-clockwise seen from outside.
+            // Coplanar points on the hull are triangulated within the facet (delaunay.h).
+            std::vector<std::int32_t> s;
+            for (std::uint32_t t = 0; t < d.dt.nb_tet_slots(); ++t) {
+              if (!d.dt.is_infinite(t)) continue;
+              for (const int k : {1, 0, 2}) {
+                s.push_back(static_cast<std::int32_t>(d.dt.tet_vertex(t, k)));
+              }
+            }
+            const auto nf = static_cast<py::ssize_t>(s.size() / 3);
+            return to_array(std::move(s), {nf, 3});
+          },
+          "(h, 3) int32: the hull's triangles, counter-clockwise seen from outside (the "
+          "right-hand normal points out), in slot order; coplanar points on the hull are "
+          "vertices of it, their faces triangulated.")
       .def_property_readonly(
           "vertex_neighbor_vertices",
           [](const PyDelaunay3& d) { return neighbor_vertices(d.dt, d.dt.nb_points()); })

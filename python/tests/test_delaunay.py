@@ -177,3 +177,73 @@ def test_vertex_neighbors_2d_go_counter_clockwise():
         assert np.all(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0)
         checked += 1
     assert checked > 150
+
+
+def facet_set(facets):
+    return {tuple(sorted(f)) for f in facets.tolist()}
+
+
+@pytest.mark.parametrize("dim,n", [(2, 500), (3, 400)])
+def test_regression_scipy_attributes_ndim_nsimplex_convex_hull_hull_vertices(dim, n):
+    # Delaunay3 had no convex_hull, Delaunay2 no hull_vertices, neither ndim nor nsimplex.
+    from scipy.spatial import ConvexHull
+
+    seed = 17 + dim
+    pts = np.random.default_rng(seed).random((n, dim))
+    ours = (voroclip.Delaunay2 if dim == 2 else voroclip.Delaunay3)(pts)
+    ref = ScipyDelaunay(pts)
+    assert type(ours.ndim) is int and ours.ndim == ref.ndim == dim, seed
+    assert type(ours.nsimplex) is int and ours.nsimplex == ref.nsimplex == len(ours.simplices)
+    hull = ours.convex_hull
+    assert hull.dtype == ref.convex_hull.dtype == np.int32 and hull.shape[1] == dim
+    assert len(hull) == len(ref.convex_hull) and facet_set(hull) == facet_set(ref.convex_hull)
+    # Outward: counter-clockwise seen from outside, exactly (the centroid is inside).
+    c = pts.mean(axis=0)
+    if dim == 2:
+        assert (voroclip.orient2d(pts[hull[:, 0]], pts[hull[:, 1]], c) == 1).all()
+    else:
+        assert (voroclip.orient3d(pts[hull[:, 0]], pts[hull[:, 1]], pts[hull[:, 2]], c) == 1).all()
+    hv = ours.hull_vertices
+    assert hv.dtype == np.int32
+    ch = ConvexHull(pts).vertices
+    if dim == 2:  # scipy's 2D order: counter-clockwise (from a vertex of its own)
+        k = int(np.flatnonzero(ch == hv[0])[0])
+        assert np.array_equal(np.roll(ch, -k), hv) and hv[0] == hv.min()
+        assert np.array_equal(hull[:, 0], hv)
+    else:
+        assert np.array_equal(hv, np.sort(ch))
+    assert set(np.unique(hull).tolist()) == set(hv.tolist())
+
+
+def test_regression_hull_attributes_on_degenerate_input():
+    # Points on the hull's edges and faces are vertices of it, as in scipy (Qhull with Qz /
+    # Qt): a grid's 2D hull edges are scipy's; in 3D the coplanar faces are triangulated
+    # (the diagonals may differ from Qhull's: the same vertices, count and area).
+    g = np.array([(x, y) for x in range(6) for y in range(4)], float)
+    pts = np.vstack([g, g[:3]])  # duplicates: only the first is a vertex
+    d, ref = voroclip.Delaunay2(pts), ScipyDelaunay(g)
+    assert d.nsimplex == ref.nsimplex == 2 * 5 * 3 and d.ndim == 2
+    assert facet_set(d.convex_hull) == facet_set(ref.convex_hull)
+    assert len(d.hull_vertices) == 2 * (5 + 3) and d.hull_vertices[0] == 0
+    assert (voroclip.orient2d(pts[d.convex_hull[:, 0]], pts[d.convex_hull[:, 1]], (2.5, 1.5))
+            == 1).all()
+    for pts3 in (np.array([(x, y, z) for x in range(3) for y in range(3) for z in range(4)], float),
+                 CUBE8, np.vstack([CUBE8, CUBE8[::-1]]),
+                 np.vstack([np.eye(3), -np.eye(3)])):  # cospherical: cube, octahedron
+        d3, ref3 = voroclip.Delaunay3(pts3), ScipyDelaunay(pts3)
+        assert d3.check() == "" and d3.ndim == 3 and d3.nsimplex == len(d3.simplices)
+        hull = d3.convex_hull
+        assert hull.shape == ref3.convex_hull.shape and hull.dtype == np.int32
+        assert set(np.unique(hull).tolist()) == set(d3.hull_vertices.tolist())
+        first = d3.duplicate_of[np.unique(ref3.convex_hull)]
+        assert set(d3.hull_vertices.tolist()) == set(first.tolist())
+        a, b, c = (pts3[hull[:, k]] for k in range(3))
+        area = np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2
+        r = pts3[ref3.convex_hull]
+        ref_area = np.linalg.norm(np.cross(r[:, 1] - r[:, 0], r[:, 2] - r[:, 0]), axis=1).sum() / 2
+        assert area == pytest.approx(ref_area, rel=1e-14)
+        centre = pts3.mean(axis=0)
+        assert (voroclip.orient3d(a, b, c, centre) == 1).all()
+
+
+CUBE8 = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
