@@ -66,6 +66,53 @@ py::array_t<std::int8_t> locate_all(const DoubleArray& points, int dim,
   return to_array(std::move(out));
 }
 
+// The given sites the CLI's clip / clip3d warn about (python/voroclip/_api.py turns these
+// into a SiteWarning): those strictly outside the domain (exact location), and those
+// repeating an earlier site (equal coordinates; all but the first in input order, whose cell
+// they leave empty). Input indices, increasing.
+struct SiteCheck {
+  std::vector<std::int32_t> outside, repeated;
+
+  template <class Domain>
+  void find_outside(const Domain& domain, const double* sites, std::uint32_t n, int dim) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (domain.locate(sites + static_cast<std::size_t>(dim) * i) == Sign::negative) {
+        outside.push_back(static_cast<std::int32_t>(i));
+      }
+    }
+  }
+  // Delaunay2 numbers its points as given: the smallest index of equal ones is the vertex.
+  void find_repeated(const Delaunay2& dt, std::uint32_t n) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (dt.duplicate_of(i) != i) repeated.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  // ClippedVoronoi3's triangulation holds the sites in its own order (point k is input site
+  // site_order()[k], auxiliary sites from n on): the first in input order of each group of
+  // equal points is found through the group's vertex.
+  void find_repeated(const ClippedVoronoi3& cv, std::uint32_t n) {
+    const Delaunay3& dt = cv.delaunay();
+    const std::vector<std::uint32_t>& order = cv.site_order();
+    const std::uint32_t np = dt.nb_points();
+    if (dt.nb_unique_points() == np) return;
+    std::vector<std::uint32_t> first(np, UINT32_MAX);
+    for (std::uint32_t k = 0; k < np; ++k) {
+      std::uint32_t& f = first[dt.duplicate_of(k)];
+      f = std::min(f, order[k]);
+    }
+    for (std::uint32_t k = 0; k < np; ++k) {
+      if (order[k] < n && order[k] != first[dt.duplicate_of(k)]) {
+        repeated.push_back(static_cast<std::int32_t>(order[k]));
+      }
+    }
+    std::sort(repeated.begin(), repeated.end());
+  }
+  void store(py::dict& r) {
+    r["outside_sites"] = to_array(std::move(outside));
+    r["repeated_sites"] = to_array(std::move(repeated));
+  }
+};
+
 }  // namespace
 
 Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callback) {
@@ -243,9 +290,12 @@ py::dict clip2d(const Domain2& domain, const py::object& sites_arg, const py::ob
     return progress.check([&] { return clip_progress_info(p); });
   };
   ClippedVoronoi2 cv;
+  SiteCheck check;
   run_clip(threads, progress, [&] {
     const Delaunay2 dt(sites.data(), n);
     cv.compute(domain, dt, o);
+    check.find_outside(domain, sites.data(), n, 2);
+    check.find_repeated(dt, n);
   });
   if (callback) callback->rethrow();
   std::vector<double> area(n), mass(n), energy(n), centroid(2 * std::size_t{n});
@@ -268,6 +318,7 @@ py::dict clip2d(const Domain2& domain, const py::object& sites_arg, const py::ob
   r["total_mass"] = cv.total_mass();
   r["total_energy"] = cv.total_energy();
   r["nb_boundary"] = cv.nb_boundary_sites();
+  check.store(r);
   if (o.keep_geometry) {  // the neighbours cost a pass over the geometry
     std::vector<std::int32_t> indptr, indices;
     neighbors2(domain, cv, indptr, indices);
@@ -310,11 +361,14 @@ py::dict clip3d(const Domain3& domain, const py::object& sites_arg, const py::ob
   ClippedVoronoi3 cv;
   ClippedVoronoi3::Polygons faces;
   double seconds_compute = 0;
+  SiteCheck check;
   run_clip(threads, progress, [&] {
     const auto t0 = std::chrono::steady_clock::now();
     cv.compute(domain, sites.data(), n, o);
     seconds_compute = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (o.keep_geometry) faces = cv.cell_boundaries();
+    check.find_outside(domain, sites.data(), n, 3);
+    check.find_repeated(cv, n);
   });
   if (callback) callback->rethrow();
   std::vector<double> volume(n), mass(n), energy(n), surface(n), centroid(3 * std::size_t{n});
@@ -342,6 +396,7 @@ py::dict clip3d(const Domain3& domain, const py::object& sites_arg, const py::ob
   r["total_surface_area"] = cv.total_surface_area();
   r["nb_boundary"] = cv.nb_boundary_sites();
   r["unique_sites"] = cv.delaunay().nb_unique_points();
+  check.store(r);
   py::dict seconds;
   seconds["delaunay"] = cv.seconds_delaunay();
   seconds["surface_rvd"] = cv.seconds_surface();
@@ -393,8 +448,8 @@ Polygons, each an outer ring with holes, checked exactly: no ring crosses or tou
 itself or another, every hole lies inside its polygon, the coordinates are finite
 (voroclip.Error names the rings and the points otherwise).
 
-Build one with voroclip.domain2(...) (a list of rings, ring 0 the outer boundary; a .poly
-or .json path; a shapely-like polygon) or Domain2.read(path). The functions take a
+Build one with voroclip.domain2(...) (a list of rings, ring 0 the outer boundary; one
+(n, 2) ring alone; a .poly or .json path; a shapely-like polygon) or Domain2.read(path). The functions take a
 Domain2 as it is: validate once for several calls.
 
 source (the file, or "rings"), area (outer rings minus holes), nb_rings, bounds (xmin,

@@ -416,3 +416,80 @@ def test_regression_density_callable_values_are_checked(bad):
         point = [float(t) for t in m.groups()]
         # In 2D the quadrature points lie in the domain; in 3D in cells that meet it.
         assert 0.5 <= point[0] <= (1 if len(point) == 2 else 2), (name, point)
+
+
+def test_regression_a_bare_ring_is_the_outer_boundary():
+    # clip2d(np.array of (x, y)) read each point as a ring: "ring 0: expected an (n, 2)
+    # array of n >= 3 points, got shape (2,)".
+    square = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    sites = np.random.default_rng(5).random((50, 2))
+    ref = voroclip.clip2d([square], sites)
+    for ring in (np.array(square, float), square, [list(p) for p in square],
+                 np.array(square, np.int32), tuple(square)):
+        d = voroclip.domain2(ring)
+        assert d.nb_rings == 1 and not d.is_hole(0) and d.area == 1
+        assert np.array_equal(voroclip.clip2d(ring, sites).areas, ref.areas)
+    assert voroclip.cvt2d(np.array(square, float), sites, iterations=3).sites.shape == (50, 2)
+    assert voroclip.mesh2d(np.array(square, float), vertices=50).stats["check"] == ""
+    # A list of rings still is one (equal lengths: a (k, n, 2) array-like too).
+    hole = [(0.25, 0.25), (0.75, 0.25), (0.75, 0.75), (0.25, 0.75)]
+    for rings in ([square, hole], np.array([square, hole], float)):
+        assert voroclip.domain2(rings).area == pytest.approx(0.75, rel=1e-15)
+    # Numbers in another shape are neither form: said so.
+    for bad in ([0, 0, 1, 0, 1, 1], np.zeros((4, 3)), [(0, 0, 0), (1, 0, 0), (1, 1, 0)]):
+        with pytest.raises(voroclip.Error, match=r"a list of rings or one ring as an \(n, 2\)"):
+            voroclip.domain2(bad)
+    with pytest.raises(voroclip.Error, match=r"ring 0: .* n >= 3 points, got shape \(2, 2\)"):
+        voroclip.domain2([(0, 0), (1, 1)])
+    with pytest.raises(voroclip.Error, match="no ring"):
+        voroclip.domain2([])
+
+
+def _no_warning(f, *args):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return f(*args)
+
+
+def test_regression_site_warning_for_sites_outside_or_repeated():
+    # clip2d / clip3d said nothing about given sites outside the domain or repeated, where
+    # the CLI warns: a voroclip.SiteWarning now, with the count and the first index.
+    assert issubclass(voroclip.SiteWarning, UserWarning) and "SiteWarning" in voroclip.__all__
+    square = [[(0, 0), (1, 0), (1, 1), (0, 1)]]
+    rng = np.random.default_rng(11)
+    inside = 0.05 + 0.9 * rng.random((40, 2))
+    _no_warning(voroclip.clip2d, square, inside)
+    s = inside.copy()
+    s[[7, 30]] = (2, 0.5)  # outside (a repeat of each other too)
+    s[3] = (1, 0.5)  # on the boundary: inside the closed domain, no warning
+    with pytest.warns(voroclip.SiteWarning) as w:
+        voroclip.clip2d(square, s)
+    assert len(w) == 1 and w[0].filename == __file__
+    assert str(w[0].message) == ("clip2d: 2 sites outside the domain (first: index 7, from 0); "
+                                 "1 site repeats an earlier site (first: index 30, from 0; "
+                                 "its cell is empty)")
+    s = np.vstack([inside, inside[[5, 2, 5]], [[-0.0, 0.2]], [[0.0, 0.2]]])  # -0.0 == 0.0
+    with pytest.warns(voroclip.SiteWarning, match=r"^clip2d: 4 sites repeat an earlier site "
+                      r"\(first: index 40, from 0; their cells are empty\)$"):
+        voroclip.clip2d(square, s)
+
+    inside3 = 0.05 + 0.9 * rng.random((300, 3))
+    _no_warning(voroclip.clip3d, (CUBE_V, CUBE_T), inside3)
+    # Repeats anywhere in input order (the 3D triangulation sorts the sites): the first of
+    # each group in input order keeps its cell, the others are counted.
+    s3 = inside3.copy()
+    s3[[250, 20, 199]] = s3[100]
+    s3[[5, 6]] = (0.5, 0.5, 1.5)
+    with pytest.warns(voroclip.SiteWarning) as w:
+        cells = voroclip.clip3d((CUBE_V, CUBE_T), s3)
+    assert str(w[0].message) == ("clip3d: 2 sites outside the domain (first: index 5, from 0); "
+                                 "4 sites repeat an earlier site (first: index 6, from 0; "
+                                 "their cells are empty)")
+    assert cells.volumes[20] > 0 and cells.volumes[[100, 199, 250, 5, 6]].max() == 0
+    # Fewer than 4 independent sites (auxiliary sites are added inside): only the given count.
+    with pytest.warns(voroclip.SiteWarning, match=r"^clip3d: 1 site repeats an earlier site "
+                      r"\(first: index 1,"):
+        voroclip.clip3d((CUBE_V, CUBE_T), [(0.5, 0.5, 0.5)] * 2)
+    _no_warning(voroclip.clip3d, (CUBE_V, CUBE_T), [(0.5, 0.5, 0.5)])

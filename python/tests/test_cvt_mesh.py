@@ -2,6 +2,7 @@
 
 import os
 import signal
+import subprocess
 import threading
 
 import numpy as np
@@ -286,3 +287,147 @@ def test_mesh3d_max_topology_sites_and_capped_stats():
         voroclip.mesh3d(slab, vertices=100, max_topology_sites=0, exact_vertices=True)
     with pytest.raises(voroclip.Error, match="option 'max_topology_sites': a value of the wrong"):
         voroclip.mesh3d(slab, vertices=100, max_topology_sites="four")
+
+
+def test_regression_write_msh_version_3d_is_honoured_and_checked(cli, tmp_path):
+    # mesh3d's write() ignored msh_version (always 4.1) and took any value; the CLI's
+    # `mesh3d --msh-version 2.2` writes 2.2. Now the same bytes as the CLI's, both versions.
+    import meshio
+
+    obj = tmp_path / "cube.obj"
+    obj.write_text("".join("v %g %g %g\n" % tuple(p) for p in CUBE_V) +
+                   "".join("f %d %d %d\n" % tuple(t + 1) for t in CUBE_T))
+    m = voroclip.mesh3d(obj, vertices=300)
+    for version, flags in (("2.2", ["--msh-version", "2.2"]), ("4.1", [])):
+        ours, theirs = tmp_path / f"py{version}.msh", tmp_path / f"cli{version}.msh"
+        m.write(ours, msh_version=version)
+        subprocess.run([cli, "mesh3d", str(obj), "--vertices", "300", *flags, "-o", str(theirs),
+                        "-q"], check=True)
+        assert ours.read_text().startswith(f"$MeshFormat\n{version} 0 8\n")
+        assert ours.read_bytes() == theirs.read_bytes(), version
+        back = meshio.read(ours, file_format="gmsh")
+        assert np.array_equal(back.points, m.points)
+        assert np.array_equal(back.cells_dict["tetra"], m.cells)
+        assert np.array_equal(back.cell_data_dict["gmsh:physical"]["tetra"], m.cell_tags)
+    for mesh in (m, voroclip.mesh2d(SQUARE, vertices=50)):
+        for bad in ("9.9", "4", 4.1, None):
+            with pytest.raises(voroclip.Error, match="msh_version: expected '4.1' or '2.2'"):
+                mesh.write(tmp_path / "bad.msh", msh_version=bad)
+        with pytest.raises(voroclip.Error, match="only a .msh file"):
+            mesh.write(tmp_path / "bad.vtu", msh_version="2.2")
+    with pytest.raises(voroclip.Error, match="binary=True: Gmsh 2.2"):
+        m.write(tmp_path / "bad.msh", msh_version="2.2", binary=True)
+    assert not (tmp_path / "bad.msh").exists() and not (tmp_path / "bad.vtu").exists()
+
+
+def gmsh_physical_groups(path):
+    """{(dim, tag): (name, element count)} of a .msh file as the gmsh module reads it."""
+    import gmsh
+
+    gmsh.initialize(["gmsh", "-v", "0"])
+    try:
+        gmsh.open(str(path))
+        out = {}
+        for dim, tag in gmsh.model.getPhysicalGroups():
+            count = 0
+            for e in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                _, elements, _ = gmsh.model.mesh.getElements(dim, int(e))
+                count += sum(len(x) for x in elements)
+            out[(dim, tag)] = (gmsh.model.getPhysicalName(dim, tag), count)
+        return out
+    finally:
+        gmsh.finalize()
+
+
+def check_to_meshio_writes_gmsh(m, names, blocks, tmp_path):
+    """to_meshio() of m: the tag names in field_data as meshio's Gmsh reader gives them
+    (names: {name: [tag, dim]}), and a file meshio writes as Gmsh 4.1 and 2.2 that meshio and
+    gmsh read back with the same physical groups, names and elements. blocks: [(meshio type,
+    dim, cells, tags)]."""
+    import meshio
+
+    mm = m.to_meshio()
+    assert {k: v.tolist() for k, v in mm.field_data.items()} == names
+
+    def by_coordinates(points, cells):  # meshio's Gmsh writer renumbers the points
+        return [tuple(sorted(map(tuple, points[c].tolist()))) for c in cells]
+
+    expected = {}  # (dim, tag) -> sorted cells, each by its vertices' coordinates
+    for kind, dim, cells, tags in blocks:
+        for t in np.unique(tags):
+            expected[(dim, int(t))] = sorted(by_coordinates(mm.points, cells[tags == t]))
+    names_of = {(dim, tag): name for name, (tag, dim) in names.items()}
+    assert set(names_of) == set(expected)
+    for fmt in ("gmsh", "gmsh22"):
+        f = tmp_path / f"via_meshio_{fmt}_{m.dim}d.msh"
+        meshio.write(f, mm, file_format=fmt, binary=False)
+        back = meshio.read(f, file_format="gmsh")
+        assert {k: v.tolist() for k, v in back.field_data.items()} == names
+        assert len(back.points) == len(mm.points)
+        got = {}
+        for block, phys in zip(back.cells, back.cell_data["gmsh:physical"]):
+            dim = {"tetra": 3, "triangle": 2, "line": 1}[block.type]
+            for t in np.unique(phys):
+                got.setdefault((dim, int(t)), []).extend(
+                    by_coordinates(back.points, block.data[phys == t]))
+        assert {k: sorted(v) for k, v in got.items()} == expected
+        groups = gmsh_physical_groups(f)
+        assert groups == {k: (names_of[k], len(v)) for k, v in expected.items()}
+
+
+def test_regression_to_meshio_2d_names_and_gmsh_writing(tmp_path):
+    # to_meshio() gave no field_data and no gmsh:dim_tags: meshio could not write it as Gmsh
+    # ("Specify entity information"), and the names of the library's Gmsh files were lost.
+    ring = [[(0, 0), (2, 0), (2, 1), (0, 1)], [(0.5, 0.4), (0.5, 0.6), (0.7, 0.6), (0.7, 0.4)]]
+    m = voroclip.mesh2d(ring, vertices=200)
+    assert set(m.boundary_tags.tolist()) == {1, 2}
+    # The names of the library's 2D Gmsh writer.
+    names = {"boundary 1": [1, 1], "boundary 2": [2, 1], "region 1": [1, 2]}
+    check_to_meshio_writes_gmsh(m, names, [("triangle", 2, m.cells, m.cell_tags),
+                                    ("line", 1, m.boundary_edges, m.boundary_tags)], tmp_path)
+    mm = m.to_meshio()
+    assert mm.field_data["boundary 2"].tolist() == [2, 1]
+    assert mm.field_data["region 1"].tolist() == [1, 2]
+    # The library's own Gmsh file has the same names.
+    import meshio
+
+    m.write(tmp_path / "lib.msh")
+    lib = meshio.read(tmp_path / "lib.msh", file_format="gmsh")
+    assert {k: v.tolist() for k, v in lib.field_data.items()} == \
+        {k: v.tolist() for k, v in mm.field_data.items()}
+
+
+def test_regression_to_meshio_3d_names_and_gmsh_writing(tmp_path):
+    # to_meshio() of a mesh with tag_names gave field_data == {}.
+    import meshio
+
+    # Two unit cubes side by side, regions 1 and 2, six Kuhn tets each (a meshio.Mesh domain).
+    pts = np.array([(x, y, z) for x in range(3) for y in range(2) for z in range(2)], float)
+    index = {tuple(p): i for i, p in enumerate(pts.astype(int).tolist())}
+    tets, regions = [], []
+    for x0, ref in ((0, 1), (1, 2)):
+        c = [index[(x0 + (k & 1), (k >> 1) & 1, (k >> 2) & 1)] for k in range(8)]
+        for a, b in ((1, 2), (1, 4), (2, 1), (2, 4), (4, 1), (4, 2)):
+            tets.append((c[0], c[a], c[a + b], c[7]))
+            regions.append(ref)
+    domain = meshio.Mesh(pts, [("tetra", np.array(tets))],
+                         cell_data={"gmsh:physical": [np.array(regions)]})
+    m = voroclip.mesh3d(domain, vertices=300)
+    assert m.stats["region_interfaces_followed"] == 1
+    names = {name for _, _, name in m.tag_names}
+    assert {"region 1", "region 2"} <= names and any(n.startswith("interface") for n in names)
+    triangles = np.vstack([m.boundary_triangles, m.interface_triangles])
+    tags = np.concatenate([m.boundary_tags, m.interface_tags])
+    names = {name: [tag, dim] for dim, tag, name in m.tag_names}
+    check_to_meshio_writes_gmsh(m, names, [("tetra", 3, m.cells, m.cell_tags),
+                                    ("triangle", 2, triangles, tags)], tmp_path)
+    # Named as in tag_names, and as the library's own Gmsh file names them.
+    mm = m.to_meshio()
+    m.write(tmp_path / "lib.msh")
+    lib = meshio.read(tmp_path / "lib.msh", file_format="gmsh")
+    assert {k: v.tolist() for k, v in lib.field_data.items()} == \
+        {k: v.tolist() for k, v in mm.field_data.items()}
+    # Medit tags: one block per type, in the mesh's order.
+    med = m.to_meshio("medit")
+    assert np.array_equal(med.cells_dict["tetra"], m.cells)
+    assert np.array_equal(med.cell_data_dict["medit:ref"]["triangle"], tags)

@@ -22,6 +22,7 @@ from ._api import (
     CvtResult,
     Mesh,
     Quality,
+    SiteWarning,
     clip2d,
     clip3d,
     cvt2d,
@@ -38,7 +39,7 @@ __version__ = _core.__version__
 
 __all__ = [
     "CSR", "Cells", "CvtResult", "Delaunay2", "Delaunay3", "Domain2", "Domain3", "Error",
-    "Mesh", "Quality", "clip2d", "clip3d", "cvt2d", "cvt3d", "domain2", "domain3",
+    "Mesh", "Quality", "SiteWarning", "clip2d", "clip3d", "cvt2d", "cvt3d", "domain2", "domain3",
     "incircle", "insphere", "mesh2d", "mesh3d", "orient2d", "orient3d", "quality", "random_points",
 ]
 
@@ -53,8 +54,10 @@ class Delaunay2(_core.Delaunay2):
     outside, in shape (...) (one point (2,): a 0-d array);
     ``vertex_neighbor_vertices`` (indptr, indices). Also ``vertex_neighbors(v)`` (counter-
     clockwise around v, as in ``vertex_neighbor_vertices``; Delaunay3's are sorted),
-    ``nearest_vertex(xi)`` (exact nearest point), ``convex_hull`` (h, 2) edges,
-    ``duplicate_of`` (for each point, the smallest index with the same coordinates; only
+    ``nearest_vertex(xi)`` (exact nearest point), ``ndim``, ``nsimplex``, ``convex_hull``
+    (h, 2) int32 hull edges, counter-clockwise (points on a hull edge are vertices of it, as
+    in scipy), ``hull_vertices`` (h,) counter-clockwise from the smallest index
+    (scipy.spatial.ConvexHull.vertices' 2D order), ``duplicate_of`` (for each point, the smallest index with the same coordinates; only
     that one is a vertex), ``check()`` ('' when valid and Delaunay, checked exactly).
     The points are copied. Raises :class:`Error` for non-finite coordinates or fewer than 3
     affinely independent points."""
@@ -65,8 +68,10 @@ class Delaunay2(_core.Delaunay2):
 
 class Delaunay3(_core.Delaunay3):
     """The Delaunay tetrahedralisation of (n, 3) points, exact; as :class:`Delaunay2`
-    with ``simplices`` / ``neighbors`` (m, 4) and ``hull_vertices`` instead of
-    ``convex_hull``. The tets of ``simplices`` have det(p1 - p0, p2 - p0, p3 - p0) < 0
+    with ``simplices`` / ``neighbors`` (m, 4), ``convex_hull`` (h, 3) int32 hull triangles,
+    counter-clockwise seen from outside (coplanar points on the hull are vertices of it, its
+    faces triangulated: the diagonals may differ from scipy's), and ``hull_vertices``
+    sorted (scipy.spatial.ConvexHull.vertices' 3D order). The tets of ``simplices`` have det(p1 - p0, p2 - p0, p3 - p0) < 0
     (orient3d(p0, p1, p2, p3) = +1, Shewchuk's convention), exactly: the opposite of
     :attr:`Mesh.cells` and VTK (det > 0); ``simplices[:, [1, 0, 2, 3]]`` turns them so.
     Raises :class:`Error` for non-finite coordinates or fewer than 4 affinely independent

@@ -5,6 +5,7 @@ L^2, volumes L^3, energies L^4 in 2D and L^5 in 3D, times a density's unit)."""
 from __future__ import annotations
 
 import json
+import warnings
 from typing import Callable, NamedTuple, Optional
 
 import numpy as np
@@ -12,6 +13,29 @@ import numpy as np
 from . import _core
 from ._core import Error
 from ._domains import domain2, domain3
+
+
+class SiteWarning(UserWarning):
+    """Warned by :func:`clip2d` / :func:`clip3d` for given sites outside the domain (their
+    cells miss it: empty) or repeating an earlier site (equal coordinates: the first in input
+    order gets the cell, the others are empty), as the CLI's ``clip`` / ``clip3d`` warn.
+    ``warnings.simplefilter("error", voroclip.SiteWarning)`` makes it an error (the CLI's
+    ``--strict``), ``"ignore"`` silences it."""
+
+
+def _warn_sites(what: str, r: dict) -> None:
+    # The core's lists of the sites the CLI warns about (input indices, increasing).
+    parts = []
+    for key, one, many, empty in (
+            ("outside_sites", "site outside the domain", "sites outside the domain", ""),
+            ("repeated_sites", "site repeats an earlier site", "sites repeat an earlier site",
+             "; their cells are empty")):
+        k = len(r[key])
+        if k:
+            parts.append(f"{k} {one if k == 1 else many} (first: index {int(r[key][0])}, from 0"
+                         f"{empty.replace('their cells are', 'its cell is') if k == 1 else empty})")
+    if parts:
+        warnings.warn(f"{what}: " + "; ".join(parts), SiteWarning, stacklevel=3)
 
 
 def _threads(threads: Optional[int]):
@@ -176,10 +200,13 @@ def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     Ctrl-C cancels too and raises KeyboardInterrupt.
     ``threads``: TBB threads (None or 0: all cores; a count above the cores runs on the
     cores); the result is the same for any count.
+    Sites outside the domain or repeating an earlier site (their cells are empty) give a
+    :class:`SiteWarning` naming how many and the first index.
     Returns :class:`Cells`."""
     d = domain2(domain)
     s = _sites(sites, 2)
     r = _core.clip2d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    _warn_sites("clip2d", r)
     return Cells(2, s, r, lambda: _core.clip2d(d, s, density, False, True, callback,
                                                       _threads(threads)))
 
@@ -202,10 +229,13 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     'geometry').
     ``threads``: TBB threads (None or 0: all cores; a count above the cores runs on the
     cores); the result is the same for any count.
+    Sites outside the domain or repeating an earlier site: a :class:`SiteWarning`, as
+    :func:`clip2d`.
     Returns :class:`Cells` (``seconds``: the phases' wall times)."""
     d = domain3(domain)
     s = _sites(sites, 3)
     r = _core.clip3d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    _warn_sites("clip3d", r)
     return Cells(3, s, r, lambda: _core.clip3d(d, s, density, False, True, callback,
                                                       _threads(threads)))
 
@@ -326,50 +356,93 @@ class Mesh:
         kind = "triangles" if self.dim == 2 else "tets"
         return f"<voroclip.Mesh: {len(self.points)} vertices, {len(self.cells)} {kind}>"
 
+    def _named_tags(self):
+        # [(dimension, tag, name)] of every tag the mesh uses, with the names its Gmsh files
+        # carry: 3D tag_names (the input's names, else "patch <tag>" / "region <tag>"), 2D
+        # those of the library's 2D writer ("boundary <tag>", "region <tag>").
+        if self.dim == 3:
+            return [(int(d), int(t), str(n)) for d, t, n in self.tag_names]
+        return ([(1, t, f"boundary {t}") for t in np.unique(self.boundary_tags).tolist()] +
+                [(2, t, f"region {t}") for t in np.unique(self.cell_tags).tolist()])
+
     def to_meshio(self, tags: str = "gmsh"):
-        """A ``meshio.Mesh``: 2D triangles (z = 0 added, as meshio's writers expect) or 3D
-        tets and boundary (then interface) triangles with the region / patch tags as cell data:
-        ``tags="gmsh"``: ``gmsh:physical`` and ``gmsh:geometrical`` (Gmsh files, and any
-        other format under those names), ``"medit"``: ``medit:ref`` (Medit .mesh).
+        """A ``meshio.Mesh``: 2D triangles (z = 0 added, as meshio's writers expect) and
+        boundary edges, or 3D tets and boundary (then interface) triangles, with the region /
+        patch tags as cell data and the tags' names as ``field_data`` (``{name: array([tag,
+        dimension])}``, as meshio's Gmsh reader gives them; the names of :meth:`write`'s
+        Gmsh files: 3D ``tag_names``, 2D ``boundary <tag>`` and ``region <tag>``).
+
+        ``tags="gmsh"``: ``gmsh:physical`` and ``gmsh:geometrical`` cell data, one cell block
+        per element type and tag (cells in increasing tag order, in the mesh's order within a
+        tag), and ``point_data["gmsh:dim_tags"]`` (each point's (dimension, tag) entity: a
+        point of the boundary that of a boundary element, else that of a cell), which is
+        what ``meshio.write(..., file_format="gmsh")`` (Gmsh 4.1) needs; ``"gmsh22"`` works
+        too. ``"medit"``: one block per element type and ``medit:ref`` (Medit .mesh).
         Note: meshio reads and writes ``.msh`` as ANSYS unless told ``file_format="gmsh"``
-        (or ``"gmsh22"``); :meth:`write` does that."""
+        (or ``"gmsh22"``); :meth:`write` uses the library's Gmsh writer."""
         import meshio
 
-        if self.dim == 2:
-            t = [self.cell_tags, self.boundary_tags]
-            points = np.column_stack([self.points, np.zeros(len(self.points))])
-            blocks = [("triangle", self.cells), ("line", self.boundary_edges)]
-        else:
-            t = [self.cell_tags, np.concatenate([self.boundary_tags, self.interface_tags])]
-            points = self.points
-            blocks = [("tetra", self.cells),
-                      ("triangle", np.vstack([self.boundary_triangles, self.interface_triangles]))]
-        if tags == "gmsh":
-            cell_data = {"gmsh:physical": t, "gmsh:geometrical": t}
-        elif tags == "medit":
-            cell_data = {"medit:ref": t}
-        else:
+        if tags not in ("gmsh", "medit"):
             raise Error(f"tags: expected 'gmsh' or 'medit', got {tags!r}")
-        return meshio.Mesh(points, blocks, cell_data=cell_data)
+        if self.dim == 2:
+            points = np.column_stack([self.points, np.zeros(len(self.points))])
+            parts = [("triangle", 2, self.cells, self.cell_tags),
+                     ("line", 1, self.boundary_edges, self.boundary_tags)]
+        else:
+            points = self.points
+            parts = [("tetra", 3, self.cells, self.cell_tags),
+                     ("triangle", 2, np.vstack([self.boundary_triangles, self.interface_triangles]),
+                      np.concatenate([self.boundary_tags, self.interface_tags]))]
+        field_data = {name: np.array([tag, dim]) for dim, tag, name in self._named_tags()}
+        if tags == "medit":
+            return meshio.Mesh(points, [(kind, cells) for kind, _, cells, _ in parts],
+                               cell_data={"medit:ref": [t for *_, t in parts]},
+                               field_data=field_data)
+        # Gmsh 4.1 keeps the physical tag per entity, not per element (meshio's writer takes
+        # each block's first): one block, one entity, per (dimension, tag).
+        blocks, physical = [], []
+        dim_tags = np.full((len(points), 2), -1, dtype=np.int64)
+        for kind, dim, cells, cell_tags in parts:  # cells first: the boundary's overwrite
+            cell_tags = np.asarray(cell_tags)
+            order = np.argsort(cell_tags, kind="stable")
+            bounds = np.flatnonzero(np.diff(cell_tags[order])) + 1
+            for run in np.split(order, bounds) if len(order) else []:
+                tag = int(cell_tags[run[0]])
+                blocks.append((kind, cells[run]))
+                physical.append(np.full(len(run), tag, dtype=np.int64))
+                dim_tags[cells[run].ravel()] = (dim, tag)
+        if blocks:  # a point of no cell (none in the meshes made here): the first entity
+            dim_tags[dim_tags[:, 0] < 0] = (parts[0][1], physical[0][0])
+        return meshio.Mesh(points, blocks,
+                           cell_data={"gmsh:physical": physical,
+                                      "gmsh:geometrical": [p.copy() for p in physical]},
+                           point_data={"gmsh:dim_tags": dim_tags}, field_data=field_data)
 
     def write(self, path, binary: bool = False, compress: bool = False,
               msh_version: str = "4.1", **kwargs) -> None:
         """Writes the mesh, the format from the extension.
 
         The library's own writers, the ones the CLI uses (the same mesh gives the same
-        bytes as ``voroclip mesh3d -o`` / ``mesh2d -o``): 3D ``.msh`` (Gmsh 4.1;
+        bytes as ``voroclip mesh3d -o`` / ``mesh2d -o``): 3D ``.msh`` (Gmsh 4.1 or 2.2;
         ``binary=True``: binary 4.1), ``.mesh`` (Medit), ``.node``/``.ele`` (TetGen:
         ``.node``, ``.ele`` and ``.face``), ``.vtk`` (legacy ASCII) and ``.vtu`` (base64
         binary; ``compress=True``: zlib; the CLI's also has a quality array): tets, the
         boundary triangles, region / patch tags and, in Gmsh files, the tag names. 2D
-        ``.msh`` (Gmsh 4.1; ``msh_version="2.2"`` for 2.2), ``.mesh`` and ``.vtu``
-        (ASCII): triangles, boundary edges, their tags and the vertex kinds. Other
+        ``.msh``, ``.mesh`` and ``.vtu`` (ASCII): triangles, boundary edges, their tags and
+        the vertex kinds. ``msh_version``: ``"4.1"`` (the default) or ``"2.2"``, as the
+        CLI's ``--msh-version`` (2D and 3D; 2.2 is ASCII: not with ``binary=True``; another
+        value, or ``"2.2"`` for another extension, raises :class:`Error`). Other
         extensions go through meshio (``kwargs`` go to ``meshio.write``, the tags as
         :meth:`to_meshio` names them)."""
         import os
 
         name = str(os.fspath(path)).lower()
         ext = os.path.splitext(name)[1]
+        if msh_version not in ("4.1", "2.2"):
+            raise Error(f"write: msh_version: expected '4.1' or '2.2', got {msh_version!r}")
+        if msh_version != "4.1" and ext != ".msh":
+            raise Error(f"write: msh_version={msh_version!r}: only a .msh file (Gmsh) has a "
+                        f"format version, got {ext or 'no extension'}")
         if self.dim == 3 and ext in (".msh", ".mesh", ".node", ".ele", ".vtk", ".vtu"):
             if kwargs:
                 raise Error(f"write: {sorted(kwargs)}: meshio options, not taken by {ext}")
@@ -377,7 +450,11 @@ class Mesh:
                 raise Error(f"write: binary=True: {ext} has no binary variant here (.msh has)")
             if compress and ext != ".vtu":
                 raise Error(f"write: compress=True: {ext} has no compressed variant (.vtu has)")
-            fmt = {".msh": "msh-binary" if binary else "msh", ".mesh": "mesh", ".node": "tetgen",
+            if binary and msh_version == "2.2":
+                raise Error("write: binary=True: Gmsh 2.2 is written in ASCII here (binary is "
+                            "4.1's)")
+            msh = "msh22" if msh_version == "2.2" else "msh-binary" if binary else "msh"
+            fmt = {".msh": msh, ".mesh": "mesh", ".node": "tetgen",
                    ".ele": "tetgen", ".vtk": "vtk", ".vtu": "vtu-zlib" if compress else "vtu"}[ext]
             _core.write_tet_mesh(os.fspath(path), self.points, self.cells,
                                  np.vstack([self.boundary_triangles, self.interface_triangles]),
@@ -387,8 +464,6 @@ class Mesh:
         if self.dim == 2 and ext in (".msh", ".mesh", ".vtu"):
             if kwargs or binary or compress:
                 raise Error(f"write: {ext} of a 2D mesh takes no options but msh_version")
-            if msh_version not in ("4.1", "2.2"):
-                raise Error(f"write: msh_version: expected '4.1' or '2.2', got {msh_version!r}")
             fmt = {".msh": "msh" if msh_version == "4.1" else "msh22", ".mesh": "mesh",
                    ".vtu": "vtu"}[ext]
             _core.write_mesh2(os.fspath(path), self.points, self.cells, self.vertex_kind,

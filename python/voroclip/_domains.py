@@ -22,6 +22,24 @@ def _ring_array(ring, where):
     return a[:, :2]
 
 
+def _bare_ring(domain):
+    # [ring] when `domain` is an array-like of numbers shaped (n, 2): one ring given alone
+    # (a list of rings converts to 3 dimensions, or fails to convert when ragged); None when
+    # it is not an array of numbers at all. Numbers of another shape raise: neither form.
+    try:
+        a = np.asarray(domain, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    if a.size == 0:
+        return None
+    if a.ndim == 2 and a.shape[1] == 2:
+        return [a]
+    if a.ndim in (1, 2):
+        raise Error("domain: expected a list of rings or one ring as an (n, 2) array of "
+                    f"points, got numbers of shape {a.shape}")
+    return None
+
+
 def domain2(domain) -> _core.Domain2:
     """A validated polygonal domain (with holes) from
 
@@ -29,6 +47,9 @@ def domain2(domain) -> _core.Domain2:
     * a path (``str`` or ``os.PathLike``) to a ``.poly`` (Triangle) or ``.json`` file;
     * a list of rings, each an (n, 2) array-like of points: ring 0 is the outer boundary,
       the others are holes (orientation free; a repeated closing point is dropped);
+    * one ring, an (n, 2) array-like of numbers (an array, a list of (x, y) pairs): the
+      outer boundary of a polygon without holes (a list of rings has one more level of
+      nesting, so the two cannot be confused; other shapes of numbers raise :class:`Error`);
     * a shapely-like polygon (``.exterior`` and ``.interiors`` with ``.coords``), a list of
       them, or a multi-polygon (``.geoms``).
 
@@ -54,7 +75,7 @@ def domain2(domain) -> _core.Domain2:
         if items and all(hasattr(p, "exterior") for p in items):
             polygons = items
         else:
-            polygons = [items]
+            polygons = [_bare_ring(domain) or items]
     xy, begin, polygon = [], [0], []
     for p, poly in enumerate(polygons):
         if hasattr(poly, "exterior"):
