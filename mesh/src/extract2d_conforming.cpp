@@ -419,8 +419,8 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
   for (std::size_t r = 0; r < domain.region_attributes().size(); ++r) {
     const double value = domain.region_attributes()[r];
     if (!(value == std::floor(value) && std::fabs(value) < 2147483647.0)) {
-      throw Error(domain.source() + ": regional attribute " + std::to_string(r + 1) + " (" +
-                  std::to_string(value) + ") is not an integer; mesh tags are integers");
+      throw Error(domain.source() + ": " + domain.region_name(r) + " (" + std::to_string(value) +
+                  ") is not an integer; mesh tags are integers");
     }
     const double* p = &points[2 * r];
     std::uint32_t found = kNone;
@@ -433,8 +433,8 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
       if (inside) found = t;
     }
     if (found == kNone) {
-      throw Error(domain.source() + ": regional attribute " + std::to_string(r + 1) +
-                  ": its point (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+      throw Error(domain.source() + ": " + domain.region_name(r) + ": its point (" +
+                  std::to_string(p[0]) + ", " + std::to_string(p[1]) +
                   ") lies in no triangle of the mesh (outside the domain?)");
     }
     region[part[found]] = static_cast<std::int32_t>(value);
