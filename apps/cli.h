@@ -172,8 +172,6 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options);
 PolygonRings load_rings(const std::string& spec);
 /// The domain of those rings (Domain2(load_rings(spec))).
 Domain2 load_domain(const std::string& spec);
-/// n uniform random points strictly inside the domain (rejection sampling, exact test).
-std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed);
 /// SVG picture of a clipped diagram (computed with keep_geometry).
 void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<double>& sites,
                     const ClippedVoronoi2& cv);

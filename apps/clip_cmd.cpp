@@ -85,25 +85,6 @@ PolygonRings load_rings(const std::string& spec) {
   return read_polygon(spec);
 }
 
-std::vector<double> random_sites_in(const Domain2& domain, std::uint32_t n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  const double* lo = domain.bbox_lo();
-  const double* hi = domain.bbox_hi();
-  std::vector<double> xy;
-  xy.reserve(2 * std::size_t{n});
-  std::uint64_t tries = 0;
-  while (xy.size() < 2 * std::size_t{n}) {
-    const double u = static_cast<double>(rng() >> 11) * 0x1p-53;
-    const double v = static_cast<double>(rng() >> 11) * 0x1p-53;
-    const double p[2] = {lo[0] + u * (hi[0] - lo[0]), lo[1] + v * (hi[1] - lo[1])};
-    if (domain.locate(p) == Sign::positive) xy.insert(xy.end(), p, p + 2);
-    if (++tries > 1000 * std::uint64_t{n} + 1000000) {
-      throw Error("cannot sample points inside the domain (is its area zero?)");
-    }
-  }
-  return xy;
-}
-
 void write_clip_svg(std::ostream& out, const Domain2& domain, const std::vector<double>& sites,
                     const ClippedVoronoi2& cv) {
   const double* lo = domain.bbox_lo();
@@ -358,13 +339,14 @@ void check_sites_span_plane(const std::vector<double>& sites, const std::string&
   throw Error(file + "all " + count_of(n, "site") + " lie on one line" + need);
 }
 
+// --random draws with density `draw` (cvt2d: rho^(1/2), a CVT's; uniform when constant).
 std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check,
-                               Progress& progress) {
+                               Progress& progress, const Density2& draw = {}) {
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
   if (args.random_set && args.random < 3) throw UsageError("--random: needs at least 3 sites");
-  if (args.random_set) return random_sites_in(domain, args.random, args.seed);
+  if (args.random_set) return random_points2(domain, args.random, args.seed, draw);
   std::vector<double> sites = read_points(args.sites, 2);
   check_sites_span_plane(sites, args.sites);
   std::vector<std::uint32_t> outside;
@@ -450,14 +432,20 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   Progress progress(options);
   progress.phase("reading");
   const Domain2 domain = load_domain(args.domain);
-  SiteCheck site_check;
-  std::vector<double> sites = load_sites(args, domain, site_check, progress);
-  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
   Cvt2Options o;
   o.method = args.method == "lloyd" ? CvtMethod::kLloyd : CvtMethod::kLbfgs;
   o.max_iterations = args.iterations;
   o.gradient_tolerance = args.tolerance;
   o.density = make_density2(args.density, domain);
+  // A CVT of density rho has about rho^(d/(d+2)) sites per unit area: --random starts there.
+  Density2 draw;
+  if (!o.density.is_constant()) {
+    const Density2 rho = o.density;
+    draw = Density2::function([rho](double x, double y) { return std::sqrt(rho(x, y)); });
+  }
+  SiteCheck site_check;
+  std::vector<double> sites = load_sites(args, domain, site_check, progress, draw);
+  const auto n = static_cast<std::uint32_t>(sites.size() / 2);
   std::ostream* human = human_stream(options);
   progress.phase("CVT (" + args.method + ")", args.iterations);
   o.progress = [&](const CvtProgress& p) {

@@ -80,7 +80,7 @@ MeshDemoResult run_mesh_demo() {
   MeshDemoResult r;
   r.domain = Domain2(demo_domain_rings());
   // A CVT of 200 sites and its clipped Voronoi diagram.
-  std::vector<double> sites = random_sites_in(r.domain, 200, 7);
+  std::vector<double> sites = random_points2(r.domain, 200, 7);
   r.cvt_sites = 200;
   Cvt2Options co;
   co.max_iterations = 60;

@@ -201,7 +201,10 @@ int main(int argc, char** argv) {
     cmd->add_option("--sites", a.sites,
                     "Site file: one 'x y' per line ('#' comments) or a JSON array [[x,y],...]")
         ->type_name("FILE");
-    cmd->add_option("--random", a.random, "Use N uniform random sites inside the domain")
+    cmd->add_option("--random", a.random,
+                    c == 0 ? "Use N uniform random sites inside the domain"
+                           : "Use N random sites inside the domain (uniform; with a --density "
+                             "or --density-file, drawn with density rho^(1/2), the CVT's)")
         ->type_name("N");
     cmd->add_option("--seed", a.seed, "Seed of --random (default 1)")->type_name("S");
     cmd->add_option("-o,--output", a.output,

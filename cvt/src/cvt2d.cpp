@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -572,6 +573,65 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
   result.evaluations = problem.evaluations();
   result.seconds = seconds_since(t0);
   return result;
+}
+
+std::vector<double> random_points2(const Domain2& domain, std::uint32_t n, std::uint64_t seed,
+                                   const Density2& density) {
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  const double* lo = domain.bbox_lo();
+  const double* hi = domain.bbox_hi();
+  const std::uint64_t max_tries = 1000 * std::uint64_t{n} + 1000000;
+  std::uint64_t tries = 0;
+  // A uniform point of the domain: candidates from the bounding box, located exactly.
+  const auto draw = [&](double* p) {
+    for (;;) {
+      const double u = uniform();
+      const double v = uniform();
+      p[0] = lo[0] + u * (hi[0] - lo[0]);
+      p[1] = lo[1] + v * (hi[1] - lo[1]);
+      const bool inside = domain.locate(p) == Sign::positive;
+      if (++tries > max_tries && !inside) {
+        throw Error("random_points2: " + std::to_string(max_tries) +
+                    " points of the bounding box of " + domain.source() +
+                    " were drawn and too few fell inside (is its area zero?)");
+      }
+      if (inside) return;
+    }
+  };
+  const auto value = [&](const double* p) {
+    const double r = density(p[0], p[1]);
+    if (!(r > 0) || !std::isfinite(r)) {
+      throw Error("random_points2: the density is " + std::to_string(r) + " at (" +
+                  std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                  "); it must be finite and positive in the domain");
+    }
+    return r;
+  };
+  double bound = 0;
+  if (!density.is_constant()) {
+    if (density.kind == Density2::Kind::kCallback && !density.callback) {
+      throw Error("random_points2: the density function is empty");
+    }
+    const std::uint32_t m = std::max<std::uint32_t>(1024, std::min<std::uint32_t>(n, 65536));
+    for (std::uint32_t i = 0; i < m; ++i) {
+      double p[2];
+      draw(p);
+      bound = std::max(bound, value(p));
+    }
+    bound *= 2;
+  }
+  std::vector<double> xy;
+  xy.reserve(2 * std::size_t{n});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    double p[2];
+    for (;;) {
+      draw(p);
+      if (bound == 0 || uniform() * bound <= value(p)) break;
+    }
+    xy.insert(xy.end(), p, p + 2);
+  }
+  return xy;
 }
 
 }  // namespace voroclip

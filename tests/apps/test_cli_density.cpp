@@ -745,3 +745,19 @@ TEST_CASE("cvt3d --random: a .sol density draws the start sites as the same .vtu
   }
   CHECK(mean_sol > mean_flat + 0.03);
 }
+
+TEST_CASE("cvt2d --random with a density draws the start sites with rho^(1/2)",
+          "[apps][density][regression]") {
+  // rho = (1 + 10x)^2 on the unit square: start sites with density 1 + 10x, so a fraction
+  // 1.75 / 6 = 0.2917 of them left of x = 0.5 (sigma 0.0083 for 3,000); they were uniform.
+  const TempFile square(".json", "[[[0,0],[1,0],[1,1],[0,1]]]");
+  const TempFile out(".txt");
+  const Run run = run_cli({"-q", "cvt2d", square.path, "--random", "3000", "--iterations", "0",
+                           "--density", "(1+10*x)^2", "-o", out.path});
+  REQUIRE(run.status == 0);
+  const std::vector<double> xy = read_numbers(slurp(out.path));
+  REQUIRE(xy.size() == 2 * 3000);
+  std::size_t left = 0;
+  for (std::size_t i = 0; i < 3000; ++i) left += xy[2 * i] < 0.5;
+  CHECK(static_cast<double>(left) / 3000 == Approx(1.75 / 6).margin(0.04));
+}

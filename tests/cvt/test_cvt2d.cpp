@@ -376,3 +376,52 @@ TEST_CASE("cvt2d: 0 iterations return the start, evaluated once", "[cvt][regress
     }
   }
 }
+
+TEST_CASE("random_points2: uniform, or drawn with the density, strictly inside", "[cvt][density]") {
+  // The unit square with a hole [0.4, 0.6]^2.
+  const Domain2 d(rings_of({square(0, 0, 1, 1), square(0.4, 0.4, 0.6, 0.6)}));
+  const std::uint32_t n = 20000;
+  const auto left_fraction = [&](const std::vector<double>& xy) {
+    REQUIRE(xy.size() == 2 * std::size_t{n});
+    std::size_t left = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      CHECK(d.locate(&xy[2 * i]) == voroclip::Sign::positive);
+      left += xy[2 * i] < 0.5;
+    }
+    return static_cast<double>(left) / n;
+  };
+  // Constant: the candidates of the bounding box kept when inside, u then v from
+  // mt19937_64 turned into doubles bit by bit (the CLI's --random sites, as they were).
+  const std::vector<double> uniform = voroclip::random_points2(d, n, 5);
+  std::mt19937_64 rng(5);
+  std::vector<double> expected;
+  while (expected.size() < uniform.size()) {
+    const double u = static_cast<double>(rng() >> 11) * 0x1p-53;
+    const double v = static_cast<double>(rng() >> 11) * 0x1p-53;
+    const double p[2] = {u, v};
+    if (d.locate(p) == voroclip::Sign::positive) expected.insert(expected.end(), p, p + 2);
+  }
+  CHECK(uniform == expected);
+  CHECK(voroclip::random_points2(d, n, 6) != uniform);
+  // The hole is symmetric about x = 0.5: half the points on each side (sigma 0.0035).
+  CHECK(left_fraction(uniform) == Approx(0.5).margin(0.015));
+  // rho = 1 + 10x, as a function and as a grid: the mass left of x = 0.5 over the whole,
+  // (1.75 - 0.11) / (6 - 0.24) = 0.28472 (the hole's masses 0.11 and 0.24).
+  const double lo[2] = {0, 0}, hi[2] = {1, 1};
+  for (const voroclip::Density2& rho :
+       {voroclip::Density2::function([](double x, double) { return 1 + 10 * x; }),
+        voroclip::Density2::linear_grid(2, 2, lo, hi, {1, 11, 1, 11})}) {
+    CHECK(left_fraction(voroclip::random_points2(d, n, 5, rho)) ==
+          Approx(1.64 / 5.76).margin(0.015));
+  }
+  // A density that is not positive is named where it fails.
+  CHECK_THROWS_WITH(
+      voroclip::random_points2(
+          d, 100, 5, voroclip::Density2::function([](double x, double) { return x - 0.5; })),
+      Catch::Contains("random_points2: the density is -") &&
+          Catch::Contains("it must be finite and positive in the domain"));
+  voroclip::Density2 empty;
+  empty.kind = voroclip::Density2::Kind::kCallback;
+  CHECK_THROWS_WITH(voroclip::random_points2(d, 100, 5, empty),
+                    Catch::Contains("the density function is empty"));
+}

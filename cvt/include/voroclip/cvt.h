@@ -141,6 +141,20 @@ double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, cons
 Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
                          const Cvt2Options& options);
 
+// n points strictly inside the domain (packed x y), independent and distributed with
+// density rho, as random_points3 draws them in a volume:
+//   constant        uniform: points of the bounding box drawn uniformly, kept when inside
+//                   (Domain2::locate, exact);
+//   callback, grid  the same candidates, each kept with probability rho / B, where B is
+//                   twice the largest rho among max(1024, min(n, 65536)) uniform points of
+//                   the domain drawn first (where rho exceeds B, the samples are too few
+//                   there in proportion); rho must be finite and positive in the domain.
+// Draws from std::mt19937_64(seed) turned into doubles bit by bit: the same points on
+// every platform (the CLI's --random N --seed S). Throws Error for a density that is not
+// finite and positive (naming the point), or a domain that 1000 n + 10^6 candidates miss.
+std::vector<double> random_points2(const Domain2& domain, std::uint32_t n, std::uint64_t seed,
+                                   const Density2& density = {});
+
 // ---------------------------------------------------------------------------------------
 // 3D: the CVT energy of sites in the volume of a Domain3 (eq. 1 with the clipped cells of
 // ClippedVoronoi3), its gradient (eq. 2) and its minimisation, with sites that may be
