@@ -659,6 +659,20 @@ void bind_clip(py::module_& m) {
         py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("callback") = py::none(),
         py::arg("threads") = 0);
   m.def(
+      "random_points2",
+      [](const Domain2& domain, const py::object& n_arg, const py::object& seed_arg,
+         const py::object& density) {
+        const auto n = static_cast<std::uint32_t>(count_arg(n_arg, "n", UINT32_MAX));
+        const std::uint64_t seed = count_arg(seed_arg, "seed", UINT64_MAX);
+        std::shared_ptr<PyDensity> callback;
+        const Density2 rho = density2(density, callback);
+        std::vector<double> xy;
+        run_released(py::int_(0), [&] { xy = random_points2(domain, n, seed, rho); });
+        if (callback) callback->rethrow();
+        return to_array(std::move(xy), {py::ssize_t{n}, 2});
+      },
+      py::arg("domain"), py::arg("n"), py::arg("seed") = 1, py::arg("density") = py::none());
+  m.def(
       "random_points3",
       [](const Domain3& domain, const py::object& n_arg, const py::object& seed_arg,
          const py::object& density, const py::object& threads) {

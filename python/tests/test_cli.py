@@ -79,6 +79,25 @@ def test_clip3d_vtu_polygons_face_out_of_their_cells(cli, data, tmp_path):
     np.testing.assert_allclose(enclosed, 0.729 * volumes, rtol=1e-9, atol=1e-12)
 
 
+def test_random_points_2d_are_the_clis_random_sites(cli, data, tmp_path):
+    # The CLI's start sites (cvt2d --iterations 0), uniform and with a density: cvt2d draws
+    # with rho^(1/2), so --density (1+10*x)^2 draws with 1 + 10x (sqrt(v*v) == v exactly).
+    domain = data / "polygons" / "valid" / "dude.json"
+    for extra, density in (([], None), (["--density", "(1+10*x)^2"], lambda x, y: 1 + 10 * x)):
+        out = tmp_path / "s.txt"
+        run(cli, "cvt2d", domain, "--random", 500, "--seed", 3, "--iterations", 0, "-o", out,
+            *extra)
+        cli_sites = np.loadtxt(out)
+        points = voroclip.random_points(domain, 500, seed=3, density=density)
+        assert points.shape == (500, 2)
+        assert np.array_equal(points, cli_sites)
+        assert (voroclip.domain2(domain).locate(points) == 1).all()
+    # rho = 1 + 10x pulls the points to larger x.
+    d = voroclip.domain2(domain)
+    assert (voroclip.random_points(d, 2000, density=lambda x, y: 1 + 10 * x)[:, 0].mean()
+            > voroclip.random_points(d, 2000)[:, 0].mean())
+
+
 def test_mesh2d_agrees_with_cli(cli, tmp_path):
     import meshio
 

@@ -5,6 +5,7 @@ L^2, volumes L^3, energies L^4 in 2D and L^5 in 3D, times a density's unit)."""
 from __future__ import annotations
 
 import json
+import os
 import warnings
 from typing import Callable, NamedTuple, Optional
 
@@ -240,13 +241,34 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
                                                       _threads(threads)))
 
 
+def _is_2d_domain(domain) -> bool:
+    if isinstance(domain, _core.Domain2):
+        return True
+    if isinstance(domain, (str, os.PathLike)):
+        name = os.fspath(domain).lower()
+        if name.endswith(".gz"):
+            name = name[:-3]
+        return name.endswith((".json", ".poly"))
+    return False
+
+
 def random_points(domain, n: int, seed: int = 1, density=None, *,
                   threads: Optional[int] = None) -> np.ndarray:
-    """(n, 3) points strictly inside a 3D domain (anything :func:`domain3` takes), drawn
-    independently with density ``density`` (None: uniform; a callable rho(x, y, z); one
-    value per vertex of the domain's tet mesh), decided inside exactly. The library's
-    generator (std::mt19937_64(seed), turned into doubles bit by bit): the same points on
-    every platform, and the CLI's ``--random n --seed seed`` sites."""
+    """Points strictly inside a domain, drawn independently with density ``density``,
+    decided inside exactly:
+
+    * 3D, (n, 3): a domain :func:`domain3` takes; ``density`` None (uniform), a callable
+      rho(x, y, z) or one value per vertex of the domain's tet mesh;
+    * 2D, (n, 2): a :class:`Domain2` (from :func:`domain2`) or a ``.json`` / ``.poly``
+      path; ``density`` None (uniform), a callable rho(x, y) or a grid tuple, as
+      :func:`clip2d` takes it.
+
+    A density is drawn by rejection against twice the largest value among the first
+    max(1024, min(n, 65536)) uniform points. The library's generator (std::mt19937_64(seed),
+    turned into doubles bit by bit): the same points on every platform, and the CLI's
+    ``--random n --seed seed`` sites."""
+    if _is_2d_domain(domain):
+        return _core.random_points2(domain2(domain), n, seed, density)
     return _core.random_points3(domain3(domain), n, seed, density, _threads(threads))
 
 
