@@ -35,6 +35,7 @@
 // point with a margin that dominates the rounding). A pair is tested in its first common
 // cell only, so each once.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <iterator>
@@ -67,12 +68,18 @@ bool same_side_on_line(const double* a, const double* b, const double* c) {
   return (a[axis] > b[axis]) == (c[axis] > b[axis]);
 }
 
+// (x, y), each coordinate in the shortest decimal that reads back to it (160.57125 as the
+// file wrote it, not 160.57124999999999).
 std::string point_text(const double* p) {
-  std::ostringstream out;
-  out.imbue(std::locale::classic());
-  out.precision(17);
-  out << '(' << p[0] << ", " << p[1] << ')';
-  return out.str();
+  char buf[64];
+  char* end = buf;
+  *end++ = '(';
+  end = std::to_chars(end, buf + sizeof buf, p[0]).ptr;
+  *end++ = ',';
+  *end++ = ' ';
+  end = std::to_chars(end, buf + sizeof buf, p[1]).ptr;
+  *end++ = ')';
+  return std::string(buf, end);
 }
 
 int sign_int(Sign s) { return static_cast<int>(s); }
