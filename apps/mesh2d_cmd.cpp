@@ -1,6 +1,7 @@
 // voroclip mesh2d: CVT triangle mesh of a polygonal domain (voroclip/mesh.h), its quality
 // report, and the mesh written as an SVG picture, VTK .vtu, Medit .mesh or Gmsh .msh.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -34,14 +35,15 @@ void check_mesh_tags(const PolygonRings& rings, const Domain2& domain, bool gmsh
   const std::string other_formats = ", or write .vtu or .mesh, which take any integer tag";
   for (std::size_t k = 0; k < rings.region_attributes.size(); ++k) {
     const double value = rings.region_attributes[k];
-    std::ostringstream text;
-    text << std::setprecision(17) << value;
+    char text_buf[32];
+    const std::string text_value(text_buf,
+                                 std::to_chars(text_buf, text_buf + sizeof text_buf, value).ptr);
     if (!(value == std::floor(value) && std::fabs(value) <= 2147483647.0)) {
-      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text.str() +
+      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text_value +
                   ", not an integer: mesh regions are tagged by integers");
     }
     if (gmsh && value < 1) {
-      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text.str() + gmsh_fix +
+      throw Error(domain.source() + ": " + domain.region_name(k) + " is " + text_value + gmsh_fix +
                   "regional attributes >= 1" + other_formats);
     }
   }
