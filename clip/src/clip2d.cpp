@@ -40,6 +40,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -980,6 +981,8 @@ struct Clip2Impl {
 
 void ClippedVoronoi2::compute(const Domain2& domain, const Delaunay2& dt,
                               const Clip2Options& options) {
+  nb_auxiliary_ = 0;
+  seconds_delaunay_ = 0;
   if (domain.nb_rings() == 0) throw Error("clip2d: the domain is empty");
   if (dt.nb_points() == 0) throw Error("clip2d: no sites");
   if (!ws_) ws_ = std::make_unique<Workspace>();  // a moved-from object
@@ -990,6 +993,90 @@ void ClippedVoronoi2::compute(const Domain2& domain, const Delaunay2& dt,
     cells_.clear();  // partly written
     throw;
   }
+}
+
+namespace {
+
+// The dimension of the affine hull of n >= 1 points (0: one point, 1: a line, 2: the
+// plane), decided exactly, and a direction along the line (dimension 1).
+int affine_dimension2(const double* xy, std::uint32_t n, double* along) {
+  const double* a = xy;
+  std::uint32_t j = 1;
+  while (j < n && xy[2 * j] == a[0] && xy[2 * j + 1] == a[1]) ++j;
+  if (j == n) return 0;
+  const double* b = xy + 2 * std::size_t{j};
+  for (std::uint32_t k = j + 1; k < n; ++k) {
+    if (orient2d(a, b, xy + 2 * std::size_t{k}) != Sign::zero) return 2;
+  }
+  along[0] = b[0] - a[0];
+  along[1] = b[1] - a[1];
+  return 1;
+}
+
+}  // namespace
+
+void ClippedVoronoi2::compute(const Domain2& domain, const double* sites, std::uint32_t n,
+                              const Clip2Options& options) {
+  if (n == 0) throw Error("clip2d: no sites");
+  if (domain.nb_rings() == 0) throw Error("clip2d: the domain is empty");
+  const auto t0 = std::chrono::steady_clock::now();
+  sites_.assign(sites, sites + 2 * std::size_t{n});
+  double lo[2], hi[2];
+  // A non-finite coordinate: the triangulation names the site.
+  const bool finite = finite_bounding_box(sites, n, 2, lo, hi) == n;
+  double along[2] = {1, 0};
+  const int dimension = finite ? affine_dimension2(sites, n, along) : 2;
+  std::uint32_t k = 0;
+  if (dimension < 2) {
+    // One site, or sites on one line: 3 or 2 auxiliary sites at distance L >= 4 D from the
+    // centre c of the bounding box B of the domain and the sites (diagonal D). A point x
+    // of the domain is within D of every site and at least L - D/2 > D from an auxiliary
+    // site, so the auxiliary cells miss the domain and every site's cell is what it is
+    // without them, exactly: the predicates decide on the sites as given; the auxiliary
+    // coordinates only have to be far, not exact.
+    double blo[2], bhi[2];
+    for (int a = 0; a < 2; ++a) {
+      blo[a] = std::min(lo[a], domain.bbox_lo()[a]);
+      bhi[a] = std::max(hi[a], domain.bbox_hi()[a]);
+    }
+    const double c[2] = {0.5 * blo[0] + 0.5 * bhi[0], 0.5 * blo[1] + 0.5 * bhi[1]};
+    const double diagonal = std::hypot(bhi[0] - blo[0], bhi[1] - blo[1]);
+    const double far = std::ldexp(1.0, std::ilogb(std::max(diagonal, 1e-300)) + 3);  // >= 4 D
+    std::vector<std::array<double, 2>> directions;
+    if (dimension == 1) {  // both ways across the line
+      const double l = std::hypot(along[0], along[1]);
+      directions = {{-along[1] / l, along[0] / l}, {along[1] / l, -along[0] / l}};
+    } else {  // a triangle around c
+      const double h = std::sqrt(3.0) / 2;
+      directions = {{1, 0}, {-0.5, h}, {-0.5, -h}};
+    }
+    for (const auto& d : directions) {
+      const double q[2] = {c[0] + far * d[0], c[1] + far * d[1]};
+      if (!std::isfinite(q[0]) || !std::isfinite(q[1])) {
+        throw Error("clip2d: the sites do not span the plane (" +
+                    std::string(dimension == 0 ? "one point" : "one line") +
+                    ") and lie too far out for auxiliary sites beyond them");
+      }
+      sites_.push_back(q[0]);
+      sites_.push_back(q[1]);
+    }
+    k = static_cast<std::uint32_t>(directions.size());
+  }
+  dt_.build(sites_.data(), n + k);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  compute(domain, dt_, options);
+  seconds_delaunay_ = seconds;
+  if (k == 0) return;
+  // The auxiliary cells are empty and last: dropping them leaves every offset in place.
+  for (std::uint32_t i = n; i < n + k; ++i) {
+    if (cells_[i].area != 0 || cells_[i].boundary != 0) {
+      throw Error("clip2d: internal error: an auxiliary site's cell meets the domain");
+    }
+  }
+  cells_.resize(n);
+  if (!cell_ring_begin_.empty()) cell_ring_begin_.resize(std::size_t{n} + 1);
+  nb_auxiliary_ = k;
 }
 
 }  // namespace voroclip

@@ -373,8 +373,7 @@ class Problem {
   }
 
   void clip_current() {
-    dt_.build(sites_.data(), static_cast<std::uint32_t>(n_));
-    cv_.compute(domain_, dt_, clip_options_);
+    cv_.compute(domain_, sites_.data(), static_cast<std::uint32_t>(n_), clip_options_);
   }
 
   const Domain2& domain_;
@@ -387,7 +386,6 @@ class Problem {
   double objective_scale_ = 1;
   Eigen::VectorXd unscaled_;
   Clip2Options clip_options_;
-  Delaunay2 dt_;
   ClippedVoronoi2 cv_;
   std::uint32_t evaluations_ = 0;
 };
@@ -402,11 +400,10 @@ double cvt_energy2(const Domain2& domain, const std::vector<double>& sites, cons
                    std::vector<double>* gradient) {
   if (sites.size() % 2 != 0) throw Error("cvt2d: the site array has an odd length");
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
-  const Delaunay2 dt(sites.data(), n);
   ClippedVoronoi2 cv;
   Clip2Options o;
   o.density = density;
-  cv.compute(domain, dt, o);
+  cv.compute(domain, sites.data(), n, o);
   if (gradient) {
     gradient->resize(sites.size());
     for (std::uint32_t i = 0; i < n; ++i) {

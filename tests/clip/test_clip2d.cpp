@@ -418,3 +418,108 @@ TEST_CASE("clip2d: sites far outside the domain", "[clip][regression]") {
   const Delaunay2 dt(three.data(), 3);
   CHECK_THROWS_WITH(clip(d, dt), Catch::Contains("too far from the domain"));
 }
+
+TEST_CASE("clip2d: one site, or sites on one line, with far auxiliary sites",
+          "[clip][degenerate]") {
+  // They have no Delaunay triangulation of their own; compute(domain, sites, n) adds 3 (a
+  // point) or 2 (a line) far sites whose cells miss the domain. Facts checked: areas and
+  // centroids from closed forms, the rings, and random probes in the nearest site's cell.
+  const Domain2 holed(rings_of({square(0, 0, 1, 1), square(0.1, 0.6, 0.3, 0.9)}));
+  const Domain2 unit(rings_of({square(0, 0, 1, 1)}));
+  const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-12; };
+  const auto probe = [](const Domain2& d, const ClippedVoronoi2& cv, const std::vector<double>& s) {
+    const auto n = static_cast<std::uint32_t>(s.size() / 2);
+    const std::vector<double> probes = sample_inside(d, 2000, 7);
+    for (std::size_t q = 0; q < probes.size(); q += 2) {
+      const double* p = &probes[q];
+      std::uint32_t best = 0;  // the nearest site, the first of equal ones (no ties here)
+      for (std::uint32_t i = 1; i < n; ++i) {
+        const auto d2 = [&](std::uint32_t k) {
+          return (p[0] - s[2 * k]) * (p[0] - s[2 * k]) +
+                 (p[1] - s[2 * k + 1]) * (p[1] - s[2 * k + 1]);
+        };
+        if (d2(i) < d2(best)) best = i;
+      }
+      INFO("probe (" << p[0] << ", " << p[1] << "), nearest site " << best);
+      REQUIRE(winding(cv, cv.cell_ring_begin(best), cv.cell_ring_begin(best + 1), p) == 1);
+    }
+  };
+  voroclip::Clip2Options o;
+  o.keep_geometry = true;
+  ClippedVoronoi2 cv;
+
+  SECTION("one site, inside, outside, or repeated: the whole domain") {
+    // Holed square: area 1 - 0.06, centroid from the square's minus the hole's.
+    const double area = 0.94;
+    const double cx = (0.5 - 0.06 * 0.2) / area, cy = (0.5 - 0.06 * 0.75) / area;
+    for (const std::vector<double>& s :
+         {std::vector<double>{0.7, 0.2}, {2.5, -3}, {0.7, 0.2, 0.7, 0.2, 0.7, 0.2}}) {
+      INFO(s.size() / 2 << " sites at (" << s[0] << ", " << s[1] << ")");
+      cv.compute(holed, s.data(), static_cast<std::uint32_t>(s.size() / 2), o);
+      CHECK(cv.nb_auxiliary_sites() == 3);
+      REQUIRE(cv.nb_sites() == s.size() / 2);
+      CHECK(near(cv.area(0), area));
+      CHECK(near(cv.total_area(), area));
+      CHECK(near(cv.centroid(0)[0], cx));
+      CHECK(near(cv.centroid(0)[1], cy));
+      // Energy: a rectangle's integral of |x - s|^2 is its area (|c - s|^2 + (w^2 + h^2) / 12).
+      const auto moment = [&](double x0, double y0, double w, double h) {
+        const double dx = x0 + w / 2 - s[0], dy = y0 + h / 2 - s[1];
+        return w * h * (dx * dx + dy * dy + (w * w + h * h) / 12);
+      };
+      CHECK(std::fabs(cv.energy(0) - (moment(0, 0, 1, 1) - moment(0.1, 0.6, 0.2, 0.3))) <=
+            1e-12 * cv.energy(0));
+      CHECK(cv.is_boundary(0));
+      for (std::uint32_t i = 1; i < cv.nb_sites(); ++i) CHECK(cv.area(i) == 0);
+      // Its rings: the domain's two.
+      REQUIRE(cv.cell_ring_begin(1) - cv.cell_ring_begin(0) == 2);
+      CHECK(near(ring_area(cv, cv.cell_ring_begin(0)) + ring_area(cv, cv.cell_ring_begin(0) + 1),
+                 area));
+      probe(holed, cv, s);
+    }
+  }
+
+  SECTION("sites on one line: strips, also through domain vertices") {
+    // Along the diagonal: bisectors x + y = a + b; {x + y <= t} in the unit square has area
+    // t^2 / 2 (t <= 1) or 1 - (2 - t)^2 / 2.
+    const std::vector<double> diagonal = {0.6, 0.6, 0.1, 0.1, 0.9, 0.9, 0.3, 0.3};
+    cv.compute(unit, diagonal.data(), 4, o);
+    CHECK(cv.nb_auxiliary_sites() == 2);
+    REQUIRE(cv.nb_sites() == 4);
+    CHECK(near(cv.area(1), 0.08));
+    CHECK(near(cv.area(3), 0.405 - 0.08));
+    CHECK(near(cv.area(0), 0.875 - 0.405));
+    CHECK(near(cv.area(2), 0.125));
+    CHECK(near(cv.total_area(), 1));
+    probe(unit, cv, diagonal);
+    // Two sites whose bisector x + y = 1 runs through the corners (1, 0) and (0, 1).
+    const std::vector<double> corners = {0, 0, 1, 1};
+    cv.compute(unit, corners.data(), 2, o);
+    CHECK(cv.nb_auxiliary_sites() == 2);
+    CHECK(near(cv.area(0), 0.5));
+    CHECK(near(cv.area(1), 0.5));
+    CHECK(near(cv.centroid(0)[0], 1.0 / 3));
+    CHECK(near(cv.centroid(1)[1], 2.0 / 3));
+    // Horizontal: x = 0.35 and x = 0.7 cut the holed square, the hole in the first strip.
+    const std::vector<double> row = {0.2, 0.5, 0.5, 0.5, 0.9, 0.5};
+    cv.compute(holed, row.data(), 3, o);
+    CHECK(near(cv.area(0), 0.35 - 0.06));
+    CHECK(near(cv.area(1), 0.35));
+    CHECK(near(cv.area(2), 0.3));
+    probe(holed, cv, row);
+  }
+
+  SECTION("sites that span the plane: as on their own triangulation, bit for bit") {
+    const std::vector<double> s = sample_inside(holed, 300, 11);
+    cv.compute(holed, s.data(), 300, o);
+    CHECK(cv.nb_auxiliary_sites() == 0);
+    const Delaunay2 dt(s.data(), 300);
+    const ClippedVoronoi2 ref = clip(holed, dt);
+    for (std::uint32_t i = 0; i < 300; ++i) {
+      CHECK(cv.area(i) == ref.area(i));
+      CHECK(cv.energy(i) == ref.energy(i));
+      CHECK(cv.centroid(i)[0] == ref.centroid(i)[0]);
+    }
+    CHECK(cv.vertex_coords() == ref.vertex_coords());
+  }
+}

@@ -425,3 +425,33 @@ TEST_CASE("random_points2: uniform, or drawn with the density, strictly inside",
   CHECK_THROWS_WITH(voroclip::random_points2(d, 100, 5, empty),
                     Catch::Contains("the density function is empty"));
 }
+
+TEST_CASE("cvt2d: one site, and two sites, converge (no triangulation of their own)",
+          "[cvt][degenerate]") {
+  // One site goes to the domain's centroid; two sites on a horizontal line in [0, 2] x [0, 1]
+  // stay on it (the gradient has no vertical part) and converge to (0.5, 0.5), (1.5, 0.5).
+  // Both used to fail in Delaunay2 ("at least 3 affinely independent points").
+  const Domain2 holed(rings_of({square(0, 0, 1, 1), square(0.1, 0.6, 0.3, 0.9)}));
+  const Domain2 rect(rings_of({square(0, 0, 2, 1)}));
+  for (const CvtMethod method : {CvtMethod::kLbfgs, CvtMethod::kLloyd}) {
+    INFO((method == CvtMethod::kLloyd ? "Lloyd" : "L-BFGS"));
+    Cvt2Options o;
+    o.method = method;
+    o.max_iterations = 200;
+    o.gradient_tolerance = 1e-9;
+    std::vector<double> one = {0.8, 0.1};
+    const auto r1 = voroclip::optimize_cvt2(holed, one, o);
+    CHECK(r1.converged);
+    CHECK(std::fabs(one[0] - (0.5 - 0.06 * 0.2) / 0.94) < 1e-9);
+    CHECK(std::fabs(one[1] - (0.5 - 0.06 * 0.75) / 0.94) < 1e-9);
+    std::vector<double> two = {0.2, 0.5, 1.1, 0.5};
+    const auto r2 = voroclip::optimize_cvt2(rect, two, o);
+    CHECK(r2.converged);
+    CHECK(std::fabs(two[0] - 0.5) < 1e-7);
+    CHECK(std::fabs(two[2] - 1.5) < 1e-7);
+    CHECK(two[1] == 0.5);
+    CHECK(two[3] == 0.5);
+    // Energy: two unit squares, each ∫|x - c|^2 = 1 / 6.
+    CHECK(std::fabs(r2.energy - 2.0 / 6) < 1e-12);
+  }
+}

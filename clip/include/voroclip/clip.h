@@ -243,6 +243,21 @@ class ClippedVoronoi2 {
   // `dt` must be a triangulation of the sites (its point array stays alive while this
   // object is used for geometry queries).
   void compute(const Domain2& domain, const Delaunay2& dt, const Clip2Options& options = {});
+  // The diagram of n >= 1 sites (packed x y), on this object's own copy of them and its own
+  // triangulation (delaunay()). Sites that do not span the plane (one site, or all on one
+  // line) have a well-defined clipped diagram too (the whole domain; strips): it is then
+  // computed with 3 (a point) or 2 (a line) auxiliary sites far outside the domain (input
+  // indices n, n + 1, ...: in delaunay() only; their cells miss the domain and are
+  // dropped), decided exactly. Otherwise the result is compute(domain, Delaunay2(sites, n))
+  // bit for bit.
+  void compute(const Domain2& domain, const double* sites, std::uint32_t n,
+               const Clip2Options& options = {});
+  // After compute(domain, sites, n): the triangulation of the sites (and of the auxiliary
+  // sites, if any), the number of auxiliary sites (0 when the sites span the plane) and the
+  // seconds the copy and the triangulation took.
+  const Delaunay2& delaunay() const { return dt_; }
+  std::uint32_t nb_auxiliary_sites() const { return nb_auxiliary_; }
+  double seconds_delaunay() const { return seconds_delaunay_; }
 
   std::uint32_t nb_sites() const { return static_cast<std::uint32_t>(cells_.size()); }
   double area(std::uint32_t i) const { return cells_[i].area; }
@@ -280,6 +295,11 @@ class ClippedVoronoi2 {
   std::vector<std::uint32_t> cell_ring_begin_, ring_vertex_begin_;
   std::vector<ClipVertex2> vertices_;
   std::vector<double> vertex_xy_;
+  // compute(domain, sites, n): the sites (then the auxiliary ones) and their triangulation.
+  std::vector<double> sites_;
+  Delaunay2 dt_;
+  std::uint32_t nb_auxiliary_ = 0;
+  double seconds_delaunay_ = 0;
   // Per-site and per-triangle working arrays, kept between calls so that a CVT's
   // repeated computes allocate nothing.
   struct Workspace;
