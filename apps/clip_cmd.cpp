@@ -319,36 +319,15 @@ struct SiteCheck {
   std::size_t outside = 0, repeated = 0;
 };
 
-// The 2D diagram is built on the sites' Delaunay triangulation, which needs three sites
-// not on one line (exact orientation); else the error names the file and what is needed.
-void check_sites_span_plane(const std::vector<double>& sites, const std::string& path) {
-  const std::size_t n = sites.size() / 2;
-  const std::string need =
-      "; a 2D diagram needs at least 3 distinct sites not all on one line (its cells come "
-      "from their Delaunay triangulation)";
-  const std::string file = path + " (--sites FILE): ";
-  if (n < 3) throw Error(file + count_of(n, "site") + need);
-  const double* a = &sites[0];
-  std::size_t j = 1;
-  while (j < n && sites[2 * j] == a[0] && sites[2 * j + 1] == a[1]) ++j;
-  if (j == n) throw Error(file + "all " + count_of(n, "site") + " are the same point" + need);
-  const double* b = &sites[2 * j];
-  for (std::size_t k = j + 1; k < n; ++k) {
-    if (orient2d(a, b, &sites[2 * k]) != Sign::zero) return;
-  }
-  throw Error(file + "all " + count_of(n, "site") + " lie on one line" + need);
-}
-
 // --random draws with density `draw` (cvt2d: rho^(1/2), a CVT's; uniform when constant).
 std::vector<double> load_sites(const ClipArgs& args, const Domain2& domain, SiteCheck& check,
                                Progress& progress, const Density2& draw = {}) {
   if (args.sites.empty() == !args.random_set) {
     throw UsageError("give exactly one of --sites FILE and --random N");
   }
-  if (args.random_set && args.random < 3) throw UsageError("--random: needs at least 3 sites");
+  if (args.random_set && args.random < 1) throw UsageError("--random: needs at least 1 site");
   if (args.random_set) return random_points2(domain, args.random, args.seed, draw);
   std::vector<double> sites = read_points(args.sites, 2);
-  check_sites_span_plane(sites, args.sites);
   std::vector<std::uint32_t> outside;
   for (std::size_t i = 0; i < sites.size() / 2; ++i) {
     if (domain.locate(&sites[2 * i]) == Sign::negative) {
@@ -375,17 +354,14 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   SiteCheck site_check;
   const std::vector<double> sites = load_sites(args, domain, site_check, progress);
   const auto n = static_cast<std::uint32_t>(sites.size() / 2);
-  progress.phase("Delaunay");
-  const auto t0 = std::chrono::steady_clock::now();
-  const Delaunay2 dt(sites.data(), n);
-  const double t_delaunay = seconds_since(t0);
   ClippedVoronoi2 cv;
   Clip2Options o;
   o.keep_geometry = !args.output.empty() || !args.neighbors.empty();
-  progress.phase("clipping");
-  const auto t1 = std::chrono::steady_clock::now();
-  cv.compute(domain, dt, o);
-  const double t_clip = seconds_since(t1);
+  progress.phase("Delaunay and clipping");
+  const auto t0 = std::chrono::steady_clock::now();
+  cv.compute(domain, sites.data(), n, o);
+  const double t_delaunay = cv.seconds_delaunay();
+  const double t_clip = seconds_since(t0) - t_delaunay;
   if (o.keep_geometry) {
     progress.phase("writing");
     write_output(args, domain, sites, cv);
@@ -393,7 +369,8 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   progress.done();
   if (options.stats_json) {
     std::cout << nlohmann::json{{"sites", n},
-                                {"unique_sites", dt.nb_unique_points()},
+                                {"unique_sites",
+                                 cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
                                 {"sites_outside", site_check.outside},
                                 {"duplicate_sites", site_check.repeated},
                                 {"boundary_sites", cv.nb_boundary_sites()},
@@ -455,12 +432,11 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   const Cvt2Result r = optimize_cvt2(domain, sites, o);
   if (!args.output.empty() || !args.neighbors.empty()) {
     progress.phase("writing");
-    const Delaunay2 dt(sites.data(), n);
     ClippedVoronoi2 cv;
     Clip2Options co;
     co.keep_geometry = true;
     co.density = o.density;
-    cv.compute(domain, dt, co);
+    cv.compute(domain, sites.data(), n, co);
     write_output(args, domain, sites, cv);
   }
   progress.done();

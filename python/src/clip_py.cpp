@@ -81,7 +81,8 @@ struct SiteCheck {
       }
     }
   }
-  // Delaunay2 numbers its points as given: the smallest index of equal ones is the vertex.
+  // Delaunay2 numbers its points as given (auxiliary sites from n on): the smallest index of
+  // equal ones is the vertex.
   void find_repeated(const Delaunay2& dt, std::uint32_t n) {
     for (std::uint32_t i = 0; i < n; ++i) {
       if (dt.duplicate_of(i) != i) repeated.push_back(static_cast<std::int32_t>(i));
@@ -280,7 +281,7 @@ py::dict clip2d(const Domain2& domain, const py::object& sites_arg, const py::ob
                 const py::object& threads) {
   const DoubleArray sites = double_array(sites_arg, "sites");
   const std::uint32_t n = rows(sites, 2, "sites");
-  if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
+  if (n == 0) throw Error("sites: at least 1 site is needed, got 0");
   std::shared_ptr<PyDensity> callback;
   Clip2Options o;
   o.density = density2(density, callback);
@@ -292,10 +293,9 @@ py::dict clip2d(const Domain2& domain, const py::object& sites_arg, const py::ob
   ClippedVoronoi2 cv;
   SiteCheck check;
   run_clip(threads, progress, [&] {
-    const Delaunay2 dt(sites.data(), n);
-    cv.compute(domain, dt, o);
+    cv.compute(domain, sites.data(), n, o);
     check.find_outside(domain, sites.data(), n, 2);
-    check.find_repeated(dt, n);
+    check.find_repeated(cv.delaunay(), n);
   });
   if (callback) callback->rethrow();
   std::vector<double> area(n), mass(n), energy(n), centroid(2 * std::size_t{n});

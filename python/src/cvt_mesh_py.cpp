@@ -57,7 +57,7 @@ py::dict cvt2d(const Domain2& domain, const py::object& sites_arg, const py::obj
   const auto iterations =
       static_cast<std::uint32_t>(count_arg(iterations_arg, "iterations", UINT32_MAX));
   const std::uint32_t n = rows(sites, 2, "sites");
-  if (n < 3) throw Error("sites: at least 3 sites are needed, got " + std::to_string(n));
+  if (n == 0) throw Error("sites: at least 1 site is needed, got 0");
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) {
     throw Error("tolerance: expected a finite number >= 0");
   }

@@ -493,3 +493,29 @@ def test_regression_site_warning_for_sites_outside_or_repeated():
                       r"\(first: index 1,"):
         voroclip.clip3d((CUBE_V, CUBE_T), [(0.5, 0.5, 0.5)] * 2)
     _no_warning(voroclip.clip3d, (CUBE_V, CUBE_T), [(0.5, 0.5, 0.5)])
+
+
+def test_regression_clip2d_and_cvt2d_take_one_site_or_sites_on_a_line():
+    # They raised "sites: at least 3 sites are needed" (2D has no triangulation of fewer
+    # than 3 independent points); the library now adds far auxiliary sites, as in 3D.
+    holed = [[(0, 0), (1, 0), (1, 1), (0, 1)], [(0.1, 0.6), (0.3, 0.6), (0.3, 0.9), (0.1, 0.9)]]
+    one = voroclip.clip2d(holed, [(0.7, 0.2)], geometry=True, neighbors=True)
+    assert len(one) == 1 and one.areas[0] == pytest.approx(0.94, abs=1e-15)
+    assert one.centroids[0] == pytest.approx([(0.5 - 0.012) / 0.94, (0.5 - 0.045) / 0.94],
+                                             abs=1e-15)
+    assert sorted(round(abs(signed_area(r)), 12) for r in one.polygons(0)) == [0.06, 1.0]
+    ip, ix = one.neighbors
+    assert list(ip) == [0, 0] and len(ix) == 0
+    # On the diagonal: strips cut by x + y = 0.6 and x + y = 1.4.
+    line = voroclip.clip2d(holed[:1], [(0.1, 0.1), (0.5, 0.5), (0.9, 0.9)], neighbors=True)
+    assert line.areas == pytest.approx([0.18, 0.64, 0.18], abs=1e-15)
+    ip, ix = line.neighbors
+    assert [sorted(ix[ip[i]:ip[i + 1]]) for i in range(3)] == [[1], [0, 2], [1]]
+    with pytest.warns(voroclip.SiteWarning, match=r"1 site repeats an earlier site"):
+        two = voroclip.clip2d(holed[:1], [(0.3, 0.3), (0.3, 0.3)])
+    assert list(two.areas) == [pytest.approx(1, abs=1e-15), 0]
+    r = voroclip.cvt2d(holed, [(0.8, 0.1)], tolerance=1e-9)
+    assert r.converged
+    assert r.sites[0] == pytest.approx([(0.5 - 0.012) / 0.94, (0.5 - 0.045) / 0.94], abs=1e-9)
+    with pytest.raises(voroclip.Error, match=r"sites: at least 1 site is needed, got 0"):
+        voroclip.clip2d(holed, np.zeros((0, 2)))

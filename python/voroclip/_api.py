@@ -186,8 +186,9 @@ def _sites(sites, dim):
 def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
            callback: Optional[Callable[[dict], object]] = None,
            threads: Optional[int] = None) -> Cells:
-    """The Voronoi diagram of ``sites`` ((n, 2) array, n >= 3) clipped to a polygonal
-    domain (anything :func:`domain2` takes), every combinatorial decision exact.
+    """The Voronoi diagram of ``sites`` ((n, 2) array, n >= 1: one site or sites on a line
+    too) clipped to a polygonal domain (anything :func:`domain2` takes), every
+    combinatorial decision exact.
 
     ``density``: None (1), a number, a callable ``rho(x, y) -> float`` (integrated with a
     degree-5 rule, 7 points, per fan triangle: exact for rho of degree <= 3; called from
@@ -309,7 +310,7 @@ def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 1000, toleranc
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
           threads: Optional[int] = None) -> CvtResult:
     """Centroidal Voronoi tessellation in a polygonal domain: minimises the CVT energy
-    (sum of the cells' energies) from ``sites`` ((n, 2), not modified) by ``method``
+    (sum of the cells' energies) from ``sites`` ((n, 2), n >= 1, not modified) by ``method``
     'lbfgs' (L-BFGS-B) or 'lloyd', for at most ``iterations`` iterations or until
     |gradient| <= ``tolerance`` x |initial gradient|. ``callback(info)``: called at the start
     and after every iteration with a dict (iteration, energy, gradient_norm, seconds);

@@ -331,42 +331,57 @@ TEST_CASE("clip3d, clip2d: --binary / --compress refuse outputs without such a v
   CHECK(!exists(svg));
 }
 
-TEST_CASE("clip2d and cvt2d: fewer than 3 sites, or all on a line, name --sites and the need",
+TEST_CASE("clip2d and cvt2d: one site, two, or all on a line: strips of the domain",
           "[apps][regression]") {
-  // Their cells come from the sites' Delaunay triangulation: the error names the option and
-  // the file (it used to be Delaunay2's, naming neither) and writes nothing.
-  const std::string out = temp_path(".csv");
+  // They have no Delaunay triangulation of their own and used to be an error; now the
+  // library adds far auxiliary sites. In the unit square: the areas in closed form (strips
+  // cut by the bisectors), and cvt2d's single site goes to the centroid (energy 1/6).
+  const std::string domain = temp_path(".json"), out = temp_path(".json");
+  std::ofstream(domain) << "[[[0, 0], [1, 0], [1, 1], [0, 1]]]";
   struct Case {
     const char* text;
-    const char* what;
+    std::vector<double> areas;
+    int duplicates;
   };
   const Case cases[] = {
-      {"0.5 0.5\n", "1 site"},
-      {"0.2 0.5\n0.8 0.5\n", "2 sites"},
-      {"0.1 0.1\n0.5 0.5\n0.9 0.9\n", "all 3 sites lie on one line"},
-      {"0.3 0.3\n0.3 0.3\n0.3 0.3\n0.3 0.3\n", "all 4 sites are the same point"},
+      {"0.5 0.5\n", {1.0}, 0},
+      {"0.2 0.5\n0.8 0.5\n", {0.5, 0.5}, 0},
+      {"0.1 0.1\n0.5 0.5\n0.9 0.9\n", {0.18, 0.64, 0.18}, 0},  // x + y = 0.6, 1.4
+      {"0.3 0.3\n0.3 0.3\n0.3 0.3\n0.3 0.3\n", {1.0, 0, 0, 0}, 3},
   };
-  for (const char* command : {"clip2d", "cvt2d"}) {
-    for (const Case& c : cases) {
-      const std::string sites = temp_path(".txt");
-      std::ofstream(sites) << c.text;
-      const Run run = run_cli({command, "square-holes:1,0.2", "--sites", sites, "-o", out});
-      std::remove(sites.c_str());
-      CHECK(run.status == 1);
-      check_one_error_line(run);
-      CHECK(run.err == "voroclip: error: " + sites + " (--sites FILE): " + c.what +
-                           "; a 2D diagram needs at least 3 distinct sites not all on one line "
-                           "(its cells come from their Delaunay triangulation)\n");
-      CHECK(!exists(out));
+  for (const Case& c : cases) {
+    INFO(c.text);
+    const std::string sites = temp_path(".txt");
+    std::ofstream(sites) << c.text;
+    const Run run = run_cli(
+        {"-q", "clip2d", domain, "--sites", sites, "-o", out, "--stats", "json", "--threads", "1"});
+    REQUIRE(run.status == 0);
+    CHECK(run.err.empty() == (c.duplicates == 0));  // repeated sites: a warning
+    const nlohmann::json st = nlohmann::json::parse(run.out);
+    CHECK(st["sites"] == c.areas.size());
+    CHECK(st["unique_sites"] == c.areas.size() - static_cast<std::size_t>(c.duplicates));
+    CHECK(std::fabs(st["cells_area_sum"].get<double>() - 1) <= 1e-15);
+    const nlohmann::json j = nlohmann::json::parse(slurp(out));
+    REQUIRE(j["cells"].size() == c.areas.size());
+    for (std::size_t i = 0; i < c.areas.size(); ++i) {
+      CHECK(std::fabs(j["cells"][i]["area"].get<double>() - c.areas[i]) <= 1e-15);
+    }
+    const Run cvt = run_cli({"-q", "cvt2d", domain, "--sites", sites, "--stats", "json"});
+    std::remove(sites.c_str());
+    REQUIRE(cvt.status == 0);
+    const nlohmann::json sc = nlohmann::json::parse(cvt.out);
+    CHECK(sc["converged"] == true);
+    if (c.areas.size() == 1) {
+      CHECK(std::fabs(sc["energy"].get<double>() - 1.0 / 6) <= 1e-12);
     }
   }
-  // Three sites not on a line: fine.
-  const std::string sites = temp_path(".txt");
-  std::ofstream(sites) << "0.1 0.1\n0.2 0.8\n0.9 0.1\n";
-  const Run run = run_cli({"-q", "clip2d", "square-holes:1,0.2", "--sites", sites, "-o", out});
-  std::remove(sites.c_str());
-  CHECK(run.status == 0);
-  CHECK(exists(out));
+  // --random 1 and 2 draw and clip too.
+  for (const char* n : {"1", "2"}) {
+    const Run run = run_cli({"-q", "clip2d", domain, "--random", n, "--stats", "json"});
+    REQUIRE(run.status == 0);
+    CHECK(std::fabs(nlohmann::json::parse(run.out)["cells_area_sum"].get<double>() - 1) <= 1e-15);
+  }
+  std::remove(domain.c_str());
   std::remove(out.c_str());
 }
 
