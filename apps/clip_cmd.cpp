@@ -241,10 +241,10 @@ void write_clip_vtu(std::ostream& out, const ClippedVoronoi2& cv, VtuEncoding en
   write_vtu(out, xy.data(), nv, 2, {rings}, encoding, {}, tags);
 }
 
+// Each coordinate in the shortest decimal that reads back to its bits.
 void write_sites(std::ostream& out, const std::vector<double>& sites) {
-  out << std::setprecision(17);
   for (std::size_t i = 0; i < sites.size() / 2; ++i) {
-    out << sites[2 * i] << ' ' << sites[2 * i + 1] << '\n';
+    out << format_double(sites[2 * i]) << ' ' << format_double(sites[2 * i + 1]) << '\n';
   }
 }
 

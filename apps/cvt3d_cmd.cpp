@@ -22,12 +22,13 @@ namespace voroclip::cli {
 
 namespace {
 
+// Each coordinate in the shortest decimal that reads back to its bits.
 void write_sites3(std::ostream& out, const std::vector<double>& sites, bool csv) {
-  out << std::setprecision(17);
   if (csv) out << "x,y,z\n";
   const char sep = csv ? ',' : ' ';
   for (std::size_t i = 0; i < sites.size() / 3; ++i) {
-    out << sites[3 * i] << sep << sites[3 * i + 1] << sep << sites[3 * i + 2] << '\n';
+    out << format_double(sites[3 * i]) << sep << format_double(sites[3 * i + 1]) << sep
+        << format_double(sites[3 * i + 2]) << '\n';
   }
 }
 

@@ -158,6 +158,7 @@ TEST_CASE("cvt3d / cvt2d --iterations 0 and 1: the start sites; the counts in th
                                 "--iterations", "0", "--progress", "none", "-o", out.path});
       REQUIRE(zero.status == 0);
       CHECK(read_numbers(slurp(out.path)) == read_numbers(c.sites));
+      CHECK(slurp(out.path) == c.sites);  // the shortest decimals: "0.1", not 0.10000000000000001
       CHECK(contains(zero.out, "0 iterations, 1 diagram, "));
       CHECK(contains(zero.out, "stopped: iteration budget"));
       const Run one = run_cli({c.command, c.domain.path, "--sites", start.path, "--method", method,
