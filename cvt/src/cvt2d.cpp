@@ -15,6 +15,7 @@
 #include <string>
 
 #include "cvt_range.h"
+#include "rejection_sampling.h"
 #include "voroclip/cvt.h"
 
 namespace voroclip {
@@ -574,8 +575,7 @@ Cvt2Result optimize_cvt2(const Domain2& domain, std::vector<double>& sites,
 
 std::vector<double> random_points2(const Domain2& domain, std::uint32_t n, std::uint64_t seed,
                                    const Density2& density) {
-  std::mt19937_64 rng(seed);
-  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  detail::Uniform01 uniform(seed);
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
   const std::uint64_t max_tries = 1000 * std::uint64_t{n} + 1000000;
@@ -605,30 +605,10 @@ std::vector<double> random_points2(const Domain2& domain, std::uint32_t n, std::
     }
     return r;
   };
-  double bound = 0;
-  if (!density.is_constant()) {
-    if (density.kind == Density2::Kind::kCallback && !density.callback) {
-      throw Error("random_points2: the density function is empty");
-    }
-    const std::uint32_t m = std::max<std::uint32_t>(1024, std::min<std::uint32_t>(n, 65536));
-    for (std::uint32_t i = 0; i < m; ++i) {
-      double p[2];
-      draw(p);
-      bound = std::max(bound, value(p));
-    }
-    bound *= 2;
+  if (density.kind == Density2::Kind::kCallback && !density.callback) {
+    throw Error("random_points2: the density function is empty");
   }
-  std::vector<double> xy;
-  xy.reserve(2 * std::size_t{n});
-  for (std::uint32_t i = 0; i < n; ++i) {
-    double p[2];
-    for (;;) {
-      draw(p);
-      if (bound == 0 || uniform() * bound <= value(p)) break;
-    }
-    xy.insert(xy.end(), p, p + 2);
-  }
-  return xy;
+  return detail::rejection_sample<2>(n, !density.is_constant(), uniform, draw, value);
 }
 
 }  // namespace voroclip

@@ -20,6 +20,7 @@
 #include <string>
 
 #include "cvt_range.h"
+#include "rejection_sampling.h"
 #include "voroclip/cvt.h"
 
 namespace voroclip {
@@ -412,8 +413,7 @@ Cvt3Result optimize_cvt3(const Domain3& domain, std::vector<double>& sites,
 
 std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::uint64_t seed,
                                    const Density3& density) {
-  std::mt19937_64 rng(seed);
-  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  detail::Uniform01 uniform(seed);
   std::vector<double> xyz;
   xyz.reserve(3 * std::size_t{n});
   if (density.kind == Density3::Kind::kVertexLinear) {
@@ -493,26 +493,11 @@ std::vector<double> random_points3(const Domain3& domain, std::uint32_t n, std::
     }
     return r;
   };
-  double bound = 0;
-  if (density.kind == Density3::Kind::kCallback) {
-    if (!density.callback) throw Error("random_points3: the density function is empty");
-    const std::uint32_t m = std::max<std::uint32_t>(1024, std::min<std::uint32_t>(n, 65536));
-    for (std::uint32_t i = 0; i < m; ++i) {
-      double p[3];
-      draw(p);
-      bound = std::max(bound, value(p));
-    }
-    bound *= 2;
+  if (density.kind == Density3::Kind::kCallback && !density.callback) {
+    throw Error("random_points3: the density function is empty");
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    double p[3];
-    for (;;) {
-      draw(p);
-      if (bound == 0 || uniform() * bound <= value(p)) break;
-    }
-    xyz.insert(xyz.end(), p, p + 3);
-  }
-  return xyz;
+  return detail::rejection_sample<3>(n, density.kind == Density3::Kind::kCallback, uniform, draw,
+                                     value);
 }
 
 }  // namespace voroclip
