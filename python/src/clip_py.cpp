@@ -2,7 +2,6 @@
 // clip3d) as dicts of owned numpy arrays.
 #include <algorithm>
 #include <chrono>
-#include <mutex>
 
 #include "common.h"
 #include "voroclip/clip.h"

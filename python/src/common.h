@@ -16,8 +16,6 @@
 #include <utility>
 #include <vector>
 
-#include <mutex>
-
 #include "voroclip/clip.h"
 #include "voroclip/core.h"
 
@@ -99,19 +97,24 @@ class Progress {
 class PyDensity {
  public:
   explicit PyDensity(py::object f) : f_(std::move(f)) {}
+  // Called from worker threads. The GIL is all the locking: error_ is read and written only
+  // while this thread holds it, between Python calls (the interpreter may hand the GIL to
+  // another thread while f_ runs, so a second lock taken after the GIL would deadlock with
+  // a thread that holds it and waits for the GIL). The first error is kept.
   double operator()(double x, double y, double z, int dim) {
     py::gil_scoped_acquire acquire;
-    std::lock_guard<std::mutex> lock(mutex_);
     if (error_) return 1.0;
     double v = 1.0;
     try {
       v = (dim == 2 ? f_(x, y) : f_(x, y, z)).cast<double>();
     } catch (py::error_already_set& e) {
-      error_ = std::make_unique<py::error_already_set>(std::move(e));
+      if (!error_) error_ = std::make_unique<py::error_already_set>(std::move(e));
       return 1.0;
     } catch (py::cast_error&) {
-      PyErr_SetString(PyExc_TypeError, "density: the function must return a number");
-      error_ = std::make_unique<py::error_already_set>();
+      if (!error_) {
+        PyErr_SetString(PyExc_TypeError, "density: the function must return a number");
+        error_ = std::make_unique<py::error_already_set>();
+      }
       return 1.0;
     }
     if (!(v > 0) || !std::isfinite(v)) {
@@ -131,7 +134,6 @@ class PyDensity {
 
  private:
   py::object f_;
-  std::mutex mutex_;
   std::unique_ptr<py::error_already_set> error_;
 };
 

@@ -3,6 +3,7 @@
 import os
 import signal
 import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -431,3 +432,26 @@ def test_regression_to_meshio_3d_names_and_gmsh_writing(tmp_path):
     med = m.to_meshio("medit")
     assert np.array_equal(med.cells_dict["tetra"], m.cells)
     assert np.array_equal(med.cell_data_dict["medit:ref"]["triangle"], tags)
+
+
+def test_regression_density_callable_on_two_threads_does_not_deadlock(data):
+    # PyDensity took the GIL, then a mutex; while one worker ran the callable (holding the
+    # mutex) the interpreter handed the GIL to another, which then waited for the mutex: a
+    # hang at 0 % CPU that Ctrl-C could not stop (2 runs of 2 hung with the switch interval
+    # below). A liveness check in a child process: the timeout is a hang's, not a speed's.
+    child = (
+        "import sys, warnings, voroclip\n"
+        "sys.setswitchinterval(1e-6)\n"
+        "warnings.simplefilter('ignore')\n"
+        "d = voroclip.domain3(sys.argv[1])\n"
+        "s = voroclip.random_points(d, 100, seed=1)\n"
+        "r = voroclip.cvt3d(d, s, iterations=3, density=lambda x, y, z: 1.0 + x * x, threads=2)\n"
+        "c = voroclip.clip2d([(0, 0), (1, 0), (1, 1), (0, 1)], [(0.2, 0.3), (0.7, 0.6)],\n"
+        "                    density=lambda x, y: 1.0 + y, threads=2)\n"
+        "print(r.iterations, round(c.total_mass, 12))\n")
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(voroclip.__file__)))
+    for _ in range(3):
+        out = subprocess.run([sys.executable, "-c", child, str(data / "tetmeshes" / "sphere.mesh")],
+                             capture_output=True, text=True, timeout=300, env=env)
+        assert out.returncode == 0, out.stderr
+        assert out.stdout.split() == ["3", "1.5"]
