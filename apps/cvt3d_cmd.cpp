@@ -51,7 +51,9 @@ CLI::App* add_cvt3d_command(CLI::App& app, Cvt3dArgs& args, const std::string& d
       ->type_name("N");
   cmd->add_option("--seed", args.seed, "Seed of --random (default 1)")->type_name("S");
   cmd->add_option("--method", args.method, "lbfgs (default) or lloyd")->type_name("NAME");
-  cmd->add_option("--iterations", args.iterations, "Iteration budget (default 100)")
+  cmd->add_option("--iterations", args.iterations,
+                  "Iteration budget (default 1000, as cvt2d's: enough for L-BFGS to "
+                  "reach the default tolerance on the shared models from random sites)")
       ->type_name("N");
   cmd->add_option("--tolerance", args.tolerance,
                   "Stop when |gradient| <= tolerance * initial |gradient| (default 1e-4)")

@@ -22,7 +22,7 @@ struct Cvt3dArgs {
   bool random_set = false;
   std::uint64_t seed = 1;
   std::string method = "lbfgs";
-  std::uint32_t iterations = 100;
+  std::uint32_t iterations = 1000;
   double tolerance = 1e-4;
   std::string output;  // .txt / .csv sites, .vtu / .json / .obj cells; empty: no file
   DensityArgs density;

@@ -321,7 +321,7 @@ def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 1000, toleranc
     return _cvt_result(r)
 
 
-def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 100, tolerance: float = 1e-4,
+def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 1000, tolerance: float = 1e-4,
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
           threads: Optional[int] = None) -> CvtResult:
     """Centroidal Voronoi tessellation in a 3D volume; as :func:`cvt2d` with (n, 3)

@@ -187,7 +187,7 @@ struct Cvt3Options {
   CvtMethod method = CvtMethod::kLbfgs;
   // Iterations: Lloyd steps, or L-BFGS points accepted with a lower energy (a line search
   // may accept several in one L-BFGS iteration; each counts), as Cvt2Options (0 included).
-  std::uint32_t max_iterations = 100;
+  std::uint32_t max_iterations = 1000;
   // Stop when |g| <= gradient_tolerance * |g_0| (g_0: the gradient at the start).
   double gradient_tolerance = 1e-4;
   std::uint32_t lbfgs_memory = 7;
