@@ -274,8 +274,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     // corners included).
     const std::uint32_t asked = r.nb_bodies > 1 ? r.nb_sites - r.nb_topology_sites
                                                 : r.requested_vertices << r.shape_retries;
-    *out << "note: " << r.nb_topology_sites << " sites added (" << asked << " -> " << r.nb_sites
-         << ") where " << asked
+    // Only the topology's sites: the final count also has the lattice's deviation from the
+    // count asked and the sliver phase's sites.
+    *out << "note: " << count_of(r.nb_topology_sites, "site") << " added where " << asked
          << " did not resolve the surface (restricted Voronoi cells not disks, or a part in "
             "fewer than four cells); "
             "--exact-vertices fails instead\n";
