@@ -830,6 +830,26 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     throw Error("mesh3d: smooth_shape " + std::to_string(options.smooth_shape) +
                 "; expected a value in [0, 1]");
   }
+  // As the command line's checks: NaN fails every comparison, so each test is written to
+  // refuse it.
+  if (!(options.perturbation.target_dihedral_deg >= 0 &&
+        options.perturbation.target_dihedral_deg < 70.5)) {
+    throw Error("mesh3d: sliver angle (perturbation.target_dihedral_deg) " +
+                std::to_string(options.perturbation.target_dihedral_deg) +
+                "; expected degrees in [0, 70.5)");
+  }
+  if (!(options.lfs_cap >= 0) || !std::isfinite(options.lfs_cap)) {
+    throw Error("mesh3d: lfs_cap " + std::to_string(options.lfs_cap) +
+                "; expected a finite number >= 0 (0: no cap)");
+  }
+  if (!(options.gradient_tolerance >= 0) || !std::isfinite(options.gradient_tolerance)) {
+    throw Error("mesh3d: gradient_tolerance " + std::to_string(options.gradient_tolerance) +
+                "; expected a finite number >= 0");
+  }
+  if (!(options.min_feature_length >= 0) || !std::isfinite(options.min_feature_length)) {
+    throw Error("mesh3d: min_feature_length " + std::to_string(options.min_feature_length) +
+                "; expected a finite number >= 0");
+  }
   if (domain.surface().nb_triangles() == 0) throw Error("mesh3d: the domain has no boundary");
   const std::vector<Domain3> bodies = mesh3::domain_bodies(domain);
   if (!bodies.empty()) return mesh3::mesh3d_bodies(domain, bodies, options);

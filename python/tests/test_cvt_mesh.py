@@ -455,3 +455,16 @@ def test_regression_density_callable_on_two_threads_does_not_deadlock(data):
                              capture_output=True, text=True, timeout=300, env=env)
         assert out.returncode == 0, out.stderr
         assert out.stdout.split() == ["3", "1.5"]
+
+
+@pytest.mark.parametrize("option, value, name", [
+    ("sliver_angle", float("nan"), "sliver angle"), ("sliver_angle", 80.0, "sliver angle"),
+    ("sliver_angle", -1.0, "sliver angle"), ("lfs_cap", -1.0, "lfs_cap"),
+    ("lfs_cap", float("nan"), "lfs_cap"), ("gradient_tolerance", float("nan"), "gradient_tolerance"),
+    ("gradient_tolerance", -1e-4, "gradient_tolerance"),
+    ("min_feature_length", float("nan"), "min_feature_length")])
+def test_regression_mesh3d_refuses_options_the_cli_refuses(option, value, name):
+    # They were taken (sliver_angle=nan even changed the mesh); the CLI refuses its
+    # equivalents as usage errors. Now the library refuses them before any work.
+    with pytest.raises(voroclip.Error, match="^mesh3d: " + name):
+        voroclip.mesh3d((CUBE_V, CUBE_T), vertices=300, **{option: value})
