@@ -570,7 +570,8 @@ void bind_domains(py::module_& m) {
           "from_tets",
           [](const py::object& vertices_arg, const py::object& tets_arg,
              const py::object& triangles_arg, const py::object& tet_tags_arg,
-             const py::object& triangle_tags_arg, const std::string& source) {
+             const py::object& triangle_tags_arg, const std::string& source,
+             const std::vector<std::tuple<int, std::int32_t, std::string>>& tag_names) {
             const DoubleArray vertices = double_array(vertices_arg, "vertices");
             const IndexArray tets = index_array(tets_arg, "tets");
             const IndexArray triangles = index_array(triangles_arg, "triangles");
@@ -593,14 +594,23 @@ void bind_domains(py::module_& m) {
             }
             mesh.tet_ref = as_tags(tet_tags, nt, "tet_tags");
             mesh.triangle_ref = as_tags(triangle_tags, mesh.nb_triangles(), "triangle_tags");
+            for (const auto& [dimension, tag, name] : tag_names) {
+              if (dimension != 2 && dimension != 3) {
+                throw Error("tag_names: dimension " + std::to_string(dimension) + " of tag " +
+                            std::to_string(tag) + "; expected 2 (patches) or 3 (regions)");
+              }
+              mesh.tag_names.push_back({dimension, tag, name});
+            }
             py::gil_scoped_release release;
             return Domain3(mesh);
           },
           "The volume of a tet mesh: (n, 3) vertices, (t, 4) tets, (m, 3) boundary or "
           "interface triangles, t tet tags and m triangle tags (each may be empty); `source` "
-          "names it in messages.",
+          "names it in messages; `tag_names`: (dimension, tag, name) triples, dimension 2 "
+          "for triangle tags and 3 for tet tags (as a Gmsh file's physical names).",
           py::arg("vertices"), py::arg("tets"), py::arg("triangles"), py::arg("tet_tags"),
-          py::arg("triangle_tags"), py::arg("source"))
+          py::arg("triangle_tags"), py::arg("source"),
+          py::arg("tag_names") = std::vector<std::tuple<int, std::int32_t, std::string>>{})
       .def_static(
           "read",
           [](const std::string& path, bool reorient) {

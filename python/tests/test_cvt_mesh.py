@@ -468,3 +468,26 @@ def test_regression_mesh3d_refuses_options_the_cli_refuses(option, value, name):
     # equivalents as usage errors. Now the library refuses them before any work.
     with pytest.raises(voroclip.Error, match="^mesh3d: " + name):
         voroclip.mesh3d((CUBE_V, CUBE_T), vertices=300, **{option: value})
+
+
+def test_regression_meshio_domain_keeps_names_and_the_readers_tag_order():
+    # A meshio.Mesh domain lost field_data's names ('region 7', not 'steel') and took
+    # gmsh:physical before region (the file readers take region first, README).
+    import meshio
+
+    tets = np.array([(0, 1, 3, 7), (0, 1, 7, 5), (0, 5, 7, 4), (0, 3, 2, 7), (0, 2, 6, 7),
+                     (0, 6, 4, 7)])
+    x = CUBE_V[tets]
+    det = np.einsum("ij,ij->i", np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), x[:, 3] - x[:, 0])
+    tets[det < 0] = tets[det < 0][:, [0, 2, 1, 3]]
+    tris = np.array(CUBE_T)
+    mesh = meshio.Mesh(CUBE_V, [("tetra", tets), ("triangle", tris)],
+                       cell_data={"gmsh:physical": [np.full(6, 3), np.full(12, 4)],
+                                  "region": [np.full(6, 7), np.zeros(12, dtype=int)],
+                                  "patch": [np.zeros(6, dtype=int), np.full(12, 5)]},
+                       field_data={"steel": np.array([7, 3]), "skin": np.array([5, 2]),
+                                   "point": np.array([1, 0])})
+    m = voroclip.mesh3d(mesh, vertices=200, threads=1)
+    assert set(m.cell_tags.tolist()) == {7}
+    assert set(m.boundary_tags.tolist()) == {5}
+    assert (3, 7, "steel") in m.tag_names and (2, 5, "skin") in m.tag_names

@@ -94,8 +94,8 @@ def domain2(domain) -> _core.Domain2:
                          np.asarray(polygon, dtype=np.int64), "rings")
 
 
-_TET_TAGS = ("gmsh:physical", "medit:ref", "region", "cell_tags")
-_TRI_TAGS = ("gmsh:physical", "medit:ref", "patch", "cell_tags")
+_TET_TAGS = ("region", "gmsh:physical", "medit:ref", "cell_tags")
+_TRI_TAGS = ("patch", "gmsh:physical", "medit:ref", "cell_tags")
 
 
 def _meshio_domain(mesh, reorient):
@@ -122,8 +122,15 @@ def _meshio_domain(mesh, reorient):
 
     tets, tet_tags = join("tetra", 4)
     triangles, tri_tags = join("triangle", 3)
+    # Physical names, as meshio keeps them: field_data {name: [tag, dimension]}.
+    names = []
+    for name, value in (getattr(mesh, "field_data", None) or {}).items():
+        v = np.asarray(value).ravel()
+        if v.size == 2 and int(v[1]) in (2, 3):
+            names.append((int(v[1]), int(v[0]), str(name)))
     if len(tets):
-        return _core.Domain3.from_tets(points, tets, triangles, tet_tags, tri_tags, "meshio.Mesh")
+        return _core.Domain3.from_tets(points, tets, triangles, tet_tags, tri_tags, "meshio.Mesh",
+                                       sorted(names))
     if len(triangles):
         return _core.Domain3.from_surface(points, triangles, "meshio.Mesh", reorient)
     raise Error("domain: the meshio.Mesh has neither tetra nor triangle cells")
@@ -138,8 +145,11 @@ def domain3(domain, reorient: bool = False) -> _core.Domain3:
       ``.node``/``.ele``, ``.msh``, ``.vtk``, ``.vtu``);
     * a ``(vertices, triangles)`` pair: (n, 3) float coordinates and (m, 3) vertex indices
       from 0, the triangles oriented outward (``reorient=True`` fixes inside-out shells);
-    * a ``meshio.Mesh`` with ``tetra`` cells (a tet mesh; ``triangle`` cells and the
-      ``gmsh:physical`` / ``medit:ref`` tags come along) or only ``triangle`` cells.
+    * a ``meshio.Mesh`` with ``tetra`` cells (a tet mesh; ``triangle`` cells, their tags
+      and the names in ``field_data`` come along: a tet's tag from the cell data
+      ``region``, else ``gmsh:physical``, else ``medit:ref``, a triangle's from ``patch``,
+      else ``gmsh:physical``, else ``medit:ref``, as the files' readers take them) or only
+      ``triangle`` cells.
 
     Raises :class:`voroclip.Error` for an open, non-manifold or self-intersecting surface,
     naming the faces.
