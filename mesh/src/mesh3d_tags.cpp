@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <iterator>
 #include <numeric>
 #include <string>
@@ -346,6 +347,77 @@ std::vector<std::int32_t> region_tags(const Domain3& domain, const std::vector<d
   return tags;
 }
 
+std::int32_t UntaggedTags::map(const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs,
+                               std::int32_t t) {
+  for (const auto& [from, to] : pairs) {
+    if (from == t) return to;
+  }
+  return t;
+}
+
+std::string UntaggedTags::name(int dimension, std::int32_t t) const {
+  for (const auto& [from, to] : dimension == 2 ? patch : region) {
+    if (to != t) continue;
+    if (from == 0) return dimension == 2 ? "untagged boundary" : "untagged region";
+    return (dimension == 2 ? "boundary tagged " : "region tagged ") + std::to_string(from);
+  }
+  return "";
+}
+
+namespace {
+
+// Pairs (tag, fresh tag) for the tags of `tags` not above 0 (0, -1, -2, ...), the fresh
+// tags the smallest positive ones not in `used`.
+std::vector<std::pair<std::int32_t, std::int32_t>> fresh_tags(std::vector<std::int32_t> tags,
+                                                              std::vector<std::int32_t> used) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+  tags.erase(std::remove_if(tags.begin(), tags.end(), [](std::int32_t t) { return t > 0; }),
+             tags.end());
+  std::sort(tags.begin(), tags.end(), std::greater<>());
+  tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+  std::sort(used.begin(), used.end());
+  std::int32_t next = 1;
+  for (const std::int32_t t : tags) {
+    while (std::binary_search(used.begin(), used.end(), next)) ++next;
+    pairs.emplace_back(t, next++);
+  }
+  return pairs;
+}
+
+}  // namespace
+
+UntaggedTags untagged_tags(const Domain3& domain) {
+  UntaggedTags u;
+  const std::vector<std::int32_t>& triangle_refs = domain.boundary_refs();
+  const std::vector<std::int32_t>& tet_refs = domain.tet_refs();
+  std::vector<std::int32_t> used_2, used_3;
+  for (const TetMeshInput::TagName& n : domain.tag_names()) {
+    if (n.dimension == 2) used_2.push_back(n.tag);
+    if (n.dimension == 3) used_3.push_back(n.tag);
+  }
+  if (std::any_of(triangle_refs.begin(), triangle_refs.end(),
+                  [](std::int32_t t) { return t <= 0; })) {
+    used_2.insert(used_2.end(), triangle_refs.begin(), triangle_refs.end());
+    // The file's tags of inner triangles (interfaces, embedded surfaces) are taken too.
+    for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+      for (int f = 0; f < 4; ++f) {
+        const std::uint32_t n = domain.tet_adjacent(t, f);
+        if (n == Domain3::kNone || n < t) continue;
+        std::uint32_t v[3];
+        for (int k = 0; k < 3; ++k) v[k] = domain.tet_vertex(t, Domain3::kTetFacetVertex[f][k]);
+        const std::int32_t tag = domain.inner_triangle_ref(v[0], v[1], v[2]);
+        if (tag != 0) used_2.push_back(tag);
+      }
+    }
+    u.patch = fresh_tags(triangle_refs, std::move(used_2));
+  }
+  if (std::any_of(tet_refs.begin(), tet_refs.end(), [](std::int32_t t) { return t <= 0; })) {
+    used_3.insert(used_3.end(), tet_refs.begin(), tet_refs.end());
+    u.region = fresh_tags(tet_refs, std::move(used_3));
+  }
+  return u;
+}
+
 void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
                const std::vector<std::uint32_t>& triangle_patch, const SurfacePatches& patches,
                const std::vector<std::uint32_t>& index, const TetRegions* regions,
@@ -382,12 +454,18 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
   // order) when the file tags it; the interfaces' patches keep p + 1 (tag_interfaces tags
   // the interface triangles).
   const std::vector<std::int32_t>& input_tags = domain.boundary_refs();
-  for (std::size_t t = input_tags.size(); t-- > 0;) patch_tag[triangle_patch[t]] = input_tags[t];
+  // Untagged (0) and negative tags become fresh positive ones (untagged_tags).
+  const UntaggedTags untagged = untagged_tags(domain);
+  for (std::size_t t = input_tags.size(); t-- > 0;)
+    patch_tag[triangle_patch[t]] = UntaggedTags::map(untagged.patch, input_tags[t]);
   result.boundary_tags = patch_tags(result.boundary_triangles, vertex_patch_begin, vertex_patch,
                                     patch_tag, triangle_patch, closest);
   result.tet_tags =
       region_tags(domain, result.xyz, result.tets, face_tet, closest,
                   regions ? &regions->region : nullptr, result.nb_tets_across_regions);
+  if (!untagged.region.empty()) {
+    for (std::int32_t& t : result.tet_tags) t = UntaggedTags::map(untagged.region, t);
+  }
   name_and_group_tags(domain, result);
 }
 
@@ -409,6 +487,7 @@ void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
       interface_names.push_back(n);
   }
   result.tag_names = domain.tag_names();
+  const UntaggedTags untagged = untagged_tags(domain);
   const auto name_the_rest = [&](int dimension, std::vector<std::int32_t> tags, const char* what) {
     std::sort(tags.begin(), tags.end());
     tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
@@ -416,7 +495,9 @@ void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
       const bool named = std::any_of(
           result.tag_names.begin(), result.tag_names.end(),
           [&](const TetMeshInput::TagName& n) { return n.dimension == dimension && n.tag == t; });
-      if (!named) result.tag_names.push_back({dimension, t, what + std::to_string(t)});
+      if (named) continue;
+      const std::string fresh = untagged.name(dimension, t);
+      result.tag_names.push_back({dimension, t, fresh.empty() ? what + std::to_string(t) : fresh});
     }
   };
   for (const TetMeshInput::TagName& n : interface_names) {

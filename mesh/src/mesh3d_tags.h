@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "voroclip/mesh.h"
@@ -80,8 +82,31 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
                const std::vector<std::uint32_t>& index, const TetRegions* regions,
                Mesh3Result& result);
 
+// Tags for what the input leaves untagged, so that every boundary triangle and every tet of
+// the mesh has a positive tag (a Gmsh physical tag; a solver's condition needs one): per
+// input tag not above 0 (0: no tag; a Medit ref may be negative), the fresh positive tag it
+// becomes, pairs (input tag, fresh tag) in the order 0, -1, -2, ..., the fresh tags the
+// smallest positive ones the input does not use in that dimension (its tags and its tag
+// names; for triangles, the inner triangles' too), in increasing order. E.g. a Gmsh box with
+// only its inlet (11) and outlet (12) in physical surfaces: its walls' triangles, tag 0,
+// become patch 1, named "untagged boundary"; tets of refs 0 and -3: regions 1 and 2.
+// Without a triangle tag (boundary_refs empty) there is no patch pair; without a tet tag,
+// no region pair.
+struct UntaggedTags {
+  std::vector<std::pair<std::int32_t, std::int32_t>> patch, region;
+  // The fresh tag of input tag t (t itself when it is positive or has none).
+  static std::int32_t map(const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs,
+                          std::int32_t t);
+  // The name of fresh tag t in `dimension` (2, 3): "untagged boundary" / "untagged region"
+  // for the one of tag 0, "boundary tagged <t>" / "region tagged <t>" for a negative tag's;
+  // empty when t is no fresh tag.
+  std::string name(int dimension, std::int32_t t) const;
+};
+UntaggedTags untagged_tags(const Domain3& domain);
+
 // The end of tag_mesh3, also for meshes put together from several (mesh3d_bodies): the
-// count of the input's regions, the tag names (the input's, then "patch <tag>" and "region
-// <tag>" for the tags used without one) and the boundary triangles grouped by tag (stable).
+// count of the input's regions, the tag names (the input's, then untagged_tags' names, then
+// "patch <tag>" and "region <tag>" for the tags used without one) and the boundary triangles
+// grouped by tag (stable).
 void name_and_group_tags(const Domain3& domain, Mesh3Result& result);
 }  // namespace voroclip::mesh3

@@ -289,6 +289,77 @@ TEST_CASE("mesh3d keeps a tet mesh's region and boundary tags", "[mesh][exact]")
   CHECK(r.nb_tets_across_regions == across);
 }
 
+TEST_CASE("mesh3d gives the input's untagged boundary and regions fresh positive tags",
+          "[mesh][regression]") {
+  // Trial 04: a Gmsh box whose physical surfaces are its inlet and outlet only (the walls'
+  // triangles, untagged, are not even in the file) meshed fully, then failed writing .msh
+  // ("physical tags are positive"); .mesh gave the walls tag 0, and tets of ref 0 or -3 kept
+  // those. Here the Kuhn cube with its x faces tagged 10 and its y and z faces untagged (0),
+  // its tets of refs 0 and -3, and names taking tags 1 and 2 in both dimensions.
+  voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  in.triangle_ref = {10, 10, 0, 0, 0, 0, 10, 10, 0, 0, 0, 0};
+  in.tet_ref = {0, -3, 0, -3, -3, 0};
+  in.tag_names = {{3, 1, "steel"}, {3, 2, "copper"}, {2, 2, "unused"}, {2, 10, "x faces"}};
+  const Domain3 d(in);
+  const Mesh3Result r = voroclip::mesh3d(d, small_options(300));
+  CHECK(r.shape_problem.empty());
+  check_boundary(r);
+  // The untagged boundary: the smallest positive triangle tag the input does not use (1);
+  // the regions: 0 the smallest free region tag (3), -3 the next (4).
+  const double lo[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double hi[3] = {0.1 + 1.0 / 3, 0.1 + 1.0 / 3, 0.1 + 1.0 / 3};
+  std::map<std::int32_t, std::size_t> patch_count;
+  for (std::size_t b = 0; b < r.boundary_tags.size(); ++b) {
+    const int f = box_face(r, &r.boundary_triangles[3 * b], lo, hi);
+    REQUIRE(f >= 0);
+    REQUIRE(f < 6);
+    CHECK(r.boundary_tags[b] == (f / 2 == 0 ? 10 : 1));  // box_face: x faces 0, 1
+    ++patch_count[r.boundary_tags[b]];
+  }
+  CHECK(patch_count.size() == 2);
+  CHECK(patch_count[1] > 0);
+  CHECK(patch_count[10] > 0);
+  const std::set<std::int32_t> regions(r.tet_tags.begin(), r.tet_tags.end());
+  CHECK(regions == std::set<std::int32_t>{3, 4});
+  std::vector<voroclip::TetMeshInput::TagName> names = in.tag_names;
+  names.push_back({2, 1, "untagged boundary"});
+  names.push_back({3, 3, "untagged region"});
+  names.push_back({3, 4, "region tagged -3"});
+  CHECK(r.tag_names == names);
+  // The same tags in every format, read back (Gmsh wrote none of them before).
+  voroclip::TetMeshInput out;
+  out.xyz = r.xyz;
+  out.tets = r.tets;
+  out.tet_ref = r.tet_tags;
+  out.triangles = r.boundary_triangles;
+  out.triangle_ref = r.boundary_tags;
+  out.tag_names = r.tag_names;
+  const voroclip_test::TempDir dir("mesh3d_untagged");
+  const std::pair<const char*, voroclip::TetMeshFormat> formats[] = {
+      {"out.msh", voroclip::TetMeshFormat::kGmsh41},
+      {"out22.msh", voroclip::TetMeshFormat::kGmsh22},
+      {"out.mesh", voroclip::TetMeshFormat::kMedit},
+      {"out.vtu", voroclip::TetMeshFormat::kVtu}};
+  for (const auto& [name, format] : formats) {
+    INFO(name);
+    const std::string path = dir.file(name);
+    REQUIRE_NOTHROW(voroclip::write_tet_mesh(path, out, format));
+    const voroclip::TetMeshInput back = voroclip::read_tet_mesh(path);
+    CHECK(back.triangle_ref == r.boundary_tags);
+    CHECK(back.tet_ref == r.tet_tags);
+    if (format == voroclip::TetMeshFormat::kGmsh41 || format == voroclip::TetMeshFormat::kGmsh22)
+      CHECK(back.tag_names == names);
+  }
+  // Tets all of ref 0: region 1, as a file without tet tags gets.
+  in.tet_ref.assign(6, 0);
+  in.tag_names.clear();
+  const Mesh3Result all_zero = voroclip::mesh3d(Domain3(in), small_options(300));
+  CHECK(std::set<std::int32_t>(all_zero.tet_tags.begin(), all_zero.tet_tags.end()) ==
+        std::set<std::int32_t>{1});
+  CHECK(std::all_of(all_zero.boundary_tags.begin(), all_zero.boundary_tags.end(),
+                    [](std::int32_t t) { return t == 1 || t == 10; }));
+}
+
 // The unit cube as a grid of n^3 voxels, six Kuhn tets each (around the diagonal of the
 // voxel), region 2 for the voxels with every index in [lo, hi), region 1 elsewhere: an
 // inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor
