@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <ostream>
@@ -72,6 +73,49 @@ struct RawCells {
   if (line == 0) throw Error(path + ": " + what);
   fail_at(path, line, what);
 }
+
+// Volume elements that are not read as tetrahedra (hexahedra, prisms, pyramids, ...). A
+// mesh with any is refused: its tets alone are part of its volume, and reading them
+// without a word would give a wrong domain. Counted per kind, the first of each kind kept
+// as the file numbers it (`where`: "element 7, type 5", "Hexahedra entry 1").
+class OtherVolumes {
+ public:
+  void add(std::string_view kind, std::string_view kinds, std::uint32_t line,
+           const std::function<std::string()>& where) {
+    for (Kind& k : kinds_) {
+      if (k.kind == kind) {
+        ++k.count;
+        return;
+      }
+    }
+    kinds_.push_back({std::string(kind), std::string(kinds), where(), line, 1});
+  }
+  // Throws when any was added, at the line of the first one.
+  void check(const std::string& path) const {
+    if (kinds_.empty()) return;
+    std::string what;
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < kinds_.size(); ++i) {
+      const Kind& k = kinds_[i];
+      what += i == 0 ? "" : i + 1 == kinds_.size() ? " and " : ", ";
+      what += std::to_string(k.count) + " " + (k.count == 1 ? k.kind : k.kinds) + " (" +
+              (k.count == 1 ? "" : "the first ") + k.where + ")";
+      total += k.count;
+    }
+    fail_in(path, kinds_.front().line,
+            what + (total == 1 ? " is not a tetrahedron" : " are not tetrahedra") +
+                ": only tetrahedral volume meshes are read; give the boundary surface "
+                "(.obj/.stl/.ply/.off) or a tet mesh");
+  }
+
+ private:
+  struct Kind {
+    std::string kind, kinds, where;
+    std::uint32_t line;
+    std::uint64_t count;
+  };
+  std::vector<Kind> kinds_;
+};
 
 // Tags as TetMeshInput keeps them: empty when all are 0.
 std::vector<std::int32_t> tags_or_empty(const std::vector<std::int32_t>& ref) {
@@ -241,6 +285,9 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
     lx.fail("MeshVersionFormatted " + std::to_string(version) + ": unknown version (1 to 4)");
   }
   bool tets_section = false;
+  OtherVolumes other_volumes;
+  std::unordered_map<std::string, std::uint64_t> other_numbered;
+  std::uint64_t p2_tets = 0;  // TetrahedraP2 entries, read past
   for (;;) {
     const std::string_view t = lx.next();
     if (t.empty()) break;  // "End" is optional in practice
@@ -277,12 +324,33 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
       }
     } else if (const int size = medit_skipped_section_size(kw); size > 0) {
       Section s{std::string(t), "entries", to_uint(lx, header_token(lx, std::string(t)), "count")};
+      // Volume elements not read: an error once the file is read (OtherVolumes), each
+      // numbered from 1 across sections of its kind, as Medit numbers them.
+      const char* other = kw == "hexahedra"  ? "hexahedron"
+                          : kw == "prisms"   ? "prism"
+                          : kw == "pyramids" ? "pyramid"
+                                             : nullptr;
+      if (kw == "tetrahedrap2") p2_tets += s.expected;
+      std::uint64_t& numbered = other_numbered[kw];
       for (; s.found < s.expected; ++s.found) {
-        for (int k = 0; k < size; ++k) entry_token(lx, s);
+        entry_token(lx, s);
+        if (other != nullptr) {
+          const std::string plural = kw == "hexahedra" ? "hexahedra" : std::string(other) + "s";
+          const std::uint64_t number = ++numbered;
+          other_volumes.add(other, plural, lx.line(),
+                            [&] { return s.name + " entry " + std::to_string(number); });
+        }
+        for (int k = 1; k < size; ++k) entry_token(lx, s);
       }
     } else {
       lx.fail("unknown Medit keyword " + quote(t));
     }
+  }
+  other_volumes.check(path);
+  if (tets.size() == 0 && p2_tets > 0) {
+    throw Error(path + ": no tetrahedra: the file has " +
+                count_of(p2_tets, "10-node tetrahedron", "10-node tetrahedra") +
+                " (TetrahedraP2), which are not read: give their corners as Tetrahedra");
   }
   if (tets.size() == 0) {
     throw Error(path + (tets_section ? ": the Tetrahedra section is empty"
@@ -467,11 +535,66 @@ struct GmshTags {
   // partitioned mesh refer to).
   std::unordered_map<std::uint64_t, std::int32_t> physical[4], partitioned[4];
   bool have_partitioned = false;
+  OtherVolumes other;  // volume elements not read: an error once $Elements is read
 };
 
-// The RawCells an element type goes to (nullptr: skipped).
+// The RawCells an element type goes to (nullptr: not read). Tetrahedra and triangles of
+// any order are read by their first 4 or 3 nodes, their corners in every Gmsh order
+// (10-node tets, type 11: corners, then mid-edge nodes); nodes used only by higher-order
+// elements are then vertices of no tet, as the points of a geometry are.
 RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles) {
-  return type == kGmshTet ? &tets : type == kGmshTriangle ? &triangles : nullptr;
+  switch (type) {
+    case kGmshTet:
+    case 11:  // 10 nodes
+    case 29:  // 20
+    case 30:  // 35
+    case 31:  // 56
+    case 32:  // 22
+    case 33:  // 28
+      return &tets;
+    case kGmshTriangle:
+    case 9:  // 6 nodes
+    case 20:
+    case 21:
+    case 22:
+    case 23:
+    case 24:
+    case 25:
+      return &triangles;
+    default:
+      return nullptr;
+  }
+}
+
+// The kind of a Gmsh volume element type not read as a tetrahedron (singular and plural),
+// as gmsh's GmshDefines.h names the types; {} for the types of lower dimension.
+std::pair<const char*, const char*> gmsh_other_volume(std::uint64_t type) {
+  if (type == 5 || type == 12 || type == 17 || type == 88 || (type >= 92 && type <= 105)) {
+    return {"hexahedron", "hexahedra"};
+  }
+  if (type == 6 || type == 13 || type == 18 || type == 89 || (type >= 90 && type <= 91) ||
+      (type >= 106 && type <= 117)) {
+    return {"prism", "prisms"};
+  }
+  if (type == 7 || type == 14 || type == 19 || (type >= 118 && type <= 132)) {
+    return {"pyramid", "pyramids"};
+  }
+  if (type == 35) return {"polyhedron", "polyhedra"};
+  if (type == 140) return {"trihedron", "trihedra"};
+  if ((type >= 71 && type <= 75) || (type >= 79 && type <= 83) || type == 87 || type == 136 ||
+      type == 137 || type == 139) {
+    return {"tetrahedron of an order not read", "tetrahedra of an order not read"};
+  }
+  return {nullptr, nullptr};
+}
+
+// Records element `tag` of `type` in `other` when it is a volume element not read.
+void note_gmsh_element(OtherVolumes& other, std::uint64_t tag, std::uint64_t type,
+                       std::uint32_t line) {
+  const auto [kind, kinds] = gmsh_other_volume(type);
+  if (kind == nullptr) return;
+  other.add(kind, kinds, line,
+            [&] { return "element " + std::to_string(tag) + ", type " + std::to_string(type); });
 }
 
 // $PhysicalNames (both formats): count, then `dimension tag "name"` per line.
@@ -562,13 +685,15 @@ void read_gmsh2_nodes(Lexer& lx, TetMeshInput& mesh, GmshNodes& nodes) {
 
 // $Elements, format 2: count, then "tag type ntags tag... node..." per element; the first
 // tag is the physical tag.
-void read_gmsh2_elements(Lexer& lx, RawCells& tets, RawCells& triangles) {
+void read_gmsh2_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTags& tags) {
   Section s{"$Elements", "elements", to_uint(lx, header_token(lx, "$Elements"), "count")};
   for (; s.found < s.expected; ++s.found) {
     const std::uint64_t tag = entry_uint(lx, s, "element tag");
     const std::uint32_t line = lx.line();
-    RawCells* cells = gmsh_cells(entry_uint(lx, s, "element type"), tets, triangles);
+    const std::uint64_t type = entry_uint(lx, s, "element type");
+    RawCells* cells = gmsh_cells(type, tets, triangles);
     if (cells == nullptr) {
+      note_gmsh_element(tags.other, tag, type, line);
       lx.skip_line();
       continue;
     }
@@ -633,7 +758,8 @@ void read_gmsh4_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTag
   for (std::uint64_t b = 0; b < blocks; ++b) {
     const std::uint64_t dim = entry_uint(lx, s, "entity dimension");
     const std::uint64_t entity = entry_uint(lx, s, "entity tag");
-    RawCells* cells = gmsh_cells(entry_uint(lx, s, "element type"), tets, triangles);
+    const std::uint64_t type = entry_uint(lx, s, "element type");
+    RawCells* cells = gmsh_cells(type, tets, triangles);
     const std::uint64_t in_block = entry_uint(lx, s, "element count");
     if (dim > 3) lx.fail("section $Elements: a block of entity dimension " + std::to_string(dim));
     if (in_block > s.expected - s.found) {
@@ -648,6 +774,8 @@ void read_gmsh4_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTag
         std::uint64_t idx[4];
         for (std::size_t k = 0; k < cells->per; ++k) idx[k] = entry_uint(lx, s, "node tag");
         cells->push(tag, line, idx, 0);
+      } else {
+        note_gmsh_element(tags.other, tag, type, line);
       }
       lx.skip_line();
     }
@@ -732,8 +860,9 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
 void finish_gmsh_file(const std::string& path, bool have_elements, const GmshTags& tags,
                       const GmshNodes& nodes, RawCells& tets, RawCells& triangles,
                       TetMeshInput& mesh) {
+  tags.other.check(path);
   if (tets.size() == 0) {
-    throw Error(path + (have_elements ? ": no tetrahedra (element type 4) in $Elements"
+    throw Error(path + (have_elements ? ": no tetrahedra (element type 4, 11, ...) in $Elements"
                                       : ": no tetrahedra (no $Elements section)"));
   }
   for (const GmshTags::Block& b : tags.blocks) {
@@ -795,7 +924,7 @@ TetMeshInput read_gmsh(const std::string& path, std::string text) {
       if (have_elements) lx.fail("a second $Elements section");
       have_elements = true;
       if (v2) {
-        read_gmsh2_elements(lx, tets, triangles);
+        read_gmsh2_elements(lx, tets, triangles, tags);
       } else {
         read_gmsh4_elements(lx, tets, triangles, tags);
       }
@@ -903,7 +1032,8 @@ void read_gmsh2_binary_nodes(GmshBinary& f, TetMeshInput& mesh, GmshNodes& nodes
 
 // $Elements, 2.2 binary: "count\n", then blocks: int type, int count, int ntags, then per
 // element int number, ntags ints (the first the physical tag), the node tags (ints).
-void read_gmsh2_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangles) {
+void read_gmsh2_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangles,
+                                GmshTags& tags) {
   const char* section = "section $Elements";
   const std::string_view t = f.in.token();
   std::uint64_t n = 0;
@@ -936,7 +1066,11 @@ void read_gmsh2_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangl
         const std::uint64_t node = f.i32(section);
         if (k < 4) idx[k] = node;
       }
-      if (cells != nullptr) cells->push(number, 0, idx, physical);
+      if (cells != nullptr) {
+        cells->push(number, 0, idx, physical);
+      } else {
+        note_gmsh_element(tags.other, number, type, 0);
+      }
     }
   }
   f.expect_end("$Elements", "$EndElements");
@@ -1060,7 +1194,11 @@ void read_gmsh4_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangl
         const std::uint64_t node = f.size(section);
         if (k < 4) idx[k] = node;
       }
-      if (cells != nullptr) cells->push(number, 0, idx, 0);
+      if (cells != nullptr) {
+        cells->push(number, 0, idx, 0);
+      } else {
+        note_gmsh_element(tags.other, number, type, 0);
+      }
     }
     if (cells != nullptr) tags.blocks.back().end = cells->size();
     found += in_block;
@@ -1122,7 +1260,7 @@ TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) 
     } else if (t == "$Elements") {
       once(have_elements);
       if (v2) {
-        read_gmsh2_binary_elements(f, tets, triangles);
+        read_gmsh2_binary_elements(f, tets, triangles, tags);
       } else {
         read_gmsh4_binary_elements(f, tets, triangles, tags);
       }
@@ -1160,6 +1298,69 @@ TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) 
 
 constexpr std::uint64_t kVtkTetra = 10;
 constexpr std::uint64_t kVtkTriangle = 5;
+
+// What the readers do with a VTK cell type (vtkCellType.h): read it as a tet or triangle
+// (`points` > 0) by its first `corners` points, which are its corners (VTK_QUADRATIC_TETRA
+// and VTK_QUADRATIC_TRIANGLE: corners, then mid-edge points; the mid-edge points are then
+// vertices of no tet), refuse it as a volume cell not read (`other`), or skip it.
+struct VtkCellKind {
+  std::uint64_t points = 0, corners = 0;
+  const char* name = nullptr;  // for messages: "10 (tetra)"
+  const char* other = nullptr;
+  const char* others = nullptr;
+};
+
+VtkCellKind vtk_cell_kind(std::uint64_t type) {
+  switch (type) {
+    case kVtkTetra:
+      return {4, 4, "10 (tetra)"};
+    case 24:
+      return {10, 4, "24 (quadratic tetra)"};
+    case kVtkTriangle:
+      return {3, 3, "5 (triangle)"};
+    case 22:
+      return {6, 3, "22 (quadratic triangle)"};
+    case 11:
+      return {0, 0, nullptr, "voxel", "voxels"};
+    case 12:
+    case 25:
+    case 29:
+    case 33:
+    case 67:
+    case 72:
+    case 79:
+      return {0, 0, nullptr, "hexahedron", "hexahedra"};
+    case 13:
+    case 26:
+    case 31:
+    case 32:
+    case 65:
+    case 73:
+    case 80:
+      return {0, 0, nullptr, "wedge", "wedges"};
+    case 14:
+    case 27:
+    case 37:
+    case 66:
+    case 74:
+    case 81:
+      return {0, 0, nullptr, "pyramid", "pyramids"};
+    case 15:
+      return {0, 0, nullptr, "pentagonal prism", "pentagonal prisms"};
+    case 16:
+      return {0, 0, nullptr, "hexagonal prism", "hexagonal prisms"};
+    case 41:
+      return {0, 0, nullptr, "convex point set", "convex point sets"};
+    case 42:
+      return {0, 0, nullptr, "polyhedron", "polyhedra"};
+    case 64:
+    case 71:
+    case 78:
+      return {0, 0, nullptr, "tetrahedron of an order not read", "tetrahedra of an order not read"};
+    default:
+      return {};
+  }
+}
 
 // The tag arrays of a legacy VTK file (ASCII or binary): the first CELL_DATA array of one
 // component of each name that may hold tags (kVtkTagNames); the tets' tags and the
@@ -1440,20 +1641,30 @@ void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_
                 const std::vector<std::int32_t>& region, const std::vector<std::int32_t>& patch,
                 TetMeshInput& mesh) {
   RawCells tets(4, "cell"), triangles(3, "cell");
+  OtherVolumes other;
   for (std::size_t c = 0; c < cell_type.size(); ++c) {
-    const bool tet = cell_type[c] == kVtkTetra;
-    if (!tet && cell_type[c] != kVtkTriangle) continue;
+    const VtkCellKind kind = vtk_cell_kind(cell_type[c]);
+    if (kind.points == 0) {
+      if (kind.other != nullptr) {
+        other.add(kind.other, kind.others, cell_line[c], [&] {
+          return "cell " + std::to_string(c) + ", type " + std::to_string(cell_type[c]);
+        });
+      }
+      continue;
+    }
+    const bool tet = kind.corners == 4;
     RawCells& raw = tet ? tets : triangles;
     const std::uint64_t k = cell_begin[c + 1] - cell_begin[c];
-    if (k != raw.per) {
+    if (k != kind.points) {
       fail_in(path, cell_line[c],
-              "cell " + std::to_string(c) + " of type " + (tet ? "10 (tetra)" : "5 (triangle)") +
-                  " has " + count_of(k, "point") + ", not " + std::to_string(raw.per));
+              "cell " + std::to_string(c) + " of type " + kind.name + " has " +
+                  count_of(k, "point") + ", not " + std::to_string(kind.points));
     }
     const std::vector<std::int32_t>& ref = tet ? region : patch;
     raw.push(c, cell_line[c], cell_index.data() + cell_begin[c], ref.empty() ? 0 : ref[c]);
   }
-  if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10)");
+  other.check(path);
+  if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10 or 24)");
   finish_mesh(path, tets, path, triangles, 0, mesh);
   mesh.numbering = "VTK numbering, from 0";
 }

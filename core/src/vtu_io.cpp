@@ -316,6 +316,70 @@ struct XmlElement {
   }
 };
 
+// What the reader does with a VTK cell type (vtkCellType.h), as tetmesh_io.cpp's legacy
+// VTK reader: read it as a tet or triangle (`corners` 4 or 3) by its first points, its
+// corners (VTK_QUADRATIC_TETRA and VTK_QUADRATIC_TRIANGLE: corners, then mid-edge points,
+// which are then points of no tet), refuse it as a volume cell not read (`other`), or skip.
+struct VtuCellKind {
+  std::uint64_t points = 0, corners = 0;
+  const char* name = nullptr;  // for messages: "10 (tetra)"
+  const char* other = nullptr;
+  const char* others = nullptr;
+};
+
+VtuCellKind vtu_cell_kind(double type) {
+  if (!(type >= 0 && type < 256) || type != std::floor(type)) return {};
+  switch (static_cast<int>(type)) {
+    case 10:
+      return {4, 4, "10 (tetra)"};
+    case 24:
+      return {10, 4, "24 (quadratic tetra)"};
+    case 5:
+      return {3, 3, "5 (triangle)"};
+    case 22:
+      return {6, 3, "22 (quadratic triangle)"};
+    case 11:
+      return {0, 0, nullptr, "voxel", "voxels"};
+    case 12:
+    case 25:
+    case 29:
+    case 33:
+    case 67:
+    case 72:
+    case 79:
+      return {0, 0, nullptr, "hexahedron", "hexahedra"};
+    case 13:
+    case 26:
+    case 31:
+    case 32:
+    case 65:
+    case 73:
+    case 80:
+      return {0, 0, nullptr, "wedge", "wedges"};
+    case 14:
+    case 27:
+    case 37:
+    case 66:
+    case 74:
+    case 81:
+      return {0, 0, nullptr, "pyramid", "pyramids"};
+    case 15:
+      return {0, 0, nullptr, "pentagonal prism", "pentagonal prisms"};
+    case 16:
+      return {0, 0, nullptr, "hexagonal prism", "hexagonal prisms"};
+    case 41:
+      return {0, 0, nullptr, "convex point set", "convex point sets"};
+    case 42:
+      return {0, 0, nullptr, "polyhedron", "polyhedra"};
+    case 64:
+    case 71:
+    case 78:
+      return {0, 0, nullptr, "tetrahedron of an order not read", "tetrahedra of an order not read"};
+    default:
+      return {};
+  }
+}
+
 class VtuReader {
  public:
   VtuReader(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
@@ -362,6 +426,13 @@ class VtuReader {
     const XmlElement* offsets = array_in("Cells", "offsets");
     const XmlElement* types = array_in("Cells", "types");
     if (conn == nullptr || offsets == nullptr || types == nullptr) {
+      // A file cut short inside a DataArray: say so, not that the arrays after it are missing.
+      for (const XmlElement& e : elements_) {
+        if (e.name == "DataArray" && e.content_end == kOpen) {
+          const std::string* name = e.attribute("Name");
+          fail(e.line, "DataArray " + (name ? *name : std::string("(no Name)")) + " is not closed");
+        }
+      }
       fail(piece->line, "Cells needs the data arrays connectivity, offsets and types");
     }
     const std::vector<double> off = values(*offsets, nb_cells, 1);
@@ -394,6 +465,13 @@ class VtuReader {
     const std::vector<double> patch_values = patch == nullptr  ? std::vector<double>{}
                                              : patch == region ? region_values
                                                                : values(*patch, nb_cells, 1);
+    // Volume cells not read (hexahedra, wedges, pyramids, ...), per kind: the count and the
+    // first; a mesh with any is refused (its tets alone are part of its volume).
+    struct Other {
+      const char *kind, *kinds;
+      std::size_t first, count;
+    };
+    std::vector<Other> others;
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);
@@ -401,16 +479,26 @@ class VtuReader {
         fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
                                 ", not in " + std::to_string(begin) + ".." + std::to_string(size));
       }
-      const bool tet = typ[c] == 10, triangle = typ[c] == 5;
+      const VtuCellKind kind = vtu_cell_kind(typ[c]);
+      const bool tet = kind.corners == 4, triangle = kind.corners == 3;
+      if (kind.other != nullptr) {
+        auto it = std::find_if(others.begin(), others.end(),
+                               [&](const Other& o) { return o.kind == kind.other; });
+        if (it == others.end()) {
+          others.push_back({kind.other, kind.others, c, 1});
+        } else {
+          ++it->count;
+        }
+      }
       if (tet || triangle) {
-        const std::uint64_t per = tet ? 4 : 3;
-        if (end - begin != per) {
-          fail(types->line, "cell " + std::to_string(c) + " of type " +
-                                (tet ? "10 (tetra)" : "5 (triangle)") + " has " +
-                                count_of(end - begin, "point") + ", not " + std::to_string(per));
+        if (end - begin != kind.points) {
+          fail(types->line, "cell " + std::to_string(c) + " of type " + kind.name + " has " +
+                                count_of(end - begin, "point") + ", not " +
+                                std::to_string(kind.points));
         }
         std::vector<std::uint32_t>& cells = tet ? mesh.tets : mesh.triangles;
-        for (std::uint64_t k = begin; k < end; ++k) {
+        // The corners: the first points (a quadratic cell's mid-edge points are not read).
+        for (std::uint64_t k = begin; k < begin + kind.corners; ++k) {
           const double v = idx[static_cast<std::size_t>(k)];
           // Negated: a NaN (from a Float64 connectivity) is out of range too.
           if (!(v >= 0 && v < static_cast<double>(nb_points))) {
@@ -440,7 +528,22 @@ class VtuReader {
         ref->clear();
       }
     }
-    if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10)");
+    if (!others.empty()) {
+      std::string what;
+      std::size_t total = 0;
+      for (std::size_t i = 0; i < others.size(); ++i) {
+        const Other& o = others[i];
+        what += i == 0 ? "" : i + 1 == others.size() ? " and " : ", ";
+        what += std::to_string(o.count) + " " + (o.count == 1 ? o.kind : o.kinds) + " (" +
+                (o.count == 1 ? "" : "the first ") + "cell " + std::to_string(o.first) + ", type " +
+                fmt(typ[o.first]) + ")";
+        total += o.count;
+      }
+      fail(types->line, what + (total == 1 ? " is not a tetrahedron" : " are not tetrahedra") +
+                            ": only tetrahedral volume meshes are read; give the boundary "
+                            "surface (.obj/.stl/.ply/.off) or a tet mesh");
+    }
+    if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10 or 24)");
     // PointData: the active scalars, else the first array of one component.
     if (const XmlElement* pd = find("PointData"); pd != nullptr) {
       const std::string* active = pd->attribute("Scalars");

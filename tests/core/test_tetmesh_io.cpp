@@ -563,12 +563,12 @@ TEST_CASE("read_tet_mesh: files without tetrahedra", "[core]") {
   path = write_temp("notet.msh",
                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n"
                     "3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n");
-  CHECK(error_of(path) == path + ": no tetrahedra (element type 4) in $Elements");
+  CHECK(error_of(path) == path + ": no tetrahedra (element type 4, 11, ...) in $Elements");
   path = write_temp("notet.vtk",
                     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                     "POINTS 3 double\n0 0 0 1 0 0 0 1 0\nCELLS 1 4\n3 0 1 2\n"
                     "CELL_TYPES 1\n5\n");
-  CHECK(error_of(path) == path + ": no tetrahedra (cell type 10)");
+  CHECK(error_of(path) == path + ": no tetrahedra (cell type 10 or 24)");
   write_temp("notet.node", "0 3 0 0\n");
   write_temp("notet.ele", "0 4 0\n");
   CHECK(error_of(temp().file("notet.ele")) == temp().file("notet.ele") + ": no tetrahedra");
@@ -1871,4 +1871,142 @@ TEST_CASE("read_tet_mesh: a UTF-8 BOM, CR-only line ends, gzip, directories",
   CHECK(error_of(dir) == dir + ": is a directory, not a file");
   std::filesystem::create_directories(dir + ".vtu");
   CHECK(error_of(dir + ".vtu") == dir + ".vtu: is a directory, not a file");
+}
+
+// ---------------------------------------------------------------------------------------
+// Volume elements other than tets, second-order tets.
+
+namespace {
+
+const std::string kNotTets =
+    ": only tetrahedral volume meshes are read; give the boundary surface "
+    "(.obj/.stl/.ply/.off) or a tet mesh";
+
+}  // namespace
+
+// Regression: a tet mesh with hexahedra, prisms or pyramids was read as its tets alone,
+// without a word (a domain of half the volume).
+TEST_CASE("read_tet_mesh: volume elements other than tets are refused in every format", "[core]") {
+  std::string path = write_temp("hex22.msh",
+                                "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+                                "$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n"
+                                "6 1 0 1\n7 1 1 1\n8 0 1 1\n$EndNodes\n"
+                                "$Elements\n5\n"
+                                "1 4 0 1 2 4 5\n"
+                                "7 5 0 1 2 3 4 5 6 7 8\n"
+                                "3 2 0 1 2 3\n"
+                                "8 5 0 1 2 3 4 5 6 7 8\n"
+                                "9 6 0 1 2 3 5 6 7\n"
+                                "$EndElements\n");
+  CHECK(error_of(path) == path +
+                              ":18: 2 hexahedra (the first element 7, type 5) and 1 prism "
+                              "(element 9, type 6) are not tetrahedra" +
+                              kNotTets);
+  path = write_temp("pyr41.msh",
+                    "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                    "$Nodes\n1 5 1 5\n3 1 0 5\n1\n2\n3\n4\n5\n"
+                    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 -1\n$EndNodes\n"
+                    "$Elements\n2 2 1 2\n3 1 4 1\n1 1 2 3 4\n3 1 7 1\n2 1 2 3 4 5\n"
+                    "$EndElements\n");
+  CHECK(error_of(path) ==
+        path + ":23: 1 pyramid (element 2, type 7) is not a tetrahedron" + kNotTets);
+  path = write_temp("pyr.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 5 double\n0 0 0 1 0 0 0 1 0 0 0 1 0 0 -1\n"
+                    "CELLS 2 11\n4 0 1 2 3\n5 0 1 2 3 4\nCELL_TYPES 2\n10\n14\n");
+  CHECK(error_of(path) == path + ":9: 1 pyramid (cell 1, type 14) is not a tetrahedron" + kNotTets);
+  path = write_temp(
+      "hex.vtu",
+      vtu_file("",
+               "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+               "format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray>\n</Points>\n<Cells>\n"
+               "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 "
+               "0 1 2 3 4 0 1 2 0 1 2 3 4 0</DataArray>\n<DataArray type=\"Int32\" "
+               "Name=\"offsets\" format=\"ascii\">4 12 18</DataArray>\n<DataArray "
+               "type=\"UInt8\" Name=\"types\" format=\"ascii\">10 12 13</DataArray>\n</Cells>\n",
+               ""));
+  CHECK(error_of(path) == path +
+                              ":12: 1 hexahedron (cell 1, type 12) and 1 wedge (cell 2, type 13) "
+                              "are not tetrahedra" +
+                              kNotTets);
+  std::string medit = kOneTetMedit;
+  medit.replace(medit.find("End\n"), 4, "Hexahedra\n1\n1 2 3 4 1 2 3 4 0\nEnd\n");
+  path = write_temp("hex.mesh", medit);
+  CHECK(error_of(path) ==
+        path + ":14: 1 hexahedron (Hexahedra entry 1) is not a tetrahedron" + kNotTets);
+  // Quadrilaterals, lines and points are boundary and lower-dimensional elements: read past.
+  path = write_temp("quad22.msh",
+                    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+                    "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+                    "$Elements\n4\n1 4 0 1 2 3 4\n2 3 0 1 2 3 4\n3 1 0 1 2\n4 15 0 1\n"
+                    "$EndElements\n");
+  CHECK(voroclip::read_tet_mesh(path).tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+}
+
+// Regression: 10-node tets were refused with "no tetrahedra (element type 4)".
+TEST_CASE("read_tet_mesh: second-order tets and triangles read by their corners", "[core]") {
+  // A 10-node tet (corners 1..4, then the mid-edge nodes 5..10) and a 6-node triangle.
+  std::string nodes =
+      "$Nodes\n10\n1 0 0 0\n2 2 0 0\n3 0 2 0\n4 0 0 2\n5 1 0 0\n6 1 1 0\n"
+      "7 0 1 0\n8 0 0 1\n9 0 1 1\n10 1 0 1\n$EndNodes\n";
+  std::string path = write_temp("o2_22.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" + nodes +
+                                                 "$Elements\n2\n"
+                                                 "1 9 1 5 1 2 3 5 6 7\n"
+                                                 "2 11 1 4 1 2 3 4 5 6 7 8 10 9\n"
+                                                 "$EndElements\n");
+  TetMeshInput mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.xyz.size() == 30);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{4});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{5});
+  path = write_temp("o2.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 10 double\n0 0 0 2 0 0 0 2 0 0 0 2 1 0 0 1 1 0 0 1 0 0 0 1 0 1 1 "
+                    "1 0 1\nCELLS 2 18\n10 0 1 2 3 4 5 6 7 9 8\n6 0 1 2 4 5 6\nCELL_TYPES 2\n"
+                    "24\n22\n");
+  mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  path = write_temp(
+      "o2.vtu",
+      "<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n"
+      "<Piece NumberOfPoints=\"10\" NumberOfCells=\"2\">\n"
+      "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+      "0 0 0 2 0 0 0 2 0 0 0 2 1 0 0 1 1 0 0 1 0 0 0 1 0 1 1 1 0 1</DataArray>\n</Points>\n"
+      "<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">"
+      "0 1 2 3 4 5 6 7 9 8 0 1 2 4 5 6</DataArray>\n"
+      "<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">10 16</DataArray>\n"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">24 22</DataArray>\n"
+      "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+  mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  // A quadratic tetra of 4 points is an error naming its type.
+  path = write_temp("o2bad.vtk",
+                    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                    "POINTS 4 double\n0 0 0 2 0 0 0 2 0 0 0 2\nCELLS 1 5\n4 0 1 2 3\n"
+                    "CELL_TYPES 1\n24\n");
+  CHECK(error_of(path) == path + ":8: cell 0 of type 24 (quadratic tetra) has 4 points, not 10");
+  // Medit TetrahedraP2 alone: said, not "no Tetrahedra section".
+  path = write_temp("p2.mesh",
+                    "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n"
+                    "0 1 0 0\n0 0 1 0\nTetrahedraP2\n1\n1 2 3 4 1 2 3 4 1 2 0\nEnd\n");
+  CHECK(error_of(path) == path +
+                              ": no tetrahedra: the file has 1 10-node tetrahedron "
+                              "(TetrahedraP2), which are not read: give their corners as "
+                              "Tetrahedra");
+}
+
+// Regression: a .vtu cut short inside the connectivity said "Cells needs the data arrays
+// connectivity, offsets and types".
+TEST_CASE("read_tet_mesh: a .vtu cut short inside Cells names the open DataArray", "[core]") {
+  const std::string path = write_temp(
+      "cut.vtu",
+      "<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n"
+      "<Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n"
+      "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+      "0 0 0 1 0 0 0 1 0 0 0 1</DataArray>\n</Points>\n"
+      "<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n0 1 2");
+  CHECK(error_of(path) == path + ":8: DataArray connectivity is not closed");
 }
