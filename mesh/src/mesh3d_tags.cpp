@@ -486,7 +486,29 @@ void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
                                       n.tag) != result.interface_tags.end())
       interface_names.push_back(n);
   }
-  result.tag_names = domain.tag_names();
+  // Only the names of tags some element has: a name without elements (an embedded surface
+  // the mesh does not keep, a curve's group) would be a Gmsh physical group with nothing in
+  // it. The file's interface tags count: tag_interfaces gives them to triangles later.
+  result.tag_names.clear();
+  {
+    std::vector<std::int32_t> triangle_tags = file_interface_tags(domain);
+    triangle_tags.insert(triangle_tags.end(), result.boundary_tags.begin(),
+                         result.boundary_tags.end());
+    triangle_tags.insert(triangle_tags.end(), result.interface_tags.begin(),
+                         result.interface_tags.end());
+    std::vector<std::int32_t> tet_tags = result.tet_tags;
+    for (std::vector<std::int32_t>* tags : {&triangle_tags, &tet_tags}) {
+      std::sort(tags->begin(), tags->end());
+      tags->erase(std::unique(tags->begin(), tags->end()), tags->end());
+    }
+    for (const TetMeshInput::TagName& n : domain.tag_names()) {
+      const std::vector<std::int32_t>* tags = n.dimension == 2   ? &triangle_tags
+                                              : n.dimension == 3 ? &tet_tags
+                                                                 : nullptr;
+      if (tags != nullptr && std::binary_search(tags->begin(), tags->end(), n.tag))
+        result.tag_names.push_back(n);
+    }
+  }
   const UntaggedTags untagged = untagged_tags(domain);
   const auto name_the_rest = [&](int dimension, std::vector<std::int32_t> tags, const char* what) {
     std::sort(tags.begin(), tags.end());

@@ -321,7 +321,8 @@ TEST_CASE("mesh3d gives the input's untagged boundary and regions fresh positive
   CHECK(patch_count[10] > 0);
   const std::set<std::int32_t> regions(r.tet_tags.begin(), r.tet_tags.end());
   CHECK(regions == std::set<std::int32_t>{3, 4});
-  std::vector<voroclip::TetMeshInput::TagName> names = in.tag_names;
+  // The input's names of tags no element has are not kept (a Gmsh group without elements).
+  std::vector<voroclip::TetMeshInput::TagName> names = {in.tag_names[3]};
   names.push_back({2, 1, "untagged boundary"});
   names.push_back({3, 3, "untagged region"});
   names.push_back({3, 4, "region tagged -3"});
@@ -358,6 +359,21 @@ TEST_CASE("mesh3d gives the input's untagged boundary and regions fresh positive
         std::set<std::int32_t>{1});
   CHECK(std::all_of(all_zero.boundary_tags.begin(), all_zero.boundary_tags.end(),
                     [](std::int32_t t) { return t == 1 || t == 10; }));
+}
+
+TEST_CASE("mesh3d names no tag that no element of the mesh has", "[mesh][regression]") {
+  // Trial 10: an embedded surface tagged 9, "sensor", inside the volume is not kept, and the
+  // output .msh listed '2 9 "sensor"' in $PhysicalNames with no element. Here names of a
+  // triangle tag and a tet tag the input does not use, and of a curve.
+  voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  const std::vector<voroclip::TetMeshInput::TagName> used = in.tag_names;
+  in.tag_names.push_back({2, 9, "sensor"});
+  in.tag_names.push_back({3, 7, "air"});
+  in.tag_names.push_back({1, 10, "edge"});
+  const Mesh3Result r = voroclip::mesh3d(Domain3(in), small_options(300));
+  std::vector<voroclip::TetMeshInput::TagName> names = used;
+  names.push_back({2, 11, "patch 11"});
+  CHECK(r.tag_names == names);
 }
 
 // The unit cube as a grid of n^3 voxels, six Kuhn tets each (around the diagonal of the
