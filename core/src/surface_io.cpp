@@ -4,7 +4,8 @@
 // Text formats go through the Lexer of text_lexer.h (line numbers for messages, strict
 // locale-independent numbers). Binary data (STL, PLY) is read through ByteReader, which
 // checks every read against the end of the file, so a truncated file is reported, never
-// read past. Polygons are fan-triangulated as they are read. Writers use the shortest
+// read past. Polygons are triangulated by exact ear clipping (a convex one: the fan from
+// its first vertex). Writers use the shortest
 // round-trip decimals (text) or the exact bytes (binary PLY), so each writer/reader pair
 // gives back the same doubles, except binary STL, whose type is float32.
 #include <algorithm>
@@ -43,12 +44,112 @@ struct RawFaces {
   std::size_t size() const { return line.size(); }
 };
 
-// Checks the indices and fan-triangulates. `binary`: no line numbers in messages. `base`:
-// how the format numbers vertices in messages (OBJ from 1).
+// The sign of a sum of doubles, exactly: the terms are added into a nonoverlapping
+// expansion (Shewchuk's Grow-Expansion with Two-Sum, "Adaptive precision floating-point
+// arithmetic and fast robust geometric predicates", 1997), whose largest nonzero
+// component has the sign of the sum. Needs round-to-nearest and no contraction of a + b.
+int exact_sign_of_sum(const double* terms, std::size_t n) {
+  std::array<double, 16> e{};
+  std::size_t len = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double q = terms[i];
+    for (std::size_t k = 0; k < len; ++k) {
+      const double x = q + e[k];
+      const double bv = x - q;
+      const double av = x - bv;
+      e[k] = (q - av) + (e[k] - bv);
+      q = x;
+    }
+    e[len++] = q;
+  }
+  for (std::size_t k = len; k-- > 0;) {
+    if (e[k] != 0) return e[k] > 0 ? 1 : -1;
+  }
+  return 0;
+}
+
+// orient2d(a, b, c), exactly: the sign of ax by - ax cy - ay bx + ay cx + bx cy - by cx,
+// each product split into its rounded value and its error by fma (exact but for underflow).
+int orient2d_sign(const double* a, const double* b, const double* c) {
+  const double f[6][2] = {{a[0], b[1]}, {-a[0], c[1]}, {-a[1], b[0]},
+                          {a[1], c[0]}, {b[0], c[1]},  {-b[1], c[0]}};
+  double terms[12];
+  for (int k = 0; k < 6; ++k) {
+    terms[2 * k] = f[k][0] * f[k][1];
+    terms[2 * k + 1] = std::fma(f[k][0], f[k][1], -terms[2 * k]);
+  }
+  return exact_sign_of_sum(terms, 12);
+}
+
+// Triangulates the polygon `poly` (vertex indices into xyz) by ear clipping in the plane
+// of the two coordinates across its (Newell) normal's largest component, with exact
+// orientation tests: ears are strictly convex corners whose triangle holds no other
+// remaining corner (on its boundary included). The first candidate is always the corner
+// after the first, so a convex polygon gives the fan from its first vertex, as before. A
+// polygon with no ear left (non-planar or self-crossing in projection, or degenerate) has
+// what remains fan-triangulated; the surface checks then report it. Appends to `out`.
+void triangulate_polygon(const std::vector<double>& xyz, const std::vector<std::uint32_t>& poly,
+                         std::vector<std::uint32_t>& out) {
+  const std::size_t n = poly.size();
+  double normal[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* p = &xyz[3 * std::size_t{poly[i]}];
+    const double* q = &xyz[3 * std::size_t{poly[(i + 1) % n]}];
+    for (int d = 0; d < 3; ++d) {
+      const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+      normal[d] += (p[d1] - q[d1]) * (p[d2] + q[d2]);
+    }
+  }
+  int axis = 0;
+  for (int d = 1; d < 3; ++d) {
+    if (std::fabs(normal[d]) > std::fabs(normal[axis])) axis = d;
+  }
+  // (u, v) = the cyclic successors of `axis`: the projected area has the sign of normal[axis].
+  const int orientation = normal[axis] > 0 ? 1 : normal[axis] < 0 ? -1 : 0;
+  std::vector<std::array<double, 2>> uv(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* p = &xyz[3 * std::size_t{poly[i]}];
+    uv[i] = {p[(axis + 1) % 3], p[(axis + 2) % 3]};
+  }
+  std::vector<std::size_t> left(n);
+  for (std::size_t i = 0; i < n; ++i) left[i] = i;
+  const auto emit = [&](std::size_t a, std::size_t b, std::size_t c) {
+    out.push_back(poly[a]);
+    out.push_back(poly[b]);
+    out.push_back(poly[c]);
+  };
+  while (left.size() > 3 && orientation != 0) {
+    bool clipped = false;
+    for (std::size_t j = 1; j < left.size() && !clipped; ++j) {
+      const std::size_t a = left[j - 1], b = left[j], c = left[(j + 1) % left.size()];
+      if (orient2d_sign(uv[a].data(), uv[b].data(), uv[c].data()) != orientation) continue;
+      bool empty = true;
+      for (const std::size_t p : left) {
+        if (p == a || p == b || p == c) continue;
+        if (orient2d_sign(uv[a].data(), uv[b].data(), uv[p].data()) != -orientation &&
+            orient2d_sign(uv[b].data(), uv[c].data(), uv[p].data()) != -orientation &&
+            orient2d_sign(uv[c].data(), uv[a].data(), uv[p].data()) != -orientation) {
+          empty = false;
+          break;
+        }
+      }
+      if (!empty) continue;
+      emit(a, b, c);
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(j));
+      clipped = true;
+    }
+    if (!clipped) break;
+  }
+  for (std::size_t k = 1; k + 1 < left.size(); ++k) emit(left[0], left[k], left[k + 1]);
+}
+
+// Checks the indices and triangulates (triangulate_polygon). `binary`: no line numbers in messages.
+// `base`: how the format numbers vertices in messages (OBJ from 1).
 void finish_faces(const std::string& path, const RawFaces& raw, bool binary, std::int64_t base,
                   TriangleSurface& s) {
   const std::int64_t nv = s.nb_vertices();
   s.vertex_base = static_cast<std::uint32_t>(base);
+  std::vector<std::uint32_t> poly;
   for (std::size_t f = 0; f < raw.size(); ++f) {
     const std::uint32_t b = raw.begin[f], e = raw.begin[f + 1];
     const std::string where =
@@ -61,10 +162,19 @@ void finish_faces(const std::string& path, const RawFaces& raw, bool binary, std
                              : std::to_string(base) + ".." + std::to_string(base + nv - 1)));
       }
     }
-    for (std::uint32_t k = b + 1; k + 1 < e; ++k) {
-      s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[b]));
-      s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[k]));
-      s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[k + 1]));
+    const std::size_t before = s.triangles.size();
+    if (e - b <= 3) {
+      for (std::uint32_t k = b; k < e; ++k) {
+        s.triangles.push_back(static_cast<std::uint32_t>(raw.corner[k]));
+      }
+      if (e - b < 3) s.triangles.resize(before);
+    } else {
+      poly.clear();
+      for (std::uint32_t k = b; k < e; ++k)
+        poly.push_back(static_cast<std::uint32_t>(raw.corner[k]));
+      triangulate_polygon(s.xyz, poly, s.triangles);
+    }
+    for (std::size_t t = before; t < s.triangles.size(); t += 3) {
       s.triangle_line.push_back(binary ? 0u : raw.line[f]);
       s.triangle_face.push_back(static_cast<std::uint32_t>(raw.label[f]));
     }

@@ -544,3 +544,44 @@ TEST_CASE("read_surface: gzip-compressed files, by their name or by their bytes"
   const std::string corrupt = write_temp("bad.obj.gz", bad);
   CHECK(error_of(corrupt).rfind(corrupt + ": corrupt gzip data (zlib: ", 0) == 0);
 }
+
+// Regression: polygons were fan-triangulated from their first vertex, so a non-convex face
+// (an L-shaped cap) gave overlapping triangles and "face 1 and face 1 intersect".
+TEST_CASE("read_surface: non-convex polygons are triangulated without overlap", "[core]") {
+  const std::string obj =
+      "v 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\n"
+      "v 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\nv 0 0 1\nv 2 0 1\n"
+      "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\nf 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\n"
+      "f 5 6 12 11\nf 6 1 7 12\n";
+  std::string off = "OFF\n12 8 0\n";
+  for (std::size_t at = 0; (at = obj.find("v ", at)) != std::string::npos; at += 2) {
+    off += obj.substr(at + 2, obj.find('\n', at) - at - 1);
+  }
+  off +=
+      "6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n4 0 1 7 6\n4 1 2 8 7\n4 2 3 9 8\n4 3 4 10 9\n"
+      "4 4 5 11 10\n4 5 0 6 11\n";
+  for (const std::string& path : {write_temp("L.obj", obj), write_temp("L.off", off)}) {
+    const TriangleSurface s = voroclip::read_surface(path);
+    REQUIRE(s.triangle_face.size() == 4 + 4 + 6 * 2);
+    // Each cap (the L of area 3): 4 triangles, all turning the cap's way, of total area 3.
+    for (const std::uint32_t face : {0u, 1u}) {
+      double total = 0;
+      int triangles = 0;
+      for (std::size_t t = 0; t < s.triangle_face.size(); ++t) {
+        if (s.triangle_face[t] != face + s.triangle_face[0]) continue;
+        const double* a = &s.xyz[3 * s.triangles[3 * t]];
+        const double* b = &s.xyz[3 * s.triangles[3 * t + 1]];
+        const double* c = &s.xyz[3 * s.triangles[3 * t + 2]];
+        const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        CHECK(area * (face == 0 ? -1 : 1) > 0);
+        total += area;
+        ++triangles;
+      }
+      CHECK(triangles == 4);
+      CHECK(total == (face == 0 ? -3 : 3));
+    }
+    // The bottom cap's ears, in order (a convex polygon keeps the fan from its first vertex).
+    CHECK(std::vector<std::uint32_t>(s.triangles.begin(), s.triangles.begin() + 12) ==
+          std::vector<std::uint32_t>{4, 3, 2, 4, 2, 1, 5, 4, 1, 5, 1, 0});
+  }
+}
