@@ -105,7 +105,8 @@ struct UntaggedTags {
 UntaggedTags untagged_tags(const Domain3& domain);
 
 // The end of tag_mesh3, also for meshes put together from several (mesh3d_bodies): the
-// count of the input's regions, the tag names (the input's, then untagged_tags' names, then
+// count of the input's regions, the tag names (the input's of the tags some element has or
+// the file's interface triangles have, then untagged_tags' names, then
 // "patch <tag>" and "region <tag>" for the tags used without one) and the boundary triangles
 // grouped by tag (stable).
 void name_and_group_tags(const Domain3& domain, Mesh3Result& result);
