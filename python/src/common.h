@@ -96,7 +96,9 @@ class Progress {
 // --density formulas do.
 class PyDensity {
  public:
-  explicit PyDensity(py::object f) : f_(std::move(f)) {}
+  // `what` names the value in messages ("density", or "sizing" for an edge length h).
+  explicit PyDensity(py::object f, std::string what = "density")
+      : f_(std::move(f)), what_(std::move(what)) {}
   // Called from worker threads. The GIL is all the locking: error_ is read and written only
   // while this thread holds it, between Python calls (the interpreter may hand the GIL to
   // another thread while f_ runs, so a second lock taken after the GIL would deadlock with
@@ -112,15 +114,16 @@ class PyDensity {
       return 1.0;
     } catch (py::cast_error&) {
       if (!error_) {
-        PyErr_SetString(PyExc_TypeError, "density: the function must return a number");
+        PyErr_SetString(PyExc_TypeError, (what_ + ": the function must return a number").c_str());
         error_ = std::make_unique<py::error_already_set>();
       }
       return 1.0;
     }
     if (!(v > 0) || !std::isfinite(v)) {
       const auto r = [](double t) { return py::repr(py::float_(t)).cast<std::string>(); };
-      throw Error("density: the callable returned " + r(v) + " at (" + r(x) + ", " + r(y) +
-                  (dim == 2 ? "" : ", " + r(z)) + "): the density must be finite and positive");
+      throw Error(what_ + ": the callable returned " + r(v) + " at (" + r(x) + ", " + r(y) +
+                  (dim == 2 ? "" : ", " + r(z)) + "): the " + what_ +
+                  " must be finite and positive");
     }
     return v;
   }
@@ -134,6 +137,7 @@ class PyDensity {
 
  private:
   py::object f_;
+  std::string what_;
   std::unique_ptr<py::error_already_set> error_;
 };
 

@@ -1,6 +1,7 @@
 // python/src/cvt_mesh_py.cpp — CVT (cvt2d, cvt3d), meshing (mesh2d, mesh3d) and quality,
 // with progress callbacks that can stop a run and Ctrl-C that cancels it.
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <type_traits>
@@ -286,8 +287,50 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   return r;
 }
 
-py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object& callback,
-                const py::object& threads) {
+// mesh3d's size: a density rho (a number or a callable rho(x, y, z)) or a sizing h (an edge
+// length: a number or a callable h(x, y, z)), rho = h^-5 as the CLI's --sizing. Without a
+// vertex count, h is absolute (edge_length 1 scales h itself; a number h is the edge length).
+void mesh3d_size(Mesh3Options& o, bool vertices_given, const py::object& density,
+                 const py::object& sizing, std::shared_ptr<PyDensity>& callback) {
+  if (!density.is_none() && !sizing.is_none()) {
+    throw Error("mesh3d: density and sizing exclude each other (rho = h^-5)");
+  }
+  const auto number = [](const py::object& v) {
+    return py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v);
+  };
+  if (!density.is_none()) {
+    if (!number(density) && PyCallable_Check(density.ptr()) == 0) {
+      throw Error("mesh3d: density: expected None, a number or a callable rho(x, y, z)");
+    }
+    o.density = density3(density, callback);
+    return;
+  }
+  if (sizing.is_none()) return;
+  if (number(sizing)) {
+    const double h = sizing.cast<double>();
+    if (!(h > 0) || !std::isfinite(h)) throw Error("mesh3d: sizing: expected a finite number > 0");
+    if (!vertices_given) o.edge_length = h;  // a uniform size: h is the edge length
+    return;
+  }
+  if (PyCallable_Check(sizing.ptr()) == 0) {
+    throw Error("mesh3d: sizing: expected None, a number or a callable h(x, y, z)");
+  }
+  callback = std::make_shared<PyDensity>(sizing, "sizing");
+  auto c = callback;
+  o.density = Density3::function([c](double x, double y, double z) {
+    const double h = (*c)(x, y, z, 3);
+    const double rho = std::pow(h, -5.0);
+    if (!std::isfinite(rho)) {
+      throw Error("sizing: h = " + std::to_string(h) + " at (" + std::to_string(x) + ", " +
+                  std::to_string(y) + ", " + std::to_string(z) + "): h^-5 overflows");
+    }
+    return rho;
+  });
+  if (!vertices_given) o.edge_length = 1;
+}
+
+py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object& density,
+                const py::object& sizing, const py::object& callback, const py::object& threads) {
   using S = OptionSetter<Mesh3Options>;
   static const S setter(
       "mesh3d",
@@ -330,6 +373,8 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
        {"mean_rounds", S::field<std::uint32_t>(&Mesh3Options::mean_rounds)}});
   Mesh3Options o;
   setter.apply(o, options);
+  std::shared_ptr<PyDensity> rho;
+  mesh3d_size(o, options.contains("vertices"), density, sizing, rho);
   Progress progress(callback);
   o.progress = [&](const Mesh3Progress& p) {
     return progress.check([&] {
@@ -351,6 +396,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   };
   Mesh3Result m;
   run_released(threads, [&] { m = mesh3d(domain, o); });
+  if (rho) rho->rethrow();
   progress.rethrow();
   py::dict r;
   const auto nv = static_cast<py::ssize_t>(m.nb_vertices());
@@ -619,11 +665,12 @@ void bind_cvt_mesh(py::module_& m) {
         py::arg("iterations") = 1000, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("cvt3d", &cvt3d, py::arg("domain"), py::arg("sites"), py::arg("method") = "lbfgs",
-        py::arg("iterations") = 100, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
+        py::arg("iterations") = 1000, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("mesh2d", &mesh2d, py::arg("domain"), py::arg("options") = py::dict(),
         py::arg("density") = py::none(), py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("mesh3d", &mesh3d, py::arg("domain"), py::arg("options") = py::dict(),
+        py::arg("density") = py::none(), py::arg("sizing") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("tet_quality", &tet_quality_py, py::arg("points"), py::arg("tets"), py::arg("threads") = 0);
   m.def("triangle_quality", &triangle_quality_py, py::arg("points"), py::arg("triangles"));

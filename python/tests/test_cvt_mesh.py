@@ -491,3 +491,24 @@ def test_regression_meshio_domain_keeps_names_and_the_readers_tag_order():
     assert set(m.cell_tags.tolist()) == {7}
     assert set(m.boundary_tags.tolist()) == {5}
     assert (3, 7, "steel") in m.tag_names and (2, 5, "skin") in m.tag_names
+
+
+def test_mesh3d_density_and_sizing_as_the_cli(data, cli, tmp_path):
+    # Python's mesh3d had no density or sizing. Callables give the CLI's --density /
+    # --sizing meshes byte for byte (the same values: the formulas are exact in both).
+    sphere = str(data / "surfaces" / "sphere.obj")
+    for flags, kwargs in ((["--vertices", "80", "--density", "1+x*x"],
+                           dict(vertices=80, density=lambda x, y, z: 1 + x * x)),
+                          (["--sizing", "0.5"], dict(sizing=lambda x, y, z: 0.5))):
+        theirs, mine = tmp_path / "cli.mesh", tmp_path / "py.mesh"
+        subprocess.run([cli, "-q", "mesh3d", sphere, *flags, "-o", str(theirs)], check=True)
+        voroclip.mesh3d(sphere, threads=1, **kwargs).write(mine)
+        assert mine.read_bytes() == theirs.read_bytes(), flags
+    # A number: a uniform size (h the edge length without vertices; no effect with them).
+    assert len(voroclip.mesh3d(sphere, sizing=0.5).points) == 63
+    with pytest.raises(voroclip.Error, match=r"^sizing: the callable returned -1\.0 at \("):
+        voroclip.mesh3d(sphere, 100, sizing=lambda x, y, z: -1.0)
+    with pytest.raises(voroclip.Error, match="density and sizing exclude each other"):
+        voroclip.mesh3d(sphere, 100, density=2.0, sizing=0.1)
+    with pytest.raises(voroclip.Error, match="sizing: expected a finite number > 0"):
+        voroclip.mesh3d(sphere, sizing=0.0)

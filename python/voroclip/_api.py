@@ -531,12 +531,18 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
     return Mesh(2, r)
 
 
-def mesh3d(domain, vertices: Optional[int] = None, *,
+def mesh3d(domain, vertices: Optional[int] = None, *, density=None, sizing=None,
            callback: Optional[Callable[[dict], object]] = None, threads: Optional[int] = None,
            **options) -> Mesh:
     """A CVT tetrahedral mesh of a 3D domain (anything :func:`domain3` takes) of about
     ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
-    topology resolved, slivers perturbed away. Other options, by name, as mesh.h's
+    topology resolved, slivers perturbed away. The size, as the CLI's ``--density`` and
+    ``--sizing``: ``density`` a number or a callable ``rho(x, y, z)`` (elements of size
+    about rho^(-1/5), scaled to ``vertices``), or ``sizing`` a target edge length h, a number
+    or a callable ``h(x, y, z)`` (rho = h^-5): without ``vertices``, h is in model units and
+    sets the count; with it, only h's shape counts. Callables run on worker threads under
+    the GIL (slow); a value that is not finite and positive raises :class:`Error` naming the
+    point. Other options, by name, as mesh.h's
     Mesh3Options (an option not given keeps the library's default): ``adaptive``,
     ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none;
     both sized by each region's own boundary, its interfaces included, when the regions of a
@@ -572,8 +578,8 @@ def mesh3d(domain, vertices: Optional[int] = None, *,
     each); returning
     False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The
     same mesh for any ``threads`` and a given ``seed``."""
-    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options), callback,
-                     _threads(threads))
+    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options), density, sizing,
+                     callback, _threads(threads))
     return Mesh(3, r)
 
 
