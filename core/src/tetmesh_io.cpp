@@ -38,6 +38,7 @@
 #include "binary_io.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
+#include "vtk_cell_types.h"
 
 namespace voroclip {
 
@@ -1296,72 +1297,6 @@ TetMeshInput read_gmsh_binary(const std::string& path, const std::string& text) 
 // attributes and FIELD arrays: the CELL_DATA arrays of tags (SCALARS or FIELD arrays of one
 // component; VtkCellTags) are kept, everything else is read past by its size.
 
-constexpr std::uint64_t kVtkTetra = 10;
-constexpr std::uint64_t kVtkTriangle = 5;
-
-// What the readers do with a VTK cell type (vtkCellType.h): read it as a tet or triangle
-// (`points` > 0) by its first `corners` points, which are its corners (VTK_QUADRATIC_TETRA
-// and VTK_QUADRATIC_TRIANGLE: corners, then mid-edge points; the mid-edge points are then
-// vertices of no tet), refuse it as a volume cell not read (`other`), or skip it.
-struct VtkCellKind {
-  std::uint64_t points = 0, corners = 0;
-  const char* name = nullptr;  // for messages: "10 (tetra)"
-  const char* other = nullptr;
-  const char* others = nullptr;
-};
-
-VtkCellKind vtk_cell_kind(std::uint64_t type) {
-  switch (type) {
-    case kVtkTetra:
-      return {4, 4, "10 (tetra)"};
-    case 24:
-      return {10, 4, "24 (quadratic tetra)"};
-    case kVtkTriangle:
-      return {3, 3, "5 (triangle)"};
-    case 22:
-      return {6, 3, "22 (quadratic triangle)"};
-    case 11:
-      return {0, 0, nullptr, "voxel", "voxels"};
-    case 12:
-    case 25:
-    case 29:
-    case 33:
-    case 67:
-    case 72:
-    case 79:
-      return {0, 0, nullptr, "hexahedron", "hexahedra"};
-    case 13:
-    case 26:
-    case 31:
-    case 32:
-    case 65:
-    case 73:
-    case 80:
-      return {0, 0, nullptr, "wedge", "wedges"};
-    case 14:
-    case 27:
-    case 37:
-    case 66:
-    case 74:
-    case 81:
-      return {0, 0, nullptr, "pyramid", "pyramids"};
-    case 15:
-      return {0, 0, nullptr, "pentagonal prism", "pentagonal prisms"};
-    case 16:
-      return {0, 0, nullptr, "hexagonal prism", "hexagonal prisms"};
-    case 41:
-      return {0, 0, nullptr, "convex point set", "convex point sets"};
-    case 42:
-      return {0, 0, nullptr, "polyhedron", "polyhedra"};
-    case 64:
-    case 71:
-    case 78:
-      return {0, 0, nullptr, "tetrahedron of an order not read", "tetrahedra of an order not read"};
-    default:
-      return {};
-  }
-}
-
 // The tag arrays of a legacy VTK file (ASCII or binary): the first CELL_DATA array of one
 // component of each name that may hold tags (kVtkTagNames); the tets' tags and the
 // triangles' are then the first present in the order of kVtkTetTags and kVtkTriangleTags
@@ -1643,7 +1578,7 @@ void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_
   RawCells tets(4, "cell"), triangles(3, "cell");
   OtherVolumes other;
   for (std::size_t c = 0; c < cell_type.size(); ++c) {
-    const VtkCellKind kind = vtk_cell_kind(cell_type[c]);
+    const vtk::VtkCellKind kind = vtk::vtk_cell_kind(cell_type[c]);
     if (kind.points == 0) {
       if (kind.other != nullptr) {
         other.add(kind.other, kind.others, cell_line[c], [&] {

@@ -38,6 +38,7 @@
 #include "binary_io.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
+#include "vtk_cell_types.h"
 
 namespace voroclip {
 
@@ -316,68 +317,11 @@ struct XmlElement {
   }
 };
 
-// What the reader does with a VTK cell type (vtkCellType.h), as tetmesh_io.cpp's legacy
-// VTK reader: read it as a tet or triangle (`corners` 4 or 3) by its first points, its
-// corners (VTK_QUADRATIC_TETRA and VTK_QUADRATIC_TRIANGLE: corners, then mid-edge points,
-// which are then points of no tet), refuse it as a volume cell not read (`other`), or skip.
-struct VtuCellKind {
-  std::uint64_t points = 0, corners = 0;
-  const char* name = nullptr;  // for messages: "10 (tetra)"
-  const char* other = nullptr;
-  const char* others = nullptr;
-};
-
-VtuCellKind vtu_cell_kind(double type) {
+// What the reader does with a VTK cell type given as a number (vtk_cell_types.h); a type
+// that is not an integer in [0, 256) is skipped.
+vtk::VtkCellKind vtu_cell_kind(double type) {
   if (!(type >= 0 && type < 256) || type != std::floor(type)) return {};
-  switch (static_cast<int>(type)) {
-    case 10:
-      return {4, 4, "10 (tetra)"};
-    case 24:
-      return {10, 4, "24 (quadratic tetra)"};
-    case 5:
-      return {3, 3, "5 (triangle)"};
-    case 22:
-      return {6, 3, "22 (quadratic triangle)"};
-    case 11:
-      return {0, 0, nullptr, "voxel", "voxels"};
-    case 12:
-    case 25:
-    case 29:
-    case 33:
-    case 67:
-    case 72:
-    case 79:
-      return {0, 0, nullptr, "hexahedron", "hexahedra"};
-    case 13:
-    case 26:
-    case 31:
-    case 32:
-    case 65:
-    case 73:
-    case 80:
-      return {0, 0, nullptr, "wedge", "wedges"};
-    case 14:
-    case 27:
-    case 37:
-    case 66:
-    case 74:
-    case 81:
-      return {0, 0, nullptr, "pyramid", "pyramids"};
-    case 15:
-      return {0, 0, nullptr, "pentagonal prism", "pentagonal prisms"};
-    case 16:
-      return {0, 0, nullptr, "hexagonal prism", "hexagonal prisms"};
-    case 41:
-      return {0, 0, nullptr, "convex point set", "convex point sets"};
-    case 42:
-      return {0, 0, nullptr, "polyhedron", "polyhedra"};
-    case 64:
-    case 71:
-    case 78:
-      return {0, 0, nullptr, "tetrahedron of an order not read", "tetrahedra of an order not read"};
-    default:
-      return {};
-  }
+  return vtk::vtk_cell_kind(static_cast<std::uint64_t>(type));
 }
 
 class VtuReader {
@@ -479,7 +423,7 @@ class VtuReader {
         fail(offsets->line, "offsets: cell " + std::to_string(c) + " ends at " + fmt(off[c]) +
                                 ", not in " + std::to_string(begin) + ".." + std::to_string(size));
       }
-      const VtuCellKind kind = vtu_cell_kind(typ[c]);
+      const vtk::VtkCellKind kind = vtu_cell_kind(typ[c]);
       const bool tet = kind.corners == 4, triangle = kind.corners == 3;
       if (kind.other != nullptr) {
         auto it = std::find_if(others.begin(), others.end(),
