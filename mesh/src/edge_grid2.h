@@ -27,6 +27,23 @@ inline double segment_distance2(const double* p, const double* a, const double* 
   return qx * qx + qy * qy;
 }
 
+// True when the closed box [lo, hi] meets the segment [a, b] (exact).
+inline bool box_meets_segment(const double* lo, const double* hi, const double* a,
+                              const double* b) {
+  for (int c = 0; c < 2; ++c) {
+    if (std::max(a[c], b[c]) < lo[c] || std::min(a[c], b[c]) > hi[c]) return false;
+  }
+  const double corners[4][2] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
+  bool pos = false, neg = false;
+  for (const auto& q : corners) {
+    const Sign s = orient2d(a, b, q);
+    if (s == Sign::zero) return true;
+    pos = pos || s == Sign::positive;
+    neg = neg || s == Sign::negative;
+  }
+  return pos && neg;
+}
+
 class EdgeGrid2 {
  public:
   explicit EdgeGrid2(const Domain2& domain) : domain_(domain) {

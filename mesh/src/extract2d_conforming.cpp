@@ -226,22 +226,6 @@ void ulp_box(const double* p, int ulps, double* lo, double* hi) {
   }
 }
 
-// True when the closed box [lo, hi] meets the segment [a, b] (exact).
-bool box_meets_segment(const double* lo, const double* hi, const double* a, const double* b) {
-  for (int c = 0; c < 2; ++c) {
-    if (std::max(a[c], b[c]) < lo[c] || std::min(a[c], b[c]) > hi[c]) return false;
-  }
-  const double corners[4][2] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
-  bool pos = false, neg = false;
-  for (const auto& q : corners) {
-    const Sign s = orient2d(a, b, q);
-    if (s == Sign::zero) return true;
-    pos = pos || s == Sign::positive;
-    neg = neg || s == Sign::negative;
-  }
-  return pos && neg;
-}
-
 }  // namespace
 
 std::string check_mesh2_conforming(const Domain2& domain, const Mesh2& mesh, bool corners) {
@@ -270,7 +254,7 @@ std::string check_mesh2_conforming(const Domain2& domain, const Mesh2& mesh, boo
     double lo[2], hi[2];
     ulp_box(&mesh.xy[2 * std::size_t{v}], kUlps, lo, hi);
     grid.for_each_in_box(lo, hi, [&](std::uint32_t e) {
-      if (box_meets_segment(lo, hi, domain.vertex(e), domain.vertex(domain.next(e)))) {
+      if (mesh2d::box_meets_segment(lo, hi, domain.vertex(e), domain.vertex(domain.next(e)))) {
         out.push_back(run[e]);
       }
     });

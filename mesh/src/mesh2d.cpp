@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "boundary_edge2d.h"
+#include "cdt2.h"
 #include "edge_grid2.h"
 #include "sizing2d.h"
 #include "voroclip/mesh.h"
@@ -216,13 +217,98 @@ struct SizeModel {
   // Expected vertex count of the feature sizes alone (no uniform part, no user density
   // cap): what the small features ask for whatever nb_vertices is.
   double feature_count = 0;
+  // The integral of h^-2 over the domain (estimated at the stratified points): what the
+  // sampler's proposals must land in (sample_sites).
+  double domain_mass = 0;
   double size(double x, double y) const {
     const double f = field.feature(x, y);
     return user_density ? std::min(c / std::sqrt(std::sqrt(density(x, y))), f) : f;
   }
 };
 
-// Stratified points strictly inside the domain (about m of them), for the count estimate.
+// The triangles of the domain: its constrained Delaunay triangulation (its vertices, its
+// edges as segments), the triangles inside kept (6 coordinates each, counter-clockwise).
+// Inside by the parity of the segments crossed from the convex hull: a triangle on a hull
+// edge is inside when that edge is a segment (the domain lies on the hull's side of it),
+// and the label flips across every segment. Exact: every decision is the CDT's.
+std::vector<double> domain_triangles(const Domain2& domain) {
+  const std::uint32_t nv = domain.nb_vertices();
+  const Delaunay2 dt(domain.coords().data(), nv);
+  mesh2d::Cdt2 cdt(dt);
+  for (std::uint32_t e = 0; e < nv; ++e) {
+    const std::uint32_t a = dt.duplicate_of(e), b = dt.duplicate_of(domain.next(e));
+    if (a != b) cdt.insert_segment(a, b);
+  }
+  const std::uint32_t nt = cdt.nb_triangles();
+  std::vector<std::int8_t> inside(nt, -1);
+  std::vector<std::uint32_t> queue;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3 && inside[t] < 0; ++k) {
+      if (cdt.across(t, k) != mesh2d::Cdt2::kNone) continue;
+      inside[t] = cdt.constrained(t, k) ? 1 : 0;
+      queue.push_back(t);
+    }
+  }
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::uint32_t t = queue[q];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t code = cdt.across(t, k);
+      if (code == mesh2d::Cdt2::kNone || inside[code / 3] >= 0) continue;
+      inside[code / 3] = static_cast<std::int8_t>(inside[t] ^ (cdt.constrained(t, k) ? 1 : 0));
+      queue.push_back(code / 3);
+    }
+  }
+  std::vector<double> out;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (inside[t] != 1) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double* p = dt.point(cdt.vertex(t, k));
+      out.insert(out.end(), p, p + 2);
+    }
+  }
+  return out;
+}
+
+// About m points strictly inside the domain, stratified over its triangles
+// (domain_triangles): point k falls in the triangle holding (k + u) / m of the cumulative
+// area, uniformly in it; a point that rounds onto the boundary is dropped.
+std::vector<double> triangle_points(const Domain2& domain, std::uint32_t m, std::uint64_t seed) {
+  const std::vector<double> tri = domain_triangles(domain);
+  const std::size_t nt = tri.size() / 6;
+  std::vector<double> cumulative(nt);
+  double total = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const double* a = &tri[6 * t];
+    total += 0.5 * ((a[2] - a[0]) * (a[5] - a[1]) - (a[3] - a[1]) * (a[4] - a[0]));
+    cumulative[t] = total;
+  }
+  std::vector<double> pts;
+  if (nt == 0 || !(total > 0)) return pts;
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  for (std::uint32_t k = 0; k < m; ++k) {
+    const double u = (k + uniform()) / m * total;
+    const std::size_t t = std::min<std::size_t>(
+        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(), nt - 1);
+    const double* a = &tri[6 * t];
+    double r = uniform(), s = uniform();
+    if (r + s > 1) {
+      r = 1 - r;
+      s = 1 - s;
+    }
+    const double p[2] = {a[0] + r * (a[2] - a[0]) + s * (a[4] - a[0]),
+                         a[1] + r * (a[3] - a[1]) + s * (a[5] - a[1])};
+    if (domain.locate(p) == Sign::positive) pts.insert(pts.end(), p, p + 2);
+  }
+  return pts;
+}
+
+// Stratified points strictly inside the domain (about m of them), for the count estimate:
+// one random point per cell of a grid over the bounding box, those inside kept. The grid
+// has at most 2^20 cells, so a domain covering less than about m / 2^20 of its box (two
+// squares of side 1e-4 at (0, 0) and (1, 1): 2e-8 of it) gets few of them or none (it was
+// "the domain has no interior"): below m / 4 they come from its triangles
+// (triangle_points) instead.
 std::vector<double> stratified_points(const Domain2& domain, std::uint32_t m, std::uint64_t seed) {
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
@@ -242,6 +328,7 @@ std::vector<double> stratified_points(const Domain2& domain, std::uint32_t m, st
       if (domain.locate(p) == Sign::positive) pts.insert(pts.end(), p, p + 2);
     }
   }
+  if (pts.size() / 2 < m / 4) return triangle_points(domain, m, seed);
   return pts;
 }
 
@@ -316,6 +403,12 @@ SizeModel build_size_model(const Domain2& domain, const Mesh2Options& o,
     model.H = f_max > 0 ? std::min(t, f_max) : t;
   }
   model.field.build(envelope, model.H, domain.bbox_lo(), domain.bbox_hi());
+  double inv2 = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double h = model.size(pts[2 * k], pts[2 * k + 1]);
+    inv2 += 1 / (h * h);
+  }
+  model.domain_mass = domain.area() * inv2 / static_cast<double>(m);
   return model;
 }
 
@@ -336,18 +429,33 @@ SizeModel build_size_model(const Domain2& domain, const Mesh2Options& o,
 // probability (m_q / h(p))^2, which is at least 1 / kSquareRatio^2. The density there is
 // exactly h^-2, up to the rounding of h near the squares' corners (the ratio is clamped to
 // 1). The other cells draw the same numbers as before.
-std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, std::uint32_t n,
-                                 std::uint64_t seed) {
+//
+// A domain that takes a tiny share of the proposals (two squares of side 1e-4 at (0, 0)
+// and (1, 1) take 2e-8 of the cells' mass, and no cell is smaller than 1/8192 of the box)
+// ran out of attempts ("cannot sample points inside the domain", after 20-50 s). When the
+// domain's mass (SizeModel::domain_mass, the integral of h^-2 over it) is below
+// kRestrictBelow of the proposals' total, an upper bound of the share of proposals
+// accepted, the proposals are restricted to the domain: the cells and squares above are
+// cut by a quadtree into squares that lie inside the domain, or that meet its boundary
+// (exact box-segment tests) and are no larger than their size bound; the others (outside,
+// exactly: one point located in a square that no edge meets) are dropped. Each square keeps
+// its cell's (or square's) weight and bound, so the density is the same as above; only
+// proposals that could not land in the domain are gone.
+std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model,
+                                 const EdgeGrid2& grid, std::uint32_t n, std::uint64_t seed) {
   // The real inputs (shared/data polygons) have w_c m_c^2 >= 0.008; a hole of side 1e-6
   // about 1e-4 (one node of 97^2 near the hole).
   constexpr double kRefineBelow = 1e-3;
   constexpr double kSquareRatio = 2;
   // The sizes are at least 1e-9 times the diagonal: 2^40 covers any ratio within a cell.
   constexpr int kSquareDepth = 40;
+  // The shared valid polygons take 0.24 to 0.87 of the proposals by this bound (at 300
+  // vertices), two squares of side 1e-4 at (0, 0) and (1, 1) 2e-8 of them.
+  constexpr double kRestrictBelow = 1.0 / 64;
   using Square = SizingField2::BoundedSquare;
   const SizingField2& field = model.field;
   const std::uint32_t nc = field.nb_cells();
-  std::vector<double> cumulative(nc), hmin(nc), mass(nc);
+  std::vector<double> cumulative(nc), hmin(nc), mass(nc), weight(nc);
   std::vector<std::uint32_t> refined;  // cells sampled through squares, increasing
   const double* blo = domain.bbox_lo();
   const double* bhi = domain.bbox_hi();
@@ -356,17 +464,30 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
     const double h = std::max(0.0, std::min(hi[1], bhi[1]) - std::max(lo[1], blo[1]));
     return w * h;
   };
+  // Where the closed box [lo, hi] lies: zero when an edge of the domain meets it (exact
+  // box-segment tests), else the side of its centre, which is the whole box's.
+  const auto box_side = [&](const double* lo, const double* hi) {
+    bool boundary = false;
+    grid.for_each_in_box(lo, hi, [&](std::uint32_t e) {
+      boundary = boundary ||
+                 mesh2d::box_meets_segment(lo, hi, domain.vertex(e), domain.vertex(domain.next(e)));
+    });
+    if (boundary) return Sign::zero;
+    const double mid[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
+    return domain.locate(mid);
+  };
   for (std::uint32_t c = 0; c < nc; ++c) {
     double lo[2], hi[2];
     field.cell_box(c, lo, hi);
     const double area = area_in_box(lo, hi);
-    double weight = field.cell_mean_inverse_square(c);
+    double w = field.cell_mean_inverse_square(c);
     hmin[c] = field.cell_min(c);
-    if (model.user_density) {
+    if (model.user_density && box_side(lo, hi) != Sign::negative) {
       // Estimate from a k x k pattern (k = 3, else 9 when no point of the 3 x 3 one is in
       // the domain) of the points inside the domain: the user's density is asked only
       // there. The rejection below clamps the ratio to 1. A cell that no pattern point
-      // finds in the domain keeps the feature field's estimate.
+      // finds in the domain keeps the feature field's estimate (as does a cell outside,
+      // without its 90 point locations: 4 million cells around two squares of side 1e-4).
       for (const int k : {3, 9}) {
         double m = kInf, inv2 = 0;
         int inside = 0;
@@ -383,13 +504,14 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
         }
         if (inside == 0) continue;
         hmin[c] = 0.8 * m;
-        weight = inv2 / inside;
+        w = inv2 / inside;
         break;
       }
-    } else if (hmin[c] * hmin[c] * weight < kRefineBelow && area > 0) {
+    } else if (hmin[c] * hmin[c] * w < kRefineBelow && area > 0) {
       refined.push_back(c);
     }
-    mass[c] = area * weight;
+    weight[c] = w;
+    mass[c] = area * w;
   }
   // Per refined cell: its squares and their cumulative masses.
   std::vector<std::vector<Square>> squares(refined.size());
@@ -421,11 +543,83 @@ std::vector<double> sample_sites(const Domain2& domain, const SizeModel& model, 
   const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
   std::vector<double> xy;
   xy.reserve(2 * std::size_t{n});
+  const auto no_sample = [&] {
+    return Error("mesh2d: " + domain.source() +
+                 ": cannot sample points inside the domain: its proposals missed it. This is a "
+                 "defect of voroclip: please report it with the input and the command");
+  };
+  if (model.domain_mass < kRestrictBelow * total) {
+    // The quadtree's squares: [x, x + side]^2, their size bound and weight.
+    struct Piece {
+      double x, y, side, bound, weight;
+      int depth;
+    };
+    std::vector<Piece> kept, stack;
+    for (std::uint32_t c = 0; c < nc; ++c) {
+      if (!(mass[c] > 0)) continue;
+      const std::uint32_t r = refined.empty() ? kNone : refined_index[c];
+      if (r == kNone) {
+        double lo[2], hi[2];
+        field.cell_box(c, lo, hi);
+        stack.push_back({lo[0], lo[1], hi[0] - lo[0], hmin[c], weight[c], 0});
+      } else {
+        for (auto q = squares[r].rbegin(); q != squares[r].rend(); ++q) {
+          stack.push_back({q->x, q->y, q->side, q->min, 1 / (q->min * q->min), 0});
+        }
+      }
+      while (!stack.empty()) {
+        const Piece q = stack.back();
+        stack.pop_back();
+        const double lo[2] = {std::max(q.x, blo[0]), std::max(q.y, blo[1])};
+        const double hi[2] = {std::min(q.x + q.side, bhi[0]), std::min(q.y + q.side, bhi[1])};
+        if (!(lo[0] < hi[0] && lo[1] < hi[1])) continue;
+        const Sign side = box_side(lo, hi);
+        if (side != Sign::zero) {
+          if (side == Sign::positive) kept.push_back(q);
+          continue;
+        }
+        if (q.side > q.bound && q.depth < kSquareDepth) {
+          const double h = 0.5 * q.side;
+          // Pushed in reverse so that the squares come out in (y, x) order.
+          stack.push_back({q.x + h, q.y + h, h, q.bound, q.weight, q.depth + 1});
+          stack.push_back({q.x, q.y + h, h, q.bound, q.weight, q.depth + 1});
+          stack.push_back({q.x + h, q.y, h, q.bound, q.weight, q.depth + 1});
+          stack.push_back({q.x, q.y, h, q.bound, q.weight, q.depth + 1});
+          continue;
+        }
+        kept.push_back(q);
+      }
+    }
+    std::vector<double> cum(kept.size());
+    double sum = 0;
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const double lo[2] = {kept[k].x, kept[k].y};
+      const double hi[2] = {kept[k].x + kept[k].side, kept[k].y + kept[k].side};
+      sum += area_in_box(lo, hi) * kept[k].weight;
+      cum[k] = sum;
+    }
+    if (kept.empty() || !(sum > 0)) throw no_sample();
+    std::uint64_t attempts = 0;
+    while (xy.size() < 2 * std::size_t{n}) {
+      if (++attempts > 10000 * std::uint64_t{n} + 1000000) throw no_sample();
+      const double u = uniform() * sum;
+      const Piece& q = kept[std::min<std::size_t>(
+          std::upper_bound(cum.begin(), cum.end(), u) - cum.begin(), kept.size() - 1)];
+      const double lo[2] = {std::max(q.x, blo[0]), std::max(q.y, blo[1])};
+      const double hi[2] = {std::min(q.x + q.side, bhi[0]), std::min(q.y + q.side, bhi[1])};
+      const double p[2] = {lo[0] + uniform() * (hi[0] - lo[0]),
+                           lo[1] + uniform() * (hi[1] - lo[1])};
+      const double accept = uniform();
+      if (domain.locate(p) != Sign::positive) continue;
+      const double ratio = std::min(1.0, q.bound / model.size(p[0], p[1]));
+      if (accept >= ratio * ratio) continue;
+      xy.insert(xy.end(), p, p + 2);
+    }
+    return xy;
+  }
   std::uint64_t tries = 0;
   while (xy.size() < 2 * std::size_t{n}) {
-    if (++tries > 10000 * std::uint64_t{n} + 1000000) {
-      throw Error("mesh2d: " + domain.source() + ": cannot sample points inside the domain");
-    }
+    if (++tries > 10000 * std::uint64_t{n} + 1000000) throw no_sample();
     const double u = uniform() * total;
     const auto c = static_cast<std::uint32_t>(std::min<std::size_t>(
         std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(), nc - 1));
@@ -1526,7 +1720,7 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
     if (!(est < 1e9)) throw Error("mesh2d: the edge length asks for more than 10^9 vertices");
     n = static_cast<std::uint32_t>(std::max(3.0, std::round(est)));
   }
-  std::vector<double> sites = sample_sites(*domain, model, n, o.seed);
+  std::vector<double> sites = sample_sites(*domain, model, *grid, n, o.seed);
   st.seconds_sampling = seconds_since(t0);
 
   // CVT density rho = (H / h)^4 (1 where the size is uniform).

@@ -106,6 +106,7 @@ void SizingField2::build(const ConeEnvelope& envelope, double cap, const double*
   nx_ = static_cast<std::uint32_t>(std::min(8192.0, std::floor(w / size_) + 1));
   ny_ = static_cast<std::uint32_t>(std::min(8192.0, std::floor(h / size_) + 1));
   cells_.assign(std::size_t{nx_} * ny_, Cell{});
+  uniform_.assign(cells_.size(), 0);
   const double half_diagonal = size_ * std::sqrt(0.5);
   // Pass 1: which cells need nodes, and how many.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells_.size()),
@@ -120,24 +121,49 @@ void SizingField2::build(const ConeEnvelope& envelope, double cap, const double*
                         const double reach = envelope.gradation() * half_diagonal;
                         const double v = envelope.value(x, y, cap + reach);
                         if (v - reach >= cap) continue;
+                        // No sample below cap + reach (v is that cap): f >= cap on the
+                        // cell (up to the rounding of the cone values), every node would
+                        // be the cap, and the test above failed by rounding alone
+                        // ((cap + reach) - reach < cap, about one cell in two).
+                        uniform_[c] = !(v < cap + reach);
                         const double low = std::max(v - reach, envelope.min_size());
                         const double res = std::ceil(size_ / std::max(low, 1e-300));
                         cell.res = static_cast<std::uint32_t>(std::clamp(res, 1.0, 96.0));
                       }
                     });
   std::uint64_t total = 0;
-  for (Cell& cell : cells_) {
+  nb_nodes_ = 0;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    Cell& cell = cells_[c];
     if (cell.res == 0) continue;
+    const std::uint64_t count = std::uint64_t{cell.res + 1} * (cell.res + 1);
+    nb_nodes_ += count;
+    if (uniform_[c]) continue;
     cell.first = static_cast<std::uint32_t>(total);
-    total += std::uint64_t{cell.res + 1} * (cell.res + 1);
+    total += count;
   }
   nodes_.assign(total, cap);
+  // The mean of 1 / cap^2 over the (res + 1)^2 nodes of a uniform cell, summed as pass 2
+  // sums a cell's nodes (the same bits), once per resolution.
+  std::vector<double> uniform_mean(97, 0.0);
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const std::uint32_t res = cells_[c].res;
+    if (!uniform_[c] || uniform_mean[res] != 0) continue;
+    double inv2 = 0;
+    for (std::uint64_t k = 0; k < std::uint64_t{res + 1} * (res + 1); ++k) inv2 += 1 / (cap * cap);
+    uniform_mean[res] = inv2 / ((res + 1.0) * (res + 1.0));
+  }
   // Pass 2: node values.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells_.size()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t c = range.begin(); c != range.end(); ++c) {
                         Cell& cell = cells_[c];
                         if (cell.res == 0) continue;
+                        if (uniform_[c]) {
+                          cell.min = cap;
+                          cell.mean_inv2 = uniform_mean[cell.res];
+                          continue;
+                        }
                         const double x0 = lo_[0] + static_cast<double>(c % nx_) * size_;
                         const double y0 = lo_[1] + static_cast<double>(c / nx_) * size_;
                         const double step = size_ / cell.res;
@@ -167,6 +193,11 @@ double SizingField2::feature(double x, double y) const {
   const std::uint32_t a = std::min(static_cast<std::uint32_t>(u), cell.res - 1);
   const std::uint32_t b = std::min(static_cast<std::uint32_t>(v), cell.res - 1);
   const double fu = u - a, fv = v - b;
+  if (uniform_[std::size_t{j} * nx_ + i]) {
+    // The interpolant of nodes that are all the cap, in the same operations.
+    const double c = cap_;
+    return (1 - fv) * ((1 - fu) * c + fu * c) + fv * ((1 - fu) * c + fu * c);
+  }
   const double* n = &nodes_[cell.first + b * (cell.res + 1) + a];
   const double* m = n + cell.res + 1;
   return (1 - fv) * ((1 - fu) * n[0] + fu * n[1]) + fv * ((1 - fu) * m[0] + fu * m[1]);
@@ -190,6 +221,10 @@ void SizingField2::cell_squares(std::uint32_t c, double ratio, int max_depth,
     return;
   }
   const double step = size_ / cell.res;
+  // A uniform cell's nodes, all the cap.
+  std::vector<double> caps;
+  if (uniform_[c]) caps.assign(std::size_t{cell.res + 1} * (cell.res + 1), cap_);
+  const double* base = uniform_[c] ? caps.data() : &nodes_[cell.first];
   // A square of a node patch: its lower left corner (u, v) in the patch's unit square, its
   // side, its depth.
   struct Part {
@@ -199,7 +234,7 @@ void SizingField2::cell_squares(std::uint32_t c, double ratio, int max_depth,
   std::vector<Part> stack;
   for (std::uint32_t b = 0; b < cell.res; ++b) {
     for (std::uint32_t a = 0; a < cell.res; ++a) {
-      const double* n = &nodes_[cell.first + b * (cell.res + 1) + a];
+      const double* n = base + b * (cell.res + 1) + a;
       const double* m = n + cell.res + 1;
       // feature()'s interpolant on this patch.
       const auto value = [&](double fu, double fv) {

@@ -53,7 +53,8 @@ class SizingField2 {
   // min(cap, f(x, y)) by interpolation.
   double feature(double x, double y) const;
   double cap() const { return cap_; }
-  std::uint64_t nb_nodes() const { return nodes_.size(); }
+  // Nodes of the cells that have them (uniform cells' included, not stored).
+  std::uint64_t nb_nodes() const { return nb_nodes_; }
   // The largest node spacing of the cells with nodes (0 when there are none): the
   // interpolant is within gradation * sqrt(2) * spacing of the envelope.
   double max_spacing() const;
@@ -88,7 +89,14 @@ class SizingField2 {
     double min = 0, mean_inv2 = 0;
   };
   std::vector<Cell> cells_;
+  // Per cell: 1 when its nodes are all the cap (f >= cap + reach at its centre, yet
+  // (cap + reach) - reach < cap by rounding gave it nodes); they are not stored, and every
+  // query gives what they would, in the same operations (two squares of side 1e-4 at
+  // (0, 0) and (1, 1) had 4M such cells, 196M nodes: 1.6 GB and 25 s of envelope queries;
+  // side 1e-8, 37.7 billion nodes).
+  std::vector<std::uint8_t> uniform_;
   std::vector<double> nodes_;
+  std::uint64_t nb_nodes_ = 0;
   double lo_[2] = {0, 0}, size_ = 1, cap_ = 1;
   std::uint32_t nx_ = 1, ny_ = 1;
 };

@@ -879,3 +879,137 @@ TEST_CASE("mesh2d: a strip of width 1e-6 is a clear, fast error, diagonal or not
     CHECK(need <= length / across);
   }
 }
+
+namespace {
+
+// Squares [x, x + s] x [y, y + s], one outer ring each (roles by nesting), the k-th with
+// the regional attribute attributes[k] at its centre when given.
+PolygonRings far_squares(const std::vector<std::vector<double>>& squares,
+                         const std::vector<double>& attributes = {}) {
+  PolygonRings p;
+  p.source = "test";
+  p.ring_begin.push_back(0);
+  for (std::size_t k = 0; k < squares.size(); ++k) {
+    const double x = squares[k][0], y = squares[k][1], s = squares[k][2];
+    p.xy.insert(p.xy.end(), {x, y, x + s, y, x + s, y + s, x, y + s});
+    p.ring_begin.push_back(static_cast<std::uint32_t>(p.xy.size() / 2));
+    p.ring_polygon.push_back(-1);
+    p.ring_line.push_back(0);
+    if (k < attributes.size()) {
+      p.region_points.insert(p.region_points.end(), {x + 0.5 * s, y + 0.5 * s});
+      p.region_attributes.push_back(attributes[k]);
+    }
+  }
+  return p;
+}
+
+// Per square of `squares` (as far_squares): the mesh vertices in its closed box, the
+// triangles with their three vertices there and their regions, the sum of their areas
+// (long double); every vertex and every triangle must be in one square.
+struct SquareShare {
+  std::uint32_t vertices = 0, triangles = 0;
+  std::vector<std::int32_t> regions;
+  long double area = 0;
+};
+std::vector<SquareShare> square_shares(const Mesh2& m,
+                                       const std::vector<std::vector<double>>& squares) {
+  const Domain2 d(far_squares(squares));
+  std::vector<SquareShare> out(squares.size());
+  const auto square_of = [&](std::uint32_t v) {
+    const double* p = &m.xy[2 * std::size_t{v}];
+    for (std::uint32_t r = 0; r < d.nb_rings(); ++r) {
+      const double* lo = d.vertex(d.ring_begin(r));
+      const double* hi = d.vertex(d.ring_begin(r) + 2);
+      if (lo[0] <= p[0] && p[0] <= hi[0] && lo[1] <= p[1] && p[1] <= hi[1]) return r;
+    }
+    return Mesh2::kNone;
+  };
+  for (std::uint32_t v = 0; v < m.nb_vertices(); ++v) {
+    const std::uint32_t r = square_of(v);
+    INFO("vertex " << v << " at (" << m.xy[2 * v] << ", " << m.xy[2 * v + 1] << ")");
+    REQUIRE(r != Mesh2::kNone);
+    ++out[r].vertices;
+  }
+  for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+    const std::uint32_t* v = &m.triangles[3 * std::size_t{t}];
+    const std::uint32_t r = square_of(v[0]);
+    REQUIRE(square_of(v[1]) == r);
+    REQUIRE(square_of(v[2]) == r);
+    ++out[r].triangles;
+    out[r].regions.push_back(m.triangle_regions[t]);
+    const double* a = &m.xy[2 * std::size_t{v[0]}];
+    const double* b = &m.xy[2 * std::size_t{v[1]}];
+    const double* c = &m.xy[2 * std::size_t{v[2]}];
+    out[r].area +=
+        0.5L * ((static_cast<long double>(b[0]) - a[0]) * (static_cast<long double>(c[1]) - a[1]) -
+                (static_cast<long double>(b[1]) - a[1]) * (static_cast<long double>(c[0]) - a[0]));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("mesh2d: two squares of side 1e-4 far apart are both meshed, each with its region",
+          "[mesh][regression]") {
+  // They cover 2e-8 of their bounding box. The count estimate drew its points from a grid
+  // of at most 2^20 cells over the box, and none fell inside: "the domain has no interior"
+  // (or, for a seed that put one there, the sampler proposed points over the whole box and
+  // gave up after 20-50 s: "cannot sample points inside the domain", with 1.7 GB of
+  // sizing-table nodes that were all the cap).
+  const std::vector<std::vector<double>> squares = {{0, 0, 1e-4}, {1, 1, 1e-4}};
+  const Domain2 d(far_squares(squares, {5, 7}));
+  for (const std::uint64_t seed : {1, 12}) {
+    Mesh2Options o;
+    o.seed = seed;
+    o.raise_for_mean_angle = false;
+    Mesh2Stats st;
+    const Mesh2 m = mesh_of(d, 300, &st, o);
+    INFO("seed " << seed << ", " << m.nb_vertices() << " vertices");
+    check_fixed_vertices(d, m, 0);
+    check_boundary_vertices(d, m, true);
+    const std::vector<SquareShare> share = square_shares(m, squares);
+    for (std::size_t k = 0; k < squares.size(); ++k) {
+      const Domain2 alone(far_squares({squares[k]}));
+      INFO("square " << k << ": " << share[k].vertices << " vertices, " << share[k].triangles
+                     << " triangles");
+      // The same density in both (no feature smaller than the squares): a fair share each.
+      CHECK(3 * share[k].vertices > m.nb_vertices());
+      // Each square is covered exactly (to rounding), and its triangles carry its region.
+      CHECK(std::fabs(share[k].area - alone.area()) <= 1e-12L * alone.area());
+      const std::int32_t region = k == 0 ? 5 : 7;
+      CHECK(std::count(share[k].regions.begin(), share[k].regions.end(), region) ==
+            static_cast<std::ptrdiff_t>(share[k].triangles));
+    }
+    CHECK(voroclip::triangle_quality2(m).min_angle >= 30);
+  }
+}
+
+TEST_CASE("mesh2d: three squares of side 1e-8 far apart, and a user density over two",
+          "[mesh][regression]") {
+  // Side 1e-8 at distance 1: 3e-16 of the box. The sizing table's cells (at least 1/2000
+  // of the box) are 50,000 times wider than a square; the sampler's proposals are cut to
+  // the squares by a quadtree, and the 4 million table cells whose nodes would all be the
+  // cap store none (they would be 37.7 billion nodes).
+  const std::vector<std::vector<double>> squares = {{0, 0, 1e-8}, {0, 1, 1e-8}, {1, 1, 1e-8}};
+  const Domain2 d(far_squares(squares));
+  Mesh2Options o;
+  o.raise_for_mean_angle = false;
+  const Mesh2 m = mesh_of(d, 300, nullptr, o);
+  const std::vector<SquareShare> share = square_shares(m, squares);
+  for (std::size_t k = 0; k < squares.size(); ++k) {
+    const Domain2 alone(far_squares({squares[k]}));
+    INFO("square " << k << ": " << share[k].vertices << " vertices");
+    CHECK(4 * share[k].vertices > m.nb_vertices());
+    CHECK(std::fabs(share[k].area - alone.area()) <= 1e-12L * alone.area());
+  }
+  // A density 10^4 times higher at x = 1 than at x = 0 (h 10 times smaller) puts most
+  // vertices in the square there: the density is asked and honoured inside each square.
+  const std::vector<std::vector<double>> two = {{0, 0, 1e-4}, {1, 1, 1e-4}};
+  const Domain2 d2(far_squares(two));
+  o.density = voroclip::Density2::function([](double x, double) { return 1 + 1e4 * x; });
+  const Mesh2 g = mesh_of(d2, 300, nullptr, o);
+  const std::vector<SquareShare> graded = square_shares(g, two);
+  INFO(graded[0].vertices << " and " << graded[1].vertices << " vertices");
+  CHECK(graded[1].vertices > 10 * graded[0].vertices);
+  CHECK(graded[0].vertices >= 4);
+}
