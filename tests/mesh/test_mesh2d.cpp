@@ -1013,3 +1013,34 @@ TEST_CASE("mesh2d: three squares of side 1e-8 far apart, and a user density over
   CHECK(graded[1].vertices > 10 * graded[0].vertices);
   CHECK(graded[0].vertices >= 4);
 }
+
+TEST_CASE("mesh2d: a small slanted triangle far from the origin passes its area check",
+          "[mesh][regression]") {
+  // Sliding vertices on a slanted edge are rounded a few ulps into the domain; at (1e6,
+  // 1e6) an ulp is 1.2e-10, and a triangle of side 1e-4 lost 2.4e-14 of its 5e-9: the
+  // mesh "failed its own check" (relative gap 4.8e-6 against 1e-12), as a defect.
+  for (const double at : {1.0, 1e6}) {
+    const Domain2 d(rings_of({{at, at, at + 1e-4, at, at + 5e-5, at + 1e-4}}));
+    Mesh2Options o;
+    o.raise_for_mean_angle = false;
+    Mesh2Stats st;
+    const Mesh2 m = mesh_of(d, 300, &st, o);
+    INFO("at " << at << ": " << m.nb_vertices() << " vertices");
+    check_fixed_vertices(d, m, 0);
+    check_boundary_vertices(d, m, false);
+    // The gap is within the boundary's rounding: 32 ulps of the coordinates times the
+    // boundary's length (3.3e-4).
+    long double area = 0;
+    for (std::uint32_t t = 0; t < m.nb_triangles(); ++t) {
+      const double* a = &m.xy[2 * m.triangles[3 * t]];
+      const double* b = &m.xy[2 * m.triangles[3 * t + 1]];
+      const double* c = &m.xy[2 * m.triangles[3 * t + 2]];
+      area += 0.5L *
+              ((static_cast<long double>(b[0]) - a[0]) * (static_cast<long double>(c[1]) - a[1]) -
+               (static_cast<long double>(b[1]) - a[1]) * (static_cast<long double>(c[0]) - a[0]));
+    }
+    const double ulp = std::nextafter(at + 1e-4, 2 * at) - (at + 1e-4);
+    CHECK(area <= d.area());
+    CHECK(d.area() - area <= 32 * ulp * 3.3e-4);
+  }
+}
