@@ -1616,8 +1616,11 @@ struct Sizing {
   double thin_vertices = 0;  // feature_samples
 };
 
+// `asked`: the vertex count the caller asked for (mesh_to_count's second run samples
+// fewer sites when the first one made too many, and the thin-domain check below compares
+// with the request, not with that), 0 with an edge length.
 Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_angle,
-                   const EdgeGrid2& grid) {
+                   const EdgeGrid2& grid, std::uint32_t asked) {
   Sizing z;
   z.boundary = analyse_boundary(domain, o, sharp_angle);
   const std::vector<FeatureSample> samples =
@@ -1627,17 +1630,24 @@ Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_an
   // width, round after round (a strip of 1 by 1e-6: about 2,000,000 boundary vertices, over
   // 2 minutes in the refinement's first rounds; 1 by 1e-4: 20,000, over 3.5 minutes; 1 by
   // 0.001 needs 2,000 and makes 13,372 vertices in 32 s). Above kMaxThinVertices, and above
-  // the count asked, a clear error before the sizing field and the sampling.
+  // the count asked, a clear error before the sizing field and the sampling. The count
+  // asked: `asked` (a strip of 1 by 1e-4 at the 19,844 vertices the message named was
+  // refused after 60 s, when the second run sampled 14,664), or with an edge length H the
+  // count of a uniform mesh of edge H, 2 / sqrt(3) area / H^2 (a lower bound of the mesh's
+  // count; the check refused every edge length).
   constexpr double kMaxThinVertices = 1e4;
-  if (z.thin_vertices > kMaxThinVertices && z.thin_vertices > o.nb_vertices) {
-    const std::string need = std::to_string(static_cast<std::uint64_t>(z.thin_vertices));
+  const double count =
+      asked > 0 ? asked : 2 / std::sqrt(3.0) * domain.area() / (o.edge_length * o.edge_length);
+  if (z.thin_vertices > kMaxThinVertices && z.thin_vertices > count) {
+    // Rounded up: the count named passes this test.
+    const std::string need = std::to_string(static_cast<std::uint64_t>(std::ceil(z.thin_vertices)));
     double width = kInf;
     for (const FeatureSample& f : samples) width = std::min(width, f.s);
     char w[32];
     std::snprintf(w, sizeof w, "%.3g", width);
     throw Error("mesh2d: " + domain.source() + ": the domain is too thin to mesh " +
-                (o.nb_vertices ? "with " + std::to_string(o.nb_vertices) + " vertices"
-                               : std::string("at this edge length")) +
+                (asked ? "with " + std::to_string(asked) + " vertices"
+                       : std::string("at this edge length")) +
                 ": its boundary runs within " + w +
                 " of the other side over long stretches, and resolving them asks for about " +
                 need + " boundary vertices alone; ask for that many or more (--vertices " + need +
@@ -1647,7 +1657,9 @@ Sizing size_domain(const Domain2& domain, const Mesh2Options& o, double sharp_an
   return z;
 }
 
-Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Stats* stats_out) {
+// `asked`: size_domain's.
+Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Stats* stats_out,
+                        std::uint32_t asked) {
   const auto t0 = std::chrono::steady_clock::now();
   if (original.nb_rings() == 0) throw Error("mesh2d: the domain is empty");
   if (o.nb_vertices == 0 && !(o.edge_length > 0 && std::isfinite(o.edge_length))) {
@@ -1682,7 +1694,7 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
   std::vector<CutDomain> cuts;  // successive cut domains
   const Domain2* domain = &original;
   std::unique_ptr<EdgeGrid2> grid = std::make_unique<EdgeGrid2>(*domain);
-  Sizing sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid);
+  Sizing sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid, asked);
   for (int round = 0; round < 3 && sizing.boundary.any_sharp; ++round) {
     bool done = false;
     for (double factor = 1; factor > 0.1 && !done; factor *= 0.5) {
@@ -1697,9 +1709,9 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
     st.nb_sharp_corners += cuts.back().nb_cut;
     domain = &cuts.back().domain;
     grid = std::make_unique<EdgeGrid2>(*domain);
-    sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid);
+    sizing = size_domain(*domain, o, o.sharp_angle_deg, *grid, asked);
   }
-  if (sizing.boundary.any_sharp) sizing = size_domain(*domain, o, 0, *grid);
+  if (sizing.boundary.any_sharp) sizing = size_domain(*domain, o, 0, *grid, asked);
   const Boundary& b = sizing.boundary;
   const SizeModel& model = sizing.model;
   st.min_size = sizing.min_size;
@@ -2080,7 +2092,7 @@ std::string mean_angle_note(const Mesh2& mesh, const Mesh2Stats& st, double targ
 // runs do not give a rising line; a step changes the sampling by a factor 4 at most. No
 // redo when the small features alone ask for more than the tolerance above the request.
 Mesh2 mesh_to_count(const Domain2& domain, const Mesh2Options& options, Mesh2Stats& st) {
-  Mesh2 mesh = mesh_domain2_once(domain, options, &st);
+  Mesh2 mesh = mesh_domain2_once(domain, options, &st, options.nb_vertices);
   const std::uint32_t wanted = options.nb_vertices;
   st.requested_vertices = wanted;
   const auto miss = [&](const Mesh2& m) {
@@ -2107,7 +2119,7 @@ Mesh2 mesh_to_count(const Domain2& domain, const Mesh2Options& options, Mesh2Sta
     if (n == o.nb_vertices) break;
     o.nb_vertices = n;
     Mesh2Stats again;
-    Mesh2 other = mesh_domain2_once(domain, o, &again);
+    Mesh2 other = mesh_domain2_once(domain, o, &again, options.nb_vertices);
     ++st.vertex_count_runs;
     n_prev = n_last;
     got_prev = got_last;

@@ -1044,3 +1044,80 @@ TEST_CASE("mesh2d: a small slanted triangle far from the origin passes its area 
     CHECK(d.area() - area <= 32 * ulp * 3.3e-4);
   }
 }
+
+namespace {
+
+// The message of mesh_domain2's Error, or "" when it returns (cancelled by `o.progress`
+// or not); `st` gets the statistics of a run that returns.
+std::string mesh_error(const Domain2& d, const Mesh2Options& o, Mesh2Stats* st = nullptr) {
+  try {
+    voroclip::mesh_domain2(d, o, st);
+  } catch (const voroclip::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Cancels at the first iteration of the unconstrained CVT: the sizing, with its thin-domain
+// check, and the sampling are done.
+bool until_cvt(const voroclip::Mesh2Progress& p) {
+  return p.phase == voroclip::Mesh2Phase::kSampling;
+}
+
+}  // namespace
+
+TEST_CASE("mesh2d: the count a too-thin error names passes the check, so does a fine edge length",
+          "[mesh][regression]") {
+  // A strip of 1 by 1.8e-4 needs about 2 / 1.8e-4 = 11,111 boundary vertices by the check's
+  // count, a fraction: the message named it rounded down, which the check refused; and with
+  // an edge length the check refused any, 1.2e-4 too (a uniform mesh of that edge has
+  // 14,434 vertices).
+  const double w = 1.8e-4;
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, w, 0, w}}));
+  Mesh2Options o;
+  o.nb_vertices = 300;
+  const std::string message = mesh_error(d, o);
+  INFO(message);
+  REQUIRE(message.find("too thin to mesh with 300 vertices") != std::string::npos);
+  const std::size_t at = message.find("--vertices ");
+  REQUIRE(at != std::string::npos);
+  const auto need = static_cast<std::uint32_t>(std::stoul(message.substr(at + 11)));
+  CHECK(need > 0.95 * 2 / w);
+  CHECK(need <= 2 / w + 1);
+  o.progress = until_cvt;
+  // One below: still refused, naming the same count.
+  o.nb_vertices = need - 1;
+  const std::string below = mesh_error(d, o);
+  CHECK(below.find("too thin to mesh with " + std::to_string(need - 1) + " vertices") !=
+        std::string::npos);
+  CHECK(below.find("--vertices " + std::to_string(need) + ",") != std::string::npos);
+  o.nb_vertices = need;
+  Mesh2Stats st;
+  CHECK(mesh_error(d, o, &st).empty());
+  CHECK(st.cancelled);
+  // An edge length of 2/3 of the width resolves the strip; one of 10 widths does not.
+  o.nb_vertices = 0;
+  o.edge_length = 1.2e-4;
+  CHECK(mesh_error(d, o, &st).empty());
+  CHECK(st.cancelled);
+  o.edge_length = 1.8e-3;
+  CHECK(mesh_error(d, o).find("too thin to mesh at this edge length") != std::string::npos);
+}
+
+TEST_CASE("mesh2d: a strip meshed at the count its too-thin error names", "[mesh][.slow]") {
+  // The count named was refused again by the second run, which samples fewer sites when
+  // the first one makes too many: "too thin to mesh with 14664 vertices", after 60 s.
+  const Domain2 d(rings_of({{0, 0, 1, 0, 1, 1e-4, 0, 1e-4}}));
+  Mesh2Options o;
+  o.nb_vertices = 300;
+  const std::string message = mesh_error(d, o);
+  const std::size_t at = message.find("--vertices ");
+  REQUIRE(at != std::string::npos);
+  o.nb_vertices = static_cast<std::uint32_t>(std::stoul(message.substr(at + 11)));
+  o.raise_for_mean_angle = false;
+  Mesh2Stats st;
+  const Mesh2 m = mesh_of(d, o.nb_vertices, &st, o);
+  INFO(st.vertex_count_note);
+  CHECK(st.vertex_count_runs > 0);
+  check_boundary_vertices(d, m, true);
+}
