@@ -633,8 +633,9 @@ void write_mesh2(std::ostream& out, const Mesh2& mesh, Mesh2FileFormat format);
 // within 16 ulps (per coordinate; the closed box meets the edge, decided by orient2d) of
 // edges of one straight part of it (edges joined at vertices that are not corners); with
 // `corners`, every corner of the domain (Domain2::is_corner) is a mesh vertex with its
-// exact coordinates; and the triangles' areas sum to the domain's area to 1e-12 relative.
-// Empty when all hold, else the first failure.
+// exact coordinates; and the triangles' areas sum to the domain's area to 1e-12 relative,
+// plus 2 x 16 ulps (of the largest coordinate) times the boundary's length: the rounding of
+// its vertices. Empty when all hold, else the first failure.
 std::string check_mesh2_conforming(const Domain2& domain, const Mesh2& mesh, bool corners = true);
 
 // ---------------------------------------------------------------------------------------
