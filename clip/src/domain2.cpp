@@ -853,6 +853,7 @@ void Domain2Impl::nest_and_orient() {
   }
 
   // Hole markers: each strictly inside a hole (its innermost containing ring is a hole).
+  std::vector<std::uint8_t> marked(nb_rings, 0);
   for (std::size_t k = 0; k < in.hole_points.size() / 2; ++k) {
     const double* q = &in.hole_points[2 * k];
     const std::string name = hole_name(k) + " at " + point_text(q);
@@ -867,6 +868,16 @@ void Domain2Impl::nest_and_orient() {
     if (!d.ring_hole_[innermost]) {
       fail(name + " lies inside the domain (its innermost ring, " + ring_name(innermost) +
            ", is an outer boundary), not in a hole");
+    }
+    marked[innermost] = 1;
+  }
+  if (in.holes_need_markers) {
+    for (std::uint32_t r = 0; r < nb_rings; ++r) {
+      if (!d.ring_hole_[r] || marked[r]) continue;
+      fail(ring_name(r) + " lies inside " + ring_name(parent(r)) +
+           " and no hole marker lies in it: in a .poly file a region is a hole only where a "
+           "hole marker is (Triangle meshes it, the ring an inner boundary, which voroclip "
+           "does not take); add a hole marker inside it to make it a hole");
     }
   }
 

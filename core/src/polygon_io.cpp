@@ -383,6 +383,7 @@ PolygonRings PolyReader::read() {
     out.ring_polygon.push_back(-1);
     out.ring_line.push_back(seg_line[first]);
   }
+  out.holes_need_markers = true;
   return out;
 }
 

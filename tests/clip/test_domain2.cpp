@@ -706,6 +706,16 @@ TEST_CASE("Domain2 reads roles from nesting in .poly files, checks hole markers"
     CHECK(domain_error(voroclip::read_polygon(q)) == q + ": " + c.message);
     std::remove(q.c_str());
   }
+  // A ring that nesting makes a hole, without a marker: Triangle meshes it (its ring an
+  // inner boundary), so it is refused, not made a hole.
+  const auto u = write_temp("island_unmarked.poly", body + "0\n");
+  CHECK(domain_error(voroclip::read_polygon(u)) ==
+        u + ": ring 0 (line 15) lies inside ring 1 (line 19) and no hole marker lies in it: in "
+            "a .poly file a region is a hole only where a hole marker is (Triangle meshes it, "
+            "the ring an inner boundary, which voroclip does not take); add a hole marker "
+            "inside it to make it a hole (.poly numbering: the file's vertex numbers and "
+            "lines)");
+  std::remove(u.c_str());
   // A crossing is reported with the file's vertex numbers and the ring's first line.
   const auto x = write_temp("crossing.poly",
                             "7 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 5 2\n7 1 3\n"

@@ -117,6 +117,10 @@ struct PolygonRings {
   std::vector<std::uint32_t> ring_line;
   /// .poly hole markers (packed x y): each must lie in a hole of the domain.
   std::vector<double> hole_points;
+  /// .poly (Triangle's rule: a region is a hole only where a hole marker is): each ring that
+  /// nesting makes a hole must hold a marker. Triangle meshes an unmarked one, its ring an
+  /// inner boundary, which voroclip does not take, so Domain2 refuses it.
+  bool holes_need_markers = false;
   /// Optional, for messages (empty when the format has nothing to say): per point, its own
   /// number in the file (.poly: the vertex number as written, so that a ring assembled from
   /// segments is reported with the user's numbering; otherwise a point is named by its
