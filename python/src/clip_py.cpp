@@ -115,6 +115,73 @@ struct SiteCheck {
 
 }  // namespace
 
+std::optional<py::object> vectorized_callable(const py::object& v) {
+  if (!py::isinstance<Vectorized>(v)) return std::nullopt;
+  return v.cast<const Vectorized&>().f;
+}
+
+void PyDensity::bad_value(double v, const double* p, int dim) const {
+  const auto r = [](double t) { return py::repr(py::float_(t)).cast<std::string>(); };
+  throw Error(what_ + ": the callable returned " + r(v) + " at (" + r(p[0]) + ", " + r(p[1]) +
+              (dim == 2 ? "" : ", " + r(p[2])) + "): the " + what_ +
+              " must be finite and positive");
+}
+
+void PyDensity::batch(const double* xyz, std::size_t n, double* out, int dim) {
+  py::gil_scoped_acquire acquire;
+  std::fill(out, out + n, 1.0);
+  if (error_ || n == 0) return;
+  const auto count = static_cast<py::ssize_t>(n);
+  py::array_t<double> c[3] = {py::array_t<double>(count), py::array_t<double>(count),
+                              py::array_t<double>(count)};
+  for (int k = 0; k < dim; ++k) {
+    double* d = c[k].mutable_data();
+    for (std::size_t i = 0; i < n; ++i) d[i] = xyz[static_cast<std::size_t>(dim) * i + k];
+  }
+  py::object r;
+  try {
+    r = dim == 2 ? f_(c[0], c[1]) : f_(c[0], c[1], c[2]);
+  } catch (py::error_already_set& e) {
+    keep(e);
+    return;
+  }
+  const auto fail = [&](PyObject* type, const std::string& message) {
+    if (!error_) {
+      PyErr_SetString(type, message.c_str());
+      error_ = std::make_unique<py::error_already_set>();
+    }
+  };
+  const DoubleArray a = DoubleArray::ensure(r);
+  if (!a) {
+    PyErr_Clear();
+    fail(PyExc_TypeError, what_ +
+                              ": the vectorized callable must return an array of numbers, got " +
+                              py::repr(r).cast<std::string>());
+    return;
+  }
+  if (a.ndim() == 0) {
+    std::fill(out, out + n, a.data()[0]);
+  } else if (a.ndim() == 1 && a.shape(0) == count) {
+    std::copy(a.data(), a.data() + n, out);
+  } else {
+    std::string shape;
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) {
+      shape += (k == 0 ? "" : ", ") + std::to_string(a.shape(k));
+    }
+    if (a.ndim() == 1) shape += ",";
+    fail(PyExc_ValueError, what_ + ": the vectorized callable returned an array of shape (" +
+                               shape + ") for " + std::to_string(n) + " points; expected (" +
+                               std::to_string(n) + ",) or one number");
+    std::fill(out, out + n, 1.0);
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(out[i] > 0) || !std::isfinite(out[i])) {
+      bad_value(out[i], xyz + static_cast<std::size_t>(dim) * i, dim);
+    }
+  }
+}
+
 Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callback) {
   if (density.is_none()) return Density2::constant(1.0);
   if (py::isinstance<py::float_>(density) || py::isinstance<py::int_>(density)) {
@@ -139,6 +206,11 @@ Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callbac
                                  static_cast<std::uint32_t>(values.shape(0)), l, h,
                                  std::vector<double>(values.data(), values.data() + values.size()));
   }
+  if (const auto f = vectorized_callable(density)) {
+    callback = std::make_shared<PyDensity>(*f, "density", true);
+    auto c = callback;
+    return Density2::function([c](double x, double y) { return (*c)(x, y, 0, 2); });
+  }
   if (PyCallable_Check(density.ptr()) != 0) {
     callback = std::make_shared<PyDensity>(density);
     auto c = callback;
@@ -153,6 +225,12 @@ Density3 density3(const py::object& density, std::shared_ptr<PyDensity>& callbac
     const double v = density.cast<double>();
     if (!(v > 0) || !std::isfinite(v)) throw Error("density: expected a finite number > 0");
     return Density3::constant(v);
+  }
+  if (const auto f = vectorized_callable(density)) {
+    callback = std::make_shared<PyDensity>(*f, "density", true);
+    auto c = callback;
+    return Density3::batch_function(
+        [c](const double* xyz, std::size_t n, double* out) { c->batch(xyz, n, out, 3); });
   }
   if (PyCallable_Check(density.ptr()) != 0) {
     callback = std::make_shared<PyDensity>(density);
@@ -664,6 +742,18 @@ void bind_domains(py::module_& m) {
 }
 
 void bind_clip(py::module_& m) {
+  py::class_<Vectorized>(m, "Vectorized",
+                         "A density or sizing callable that takes arrays of points (the "
+                         "functions' vectorized=True).")
+      .def(py::init([](const py::object& f) {
+             if (PyCallable_Check(f.ptr()) == 0) {
+               throw Error("vectorized: expected a callable, got " +
+                           py::repr(f).cast<std::string>());
+             }
+             return Vectorized{f};
+           }),
+           py::arg("f"))
+      .def_property_readonly("f", [](const Vectorized& v) { return v.f; });
   m.def("clip2d", &clip2d, py::arg("domain"), py::arg("sites"), py::arg("density") = py::none(),
         py::arg("geometry") = false, py::arg("neighbors") = false, py::arg("callback") = py::none(),
         py::arg("threads") = 0);

@@ -97,20 +97,34 @@ class Progress {
 class PyDensity {
  public:
   // `what` names the value in messages ("density", or "sizing" for an edge length h).
-  explicit PyDensity(py::object f, std::string what = "density")
-      : f_(std::move(f)), what_(std::move(what)) {}
+  // `vectorized`: f takes numpy arrays (x, y[, z]) of n points and returns n values (see
+  // batch()); operator() then calls it with arrays of one point.
+  explicit PyDensity(py::object f, std::string what = "density", bool vectorized = false)
+      : f_(std::move(f)), what_(std::move(what)), vectorized_(vectorized) {}
+  bool vectorized() const { return vectorized_; }
+  // The values at n points (xyz: dim coordinates each) in one call of a vectorized f: it
+  // gets float64 arrays x, y[, z] of shape (n,) (copies, its to keep) and returns an
+  // array of shape (n,) or one number for all. After a Python error, 1.0 everywhere.
+  // Another shape, or a value that is not finite and positive, throws Error naming it.
+  void batch(const double* xyz, std::size_t n, double* out, int dim);
   // Called from worker threads. The GIL is all the locking: error_ is read and written only
   // while this thread holds it, between Python calls (the interpreter may hand the GIL to
   // another thread while f_ runs, so a second lock taken after the GIL would deadlock with
   // a thread that holds it and waits for the GIL). The first error is kept.
   double operator()(double x, double y, double z, int dim) {
+    if (vectorized_) {
+      const double p[3] = {x, y, z};
+      double v = 1.0;
+      batch(p, 1, &v, dim);
+      return v;
+    }
     py::gil_scoped_acquire acquire;
     if (error_) return 1.0;
     double v = 1.0;
     try {
       v = (dim == 2 ? f_(x, y) : f_(x, y, z)).cast<double>();
     } catch (py::error_already_set& e) {
-      if (!error_) error_ = std::make_unique<py::error_already_set>(std::move(e));
+      keep(e);
       return 1.0;
     } catch (py::cast_error&) {
       if (!error_) {
@@ -120,10 +134,8 @@ class PyDensity {
       return 1.0;
     }
     if (!(v > 0) || !std::isfinite(v)) {
-      const auto r = [](double t) { return py::repr(py::float_(t)).cast<std::string>(); };
-      throw Error(what_ + ": the callable returned " + r(v) + " at (" + r(x) + ", " + r(y) +
-                  (dim == 2 ? "" : ", " + r(z)) + "): the " + what_ +
-                  " must be finite and positive");
+      const double p[3] = {x, y, z};
+      bad_value(v, p, dim);
     }
     return v;
   }
@@ -136,15 +148,31 @@ class PyDensity {
   }
 
  private:
+  // Keeps the first Python error (the GIL held).
+  void keep(py::error_already_set& e) {
+    if (!error_) error_ = std::make_unique<py::error_already_set>(std::move(e));
+  }
+  [[noreturn]] void bad_value(double v, const double* p, int dim) const;
+
   py::object f_;
   std::string what_;
+  bool vectorized_ = false;
   std::unique_ptr<py::error_already_set> error_;
 };
 
+// A callable marked as vectorized (the Python functions' `vectorized=True`, which wrap it
+// in _core.Vectorized): PyDensity calls it with arrays of points.
+struct Vectorized {
+  py::object f;
+};
+// `v`'s callable when it is a Vectorized (its f), else nullopt.
+std::optional<py::object> vectorized_callable(const py::object& v);
+
 // The library's density from a Python value: None (1), a number, a callable rho(x, y[, z])
 // (called from worker threads; kept alive in `callback`, whose rethrow() the caller must
-// call after the computation), in 2D a grid tuple (values[ny, nx], lo, hi), in 3D one
-// value per vertex of the tet mesh.
+// call after the computation) or a Vectorized callable (in 3D evaluated in batches of
+// points, Density3::batch_function; in 2D a point at a time), in 2D a grid tuple (values[ny, nx],
+// lo, hi), in 3D one value per vertex of the tet mesh.
 Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callback);
 Density3 density3(const py::object& density, std::shared_ptr<PyDensity>& callback);
 

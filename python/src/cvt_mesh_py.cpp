@@ -299,7 +299,7 @@ void mesh3d_size(Mesh3Options& o, bool vertices_given, const py::object& density
     return py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v);
   };
   if (!density.is_none()) {
-    if (!number(density) && PyCallable_Check(density.ptr()) == 0) {
+    if (!number(density) && PyCallable_Check(density.ptr()) == 0 && !vectorized_callable(density)) {
       throw Error("mesh3d: density: expected None, a number or a callable rho(x, y, z)");
     }
     o.density = density3(density, callback);
@@ -312,20 +312,33 @@ void mesh3d_size(Mesh3Options& o, bool vertices_given, const py::object& density
     if (!vertices_given) o.edge_length = h;  // a uniform size: h is the edge length
     return;
   }
-  if (PyCallable_Check(sizing.ptr()) == 0) {
+  const std::optional<py::object> vectorized = vectorized_callable(sizing);
+  if (!vectorized && PyCallable_Check(sizing.ptr()) == 0) {
     throw Error("mesh3d: sizing: expected None, a number or a callable h(x, y, z)");
   }
-  callback = std::make_shared<PyDensity>(sizing, "sizing");
-  auto c = callback;
-  o.density = Density3::function([c](double x, double y, double z) {
-    const double h = (*c)(x, y, z, 3);
-    const double rho = std::pow(h, -5.0);
-    if (!std::isfinite(rho)) {
-      throw Error("sizing: h = " + std::to_string(h) + " at (" + std::to_string(x) + ", " +
-                  std::to_string(y) + ", " + std::to_string(z) + "): h^-5 overflows");
+  callback = std::make_shared<PyDensity>(vectorized ? *vectorized : sizing, "sizing",
+                                         vectorized.has_value());
+  // rho = h^-5, an error where that overflows.
+  const auto rho = [](double h, const double* p) {
+    const double r = std::pow(h, -5.0);
+    if (!std::isfinite(r)) {
+      throw Error("sizing: h = " + std::to_string(h) + " at (" + std::to_string(p[0]) + ", " +
+                  std::to_string(p[1]) + ", " + std::to_string(p[2]) + "): h^-5 overflows");
     }
-    return rho;
-  });
+    return r;
+  };
+  auto c = callback;
+  if (vectorized) {
+    o.density = Density3::batch_function([c, rho](const double* xyz, std::size_t n, double* out) {
+      c->batch(xyz, n, out, 3);
+      for (std::size_t i = 0; i < n; ++i) out[i] = rho(out[i], xyz + 3 * i);
+    });
+  } else {
+    o.density = Density3::function([c, rho](double x, double y, double z) {
+      const double p[3] = {x, y, z};
+      return rho((*c)(x, y, z, 3), p);
+    });
+  }
   if (!vertices_given) o.edge_length = 1;
 }
 

@@ -183,9 +183,17 @@ def _sites(sites, dim):
     return a
 
 
+def _vectorized(f, vectorized: bool):
+    """A density or sizing argument for _core: a callable marked as taking arrays when
+    ``vectorized`` (anything else as it is)."""
+    if vectorized and callable(f):
+        return _core.Vectorized(f)
+    return f
+
+
 def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
            callback: Optional[Callable[[dict], object]] = None,
-           threads: Optional[int] = None) -> Cells:
+           threads: Optional[int] = None, vectorized: bool = False) -> Cells:
     """The Voronoi diagram of ``sites`` ((n, 2) array, n >= 1: one site or sites on a line
     too) clipped to a polygonal domain (anything :func:`domain2` takes), every
     combinatorial decision exact.
@@ -195,6 +203,9 @@ def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     worker threads, slow; a value that is not finite and positive raises :class:`Error`
     naming the point), or a grid tuple
     ``(values[ny, nx], (xmin, ymin), (xmax, ymax))`` interpolated linearly.
+    ``vectorized``: the callable takes float64 arrays ``x, y`` of shape (k,) and returns k
+    values (or one number for all), as scipy's ``vectorized`` options; in 2D it is called
+    with one point per call (k = 1), in 3D with a few thousand points per call.
     ``geometry``/``neighbors``: also return the cells' rings / the neighbour lists (else
     computed on first access of ``neighbors``).
     ``callback(info)``: called now and then (a dict: phase, done, total, seconds) on the
@@ -207,15 +218,16 @@ def clip2d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     Returns :class:`Cells`."""
     d = domain2(domain)
     s = _sites(sites, 2)
-    r = _core.clip2d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    rho = _vectorized(density, vectorized)
+    r = _core.clip2d(d, s, rho, geometry, neighbors, callback, _threads(threads))
     _warn_sites("clip2d", r)
-    return Cells(2, s, r, lambda: _core.clip2d(d, s, density, False, True, callback,
+    return Cells(2, s, r, lambda: _core.clip2d(d, s, rho, False, True, callback,
                                                       _threads(threads)))
 
 
 def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bool = False,
            callback: Optional[Callable[[dict], object]] = None,
-           threads: Optional[int] = None) -> Cells:
+           threads: Optional[int] = None, vectorized: bool = False) -> Cells:
     """The Voronoi diagram of ``sites`` ((n, 3) array, n >= 1: one site, sites on a line
     or in a plane too) clipped to the volume of a
     3D domain (anything :func:`domain3` takes: a surface, a tet mesh, a file, a
@@ -223,8 +235,9 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     clipped by the surface exactly.
 
     ``density``: None (1), a number, a callable ``rho(x, y, z)`` (finite and positive on
-    every cell that meets the volume), or one value per vertex of the domain's tet mesh
-    (linear per tet). ``geometry``: also the faces of every cell (with the site across each
+    every cell that meets the volume; ``vectorized=True``: it takes arrays ``x, y, z`` and is
+    called with a few thousand points at a time, as :func:`clip2d`), or one value per vertex
+    of the domain's tet mesh (linear per tet). ``geometry``: also the faces of every cell (with the site across each
     face); ``neighbors``: the neighbour lists (both cost a few times the plain call; without
     them ``neighbors`` is computed on first access). ``callback(info)`` and Ctrl-C: as
     :func:`clip2d` (phases 'delaunay', 'surface', 'boundary cells', 'inner cells',
@@ -236,9 +249,10 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
     Returns :class:`Cells` (``seconds``: the phases' wall times)."""
     d = domain3(domain)
     s = _sites(sites, 3)
-    r = _core.clip3d(d, s, density, geometry, neighbors, callback, _threads(threads))
+    rho = _vectorized(density, vectorized)
+    r = _core.clip3d(d, s, rho, geometry, neighbors, callback, _threads(threads))
     _warn_sites("clip3d", r)
-    return Cells(3, s, r, lambda: _core.clip3d(d, s, density, False, True, callback,
+    return Cells(3, s, r, lambda: _core.clip3d(d, s, rho, False, True, callback,
                                                       _threads(threads)))
 
 
@@ -254,7 +268,7 @@ def _is_2d_domain(domain) -> bool:
 
 
 def random_points(domain, n: int, seed: int = 1, density=None, *,
-                  threads: Optional[int] = None) -> np.ndarray:
+                  threads: Optional[int] = None, vectorized: bool = False) -> np.ndarray:
     """Points strictly inside a domain, drawn independently with density ``density``,
     decided inside exactly:
 
@@ -264,13 +278,15 @@ def random_points(domain, n: int, seed: int = 1, density=None, *,
       path; ``density`` None (uniform), a callable rho(x, y) or a grid tuple, as
       :func:`clip2d` takes it.
 
-    A density is drawn by rejection against twice the largest value among the first
+    ``vectorized``: the callable takes arrays, as :func:`clip2d` (called one point at a
+    time here). A density is drawn by rejection against twice the largest value among the first
     max(1024, min(n, 65536)) uniform points. The library's generator (std::mt19937_64(seed),
     turned into doubles bit by bit): the same points on every platform, and the CLI's
     ``--random n --seed seed`` sites."""
+    rho = _vectorized(density, vectorized)
     if _is_2d_domain(domain):
-        return _core.random_points2(domain2(domain), n, seed, density)
-    return _core.random_points3(domain3(domain), n, seed, density, _threads(threads))
+        return _core.random_points2(domain2(domain), n, seed, rho)
+    return _core.random_points3(domain3(domain), n, seed, rho, _threads(threads))
 
 
 class CvtResult(NamedTuple):
@@ -308,26 +324,29 @@ def _cvt_result(r: dict) -> CvtResult:
 
 def cvt2d(domain, sites, method: str = "lbfgs", iterations: int = 1000, tolerance: float = 1e-4,
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
-          threads: Optional[int] = None) -> CvtResult:
+          threads: Optional[int] = None, vectorized: bool = False) -> CvtResult:
     """Centroidal Voronoi tessellation in a polygonal domain: minimises the CVT energy
     (sum of the cells' energies) from ``sites`` ((n, 2), n >= 1, not modified) by ``method``
     'lbfgs' (L-BFGS-B) or 'lloyd', for at most ``iterations`` iterations or until
-    |gradient| <= ``tolerance`` x |initial gradient|. ``callback(info)``: called at the start
+    |gradient| <= ``tolerance`` x |initial gradient|. ``density`` and ``vectorized``: as
+    :func:`clip2d` (a density's CVT: the sites' spacing about rho^(-1/4) in 2D, rho^(-1/5)
+    in 3D). ``callback(info)``: called at the start
     and after every iteration with a dict (iteration, energy, gradient_norm, seconds);
     returning False stops (``cancelled``). Ctrl-C stops the run and raises
     KeyboardInterrupt. Deterministic for any ``threads``."""
     r = _core.cvt2d(domain2(domain), _sites(sites, 2), method, iterations, _number(tolerance),
-                    density, callback, _threads(threads))
+                    _vectorized(density, vectorized), callback, _threads(threads))
     return _cvt_result(r)
 
 
 def cvt3d(domain, sites, method: str = "lbfgs", iterations: int = 1000, tolerance: float = 1e-4,
           density=None, callback: Optional[Callable[[dict], object]] = None, *,
-          threads: Optional[int] = None) -> CvtResult:
+          threads: Optional[int] = None, vectorized: bool = False) -> CvtResult:
     """Centroidal Voronoi tessellation in a 3D volume; as :func:`cvt2d` with (n, 3)
-    sites, n >= 1 (one site, sites on a line or in a plane too)."""
+    sites, n >= 1 (one site, sites on a line or in a plane too); ``density`` and
+    ``vectorized`` as :func:`clip3d`."""
     r = _core.cvt3d(domain3(domain), _sites(sites, 3), method, iterations, _number(tolerance),
-                    density, callback, _threads(threads))
+                    _vectorized(density, vectorized), callback, _threads(threads))
     return _cvt_result(r)
 
 
@@ -506,7 +525,7 @@ def _given(**options) -> dict:
 
 def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] = None, *,
            density=None, callback: Optional[Callable[[dict], object]] = None,
-           threads: Optional[int] = None, **options) -> Mesh:
+           threads: Optional[int] = None, vectorized: bool = False, **options) -> Mesh:
     """A CVT triangle mesh of a polygonal domain (anything :func:`domain2` takes) of about
     ``vertices`` vertices, or with edge length ``edge_length`` (L) far from small features;
     give exactly one (both raise :class:`Error`, as the CLI). Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
@@ -521,19 +540,19 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
     ``max_mean_angle_runs`` (3) times:
     ``stats['mean_angle_raise']`` says why and by how much); an unknown name raises
     :class:`Error`.
-    ``density``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
+    ``density`` and ``vectorized``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
     gradient_norm, seconds (and ``retry_vertices`` before a run with more vertices); returning False stops early (a valid mesh of lower quality;
     ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
     ``threads``."""
     r = _core.mesh2d(domain2(domain), _given(vertices=vertices, edge_length=edge_length,
                                              **options),
-                     density, callback, _threads(threads))
+                     _vectorized(density, vectorized), callback, _threads(threads))
     return Mesh(2, r)
 
 
 def mesh3d(domain, vertices: Optional[int] = None, *, density=None, sizing=None,
            callback: Optional[Callable[[dict], object]] = None, threads: Optional[int] = None,
-           **options) -> Mesh:
+           vectorized: bool = False, **options) -> Mesh:
     """A CVT tetrahedral mesh of a 3D domain (anything :func:`domain3` takes) of about
     ``vertices`` vertices (library default 10000): sharp features kept, the boundary's
     topology resolved, slivers perturbed away. The size, as the CLI's ``--density`` and
@@ -541,8 +560,10 @@ def mesh3d(domain, vertices: Optional[int] = None, *, density=None, sizing=None,
     about rho^(-1/5), scaled to ``vertices``), or ``sizing`` a target edge length h, a number
     or a callable ``h(x, y, z)`` (rho = h^-5): without ``vertices``, h is in model units and
     sets the count; with it, only h's shape counts. Callables run on worker threads under
-    the GIL (slow); a value that is not finite and positive raises :class:`Error` naming the
-    point. Other options, by name, as mesh.h's
+    the GIL, point by point: slow beyond a few thousand vertices, unless ``vectorized=True``
+    (the callable takes float64 arrays ``x, y, z`` of shape (k,) and returns k values, or one
+    number; the CVT's integrals call it with a few thousand points at a time). A value
+    that is not finite and positive raises :class:`Error` naming the point. Other options, by name, as mesh.h's
     Mesh3Options (an option not given keeps the library's default): ``adaptive``,
     ``lfs_cap`` (the uniform spacing's cap in local feature sizes; 0, the default: none;
     both sized by each region's own boundary, its interfaces included, when the regions of a
@@ -578,7 +599,8 @@ def mesh3d(domain, vertices: Optional[int] = None, *, density=None, sizing=None,
     each); returning
     False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The
     same mesh for any ``threads`` and a given ``seed``."""
-    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options), density, sizing,
+    r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options),
+                     _vectorized(density, vectorized), _vectorized(sizing, vectorized),
                      callback, _threads(threads))
     return Mesh(3, r)
 
