@@ -36,6 +36,7 @@
 #include <zlib.h>
 
 #include "binary_io.h"
+#include "other_volumes.h"
 #include "text_lexer.h"
 #include "voroclip/core.h"
 #include "vtk_cell_types.h"
@@ -409,13 +410,9 @@ class VtuReader {
     const std::vector<double> patch_values = patch == nullptr  ? std::vector<double>{}
                                              : patch == region ? region_values
                                                                : values(*patch, nb_cells, 1);
-    // Volume cells not read (hexahedra, wedges, pyramids, ...), per kind: the count and the
-    // first; a mesh with any is refused (its tets alone are part of its volume).
-    struct Other {
-      const char *kind, *kinds;
-      std::size_t first, count;
-    };
-    std::vector<Other> others;
+    // Volume cells not read (hexahedra, wedges, pyramids, ...): an error once the cells are
+    // read.
+    OtherVolumes others;
     std::uint64_t begin = 0;
     for (std::size_t c = 0; c < nb_cells; ++c) {
       const auto end = static_cast<std::uint64_t>(off[c]);
@@ -426,13 +423,8 @@ class VtuReader {
       const vtk::VtkCellKind kind = vtu_cell_kind(typ[c]);
       const bool tet = kind.corners == 4, triangle = kind.corners == 3;
       if (kind.other != nullptr) {
-        auto it = std::find_if(others.begin(), others.end(),
-                               [&](const Other& o) { return o.kind == kind.other; });
-        if (it == others.end()) {
-          others.push_back({kind.other, kind.others, c, 1});
-        } else {
-          ++it->count;
-        }
+        others.add(kind.other, kind.others, types->line,
+                   [&] { return "cell " + std::to_string(c) + ", type " + fmt(typ[c]); });
       }
       if (tet || triangle) {
         if (end - begin != kind.points) {
@@ -472,21 +464,7 @@ class VtuReader {
         ref->clear();
       }
     }
-    if (!others.empty()) {
-      std::string what;
-      std::size_t total = 0;
-      for (std::size_t i = 0; i < others.size(); ++i) {
-        const Other& o = others[i];
-        what += i == 0 ? "" : i + 1 == others.size() ? " and " : ", ";
-        what += std::to_string(o.count) + " " + (o.count == 1 ? o.kind : o.kinds) + " (" +
-                (o.count == 1 ? "" : "the first ") + "cell " + std::to_string(o.first) + ", type " +
-                fmt(typ[o.first]) + ")";
-        total += o.count;
-      }
-      fail(types->line, what + (total == 1 ? " is not a tetrahedron" : " are not tetrahedra") +
-                            ": only tetrahedral volume meshes are read; give the boundary "
-                            "surface (.obj/.stl/.ply/.off) or a tet mesh");
-    }
+    others.check(path_);
     if (mesh.tets.empty()) throw Error(path_ + ": no tetrahedra (cell type 10 or 24)");
     // PointData: the active scalars, else the first array of one component.
     if (const XmlElement* pd = find("PointData"); pd != nullptr) {
