@@ -34,6 +34,21 @@ void note_reoriented(const Domain3& domain, const GlobalOptions& options) {
   }
 }
 
+// Curved (second-order or higher) elements, read as straight ones on their corners.
+void note_higher_order(const Domain3& domain, const GlobalOptions& options) {
+  std::ostream* out = human_stream(options);
+  const std::uint64_t tets = domain.nb_higher_order_tets();
+  const std::uint64_t triangles = domain.nb_higher_order_triangles();
+  if (!out || tets + triangles == 0) return;
+  *out << "note: " << domain.source() << ": "
+       << (tets > 0 ? count_of(tets, "tetrahedron", "tetrahedra") : std::string())
+       << (tets > 0 && triangles > 0 ? " and " : "")
+       << (triangles > 0 ? count_of(triangles, "triangle") : std::string())
+       << " of second order or higher read by " << (tets + triangles == 1 ? "its" : "their")
+       << " corners: the domain is made of straight tets on those corners (the mid-edge and "
+          "other nodes are not used)\n";
+}
+
 }  // namespace
 
 Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions& options) {
@@ -45,6 +60,7 @@ Domain3 load_domain3(const std::string& path, bool reorient, const GlobalOptions
   if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a file");
   Domain3 domain = read_domain3(path, so);
   note_reoriented(domain, options);
+  note_higher_order(domain, options);
   return domain;
 }
 

@@ -303,6 +303,8 @@ Domain3::Domain3(const TetMeshInput& mesh) {
   }
   tet_ref_ = mesh.tet_ref;
   tag_names_ = mesh.tag_names;
+  higher_order_[0] = mesh.nb_higher_order_tets;
+  higher_order_[1] = mesh.nb_higher_order_triangles;
   const std::uint32_t ntri = mesh.nb_triangles();
   if (!mesh.triangle_ref.empty() && mesh.triangle_ref.size() != ntri) {
     throw Error(name.source + ": " + count_of(mesh.triangle_ref.size(), "triangle tag") + " for " +

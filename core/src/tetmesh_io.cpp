@@ -58,6 +58,7 @@ struct RawCells {
   std::vector<std::uint32_t> line;   // per cell
   std::vector<std::uint64_t> label;  // per cell: its number as the file knows it
   std::vector<std::int32_t> ref;     // per cell: its tag (0: none)
+  std::uint64_t higher_order = 0;    // cells read by the corners of a higher-order element
 
   RawCells(std::size_t per_in, const char* what_in) : per(per_in), what(what_in) {}
   void push(std::uint64_t label_in, std::uint32_t line_in, const std::uint64_t* idx,
@@ -117,6 +118,8 @@ void finish_mesh(const std::string& tets_path, const RawCells& tets,
   mesh.tet_ref = tags_or_empty(tets.ref);
   mesh.triangles = finish_cells(triangles_path, triangles, base, nv);
   mesh.triangle_ref = tags_or_empty(triangles.ref);
+  mesh.nb_higher_order_tets = tets.higher_order;
+  mesh.nb_higher_order_triangles = triangles.higher_order;
 }
 
 // A tag as an integer token (a Medit ref, a Gmsh physical tag, a TetGen marker).
@@ -172,8 +175,6 @@ int medit_skipped_section_size(const std::string& kw) {
       {"tangentatvertices", 2},
       {"tangentatedgevertices", 3},
       {"edgesp2", 4},
-      {"trianglesp2", 7},
-      {"tetrahedrap2", 11},
   };
   for (const auto& s : kSizes) {
     if (kw == s.first) return s.second;
@@ -248,7 +249,6 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
   bool tets_section = false;
   OtherVolumes other_volumes;
   std::unordered_map<std::string, std::uint64_t> other_numbered;
-  std::uint64_t p2_tets = 0;  // TetrahedraP2 entries, read past
   for (;;) {
     const std::string_view t = lx.next();
     if (t.empty()) break;  // "End" is optional in practice
@@ -266,21 +266,27 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
         for (int k = 0; k < 3; ++k) mesh.xyz.push_back(entry_double(lx, s));
         entry_token(lx, s);  // reference
       }
-    } else if (kw == "tetrahedra" || kw == "triangles") {
-      const bool tet = kw == "tetrahedra";
-      const std::string name = tet ? "Tetrahedra" : "Triangles";
+    } else if (kw == "tetrahedra" || kw == "triangles" || kw == "tetrahedrap2" ||
+               kw == "trianglesp2") {
+      // The P2 sections (10 and 6 vertex indices, then the ref: the corners first, then the
+      // mid-edge vertices) by their corners.
+      const bool tet = kw == "tetrahedra" || kw == "tetrahedrap2";
+      const bool p2 = kw == "tetrahedrap2" || kw == "trianglesp2";
+      const std::string name = std::string(tet ? "Tetrahedra" : "Triangles") + (p2 ? "P2" : "");
       RawCells& raw = tet ? tets : triangles;
       Section s{name, tet ? "tetrahedra" : "triangles",
                 to_uint(lx, header_token(lx, name), "count")};
       tets_section = tets_section || tet;
       raw.v.reserve(raw.v.size() + raw.per * reserve_for(lx, s.expected));
-      // Numbered from 1 on, across sections of the same kind.
+      if (p2) raw.higher_order += s.expected;
+      // Numbered from 1 on, across sections of the same kind (P2 or not).
       const std::uint64_t first_number = raw.size() + 1;
       for (; s.found < s.expected; ++s.found) {
         std::uint64_t idx[4];
         idx[0] = entry_uint(lx, s, "vertex index");
         const std::uint32_t line = lx.line();
         for (std::size_t k = 1; k < raw.per; ++k) idx[k] = entry_uint(lx, s, "vertex index");
+        for (std::size_t k = 0; p2 && k < (tet ? 6u : 3u); ++k) entry_uint(lx, s, "vertex index");
         raw.push(first_number + s.found, line, idx, to_tag(lx, entry_token(lx, s), "reference"));
       }
     } else if (const int size = medit_skipped_section_size(kw); size > 0) {
@@ -291,7 +297,6 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
                           : kw == "prisms"   ? "prism"
                           : kw == "pyramids" ? "pyramid"
                                              : nullptr;
-      if (kw == "tetrahedrap2") p2_tets += s.expected;
       std::uint64_t& numbered = other_numbered[kw];
       for (; s.found < s.expected; ++s.found) {
         entry_token(lx, s);
@@ -308,11 +313,6 @@ TetMeshInput read_medit(const std::string& path, std::string text) {
     }
   }
   other_volumes.check(path);
-  if (tets.size() == 0 && p2_tets > 0) {
-    throw Error(path + ": no tetrahedra: the file has " +
-                count_of(p2_tets, "10-node tetrahedron", "10-node tetrahedra") +
-                " (TetrahedraP2), which are not read: give their corners as Tetrahedra");
-  }
   if (tets.size() == 0) {
     throw Error(path + (tets_section ? ": the Tetrahedra section is empty"
                                      : ": no tetrahedra (no Tetrahedra section)"));
@@ -392,6 +392,7 @@ TetMeshInput read_tetgen(const std::string& base, std::string node_text, std::st
   const std::size_t per_line = static_cast<std::size_t>(1 + per_tet + nattr);
   RawCells tets(4, "tetrahedron");
   tets.v.reserve(4 * reserve_for(lx, n));
+  if (per_tet == 10) tets.higher_order = n;  // second order (-o2): the corners first
   Section s{"tetrahedra", "tetrahedra", n};
   for (; s.found < n; ++s.found) {
     const std::uint64_t index = to_uint(lx, entry_token(lx, s), "tetrahedron number");
@@ -499,11 +500,13 @@ struct GmshTags {
   OtherVolumes other;  // volume elements not read: an error once $Elements is read
 };
 
-// The RawCells an element type goes to (nullptr: not read). Tetrahedra and triangles of
-// any order are read by their first 4 or 3 nodes, their corners in every Gmsh order
-// (10-node tets, type 11: corners, then mid-edge nodes); nodes used only by higher-order
-// elements are then vertices of no tet, as the points of a geometry are.
-RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles) {
+// The RawCells the `n` elements of a type go to (nullptr: not read). Tetrahedra and
+// triangles of any order are read by their first 4 or 3 nodes, their corners in every Gmsh
+// order (10-node tets, type 11: corners, then mid-edge nodes), and counted in
+// RawCells::higher_order; nodes used only by higher-order elements are then vertices of no
+// tet, as the points of a geometry are.
+RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles, std::uint64_t n) {
+  RawCells* cells = nullptr;
   switch (type) {
     case kGmshTet:
     case 11:  // 10 nodes
@@ -512,7 +515,8 @@ RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles) {
     case 31:  // 56
     case 32:  // 22
     case 33:  // 28
-      return &tets;
+      cells = &tets;
+      break;
     case kGmshTriangle:
     case 9:  // 6 nodes
     case 20:
@@ -521,10 +525,13 @@ RawCells* gmsh_cells(std::uint64_t type, RawCells& tets, RawCells& triangles) {
     case 23:
     case 24:
     case 25:
-      return &triangles;
+      cells = &triangles;
+      break;
     default:
       return nullptr;
   }
+  if (type != kGmshTet && type != kGmshTriangle) cells->higher_order += n;
+  return cells;
 }
 
 // The kind of a Gmsh volume element type not read as a tetrahedron (singular and plural),
@@ -652,7 +659,7 @@ void read_gmsh2_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTag
     const std::uint64_t tag = entry_uint(lx, s, "element tag");
     const std::uint32_t line = lx.line();
     const std::uint64_t type = entry_uint(lx, s, "element type");
-    RawCells* cells = gmsh_cells(type, tets, triangles);
+    RawCells* cells = gmsh_cells(type, tets, triangles, 1);
     if (cells == nullptr) {
       note_gmsh_element(tags.other, tag, type, line);
       lx.skip_line();
@@ -720,8 +727,8 @@ void read_gmsh4_elements(Lexer& lx, RawCells& tets, RawCells& triangles, GmshTag
     const std::uint64_t dim = entry_uint(lx, s, "entity dimension");
     const std::uint64_t entity = entry_uint(lx, s, "entity tag");
     const std::uint64_t type = entry_uint(lx, s, "element type");
-    RawCells* cells = gmsh_cells(type, tets, triangles);
     const std::uint64_t in_block = entry_uint(lx, s, "element count");
+    RawCells* cells = gmsh_cells(type, tets, triangles, in_block);
     if (dim > 3) lx.fail("section $Elements: a block of entity dimension " + std::to_string(dim));
     if (in_block > s.expected - s.found) {
       lx.fail("section $Elements: a block of " + std::to_string(in_block) + " elements after " +
@@ -814,6 +821,8 @@ void finish_gmsh(const std::string& path, const GmshNodes& nodes, const RawCells
   mesh.tet_ref = tags_or_empty(tets.ref);
   mesh.triangles = resolve(triangles);
   mesh.triangle_ref = tags_or_empty(triangles.ref);
+  mesh.nb_higher_order_tets = tets.higher_order;
+  mesh.nb_higher_order_triangles = triangles.higher_order;
 }
 
 // The end of both readers: no tetrahedra is an error, 4.1 blocks take their entity's
@@ -1014,7 +1023,7 @@ void read_gmsh2_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangl
     const std::uint64_t per = gmsh_nodes_per_type(f.in, type, section);
     f.in.need(in_block, 4 * (1 + ntags + per),
               std::string(section) + ": a block of " + std::to_string(in_block) + " elements");
-    RawCells* cells = gmsh_cells(type, tets, triangles);
+    RawCells* cells = gmsh_cells(type, tets, triangles, in_block);
     for (std::uint64_t e = 0; e < in_block; ++e, ++found) {
       const std::uint64_t number = f.i32(section);
       std::int32_t physical = 0;
@@ -1143,7 +1152,7 @@ void read_gmsh4_binary_elements(GmshBinary& f, RawCells& tets, RawCells& triangl
     const std::uint64_t per = gmsh_nodes_per_type(f.in, type, section);
     f.in.need(in_block, f.size_t_bytes * (1 + per),
               std::string(section) + ": a block of " + std::to_string(in_block) + " elements");
-    RawCells* cells = gmsh_cells(type, tets, triangles);
+    RawCells* cells = gmsh_cells(type, tets, triangles, in_block);
     if (cells != nullptr) {
       tags.blocks.push_back({dim, entity, cells, cells->size(), 0});
       cells->v.reserve(cells->v.size() + cells->per * static_cast<std::size_t>(in_block));
@@ -1557,6 +1566,7 @@ void finish_vtk(const std::string& path, const std::vector<std::uint64_t>& cell_
     }
     const std::vector<std::int32_t>& ref = tet ? region : patch;
     raw.push(c, cell_line[c], cell_index.data() + cell_begin[c], ref.empty() ? 0 : ref[c]);
+    if (kind.points != kind.corners) ++raw.higher_order;
   }
   other.check(path);
   if (tets.size() == 0) throw Error(path + ": no tetrahedra (cell type 10 or 24)");

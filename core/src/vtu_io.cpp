@@ -449,6 +449,8 @@ class VtuReader {
           }
           cells.push_back(static_cast<std::uint32_t>(v));
         }
+        if (kind.points != kind.corners)
+          ++(tet ? mesh.nb_higher_order_tets : mesh.nb_higher_order_triangles);
         if (tet) {
           mesh.tet_line.push_back(conn->line);
           mesh.tet_label.push_back(c);

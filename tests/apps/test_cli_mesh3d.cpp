@@ -290,3 +290,28 @@ TEST_CASE("mesh3d: sites added for the surface's topology, or an error naming th
   CHECK(
       std::all_of(mesh.tet_ref.begin(), mesh.tet_ref.end(), [](std::int32_t t) { return t == 1; }));
 }
+
+TEST_CASE("mesh3d and clip3d say that second-order elements are read by their corners",
+          "[apps][regression]") {
+  // A Gmsh 4.1 mesh of one 10-node tet (type 11) and a 6-node triangle (type 9) on its face
+  // z = 0 was meshed as the straight tet without a word.
+  const std::string input = temp_path(".msh");
+  {
+    std::ofstream f(input);
+    f << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 10 1 10\n3 1 0 10\n";
+    for (int i = 1; i <= 10; ++i) f << i << "\n";
+    f << "0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.5 0 0\n0.5 0.5 0\n0 0.5 0\n0 0 0.5\n0 0.5 0.5\n"
+         "0.5 0 0.5\n$EndNodes\n$Elements\n2 2 1 2\n2 1 9 1\n1 1 3 2 7 6 5\n"
+         "3 1 11 1\n2 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+  }
+  const std::string out = temp_path(".mesh"), cells = temp_path(".vtu");
+  const Run mesh = run_cli({"mesh3d", input, "--vertices", "60", "-o", out});
+  const Run clip = run_cli({"clip3d", input, "--random", "10", "-o", cells});
+  for (const std::string& f : {input, out, cells}) std::remove(f.c_str());
+  const std::string note = "note: " + input +
+                           ": 1 tetrahedron and 1 triangle of second order or higher read by "
+                           "their corners: the domain is made of straight tets";
+  REQUIRE(mesh.status == 0);
+  CHECK(contains(mesh.out, note));
+  CHECK(contains(clip.out + clip.err, note));
+}

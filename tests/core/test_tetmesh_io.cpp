@@ -260,6 +260,7 @@ TEST_CASE("read_tet_mesh: TetGen .node/.ele from either name, numbered from 0 or
     CHECK(mesh.tet_line == std::vector<std::uint32_t>{2, 4});
     CHECK(mesh.tet_ref == std::vector<std::int32_t>{1, 1});  // the region attribute
     CHECK(mesh.triangles.empty());                           // no .face file
+    CHECK(mesh.nb_higher_order_tets == 2);                   // read by their corners
   }
   // From 1, no attributes.
   write_temp("tg1.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
@@ -1960,6 +1961,9 @@ TEST_CASE("read_tet_mesh: second-order tets and triangles read by their corners"
   CHECK(mesh.tet_ref == std::vector<std::int32_t>{4});
   CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
   CHECK(mesh.triangle_ref == std::vector<std::int32_t>{5});
+  // Counted, so that a user is told the curved elements are straight here.
+  CHECK(mesh.nb_higher_order_tets == 1);
+  CHECK(mesh.nb_higher_order_triangles == 1);
   path = write_temp("o2.vtk",
                     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                     "POINTS 10 double\n0 0 0 2 0 0 0 2 0 0 0 2 1 0 0 1 1 0 0 1 0 0 0 1 0 1 1 "
@@ -1968,6 +1972,8 @@ TEST_CASE("read_tet_mesh: second-order tets and triangles read by their corners"
   mesh = voroclip::read_tet_mesh(path);
   CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
   CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(mesh.nb_higher_order_tets == 1);
+  CHECK(mesh.nb_higher_order_triangles == 1);
   path = write_temp(
       "o2.vtu",
       "<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n"
@@ -1982,20 +1988,31 @@ TEST_CASE("read_tet_mesh: second-order tets and triangles read by their corners"
   mesh = voroclip::read_tet_mesh(path);
   CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
   CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
+  CHECK(mesh.nb_higher_order_tets == 1);
+  CHECK(mesh.nb_higher_order_triangles == 1);
   // A quadratic tetra of 4 points is an error naming its type.
   path = write_temp("o2bad.vtk",
                     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                     "POINTS 4 double\n0 0 0 2 0 0 0 2 0 0 0 2\nCELLS 1 5\n4 0 1 2 3\n"
                     "CELL_TYPES 1\n24\n");
   CHECK(error_of(path) == path + ":8: cell 0 of type 24 (quadratic tetra) has 4 points, not 10");
-  // Medit TetrahedraP2 alone: said, not "no Tetrahedra section".
+  // Medit TetrahedraP2 and TrianglesP2 (corners, then mid-edge vertices, then the ref) by
+  // their corners, as the other formats' (they were refused: "which are not read").
   path = write_temp("p2.mesh",
-                    "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n"
-                    "0 1 0 0\n0 0 1 0\nTetrahedraP2\n1\n1 2 3 4 1 2 3 4 1 2 0\nEnd\n");
-  CHECK(error_of(path) == path +
-                              ": no tetrahedra: the file has 1 10-node tetrahedron "
-                              "(TetrahedraP2), which are not read: give their corners as "
-                              "Tetrahedra");
+                    "MeshVersionFormatted 2\nDimension 3\nVertices\n10\n0 0 0 0\n2 0 0 0\n"
+                    "0 2 0 0\n0 0 2 0\n1 0 0 0\n1 1 0 0\n0 1 0 0\n0 0 1 0\n0 1 1 0\n"
+                    "1 0 1 0\nTetrahedraP2\n1\n1 2 3 4 5 6 7 8 10 9 7\n"
+                    "TrianglesP2\n1\n1 3 2 7 6 5 3\nEnd\n");
+  mesh = voroclip::read_tet_mesh(path);
+  CHECK(mesh.xyz.size() == 30);
+  CHECK(mesh.tets == std::vector<std::uint32_t>{0, 1, 2, 3});
+  CHECK(mesh.tet_ref == std::vector<std::int32_t>{7});
+  CHECK(mesh.triangles == std::vector<std::uint32_t>{0, 2, 1});
+  CHECK(mesh.triangle_ref == std::vector<std::int32_t>{3});
+  CHECK(mesh.nb_higher_order_tets == 1);
+  CHECK(mesh.nb_higher_order_triangles == 1);
+  // A linear mesh has none.
+  CHECK(voroclip::read_tet_mesh(kData + "sphere.mesh").nb_higher_order_tets == 0);
 }
 
 // Regression: a .vtu cut short inside the connectivity said "Cells needs the data arrays

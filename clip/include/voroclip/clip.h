@@ -562,6 +562,11 @@ class Domain3 {
   // surface triangle (a face between two tets: an interface between regions), 0 when the
   // file tags no such triangle. O(log of the file's tagged triangles).
   std::int32_t inner_triangle_ref(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  // The file's tetrahedra and triangles of second order or higher, read by their corners
+  // (TetMeshInput::nb_higher_order_tets, nb_higher_order_triangles): the domain is the
+  // straight tets on those corners, whatever the curved ones' other nodes say. 0 otherwise.
+  std::uint64_t nb_higher_order_tets() const { return higher_order_[0]; }
+  std::uint64_t nb_higher_order_triangles() const { return higher_order_[1]; }
 
  private:
   Surface3 surface_;
@@ -577,6 +582,7 @@ class Domain3 {
   // The file's tagged triangles that are no surface triangle: sorted vertices, tag; sorted.
   std::vector<std::pair<std::array<std::uint32_t, 3>, std::int32_t>> inner_ref_;
   std::vector<TetMeshInput::TagName> tag_names_;
+  std::uint64_t higher_order_[2] = {0, 0};  // tets, triangles
 };
 
 // Reads a 3D domain by extension (case-insensitive): a surface (.obj, .off, .stl, .ply:

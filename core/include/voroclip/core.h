@@ -236,6 +236,13 @@ struct TetMeshInput {
   std::vector<std::uint64_t> vertex_label;  // per vertex (empty: v + vertex_base)
   std::string numbering;                    // empty: "numbered from 0"
 
+  /// Elements of second order or higher read by their corners: Gmsh's 10-node (type 11)
+  /// and higher tetrahedra (29..33) and 6-node (type 9) and higher triangles (20..25), VTK's
+  /// quadratic tetra (24) and triangle (22), TetGen's 10-node tetrahedra, Medit's
+  /// TetrahedraP2. They are tets and triangles with straight edges on those corners; their
+  /// other nodes (mid-edge, ...) are vertices of no tet. 0 for a linear mesh.
+  std::uint64_t nb_higher_order_tets = 0, nb_higher_order_triangles = 0;
+
   /// One scalar per vertex, from a .vtu's PointData (the array its Scalars attribute names,
   /// else its first array of one component); empty for the other formats and without one.
   /// point_data_name is the array's Name, point_data_line the line of its DataArray.
