@@ -2067,8 +2067,14 @@ struct Msh41Out {
 };
 
 // Surface entities for the triangle tags, volume entities for the tet tags, each entity's
-// box the mesh's bounding box (a valid, if loose, bound); every node in volume entity 1;
-// element blocks: runs of equal tags, tets first.
+// box the mesh's bounding box (a valid, if loose, bound); each node on the entity of lowest
+// dimension that holds it, as Gmsh classifies nodes (so that gmsh.model.mesh.getNodes(2,
+// tag) finds a patch's nodes): a corner of triangles on the surface entity of the lowest
+// tag among them (Gmsh would put a node where two patches meet on a curve between them;
+// there are no curve entities here), any other node on the volume entity of its first tet
+// (entity 1 for a node of no tet); node blocks are the runs of consecutive nodes on one
+// entity, so that the nodes keep their order, tags 1..n; element blocks: runs of equal
+// tags, tets first.
 std::string gmsh41_file(const TetMeshInput& mesh, bool binary) {
   const GmshEntities volumes(mesh.tet_ref, mesh.nb_tets(), true);
   const GmshEntities surfaces(mesh.triangle_ref, mesh.nb_triangles(), false);
@@ -2108,22 +2114,54 @@ std::string gmsh41_file(const TetMeshInput& mesh, bool binary) {
     }
   }
   out.end("$EndEntities");
+  // Per node: its entity's dimension and number (0: none yet).
+  std::vector<std::uint8_t> node_dim(nv, 3);
+  std::vector<std::uint64_t> node_entity(nv, 0);
+  for (std::size_t t = 0; t < mesh.nb_tets(); ++t) {
+    for (std::size_t k = 0; k < 4; ++k) {
+      std::uint64_t& e = node_entity[mesh.tets[4 * t + k]];
+      if (e == 0) e = volumes.entity(tag_of(mesh.tet_ref, t));
+    }
+  }
+  for (std::size_t c = 0; c < mesh.nb_triangles(); ++c) {
+    const std::uint64_t e = surfaces.entity(tag_of(mesh.triangle_ref, c));
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh.triangles[3 * c + k];
+      if (node_dim[v] == 3 || e < node_entity[v]) node_entity[v] = e;
+      node_dim[v] = 2;
+    }
+  }
+  for (std::uint64_t& e : node_entity) e = std::max<std::uint64_t>(e, 1);
+  const auto node_runs = [&](auto block) {
+    for (std::uint64_t begin = 0, end = 0; begin < nv; begin = end) {
+      for (end = begin + 1; end < nv && node_dim[end] == node_dim[begin] &&
+                            node_entity[end] == node_entity[begin];
+           ++end) {
+      }
+      block(begin, end);
+    }
+  };
+  std::uint64_t nb_node_blocks = 0;
+  node_runs([&](std::uint64_t, std::uint64_t) { ++nb_node_blocks; });
   out.s += "$Nodes\n";
-  for (const std::uint64_t v : {std::uint64_t{1}, nv, std::uint64_t{1}, nv}) out.size(v);
+  for (const std::uint64_t v : {nb_node_blocks, nv, std::uint64_t{nv == 0 ? 0u : 1u}, nv})
+    out.size(v);
   out.eol();
-  out.int32(3);
-  out.int32(1);
-  out.int32(0);
-  out.size(nv);
-  out.eol();
-  for (std::uint64_t i = 0; i < nv; ++i) {
-    out.size(i + 1);
+  node_runs([&](std::uint64_t begin, std::uint64_t end) {
+    out.int32(node_dim[begin]);
+    out.int32(static_cast<std::int64_t>(node_entity[begin]));
+    out.int32(0);
+    out.size(end - begin);
     out.eol();
-  }
-  for (std::size_t i = 0; i < nv; ++i) {
-    for (std::size_t k = 0; k < 3; ++k) out.real(mesh.xyz[3 * i + k]);
-    out.eol();
-  }
+    for (std::uint64_t i = begin; i < end; ++i) {
+      out.size(i + 1);
+      out.eol();
+    }
+    for (std::uint64_t i = begin; i < end; ++i) {
+      for (std::size_t k = 0; k < 3; ++k) out.real(mesh.xyz[3 * i + k]);
+      out.eol();
+    }
+  });
   out.end("$EndNodes");
   out.s += "$Elements\n";
   std::uint64_t nb_blocks = 0;

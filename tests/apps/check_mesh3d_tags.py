@@ -111,6 +111,35 @@ def gmsh_groups(path):
         gmsh.finalize()
 
 
+def check_gmsh_nodes(path):
+    """A .msh 4.1's nodes each on the entity of lowest dimension that holds it, as Gmsh
+    writes them: gmsh.model.mesh.getNodes(2, entity) gives a patch's nodes (it gave none:
+    every node was in volume 1), each node on a surface entity among those of its
+    triangles, on a volume entity among those of its tets otherwise."""
+    gmsh.initialize(["-v", "0"])
+    try:
+        gmsh.open(path)
+        element_nodes, classified = {}, {}
+        for dim, entity in gmsh.model.getEntities():
+            _, _, nodes = gmsh.model.mesh.getElements(dim, entity)
+            element_nodes[(dim, entity)] = {int(n) for block in nodes for n in block}
+            for n in gmsh.model.mesh.getNodes(dim, entity)[0]:
+                classified.setdefault(int(n), []).append((dim, entity))
+        on_triangles = set().union(*(v for (d, _), v in element_nodes.items() if d == 2))
+        bad = [(n, where) for n, where in classified.items()
+               if len(where) != 1 or n not in element_nodes[where[0]]
+               or (where[0][0] == 3) == (n in on_triangles)]
+        check(f"{path}: each node once, on an entity of lowest dimension holding it", not bad,
+              str(bad[:5]))
+        empty = [e for e in element_nodes if e[0] == 2
+                 and len(gmsh.model.mesh.getNodes(*e)[0]) == 0]
+        check(f"{path}: getNodes(2, entity) finds nodes on every patch", not empty, str(empty))
+        used = set().union(*element_nodes.values())
+        check(f"{path}: every used node classified", used <= set(classified))
+    finally:
+        gmsh.finalize()
+
+
 def main():
     voroclip, writer, out, data = sys.argv[1:5]
     os.makedirs(out, exist_ok=True)
@@ -139,6 +168,8 @@ def main():
             expected = {(3, 1): "steel", (3, 2): "copper region", (2, 10): "x faces",
                         (2, 11): "patch 11", (2, 12): "z"}
             check(f"{path}: Gmsh physical groups", groups == expected, str(groups))
+            if "41" in name:
+                check_gmsh_nodes(path)
         else:
             check_cube(path, "patch", "region")
 

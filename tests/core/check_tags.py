@@ -58,6 +58,27 @@ def tags_of(mesh, name, blocks):
     return [int(t) for v in values for t in v.ravel().tolist()]
 
 
+def node_entities(exp):
+    """Per node, the (dimension, entity) of a .msh 4.1 voroclip writes: the entity of lowest
+    dimension that holds it, as Gmsh classifies nodes: a triangle corner on the surface
+    entity of the lowest tag among its triangles, any other node on the volume entity of
+    its first tet (1: of no tet); entity k is the k-th distinct tag of its dimension."""
+    def entities(refs):
+        tags = sorted(set(refs)) or [0]
+        return {t: k + 1 for k, t in enumerate(tags)}
+    volumes, surfaces = entities(exp["tet_ref"]), entities(exp["triangle_ref"])
+    got = [None] * len(exp["points"])
+    for cell, tag in zip(exp["triangles"], exp["triangle_ref"] or [0] * len(exp["triangles"])):
+        for v in cell:
+            e = surfaces[tag]
+            got[v] = (2, e) if got[v] is None else (2, min(got[v][1], e))
+    for cell, tag in zip(exp["tets"], exp["tet_ref"] or [0] * len(exp["tets"])):
+        for v in cell:
+            if got[v] is None:
+                got[v] = (3, volumes[tag])
+    return [list(d) if d is not None else [3, 1] for d in got]
+
+
 def check_with_meshio(path, fmt, exp):
     """fmt: medit, tetgen, gmsh22, gmsh41, vtk."""
     mesh = meshio.read(path)
@@ -90,6 +111,10 @@ def check_with_meshio(path, fmt, exp):
         fields = {name: as_list(value) for name, value in mesh.field_data.items()}
         check(f"{where}: field_data", fields,
               {name: [tag, dim] for dim, tag, name in exp["names"]})
+        if fmt == "gmsh41":
+            # The nodes' entities (all in volume 1 before, so a surface had no nodes).
+            check(f"{where}: gmsh:dim_tags", as_list(mesh.point_data["gmsh:dim_tags"]),
+                  node_entities(exp))
     else:
         n_tets = len(exp["tets"])
         expected_region = exp["tet_ref"] if any(exp["tet_ref"]) else None
@@ -133,6 +158,16 @@ def check_with_gmsh(path, version, exp):
     used = {v for cells in (exp["tets"], exp["triangles"]) for c in cells for v in c}
     check(f"{where}: nodes", points,
           {i + 1: p for i, p in enumerate(exp["points"]) if version == 41 or i in used})
+    if version == 41:
+        # Each node on the entity of lowest dimension that holds it, as Gmsh writes them:
+        # getNodes(2, entity) gives a patch's nodes (nothing before: all were in volume 1).
+        classified = {}
+        for dim, entity in gmsh.model.getEntities():
+            tags, _, _ = gmsh.model.mesh.getNodes(dim, entity)
+            for t in tags:
+                classified[int(t)] = [dim, entity]
+        check(f"{where}: nodes' entities", classified,
+              {i + 1: d for i, d in enumerate(node_entities(exp))})
     # Physical groups: one per tag of each dimension; tag 0 is no group, except in 4.1
     # files with some tag other than 0, where untagged entities are in group 0.
     any_tag = any(exp["tet_ref"]) or any(exp["triangle_ref"])

@@ -1576,12 +1576,17 @@ TEST_CASE("write_tet_mesh: binary Gmsh 4.1 as Gmsh lays it out", "[core]") {
   // $Entities: 0 points, 0 curves, 3 surfaces, 2 volumes, as size_t.
   CHECK(b.find("$Entities\n" + bytes_of(std::vector<std::uint64_t>{0, 0, 3, 2}, false)) !=
         std::string::npos);
-  // $Nodes: one block of the 9 nodes in volume 1, tags 1..9.
-  CHECK(b.find("$Nodes\n" + bytes_of(std::vector<std::uint64_t>{1, 9, 1, 9}, false) +
+  // $Nodes: two blocks, tags 1..9 in order: the cube's 8 corners on surface entity 1 (tag
+  // 10, the lowest of their triangles'), the unused node on volume 1.
+  const std::string nodes_8 = bytes_of(std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}, false);
+  CHECK(b.find("$Nodes\n" + bytes_of(std::vector<std::uint64_t>{2, 9, 1, 9}, false) +
+               bytes_of(std::vector<std::int32_t>{2, 1, 0}, false) +
+               bytes_of(std::vector<std::uint64_t>{8}, false) + nodes_8 +
+               bytes_of(std::vector<double>(mesh.xyz.begin(), mesh.xyz.begin() + 24), false) +
                bytes_of(std::vector<std::int32_t>{3, 1, 0}, false) +
-               bytes_of(std::vector<std::uint64_t>{9, 1, 2, 3, 4, 5, 6, 7, 8, 9}, false) +
-               bytes_of(std::vector<double>(mesh.xyz.begin(), mesh.xyz.begin() + 3), false)) !=
-        std::string::npos);
+               bytes_of(std::vector<std::uint64_t>{1, 9}, false) +
+               bytes_of(std::vector<double>(mesh.xyz.begin() + 24, mesh.xyz.end()), false) +
+               "\n$EndNodes\n") != std::string::npos);
   // The first element block: volume entity 1 (tag 1), tets, one element: 1, nodes 1 2 4 8.
   CHECK(b.find("$Elements\n" + bytes_of(std::vector<std::uint64_t>{11, 18, 1, 18}, false) +
                bytes_of(std::vector<std::int32_t>{3, 1, 4}, false) +
