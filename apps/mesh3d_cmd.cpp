@@ -259,6 +259,26 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                  "own, and here "
               << r.interfaces_not_followed << "\n";
   }
+  if (!r.embedded_tags_dropped.empty()) {
+    // An embedded surface (a sensor's, a crack's): the mesh neither keeps its triangles nor
+    // puts vertices on it.
+    std::string which;
+    for (const Mesh3Result::EmbeddedTag& e : r.embedded_tags_dropped) {
+      which += (which.empty() ? "" : ", ") + std::to_string(e.tag) +
+               (e.name.empty() ? std::string() : " \"" + e.name + "\"") + " (" +
+               count_of(e.nb_triangles, "triangle") + ")";
+    }
+    std::cerr << "voroclip: warning: the mesh of " << domain.source()
+              << " does not follow the input's embedded "
+              << (r.embedded_tags_dropped.size() == 1 ? "surface of tag " : "surfaces of tags ")
+              << which
+              << ": tagged triangles inside the volume with the same region on both "
+                 "sides (neither boundary nor an interface between regions); the mesh's tets "
+                 "cross them and the output has no triangle of "
+              << (r.embedded_tags_dropped.size() == 1 ? "that tag" : "those tags")
+              << " (give each side a region tag of its own to have it followed as an "
+                 "interface)\n";
+  }
   if (r.shape_retries > 0 && out && r.shape_problem.empty() && r.nb_bodies > 1) {
     *out << "note: a mesh without the domain's shape (" << r.raised_because
          << ") was meshed again with twice the vertices (" << count_of(r.shape_retries, "run")
@@ -392,6 +412,12 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
                     {"interfaces_followed", r.nb_interfaces_followed},
                     {"interface_distance_to_edge_length", r.interface_distance_to_edge_length},
                     {"interfaces_not_followed", r.interfaces_not_followed}};
+    {
+      nlohmann::json dropped = nlohmann::json::array();
+      for (const Mesh3Result::EmbeddedTag& e : r.embedded_tags_dropped)
+        dropped.push_back({{"tag", e.tag}, {"name", e.name}, {"triangles", e.nb_triangles}});
+      j["embedded_tags_not_followed"] = dropped;
+    }
     j["dihedral_bound"] = {{"bound_deg", r.dihedral_bound_deg},
                            {"input_sharpest_dihedral_deg", r.input_sharpest_dihedral_deg},
                            {"tets_below", r.nb_tets_below_bound}};

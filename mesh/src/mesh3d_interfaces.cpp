@@ -190,6 +190,35 @@ std::vector<std::int32_t> file_interface_tags(const Domain3& domain) {
   return tags;
 }
 
+std::vector<Mesh3Result::EmbeddedTag> file_embedded_tags(const Domain3& domain) {
+  const std::vector<std::int32_t>& refs = domain.tet_refs();
+  std::vector<std::int32_t> found;  // one per triangle
+  for (std::uint32_t t = 0; t < domain.nb_tets(); ++t) {
+    for (int f = 0; f < 4; ++f) {
+      const std::uint32_t u = domain.tet_adjacent(t, f);
+      if (u == Domain3::kNone || u < t || (!refs.empty() && refs[u] != refs[t])) continue;
+      const std::array<std::uint32_t, 3> v = facet(domain, t, f);
+      const std::int32_t tag = domain.inner_triangle_ref(v[0], v[1], v[2]);
+      if (tag != 0) found.push_back(tag);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<Mesh3Result::EmbeddedTag> tags;
+  for (std::size_t i = 0; i < found.size();) {
+    std::size_t j = i;
+    while (j < found.size() && found[j] == found[i]) ++j;
+    Mesh3Result::EmbeddedTag e;
+    e.tag = found[i];
+    e.nb_triangles = static_cast<std::uint32_t>(j - i);
+    for (const TetMeshInput::TagName& n : domain.tag_names()) {
+      if (n.dimension == 2 && n.tag == e.tag) e.name = n.name;
+    }
+    tags.push_back(e);
+    i = j;
+  }
+  return tags;
+}
+
 std::uint32_t RegionInterfaces::region_of(const double* p) const {
   std::uint32_t on = kNoRegion;
   for (std::uint32_t k = 0; k < regions.size(); ++k) {

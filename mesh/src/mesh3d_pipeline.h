@@ -362,6 +362,9 @@ bool region_interfaces(const Domain3& domain, RegionInterfaces& out, std::string
 // The tags the file gives triangles between tets of two regions (Domain3::inner_triangle_ref:
 // its own interface tags), sorted, each once.
 std::vector<std::int32_t> file_interface_tags(const Domain3& domain);
+// The file's tagged triangles between two tets of the same region (Mesh3Result::
+// embedded_tags_dropped: an embedded surface, which the mesh does not follow), per tag.
+std::vector<Mesh3Result::EmbeddedTag> file_embedded_tags(const Domain3& domain);
 // The region of each tet of a mesh whose tets are Delaunay: the input region holding its
 // circumcentre (exact; a tet with its circumcentre outside the domain, kept at the boundary,
 // by its centroid or a face neighbour), then the extraction's crease rule with the sites'

@@ -470,6 +470,7 @@ void tag_mesh3(const Domain3& domain, const SurfaceTree& surface_tree,
 }
 
 void name_and_group_tags(const Domain3& domain, Mesh3Result& result) {
+  result.embedded_tags_dropped = file_embedded_tags(domain);
   {
     std::vector<std::int32_t> refs = domain.tet_refs();
     std::sort(refs.begin(), refs.end());

@@ -484,6 +484,13 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
   s["region_interfaces_followed"] = m.nb_interfaces_followed;
   s["region_interfaces_not_followed"] = m.interfaces_not_followed;
   s["interface_distance_to_edge_length"] = m.interface_distance_to_edge_length;
+  {
+    py::list dropped;  // the input's embedded surfaces the mesh does not follow
+    for (const Mesh3Result::EmbeddedTag& e : m.embedded_tags_dropped)
+      dropped.append(py::dict(py::arg("tag") = e.tag, py::arg("name") = e.name,
+                              py::arg("triangles") = e.nb_triangles));
+    s["embedded_tags_not_followed"] = dropped;
+  }
   s["seconds"] = m.total_seconds;
   s["cancelled"] = m.cancelled;
   r["stats"] = s;

@@ -251,6 +251,23 @@ def test_mesh3d_meshes_each_body_on_its_own():
     assert sorted(set(mesh.boundary_tags.tolist())) == list(range(1, 13))
 
 
+def test_regression_mesh3d_stats_list_the_embedded_surfaces_not_followed(tmp_path):
+    # A "sensor" surface inside a one-region tet mesh was dropped without a word. Here the
+    # unit cube as six Kuhn tets, region 1, its inner triangle (1, 2, 8) tagged 9 (Medit,
+    # from 1), between two tets of region 1.
+    corners = "".join(f"{v & 1} {v >> 1 & 1} {v >> 2 & 1} 0\n" for v in range(8))
+    tets = ["1 2 4 8", "1 3 4 8", "1 2 6 8", "1 3 7 8", "1 5 6 8", "1 5 7 8"]
+    path = tmp_path / "sensor.mesh"
+    path.write_text("MeshVersionFormatted 2\nDimension 3\nVertices\n8\n" + corners +
+                    "Triangles\n1\n1 2 8 9\nTetrahedra\n6\n" +
+                    "".join(t + " 1\n" for t in tets) + "End\n")
+    mesh = voroclip.mesh3d(str(path), vertices=200, threads=2)
+    assert mesh.stats["embedded_tags_not_followed"] == [{"tag": 9, "name": "", "triangles": 1}]
+    assert 9 not in mesh.boundary_tags.tolist()
+    plain = voroclip.mesh3d((CUBE_V, CUBE_T), 200, threads=2)
+    assert plain.stats["embedded_tags_not_followed"] == []
+
+
 def test_regression_mesh2d_vertices_and_edge_length_together_raise():
     # mesh2d(vertices=100, edge_length=0.01) meshed at 100 vertices (108) and dropped the
     # edge length without a word; the CLI refuses both ("give exactly one of --vertices N

@@ -291,6 +291,35 @@ TEST_CASE("mesh3d: sites added for the surface's topology, or an error naming th
       std::all_of(mesh.tet_ref.begin(), mesh.tet_ref.end(), [](std::int32_t t) { return t == 1; }));
 }
 
+TEST_CASE("mesh3d warns of an embedded surface it does not follow, and lists it in the stats",
+          "[apps][regression]") {
+  // Trial 10: a Gmsh mesh with a "sensor" surface inside its one region lost it silently.
+  // Here a unit cube of six Kuhn tets, one region, its inner triangle (0, 1, 7) tagged 9.
+  voroclip::TetMeshInput in;
+  for (std::uint32_t v = 0; v < 8; ++v) {
+    for (std::uint32_t k = 0; k < 3; ++k) in.xyz.push_back(static_cast<double>((v >> k) & 1u));
+  }
+  in.tets = {0, 1, 3, 7, 0, 2, 3, 7, 0, 1, 5, 7, 0, 2, 6, 7, 0, 4, 5, 7, 0, 4, 6, 7};
+  in.tet_ref.assign(6, 1);
+  in.triangles = {0, 1, 7};
+  in.triangle_ref = {9};
+  in.tag_names = {{2, 9, "sensor"}, {3, 1, "air"}};
+  const std::string input = temp_path(".msh");
+  voroclip::write_tet_mesh(input, in, voroclip::TetMeshFormat::kGmsh41);
+  const std::string out = temp_path(".msh");
+  const Run run = run_cli({"--stats", "json", "mesh3d", input, "--vertices", "200", "-o", out});
+  std::remove(input.c_str());
+  std::remove(out.c_str());
+  REQUIRE(run.status == 0);
+  CHECK(contains(run.err, "warning: the mesh of " + input +
+                              " does not follow the input's embedded surface of tag 9 \"sensor\" "
+                              "(1 triangle)"));
+  const nlohmann::json s = nlohmann::json::parse(run.out);
+  const nlohmann::json expected =
+      nlohmann::json::array({nlohmann::json{{"tag", 9}, {"name", "sensor"}, {"triangles", 1}}});
+  CHECK(s["embedded_tags_not_followed"] == expected);
+}
+
 TEST_CASE("mesh3d and clip3d say that second-order elements are read by their corners",
           "[apps][regression]") {
   // A Gmsh 4.1 mesh of one 10-node tet (type 11) and a 6-node triangle (type 9) on its face

@@ -376,6 +376,32 @@ TEST_CASE("mesh3d names no tag that no element of the mesh has", "[mesh][regress
   CHECK(r.tag_names == names);
 }
 
+TEST_CASE("mesh3d lists the embedded surfaces it does not follow", "[mesh][regression]") {
+  // Trial 10 again: the sensor's triangles, inside the volume with one region on both sides,
+  // were dropped without a word. Here the Kuhn cube with two inner triangles tagged: (0, 1, 7)
+  // between tets 0 and 2, both region 1 (embedded, tag 8, no name), and (0, 3, 7) between
+  // tets 0 and 1, regions 1 and 2 (an interface, tag 9, not embedded).
+  voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  in.triangles.insert(in.triangles.end(), {0, 1, 7, 7, 3, 0});
+  in.triangle_ref.insert(in.triangle_ref.end(), {8, 9});
+  in.tag_names.push_back({2, 9, "glue"});
+  const Mesh3Result r = voroclip::mesh3d(Domain3(in), small_options(300));
+  using E = Mesh3Result::EmbeddedTag;
+  CHECK(r.embedded_tags_dropped == std::vector<E>{{8, "", 1}});
+  // One region: both are embedded, named as the file names them.
+  in.tet_ref.assign(6, 1);
+  in.tag_names.push_back({2, 8, "sensor"});
+  const Mesh3Result one = voroclip::mesh3d(Domain3(in), small_options(300));
+  CHECK(one.embedded_tags_dropped == std::vector<E>{{8, "sensor", 1}, {9, "glue", 1}});
+  CHECK(std::find(one.boundary_tags.begin(), one.boundary_tags.end(), 8) ==
+        one.boundary_tags.end());
+  // Without tet tags too; none without inner triangles.
+  in.tet_ref.clear();
+  CHECK(voroclip::mesh3d(Domain3(in), small_options(300)).embedded_tags_dropped.size() == 2);
+  CHECK(voroclip::mesh3d(Domain3(voroclip_test::tagged_kuhn_cube()), small_options(300))
+            .embedded_tags_dropped.empty());
+}
+
 // The unit cube as a grid of n^3 voxels, six Kuhn tets each (around the diagonal of the
 // voxel), region 2 for the voxels with every index in [lo, hi), region 1 elsewhere: an
 // inclusion, the box [lo / n, hi / n]^3, whose interface meets neither the boundary nor

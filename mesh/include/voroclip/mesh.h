@@ -1207,6 +1207,20 @@ struct Mesh3Result {
   std::vector<std::uint32_t> interface_triangles;
   std::vector<std::int32_t> interface_tags;
   std::vector<TetMeshInput::TagName> tag_names;
+  // The file's tagged triangles that the mesh does not follow: faces between two tets of the
+  // same region (or of a file without tet tags), neither boundary nor an interface between
+  // regions -- an embedded surface such as a sensor's. The mesh has no triangle of theirs,
+  // and its tets cross them. Per such tag (increasing): the file's name of it (empty: none)
+  // and the count of those triangles. Empty when the file has none.
+  struct EmbeddedTag {
+    std::int32_t tag = 0;
+    std::string name;
+    std::uint32_t nb_triangles = 0;
+    bool operator==(const EmbeddedTag& o) const {
+      return tag == o.tag && name == o.name && nb_triangles == o.nb_triangles;
+    }
+  };
+  std::vector<EmbeddedTag> embedded_tags_dropped;
   std::uint32_t nb_sites = 0;          // sites optimised (corners added included)
   std::uint32_t nb_dropped_sites = 0;  // used by no tet, not in xyz
   std::uint32_t nb_boundary_sites = 0, nb_feature_sites = 0, nb_corner_sites = 0;
