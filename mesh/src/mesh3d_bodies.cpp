@@ -179,6 +179,20 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
   result.nb_bodies = nb_bodies;
   const bool own_patch_tags = domain.boundary_refs().empty();
   const bool own_region_tags = domain.tet_refs().empty();
+  // The fresh tags of what the file leaves untagged, chosen once over all the bodies: a
+  // body's run picks them among its own tags only, so that two bodies could give their
+  // untagged boundary two tags, or one of them another body's real tag. A body's fresh tag
+  // becomes the whole's for the same input tag; a body whose triangles are all untagged (no
+  // boundary_refs of its own, its patches the mesher's) takes the whole's for tag 0.
+  const UntaggedTags whole_untagged = untagged_tags(domain);
+  const auto to_whole = [](const std::vector<std::pair<std::int32_t, std::int32_t>>& body,
+                           const std::vector<std::pair<std::int32_t, std::int32_t>>& whole,
+                           std::int32_t t) {
+    for (const auto& [from, to] : body) {
+      if (to == t) return UntaggedTags::map(whole, from);
+    }
+    return t;
+  };
   std::int32_t patch_offset = 0;
   // The interface tags each body's run made up (one per pair of regions, after that body's
   // patch tags, named "interface a-b"), numbered again after every body's tags below, so that
@@ -239,9 +253,14 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
     for (const std::uint32_t v : r.tets) result.tets.push_back(base + v);
     for (const std::uint32_t v : r.boundary_triangles)
       result.boundary_triangles.push_back(base + v);
+    const UntaggedTags body_untagged = untagged_tags(bodies[b]);
+    const bool body_untagged_only = bodies[b].boundary_refs().empty();
     std::int32_t largest = 0;
     for (const std::int32_t t : r.boundary_tags) {
-      result.boundary_tags.push_back(own_patch_tags ? t + patch_offset : t);
+      result.boundary_tags.push_back(own_patch_tags ? t + patch_offset
+                                     : body_untagged_only
+                                         ? UntaggedTags::map(whole_untagged.patch, 0)
+                                         : to_whole(body_untagged.patch, whole_untagged.patch, t));
       largest = std::max(largest, t);
     }
     patch_offset += largest;
@@ -271,8 +290,11 @@ Mesh3Result mesh_bodies_once(const Domain3& domain, const std::vector<Domain3>& 
         made_up_names.push_back({{b, name.tag}, name.name});
       }
     }
-    for (const std::int32_t t : r.tet_tags)
-      result.tet_tags.push_back(own_region_tags ? static_cast<std::int32_t>(b + 1) : t);
+    for (const std::int32_t t : r.tet_tags) {
+      result.tet_tags.push_back(own_region_tags
+                                    ? static_cast<std::int32_t>(b + 1)
+                                    : to_whole(body_untagged.region, whole_untagged.region, t));
+    }
 
     // The figures: counts summed, the rest as each field says.
     result.nb_sites += r.nb_sites;

@@ -1180,6 +1180,66 @@ TEST_CASE("mesh3d keeps the tags of a tet mesh of two bodies", "[mesh]") {
   CHECK(r.tag_names == names);
 }
 
+TEST_CASE("mesh3d picks the fresh tags of two bodies' untagged parts once, over both",
+          "[mesh][regression]") {
+  // Each body picked the fresh tag of its untagged boundary and regions among its own tags:
+  // the first body's untagged walls took patch 1, the second body's real tag, and its
+  // untagged tets region 1, the second body's too. Here the Kuhn cube, its x faces 5 and the
+  // rest untagged, its tets untagged, and a copy 0.2 along x all of patch 1 and region 1:
+  // the untagged boundary is patch 2, the untagged region 2, as for one body.
+  voroclip::TetMeshInput in = voroclip_test::tagged_kuhn_cube();
+  in.triangle_ref = {5, 5, 0, 0, 0, 0, 5, 5, 0, 0, 0, 0};
+  in.tet_ref.assign(6, 0);
+  in.tag_names.clear();
+  const auto nv = static_cast<std::uint32_t>(in.xyz.size() / 3);
+  for (std::uint32_t v = 0; v < 8; ++v) {
+    in.xyz.insert(in.xyz.end(), {in.xyz[3 * v] + 0.2, in.xyz[3 * v + 1], in.xyz[3 * v + 2]});
+  }
+  const std::size_t nt = in.tets.size(), ntri = in.triangles.size();
+  for (std::size_t i = 0; i < nt; ++i) in.tets.push_back(in.tets[i] + nv);
+  for (std::size_t i = 0; i < ntri; ++i) in.triangles.push_back(in.triangles[i] + nv);
+  in.tet_ref.resize(2 * (nt / 4), 1);
+  in.triangle_ref.resize(2 * (ntri / 3), 1);
+  const double middle = 1.0 / 3 + 0.15;
+  const auto sides = [&](const Mesh3Result& r, std::set<std::int32_t> patches[2],
+                         std::set<std::int32_t> regions[2]) {
+    for (std::size_t t = 0; t < r.tet_tags.size(); ++t)
+      regions[point(r, r.tets[4 * t])[0] > middle ? 1 : 0].insert(r.tet_tags[t]);
+    for (std::size_t b = 0; b < r.boundary_tags.size(); ++b)
+      patches[point(r, r.boundary_triangles[3 * b])[0] > middle ? 1 : 0].insert(r.boundary_tags[b]);
+  };
+  {
+    const Domain3 d(in);
+    REQUIRE(voroclip::mesh3::domain_bodies(d).size() == 2);
+    const Mesh3Result r = voroclip::mesh3d(d, small_options(600));
+    CHECK(r.shape_problem.empty());
+    std::set<std::int32_t> patches[2], regions[2];
+    sides(r, patches, regions);
+    CHECK(patches[0] == std::set<std::int32_t>{2, 5});
+    CHECK(patches[1] == std::set<std::int32_t>{1});
+    CHECK(regions[0] == std::set<std::int32_t>{2});
+    CHECK(regions[1] == std::set<std::int32_t>{1});
+    const std::vector<voroclip::TetMeshInput::TagName> names = {{2, 2, "untagged boundary"},
+                                                                {3, 2, "untagged region"},
+                                                                {2, 1, "patch 1"},
+                                                                {2, 5, "patch 5"},
+                                                                {3, 1, "region 1"}};
+    for (const auto& n : names) {
+      INFO(n.dimension << " " << n.tag << " " << n.name);
+      CHECK(std::find(r.tag_names.begin(), r.tag_names.end(), n) != r.tag_names.end());
+    }
+  }
+  // The copy all untagged (its own patches the mesher's: one per face): its boundary takes
+  // the untagged tag of the whole (1), not 1 to 6 beside the first body's 5.
+  std::fill(in.triangle_ref.begin() + static_cast<std::ptrdiff_t>(ntri / 3), in.triangle_ref.end(),
+            0);
+  const Mesh3Result r = voroclip::mesh3d(Domain3(in), small_options(600));
+  std::set<std::int32_t> patches[2], regions[2];
+  sides(r, patches, regions);
+  CHECK(patches[0] == std::set<std::int32_t>{1, 5});
+  CHECK(patches[1] == std::set<std::int32_t>{1});
+}
+
 TEST_CASE("lattice_sites: about n sites, or none in a part thinner than its layers",
           "[mesh][regression]") {
   // A plate 0.1 thick at 1,000 sites: the layers (0.135 apart) held 0, then 950,544 sites as
