@@ -498,6 +498,14 @@ py::dict clip3d(const Domain3& domain, const py::object& sites_arg, const py::ob
     for (std::size_t k = 0; k < begin.size(); ++k) {
       begin[k] = static_cast<std::int32_t>(faces.polygon_begin[k]);
     }
+    // Outward, as the CLI's .vtu cells: the library's faces go clockwise seen from outside
+    // their cell; each keeps its first point.
+    for (std::size_t f = 0; f < nf; ++f) {
+      for (std::size_t a = faces.polygon_begin[f] + 1, b = faces.polygon_begin[f + 1] - 1; a < b;
+           ++a, --b) {
+        for (std::size_t c = 0; c < 3; ++c) std::swap(faces.xyz[3 * a + c], faces.xyz[3 * b + c]);
+      }
+    }
     const auto np = static_cast<py::ssize_t>(faces.xyz.size() / 3);
     r["face_site"] = to_array(std::move(site));
     r["face_across"] = to_array(std::move(across));

@@ -140,8 +140,9 @@ def test_clip3d_geometry_and_neighbors():
             for k in range(len(pts)):
                 a, b = pts[k] - c, pts[(k + 1) % len(pts)] - c
                 vol += np.dot(c, np.cross(a, b)) / 6
-        # Clockwise seen from outside the cell: the signed sum is minus the volume.
-        assert -vol == pytest.approx(cells.volumes[i], rel=1e-9)
+        # Counter-clockwise seen from outside the cell, as the CLI's .vtu: the signed sum is
+        # the volume (it was minus the volume).
+        assert vol == pytest.approx(cells.volumes[i], rel=1e-9)
     ip, ix = cells.neighbors
     pairs = {(i, j) for i in range(len(cells)) for j in ix[ip[i]:ip[i + 1]]}
     assert all((j, i) in pairs for i, j in pairs)

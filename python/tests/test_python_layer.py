@@ -1,6 +1,8 @@
 """The pure-Python layer (python/voroclip/*.py): docstrings that say what the core does, and
 bad input that reaches it before the core raising voroclip.Error."""
 
+import subprocess
+
 import numpy as np
 import pytest
 
@@ -71,3 +73,18 @@ def test_regression_python_conversions_raise_error():
         with pytest.raises(voroclip.Error, match="^" + message):
             call()
     assert voroclip.Delaunay2(np.random.rand(5, 2), threads=None).check() == ""
+
+
+def test_random_points_give_the_cli_cvt_start_with_rho_to_the_cvt_power(cli, tmp_path):
+    # The README: cvt2d --random draws with rho^(1/2), so random_points with that density
+    # gives the CLI's start sites, bit for bit (and with rho itself, other points).
+    square = tmp_path / "square.json"
+    square.write_text("[[[0, 0], [1, 0], [1, 1], [0, 1]]]")
+    out = tmp_path / "sites.txt"
+    subprocess.run([cli, "-q", "cvt2d", str(square), "--random", "200", "--seed", "3",
+                    "--density", "1+3*x", "--iterations", "0", "-o", str(out)], check=True)
+    theirs = np.loadtxt(out)
+    mine = voroclip.random_points(str(square), 200, 3, lambda x, y: (1 + 3 * x) ** 0.5)
+    assert np.array_equal(mine, theirs)
+    assert not np.array_equal(voroclip.random_points(str(square), 200, 3, lambda x, y: 1 + 3 * x),
+                              theirs)

@@ -81,8 +81,9 @@ class Cells:
     * 3D: ``face_points`` (m, 3), ``face_begin`` (F + 1,), ``face_site`` (F,), ``face_across``
       (F,): face f is the polygon ``face_points[face_begin[f]:face_begin[f+1]]`` of cell
       ``face_site[f]``, on the bisector with site ``face_across[f]`` or, -1, on the domain's
-      boundary; :meth:`faces` gives them per cell. A face's points go clockwise seen from
-      outside its cell (their right-hand normal points into the cell).
+      boundary; :meth:`faces` gives them per cell. A face's points go counter-clockwise
+      seen from outside its cell (their right-hand normal points out of it), as in the
+      CLI's ``.vtu``.
     """
 
     def __init__(self, dim: int, sites: np.ndarray, r: dict, recompute=None):
@@ -157,7 +158,8 @@ class Cells:
 
     def faces(self, i: int) -> list:
         """3D: the faces of cell i as (points (k, 3), across) pairs, ``across`` the site on
-        the other side or -1 on the domain's boundary."""
+        the other side or -1 on the domain's boundary; the points counter-clockwise seen
+        from outside the cell."""
         self._need_geometry()
         if self.dim != 3:
             raise Error("faces: a 3D diagram's; use polygons(i) in 2D")
@@ -281,8 +283,9 @@ def random_points(domain, n: int, seed: int = 1, density=None, *,
     ``vectorized``: the callable takes arrays, as :func:`clip2d` (called one point at a
     time here). A density is drawn by rejection against twice the largest value among the first
     max(1024, min(n, 65536)) uniform points. The library's generator (std::mt19937_64(seed),
-    turned into doubles bit by bit): the same points on every platform, and the CLI's
-    ``--random n --seed seed`` sites."""
+    turned into doubles bit by bit): the same points on every platform, and, uniform, the
+    CLI's ``--random n --seed seed`` sites (with a density, the CLI's ``cvt2d``/``cvt3d``
+    draw with rho^(1/2) / rho^(3/5), the CVT's site density: pass that to get theirs)."""
     rho = _vectorized(density, vectorized)
     if _is_2d_domain(domain):
         return _core.random_points2(domain2(domain), n, seed, rho)
