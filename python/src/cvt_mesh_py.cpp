@@ -170,8 +170,44 @@ class OptionSetter {
   std::vector<std::pair<std::string, Setter>> setters_;
 };
 
+// mesh2d's sizing h (an edge length: a number or a callable h(x, y), plain or Vectorized),
+// rho = h^-4 as the CLI's --sizing. Without a vertex count or edge length, h is absolute
+// (edge_length 1 scales h itself; a number h is the edge length); with a vertex count only
+// h's shape counts; with an edge length, an error (the CLI's "give exactly one").
+void mesh2d_sizing(Mesh2Options& o, const py::dict& options, const py::object& density,
+                   const py::object& sizing, std::shared_ptr<PyDensity>& callback) {
+  if (!density.is_none()) throw Error("mesh2d: density and sizing exclude each other (rho = h^-4)");
+  if (options.contains("edge_length")) {
+    throw Error("mesh2d: sizing and edge_length exclude each other (sizing is the edge length)");
+  }
+  const bool alone = !options.contains("vertices");
+  if (py::isinstance<py::float_>(sizing) || py::isinstance<py::int_>(sizing)) {
+    const double h = sizing.cast<double>();
+    if (!(h > 0) || !std::isfinite(h)) throw Error("mesh2d: sizing: expected a finite number > 0");
+    if (alone) o.edge_length = h;  // a uniform size: h is the edge length
+    return;
+  }
+  const std::optional<py::object> vectorized = vectorized_callable(sizing);
+  if (!vectorized && PyCallable_Check(sizing.ptr()) == 0) {
+    throw Error("mesh2d: sizing: expected None, a number or a callable h(x, y)");
+  }
+  callback = std::make_shared<PyDensity>(vectorized ? *vectorized : sizing, "sizing",
+                                         vectorized.has_value());
+  auto c = callback;
+  o.density = Density2::function([c](double x, double y) {
+    const double h = (*c)(x, y, 0, 2);
+    const double rho = std::pow(h, -4.0);
+    if (!std::isfinite(rho)) {
+      throw Error("sizing: h = " + std::to_string(h) + " at (" + std::to_string(x) + ", " +
+                  std::to_string(y) + "): h^-4 overflows");
+    }
+    return rho;
+  });
+  if (alone) o.edge_length = 1;
+}
+
 py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object& density,
-                const py::object& callback, const py::object& threads) {
+                const py::object& sizing, const py::object& callback, const py::object& threads) {
   using S = OptionSetter<Mesh2Options>;
   static const S setter(
       "mesh2d",
@@ -208,7 +244,11 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   Mesh2Options o;
   setter.apply(o, options);
   std::shared_ptr<PyDensity> rho;
-  if (!density.is_none()) o.density = density2(density, rho);
+  if (!sizing.is_none()) {
+    mesh2d_sizing(o, options, density, sizing, rho);
+  } else if (!density.is_none()) {
+    o.density = density2(density, rho);
+  }
   Progress progress(callback);
   o.progress = [&](const Mesh2Progress& p) {
     return progress.check([&] {
@@ -688,7 +728,8 @@ void bind_cvt_mesh(py::module_& m) {
         py::arg("iterations") = 1000, py::arg("tolerance") = 1e-4, py::arg("density") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("mesh2d", &mesh2d, py::arg("domain"), py::arg("options") = py::dict(),
-        py::arg("density") = py::none(), py::arg("callback") = py::none(), py::arg("threads") = 0);
+        py::arg("density") = py::none(), py::arg("sizing") = py::none(),
+        py::arg("callback") = py::none(), py::arg("threads") = 0);
   m.def("mesh3d", &mesh3d, py::arg("domain"), py::arg("options") = py::dict(),
         py::arg("density") = py::none(), py::arg("sizing") = py::none(),
         py::arg("callback") = py::none(), py::arg("threads") = 0);

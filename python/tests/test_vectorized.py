@@ -119,3 +119,28 @@ def test_vectorized_errors(data):
     # A number is not a callable: vectorized changes nothing.
     a = voroclip.clip3d(sphere, sites, density=2.0, vectorized=True)
     assert np.array_equal(a.masses, voroclip.clip3d(sphere, sites, density=2.0).masses)
+
+
+def test_mesh2d_sizing_as_the_cli(cli, tmp_path):
+    # Python's mesh2d had no sizing (the CLI's --sizing): a callable h(x, y), plain or
+    # vectorized, gives the CLI's mesh byte for byte, alone (h absolute) or with vertices.
+    square = tmp_path / "square.json"
+    square.write_text("[[[0, 0], [1, 0], [1, 1], [0, 1]]]")
+    for flags, kwargs in ((["--sizing", "0.05+0.1*x"], {}),
+                          (["--vertices", "150", "--sizing", "0.05+0.1*x"], dict(vertices=150))):
+        theirs = tmp_path / "cli.msh"
+        subprocess.run([cli, "-q", "mesh2d", str(square), *flags, "-o", str(theirs)], check=True)
+        for vectorized in (False, True):
+            mine = tmp_path / "py.msh"
+            voroclip.mesh2d(str(square), sizing=lambda x, y: 0.05 + 0.1 * x,
+                            vectorized=vectorized, **kwargs).write(mine)
+            assert mine.read_bytes() == theirs.read_bytes(), (flags, vectorized)
+    # A number is the edge length.
+    assert np.array_equal(voroclip.mesh2d(str(square), sizing=0.1).points,
+                          voroclip.mesh2d(str(square), edge_length=0.1).points)
+    with pytest.raises(voroclip.Error, match="sizing and edge_length exclude each other"):
+        voroclip.mesh2d(str(square), edge_length=0.1, sizing=0.1)
+    with pytest.raises(voroclip.Error, match="density and sizing exclude each other"):
+        voroclip.mesh2d(str(square), sizing=0.1, density=2.0)
+    with pytest.raises(voroclip.Error, match=r"^sizing: the callable returned 0\.0 at \("):
+        voroclip.mesh2d(str(square), 100, sizing=lambda x, y: 0.0)

@@ -527,11 +527,12 @@ def _given(**options) -> dict:
 
 
 def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] = None, *,
-           density=None, callback: Optional[Callable[[dict], object]] = None,
+           density=None, sizing=None, callback: Optional[Callable[[dict], object]] = None,
            threads: Optional[int] = None, vectorized: bool = False, **options) -> Mesh:
     """A CVT triangle mesh of a polygonal domain (anything :func:`domain2` takes) of about
     ``vertices`` vertices, or with edge length ``edge_length`` (L) far from small features;
-    give exactly one (both raise :class:`Error`, as the CLI). Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
+    give exactly one (both raise :class:`Error`, as the CLI), or neither with ``sizing``.
+    Other options, by name, as mesh.h's Mesh2Options (an option not given keeps
     the library's default, so Python and the CLI agree): ``gradation``, ``corner_angle``,
     ``sharp_angle``, ``repair_angle`` (degrees), ``fix_input_vertices``, ``keep_gaps``,
     ``conforming`` (False: the paper's circumcentre rule instead of the conforming mesh),
@@ -543,13 +544,17 @@ def mesh2d(domain, vertices: Optional[int] = None, edge_length: Optional[float] 
     ``max_mean_angle_runs`` (3) times:
     ``stats['mean_angle_raise']`` says why and by how much); an unknown name raises
     :class:`Error`.
-    ``density`` and ``vectorized``: as :func:`clip2d`. ``callback(info)`` gets phase, iteration, energy,
+    ``density`` and ``vectorized``: as :func:`clip2d`. ``sizing``: a target edge length h
+    (L), as the CLI's ``--sizing``: a number or a callable ``h(x, y)`` (rho = h^-4; not with
+    ``density`` or ``edge_length``); without ``vertices``, h is in model units and sets the
+    count; with it, only h's shape counts. ``callback(info)`` gets phase, iteration, energy,
     gradient_norm, seconds (and ``retry_vertices`` before a run with more vertices); returning False stops early (a valid mesh of lower quality;
     ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The same mesh for any
     ``threads``."""
     r = _core.mesh2d(domain2(domain), _given(vertices=vertices, edge_length=edge_length,
                                              **options),
-                     _vectorized(density, vectorized), callback, _threads(threads))
+                     _vectorized(density, vectorized), _vectorized(sizing, vectorized), callback,
+                     _threads(threads))
     return Mesh(2, r)
 
 
