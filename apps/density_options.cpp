@@ -238,7 +238,7 @@ Grid read_vtk_grid(const std::string& path, bool sizing, int dimension) {
     --t.next;
     t.fail("expected 'SCALARS name type' (one value per grid point)");
   }
-  t.word("the name of the scalars");
+  const std::string name = t.word("the name of the scalars");
   t.word("the type of the scalars");
   // Optional number of components (must be 1), then an optional LOOKUP_TABLE line.
   if (!t.done() && upper(t.words[t.next]) != "LOOKUP_TABLE" &&
@@ -267,6 +267,24 @@ Grid read_vtk_grid(const std::string& path, bool sizing, int dimension) {
       if (!std::isfinite(v)) t.fail("value " + std::to_string(k + 1) + ": h^-(d+2) overflows");
     }
     g.values[k] = v;
+  }
+  // Another array of point values: which one holds the density (or size) is not for the
+  // reader to guess (VTK's own reader would take the first), so it is an error naming them.
+  std::vector<std::string> others;
+  std::size_t first_other = 0;
+  for (std::size_t w = t.next; w + 1 < t.words.size(); ++w) {
+    if (upper(t.words[w]) != "SCALARS") continue;
+    if (others.empty()) first_other = w;
+    others.push_back("'" + t.words[w + 1] + "'");
+  }
+  if (!others.empty()) {
+    std::string list = "'" + name + "'";
+    for (std::size_t i = 0; i < others.size(); ++i)
+      list += (i + 1 == others.size() ? " and " : ", ") + others[i];
+    t.next = first_other;
+    t.fail("the grid has " + std::to_string(others.size() + 1) + " SCALARS arrays, " + list +
+           ": which one is the " + (sizing ? "size" : "density") +
+           " is ambiguous; keep only that one in the file");
   }
   return g;
 }

@@ -388,6 +388,29 @@ TEST_CASE("--density / --sizing errors: position in the formula, the point, no f
   CHECK(big.status == 1);
   check_one_error_line(big);
   CHECK(contains(big.err, huge.path + ":9: POINT_DATA 1073741824: the file has 4 values left"));
+  // Two SCALARS arrays (regression: the first was used without a word): an error naming both,
+  // at the second's line, for --sizing-file as for --density-file.
+  const TempFile two(".vtk",
+                     "# vtk DataFile Version 3.0\ng\nASCII\nDATASET STRUCTURED_POINTS\n"
+                     "DIMENSIONS 2 2 1\nORIGIN 0 0 0\nSPACING 1 1 1\nPOINT_DATA 4\n"
+                     "SCALARS h double\nLOOKUP_TABLE default\n1\n2\n3\n4\n"
+                     "SCALARS rho double 1\nLOOKUP_TABLE default\n1\n1\n1\n1\n");
+  for (const char* option : {"--density-file", "--sizing-file"}) {
+    INFO(option);
+    const bool sizing = option[2] == 's';
+    const Run both =
+        sizing ? run_cli({"mesh2d", square.path, "-q", option, two.path, "--vertices", "50", "-o",
+                          svg.path})
+               : run_cli({"cvt2d", square.path, "--random", "20", option, two.path, "-o",
+                          out.path});
+    CHECK(both.status == 1);
+    check_one_error_line(both);
+    CHECK(contains(both.err, two.path + ":15: the grid has 2 SCALARS arrays, 'h' and 'rho': " +
+                                 "which one is the " + (sizing ? "size" : "density") +
+                                 " is ambiguous"));
+    CHECK(!exists(out.path));
+    CHECK(!exists(svg.path));
+  }
 }
 
 TEST_CASE("mesh2d --sizing: edge lengths follow h(x) (median ratio within 10 %)",
