@@ -39,6 +39,7 @@ py::dict cvt_result(const CvtResult& r, std::vector<double>&& sites, int dim,
   d["seconds"] = r.seconds;
   d["converged"] = r.converged;
   d["cancelled"] = r.cancelled;
+  d["stop"] = cvt_stop_name(r.stop);
   return d;
 }
 

@@ -228,8 +228,9 @@ void bind_delaunay(py::module_& m) {
             std::vector<std::uint32_t> h = d.dt.hull_vertices();
             return to_array(std::vector<std::int32_t>(h.begin(), h.end()));
           },
-          "(h,) int32: the hull's vertices counter-clockwise from the smallest index "
-          "(scipy.spatial.ConvexHull.vertices' 2D order), points on a hull edge included.")
+          "(h,) int32: the hull's vertices counter-clockwise from the smallest index, points "
+          "on a hull edge included (scipy.spatial.ConvexHull.vertices: the same cycle, "
+          "without them, from another start).")
       .def_property_readonly(
           "vertex_neighbor_vertices",
           [](const PyDelaunay2& d) { return neighbor_vertices(d.dt, d.dt.nb_points()); })

@@ -88,3 +88,15 @@ def test_random_points_give_the_cli_cvt_start_with_rho_to_the_cvt_power(cli, tmp
     assert np.array_equal(mine, theirs)
     assert not np.array_equal(voroclip.random_points(str(square), 200, 3, lambda x, y: 1 + 3 * x),
                               theirs)
+
+
+def test_cvt_result_says_why_it_stopped():
+    # CvtResult had converged and cancelled but not the CLI's "no progress" / "iteration
+    # budget": stop names it.
+    sites = voroclip.random_points(voroclip.domain2(SQUARE), 30, seed=2)
+    assert voroclip.cvt2d(SQUARE, sites, iterations=2).stop == "iteration budget"
+    done = voroclip.cvt2d(SQUARE, sites, tolerance=0.5)
+    assert done.stop == "converged" and done.converged
+    cancelled = voroclip.cvt3d((CUBE_V, CUBE_T), voroclip.random_points((CUBE_V, CUBE_T), 20),
+                               callback=lambda info: info["iteration"] < 1)
+    assert cancelled.stop == "cancelled" and cancelled.cancelled

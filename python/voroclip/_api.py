@@ -299,7 +299,10 @@ class CvtResult(NamedTuple):
     energy and gradient norm at iteration 0 (start) and after every iteration;
     ``iterations``, ``evaluations`` (clipped diagrams computed), ``energy`` (final),
     ``gradient_norm``, ``initial_gradient_norm``, ``converged`` (|g| <= tolerance |g0|),
-    ``cancelled`` (the callback returned False), ``seconds``."""
+    ``cancelled`` (the callback returned False), ``seconds``, ``stop``: why it stopped, the
+    CLI's words: 'converged', 'iteration budget', 'no progress' (L-BFGS: the line search
+    found no lower energy at the energy's precision; the best sites so far) or
+    'cancelled'."""
 
     sites: np.ndarray
     energy_history: np.ndarray
@@ -312,6 +315,7 @@ class CvtResult(NamedTuple):
     converged: bool
     cancelled: bool
     seconds: float
+    stop: str
 
 
 def _number(tolerance) -> float:
