@@ -2134,8 +2134,8 @@ std::string gmsh41_file(const TetMeshInput& mesh, bool binary) {
   for (std::uint64_t& e : node_entity) e = std::max<std::uint64_t>(e, 1);
   const auto node_runs = [&](auto block) {
     for (std::uint64_t begin = 0, end = 0; begin < nv; begin = end) {
-      for (end = begin + 1; end < nv && node_dim[end] == node_dim[begin] &&
-                            node_entity[end] == node_entity[begin];
+      for (end = begin + 1;
+           end < nv && node_dim[end] == node_dim[begin] && node_entity[end] == node_entity[begin];
            ++end) {
       }
       block(begin, end);

@@ -399,10 +399,10 @@ TEST_CASE("--density / --sizing errors: position in the formula, the point, no f
     INFO(option);
     const bool sizing = option[2] == 's';
     const Run both =
-        sizing ? run_cli({"mesh2d", square.path, "-q", option, two.path, "--vertices", "50", "-o",
-                          svg.path})
-               : run_cli({"cvt2d", square.path, "--random", "20", option, two.path, "-o",
-                          out.path});
+        sizing
+            ? run_cli({"mesh2d", square.path, "-q", option, two.path, "--vertices", "50", "-o",
+                       svg.path})
+            : run_cli({"cvt2d", square.path, "--random", "20", option, two.path, "-o", out.path});
     CHECK(both.status == 1);
     check_one_error_line(both);
     CHECK(contains(both.err, two.path + ":15: the grid has 2 SCALARS arrays, 'h' and 'rho': " +
