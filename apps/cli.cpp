@@ -122,7 +122,7 @@ void check_outputs(const std::vector<OutputOption>& outputs) {
         const std::string both =
             outputs[j].path == outputs[k].path
                 ? "'" + outputs[k].path + "'"
-                : "'" + outputs[j].path + "' and '" + outputs[k].path + "', the same file,";
+                : "'" + outputs[j].path + "' and '" + outputs[k].path + "' (the same file)";
         throw UsageError(outputs[j].option + " and " + outputs[k].option + " both name " + both +
                          ": one would overwrite the other; give them different files");
       }

@@ -178,6 +178,10 @@ TEST_CASE("mesh2d: two outputs naming one file, --msh-version without a .msh out
       check_one_error_line(run);
       CHECK(contains(run.err, "-o and --histogram both name '"));
       CHECK(contains(run.err, "one would overwrite the other"));
+      // Two spellings of one file read "'a' and './a' (the same file): one would ..." (it
+      // was "'a' and './a', the same file,: one would ...").
+      CHECK_FALSE(contains(run.err, ",:"));
+      if (histogram != svg) CHECK(contains(run.err, "' (the same file): one would overwrite"));
       CHECK_FALSE(exists(svg));
     }
   }
