@@ -246,6 +246,16 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   Mesh2Phase phase = Mesh2Phase::kSampling;
   o.raise_for_mean_angle = !args.exact_vertices;
   o.progress = [&](const Mesh2Progress& p) {
+    if (p.implied_vertices > 0) {
+      // Three significant digits: the count made differs from it (the boundary, the
+      // refinement).
+      const double n = p.implied_vertices;
+      const double unit = std::max(1.0, std::pow(10.0, std::floor(std::log10(n)) - 2));
+      progress.note("mesh2d: about " +
+                    std::to_string(static_cast<std::uint64_t>(std::round(n / unit) * unit)) +
+                    " vertices for this size");
+      return true;
+    }
     if (p.retry_vertices > 0) {
       char mean[32];
       std::snprintf(mean, sizeof mean, "%.2f", p.energy);
@@ -331,6 +341,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
     }
     s["below_30"] = below;
     s["requested_vertices"] = st.requested_vertices;
+    if (st.implied_vertices > 0) {
+      s["implied_vertices"] = st.implied_vertices;
+    } else {
+      s["implied_vertices"] = nullptr;
+    }
     s["vertex_count_runs"] = st.vertex_count_runs;
     s["feature_vertices"] = st.feature_vertices;
     s["vertex_count_within_tolerance"] = st.vertex_count_note.empty();

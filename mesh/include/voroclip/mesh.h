@@ -420,6 +420,10 @@ struct Mesh2Progress {
   // mean smallest angle missed Mesh2Options::mean_angle_target_deg (the other fields: the
   // last run's mean in `energy`).
   std::uint32_t retry_vertices = 0;
+  // Non-zero once per run given an edge length (nb_vertices == 0), after the sizing and
+  // before the sampling: the vertex count the sizes imply, which the sampling aims for
+  // (Mesh2Stats::implied_vertices; the other fields are zero).
+  std::uint32_t implied_vertices = 0;
 };
 
 struct Mesh2Options {
@@ -496,10 +500,10 @@ struct Mesh2Options {
   double mean_angle_target_deg = 53;
   bool raise_for_mean_angle = true;
   std::uint32_t max_mean_angle_runs = 3;
-  // Called at the start of each phase (iteration 0) and after every CVT iteration; return
-  // false to stop: the mesh is then extracted from the sites reached (valid, lower
-  // quality; an empty mesh when stopped at the start of the sampling) and
-  // Mesh2Stats::cancelled is set.
+  // Called at the start of each phase (iteration 0), after every CVT iteration, and once
+  // with Mesh2Progress::implied_vertices (edge length only); return false to stop: the mesh
+  // is then extracted from the sites reached (valid, lower quality; an empty mesh when
+  // stopped before the sampling) and Mesh2Stats::cancelled is set.
   std::function<bool(const Mesh2Progress&)> progress;
 };
 
@@ -514,6 +518,10 @@ struct Mesh2Stats {
   std::uint32_t flips = 0;               // edge flips of step 10
   std::uint32_t requested_vertices = 0;  // options.nb_vertices
   std::uint32_t vertex_count_runs = 0;   // runs redone to land near it (0 to 2)
+  // Given an edge length (nb_vertices == 0): the vertex count its sizes imply (2 / sqrt(3)
+  // times the integral of h^-2 over the domain), the sites sampled; the boundary step and
+  // the refinement change the count made from it. 0 with nb_vertices.
+  std::uint32_t implied_vertices = 0;
   // Expected vertex count of the small features' sizes alone (h = the feature size field,
   // no uniform part): above nb_vertices, the features force more vertices than asked.
   std::uint32_t feature_vertices = 0;
