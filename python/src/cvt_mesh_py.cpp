@@ -171,6 +171,25 @@ class OptionSetter {
   std::vector<std::pair<std::string, Setter>> setters_;
 };
 
+// A sizing h given as a number: checked finite and positive ("<command>: sizing: ...").
+double sizing_number(const py::object& sizing, const std::string& command) {
+  const double h = sizing.cast<double>();
+  if (!(h > 0) || !std::isfinite(h))
+    throw Error(command + ": sizing: expected a finite number > 0");
+  return h;
+}
+
+// A sizing h given as a callable (plain or Vectorized): its PyDensity, named "sizing".
+std::shared_ptr<PyDensity> sizing_callable(const py::object& sizing, const std::string& command,
+                                           const char* signature) {
+  const std::optional<py::object> vectorized = vectorized_callable(sizing);
+  if (!vectorized && PyCallable_Check(sizing.ptr()) == 0) {
+    throw Error(command + ": sizing: expected None, a number or a callable " + signature);
+  }
+  return std::make_shared<PyDensity>(vectorized ? *vectorized : sizing, "sizing",
+                                     vectorized.has_value());
+}
+
 // mesh2d's sizing h (an edge length: a number or a callable h(x, y), plain or Vectorized),
 // rho = h^-4 as the CLI's --sizing. Without a vertex count or edge length, h is absolute
 // (edge_length 1 scales h itself; a number h is the edge length); with a vertex count only
@@ -183,17 +202,11 @@ void mesh2d_sizing(Mesh2Options& o, const py::dict& options, const py::object& d
   }
   const bool alone = !options.contains("vertices");
   if (py::isinstance<py::float_>(sizing) || py::isinstance<py::int_>(sizing)) {
-    const double h = sizing.cast<double>();
-    if (!(h > 0) || !std::isfinite(h)) throw Error("mesh2d: sizing: expected a finite number > 0");
+    const double h = sizing_number(sizing, "mesh2d");
     if (alone) o.edge_length = h;  // a uniform size: h is the edge length
     return;
   }
-  const std::optional<py::object> vectorized = vectorized_callable(sizing);
-  if (!vectorized && PyCallable_Check(sizing.ptr()) == 0) {
-    throw Error("mesh2d: sizing: expected None, a number or a callable h(x, y)");
-  }
-  callback = std::make_shared<PyDensity>(vectorized ? *vectorized : sizing, "sizing",
-                                         vectorized.has_value());
+  callback = sizing_callable(sizing, "mesh2d", "h(x, y)");
   auto c = callback;
   o.density = Density2::function([c](double x, double y) {
     const double h = (*c)(x, y, 0, 2);
@@ -348,17 +361,11 @@ void mesh3d_size(Mesh3Options& o, bool vertices_given, const py::object& density
   }
   if (sizing.is_none()) return;
   if (number(sizing)) {
-    const double h = sizing.cast<double>();
-    if (!(h > 0) || !std::isfinite(h)) throw Error("mesh3d: sizing: expected a finite number > 0");
+    const double h = sizing_number(sizing, "mesh3d");
     if (!vertices_given) o.edge_length = h;  // a uniform size: h is the edge length
     return;
   }
-  const std::optional<py::object> vectorized = vectorized_callable(sizing);
-  if (!vectorized && PyCallable_Check(sizing.ptr()) == 0) {
-    throw Error("mesh3d: sizing: expected None, a number or a callable h(x, y, z)");
-  }
-  callback = std::make_shared<PyDensity>(vectorized ? *vectorized : sizing, "sizing",
-                                         vectorized.has_value());
+  callback = sizing_callable(sizing, "mesh3d", "h(x, y, z)");
   // rho = h^-5, an error where that overflows.
   const auto rho = [](double h, const double* p) {
     const double r = std::pow(h, -5.0);
@@ -369,7 +376,7 @@ void mesh3d_size(Mesh3Options& o, bool vertices_given, const py::object& density
     return r;
   };
   auto c = callback;
-  if (vectorized) {
+  if (c->vectorized()) {
     o.density = Density3::batch_function([c, rho](const double* xyz, std::size_t n, double* out) {
       c->batch(xyz, n, out, 3);
       for (std::size_t i = 0; i < n; ++i) out[i] = rho(out[i], xyz + 3 * i);
