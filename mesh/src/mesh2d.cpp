@@ -2001,9 +2001,20 @@ struct MeanSplit {
     const std::uint32_t n = count[0] + count[1];
     return n ? (sum[0] + sum[1]) / n : 0;
   }
-  // Inside less than a quarter of the triangles: corridors a few triangles wide.
-  bool corridors() const { return 4 * std::size_t{count[0]} < std::size_t{count[0]} + count[1]; }
+  // Inside less than a quarter of the triangles: few rows of vertices inside.
+  bool coarse() const { return 4 * std::size_t{count[0]} < std::size_t{count[0]} + count[1]; }
 };
+
+// Corridors a few triangles wide: a coarse mesh (MeanSplit::coarse) whose edge length is
+// within kCorridorRatio of the smallest feature (hilbert.json at 1,000 vertices: 1.03 for
+// corridors of width 1; square-holes:6,0.7 at 60: 2.4). A coarse mesh of an edge length far
+// above it is graded to its small features instead, and corridor_vertices' scaling by the
+// square of that ratio does not apply (dude.json at 10 vertices: 23.3 for a feature of
+// 0.371, "about 7,200,000 vertices" for a mesh fine at 2,501).
+constexpr double kCorridorRatio = 4;
+bool corridors(const MeanSplit& m, const Mesh2Stats& st) {
+  return m.coarse() && st.edge_length <= kCorridorRatio * st.min_size;
+}
 
 MeanSplit mean_split(const Mesh2& mesh) {
   MeanSplit m;
@@ -2062,7 +2073,7 @@ std::string two_digits(double n) {
 // features, or the boundary's triangles.
 std::string mean_angle_cause(const Mesh2& mesh, const Mesh2Stats& st, const MeanSplit& m,
                              double target) {
-  if (m.corridors()) {
+  if (corridors(m, st)) {
     return "corridors a few triangles wide (smallest feature " + significant(st.min_size) +
            ", edge length " + significant(st.edge_length) +
            "): an edge length about a feature / 2.5 puts rows of vertices inside, about " +
@@ -2192,7 +2203,7 @@ void raise_for_mean_angle(const Domain2& domain, const Mesh2Options& options, Me
   for (std::uint32_t run = 0; run < options.max_mean_angle_runs && best < target; ++run) {
     double next;
     double most = 4;  // times the last count
-    if (run == 0 && first.corridors()) {
+    if (run == 0 && corridors(first, st)) {
       // The corridors' estimate: the mean rises little until the rows fit (hilbert.json:
       // 45.4 at 1,049, 49.7 at 4,019, 53.0 at 6,519), so neither the model nor a step of 4 fits.
       next = corridor_vertices(mesh, st);

@@ -528,3 +528,23 @@ TEST_CASE("mesh2d: an edge length or a sizing says the vertex count it implies, 
   CHECK_FALSE(contains(count.err, "vertices for this size"));
   std::remove(square.c_str());
 }
+
+TEST_CASE("mesh2d: a coarse mesh graded to small features is not called corridors",
+          "[apps][regression]") {
+  // dude.json at 10 vertices (edge length 23.3, smallest feature 0.371): the note said
+  // "corridors a few triangles wide ... about 7200000 vertices (estimate)" (7,900,000 at 3),
+  // for a domain meshed fine at 2,501. The mean is low for the grading and the boundary.
+  for (const char* count : {"10", "3"}) {
+    INFO(count);
+    const Run run = run_cli({"-q", "--stats", "json", "mesh2d", kData + "/polygons/valid/dude.json",
+                             "--vertices", count, "--exact-vertices"});
+    REQUIRE(run.status == 0);
+    const nlohmann::json s = nlohmann::json::parse(run.out);
+    REQUIRE(s["mean_angle_note"].is_string());
+    const std::string note = s["mean_angle_note"];
+    INFO(note);
+    CHECK(s["edge_length"].get<double>() > 4 * s["min_feature_size"].get<double>());
+    CHECK_FALSE(contains(note, "corridors"));
+    CHECK_FALSE(contains(note, "(estimate)"));
+  }
+}
