@@ -273,6 +273,7 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
       d["gradient_norm"] = p.gradient_norm;
       d["seconds"] = p.seconds;
       if (p.retry_vertices > 0) d["retry_vertices"] = p.retry_vertices;
+      if (p.implied_vertices > 0) d["implied_vertices"] = p.implied_vertices;
       return d;
     });
   };
@@ -301,6 +302,9 @@ py::dict mesh2d(const Domain2& domain, const py::dict& options, const py::object
   s["sharp_corners"] = st.nb_sharp_corners;
   s["tip_triangles"] = st.nb_tip_triangles;
   s["edge_length"] = st.edge_length;
+  // The count an edge length or a sizing alone implies (the CLI's note), None with vertices.
+  s["implied_vertices"] =
+      st.implied_vertices > 0 ? py::object(py::int_(st.implied_vertices)) : py::object(py::none());
   s["min_feature_size"] = st.min_size;
   s["unconstrained_iterations"] = st.unconstrained_iterations;
   s["constrained_iterations"] = st.constrained_iterations;

@@ -144,3 +144,16 @@ def test_mesh2d_sizing_as_the_cli(cli, tmp_path):
         voroclip.mesh2d(str(square), sizing=0.1, density=2.0)
     with pytest.raises(voroclip.Error, match=r"^sizing: the callable returned 0\.0 at \("):
         voroclip.mesh2d(str(square), 100, sizing=lambda x, y: 0.0)
+
+
+def test_mesh2d_implied_vertices(tmp_path):
+    # The CLI's note "about N vertices for this size": stats and the progress callback.
+    square = tmp_path / "square.json"
+    square.write_text("[[[0, 0], [1, 0], [1, 1], [0, 1]]]")
+    events = []
+    m = voroclip.mesh2d(str(square), sizing=lambda x, y: 0.05, callback=events.append)
+    implied = m.stats["implied_vertices"]
+    assert abs(implied - 2 / 3 ** 0.5 / 0.05 ** 2) <= 1
+    assert [e["implied_vertices"] for e in events if "implied_vertices" in e] == [implied]
+    assert 0.8 * implied <= len(m.points) <= 1.25 * implied
+    assert voroclip.mesh2d(str(square), 100).stats["implied_vertices"] is None
