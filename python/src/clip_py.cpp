@@ -172,7 +172,6 @@ void PyDensity::batch(const double* xyz, std::size_t n, double* out, int dim) {
     fail(PyExc_ValueError, what_ + ": the vectorized callable returned an array of shape (" +
                                shape + ") for " + std::to_string(n) + " points; expected (" +
                                std::to_string(n) + ",) or one number");
-    std::fill(out, out + n, 1.0);
     return;
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -206,13 +205,11 @@ Density2 density2(const py::object& density, std::shared_ptr<PyDensity>& callbac
                                  static_cast<std::uint32_t>(values.shape(0)), l, h,
                                  std::vector<double>(values.data(), values.data() + values.size()));
   }
-  if (const auto f = vectorized_callable(density)) {
-    callback = std::make_shared<PyDensity>(*f, "density", true);
-    auto c = callback;
-    return Density2::function([c](double x, double y) { return (*c)(x, y, 0, 2); });
-  }
-  if (PyCallable_Check(density.ptr()) != 0) {
-    callback = std::make_shared<PyDensity>(density);
+  const std::optional<py::object> vectorized = vectorized_callable(density);
+  if (vectorized || PyCallable_Check(density.ptr()) != 0) {
+    // Density2 has no batch: a vectorized callable gets arrays of one point.
+    callback = std::make_shared<PyDensity>(vectorized ? *vectorized : density, "density",
+                                           vectorized.has_value());
     auto c = callback;
     return Density2::function([c](double x, double y) { return (*c)(x, y, 0, 2); });
   }
