@@ -72,15 +72,13 @@ void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& option
            ext == ".vtu";
   }();
   // Read, then validate. Any defect, in the file or in the surface, is a verdict: with
-  // --stats json the JSON says valid: false and the error, then the error line and exit
-  // status 1.
+  // --stats json the JSON says ok and valid false, the error and the seconds spent, then the
+  // error line and exit status 1.
   const auto invalid = [&](const Error& e, double t_read, double t_validate) {
     if (options.stats_json) {
-      std::cout << nlohmann::json{{"valid", false},
-                                  {"error", cli_message(e.what())},
-                                  {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
-                       .dump()
-                << '\n';
+      print_failure_stats(
+          options.command, e.what(),
+          {{"valid", false}, {"seconds", {{"read", t_read}, {"validate", t_validate}}}});
     }
     throw e;
   };
@@ -134,20 +132,19 @@ void run_check_surface(const CheckSurfaceArgs& args, const GlobalOptions& option
            {"volume", sh.volume},
            {"reoriented", sh.reoriented}});
     }
-    std::cout << nlohmann::json{{"valid", true},
-                                {"source", s.source()},
-                                {"vertices", s.nb_vertices()},
-                                {"used_vertices", used},
-                                {"welded_vertices", s.nb_welded_vertices()},
-                                {"triangles", s.nb_triangles()},
-                                {"shells", std::move(shells)},
-                                {"area", s.area()},
-                                {"volume", s.volume()},
-                                {"bbox_min", {s.bbox_lo()[0], s.bbox_lo()[1], s.bbox_lo()[2]}},
-                                {"bbox_max", {s.bbox_hi()[0], s.bbox_hi()[1], s.bbox_hi()[2]}},
-                                {"seconds", {{"read", t_read}, {"validate", t_validate}}}}
-                     .dump()
-              << '\n';
+    print_stats(nlohmann::json{{"valid", true},
+                               {"source", s.source()},
+                               {"vertices", s.nb_vertices()},
+                               {"used_vertices", used},
+                               {"welded_vertices", s.nb_welded_vertices()},
+                               {"triangles", s.nb_triangles()},
+                               {"shells", std::move(shells)},
+                               {"area", s.area()},
+                               {"volume", s.volume()},
+                               {"bbox_min", {s.bbox_lo()[0], s.bbox_lo()[1], s.bbox_lo()[2]}},
+                               {"bbox_max", {s.bbox_hi()[0], s.bbox_hi()[1], s.bbox_hi()[2]}},
+                               {"seconds", {{"read", t_read}, {"validate", t_validate}}}},
+                options);
   }
   if (std::ostream* out = human_stream(options)) {
     *out << s.source() << ": a valid closed surface: " << count_of(s.nb_triangles(), "triangle")

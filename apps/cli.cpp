@@ -43,6 +43,40 @@ std::string cli_message(const std::string& what) {
   return text;
 }
 
+std::string error_line(const std::string& what) {
+  std::string line = cli_message(what);
+  for (char& c : line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  return line;
+}
+
+namespace {
+bool g_stats_printed = false;  // one JSON object per run, success or failure
+}  // namespace
+
+void print_stats(const nlohmann::ordered_json& stats, const GlobalOptions& options) {
+  nlohmann::ordered_json j = {{"command", options.command}, {"ok", true}};
+  for (const auto& [key, value] : stats.items()) j[key] = value;
+  std::cout << j.dump() << '\n';
+  g_stats_printed = true;
+}
+
+void print_failure_stats(const std::string& command, const std::string& what,
+                         const nlohmann::ordered_json& fields) {
+  nlohmann::ordered_json j;
+  j["command"] =
+      command.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(command);
+  j["ok"] = false;
+  j["error"] = error_line(what);
+  for (const auto& [key, value] : fields.items()) j[key] = value;
+  std::cout << j.dump() << '\n';
+  g_stats_printed = true;
+}
+
+bool stats_printed() { return g_stats_printed; }
+
 std::ostream* human_stream(const GlobalOptions& options) {
   if (options.quiet) return nullptr;
   return options.stats_json ? &std::cerr : &std::cout;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "density_options.h"
 #include "voroclip/clip.h"
 #include "voroclip/mesh.h"
@@ -28,6 +30,7 @@ struct GlobalOptions {
   bool stats_json = false;
   bool quiet = false;
   std::string progress = "auto";  // --progress: auto, bar, lines or none (progress.h)
+  std::string command;            // the command run ("mesh2d"), named by the JSON statistics
 };
 
 /// Human-readable text goes to stdout, or to stderr when stdout carries the JSON statistics
@@ -39,6 +42,24 @@ std::ostream* human_stream(const GlobalOptions& options);
 /// the options and commands that do the same. Every error line and JSON "error" goes
 /// through it.
 std::string cli_message(const std::string& what);
+
+/// The one line of an error as the command line says it: cli_message, line breaks as spaces,
+/// no trailing space. The "voroclip: error: " line on stderr and the JSON "error" are it.
+std::string error_line(const std::string& what);
+
+/// --stats json: `stats` as one JSON object on one line of stdout, after "command" (the
+/// command run) and "ok": true. A command prints it once, after its output files are written.
+void print_stats(const nlohmann::ordered_json& stats, const GlobalOptions& options);
+
+/// --stats json when the command fails: {"command": ..., "ok": false, "error": error_line(what)}
+/// and then `fields` (check-surface's verdict), on one line of stdout; `command` null when no
+/// command was recognised. main() prints it for every failure unless the command did
+/// (stats_printed()), so that a script reading stdout always gets one object.
+void print_failure_stats(const std::string& command, const std::string& what,
+                         const nlohmann::ordered_json& fields = nlohmann::ordered_json::object());
+
+/// Whether print_stats or print_failure_stats has printed the object of this run.
+bool stats_printed();
 
 /// Parses a finite double written in decimal ("-1.25e-3") or C99 hexadecimal ("0x1.8p-3"),
 /// independently of the locale; the whole string must be the number. `what` names the

@@ -235,28 +235,27 @@ void run_clip3d(const ClipArgs& args, const GlobalOptions& options) {
   write_files_atomically(files);
   progress.done();
   if (options.stats_json) {
-    std::cout << nlohmann::json{{"tets", domain.nb_tets()},
-                                {"boundary_triangles", domain.surface().nb_triangles()},
-                                {"shells", domain.surface().shells().size()},
-                                {"sites", n},
-                                {"unique_sites",
-                                 cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
-                                {"sites_outside", outside.size()},
-                                {"duplicate_sites", repeated.size()},
-                                {"boundary_sites", cv.nb_boundary_sites()},
-                                {"domain_volume", domain.volume()},
-                                {"cells_volume_sum", cv.total_volume()},
-                                {"surface_area_sum", cv.total_surface_area()},
-                                {"clipped_pairs", cv.nb_clipped_pairs()},
-                                {"multi_crossing_cells", cv.nb_multi_crossing_cells()},
-                                {"seconds",
-                                 {{"delaunay", t_delaunay},
-                                  {"surface_rvd", cv.seconds_surface()},
-                                  {"boundary_cells", cv.seconds_boundary_cells()},
-                                  {"inner_cells", cv.seconds_inner_cells()},
-                                  {"total", t_total}}}}
-                     .dump()
-              << '\n';
+    print_stats(
+        nlohmann::json{{"tets", domain.nb_tets()},
+                       {"boundary_triangles", domain.surface().nb_triangles()},
+                       {"shells", domain.surface().shells().size()},
+                       {"sites", n},
+                       {"unique_sites", cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
+                       {"sites_outside", outside.size()},
+                       {"duplicate_sites", repeated.size()},
+                       {"boundary_sites", cv.nb_boundary_sites()},
+                       {"domain_volume", domain.volume()},
+                       {"cells_volume_sum", cv.total_volume()},
+                       {"surface_area_sum", cv.total_surface_area()},
+                       {"clipped_pairs", cv.nb_clipped_pairs()},
+                       {"multi_crossing_cells", cv.nb_multi_crossing_cells()},
+                       {"seconds",
+                        {{"delaunay", t_delaunay},
+                         {"surface_rvd", cv.seconds_surface()},
+                         {"boundary_cells", cv.seconds_boundary_cells()},
+                         {"inner_cells", cv.seconds_inner_cells()},
+                         {"total", t_total}}}},
+        options);
   }
   if (std::ostream* out = human_stream(options)) {
     *out << "Clipped Voronoi diagram: " << count_of(n, "site") << " ("

@@ -368,20 +368,19 @@ void run_clip2d(const ClipArgs& args, const GlobalOptions& options) {
   }
   progress.done();
   if (options.stats_json) {
-    std::cout << nlohmann::json{{"sites", n},
-                                {"unique_sites",
-                                 cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
-                                {"sites_outside", site_check.outside},
-                                {"duplicate_sites", site_check.repeated},
-                                {"boundary_sites", cv.nb_boundary_sites()},
-                                {"domain_area", domain.area()},
-                                {"cells_area_sum", cv.total_area()},
-                                {"energy", cv.total_energy()},
-                                {"seconds", t_delaunay + t_clip},
-                                {"delaunay_seconds", t_delaunay},
-                                {"clip_seconds", t_clip}}
-                     .dump()
-              << '\n';
+    print_stats(
+        nlohmann::json{{"sites", n},
+                       {"unique_sites", cv.delaunay().nb_unique_points() - cv.nb_auxiliary_sites()},
+                       {"sites_outside", site_check.outside},
+                       {"duplicate_sites", site_check.repeated},
+                       {"boundary_sites", cv.nb_boundary_sites()},
+                       {"domain_area", domain.area()},
+                       {"cells_area_sum", cv.total_area()},
+                       {"energy", cv.total_energy()},
+                       {"seconds", t_delaunay + t_clip},
+                       {"delaunay_seconds", t_delaunay},
+                       {"clip_seconds", t_clip}},
+        options);
   }
   if (std::ostream* out = human_stream(options)) {
     *out << "Clipped Voronoi diagram: " << count_of(n, "site") << " ("
@@ -441,21 +440,20 @@ void run_cvt2d(const ClipArgs& args, const GlobalOptions& options) {
   }
   progress.done();
   if (options.stats_json) {
-    std::cout << nlohmann::json{{"sites", n},
-                                {"method", args.method},
-                                {"sites_outside", site_check.outside},
-                                {"duplicate_sites", site_check.repeated},
-                                {"iterations", r.iterations},
-                                {"evaluations", r.evaluations},
-                                {"energy", r.energy},
-                                {"gradient_norm", r.gradient_norm},
-                                {"initial_gradient_norm", r.initial_gradient_norm},
-                                {"converged", r.converged},
-                                {"stop", cvt_stop_name(r.stop)},
-                                {"density", args.density.describe()},
-                                {"seconds", r.seconds}}
-                     .dump()
-              << '\n';
+    print_stats(nlohmann::json{{"sites", n},
+                               {"method", args.method},
+                               {"sites_outside", site_check.outside},
+                               {"duplicate_sites", site_check.repeated},
+                               {"iterations", r.iterations},
+                               {"evaluations", r.evaluations},
+                               {"energy", r.energy},
+                               {"gradient_norm", r.gradient_norm},
+                               {"initial_gradient_norm", r.initial_gradient_norm},
+                               {"converged", r.converged},
+                               {"stop", cvt_stop_name(r.stop)},
+                               {"density", args.density.describe()},
+                               {"seconds", r.seconds}},
+                options);
   }
   if (human) {
     *human << "CVT (" << args.method << "): " << count_of(r.iterations, "iteration") << ", "

@@ -134,20 +134,19 @@ void run_cvt3d(const Cvt3dArgs& args, const GlobalOptions& options) {
   }
   progress.done();
   if (options.stats_json) {
-    std::cout << nlohmann::json{{"sites", n},
-                                {"method", args.method},
-                                {"density", args.density.describe()},
-                                {"domain_volume", domain.volume()},
-                                {"iterations", r.iterations},
-                                {"evaluations", r.evaluations},
-                                {"energy", r.energy},
-                                {"gradient_norm", r.gradient_norm},
-                                {"initial_gradient_norm", r.initial_gradient_norm},
-                                {"converged", r.converged},
-                                {"stop", cvt_stop_name(r.stop)},
-                                {"seconds", r.seconds}}
-                     .dump()
-              << '\n';
+    print_stats(nlohmann::json{{"sites", n},
+                               {"method", args.method},
+                               {"density", args.density.describe()},
+                               {"domain_volume", domain.volume()},
+                               {"iterations", r.iterations},
+                               {"evaluations", r.evaluations},
+                               {"energy", r.energy},
+                               {"gradient_norm", r.gradient_norm},
+                               {"initial_gradient_norm", r.initial_gradient_norm},
+                               {"converged", r.converged},
+                               {"stop", cvt_stop_name(r.stop)},
+                               {"seconds", r.seconds}},
+                options);
   }
   if (human) {
     *human << "CVT (" << args.method << "): " << count_of(n, "site") << " in " << domain.source()

@@ -141,7 +141,7 @@ void run_delaunay(const DelaunayArgs& args, const GlobalOptions& options) {
         {"points", n},         {"unique_points", r.unique}, {"hull_vertices", r.hull_vertices},
         {cells_key, nb_cells}, {"seconds", seconds},        {"peak_rss_bytes", peak_rss_bytes()}};
     if (args.check) stats["check"] = "passed";
-    std::cout << stats.dump() << '\n';
+    print_stats(stats, options);
   }
   if (std::ostream* out = human_stream(options)) {
     *out << "Delaunay " << dim << "D: " << count_of(n, "point") << " (" << r.unique

@@ -215,7 +215,7 @@ void run_demo(const DemoArgs& args, const GlobalOptions& options) {
     stats["seconds"] = seconds;
     stats["svg"] =
         args.svg_path.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(args.svg_path);
-    std::cout << stats.dump() << "\n";
+    print_stats(stats, options);
   }
 }
 

@@ -31,14 +31,20 @@ constexpr const char* kCells3Columns =
 constexpr int kRuntimeError = 1;
 constexpr int kUsageError = 2;
 
+// --stats json as the command line asks it, and the command it names: known before the parse,
+// so that a failed parse also answers with the JSON object.
+struct FailureStats {
+  bool json = false;
+  std::string command;  // "" when no command was recognised
+};
+FailureStats g_failure_stats;
+
 int report_error(const std::string& what, int status) {
-  std::string line = voroclip::cli::cli_message(what);
-  for (char& c : line) {
-    if (c == '\n' || c == '\r') c = ' ';
+  if (g_failure_stats.json && !voroclip::cli::stats_printed()) {
+    voroclip::cli::print_failure_stats(g_failure_stats.command, what);
   }
-  while (!line.empty() && line.back() == ' ') line.pop_back();
   std::cout.flush();
-  std::cerr << "voroclip: error: " << line << std::endl;
+  std::cerr << "voroclip: error: " << voroclip::cli::error_line(what) << std::endl;
   return status;
 }
 
@@ -68,6 +74,20 @@ std::string command_word(int argc, char** argv) {
     }
   }
   return "";
+}
+
+// Whether the command line asks for --stats json (CLI11 takes "--stats json" and
+// "--stats=json"; after "--" every argument is positional).
+bool stats_json_asked(int argc, char** argv) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a == "--") return false;
+    if (a == "--stats=json" ||
+        (a == "--stats" && k + 1 < argc && std::string(argv[k + 1]) == "json")) {
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -525,6 +545,13 @@ int main(int argc, char** argv) {
       "help", "Print the help of a command (voroclip help clip3d), or of the tool without one");
   help->add_option("COMMAND", help_topic, "The command")->type_name("");
 
+  g_failure_stats.json = stats_json_asked(argc, argv);
+  {
+    const std::string word = command_word(argc, argv);
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == word) g_failure_stats.command = word;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -543,6 +570,8 @@ int main(int argc, char** argv) {
     return report_error("-o,--output: the file name is empty", kUsageError);
   }
   global.stats_json = stats_format == "json";
+  for (const CLI::App* sub : app.get_subcommands()) global.command = sub->get_name();
+  g_failure_stats = {global.stats_json, global.command};
   predicate_args.sos = sos->count() > 0;
 
   if (*help) {

@@ -391,7 +391,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
                            {"constrained", st.seconds_constrained},
                            {"extraction", st.seconds_extraction}};
     s["quality"] = nlohmann::json::parse(quality_json(q));
-    std::cout << s.dump() << '\n';
+    print_stats(s, options);
   }
   if (human) {
     *human << "Mesh of " << domain.source() << ": " << mesh.nb_vertices() << " vertices ("

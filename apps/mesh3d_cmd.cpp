@@ -483,7 +483,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     seconds["hausdorff"] = t_hausdorff;
     seconds["total"] = seconds_since(start);
     j["seconds"] = seconds;
-    std::cout << j.dump() << '\n';
+    print_stats(j, options);
   }
   if (out) {
     *out << "Mesh: " << r.nb_vertices() << " vertices (" << counts[0] << " interior, " << counts[1]

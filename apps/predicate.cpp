@@ -97,7 +97,7 @@ void run_predicate(const PredicateArgs& args, const GlobalOptions& options) {
     stats["predicate"] = args.name;
     stats["sign"] = static_cast<int>(sign);
     stats["sos"] = args.sos;
-    std::cout << stats.dump() << "\n";
+    print_stats(stats, options);
     if (std::ostream* human = human_stream(options)) *human << word << "\n";
   } else {
     // The sign is the command's output, not commentary: --quiet does not hide it.

@@ -141,7 +141,7 @@ void run_quality(const QualityArgs& args, const GlobalOptions& options) {
                     {"quality", t_quality},
                     {"hausdorff", t_hausdorff},
                     {"total", seconds_since(start)}};
-    std::cout << j.dump() << '\n';
+    print_stats(j, options);
   }
   if (std::ostream* out = human_stream(options)) {
     write_quality_text(*out, q, args.mesh, d, args.surface);

@@ -407,3 +407,19 @@ def test_mesh2d_files_are_the_cli_files_byte_for_byte(cli, tmp_path):
         run(cli, "mesh2d", domain, "--vertices", 300, *flags, "-o", theirs)
         assert ours.read_bytes() == theirs.read_bytes(), name
     assert (tmp_path / "py_m.msh").read_text().startswith("$MeshFormat\n4.1 0 8\n")
+
+
+def test_cli_failure_stats_parse(cli, tmp_path):
+    # A failing command with --stats json prints one JSON object too (it printed nothing):
+    # ok false and the error line that stderr shows.
+    missing = tmp_path / "none.json"
+    for args, status in [(["clip2d", missing, "--random", 10], 1),
+                         (["mesh2d", "square-holes:2,0.4", "--vertices", "x"], 2)]:
+        p = subprocess.run([cli, "--stats", "json", *map(str, args)], capture_output=True,
+                           text=True)
+        assert p.returncode == status
+        stats = json.loads(p.stdout)
+        assert stats["command"] == args[0] and stats["ok"] is False
+        assert p.stderr == "voroclip: error: " + stats["error"] + "\n"
+    ok = run(cli, "clip2d", "square-holes:2,0.4", "--random", 10)
+    assert ok["command"] == "clip2d" and ok["ok"] is True

@@ -295,7 +295,9 @@ TEST_CASE("predicate insphere: cospherical points are zero, --sos decides", "[ap
   const Run plain_json = run_cli({"predicate", "insphere", "0", "0", "0", "1", "0", "0", "0", "1",
                                   "0", "0", "0", "1", "1", "1", "1", "--stats", "json"});
   CHECK(nlohmann::json::parse(plain_json.out) ==
-        nlohmann::json::parse(R"({"predicate": "insphere", "sign": 0, "sos": false})"));
+        nlohmann::json::parse(
+            R"({"command": "predicate", "ok": true, "predicate": "insphere", "sign": 0,
+                "sos": false})"));
 }
 
 TEST_CASE("delaunay3d on random points: exact check, stats, VTK output", "[apps][delaunay]") {
@@ -618,4 +620,80 @@ TEST_CASE("a directory as a 3D domain is named as a directory", "[apps][regressi
     CHECK(contains(run.err, dir + ": is a directory, not a file"));
   }
   ::rmdir(dir.c_str());
+}
+
+TEST_CASE("A failure with --stats json prints one JSON object: ok false and the error line",
+          "[apps][regression]") {
+  // A failed command printed nothing on stdout with --stats json: a script parsing it got an
+  // empty string. Now every command, whatever failed (the command line, an input file, an
+  // output path), prints {"command", "ok": false, "error"}; the error is the stderr line's.
+  const std::string missing = temp_path(".json");  // no such file
+  const std::string out = temp_path("");
+  const std::string no_dir = out + "/x";  // in a directory that does not exist
+  const std::string bad_poly = temp_path(".poly");
+  std::ofstream(bad_poly) << "3 2 0 0\n1 0 0\n2 1 0\n";  // the third vertex is missing
+  struct Case {
+    std::string command;  // "" for none
+    std::vector<std::string> args;
+    int status;
+    std::string in_error;  // a piece of the message
+    std::string output;    // a file that must not be written; "" for none
+  };
+  const std::vector<Case> cases = {
+      {"demo", {"demo", "-o", no_dir + ".svg"}, 1, "cannot write", no_dir + ".svg"},
+      {"predicate", {"predicate", "orient2d", "0", "0", "1"}, 2, "orient2d", ""},
+      {"delaunay2d", {"delaunay2d", missing}, 1, missing, ""},
+      {"delaunay3d", {"delaunay3d", "--random", "x"}, 2, "--random", ""},
+      {"clip2d",
+       {"clip2d", missing, "--random", "10", "-o", out + ".svg"},
+       1,
+       missing,
+       out + ".svg"},
+      {"cvt2d", {"cvt2d", "square-holes:2,0.4", "--iterations", "-1"}, 2, "--iterations", ""},
+      {"mesh2d",
+       {"mesh2d", bad_poly, "--vertices", "100", "-o", out + ".vtu"},
+       1,
+       bad_poly,
+       out + ".vtu"},
+      {"mesh2d", {"mesh2d", "square-holes:2,0.4"}, 2, "--vertices", ""},
+      {"clip3d", {"clip3d", missing + ".obj", "--random", "10"}, 1, missing, ""},
+      {"cvt3d",
+       {"cvt3d", missing + ".obj", "--random", "10", "-o", out + ".vtu"},
+       1,
+       missing,
+       out + ".vtu"},
+      {"quality", {"quality", missing + ".mesh"}, 1, missing, ""},
+      {"mesh3d",
+       {"mesh3d", missing + ".obj", "--vertices", "100", "-o", out + ".mesh"},
+       1,
+       missing,
+       out + ".mesh"},
+      {"check-surface", {"check-surface", missing + ".obj"}, 1, missing, ""},
+      {"", {"no-such-command"}, 2, "unknown command 'no-such-command'", ""},
+  };
+  for (const Case& c : cases) {
+    for (const bool before : {true, false}) {  // --stats json before or after the command
+      std::vector<std::string> args = c.args;
+      args.insert(before ? args.begin() : args.end(), {"--stats", "json"});
+      const Run run = run_cli(args);
+      CHECK(run.status == c.status);
+      REQUIRE(std::count(run.out.begin(), run.out.end(), '\n') == 1);
+      const nlohmann::json j = nlohmann::json::parse(run.out);
+      CHECK(j.at("ok") == false);
+      CHECK(j.at("command") ==
+            (c.command.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.command)));
+      const std::string error = j.at("error").get<std::string>();
+      CHECK(run.err == "voroclip: error: " + error + "\n");
+      CHECK(contains(error, c.in_error));
+      if (!c.output.empty()) CHECK(!exists(c.output));
+      if (c.command == "check-surface") CHECK(j.at("valid") == false);
+    }
+  }
+  // Without --stats json a failure prints nothing on stdout, as before.
+  check_one_error_line(run_cli({"delaunay2d", missing}));
+  // A success says the same two keys first.
+  const Run ok = run_cli({"--stats", "json", "delaunay2d", "--random", "10"});
+  REQUIRE(ok.status == 0);
+  CHECK(ok.out.rfind(R"({"command":"delaunay2d","ok":true,)", 0) == 0);
+  std::remove(bad_poly.c_str());
 }
