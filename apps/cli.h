@@ -172,6 +172,8 @@ struct Mesh2dArgs {
   bool exact_vertices = false;     // no raise for the mean smallest angle
   std::string output;              // .svg, .vtu, .mesh, .msh; empty: no file
   std::string histogram;           // .svg angle histograms; empty: none
+  bool binary = false;             // .vtu: base64 appended data (default: ASCII)
+  bool compress = false;           // .vtu: zlib-compressed data
   DensityArgs density;
 };
 
@@ -216,10 +218,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options);
 void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh);
 /// The writer of a 2D mesh's file, by extension (for write_files_atomically): .svg
 /// (triangles coloured by their smallest angle), .vtu, .mesh (Medit), .msh (Gmsh 4.1, or
-/// 2.2 with `msh22`). The mesh carries its tags (mesh_domain2 fills them; tag_mesh2). It
-/// refers to `domain` and `mesh`, which must outlive it.
+/// 2.2 with `msh22`). The mesh carries its tags (mesh_domain2 fills them; tag_mesh2). A .vtu
+/// is written in `encoding` (--binary, --compress). It refers to `domain` and `mesh`, which
+/// must outlive it.
 FileWriter mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
-                      bool msh22 = false);
+                      bool msh22 = false, VtuEncoding encoding = VtuEncoding::kAscii);
 
 struct Mesh3dArgs {
   std::string domain;  // closed surface or tet mesh (read_domain3)

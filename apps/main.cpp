@@ -331,6 +331,11 @@ int main(int argc, char** argv) {
       ->add_option("--histogram", mesh_args.histogram,
                    "Write the angle histograms as an SVG bar chart")
       ->type_name("FILE.svg");
+  mesh2d->add_flag("--binary", mesh_args.binary,
+                   "Write a .vtu output's data in binary (base64, appended)");
+  mesh2d->add_flag("--compress", mesh_args.compress,
+                   "Compress a .vtu output's data with zlib (vtkZLibDataCompressor, as meshio "
+                   "and ParaView write it)");
   voroclip::cli::add_density_options(mesh2d, mesh_args.density, 2, true);
 
   const std::string domain3_help =

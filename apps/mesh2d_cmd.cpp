@@ -123,13 +123,16 @@ void write_mesh_svg(std::ostream& out, const Domain2& domain, const Mesh2& mesh)
   out << "</g>\n</svg>\n";
 }
 
-FileWriter mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh,
-                      bool msh22) {
-  return {path, [path, &domain, &mesh, msh22](std::ostream& out) {
+FileWriter mesh2_file(const std::string& path, const Domain2& domain, const Mesh2& mesh, bool msh22,
+                      VtuEncoding encoding) {
+  return {path, [path, &domain, &mesh, msh22, encoding](std::ostream& out) {
             if (ends_with(path, ".svg")) {
               write_mesh_svg(out, domain, mesh);
             } else if (ends_with(path, ".vtu")) {
-              write_mesh2(out, mesh, Mesh2FileFormat::kVtu);
+              write_mesh2(out, mesh,
+                          encoding == VtuEncoding::kZlibBase64 ? Mesh2FileFormat::kVtuCompressed
+                          : encoding == VtuEncoding::kBase64   ? Mesh2FileFormat::kVtuBinary
+                                                               : Mesh2FileFormat::kVtu);
             } else if (ends_with(path, ".mesh")) {
               write_mesh2(out, mesh, Mesh2FileFormat::kMedit);
             } else {
@@ -180,6 +183,17 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   }
   if (!args.histogram.empty() && !ends_with(args.histogram, ".svg")) {
     throw UsageError("--histogram: the picture must end in .svg, got '" + args.histogram + "'");
+  }
+  if ((args.binary || args.compress) && !ends_with(args.output, ".vtu")) {
+    const std::string flag = args.compress ? "--compress" : "--binary";
+    const std::string ext = lower_extension(args.output);
+    if (ext == ".mesh" || ext == ".msh") {
+      throw UsageError(flag +
+                       ": only a .vtu output (-o FILE.vtu) is written in binary or compressed; "
+                       "mesh2d writes " +
+                       ext + " in ASCII only");
+    }
+    throw UsageError(no_encoding_message(flag, ext));
   }
   const bool by_length = args.edge_length_set;
   // A sizing field alone is the target edge length itself (--edge-length 1 scales it by 1).
@@ -298,7 +312,10 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   // -o and --histogram appear together or not at all.
   std::vector<FileWriter> files;
   if (!args.output.empty()) {
-    files.push_back(mesh2_file(args.output, domain, mesh, args.msh_version == "2.2"));
+    files.push_back(mesh2_file(args.output, domain, mesh, args.msh_version == "2.2",
+                               args.compress ? VtuEncoding::kZlibBase64
+                               : args.binary ? VtuEncoding::kBase64
+                                             : VtuEncoding::kAscii));
   }
   if (!args.histogram.empty()) {
     files.push_back({args.histogram, [&](std::ostream& out) {

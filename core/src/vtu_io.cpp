@@ -132,7 +132,8 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
 
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<VtuCellBlock>& blocks, VtuEncoding encoding,
-               const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags) {
+               const std::vector<VtuCellField>& fields, const std::vector<VtuCellTags>& tags,
+               const std::vector<VtuCellTags>& point_tags) {
   const bool binary = encoding != VtuEncoding::kAscii;
   std::size_t nb_cells = 0, nb_indices = 0;
   // Per block its number of indices.
@@ -142,10 +143,10 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   };
   for (const VtuCellBlock& b : blocks) {
     const bool polygons = b.vertices_per_cell == 0 && b.polygon_begin != nullptr;
-    if (b.vertices_per_cell != 3 && b.vertices_per_cell != 4 && !polygons) {
+    if ((b.vertices_per_cell < 2 || b.vertices_per_cell > 4) && !polygons) {
       throw Error("write_vtu: " + std::to_string(b.vertices_per_cell) +
-                  " vertices per cell: 3 (triangles), 4 (tetrahedra), or 0 with polygon_begin "
-                  "(polygons)");
+                  " vertices per cell: 2 (lines), 3 (triangles), 4 (tetrahedra), or 0 with "
+                  "polygon_begin (polygons)");
     }
     if (polygons && b.polygon_begin[0] != 0) {
       throw Error("write_vtu: polygon_begin must start at 0");
@@ -162,6 +163,12 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   };
   for (const VtuCellField& f : fields) check_size(f.name, f.values.size());
   for (const VtuCellTags& t : tags) check_size(t.name, t.values.size());
+  for (const VtuCellTags& t : point_tags) {
+    if (t.values.size() != nb_points) {
+      throw Error("write_vtu: point array '" + t.name + "' has " + std::to_string(t.values.size()) +
+                  " values for " + std::to_string(nb_points) + " points");
+    }
+  }
   std::vector<OutArray> arrays;
   auto add_doubles = [&](const std::string& type, const std::string& name, int components,
                          std::size_t n, auto value) {
@@ -214,7 +221,7 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
     });
   }
   // Per cell its number of points and its VTK type (VTK_TETRA 10, VTK_TRIANGLE 5,
-  // VTK_POLYGON 7).
+  // VTK_LINE 3, VTK_POLYGON 7).
   std::vector<std::int64_t> cell_size(nb_cells);
   std::vector<std::uint8_t> cell_type(nb_cells);
   for (std::size_t b = 0; b < blocks.size(); ++b) {
@@ -226,7 +233,7 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
         cell_type[k] = 7;
       } else {
         cell_size[k] = block.vertices_per_cell;
-        cell_type[k] = block.vertices_per_cell == 4 ? 10 : 5;
+        cell_type[k] = block.vertices_per_cell == 4 ? 10 : block.vertices_per_cell == 3 ? 5 : 3;
       }
     }
   }
@@ -242,6 +249,10 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   }
   for (const VtuCellTags& t : tags) {
     add_ints("Int32", t.name, nb_cells, [&](std::size_t c) { return std::int64_t{t.values[c]}; });
+  }
+  const std::size_t first_point_array = arrays.size();  // point data after the cell data
+  for (const VtuCellTags& t : point_tags) {
+    add_ints("Int32", t.name, nb_points, [&](std::size_t p) { return std::int64_t{t.values[p]}; });
   }
 
   std::string appended;  // base64, after the '_'
@@ -282,8 +293,14 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
   s += "</Points>\n<Cells>\n";
   for (std::size_t i = 1; i <= 3; ++i) data_array(i);
   s += "</Cells>\n<CellData Scalars=\"cell_id\">\n";
-  for (std::size_t i = 4; i < arrays.size(); ++i) data_array(i);
-  s += "</CellData>\n</Piece>\n</UnstructuredGrid>\n";
+  for (std::size_t i = 4; i < first_point_array; ++i) data_array(i);
+  s += "</CellData>\n";
+  if (first_point_array < arrays.size()) {
+    s += "<PointData>\n";
+    for (std::size_t i = first_point_array; i < arrays.size(); ++i) data_array(i);
+    s += "</PointData>\n";
+  }
+  s += "</Piece>\n</UnstructuredGrid>\n";
   if (binary) s += "<AppendedData encoding=\"base64\">\n_" + appended + "\n</AppendedData>\n";
   s += "</VTKFile>\n";
   out.write(s.data(), static_cast<std::streamsize>(s.size()));

@@ -19,48 +19,27 @@ int vertex_ref(Mesh2::VertexKind k) {
   return k == Mesh2::VertexKind::kInterior ? 0 : k == Mesh2::VertexKind::kBoundary ? 1 : 2;
 }
 
-// VTK XML: the triangles (cell type 5) then the boundary edges (type 3, lines); cell data
-// `tag` (a triangle's region, an edge's boundary tag) and `min_angle` (degrees; 0 on
-// edges); point data `kind` (0 interior, 1 sliding, 2 fixed).
-void write_vtu2(std::ostream& out, const Mesh2& mesh) {
-  const std::vector<double> angles = triangle_min_angles(mesh);
+// VTK XML through core's write_vtu (one VTU writer for every mesh): the triangles then the
+// boundary edges (lines); cell data `min_angle` (degrees; 0 on edges) and `tag` (a
+// triangle's region, an edge's boundary tag); point data `kind` (0 interior, 1 sliding,
+// 2 fixed).
+void write_vtu2(std::ostream& out, const Mesh2& mesh, VtuEncoding encoding) {
   const std::uint32_t nt = mesh.nb_triangles();
   const std::size_t ne = mesh.boundary_edges.size() / 2;
-  out << std::setprecision(17);
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-         "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-      << mesh.nb_vertices() << "\" NumberOfCells=\"" << nt + ne
-      << "\">\n<PointData Scalars=\"kind\">\n<DataArray type=\"UInt8\" Name=\"kind\" "
-         "format=\"ascii\">\n";
-  for (const Mesh2::VertexKind k : mesh.vertex_kind) out << vertex_ref(k) << '\n';
-  out << "</DataArray>\n</PointData>\n<CellData Scalars=\"tag\">\n<DataArray "
-         "type=\"Int32\" Name=\"tag\" format=\"ascii\">\n";
-  for (std::uint32_t t = 0; t < nt; ++t) out << mesh.triangle_regions[t] << '\n';
-  for (std::size_t e = 0; e < ne; ++e) out << mesh.boundary_tags[e] << '\n';
-  out << "</DataArray>\n<DataArray type=\"Float64\" Name=\"min_angle\" format=\"ascii\">\n";
-  for (const double a : angles) out << a << '\n';
-  for (std::size_t e = 0; e < ne; ++e) out << "0\n";
-  out << "</DataArray>\n</CellData>\n<Points>\n<DataArray type=\"Float64\" "
-         "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (std::uint32_t v = 0; v < mesh.nb_vertices(); ++v) {
-    out << mesh.xy[2 * v] << ' ' << mesh.xy[2 * v + 1] << " 0\n";
-  }
-  out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-         "format=\"ascii\">\n";
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    out << mesh.triangles[3 * t] << ' ' << mesh.triangles[3 * t + 1] << ' '
-        << mesh.triangles[3 * t + 2] << '\n';
-  }
-  for (std::size_t e = 0; e < ne; ++e) {
-    out << mesh.boundary_edges[2 * e] << ' ' << mesh.boundary_edges[2 * e + 1] << '\n';
-  }
-  out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::uint32_t t = 0; t < nt; ++t) out << 3 * (t + 1) << '\n';
-  for (std::size_t e = 0; e < ne; ++e) out << 3 * std::size_t{nt} + 2 * (e + 1) << '\n';
-  out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::uint32_t t = 0; t < nt; ++t) out << "5\n";
-  for (std::size_t e = 0; e < ne; ++e) out << "3\n";
-  out << "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  std::vector<VtuCellField> fields(1);
+  fields[0].name = "min_angle";
+  fields[0].values = triangle_min_angles(mesh);
+  fields[0].values.resize(nt + ne, 0.0);
+  std::vector<VtuCellTags> tags(1);
+  tags[0].name = "tag";
+  tags[0].values = mesh.triangle_regions;
+  tags[0].values.insert(tags[0].values.end(), mesh.boundary_tags.begin(), mesh.boundary_tags.end());
+  std::vector<VtuCellTags> kinds(1);
+  kinds[0].name = "kind";
+  for (const Mesh2::VertexKind k : mesh.vertex_kind) kinds[0].values.push_back(vertex_ref(k));
+  const std::vector<VtuCellBlock> blocks = {{mesh.triangles.data(), nt, 3},
+                                            {mesh.boundary_edges.data(), ne, 2}};
+  write_vtu(out, mesh.xy.data(), mesh.nb_vertices(), 2, blocks, encoding, fields, tags, kinds);
 }
 
 // Medit: vertices with reference 0 interior, 1 sliding, 2 fixed; the boundary edges with
@@ -223,7 +202,13 @@ void write_mesh2(std::ostream& out, const Mesh2& mesh, Mesh2FileFormat format) {
   }
   switch (format) {
     case Mesh2FileFormat::kVtu:
-      write_vtu2(out, mesh);
+      write_vtu2(out, mesh, VtuEncoding::kAscii);
+      break;
+    case Mesh2FileFormat::kVtuBinary:
+      write_vtu2(out, mesh, VtuEncoding::kBase64);
+      break;
+    case Mesh2FileFormat::kVtuCompressed:
+      write_vtu2(out, mesh, VtuEncoding::kZlibBase64);
       break;
     case Mesh2FileFormat::kMedit:
       write_medit2(out, mesh);

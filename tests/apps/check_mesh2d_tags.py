@@ -13,7 +13,8 @@ lengths per tag sum to the side lengths (5: 2, 7: 2, 3: 12, 9: 8); every triangl
 "region 42". DATA/polygons/valid/issue34.json (one outer ring, seven holes, no markers):
 boundary tags 1 on the outer ring and 2..8 on the holes, one per hole, region 1. A .poly
 with segment marker 0 (no marker) on its outer ring: tag 1 there in .msh 4.1, 2.2 and .vtu,
-every line in a Gmsh physical group. Prints one
+every line in a Gmsh physical group. The .vtu written with --binary and with --compress
+holds the ASCII one's points, cells and arrays exactly. Prints one
 line per mismatch and exits with 1 when there is any.
 """
 
@@ -99,6 +100,28 @@ def main():
     check_file(os.path.join(out, "square22.msh"), ["gmsh:physical"])
     check_file(os.path.join(out, "square.vtu"), ["tag"])
     check_file(os.path.join(out, "square.mesh"), ["medit:ref"])
+
+    # --binary and --compress (.vtu only): the ASCII file's points, cells and every array,
+    # bit for bit, in base64 appended data and in zlib-compressed data.
+    ascii = meshio.read(os.path.join(out, "square.vtu"))
+    for f, flag in [("square_binary.vtu", "--binary"), ("square_zlib.vtu", "--compress")]:
+        path = os.path.join(out, f)
+        subprocess.run([voroclip, "mesh2d", poly, "--vertices", "400", "-o", path, flag],
+                       check=True, stdout=subprocess.DEVNULL)
+        with open(path) as text:
+            head = text.read(1000)
+        check(f + ": appended data", 'format="appended"' in head and "format=\"ascii\"" not in head)
+        check(f + ": zlib compressor", ('compressor="vtkZLibDataCompressor"' in head) == (flag == "--compress"))
+        m = meshio.read(path)
+        check(f + ": same points", np.array_equal(m.points, ascii.points))
+        check(f + ": same cells", [c.type for c in m.cells] == [c.type for c in ascii.cells] == ["triangle", "line"]
+              and all(np.array_equal(a.data, b.data) for a, b in zip(m.cells, ascii.cells)))
+        check(f + ": same cell data", sorted(m.cell_data) == sorted(ascii.cell_data) and all(
+            np.array_equal(a, b) for k in ascii.cell_data for a, b in zip(m.cell_data[k], ascii.cell_data[k])),
+            str(sorted(m.cell_data)))
+        check(f + ": same point data", sorted(m.point_data) == sorted(ascii.point_data) == ["kind"] and
+              np.array_equal(m.point_data["kind"], ascii.point_data["kind"]))
+        check_file(path, ["tag"])
 
     gmsh.initialize()
     gmsh.option.setNumber("General.Verbosity", 0)

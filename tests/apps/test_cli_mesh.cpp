@@ -548,3 +548,44 @@ TEST_CASE("mesh2d: a coarse mesh graded to small features is not called corridor
     CHECK_FALSE(contains(note, "(estimate)"));
   }
 }
+
+TEST_CASE("mesh2d: --binary and --compress write the .vtu data appended, as clip2d does",
+          "[apps]") {
+  // mesh2d's .vtu was ASCII only (clip2d, clip3d and mesh3d had --binary / --compress).
+  // check_mesh2d_tags.py reads the files back with meshio and compares them with the ASCII.
+  const std::string ascii = temp_path(".vtu"), binary = temp_path(".vtu"), zlib = temp_path(".VTU");
+  for (const auto& [path, flag] : {std::pair<std::string, std::string>{ascii, ""},
+                                   {binary, "--binary"},
+                                   {zlib, "--compress"}}) {
+    std::vector<std::string> args = {"-q", "mesh2d", "annulus:1,2,32", "--vertices", "100",
+                                     "-o", path};
+    if (!flag.empty()) args.push_back(flag);
+    const Run run = run_cli(args);
+    REQUIRE(run.status == 0);
+  }
+  const std::string a = slurp(ascii), b = slurp(binary), z = slurp(zlib);
+  CHECK(contains(a, "format=\"ascii\""));
+  CHECK(!contains(a, "AppendedData"));
+  CHECK(contains(b, "<AppendedData encoding=\"base64\">"));
+  CHECK(!contains(b, "format=\"ascii\""));
+  CHECK(!contains(b, "compressor="));
+  CHECK(contains(z, "compressor=\"vtkZLibDataCompressor\""));
+  CHECK(!contains(z, "format=\"ascii\""));
+  CHECK(z.size() < b.size());
+  for (const std::string& path : {ascii, binary, zlib}) std::remove(path.c_str());
+  // Only a .vtu has those variants: a usage error before meshing, and no file.
+  for (const auto& [ext, flag] : {std::pair<std::string, std::string>{".msh", "--binary"},
+                                  {".mesh", "--compress"},
+                                  {".svg", "--binary"}}) {
+    const std::string out = temp_path(ext);
+    const Run run = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "-o", out, flag});
+    CHECK(run.status == 2);
+    check_one_error_line(run);
+    CHECK(contains(run.err, flag + ": only a .vtu output (-o FILE.vtu) is written in binary or "
+                                   "compressed"));
+    CHECK(!exists(out));
+  }
+  const Run none = run_cli({"mesh2d", "annulus:1,2,32", "--vertices", "100", "--compress"});
+  CHECK(none.status == 2);
+  CHECK(contains(none.err, "(no output file is given)"));
+}

@@ -383,8 +383,8 @@ struct VtuCellTags {
 };
 
 /// Cells of one kind for write_vtu: `nb_cells` cells of `vertices_per_cell` point indices
-/// each (3: triangles, 4: tetrahedra) at `indices`; or, with vertices_per_cell 0, polygons
-/// (VTK_POLYGON): cell c has the indices [polygon_begin[c], polygon_begin[c + 1]) of
+/// each (2: line segments, 3: triangles, 4: tetrahedra) at `indices`; or, with vertices_per_cell 0,
+/// polygons (VTK_POLYGON): cell c has the indices [polygon_begin[c], polygon_begin[c + 1]) of
 /// `indices` (polygon_begin: nb_cells + 1 offsets, the first 0).
 struct VtuCellBlock {
   const std::uint32_t* indices = nullptr;
@@ -406,15 +406,17 @@ enum class VtuEncoding {
 
 /// Writes a VTK XML unstructured grid (version 1.0, UInt64 headers, little endian): the
 /// points (z = 0 when dimension is 2), the cells of `blocks` one block after the other
-/// (VTK_TRIANGLE for 3 vertices, VTK_TETRA for 4), the cell index (counted across blocks)
-/// as cell data "cell_id", then `fields` (Float64) and `tags` (Int32), the arrays stored as
+/// (VTK_LINE for 2 vertices, VTK_TRIANGLE for 3, VTK_TETRA for 4), the cell index (counted
+/// across blocks) as cell data "cell_id", then `fields` (Float64) and `tags` (Int32), and
+/// `point_tags` (Int32, one value per point, as point data), the arrays stored as
 /// `encoding` says. Coordinates are Float64 and indices Int64 in every encoding, so a file
 /// read back gives the same doubles. Throws Error when a field or tag array does not have
-/// one value per cell.
+/// one value per cell, or a point array one per point.
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<VtuCellBlock>& blocks, VtuEncoding encoding,
                const std::vector<VtuCellField>& fields = {},
-               const std::vector<VtuCellTags>& tags = {});
+               const std::vector<VtuCellTags>& tags = {},
+               const std::vector<VtuCellTags>& point_tags = {});
 
 /// As above: `binary` is VtuEncoding::kBase64, otherwise kAscii.
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,

@@ -620,15 +620,18 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh);
 // File formats of a 2D triangle mesh (write_mesh2). Each holds the triangles with their
 // regions (triangle_regions) and the boundary edges with their tags (boundary_tags).
 enum class Mesh2FileFormat {
-  kVtu,     // VTK XML .vtu, ASCII: triangles (type 5) then boundary edges (type 3, lines);
-            // cell data "tag" (region / boundary tag) and "min_angle" (degrees, 0 on edges);
-            // point data "kind" (0 interior, 1 sliding, 2 fixed); z = 0
+  kVtu,     // VTK XML .vtu (write_vtu), ASCII: triangles (type 5) then boundary edges
+            // (type 3, lines); cell data "cell_id", "min_angle" (degrees, 0 on edges) and
+            // "tag" (region / boundary tag); point data "kind" (0 interior, 1 sliding,
+            // 2 fixed); z = 0
   kMedit,   // Medit .mesh, Dimension 2, numbered from 1: Vertices (ref = kind as above),
             // Edges (ref = boundary tag), Triangles (ref = region)
   kGmsh22,  // Gmsh .msh 2.2 ASCII: edges (type 1) in physical groups "boundary <tag>",
             // triangles (type 2) in groups "region <tag>", elementary = physical
   kGmsh41,  // Gmsh .msh 4.1 ASCII: as 2.2, one curve entity per boundary tag and one surface
             // entity per region, each in its physical group; all nodes in surface 1
+  kVtuBinary,      // as kVtu, base64-encoded appended data (VtuEncoding::kBase64)
+  kVtuCompressed,  // as kVtu, zlib-compressed appended data (VtuEncoding::kZlibBase64)
 };
 
 // Writes a tagged mesh (tags filled, e.g. by mesh_domain2 / tag_mesh2) in `format`: the
