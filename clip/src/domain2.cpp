@@ -392,6 +392,7 @@ void Domain2Impl::copy_rings() {
     const std::uint32_t e = static_cast<std::uint32_t>(d.ring_of_.size());
     d.ring_begin_.push_back(e);
     d.source_ring_.push_back(r);
+    d.ring_polygon_.push_back(in.ring_polygon[r]);
     d.ring_hole_.push_back(0);
     if (e - b < 3) {
       fail(names.ring(r) + " has fewer than 3 distinct points (" + std::to_string(e - b) +
@@ -904,12 +905,17 @@ void Domain2Impl::nest_and_orient() {
   }
   if (reversed) build_bands();  // edge numbers changed
 
-  // Edge tags: the .poly segment markers, else the ring's (outer 1, holes 2, 3, ...).
+  // Edge tags: the .poly segment markers, else the ring's: with polygons given, its
+  // position in the input from 1 (so that the outer rings of several polygons differ), by
+  // nesting outer 1, holes 2, 3, ...
   const bool markers = in.segment_marker.size() == in.xy.size() / 2;
+  const bool by_polygon = in.ring_polygon.front() >= 0;
   std::int32_t next_hole_tag = 2;
   d.edge_tag_.resize(d.nb_vertices());
   for (std::uint32_t r = 0; r < nb_rings; ++r) {
-    const std::int32_t ring_tag = d.ring_hole_[r] ? next_hole_tag++ : 1;
+    const std::int32_t ring_tag = by_polygon ? static_cast<std::int32_t>(d.source_ring_[r] + 1)
+                                  : d.ring_hole_[r] ? next_hole_tag++
+                                                    : 1;
     const std::uint32_t first = in.ring_begin[r], end = in.ring_begin[r + 1];
     // The input segment ending at input point i starts at its predecessor in the ring.
     const auto before = [&](std::uint32_t i) { return i == first ? end - 1 : i - 1; };

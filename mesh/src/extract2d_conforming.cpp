@@ -370,6 +370,7 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
   mesh.boundary_edges.clear();
   mesh.boundary_tags.clear();
   std::unique_ptr<mesh2d::EdgeGrid2> grid;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edge_triangle;  // (t, domain edge)
   for (std::uint32_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = tri(t, k), b = tri(t, (k + 1) % 3);
@@ -393,6 +394,7 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
       mesh.boundary_edges.push_back(a);
       mesh.boundary_edges.push_back(b);
       mesh.boundary_tags.push_back(e == kNone ? 0 : domain.edge_tag(e));
+      if (e != kNone) edge_triangle.emplace_back(t, e);
     }
   }
   // Regions: parts of the mesh connected across edges.
@@ -418,7 +420,14 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh) {
     }
     ++nb_parts;
   }
+  // A part's region: 1, or with several polygons given (JSON), its polygon's number from 1
+  // (the polygon of a domain edge under one of its boundary edges: the polygons are
+  // disjoint, so a part lies in one), then the regional attributes.
   std::vector<std::int32_t> region(nb_parts, 1);
+  for (const auto& [t, e] : edge_triangle) {
+    const std::int32_t polygon = domain.ring_polygon(domain.ring_of(e));
+    if (polygon >= 0) region[part[t]] = polygon + 1;
+  }
   const std::vector<double>& points = domain.region_points();
   for (std::size_t r = 0; r < domain.region_attributes().size(); ++r) {
     const double value = domain.region_attributes()[r];

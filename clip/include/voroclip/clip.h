@@ -95,11 +95,17 @@ class Domain2 {
   // xy[2 * source_vertex(v)]) and of r's ring (rings keep their input order).
   std::uint32_t source_vertex(std::uint32_t v) const { return source_vertex_[v]; }
   std::uint32_t source_ring(std::uint32_t r) const { return source_ring_[r]; }
+  // The polygon ring r belongs to when the input says (JSON, or rings given with their
+  // polygons: from 0), else -1 (.poly: roles from nesting).
+  std::int32_t ring_polygon(std::uint32_t r) const { return ring_polygon_[r]; }
   // True when vertex v is a corner: not collinear with prev(v) and next(v) (exact).
   bool is_corner(std::uint32_t v) const;
   // The tag of edge e, for boundary conditions: the .poly segment marker of the input
   // segment it is, marker 0 meaning "no marker" and giving 1 (as in Triangle's output), else
-  // its ring's tag: 1 for an outer ring, 2, 3, ... for the holes in ring order.
+  // its ring's tag: with polygons given (JSON), the ring's position in the input from 1
+  // (one polygon: 1 its outer ring, 2, 3, ... its holes; several: polygon after polygon,
+  // each outer ring then its holes); by nesting (.poly), 1 for every outer ring, 2, 3, ...
+  // for the holes in ring order.
   std::int32_t edge_tag(std::uint32_t e) const { return edge_tag_[e]; }
   // The .poly regional attributes: points (packed x y) and their attribute, as read.
   const std::vector<double>& region_points() const { return region_points_; }
@@ -134,6 +140,7 @@ class Domain2 {
   std::vector<std::uint32_t> ring_of_;
   std::vector<std::uint32_t> source_vertex_;
   std::vector<std::uint32_t> source_ring_;
+  std::vector<std::int32_t> ring_polygon_;
   std::vector<std::int32_t> edge_tag_;
   std::vector<double> region_points_, region_attributes_;
   std::vector<std::int64_t> region_number_;

@@ -315,7 +315,10 @@ class SizingField3 {
 //      vertices asked: 51.24 to 51.78 degrees; issue35: 50.83 to 51.44) and never lowers
 //      the smallest below min(itself, 40 degrees).
 //   Tags (tag_mesh2): boundary edges carry the .poly segment marker of their side, else
-//   1 (outer rings) or 2, 3, ... (holes); a vertex where the tag changes is fixed.
+//   their ring's tag (Domain2::edge_tag: JSON, the ring's position in the file from 1;
+//   .poly, 1 for outer rings, 2, 3, ... for holes); a vertex where the tag changes is
+//   fixed. Triangles carry the .poly regional attribute of their part of the mesh, else
+//   their polygon's number from 1 (JSON; one polygon: 1), else 1.
 // The vertex count is approximate: the sampling gives `nb_vertices`, the boundary and
 // gap steps change it. Where the feature sizes alone ask for more than nb_vertices
 // (Mesh2Stats::feature_vertices, the equilateral count of the feature size field:
@@ -390,9 +393,9 @@ struct Mesh2 {
   std::vector<std::uint32_t> vertex_site;    // index of its site in the optimised site array
                                              // (kNone for the corner of a cut tip)
   // Tags (tag_mesh2): boundary edges, 2 vertices each with the domain on their left, and
-  // each one's tag (Domain2::edge_tag: the .poly segment marker, else 1 on outer rings and
-  // 2, 3, ... on the holes); per triangle, its region: the .poly regional attribute of its
-  // part of the domain (a part: triangles connected across edges), else 1.
+  // each one's tag (Domain2::edge_tag: the .poly segment marker, else the ring's tag); per
+  // triangle, its region: the .poly regional attribute of its part of the domain (a part:
+  // triangles connected across edges), else its polygon's number from 1 (JSON), else 1.
   std::vector<std::uint32_t> boundary_edges;
   std::vector<std::int32_t> boundary_tags;
   std::vector<std::int32_t> triangle_regions;
@@ -612,8 +615,9 @@ Sign circumcenter_location2(const Domain2& domain, const Delaunay2& dt, std::uin
 // orientations, every vertex used. Empty when valid, else the first defect.
 std::string check_mesh2(const Domain2& domain, const Mesh2& mesh);
 
-// Fills the mesh's tags (Mesh2::boundary_edges, boundary_tags, triangle_regions) from its
-// vertices' domain data (vertex_domain / vertex_edge; mesh_domain2 calls it). Throws Error
+// Fills the mesh's tags (Mesh2::boundary_edges, boundary_tags, triangle_regions; see
+// mesh_domain2's "Tags") from its vertices' domain data (vertex_domain / vertex_edge;
+// mesh_domain2 calls it). Throws Error
 // for a regional attribute that is not an integer or a region point in no triangle.
 void tag_mesh2(const Domain2& domain, Mesh2& mesh);
 
