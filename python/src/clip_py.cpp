@@ -531,8 +531,10 @@ itself or another, every hole lies inside its polygon, the coordinates are finit
 (voroclip.Error names the rings and the points otherwise).
 
 Build one with voroclip.domain2(...) (a list of rings, ring 0 the outer boundary; one
-(n, 2) ring alone; a .poly or .json path; a shapely-like polygon) or Domain2.read(path). The functions take a
-Domain2 as it is: validate once for several calls.
+(n, 2) ring alone; a .poly or .json path; a shapely-like polygon; the command line's
+generators "annulus:R_IN,R_OUT,SEGMENTS" and "square-holes:K,FRACTION"), Domain2.read(path),
+Domain2.annulus(r_inner, r_outer, segments=64) or Domain2.square_holes(k, fraction). The
+functions take a Domain2 as it is: validate once for several calls.
 
 source (the file, or "rings"), area (outer rings minus holes), nb_rings, bounds (xmin,
 ymin, xmax, ymax); ring(r): the (k, 2) points of ring r, counter-clockwise around a
@@ -586,6 +588,20 @@ void bind_domains(py::module_& m) {
       .def_static(
           "read", [](const std::string& path) { return Domain2(read_polygon(path)); },
           "The domain of a .poly (Triangle) or .json polygon file.", py::arg("path"))
+      .def_static(
+          "annulus",
+          [](double r_inner, double r_outer, std::uint32_t segments) {
+            return Domain2(annulus_rings(r_inner, r_outer, segments));
+          },
+          "An annulus centred at the origin, each circle a regular polygon of `segments` "
+          "vertices, the first at angle 0 (the command line's annulus:R_IN,R_OUT,SEGMENTS).",
+          py::arg("r_inner"), py::arg("r_outer"), py::arg("segments") = 64)
+      .def_static(
+          "square_holes",
+          [](std::uint32_t k, double fraction) { return Domain2(square_with_holes(k, fraction)); },
+          "The unit square with a k x k grid of square holes of side fraction / k, each centred "
+          "in its grid cell (the command line's square-holes:K,FRACTION).",
+          py::arg("k"), py::arg("fraction"))
       .def_property_readonly("source", &Domain2::source)
       .def_property_readonly("area", &Domain2::area)
       .def_property_readonly("nb_rings", &Domain2::nb_rings)

@@ -261,6 +261,8 @@ def clip3d(domain, sites, density=None, *, geometry: bool = False, neighbors: bo
 def _is_2d_domain(domain) -> bool:
     if isinstance(domain, _core.Domain2):
         return True
+    if isinstance(domain, str) and domain.startswith(("annulus:", "square-holes:")):
+        return True
     if isinstance(domain, (str, os.PathLike)):
         name = os.fspath(domain).lower()
         if name.endswith(".gz"):
@@ -276,8 +278,8 @@ def random_points(domain, n: int, seed: int = 1, density=None, *,
 
     * 3D, (n, 3): a domain :func:`domain3` takes; ``density`` None (uniform), a callable
       rho(x, y, z) or one value per vertex of the domain's tet mesh;
-    * 2D, (n, 2): a :class:`Domain2` (from :func:`domain2`) or a ``.json`` / ``.poly``
-      path; ``density`` None (uniform), a callable rho(x, y) or a grid tuple, as
+    * 2D, (n, 2): a :class:`Domain2` (from :func:`domain2`), a ``.json`` / ``.poly``
+      path or a generator (``"annulus:1,2,64"``); ``density`` None (uniform), a callable rho(x, y) or a grid tuple, as
       :func:`clip2d` takes it.
 
     ``vectorized``: the callable takes arrays, as :func:`clip2d` (called one point at a
@@ -371,9 +373,10 @@ class Mesh:
       ``shape_problem`` ('' when the boundary has the domain's shape);
       2D: ``vertex_domain``, ``vertex_edge`` (the domain vertex / edge a boundary vertex
       lies on, -1 if none), ``boundary_edges`` (k, 2) int32 (the domain on their left),
-      ``boundary_tags`` (k,) (the .poly segment marker of their side, else 1 on outer
-      rings and 2, 3, ... on holes), ``cell_tags`` (m,) (the .poly regional attribute,
-      else 1);
+      ``boundary_tags`` (k,) (the .poly segment marker of their side, else their ring's
+      tag: 1 outer, 2, 3, ... holes; several polygons: 1, 2, ... over all rings in order,
+      each exterior then its holes), ``cell_tags`` (m,) (the .poly regional attribute,
+      else the polygon's number from 1);
     * ``stats``: a dict of the pipeline's figures (sites, iterations, energy, seconds...);
       3D also the dihedral verdict: ``input_sharpest_dihedral_deg`` (alpha, the smallest
       angle inside the volume between two boundary triangles sharing an edge),

@@ -40,6 +40,30 @@ def _bare_ring(domain):
     return None
 
 
+def _generator2(spec):
+    # The command line's generators (apps/clip_cmd.cpp, load_rings): the same names, the
+    # same limits, the same messages; None when `spec` names none (a path, then).
+    for prefix, usage, count in (("annulus:", "annulus:R_IN,R_OUT,SEGMENTS", 3),
+                                 ("square-holes:", "square-holes:K,FRACTION", 2)):
+        if not spec.startswith(prefix):
+            continue
+        text = spec[len(prefix):]
+        try:
+            v = [float(t) for t in text.split(",")]
+        except ValueError:
+            v = []
+        if len(v) != count or not all(np.isfinite(v)):
+            raise Error(f"{usage}: expected {count} comma-separated numbers, got '{text}'")
+        if prefix == "annulus:":
+            if not (0 < v[0] < v[1]) or not (3 <= v[2] <= 1e7) or v[2] != int(v[2]):
+                raise Error(f"{usage} needs 0 < R_IN < R_OUT and 3 <= SEGMENTS")
+            return _core.Domain2.annulus(v[0], v[1], int(v[2]))
+        if not (1 <= v[0] <= 1000) or v[0] != int(v[0]) or not (0 < v[1] < 1):
+            raise Error(f"{usage} needs 1 <= K <= 1000 and 0 < FRACTION < 1")
+        return _core.Domain2.square_holes(int(v[0]), v[1])
+    return None
+
+
 def domain2(domain) -> _core.Domain2:
     """A validated polygonal domain (with holes) from
 
@@ -51,13 +75,25 @@ def domain2(domain) -> _core.Domain2:
       outer boundary of a polygon without holes (a list of rings has one more level of
       nesting, so the two cannot be confused; other shapes of numbers raise :class:`Error`);
     * a shapely-like polygon (``.exterior`` and ``.interiors`` with ``.coords``), a list of
-      them, or a multi-polygon (``.geoms``).
+      them, or a multi-polygon (``.geoms``);
+    * the command line's generators, ``"annulus:R_IN,R_OUT,SEGMENTS"`` (as
+      :meth:`Domain2.annulus`) and ``"square-holes:K,FRACTION"`` (as
+      :meth:`Domain2.square_holes`), with its limits.
+
+    Several polygons (a list of them, a multi-polygon, a JSON file of several) give
+    mesh2d's triangles the region of their polygon (1, 2, ... in the order given) and its
+    boundary edges the tag of their ring (1, 2, ... over all rings in that order, each
+    polygon's exterior then its holes).
 
     Raises :class:`voroclip.Error` naming the ring and points for an invalid polygon (self
     intersections, rings that touch, a hole outside its polygon, a non-finite coordinate).
     """
     if isinstance(domain, _core.Domain2):
         return domain
+    if isinstance(domain, str):
+        generated = _generator2(domain)
+        if generated is not None:
+            return generated
     if isinstance(domain, (str, os.PathLike)):
         return _core.Domain2.read(os.fspath(domain))
     if hasattr(domain, "geoms"):
