@@ -20,9 +20,10 @@ int vertex_ref(Mesh2::VertexKind k) {
 }
 
 // VTK XML through core's write_vtu (one VTU writer for every mesh): the triangles then the
-// boundary edges (lines); cell data `min_angle` (degrees; 0 on edges) and `tag` (a
-// triangle's region, an edge's boundary tag); point data `kind` (0 interior, 1 sliding,
-// 2 fixed).
+// boundary edges (lines); cell data `min_angle` (degrees; 0 on edges), `region` (a
+// triangle's region; 0 on edges) and `patch` (an edge's boundary tag; 0 on triangles), the
+// names and the zeros of mesh3d's tets and boundary triangles (TetMeshFormat::kVtk);
+// point data `kind` (0 interior, 1 sliding, 2 fixed).
 void write_vtu2(std::ostream& out, const Mesh2& mesh, VtuEncoding encoding) {
   const std::uint32_t nt = mesh.nb_triangles();
   const std::size_t ne = mesh.boundary_edges.size() / 2;
@@ -30,10 +31,13 @@ void write_vtu2(std::ostream& out, const Mesh2& mesh, VtuEncoding encoding) {
   fields[0].name = "min_angle";
   fields[0].values = triangle_min_angles(mesh);
   fields[0].values.resize(nt + ne, 0.0);
-  std::vector<VtuCellTags> tags(1);
-  tags[0].name = "tag";
+  std::vector<VtuCellTags> tags(2);
+  tags[0].name = "region";
   tags[0].values = mesh.triangle_regions;
-  tags[0].values.insert(tags[0].values.end(), mesh.boundary_tags.begin(), mesh.boundary_tags.end());
+  tags[0].values.resize(nt + ne, 0);
+  tags[1].name = "patch";
+  tags[1].values.assign(nt, 0);
+  tags[1].values.insert(tags[1].values.end(), mesh.boundary_tags.begin(), mesh.boundary_tags.end());
   std::vector<VtuCellTags> kinds(1);
   kinds[0].name = "kind";
   for (const Mesh2::VertexKind k : mesh.vertex_kind) kinds[0].values.push_back(vertex_ref(k));

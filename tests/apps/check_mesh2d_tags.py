@@ -58,12 +58,14 @@ def side_tag(p, q):
     return 3
 
 
-def check_file(path, data_names):
+def check_file(path, data_names, line_names=None):
+    """line_names: the boundary edges' tag array when not data_names' (.vtu: region on the
+    triangles, patch on the edges, as mesh3d's .vtu; 0 on the other kind)."""
     name = os.path.basename(path)
     mesh = meshio.read(path)
     pts = mesh.points[:, :2]
     tri, regions = cells(mesh, "triangle", data_names)
-    lines, tags = cells(mesh, "line", data_names)
+    lines, tags = cells(mesh, "line", line_names or data_names)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     area = 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
     check(name + ": triangles counter-clockwise", bool(np.all(area > 0)))
@@ -98,7 +100,15 @@ def main():
                        check=True, stdout=subprocess.DEVNULL)
     check_file(os.path.join(out, "square41.msh"), ["gmsh:physical"])
     check_file(os.path.join(out, "square22.msh"), ["gmsh:physical"])
-    check_file(os.path.join(out, "square.vtu"), ["tag"])
+    check_file(os.path.join(out, "square.vtu"), ["region"], ["patch"])
+    # The .vtu's tags are named as mesh3d's: region (0 on the edges), patch (0 on the
+    # triangles); no array "tag" (the name before).
+    vtu = meshio.read(os.path.join(out, "square.vtu"))
+    check("square.vtu: cell data names", sorted(vtu.cell_data) == ["cell_id", "min_angle", "patch", "region"],
+          str(sorted(vtu.cell_data)))
+    for kind, name in (("line", "region"), ("triangle", "patch")):
+        _, zeros = cells(vtu, kind, [name])
+        check("square.vtu: %s 0 on the %ss" % (name, kind), set(zeros.tolist()) == {0})
     check_file(os.path.join(out, "square.mesh"), ["medit:ref"])
 
     # --binary and --compress (.vtu only): the ASCII file's points, cells and every array,
@@ -121,7 +131,7 @@ def main():
             str(sorted(m.cell_data)))
         check(f + ": same point data", sorted(m.point_data) == sorted(ascii.point_data) == ["kind"] and
               np.array_equal(m.point_data["kind"], ascii.point_data["kind"]))
-        check_file(path, ["tag"])
+        check_file(path, ["region"], ["patch"])
 
     gmsh.initialize()
     gmsh.option.setNumber("General.Verbosity", 0)
@@ -172,7 +182,7 @@ def main():
               "%d lines, %d grouped" % (lines, grouped))
         gmsh.clear()
     gmsh.finalize()
-    for f, names in [("marker0_41.msh", ["gmsh:physical"]), ("marker0.vtu", ["tag"])]:
+    for f, names in [("marker0_41.msh", ["gmsh:physical"]), ("marker0.vtu", ["patch"])]:
         _, tags = cells(meshio.read(os.path.join(out, f)), "line", names)
         check(f + ": boundary tags 1 and 4", set(tags.tolist()) == {1, 4}, str(set(tags.tolist())))
 

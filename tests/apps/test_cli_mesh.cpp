@@ -78,7 +78,10 @@ TEST_CASE("mesh2d: statistics, quality and the four formats", "[apps]") {
       const std::size_t cells_at = text.find("NumberOfCells=\"");
       REQUIRE(cells_at != std::string::npos);
       CHECK(std::stol(text.substr(cells_at + 15)) > triangles);
-      CHECK(contains(text, "Name=\"tag\""));
+      // Tags named as mesh3d's: region (triangles), patch (boundary edges).
+      CHECK(contains(text, "Name=\"region\""));
+      CHECK(contains(text, "Name=\"patch\""));
+      CHECK(!contains(text, "Name=\"tag\""));
     } else if (e == ".mesh") {
       CHECK(medit_count(text, "Vertices") == vertices);
       CHECK(medit_count(text, "Triangles") == triangles);
@@ -409,14 +412,27 @@ TEST_CASE("mesh2d: .poly marker 0 is no marker (tag 1), in .msh as in .vtu", "[a
                                              "2 1 \"region 1\""};
   CHECK(physical_names(slurp(msh)) == expected);
   CHECK(physical_names(slurp(msh22)) == expected);
-  // The .vtu's tags (boundary edges, then triangles): 1 and 4 on the edges, 1 on triangles.
+  // The .vtu's tags, per cell (the triangles, then the boundary edges): patch 1 and 4 on the
+  // edges (0 on the triangles), region 1 on the triangles (0 on the edges), as mesh3d's.
   const std::string text = slurp(vtu);
-  const std::size_t at = text.find("Name=\"tag\"");
-  REQUIRE(at != std::string::npos);
-  std::istringstream values(text.substr(text.find('>', at) + 1));
-  std::set<long> tags;
-  for (long t; values >> t;) tags.insert(t);
-  CHECK(tags == std::set<long>{1, 4});
+  const auto values_of = [&](const std::string& name) {
+    const std::size_t at = text.find("Name=\"" + name + "\"");
+    REQUIRE(at != std::string::npos);
+    std::istringstream values(text.substr(text.find('>', at) + 1));
+    std::vector<long> out;
+    for (long t; values >> t;) out.push_back(t);
+    return out;
+  };
+  const std::vector<long> patch = values_of("patch"), region = values_of("region");
+  REQUIRE(patch.size() == region.size());
+  std::set<long> edge_tags, triangle_regions;
+  for (std::size_t c = 0; c < patch.size(); ++c) {
+    // A cell is a triangle or an edge: exactly one of its two tags is 0.
+    CHECK((patch[c] == 0) != (region[c] == 0));
+    (patch[c] != 0 ? edge_tags : triangle_regions).insert(patch[c] != 0 ? patch[c] : region[c]);
+  }
+  CHECK(edge_tags == std::set<long>{1, 4});
+  CHECK(triangle_regions == std::set<long>{1});
   for (const std::string& f : {poly, msh, msh22, vtu}) std::remove(f.c_str());
 }
 
