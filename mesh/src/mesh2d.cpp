@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <random>
@@ -36,6 +37,12 @@ const char* phase_name(Mesh2Phase phase) {
       return "extraction";
     case Mesh2Phase::kRepair:
       return "repair CVT";
+    case Mesh2Phase::kRefinement:
+      return "refinement";
+    case Mesh2Phase::kSmoothing:
+      return "smoothing";
+    case Mesh2Phase::kFlips:
+      return "flips and search";
   }
   return "?";
 }
@@ -1116,6 +1123,35 @@ std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const Edg
   return added;
 }
 
+// Smallest angle (degrees) of the triangle (a, p, q), bitwise the same for any rotation of
+// its vertices (flip_for_mean2 relies on it). The smallest angle is opposite the shortest
+// edge: one atan2 (at the corner opposite it; the profile of hilbert.json --vertices 11500
+// had 31 % of the run in the three atan2 calls this made before), two where squared edge
+// lengths tie (the smaller of their angles, so that no rotation picks another corner). Each
+// corner's angle is atan2(|u x w|, u . w) from the corner's two edge vectors, whose
+// products do not depend on which of the two comes first.
+double smallest_angle(const double* a, const double* p, const double* q) {
+  const double* v[3] = {a, p, q};
+  double len2[3];  // edge k: from v[k + 1] to v[k + 2], opposite v[k]
+  for (int k = 0; k < 3; ++k) {
+    const double* x = v[(k + 1) % 3];
+    const double* y = v[(k + 2) % 3];
+    len2[k] = (y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]);
+  }
+  const double shortest = std::min({len2[0], len2[1], len2[2]});
+  double smallest = 180;
+  for (int k = 0; k < 3; ++k) {
+    if (!(len2[k] == shortest)) continue;
+    const double* o = v[k];
+    const double* x = v[(k + 1) % 3];
+    const double* y = v[(k + 2) % 3];
+    const double ux = x[0] - o[0], uy = x[1] - o[1], wx = y[0] - o[0], wy = y[1] - o[1];
+    smallest =
+        std::min(smallest, std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi);
+  }
+  return smallest;
+}
+
 // Step 8 (conforming extraction): Delaunay refinement of the triangles whose smallest angle
 // is still below `angle` (Ruppert 1995, in rounds). Per bad triangle, its circumcenter is
 // added as a free site, unless it lies within the diametral circle of a boundary edge of
@@ -1128,32 +1164,38 @@ std::uint32_t fill_gaps(const Domain2& domain, const SizeModel& model, const Edg
 // `chord`: per domain edge, 1 for the chord of a cut corner, never split (its tip triangle
 // is added on it).
 Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<std::uint8_t>& chord,
-                   Mesh2 mesh, double angle, std::uint32_t rounds, std::uint32_t* added) {
+                   Mesh2 mesh, double angle, std::uint32_t rounds, std::uint32_t* added,
+                   const std::function<bool(std::uint32_t)>& report) {
   const auto vertex = [&](std::uint32_t v) { return &mesh.xy[2 * std::size_t{v}]; };
+  std::vector<std::uint64_t> directed;
   for (std::uint32_t round = 0; round < rounds; ++round) {
-    // Boundary edges and the domain edge under each.
-    std::unordered_map<std::uint64_t, std::uint32_t> directed;
+    if (!report(round)) break;
+    // Boundary edges (directed edges without their twin; a sorted array, not a hash map:
+    // 730,000 edges per round at 128,000 vertices) and the domain edge under each, in
+    // (from, to) order.
+    directed.resize(mesh.triangles.size());
     for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
       for (int k = 0; k < 3; ++k) {
-        directed.emplace(std::uint64_t{mesh.triangles[3 * std::size_t{t} + k]} << 32 |
-                             mesh.triangles[3 * std::size_t{t} + (k + 1) % 3],
-                         t);
+        directed[3 * std::size_t{t} + static_cast<std::size_t>(k)] =
+            std::uint64_t{mesh.triangles[3 * std::size_t{t} + static_cast<std::size_t>(k)]} << 32 |
+            mesh.triangles[3 * std::size_t{t} + static_cast<std::size_t>((k + 1) % 3)];
       }
     }
+    std::sort(directed.begin(), directed.end());
+    directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
     struct BoundaryEdge {
       std::uint32_t a, b, edge;
     };
     std::vector<BoundaryEdge> boundary;
-    for (const auto& [key, t] : directed) {
+    for (const std::uint64_t key : directed) {
       const auto a = static_cast<std::uint32_t>(key >> 32);
       const auto c = static_cast<std::uint32_t>(key & 0xffffffffu);
-      if (directed.count(std::uint64_t{c} << 32 | a)) continue;
+      if (std::binary_search(directed.begin(), directed.end(), std::uint64_t{c} << 32 | a)) {
+        continue;
+      }
       const std::uint32_t e = mesh2d::domain_edge_under(domain, mesh, a, c);
       if (e != kNone) boundary.push_back({a, c, e});
     }
-    std::sort(boundary.begin(), boundary.end(), [](const BoundaryEdge& x, const BoundaryEdge& y) {
-      return x.a < y.a || (x.a == y.a && x.b < y.b);
-    });
     struct Candidate {
       double worst, r, p[2];
       std::uint32_t edge;  // kNone: a circumcenter; else the domain edge of a midpoint
@@ -1162,15 +1204,9 @@ Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<s
     std::vector<std::uint8_t> split(boundary.size(), 0);
     for (std::uint32_t t = 0; t < mesh.nb_triangles(); ++t) {
       const std::uint32_t* v = &mesh.triangles[3 * std::size_t{t}];
-      double smallest = 180;
+      const double smallest = smallest_angle(vertex(v[0]), vertex(v[1]), vertex(v[2]));
       bool at_sharp = false;
       for (int k = 0; k < 3; ++k) {
-        const double* a = vertex(v[k]);
-        const double* p = vertex(v[(k + 1) % 3]);
-        const double* q = vertex(v[(k + 2) % 3]);
-        const double ux = p[0] - a[0], uy = p[1] - a[1], wx = q[0] - a[0], wy = q[1] - a[1];
-        smallest = std::min(
-            smallest, std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi);
         const std::uint32_t dv = mesh.vertex_domain[v[k]];
         at_sharp = at_sharp || (dv != kNone && b.interior_angle[dv] < angle);
       }
@@ -1284,11 +1320,12 @@ Mesh2 refine_mesh2(const Domain2& domain, const Boundary& b, const std::vector<s
 
 // Step 9 (conforming only): smoothing. Per free vertex with a closed star (the triangles
 // around it, connectivity kept), and per sliding vertex (`slide`: on a domain edge, not at
-// a domain vertex) whose star is a fan between its two boundary neighbours, in turn: the
-// vertex is tried at the centroid of its neighbours (for a sliding vertex, its projection
-// on the vertex's domain edge, strictly inside it, rounded into the domain), for a free
-// vertex also at the ODT point of its star, and at 1/2 and 1/4 of the way there; it moves
-// to the best of these when that beats where it is and every star triangle stays counter-
+// a domain vertex) whose star is a fan between its two boundary neighbours, one colour of
+// vertices after the other (no two neighbours share a colour; smooth_pass2): the vertex
+// is tried at the centroid of its neighbours (for a sliding vertex, its projection on the
+// vertex's domain edge, strictly inside it, rounded into the domain), for a free vertex
+// also at the ODT point of its star, and at 1/2 and 1/4 of the way there; it moves to the
+// best of these when that beats where it is and every star triangle stays counter-
 // clockwise (exact orient2d). Best: the largest min(smallest angle of the star,
 // kSmoothFloorDeg), then the largest sum of its triangles' smallest angles. The
 // triangulation stays valid with the same boundary edges, and the constrained Delaunay
@@ -1307,26 +1344,29 @@ constexpr double kSmoothFloorDeg = 40;
 constexpr int kSearchSteps = 10;
 constexpr std::uint32_t kFlipSweeps = 20;
 
-// Smallest angle (degrees) of the triangle (a, p, q); the same for any rotation of its
-// vertices (each angle is computed from its corner and the next two in turn).
-double smallest_angle(const double* a, const double* p, const double* q) {
-  const double* v[3] = {a, p, q};
-  double smallest = 180;
-  for (int k = 0; k < 3; ++k) {
-    const double* o = v[k];
-    const double* x = v[(k + 1) % 3];
-    const double* y = v[(k + 2) % 3];
-    const double ux = x[0] - o[0], uy = x[1] - o[1], wx = y[0] - o[0], wy = y[1] - o[1];
-    smallest =
-        std::min(smallest, std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180 / kPi);
-  }
-  return smallest;
-}
+// The triangles around a vertex, a range of smooth_pass2's flat star array.
+struct StarSpan {
+  const std::uint32_t* first;
+  const std::uint32_t* last;
+  const std::uint32_t* begin() const { return first; }
+  const std::uint32_t* end() const { return last; }
+  std::size_t size() const { return static_cast<std::size_t>(last - first); }
+  bool empty() const { return first == last; }
+  std::uint32_t operator[](std::size_t k) const { return first[k]; }
+};
 
-// One pass of step 9 over the vertices in index order, in place (connectivity kept);
-// returns the number of vertices moved.
+// One pass of step 9 over the vertices, colour by colour (below), in place (connectivity
+// kept); returns the number of vertices moved.
+// `dirty` (optional, one flag per vertex): only the flagged vertices are tried, and the
+// flags are kept for the next pass: a vertex's trial reads only its star (its own and its
+// neighbours' positions and the star's triangles), so a vertex tried without moving, whose
+// star has not changed since, would be tried again with the same result (the same bits).
+// Its flag is cleared when it is tried, and set on it and its neighbours when it moves;
+// flip_for_mean2 sets it on the corners of each flip. (In the rounds of step 10 most
+// vertices stop moving after a few: hilbert.json --vertices 32000 spent 9 of its 11 s
+// after the CVT in those rounds' passes, trying every vertex each time.)
 std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, double angle,
-                           bool search, double floor_deg) {
+                           bool search, double floor_deg, std::vector<std::uint8_t>* dirty) {
   const auto min_angle = smallest_angle;
   {
     const std::uint32_t nv = mesh.nb_vertices(), nt = mesh.nb_triangles();
@@ -1337,20 +1377,36 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
     const auto tri_angle = [&](std::uint32_t t) {
       return min_angle(vertex(tri(t, 0)), vertex(tri(t, 1)), vertex(tri(t, 2)));
     };
-    std::vector<std::vector<std::uint32_t>> star(nv);
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      for (int k = 0; k < 3; ++k) star[tri(t, k)].push_back(t);
+    // Stars as flat arrays: the triangles of vertex v are star[first[v] .. first[v + 1]),
+    // in increasing order (a counting sort of the triangles' corners).
+    std::vector<std::uint32_t> first(std::size_t{nv} + 1, 0);
+    for (std::size_t c = 0; c < 3 * std::size_t{nt}; ++c) ++first[mesh.triangles[c] + 1];
+    for (std::uint32_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+    std::vector<std::uint32_t> star(3 * std::size_t{nt});
+    {
+      std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+      for (std::uint32_t t = 0; t < nt; ++t) {
+        for (int k = 0; k < 3; ++k) star[fill[tri(t, k)]++] = t;
+      }
     }
-    std::uint32_t moved_now = 0;
-    std::vector<std::uint32_t> ring;
-    std::vector<double> before;
-    for (std::uint32_t v = 0; v < nv; ++v) {
-      const bool sliding = mesh.vertex_kind[v] == Mesh2::VertexKind::kBoundary &&
-                           mesh.vertex_domain[v] == kNone && mesh.vertex_edge[v] != kNone && slide;
-      if (mesh.vertex_kind[v] != Mesh2::VertexKind::kInterior && !sliding) continue;
-      if (star[v].empty()) continue;
+    const auto sliding_at = [&](std::uint32_t v) {
+      return mesh.vertex_kind[v] == Mesh2::VertexKind::kBoundary &&
+             mesh.vertex_domain[v] == kNone && mesh.vertex_edge[v] != kNone && slide;
+    };
+    // Vertex v tried (and moved to the best point found); whether it moved. `ring` and
+    // `before` are scratch.
+    const auto try_vertex = [&](std::uint32_t v, std::vector<std::uint32_t>& ring,
+                                std::vector<double>& before) {
+      const bool sliding = sliding_at(v);
+      if (mesh.vertex_kind[v] != Mesh2::VertexKind::kInterior && !sliding) return false;
+      if (dirty) {
+        if (!(*dirty)[v]) return false;
+        (*dirty)[v] = 0;
+      }
+      const StarSpan vstar{star.data() + first[v], star.data() + first[v + 1]};
+      if (vstar.empty()) return false;
       ring.clear();
-      for (const std::uint32_t t : star[v]) {
+      for (const std::uint32_t t : vstar) {
         for (int k = 0; k < 3; ++k) {
           if (tri(t, k) != v) ring.push_back(tri(t, k));
         }
@@ -1368,7 +1424,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
         ok = j - k <= 2;
         k = j;
       }
-      if (!ok || single != (sliding ? 2u : 0u) || ring.size() < (sliding ? 4u : 6u)) continue;
+      if (!ok || single != (sliding ? 2u : 0u) || ring.size() < (sliding ? 4u : 6u)) return false;
       double cx = 0, cy = 0;
       std::uint32_t count = 0;
       for (std::size_t k = 0; k < ring.size(); ++k) {
@@ -1385,7 +1441,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
       // --vertices 3000: mean smallest angle 50.70 -> 50.99; hilbert.json 50.99 -> 51.01).
       double ox = 0, oy = 0, area_sum = 0;
       if (!sliding) {
-        for (const std::uint32_t t : star[v]) {
+        for (const std::uint32_t t : vstar) {
           const double* a = vertex(tri(t, 0));
           const double bx = vertex(tri(t, 1))[0] - a[0], by = vertex(tri(t, 1))[1] - a[1];
           const double qx = vertex(tri(t, 2))[0] - a[0], qy = vertex(tri(t, 2))[1] - a[1];
@@ -1409,24 +1465,26 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
       // min(that, `angle`) (a star with a triangle below `angle`, for instance at a sharp
       // corner, would otherwise let the others sink to it).
       before.clear();
-      for (const std::uint32_t t : star[v]) before.push_back(std::min(tri_angle(t), angle));
-      const auto score = [&](double* smallest, double* sum) {
+      for (const std::uint32_t t : vstar) before.push_back(std::min(tri_angle(t), angle));
+      // False also as soon as a triangle's angle is below `bound` (the best score's floored
+      // smallest angle, which such a point cannot beat).
+      const auto score = [&](double* smallest, double* sum, double bound) {
         *smallest = 180;
         *sum = 0;
-        for (std::size_t k = 0; k < star[v].size(); ++k) {
-          const std::uint32_t t = star[v][k];
+        for (std::size_t k = 0; k < vstar.size(); ++k) {
+          const std::uint32_t t = vstar[k];
           if (orient2d(vertex(tri(t, 0)), vertex(tri(t, 1)), vertex(tri(t, 2))) != Sign::positive) {
             return false;
           }
           const double a = tri_angle(t);
-          if (a < before[k]) return false;
+          if (a < before[k] || a < bound) return false;
           *smallest = std::min(*smallest, a);
           *sum += a;
         }
         return true;
       };
       double best_min, best_sum;
-      score(&best_min, &best_sum);
+      score(&best_min, &best_sum, -kInf);
       best_min = std::min(best_min, floor_deg);
       const double old[2] = {x[0], x[1]};
       double best_xy[2] = {old[0], old[1]};
@@ -1437,7 +1495,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
       // the best one's; whether it did.
       const auto keep_if_better = [&] {
         double smallest, sum;
-        if (!score(&smallest, &sum)) return false;
+        if (!score(&smallest, &sum, best_min)) return false;
         smallest = std::min(smallest, floor_deg);
         if (!(smallest > best_min || (smallest == best_min && sum > best_sum))) return false;
         best_min = smallest;
@@ -1451,7 +1509,7 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
         const double ux = eb[0] - ea[0], uy = eb[1] - ea[1];
         const double t = ((cx - ea[0]) * ux + (cy - ea[1]) * uy) / (ux * ux + uy * uy);
         if (!(t > 0 && t < 1)) {
-          if (!search) continue;
+          if (!search) return false;
           centroid = false;  // only the search
         }
         tx = ea[0] + t * ux;
@@ -1521,17 +1579,76 @@ std::uint32_t smooth_pass2(const Domain2& domain, Mesh2& mesh, bool slide, doubl
       }
       x[0] = best_xy[0];
       x[1] = best_xy[1];
-      moved_now += improved;
+      return improved;
+    };
+    // Colours: no two neighbours that may move share one (greedy, in index order). The
+    // vertices of a colour are tried in parallel: a trial reads and writes only the
+    // vertex's own position and reads its neighbours', which are of other colours, so the
+    // result is the same for any thread count (and any split of the work).
+    std::vector<std::uint8_t> movable(nv, 0);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      movable[v] = mesh.vertex_kind[v] == Mesh2::VertexKind::kInterior || sliding_at(v);
+    }
+    std::vector<std::uint32_t> color(nv, kNone), stamp;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (!movable[v]) continue;
+      for (const std::uint32_t t : StarSpan{star.data() + first[v], star.data() + first[v + 1]}) {
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t c = color[tri(t, k)];
+          if (c != kNone) stamp[c] = v;
+        }
+      }
+      std::uint32_t c = 0;
+      while (c < stamp.size() && stamp[c] == v) ++c;
+      if (c == stamp.size()) stamp.push_back(kNone);
+      color[v] = c;
+    }
+    const auto nb_colors = static_cast<std::uint32_t>(stamp.size());
+    std::vector<std::uint32_t> color_first(std::size_t{nb_colors} + 1, 0), by_color;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (color[v] != kNone) ++color_first[color[v] + 1];
+    }
+    for (std::uint32_t c = 0; c < nb_colors; ++c) color_first[c + 1] += color_first[c];
+    by_color.resize(color_first[nb_colors]);
+    {
+      std::vector<std::uint32_t> fill(color_first.begin(), color_first.end() - 1);
+      for (std::uint32_t v = 0; v < nv; ++v) {
+        if (color[v] != kNone) by_color[fill[color[v]]++] = v;
+      }
+    }
+    std::vector<std::uint8_t> moved(nv, 0);
+    std::uint32_t moved_now = 0;
+    for (std::uint32_t c = 0; c < nb_colors; ++c) {
+      tbb::parallel_for(tbb::blocked_range<std::uint32_t>(color_first[c], color_first[c + 1], 64),
+                        [&](const tbb::blocked_range<std::uint32_t>& r) {
+                          std::vector<std::uint32_t> ring;
+                          std::vector<double> before;
+                          for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
+                            moved[by_color[i]] = try_vertex(by_color[i], ring, before);
+                          }
+                        });
+      // The flags of the moved vertices and their neighbours, once the colour is done.
+      for (std::uint32_t i = color_first[c]; i < color_first[c + 1]; ++i) {
+        const std::uint32_t v = by_color[i];
+        if (!moved[v]) continue;
+        ++moved_now;
+        if (!dirty) continue;
+        for (const std::uint32_t t : StarSpan{star.data() + first[v], star.data() + first[v + 1]}) {
+          for (int k = 0; k < 3; ++k) (*dirty)[tri(t, k)] = 1;
+        }
+      }
     }
     return moved_now;
   }
 }
 
 Mesh2 smooth_mesh2(const Domain2& domain, Mesh2 mesh, std::uint32_t passes, bool slide,
-                   double angle, std::uint32_t* moved) {
+                   double angle, std::uint32_t* moved,
+                   const std::function<bool(std::uint32_t)>& report) {
   for (std::uint32_t pass = 0; pass < passes; ++pass) {
+    if (!report(pass)) break;
     const std::uint32_t moved_now =
-        smooth_pass2(domain, mesh, slide, angle, false, kSmoothFloorDeg);
+        smooth_pass2(domain, mesh, slide, angle, false, kSmoothFloorDeg, nullptr);
     if (moved_now == 0) break;
     *moved += moved_now;
     mesh = extract_conforming_mesh2(domain, mesh.xy, mesh.vertex_kind, mesh.vertex_domain,
@@ -1552,7 +1669,16 @@ Mesh2 smooth_mesh2(const Domain2& domain, Mesh2 mesh, std::uint32_t passes, bool
 // `sweeps` sweeps; returns the number of flips. The sum of smallest angles rises strictly
 // with every flip (each triangle's smallest angle is a function of its vertex set), so
 // no flip is undone. Connectivity changes, vertices stay; the mesh is no longer Delaunay.
-std::uint32_t flip_for_mean2(Mesh2& mesh, std::uint32_t sweeps, double floor_deg) {
+// Adjacency across edges, kept through the flips (built once, not per sweep): corner c =
+// 3 t + k stands for the edge from tri(t, k) to tri(t, k + 1), and adj[c] is the corner of
+// the triangle across it (its edge the other way), kNone on the boundary. Each triangle's
+// smallest angle is cached (smallest_angle gives the same bits for any rotation, so the
+// cached value is the one a fresh call gives). The sweeps make the same flips as looking
+// each edge up in a map of the sweep's start: a triangle across an edge is the same as
+// then unless it was flipped in this sweep, and then it is touched and skipped either way.
+// `dirty`: smooth_pass2's flags, set on the four corners of each flip.
+std::uint32_t flip_for_mean2(Mesh2& mesh, std::uint32_t sweeps, double floor_deg,
+                             std::vector<std::uint8_t>& dirty) {
   const auto vertex = [&](std::uint32_t v) { return &mesh.xy[2 * std::size_t{v}]; };
   const auto tri = [&](std::uint32_t t, int k) -> std::uint32_t& {
     return mesh.triangles[3 * std::size_t{t} + static_cast<std::size_t>(k)];
@@ -1561,43 +1687,75 @@ std::uint32_t flip_for_mean2(Mesh2& mesh, std::uint32_t sweeps, double floor_deg
     return smallest_angle(vertex(a), vertex(b), vertex(c));
   };
   const std::uint32_t nt = mesh.nb_triangles();
-  std::uint32_t flips = 0;
-  std::unordered_map<std::uint64_t, std::uint32_t> directed;  // edge -> 3 t + k
-  std::vector<std::uint8_t> touched(nt);
-  for (std::uint32_t sweep = 0; sweep < sweeps; ++sweep) {
-    directed.clear();
+  std::vector<std::uint32_t> adj(3 * std::size_t{nt}, kNone);
+  {
+    // Directed edges sorted by (from, to), then corner: the first corner of an edge is the
+    // one found across it (as a map filled in corner order would keep).
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(3 * std::size_t{nt});
     for (std::uint32_t t = 0; t < nt; ++t) {
       for (int k = 0; k < 3; ++k) {
-        directed.emplace(std::uint64_t{tri(t, k)} << 32 | tri(t, (k + 1) % 3),
-                         3 * t + static_cast<std::uint32_t>(k));
+        edges[3 * std::size_t{t} + static_cast<std::size_t>(k)] = {
+            std::uint64_t{tri(t, k)} << 32 | tri(t, (k + 1) % 3),
+            3 * t + static_cast<std::uint32_t>(k)};
       }
     }
+    std::sort(edges.begin(), edges.end());
+    for (const auto& [key, c] : edges) {
+      const std::uint64_t twin = key << 32 | key >> 32;
+      const auto it = std::lower_bound(edges.begin(), edges.end(),
+                                       std::pair<std::uint64_t, std::uint32_t>{twin, 0});
+      if (it != edges.end() && it->first == twin) adj[c] = it->second;
+    }
+  }
+  std::vector<double> angle(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) angle[t] = tri_angle(tri(t, 0), tri(t, 1), tri(t, 2));
+  std::uint32_t flips = 0;
+  std::vector<std::uint8_t> touched(nt);
+  for (std::uint32_t sweep = 0; sweep < sweeps; ++sweep) {
     std::fill(touched.begin(), touched.end(), 0);
     std::uint32_t flips_now = 0;
     for (std::uint32_t t = 0; t < nt; ++t) {
       for (int k = 0; k < 3 && !touched[t]; ++k) {
         // t = (a, b, c) with the edge a -> b; u = (b, a, d) across it.
         const std::uint32_t a = tri(t, k), b = tri(t, (k + 1) % 3), c = tri(t, (k + 2) % 3);
-        const auto it = directed.find(std::uint64_t{b} << 32 | a);
-        if (it == directed.end()) continue;
-        const std::uint32_t u = it->second / 3;
+        const std::uint32_t across = adj[3 * std::size_t{t} + static_cast<std::size_t>(k)];
+        if (across == kNone) continue;
+        const std::uint32_t u = across / 3;
         if (u == t || touched[u]) continue;
-        const int j = static_cast<int>(it->second % 3);
+        const int j = static_cast<int>(across % 3);
         const std::uint32_t d = tri(u, (j + 2) % 3);
         if (orient2d(vertex(a), vertex(d), vertex(c)) != Sign::positive ||
             orient2d(vertex(d), vertex(b), vertex(c)) != Sign::positive) {
           continue;
         }
-        const double m0 = tri_angle(a, b, c), m1 = tri_angle(b, a, d);
+        const double m0 = angle[t], m1 = angle[u];
         const double n0 = tri_angle(a, d, c), n1 = tri_angle(d, b, c);
         const double floor = std::min({m0, m1, floor_deg});
         if (!(n0 + n1 > m0 + m1 && std::min(n0, n1) >= floor)) continue;
+        // The four outer edges: a -> d and d -> b (u's), b -> c and c -> a (t's); after the
+        // flip t = (a, d, c) has a -> d, d -> c, c -> a and u = (d, b, c) has d -> b,
+        // b -> c, c -> d.
+        const std::uint32_t outer[4] = {
+            adj[3 * std::size_t{u} + static_cast<std::size_t>((j + 1) % 3)],
+            adj[3 * std::size_t{u} + static_cast<std::size_t>((j + 2) % 3)],
+            adj[3 * std::size_t{t} + static_cast<std::size_t>((k + 1) % 3)],
+            adj[3 * std::size_t{t} + static_cast<std::size_t>((k + 2) % 3)]};
+        const std::uint32_t now[4] = {3 * t, 3 * u, 3 * u + 1, 3 * t + 2};
         tri(t, 0) = a;
         tri(t, 1) = d;
         tri(t, 2) = c;
         tri(u, 0) = d;
         tri(u, 1) = b;
         tri(u, 2) = c;
+        for (int e = 0; e < 4; ++e) {
+          adj[now[e]] = outer[e];
+          if (outer[e] != kNone) adj[outer[e]] = now[e];
+        }
+        adj[3 * std::size_t{t} + 1] = 3 * u + 2;
+        adj[3 * std::size_t{u} + 2] = 3 * t + 1;
+        angle[t] = n0;
+        angle[u] = n1;
+        dirty[a] = dirty[b] = dirty[c] = dirty[d] = 1;
         touched[t] = touched[u] = 1;
         ++flips_now;
       }
@@ -1911,19 +2069,33 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
     st.cancelled = r.cancelled;
   }
   if (o.conforming && !st.cancelled && o.refine_rounds > 0) {
+    // Steps 8-10 report each round or pass as they start (iteration 0 starts the phase; at
+    // 128,000 vertices they took 157 s with nothing shown); a cancel stops them there, the
+    // mesh valid as it is.
+    const auto reporter = [&](Mesh2Phase phase) {
+      return [&, phase](std::uint32_t iteration) {
+        if (!st.cancelled && o.progress &&
+            !o.progress({phase, iteration, 0, 0, seconds_since(t0)})) {
+          st.cancelled = true;
+        }
+        return !st.cancelled;
+      };
+    };
     mesh = refine_mesh2(*domain, b, chord, std::move(mesh), o.repair_angle_deg, o.refine_rounds,
-                        &st.refine_added);
+                        &st.refine_added, reporter(Mesh2Phase::kRefinement));
     mesh = smooth_mesh2(*domain, std::move(mesh), o.smooth_passes, o.smooth_boundary,
-                        o.repair_angle_deg, &st.smoothed);
+                        o.repair_angle_deg, &st.smoothed, reporter(Mesh2Phase::kSmoothing));
     // ---- 10. Flips for the mean smallest angle, each round followed by a smoothing pass
     // on the flipped connectivity (no extraction, which would undo the flips).
-    for (std::uint32_t round = 0; round < o.flip_rounds; ++round) {
-      const std::uint32_t flips = flip_for_mean2(mesh, kFlipSweeps, kSmoothFloorDeg);
+    const auto flip_report = reporter(Mesh2Phase::kFlips);
+    std::vector<std::uint8_t> dirty(mesh.nb_vertices(), 1);
+    for (std::uint32_t round = 0; round < o.flip_rounds && flip_report(round); ++round) {
+      const std::uint32_t flips = flip_for_mean2(mesh, kFlipSweeps, kSmoothFloorDeg, dirty);
       st.flips += flips;
-      const std::uint32_t moved = o.smooth_passes > 0
-                                      ? smooth_pass2(*domain, mesh, o.smooth_boundary,
-                                                     o.repair_angle_deg, true, kSmoothFloorDeg)
-                                      : 0;
+      const std::uint32_t moved =
+          o.smooth_passes > 0 ? smooth_pass2(*domain, mesh, o.smooth_boundary, o.repair_angle_deg,
+                                             true, kSmoothFloorDeg, &dirty)
+                              : 0;
       st.smoothed += moved;
       if (flips == 0 && moved == 0) break;
     }

@@ -410,6 +410,9 @@ enum class Mesh2Phase : std::uint8_t {
   kConstrained,    // CVT with sliding and fixed boundary sites
   kExtraction,     // triangles (iteration: the repair round)
   kRepair,         // short constrained CVT after a repair's removals
+  kRefinement,     // conforming: step 8 (iteration: the round, from 0)
+  kSmoothing,      // conforming: step 9 (iteration: the pass, from 0)
+  kFlips,          // conforming: step 10 (iteration: the round of flips and search, from 0)
 };
 const char* phase_name(Mesh2Phase phase);
 
