@@ -4,11 +4,16 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <system_error>
 #include <utility>
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include "progress.h"
 
@@ -31,6 +36,14 @@ std::string cli_message(const std::string& what) {
   static const std::pair<const char*, const char*> kNames[] = {
       {"Surface3Options::reorient, --reorient", "--reorient"},
       {"ClippedVoronoi3::compute(domain, sites, n) takes them", "clip3d takes them"},
+      // The library's bounds on an implied vertex count (mesh2d.cpp, mesh3d.cpp), with what
+      // to change on the command line (check_vertex_count's advice).
+      {"mesh2d: the edge length asks for more than 10^9 vertices",
+       "mesh2d: the edge length or sizing asks for more than 10^9 vertices, the most mesh2d "
+       "makes: give a larger --edge-length or --sizing"},
+      {" vertices; at most 2e9",
+       " vertices; at most 2e9, the most mesh3d makes: give a larger "
+       "--sizing (or --vertices N)"},
   };
   std::string text = what;
   for (const auto& [api, cli] : kNames) {
@@ -76,6 +89,37 @@ void print_failure_stats(const std::string& command, const std::string& what,
 }
 
 bool stats_printed() { return g_stats_printed; }
+
+void check_vertex_count(const std::string& command, const std::string& what, double count,
+                        double bytes_per_vertex, const std::string& advice) {
+  const auto integer = [](double x) {
+    char text[64];  // %.0f: a whole number even beyond 64 bits
+    std::snprintf(text, sizeof text, "%.0f", x);
+    return std::string(text);
+  };
+  const auto fail = [&](double most, const std::string& where) {
+    throw Error(command + ": " + what + " asks for about " + integer(count) +
+                " vertices; at most " + integer(most) + " fit " + where + ": " + advice);
+  };
+  constexpr double kMaxCount = 4294967295.0;  // 2^32 - 1: indices 0 .. 2^32 - 2, one kNone
+  if (!(count <= kMaxCount)) fail(kMaxCount, "32-bit vertex indices");
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page)
+                                        : std::numeric_limits<double>::infinity();
+  std::string where = "in this machine's memory";
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      static_cast<double>(limit.rlim_cur) < memory) {
+    memory = static_cast<double>(limit.rlim_cur);
+    where = "in the address space allowed (ulimit -v)";
+  }
+  if (count * bytes_per_vertex > memory) {
+    char detail[96];
+    std::snprintf(detail, sizeof detail, " (%.3g GB at about %.0f bytes per vertex)", memory / 1e9,
+                  bytes_per_vertex);
+    fail(std::floor(memory / bytes_per_vertex), where + detail);
+  }
+}
 
 std::ostream* human_stream(const GlobalOptions& options) {
   if (options.quiet) return nullptr;

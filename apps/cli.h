@@ -61,6 +61,14 @@ void print_failure_stats(const std::string& command, const std::string& what,
 /// Whether print_stats or print_failure_stats has printed the object of this run.
 bool stats_printed();
 
+/// Refuses, before any work, a vertex count that a meshing command cannot make: one above
+/// 2^32 - 1 (vertex indices are 32-bit), or one whose memory, `count` x `bytes_per_vertex`
+/// (each command's measured peak per vertex), exceeds the machine's physical memory or the
+/// address-space limit (ulimit -v) when that is lower. Throws Error "<command>: <what> asks
+/// for about N vertices; at most M fit <in what>: <advice>".
+void check_vertex_count(const std::string& command, const std::string& what, double count,
+                        double bytes_per_vertex, const std::string& advice);
+
 /// Parses a finite double written in decimal ("-1.25e-3") or C99 hexadecimal ("0x1.8p-3"),
 /// independently of the locale; the whole string must be the number. `what` names the
 /// argument in the error message, e.g. "coordinate 3".

@@ -175,6 +175,12 @@ std::vector<LowAngle> low_angles(const Domain2& domain, const Mesh2& mesh) {
   return out;
 }
 
+// Peak resident memory of a mesh2d run per vertex: 43,468 kB at --vertices 25000 and
+// 146,816 kB at 100000 (a unit square, Release build, 2026-12-02, getrusage's ru_maxrss), a
+// slope of 1,411 bytes per vertex; rounded down, so that only a count that clearly cannot
+// fit is refused (check_vertex_count).
+constexpr double kMesh2BytesPerVertex = 1400;
+
 void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   if (!args.output.empty() && !ends_with(args.output, ".svg") && !ends_with(args.output, ".vtu") &&
       !ends_with(args.output, ".mesh") && !ends_with(args.output, ".msh")) {
@@ -221,6 +227,10 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
         "sizing alone never raise the count)");
   }
   if (args.vertices_set && args.vertices < 3) throw UsageError("--vertices: needs at least 3");
+  if (args.vertices_set) {
+    check_vertex_count("mesh2d", "--vertices", args.vertices, kMesh2BytesPerVertex,
+                       "give fewer --vertices");
+  }
   if (by_length && !(args.edge_length > 0 && std::isfinite(args.edge_length))) {
     throw UsageError("--edge-length: expected a positive number");
   }
@@ -240,6 +250,15 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   const PolygonRings rings = load_rings(args.domain);
   const Domain2 domain(rings);
   check_mesh_tags(rings, domain, ends_with(args.output, ".msh"));
+  const std::string larger_size = "give a larger --edge-length or --sizing";
+  if (by_length && !args.density.given()) {
+    // A uniform size h gives at least the equilateral count 2 / sqrt(3) area / h^2 (the
+    // library's implied count, which also grades towards small features): refused here,
+    // before the library's own bound (10^9) could refuse it without the count.
+    check_vertex_count("mesh2d", "--edge-length " + format_double(args.edge_length),
+                       2 / std::sqrt(3.0) * domain.area() / (args.edge_length * args.edge_length),
+                       kMesh2BytesPerVertex, larger_size);
+  }
   Mesh2Options o;
   o.nb_vertices = args.vertices;
   o.edge_length = sizing_alone ? 1.0 : args.edge_length;
@@ -259,8 +278,18 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   bool started = false;
   Mesh2Phase phase = Mesh2Phase::kSampling;
   o.raise_for_mean_angle = !args.exact_vertices;
+  std::string refused;  // why the implied vertex count is refused (the sampling is stopped)
   o.progress = [&](const Mesh2Progress& p) {
     if (p.implied_vertices > 0) {
+      try {
+        check_vertex_count("mesh2d",
+                           by_length ? "--edge-length " + format_double(args.edge_length)
+                                     : std::string("the sizing"),
+                           p.implied_vertices, kMesh2BytesPerVertex, larger_size);
+      } catch (const Error& e) {
+        refused = e.what();
+        return false;
+      }
       // Three significant digits: the count made differs from it (the boundary, the
       // refinement).
       const double n = p.implied_vertices;
@@ -298,6 +327,7 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   };
   Mesh2Stats st;
   const Mesh2 mesh = mesh_domain2(domain, o, &st);
+  if (!refused.empty()) throw Error(refused);
   if (mesh.nb_triangles() == 0) {
     throw Error("mesh2d: " + domain.source() + ": no triangle (too few vertices for the domain?)");
   }

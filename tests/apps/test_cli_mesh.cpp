@@ -605,3 +605,62 @@ TEST_CASE("mesh2d: --binary and --compress write the .vtu data appended, as clip
   CHECK(none.status == 2);
   CHECK(contains(none.err, "(no output file is given)"));
 }
+
+TEST_CASE("mesh2d and mesh3d: a vertex count that cannot be made is refused before any work",
+          "[apps][regression]") {
+  // --sizing 1e-7 on a unit square implies about 10^14 vertices: the error said "more than
+  // 10^9" without the count or what to change; a count below 10^9 that the memory cannot
+  // hold (--sizing 1e-4: 1.15e8 vertices, about 160 GB) was tried, and --vertices 4e9 gave
+  // "std::bad_alloc". Now: the count, the limit (32-bit indices, or the memory: physical,
+  // or ulimit -v, at the bytes per vertex measured) and the option to change; no file.
+  const std::string square = temp_path(".json");
+  std::ofstream(square) << "[[[0,0],[1,0],[1,1],[0,1]]]\n";
+  const std::string out = temp_path(".vtu");
+  const std::string ulimit = "ulimit -v 1000000 &&";  // 1 GB: the memory bound, anywhere
+  struct Case {
+    std::vector<std::string> args;
+    std::string prefix;
+    std::string message;
+  };
+  const std::string larger = ": give a larger --edge-length or --sizing\n";
+  const std::string in_ulimit = " fit in the address space allowed (ulimit -v) (1.02 GB at about ";
+  const std::vector<Case> cases = {
+      {{"mesh2d", square, "--edge-length", "1e-7", "-o", out},
+       "",
+       "mesh2d: --edge-length 1e-07 asks for about 115470053837925 vertices; at most 4294967295 "
+       "fit 32-bit vertex indices" +
+           larger},
+      {{"mesh2d", square, "--sizing", "1e-7", "-o", out},
+       "",
+       "mesh2d: the edge length or sizing asks for more than 10^9 vertices, the most mesh2d "
+       "makes" +
+           larger},
+      {{"mesh2d", square, "--sizing", "1e-4", "-o", out},
+       ulimit,
+       "mesh2d: the sizing asks for about 115470054 vertices; at most 731428" + in_ulimit +
+           "1400 bytes per vertex)" + larger},
+      {{"mesh2d", square, "--vertices", "4000000000", "-o", out},
+       ulimit,
+       "mesh2d: --vertices asks for about 4000000000 vertices; at most 731428" + in_ulimit +
+           "1400 bytes per vertex): give fewer --vertices\n"},
+      {{"mesh3d", kData + "/surfaces/sphere.obj", "--vertices", "4000000000", "-o", out},
+       ulimit,
+       "mesh3d: --vertices asks for about 4000000000 vertices; at most 512000" + in_ulimit +
+           "2000 bytes per vertex): give fewer --vertices\n"},
+  };
+  for (const Case& c : cases) {
+    const Run run = run_cli(c.args, c.prefix);
+    CHECK(run.status == 1);
+    check_one_error_line(run);
+    CHECK(run.err == "voroclip: error: " + c.message);
+    CHECK_FALSE(contains(run.err, "vertices for this size"));  // refused before the note
+    CHECK(!exists(out));
+  }
+  // mesh3d's bound on an absolute size says what to change too.
+  const Run sizing = run_cli({"mesh3d", kData + "/surfaces/sphere.obj", "--sizing", "1e-5"});
+  CHECK(sizing.status == 1);
+  CHECK(contains(sizing.err,
+                 " vertices; at most 2e9, the most mesh3d makes: give a larger "
+                 "--sizing (or --vertices N)\n"));
+  std::remove(square.c_str());
+}
