@@ -33,6 +33,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <string>
 #include <vector>
@@ -262,6 +263,11 @@ struct SurfaceRvd::Chunk {
   // the triangle's boundary).
   std::vector<std::uint32_t> across;
   std::vector<Crossing> crossings;
+  // A callback density: per polygon, its cones' density-weighted moments, summed by the
+  // thread's DensityBatch over the whole chunk (one batch for all its polygons, not one
+  // per polygon: a Python callable pays its call once per batch) and copied into `sums`
+  // when the chunk is done (finish_weighted). A deque: the batch holds pointers to them.
+  std::deque<Moments> weighted;
 };
 
 // The cell of point p (perturbed): descent from c. If p is not in cell c, a Delaunay
@@ -451,10 +457,13 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
   for (int q = 0; q < 3; ++q) r.moment[q] = mom24[q] * (1.0 / 24);
   r.energy = en120 * (1.0 / 120);
   if (ctx_.callback_density) {
-    // The same cones, weighted by the density (the volume stays the closed form's).
-    Moments wm;
+    // The same cones, weighted by the density (the volume stays the closed form's), into
+    // the polygon's entry of chunk.weighted, which finish_weighted copies over the mass,
+    // moment and energy once the chunk's batch is flushed. Each entry takes only its own
+    // cones, in this order, and rho depends only on a point's bits: the same sums as a
+    // flush per polygon.
+    Moments& wm = chunk.weighted.emplace_back();
     DensityBatch& batch = thread_density_batch();
-    batch.begin(*ctx_.callback_density);
     for (std::size_t k = 1; k + 1 < m; ++k) batch.add(pc, o, x(k), x(k + 1), wm);
     for (std::size_t k = 0; k < m; ++k) {
       if (is_facet(p.e[k])) continue;
@@ -462,10 +471,6 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
       ctx_.foot(c, static_cast<std::uint32_t>(p.e[k]), h);
       batch.add(pc, h, x(k + 1), x(k), wm);
     }
-    batch.flush();
-    r.mass = wm.mass;
-    for (int q = 0; q < 3; ++q) r.moment[q] = wm.moment[q];
-    r.energy = wm.energy;
   }
   for (std::size_t k = 0; k < m; ++k) {
     const TriVertex& v = p.v[k];
@@ -497,6 +502,19 @@ void SurfaceRvd::emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p,
     }
     chunk.begin.push_back(static_cast<std::uint32_t>(chunk.verts.size()));
   }
+}
+
+void SurfaceRvd::finish_weighted(Chunk& chunk) const {
+  thread_density_batch().flush();
+  for (std::size_t p = 0; p < chunk.weighted.size(); ++p) {
+    const Moments& wm = chunk.weighted[p];
+    double* sums = chunk.sums.data() + kSums * p;
+    for (int q = 0; q < 3; ++q) sums[1 + q] = wm.moment[q];
+    sums[4] = wm.energy;
+    sums[6] = wm.mass;
+  }
+  chunk.weighted.clear();
+  chunk.weighted.shrink_to_fit();
 }
 
 void SurfaceRvd::clip_triangle(std::uint32_t b, std::uint32_t stamp, Stars& stars, Scratch& s,
@@ -718,6 +736,7 @@ RestrictedSurface SurfaceRvd::compute(tbb::enumerable_thread_specific<Stars>& st
     Scratch& s = scratch.local();
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       const std::uint32_t end = std::min(nb, (k + 1) * kTriangleChunk);
+      if (ctx_.callback_density) thread_density_batch().begin(*ctx_.callback_density);
       for (std::uint32_t h = k * kTriangleChunk; h < end; ++h) {
         // In this order the triangles are scattered over the surface's arrays: the corners'
         // indices eight triangles ahead, their coordinates three ahead.
@@ -730,6 +749,7 @@ RestrictedSurface SurfaceRvd::compute(tbb::enumerable_thread_specific<Stars>& st
         }
         clip_triangle(order[h], k + 1, w, s, chunks[k]);
       }
+      if (ctx_.callback_density) finish_weighted(chunks[k]);
       ctx_.chunk_done(end - k * kTriangleChunk);
     }
   });

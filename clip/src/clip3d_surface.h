@@ -88,6 +88,9 @@ class SurfaceRvd {
   // cell it meets, appended to chunk.
   void clip_triangle(std::uint32_t b, std::uint32_t stamp, Stars& stars, Scratch& s,
                      Chunk& chunk) const;
+  // A callback density: flushes the thread's DensityBatch and copies each polygon's
+  // weighted moments (Chunk::weighted) into the chunk's sums.
+  void finish_weighted(Chunk& chunk) const;
   void emit_polygon(const Tri& tri, std::uint32_t c, const TriPoly& p, Scratch& s,
                     Chunk& chunk) const;
 
