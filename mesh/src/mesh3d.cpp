@@ -100,11 +100,12 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
 
 namespace {
 
-// f at the centres of the cells of a grid of 48 cells along the longest side of the
-// bounding box that lie in the volume (each centre located exactly), in the grid's order
-// whatever the thread count, and the volume of one cell.
-template <class F>
-std::vector<double> sample_over_volume(const Domain3& domain, const F& f, double& cell_volume) {
+// For each centre (x, y, z) of the cells of a grid of 48 cells along the longest side of
+// the bounding box that lie in the volume (each centre located exactly), visit(k, p, out)
+// with out an entry of slice k (k the grid layer); the slices, in the grid's order whatever
+// the thread count, and the volume of one cell.
+template <class T, class Visit>
+std::vector<T> over_volume(const Domain3& domain, const Visit& visit, double& cell_volume) {
   constexpr double kCells = 48;
   const double* lo = domain.bbox_lo();
   const double* hi = domain.bbox_hi();
@@ -117,20 +118,28 @@ std::vector<double> sample_over_volume(const Domain3& domain, const F& f, double
   for (int c = 0; c < 3; ++c) {
     n[c] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil((hi[c] - lo[c]) / h)));
   }
-  std::vector<std::vector<double>> slice(n[2]);
+  std::vector<std::vector<T>> slice(n[2]);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n[2], 1), [&](const auto& range) {
     for (std::uint32_t k = range.begin(); k != range.end(); ++k) {
       for (std::uint32_t j = 0; j < n[1]; ++j) {
         for (std::uint32_t i = 0; i < n[0]; ++i) {
           const double p[3] = {lo[0] + (i + 0.5) * h, lo[1] + (j + 0.5) * h, lo[2] + (k + 0.5) * h};
-          if (domain.locate(p) == Sign::positive) slice[k].push_back(f(p));
+          if (domain.locate(p) == Sign::positive) visit(p, slice[k]);
         }
       }
     }
   });
-  std::vector<double> values;
-  for (const std::vector<double>& v : slice) values.insert(values.end(), v.begin(), v.end());
+  std::vector<T> values;
+  for (const std::vector<T>& v : slice) values.insert(values.end(), v.begin(), v.end());
   return values;
+}
+
+// f at over_volume's cell centres, in its order, and the volume of one cell.
+template <class F>
+std::vector<double> sample_over_volume(const Domain3& domain, const F& f, double& cell_volume) {
+  return over_volume<double>(
+      domain, [&f](const double* p, std::vector<double>& out) { out.push_back(f(p)); },
+      cell_volume);
 }
 
 // The integral of f over the volume by the midpoint rule on sample_over_volume's grid,
@@ -248,8 +257,22 @@ double density_sites_integral(const Domain3& domain, const Density3& rho) {
         "mesh3d: the density must be a function (a density linear per tet is not supported "
         "here)");
   }
-  return integrate_over_volume(
-      domain, [&rho](const double* p) { return std::pow(rho.callback(p[0], p[1], p[2]), 0.6); });
+  if (!rho.batch) {
+    return integrate_over_volume(
+        domain, [&rho](const double* p) { return std::pow(rho.callback(p[0], p[1], p[2]), 0.6); });
+  }
+  // A density given at many points at once (an interpreted formula, a Python callable
+  // pays its call once): the centres first, rho at all of them in one call, then the
+  // same sum in the same order as integrate_over_volume's (the same bits).
+  double cell = 0;
+  const std::vector<double> xyz = over_volume<double>(
+      domain, [](const double* p, std::vector<double>& out) { out.insert(out.end(), p, p + 3); },
+      cell);
+  std::vector<double> values(xyz.size() / 3);
+  rho.batch(xyz.data(), values.size(), values.data());
+  double total = 0;
+  for (const double v : values) total += std::pow(v, 0.6);
+  return total * cell;
 }
 
 // "more than" (bound 1) or "<ratio> times" (bound other than 1).
