@@ -1190,7 +1190,7 @@ struct Mesh3Options {
 
 enum class Mesh3VertexKind : std::uint8_t {
   kInterior,  // free in the volume
-  kSurface,   // on the boundary surface
+  kSurface,   // on the boundary surface (or on an interface between regions it follows)
   kFeature,   // on a feature line
   kCorner,    // at a feature corner (fixed)
 };
@@ -1257,8 +1257,9 @@ struct Mesh3Result {
   std::uint32_t nb_peeled = 0;  // flat boundary tets removed (Mesh3Options::peel_dihedral_deg)
   TetQuality quality;
   // Q1 (the smallest dihedral angle, degrees) of the tets by how many of their vertices are
-  // on the boundary (surface, feature or corner vertices): [0] all four, [1] three, [2] two
-  // or fewer. Slivers of a CVT mesh sit at the boundary, where the sites cannot move freely.
+  // constrained (surface, feature or corner vertices: on the boundary, or on an interface
+  // between regions the mesh follows): [0] all four, [1] three, [2] two or fewer. Slivers
+  // of a CVT mesh sit there, where the sites cannot move freely.
   struct Q1Class {
     std::uint32_t nb_tets = 0;
     double min_deg = 0, mean_deg = 0;  // 0 without tets
