@@ -676,7 +676,8 @@ void write_tet_mesh_py(const std::string& path, const DoubleArray& points, const
 }
 
 // The library's 2D mesh writer (mesh.h write_mesh2): the files of the CLI's mesh2d. format:
-// "vtu", "mesh" (Medit), "msh" (Gmsh 4.1), "msh22".
+// "vtu" (ASCII), "vtu-binary" (base64), "vtu-zlib", "mesh" (Medit), "msh" (Gmsh 4.1),
+// "msh22".
 void write_mesh2_py(const std::string& path, const DoubleArray& points, const py::array& triangles,
                     const py::array& vertex_kind, const py::array& boundary_edges,
                     const py::array& boundary_tags, const py::array& triangle_regions,
@@ -684,6 +685,10 @@ void write_mesh2_py(const std::string& path, const DoubleArray& points, const py
   Mesh2FileFormat f;
   if (format == "vtu") {
     f = Mesh2FileFormat::kVtu;
+  } else if (format == "vtu-binary") {
+    f = Mesh2FileFormat::kVtuBinary;
+  } else if (format == "vtu-zlib") {
+    f = Mesh2FileFormat::kVtuCompressed;
   } else if (format == "mesh") {
     f = Mesh2FileFormat::kMedit;
   } else if (format == "msh") {

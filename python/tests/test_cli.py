@@ -400,13 +400,20 @@ def test_mesh2d_files_are_the_cli_files_byte_for_byte(cli, tmp_path):
     domain = tmp_path / "d.json"
     domain.write_text("[[[0,0],[3,0],[3,2],[0,2]],[[1,0.5],[1,1.5],[2,1.5],[2,0.5]]]")
     m = voroclip.mesh2d(domain, vertices=300)
-    for name, flags, version in (("m.msh", [], "4.1"), ("v22.msh", ["--msh-version", "2.2"], "2.2"),
-                                 ("m.mesh", [], "4.1"), ("m.vtu", [], "4.1")):
+    for name, flags, version, options in (
+            ("m.msh", [], "4.1", {}), ("v22.msh", ["--msh-version", "2.2"], "2.2", {}),
+            ("m.mesh", [], "4.1", {}), ("m.vtu", [], "4.1", {}),
+            ("b.vtu", ["--binary"], "4.1", {"binary": True}),
+            ("z.vtu", ["--compress"], "4.1", {"compress": True})):
         ours, theirs = tmp_path / ("py_" + name), tmp_path / ("cli_" + name)
-        m.write(ours, msh_version=version)
+        m.write(ours, msh_version=version, **options)
         run(cli, "mesh2d", domain, "--vertices", 300, *flags, "-o", theirs)
         assert ours.read_bytes() == theirs.read_bytes(), name
     assert (tmp_path / "py_m.msh").read_text().startswith("$MeshFormat\n4.1 0 8\n")
+    assert b'format="appended"' in (tmp_path / "py_b.vtu").read_bytes()
+    assert b"vtkZLibDataCompressor" in (tmp_path / "py_z.vtu").read_bytes()
+    with pytest.raises(voroclip.Error, match="binary and compress: .vtu only"):
+        m.write(tmp_path / "x.mesh", compress=True)
 
 
 def test_cli_failure_stats_parse(cli, tmp_path):

@@ -480,8 +480,9 @@ class Mesh:
         ``.node``, ``.ele`` and ``.face``), ``.vtk`` (legacy ASCII) and ``.vtu`` (base64
         binary; ``compress=True``: zlib; the CLI's also has a quality array): tets, the
         boundary triangles, region / patch tags and, in Gmsh files, the tag names. 2D
-        ``.msh``, ``.mesh`` and ``.vtu`` (ASCII): triangles, boundary edges, their tags and
-        the vertex kinds. ``msh_version``: ``"4.1"`` (the default) or ``"2.2"``, as the
+        ``.msh``, ``.mesh`` and ``.vtu`` (ASCII; ``binary=True``: base64, ``compress=True``:
+        zlib, as mesh2d's ``--binary`` / ``--compress``): triangles, boundary edges, their
+        tags and the vertex kinds. ``msh_version``: ``"4.1"`` (the default) or ``"2.2"``, as the
         CLI's ``--msh-version`` (2D and 3D; 2.2 is ASCII: not with ``binary=True``; another
         value, or ``"2.2"`` for another extension, raises :class:`Error`). Other
         extensions go through meshio (``kwargs`` go to ``meshio.write``, the tags as
@@ -514,10 +515,12 @@ class Mesh:
                                  self.cell_tags, list(self.tag_names), fmt)
             return
         if self.dim == 2 and ext in (".msh", ".mesh", ".vtu"):
-            if kwargs or binary or compress:
-                raise Error(f"write: {ext} of a 2D mesh takes no options but msh_version")
+            if kwargs or ((binary or compress) and ext != ".vtu"):
+                raise Error(f"write: {ext} of a 2D mesh takes no options but msh_version "
+                            "(binary and compress: .vtu only)")
+            vtu = "vtu-zlib" if compress else "vtu-binary" if binary else "vtu"
             fmt = {".msh": "msh" if msh_version == "4.1" else "msh22", ".mesh": "mesh",
-                   ".vtu": "vtu"}[ext]
+                   ".vtu": vtu}[ext]
             _core.write_mesh2(os.fspath(path), self.points, self.cells, self.vertex_kind,
                               self.boundary_edges, self.boundary_tags, self.cell_tags, fmt)
             return
