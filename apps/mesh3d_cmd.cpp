@@ -335,35 +335,12 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   if (!args.output.empty()) {
     progress.phase("writing " + args.output);
     if (ext == ".vtu") {
-      // The tets, then the boundary and interface triangles (as write_tet_mesh: cell data
+      // The tets, then the boundary and interface triangles (write_tet_mesh: cell data
       // "region", 0 on triangles, and "patch", 0 on tets), and per tet its smallest dihedral
       // angle (NaN on the triangles); the vertex kinds go with the statistics only.
-      const std::size_t nb = mesh.triangles.size() / 3;
-      std::vector<VtuCellField> fields(1);
-      fields[0].name = "q1_min_dihedral_deg";
-      fields[0].values.reserve(r.nb_tets() + nb);
-      for (std::uint32_t t = 0; t < r.nb_tets(); ++t) {
-        const std::uint32_t* v = &r.tets[4 * std::size_t{t}];
-        fields[0].values.push_back(
-            tet_shape(&r.xyz[3 * std::size_t{v[0]}], &r.xyz[3 * std::size_t{v[1]}],
-                      &r.xyz[3 * std::size_t{v[2]}], &r.xyz[3 * std::size_t{v[3]}])
-                .q1_deg);
-      }
-      fields[0].values.resize(r.nb_tets() + nb, std::numeric_limits<double>::quiet_NaN());
-      std::vector<VtuCellTags> tags(2);
-      tags[0].name = "region";
-      tags[0].values = r.tet_tags;
-      tags[0].values.resize(r.nb_tets() + nb, 0);
-      tags[1].name = "patch";
-      tags[1].values.assign(r.nb_tets(), 0);
-      tags[1].values.insert(tags[1].values.end(), mesh.triangle_ref.begin(),
-                            mesh.triangle_ref.end());
-      const std::vector<VtuCellBlock> blocks = {{r.tets.data(), r.nb_tets(), 4},
-                                                {mesh.triangles.data(), nb, 3}};
-      write_file_atomically(args.output, [&](std::ostream& os) {
-        write_vtu(os, r.xyz.data(), r.nb_vertices(), 3, blocks,
-                  args.compress ? VtuEncoding::kZlibBase64 : VtuEncoding::kBase64, fields, tags);
-      });
+      write_tet_mesh(args.output, mesh,
+                     args.compress ? TetMeshFormat::kVtuCompressed : TetMeshFormat::kVtu,
+                     tet_quality_fields(mesh));
     } else if (ext == ".msh") {
       write_tet_mesh(args.output, mesh,
                      args.msh_version == "2.2" ? TetMeshFormat::kGmsh22

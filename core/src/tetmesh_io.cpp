@@ -2378,7 +2378,17 @@ TetMeshInput read_tetgen_mesh(std::istream& node, std::istream& ele, std::istrea
 }
 
 void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format) {
+  write_tet_mesh(path, mesh, format, {});
+}
+
+void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format,
+                    const std::vector<VtuCellField>& fields) {
   check_mesh_arrays(path, mesh);
+  const bool vtu = format == TetMeshFormat::kVtu || format == TetMeshFormat::kVtuAscii ||
+                   format == TetMeshFormat::kVtuCompressed;
+  if (!fields.empty() && !vtu) {
+    throw Error("cannot write '" + path + "': per-cell fields go to a .vtu file only");
+  }
   switch (format) {
     case TetMeshFormat::kMedit:
       write_text(path, medit_text(mesh));
@@ -2429,7 +2439,7 @@ void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFo
                   format == TetMeshFormat::kVtuAscii        ? VtuEncoding::kAscii
                   : format == TetMeshFormat::kVtuCompressed ? VtuEncoding::kZlibBase64
                                                             : VtuEncoding::kBase64,
-                  {}, tags);
+                  fields, tags);
       });
       return;
     case TetMeshFormat::kVtk:

@@ -96,6 +96,22 @@ struct BlockResult {
 
 }  // namespace
 
+std::vector<VtuCellField> tet_quality_fields(const TetMeshInput& mesh) {
+  std::vector<VtuCellField> fields(1);
+  fields[0].name = "q1_min_dihedral_deg";
+  const std::size_t nt = mesh.tets.size() / 4, nf = mesh.triangles.size() / 3;
+  fields[0].values.reserve(nt + nf);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const std::uint32_t* v = &mesh.tets[4 * t];
+    fields[0].values.push_back(
+        tet_shape(&mesh.xyz[3 * std::size_t{v[0]}], &mesh.xyz[3 * std::size_t{v[1]}],
+                  &mesh.xyz[3 * std::size_t{v[2]}], &mesh.xyz[3 * std::size_t{v[3]}])
+            .q1_deg);
+  }
+  fields[0].values.resize(nt + nf, std::numeric_limits<double>::quiet_NaN());
+  return fields;
+}
+
 TetShape tet_shape(const double* p0, const double* p1, const double* p2, const double* p3) {
   TetShape shape;
   const Sign o = orient3d(p0, p1, p2, p3);

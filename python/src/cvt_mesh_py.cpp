@@ -672,7 +672,11 @@ void write_tet_mesh_py(const std::string& path, const DoubleArray& points, const
     mesh.tag_names.push_back(std::move(name));
   }
   py::gil_scoped_release release;
-  write_tet_mesh(path, mesh, f->second);
+  const bool vtu = f->second == TetMeshFormat::kVtu || f->second == TetMeshFormat::kVtuAscii ||
+                   f->second == TetMeshFormat::kVtuCompressed;
+  // A .vtu carries the quality array the CLI's mesh3d writes (the same bytes).
+  write_tet_mesh(path, mesh, f->second,
+                 vtu ? tet_quality_fields(mesh) : std::vector<VtuCellField>{});
 }
 
 // The library's 2D mesh writer (mesh.h write_mesh2): the files of the CLI's mesh2d. format:

@@ -372,17 +372,20 @@ def test_random_sites_as_the_cli_draws_them(cli, data, tmp_path):
 
 
 def test_mesh3d_files_are_the_cli_files_byte_for_byte(cli, data, tmp_path):
-    """Mesh.write uses the library's writers: .msh (Gmsh 4.1, ASCII and binary), .mesh and
-    TetGen files are the bytes `voroclip mesh3d -o` writes for the same mesh."""
+    """Mesh.write uses the library's writers: .msh (Gmsh 4.1, ASCII and binary), .mesh,
+    TetGen and .vtu files (with the quality array) are the bytes `voroclip mesh3d -o` writes
+    for the same mesh."""
     import meshio
 
     domain = data / "surfaces" / "sphere.obj"
     m = voroclip.mesh3d(domain, vertices=300)
-    for name, flags, binary in (("m.msh", [], False), ("b.msh", ["--binary"], True),
-                                ("m.mesh", [], False), ("t.node", [], False)):
+    for name, flags, binary, compress in (
+            ("m.msh", [], False, False), ("b.msh", ["--binary"], True, False),
+            ("m.mesh", [], False, False), ("t.node", [], False, False),
+            ("m.vtu", [], False, False), ("z.vtu", ["--compress"], False, True)):
         ours = tmp_path / ("py_" + name)
         theirs = tmp_path / ("cli_" + name)
-        m.write(ours, binary=binary)
+        m.write(ours, binary=binary, compress=compress)
         run(cli, "mesh3d", domain, "--vertices", 300, *flags, "-o", theirs)
         assert ours.read_bytes() == theirs.read_bytes(), name
         if name.endswith(".node"):

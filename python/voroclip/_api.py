@@ -478,7 +478,7 @@ class Mesh:
         bytes as ``voroclip mesh3d -o`` / ``mesh2d -o``): 3D ``.msh`` (Gmsh 4.1 or 2.2;
         ``binary=True``: binary 4.1), ``.mesh`` (Medit), ``.node``/``.ele`` (TetGen:
         ``.node``, ``.ele`` and ``.face``), ``.vtk`` (legacy ASCII) and ``.vtu`` (base64
-        binary; ``compress=True``: zlib; the CLI's also has a quality array): tets, the
+        binary; ``compress=True``: zlib; with the CLI's ``q1_min_dihedral_deg``): tets, the
         boundary triangles, region / patch tags and, in Gmsh files, the tag names. 2D
         ``.msh``, ``.mesh`` and ``.vtu`` (ASCII; ``binary=True``: base64, ``compress=True``:
         zlib, as mesh2d's ``--binary`` / ``--compress``): triangles, boundary edges, their

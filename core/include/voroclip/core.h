@@ -418,6 +418,12 @@ void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points,
                const std::vector<VtuCellTags>& tags = {},
                const std::vector<VtuCellTags>& point_tags = {});
 
+/// write_tet_mesh(path, mesh, format) with, in the .vtu formats, `fields` after "cell_id"
+/// (one value per tet, then per triangle; mesh3d's q1_min_dihedral_deg, mesh.h
+/// tet_quality_fields); Error for another format with fields.
+void write_tet_mesh(const std::string& path, const TetMeshInput& mesh, TetMeshFormat format,
+                    const std::vector<VtuCellField>& fields);
+
 /// As above: `binary` is VtuEncoding::kBase64, otherwise kAscii.
 void write_vtu(std::ostream& out, const double* coords, std::uint32_t nb_points, int dimension,
                const std::vector<VtuCellBlock>& blocks, bool binary,

@@ -60,6 +60,11 @@ struct TetShape {
 
 TetShape tet_shape(const double* p0, const double* p1, const double* p2, const double* p3);
 
+// The .vtu quality field of a tet mesh, for write_tet_mesh(path, mesh, format, fields):
+// "q1_min_dihedral_deg", per tet its smallest dihedral angle (tet_shape's q1_deg), then NaN
+// per triangle (mesh3d's .vtu, from the CLI and from Python).
+std::vector<VtuCellField> tet_quality_fields(const TetMeshInput& mesh);
+
 struct TetQualityOptions {
   std::uint32_t dihedral_bins = 180;  // histograms of dihedral angles over [0, 180] degrees
   std::uint32_t quality_bins = 100;   // histograms of Q3 and Q4 over [0, 1]
