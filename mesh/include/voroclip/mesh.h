@@ -632,17 +632,20 @@ void tag_mesh2(const Domain2& domain, Mesh2& mesh);
 // File formats of a 2D triangle mesh (write_mesh2). Each holds the triangles with their
 // regions (triangle_regions) and the boundary edges with their tags (boundary_tags).
 enum class Mesh2FileFormat {
-  kVtu,     // VTK XML .vtu (write_vtu), ASCII: triangles (type 5) then boundary edges
-            // (type 3, lines); cell data "cell_id", "min_angle" (degrees, 0 on edges),
-            // "region" (a triangle's region, 0 on edges) and "patch" (an edge's boundary
-            // tag, 0 on triangles), as the tet meshes' (TetMeshFormat::kVtk); point data
-            // "kind" (0 interior, 1 sliding, 2 fixed); z = 0
-  kMedit,   // Medit .mesh, Dimension 2, numbered from 1: Vertices (ref = kind as above),
-            // Edges (ref = boundary tag), Triangles (ref = region)
-  kGmsh22,  // Gmsh .msh 2.2 ASCII: edges (type 1) in physical groups "boundary <tag>",
-            // triangles (type 2) in groups "region <tag>", elementary = physical
-  kGmsh41,  // Gmsh .msh 4.1 ASCII: as 2.2, one curve entity per boundary tag and one surface
-            // entity per region, each in its physical group; all nodes in surface 1
+  // VTK XML .vtu (write_vtu), ASCII: triangles (type 5) then boundary edges (type 3,
+  // lines); cell data "cell_id", "min_angle" (degrees, 0 on edges), "region" (a triangle's
+  // region, 0 on edges) and "patch" (an edge's boundary tag, 0 on triangles), as the tet
+  // meshes' (TetMeshFormat::kVtk); point data "kind" (0 interior, 1 sliding, 2 fixed); z = 0.
+  kVtu,
+  // Medit .mesh, Dimension 2, numbered from 1: Vertices (ref = kind as above), Edges (ref =
+  // boundary tag), Triangles (ref = region).
+  kMedit,
+  // Gmsh .msh 2.2 ASCII: edges (type 1) in physical groups "boundary <tag>", triangles
+  // (type 2) in groups "region <tag>", elementary = physical.
+  kGmsh22,
+  // Gmsh .msh 4.1 ASCII: as 2.2, one curve entity per boundary tag and one surface entity
+  // per region, each in its physical group; all nodes in surface 1.
+  kGmsh41,
   kVtuBinary,      // as kVtu, base64-encoded appended data (VtuEncoding::kBase64)
   kVtuCompressed,  // as kVtu, zlib-compressed appended data (VtuEncoding::kZlibBase64)
 };
