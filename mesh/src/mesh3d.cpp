@@ -101,9 +101,9 @@ std::vector<double> lattice_sites(const Domain3& domain, const TetExtractor3& lo
 namespace {
 
 // For each centre (x, y, z) of the cells of a grid of 48 cells along the longest side of
-// the bounding box that lie in the volume (each centre located exactly), visit(k, p, out)
-// with out an entry of slice k (k the grid layer); the slices, in the grid's order whatever
-// the thread count, and the volume of one cell.
+// the bounding box that lie in the volume (each centre located exactly), visit(p, out),
+// `out` the vector of p's grid layer; the layers' entries joined in the grid's order
+// whatever the thread count, and the volume of one cell.
 template <class T, class Visit>
 std::vector<T> over_volume(const Domain3& domain, const Visit& visit, double& cell_volume) {
   constexpr double kCells = 48;
