@@ -38,9 +38,10 @@ std::string cli_message(const std::string& what) {
       {"ClippedVoronoi3::compute(domain, sites, n) takes them", "clip3d takes them"},
       // The library's bounds on an implied vertex count (mesh2d.cpp, mesh3d.cpp), with what
       // to change on the command line (check_vertex_count's advice).
-      {"mesh2d: the edge length asks for more than 10^9 vertices",
-       "mesh2d: the edge length or sizing asks for more than 10^9 vertices, the most mesh2d "
-       "makes: give a larger --edge-length or --sizing"},
+      {"mesh2d: the edge length asks for about ",
+       "mesh2d: the edge length or sizing asks for about "},
+      {" vertices; at most 10^9",
+       " vertices; at most 10^9, the most mesh2d makes: give a larger --edge-length or --sizing"},
       {" vertices; at most 2e9",
        " vertices; at most 2e9, the most mesh3d makes: give a larger "
        "--sizing (or --vertices N)"},

@@ -168,8 +168,28 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   o.mean_rounds = args.mean_rounds;
   o.vertex_count =
       args.exact_vertices ? Mesh3Options::VertexCount::kExact : Mesh3Options::VertexCount::kRaise;
-  if (progress.mode() != Progress::Mode::kNone) {
-    o.progress = [&progress, &args](const Mesh3Progress& p) {
+  // Installed also under -q: the count an absolute size implies is checked against the
+  // memory before the run (check_vertex_count), as mesh2d's.
+  std::string refused;  // why the implied vertex count is refused (the run is not started)
+  {
+    o.progress = [&progress, &args, &refused](const Mesh3Progress& p) {
+      if (p.implied_vertices > 0) {
+        try {
+          check_vertex_count("mesh3d", "the sizing", p.implied_vertices, kMesh3BytesPerVertex,
+                             "give a larger --sizing (or --vertices N)");
+        } catch (const Error& e) {
+          refused = e.what();
+          return false;
+        }
+        // Three significant digits: the count made differs from it (the boundary, the
+        // topology and shape checks).
+        const double n = p.implied_vertices;
+        const double unit = std::max(1.0, std::pow(10.0, std::floor(std::log10(n)) - 2));
+        progress.note("mesh3d: about " +
+                      std::to_string(static_cast<std::uint64_t>(std::round(n / unit) * unit)) +
+                      " vertices for this size");
+        return true;
+      }
       if (p.retry_vertices > 0) {
         progress.note("the mesh does not have the domain's shape; meshing again with " +
                       std::to_string(p.retry_vertices) + " vertices");
@@ -219,6 +239,7 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
     };
   }
   const Mesh3Result r = mesh3d(domain, o);
+  if (!refused.empty()) throw Error(refused);
   progress.done();
   if (!r.shape_problem.empty() && !args.allow_shape_mismatch) {
     throw Error(

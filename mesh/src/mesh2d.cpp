@@ -1887,7 +1887,12 @@ Mesh2 mesh_domain2_once(const Domain2& original, const Mesh2Options& o, Mesh2Sta
     }
     const double est = 2 / std::sqrt(3.0) * domain->area() * sum /
                        std::max(1.0, static_cast<double>(pts.size() / 2));
-    if (!(est < 1e9)) throw Error("mesh2d: the edge length asks for more than 10^9 vertices");
+    if (!(est < 1e9)) {
+      char count[64];  // %.0f: a whole number even beyond 64 bits
+      std::snprintf(count, sizeof count, "%.0f", est);
+      throw Error("mesh2d: the edge length asks for about " + std::string(count) +
+                  " vertices; at most 10^9");
+    }
     n = static_cast<std::uint32_t>(std::max(3.0, std::round(est)));
     st.implied_vertices = n;
     // Said before the long phases (--sizing 0.001 on a unit square: 1,150,000 vertices, over

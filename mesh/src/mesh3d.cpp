@@ -818,6 +818,15 @@ Mesh3Result mesh3d(const Domain3& domain, const Mesh3Options& options) {
     Mesh3Options o = options;
     o.edge_length = 0;
     o.nb_vertices = static_cast<std::uint32_t>(std::max(4.0, n));
+    if (o.progress) {
+      Mesh3Progress implied;
+      implied.implied_vertices = o.nb_vertices;
+      if (!o.progress(implied)) {
+        Mesh3Result cancelled;
+        cancelled.cancelled = true;
+        return cancelled;
+      }
+    }
     return mesh3d(domain, o);
   }
   if (options.nb_vertices < 4) {

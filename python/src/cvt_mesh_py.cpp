@@ -456,6 +456,7 @@ py::dict mesh3d(const Domain3& domain, const py::dict& options, const py::object
         d["nb_bodies"] = p.nb_bodies;
       }
       if (p.body_vertices > 0) d["body_vertices"] = p.body_vertices;
+      if (p.implied_vertices > 0) d["implied_vertices"] = p.implied_vertices;
       return d;
     });
   };

@@ -157,3 +157,20 @@ def test_mesh2d_implied_vertices(tmp_path):
     assert [e["implied_vertices"] for e in events if "implied_vertices" in e] == [implied]
     assert 0.8 * implied <= len(m.points) <= 1.25 * implied
     assert voroclip.mesh2d(str(square), 100).stats["implied_vertices"] is None
+
+
+def test_mesh3d_implied_vertices(data):
+    # The count an absolute size asks for, once, before anything else (the CLI checks it
+    # against the memory and says "about 2340 vertices for this size"); False stops there.
+    sphere = str(data / "surfaces" / "sphere.obj")
+    events = []
+    m = voroclip.mesh3d(sphere, sizing=0.15, callback=events.append)
+    assert [e.get("implied_vertices") for e in events][:1] == [2338]
+    assert sum("implied_vertices" in e for e in events) == 1
+    assert 0.9 * 2338 <= len(m.points) <= 1.1 * 2338
+    stopped = voroclip.mesh3d(sphere, sizing=0.15,
+                              callback=lambda e: "implied_vertices" not in e)
+    assert stopped.stats["cancelled"] and stopped.cells.shape == (0, 4)
+    counted = []
+    voroclip.mesh3d(sphere, 300, callback=counted.append)  # a vertex count: no such event
+    assert not any("implied_vertices" in e for e in counted)

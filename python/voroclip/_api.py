@@ -614,7 +614,8 @@ def mesh3d(domain, vertices: Optional[int] = None, *, density=None, sizing=None,
     with its cavities) has each meshed on its own, with its share of the vertices, patches
     numbered body after body. ``callback(info)`` gets phase, iteration, energy, ... (and,
     with several bodies, ``body``, ``nb_bodies``, and ``body_vertices`` once at the start of
-    each); returning
+    each; with ``sizing`` and no ``vertices``, ``implied_vertices`` once before anything
+    else: the vertex count the size asks for); returning
     False stops (no tets, ``stats['cancelled']``); Ctrl-C raises KeyboardInterrupt. The
     same mesh for any ``threads`` and a given ``seed``."""
     r = _core.mesh3d(domain3(domain), _given(vertices=vertices, **options),

@@ -609,10 +609,10 @@ TEST_CASE("mesh2d: --binary and --compress write the .vtu data appended, as clip
 TEST_CASE("mesh2d and mesh3d: a vertex count that cannot be made is refused before any work",
           "[apps][regression]") {
   // --sizing 1e-7 on a unit square implies about 10^14 vertices: the error said "more than
-  // 10^9" without the count or what to change; a count below 10^9 that the memory cannot
-  // hold (--sizing 1e-4: 1.15e8 vertices, about 160 GB) was tried, and --vertices 4e9 gave
-  // "std::bad_alloc". Now: the count, the limit (32-bit indices, or the memory: physical,
-  // or ulimit -v, at the bytes per vertex measured) and the option to change; no file.
+  // 10^9" without the count or what to change (now it says both); a count below 10^9 that the
+  // memory cannot hold (--sizing 1e-4: 1.15e8 vertices, about 160 GB) was tried, and --vertices 4e9
+  // gave "std::bad_alloc". Now: the count, the limit (32-bit indices, or the memory: physical, or
+  // ulimit -v, at the bytes per vertex measured) and the option to change; no file.
   const std::string square = temp_path(".json");
   std::ofstream(square) << "[[[0,0],[1,0],[1,1],[0,1]]]\n";
   const std::string out = temp_path(".vtu");
@@ -632,8 +632,8 @@ TEST_CASE("mesh2d and mesh3d: a vertex count that cannot be made is refused befo
            larger},
       {{"mesh2d", square, "--sizing", "1e-7", "-o", out},
        "",
-       "mesh2d: the edge length or sizing asks for more than 10^9 vertices, the most mesh2d "
-       "makes" +
+       "mesh2d: the edge length or sizing asks for about 115470053837925 vertices; at most "
+       "10^9, the most mesh2d makes" +
            larger},
       {{"mesh2d", square, "--sizing", "1e-4", "-o", out},
        ulimit,
@@ -647,6 +647,16 @@ TEST_CASE("mesh2d and mesh3d: a vertex count that cannot be made is refused befo
        ulimit,
        "mesh3d: --vertices asks for about 4000000000 vertices; at most 512000" + in_ulimit +
            "2000 bytes per vertex): give fewer --vertices\n"},
+      // An absolute size alone: the count it implies is checked before the run, also under
+      // -q (mesh3d ran out of memory).
+      {{"mesh3d", kData + "/surfaces/sphere.obj", "--sizing", "0.005", "-o", out},
+       ulimit,
+       "mesh3d: the sizing asks for about 63043056 vertices; at most 512000" + in_ulimit +
+           "2000 bytes per vertex): give a larger --sizing (or --vertices N)\n"},
+      {{"mesh3d", kData + "/surfaces/sphere.obj", "--sizing", "0.005", "-q", "-o", out},
+       ulimit,
+       "mesh3d: the sizing asks for about 63043056 vertices; at most 512000" + in_ulimit +
+           "2000 bytes per vertex): give a larger --sizing (or --vertices N)\n"},
   };
   for (const Case& c : cases) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -661,6 +671,10 @@ TEST_CASE("mesh2d and mesh3d: a vertex count that cannot be made is refused befo
     CHECK_FALSE(contains(run.err, "vertices for this size"));  // refused before the note
     CHECK(!exists(out));
   }
+  // A count that fits is said before the run, as mesh2d's.
+  const Run fits = run_cli({"mesh3d", kData + "/surfaces/sphere.obj", "--sizing", "0.15"});
+  CHECK(fits.status == 0);
+  CHECK(contains(fits.out + fits.err, "mesh3d: about 2340 vertices for this size\n"));
   // mesh3d's bound on an absolute size says what to change too.
   const Run sizing = run_cli({"mesh3d", kData + "/surfaces/sphere.obj", "--sizing", "1e-5"});
   CHECK(sizing.status == 1);

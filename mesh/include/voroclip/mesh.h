@@ -951,6 +951,9 @@ struct Mesh3Progress {
   // nb_bodies is being meshed (0 and 0 for a domain of one body); body_vertices is non-zero
   // once, at the start of each body: its share of the vertices.
   std::uint32_t body = 0, nb_bodies = 0, body_vertices = 0;
+  // Non-zero once, before anything else, when Mesh3Options::edge_length gives the vertex
+  // count: that count (a caller may refuse it, returning false, before the run allocates).
+  std::uint32_t implied_vertices = 0;
   double seconds = 0;  // since the start of the pipeline (of the body's)
 };
 
