@@ -84,51 +84,87 @@ OneSidedDistance sampled_distance(const TriangleSurface& from, const SurfaceTree
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
 
-  const auto measure = [&](const double* p, std::uint32_t& hint, Slot& slot) {
-    const SurfaceTree::Closest c = to.closest(p, hint);
+  // A block of samples, measured and then reduced into their items' slots in sample
+  // order: with options.scale_batch, one call per block scales them (a Python or
+  // interpreted function pays its per-call cost, and takes its lock, once per block).
+  struct Sample {
+    double p[3];
+    double distance;  // unscaled
+    Slot* slot;
+    double weight;  // of a sub-triangle centroid in its slot's mean; < 0: none
+  };
+  struct Block {
+    std::vector<Sample> samples;
+    std::vector<double> xyz, scales;
+    std::uint32_t hint = SurfaceTree::kNone;
+  };
+  const auto flush = [&](Block& b) {
+    const std::size_t n = b.samples.size();
+    if (options.scale_batch) {
+      b.xyz.resize(3 * n);
+      b.scales.resize(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        for (int q = 0; q < 3; ++q) b.xyz[3 * k + q] = b.samples[k].p[q];
+      }
+      options.scale_batch(b.xyz.data(), n, b.scales.data());
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const Sample& x = b.samples[k];
+      const double d = options.scale_batch ? x.distance / b.scales[k]
+                       : options.scale     ? x.distance / options.scale(x.p)
+                                           : x.distance;
+      Slot& slot = *x.slot;
+      if (d > slot.max) {
+        slot.max = d;
+        for (int q = 0; q < 3; ++q) slot.where[q] = x.p[q];
+      }
+      if (x.weight >= 0) slot.weighted += x.weight * d;
+    }
+    b.samples.clear();
+  };
+  constexpr std::size_t kBlock = 4096;
+  const auto measure = [&](const double* p, Block& b, Slot& slot, double weight) {
+    const SurfaceTree::Closest c = to.closest(p, b.hint);
     if (c.triangle == SurfaceTree::kNone) {
       throw Error(from.source + ": a squared distance overflows (coordinates too large)");
     }
-    hint = c.triangle;
-    const double d =
-        options.scale ? std::sqrt(c.distance2) / options.scale(p) : std::sqrt(c.distance2);
-    if (d > slot.max) {
-      slot.max = d;
-      for (int k = 0; k < 3; ++k) slot.where[k] = p[k];
-    }
-    return d;
+    b.hint = c.triangle;
+    b.samples.push_back({{p[0], p[1], p[2]}, std::sqrt(c.distance2), &slot, weight});
+    if (b.samples.size() == kBlock) flush(b);
   };
   std::vector<Slot> vertex_slots(vertices.size()), edge_slots(edges.size()), tri_slots(nt);
   std::vector<std::uint64_t> edge_samples(edges.size(), 0), tri_samples(nt, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size(), 256),
                     [&](const auto& range) {
-                      std::uint32_t hint = SurfaceTree::kNone;
+                      Block b;
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        measure(&from.xyz[3 * std::size_t{vertices[i]}], hint, vertex_slots[i]);
+                        measure(&from.xyz[3 * std::size_t{vertices[i]}], b, vertex_slots[i], -1);
                       }
+                      flush(b);
                     });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edges.size(), 256), [&](const auto& range) {
-    std::uint32_t hint = SurfaceTree::kNone;
+    Block b;
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const double* a = &from.xyz[3 * (edges[i] >> 32)];
-      const double* b = &from.xyz[3 * (edges[i] & 0xffffffffu)];
-      const double len = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
-                                   (b[2] - a[2]) * (b[2] - a[2]));
+      const double* c = &from.xyz[3 * (edges[i] & 0xffffffffu)];
+      const double len = std::sqrt((c[0] - a[0]) * (c[0] - a[0]) + (c[1] - a[1]) * (c[1] - a[1]) +
+                                   (c[2] - a[2]) * (c[2] - a[2]));
       const std::uint32_t m = divisions(len, h);
       for (std::uint32_t j = 1; j < m; ++j) {
         const double s = static_cast<double>(j) / m;
-        const double p[3] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
-                             a[2] + s * (b[2] - a[2])};
-        measure(p, hint, edge_slots[i]);
+        const double p[3] = {a[0] + s * (c[0] - a[0]), a[1] + s * (c[1] - a[1]),
+                             a[2] + s * (c[2] - a[2])};
+        measure(p, b, edge_slots[i], -1);
       }
       edge_samples[i] = m - 1;
     }
+    flush(b);
   });
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nt, 64), [&](const auto& range) {
-    std::uint32_t hint = SurfaceTree::kNone;
+    Block b;
     for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
       const double* a = vertex(t, 0);
-      const double* b = vertex(t, 1);
+      const double* bv = vertex(t, 1);
       const double* c = vertex(t, 2);
       const std::uint32_t n = divisions(std::sqrt(area[t]), h);
       const double weight = area[t] / (static_cast<double>(n) * n);
@@ -142,14 +178,15 @@ OneSidedDistance sampled_distance(const TriangleSurface& from, const SurfaceTree
         for (std::uint32_t i = 0; i + static_cast<std::uint32_t>(pass) < n; ++i) {
           for (std::uint32_t j = 0; i + j <= last; ++j) {
             const double u = (i + shift) / n, v = (j + shift) / n, w = 1 - u - v;
-            const double p[3] = {w * a[0] + u * b[0] + v * c[0], w * a[1] + u * b[1] + v * c[1],
-                                 w * a[2] + u * b[2] + v * c[2]};
-            slot.weighted += weight * measure(p, hint, slot);
+            const double p[3] = {w * a[0] + u * bv[0] + v * c[0], w * a[1] + u * bv[1] + v * c[1],
+                                 w * a[2] + u * bv[2] + v * c[2]};
+            measure(p, b, slot, weight);
           }
         }
       }
       tri_samples[t] = std::uint64_t{n} * n;
     }
+    flush(b);
   });
   OneSidedDistance out;
   double weighted = 0, vertex_sum = 0;

@@ -125,11 +125,14 @@ TetQuality tet_quality(const TetMeshInput& mesh, const TetQualityOptions& option
 // With `scale` set, each sample's distance is divided by scale(sample) before the maximum
 // and the mean are taken (a distance relative to a local size, e.g. mesh3d's check of its
 // boundary against the local edge length); scale must be positive and safe to call from
-// several threads at once.
+// several threads at once. scale_batch, when set, is used instead: out[k] = the scale at
+// xyz[3k..3k+2] for the n samples of a block (up to 4096) at once (a Python or interpreted
+// function pays its per-call cost once per block); the same values give the same result.
 struct HausdorffOptions {
   double samples_per_triangle = 10;
   std::uint64_t min_samples = 100000;
   std::function<double(const double*)> scale;
+  std::function<void(const double* xyz, std::size_t n, double* out)> scale_batch;
 };
 
 struct OneSidedDistance {
