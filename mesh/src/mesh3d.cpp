@@ -284,11 +284,11 @@ std::string more_than(double ratio, double bound) {
 // `reference` with its tree) and result.distance_to_edge_length, the largest sampled
 // distance either way over edge_length at the sample (a constant when not graded: the
 // plain distances divided by it). What is wrong when that exceeds `bound` (> 0), else "".
-std::string check_boundary_distance(
-    const TriangleSurface& reference, const SurfaceTree& reference_tree, bool graded,
-    const std::function<double(const double*)>& edge_length,
-    const std::function<void(const double*, std::size_t, double*)>& edge_length_batch, double bound,
-    Mesh3Result& result) {
+std::string check_boundary_distance(const TriangleSurface& reference,
+                                    const SurfaceTree& reference_tree, bool graded,
+                                    const HausdorffOptions& relative, double bound,
+                                    Mesh3Result& result) {
+  const std::function<double(const double*)>& edge_length = relative.scale;
   if (result.boundary_triangles.empty()) return "";
   TriangleSurface mine;
   mine.source = "the mesh's boundary";
@@ -299,9 +299,6 @@ std::string check_boundary_distance(
       hausdorff_distance(mine, mine_tree, reference, reference_tree);
   OneSidedDistance forward = d.forward, backward = d.backward;
   if (graded) {
-    HausdorffOptions relative;
-    relative.scale = edge_length;
-    relative.scale_batch = edge_length_batch;  // empty, or the same values
     forward = sampled_distance(mine, reference_tree, relative);
     backward = sampled_distance(reference, mine_tree, relative);
   } else {
@@ -740,11 +737,13 @@ void Pipeline::run() {
     const TriangleSurface boundary_only = interfaces ? boundary_surface(domain) : TriangleSurface{};
     const std::unique_ptr<SurfaceTree> boundary_tree =
         interfaces ? std::make_unique<SurfaceTree>(boundary_only) : nullptr;
-    // A user density with a batch form (a Python function, an expression) is evaluated a
-    // block of samples at a time: local_spacing's values, in its operations.
-    std::function<void(const double*, std::size_t, double*)> edge_length_batch;
+    // The local edge length; a user density with a batch form (a Python function, an
+    // expression) is evaluated a block of samples at a time: local_spacing's values, in its
+    // operations.
+    HausdorffOptions relative;
+    relative.scale = [&](const double* x) { return edge_per_spacing * local_spacing(x); };
     if (user_density.kind == Density3::Kind::kCallback && user_density.batch) {
-      edge_length_batch = [&](const double* xyz, std::size_t count, double* out) {
+      relative.scale_batch = [&](const double* xyz, std::size_t count, double* out) {
         user_density.batch(xyz, count, out);
         const double scale = std::cbrt(integral / options.nb_vertices);
         for (std::size_t k = 0; k < count; ++k) {
@@ -752,14 +751,11 @@ void Pipeline::run() {
         }
       };
     }
-    std::string far = check_boundary_distance(
-        interfaces ? boundary_only : surface, interfaces ? *boundary_tree : surface_tree, graded,
-        [&](const double* x) { return edge_per_spacing * local_spacing(x); }, edge_length_batch,
-        options.max_boundary_distance, result);
+    std::string far = check_boundary_distance(interfaces ? boundary_only : surface,
+                                              interfaces ? *boundary_tree : surface_tree, graded,
+                                              relative, options.max_boundary_distance, result);
     if (far.empty() && interfaces) {
-      far = interface_distance(
-          *interfaces, [&](const double* x) { return edge_per_spacing * local_spacing(x); },
-          options.max_boundary_distance, result);
+      far = interface_distance(*interfaces, relative, options.max_boundary_distance, result);
     }
     result.distance_seconds = since(t_distance);
     if (result.shape_problem.empty()) result.shape_problem = std::move(far);

@@ -462,8 +462,8 @@ void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampl
 }
 
 std::string interface_distance(const RegionInterfaces& interfaces,
-                               const std::function<double(const double*)>& edge_length,
-                               double bound, Mesh3Result& result) {
+                               const HausdorffOptions& edge_length, double bound,
+                               Mesh3Result& result) {
   result.interface_distance_to_edge_length = 0;
   TriangleSurface input, mine;
   input.source = "the input's interfaces";
@@ -478,10 +478,8 @@ std::string interface_distance(const RegionInterfaces& interfaces,
     return mine.triangles.empty() ? "it has no interface between its regions" : "";
   }
   const SurfaceTree input_tree(input), mine_tree(mine);
-  HausdorffOptions relative;
-  relative.scale = edge_length;
-  const OneSidedDistance forward = sampled_distance(mine, input_tree, relative);
-  const OneSidedDistance backward = sampled_distance(input, mine_tree, relative);
+  const OneSidedDistance forward = sampled_distance(mine, input_tree, edge_length);
+  const OneSidedDistance backward = sampled_distance(input, mine_tree, edge_length);
   const bool cut = backward.max >= forward.max;
   const OneSidedDistance& worst = cut ? backward : forward;
   result.interface_distance_to_edge_length = worst.max;

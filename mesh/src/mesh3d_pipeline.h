@@ -392,12 +392,12 @@ void per_region(
 void tag_interfaces(const RegionInterfaces& interfaces, const SurfaceTree& sampled_tree,
                     const TetRegions& regions, Mesh3Result& result);
 // The distance between the mesh's interfaces (result.interface_triangles) and the input's,
-// either way, sampled, in local edge lengths (`edge_length`) into
-// result.interface_distance_to_edge_length; what is wrong when it exceeds `bound` (> 0),
-// or when the mesh has no interface, else empty.
+// either way, sampled, in local edge lengths (`edge_length`: its scale, and scale_batch
+// when set) into result.interface_distance_to_edge_length; what is wrong when it exceeds
+// `bound` (> 0), or when the mesh has no interface, else empty.
 std::string interface_distance(const RegionInterfaces& interfaces,
-                               const std::function<double(const double*)>& edge_length,
-                               double bound, Mesh3Result& result);
+                               const HausdorffOptions& edge_length, double bound,
+                               Mesh3Result& result);
 // What is wrong with the mesh's regions, empty when nothing: each region's tets must have the
 // shape of the input's region (check_mesh3_shape).
 std::string interface_shape(const RegionInterfaces& interfaces, const std::vector<double>& xyz,
