@@ -122,6 +122,22 @@ void check_vertex_count(const std::string& command, const std::string& what, dou
   }
 }
 
+bool note_implied_vertices(const std::string& command, const std::string& what, double count,
+                           double bytes_per_vertex, const std::string& advice, Progress& progress,
+                           std::string& refused) {
+  try {
+    check_vertex_count(command, what, count, bytes_per_vertex, advice);
+  } catch (const Error& e) {
+    refused = e.what();
+    return false;
+  }
+  const double unit = std::max(1.0, std::pow(10.0, std::floor(std::log10(count)) - 2));
+  progress.note(command + ": about " +
+                std::to_string(static_cast<std::uint64_t>(std::round(count / unit) * unit)) +
+                " vertices for this size");
+  return true;
+}
+
 std::ostream* human_stream(const GlobalOptions& options) {
   if (options.quiet) return nullptr;
   return options.stats_json ? &std::cerr : &std::cout;

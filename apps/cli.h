@@ -69,6 +69,17 @@ bool stats_printed();
 void check_vertex_count(const std::string& command, const std::string& what, double count,
                         double bytes_per_vertex, const std::string& advice);
 
+class Progress;
+
+/// The vertex count an absolute size implies (mesh2d's and mesh3d's progress event, before
+/// the run): check_vertex_count's message into `refused` and false (the progress callback
+/// returns it: the run stops) when it cannot be made, else the note "<command>: about N
+/// vertices for this size" (three significant digits: the count made differs from it)
+/// and true.
+bool note_implied_vertices(const std::string& command, const std::string& what, double count,
+                           double bytes_per_vertex, const std::string& advice, Progress& progress,
+                           std::string& refused);
+
 /// Parses a finite double written in decimal ("-1.25e-3") or C99 hexadecimal ("0x1.8p-3"),
 /// independently of the locale; the whole string must be the number. `what` names the
 /// argument in the error message, e.g. "coordinate 3".
@@ -109,8 +120,6 @@ void check_outputs(const std::vector<OutputOption>& outputs);
 /// Input indices (0-based) of the sites that repeat the coordinates of an earlier site (in
 /// input order): their cells are empty. `sites` holds `dimension` values per site.
 std::vector<std::uint32_t> repeated_sites(const std::vector<double>& sites, int dimension);
-
-class Progress;
 
 /// Sites that are outside the domain or repeat an earlier site (input indices from 0):
 /// one warning line on stderr, with the counts and the first indices (the current phase of

@@ -281,23 +281,11 @@ void run_mesh2d(const Mesh2dArgs& args, const GlobalOptions& options) {
   std::string refused;  // why the implied vertex count is refused (the sampling is stopped)
   o.progress = [&](const Mesh2Progress& p) {
     if (p.implied_vertices > 0) {
-      try {
-        check_vertex_count("mesh2d",
-                           by_length ? "--edge-length " + format_double(args.edge_length)
-                                     : std::string("the sizing"),
-                           p.implied_vertices, kMesh2BytesPerVertex, larger_size);
-      } catch (const Error& e) {
-        refused = e.what();
-        return false;
-      }
-      // Three significant digits: the count made differs from it (the boundary, the
-      // refinement).
-      const double n = p.implied_vertices;
-      const double unit = std::max(1.0, std::pow(10.0, std::floor(std::log10(n)) - 2));
-      progress.note("mesh2d: about " +
-                    std::to_string(static_cast<std::uint64_t>(std::round(n / unit) * unit)) +
-                    " vertices for this size");
-      return true;
+      return note_implied_vertices("mesh2d",
+                                   by_length ? "--edge-length " + format_double(args.edge_length)
+                                             : std::string("the sizing"),
+                                   p.implied_vertices, kMesh2BytesPerVertex, larger_size, progress,
+                                   refused);
     }
     if (p.retry_vertices > 0) {
       char mean[32];

@@ -174,21 +174,9 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   {
     o.progress = [&progress, &args, &refused](const Mesh3Progress& p) {
       if (p.implied_vertices > 0) {
-        try {
-          check_vertex_count("mesh3d", "the sizing", p.implied_vertices, kMesh3BytesPerVertex,
-                             "give a larger --sizing (or --vertices N)");
-        } catch (const Error& e) {
-          refused = e.what();
-          return false;
-        }
-        // Three significant digits: the count made differs from it (the boundary, the
-        // topology and shape checks).
-        const double n = p.implied_vertices;
-        const double unit = std::max(1.0, std::pow(10.0, std::floor(std::log10(n)) - 2));
-        progress.note("mesh3d: about " +
-                      std::to_string(static_cast<std::uint64_t>(std::round(n / unit) * unit)) +
-                      " vertices for this size");
-        return true;
+        return note_implied_vertices("mesh3d", "the sizing", p.implied_vertices,
+                                     kMesh3BytesPerVertex,
+                                     "give a larger --sizing (or --vertices N)", progress, refused);
       }
       if (p.retry_vertices > 0) {
         progress.note("the mesh does not have the domain's shape; meshing again with " +
