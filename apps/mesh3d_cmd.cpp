@@ -171,61 +171,58 @@ void run_mesh3d(const Mesh3dArgs& args, const GlobalOptions& options) {
   // Installed also under -q: the count an absolute size implies is checked against the
   // memory before the run (check_vertex_count), as mesh2d's.
   std::string refused;  // why the implied vertex count is refused (the run is not started)
-  {
-    o.progress = [&progress, &args, &refused](const Mesh3Progress& p) {
-      if (p.implied_vertices > 0) {
-        return note_implied_vertices("mesh3d", "the sizing", p.implied_vertices,
-                                     kMesh3BytesPerVertex,
-                                     "give a larger --sizing (or --vertices N)", progress, refused);
-      }
-      if (p.retry_vertices > 0) {
-        progress.note("the mesh does not have the domain's shape; meshing again with " +
-                      std::to_string(p.retry_vertices) + " vertices");
-        return true;
-      }
-      if (p.body_vertices > 0) {
-        progress.note("body " + std::to_string(p.body) + " of " + std::to_string(p.nb_bodies) +
-                      " (each outer shell is meshed on its own): " +
-                      std::to_string(p.body_vertices) + " vertices");
-        return true;
-      }
-      const std::string name = mesh3_phase_name(p.phase);
-      const bool begins = p.iteration == 0 && p.energy == 0 && !p.topology_round;
-      if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
-        if (begins) {
-          progress.phase(name + " CVT", p.phase == Mesh3Phase::kUnconstrained
-                                            ? args.unconstrained_iterations
-                                            : args.constrained_iterations);
-        } else {
-          progress.iteration(p.iteration, p.energy, p.gradient_norm);
-        }
-      } else if (p.phase == Mesh3Phase::kTopology) {
-        if (!p.topology_round) {
-          // The phase's start, or an iteration of a short CVT after the rounds.
-          if (begins) {
-            progress.phase("topology");
-          } else if (p.iteration > 0) {
-            progress.iteration(p.iteration, p.energy, -1, 5);
-          }
-        } else if (p.iteration == 0 && p.defects == 0) {
-          progress.note("the restricted Voronoi diagram has the closed-ball property");
-        } else {
-          progress.note("topology round " + std::to_string(p.iteration) + ": " +
-                        std::to_string(p.defects) +
-                        " restricted cells not yet disks meeting along single arcs, " +
-                        std::to_string(p.added_sites) + " sites added");
-        }
-      } else if (p.phase == Mesh3Phase::kSlivers && (p.iteration > 0 || p.slivers > 0)) {
-        progress.note("slivers round " + std::to_string(p.iteration) + ": " +
-                      std::to_string(p.slivers) + (p.slivers == 1 ? " tet" : " tets") +
-                      " below the target, smallest dihedral angle " + fixed(p.min_dihedral_deg, 2) +
-                      " deg");
-      } else if (p.iteration == 0) {
-        progress.phase(name);
-      }
+  o.progress = [&progress, &args, &refused](const Mesh3Progress& p) {
+    if (p.implied_vertices > 0) {
+      return note_implied_vertices("mesh3d", "the sizing", p.implied_vertices, kMesh3BytesPerVertex,
+                                   "give a larger --sizing (or --vertices N)", progress, refused);
+    }
+    if (p.retry_vertices > 0) {
+      progress.note("the mesh does not have the domain's shape; meshing again with " +
+                    std::to_string(p.retry_vertices) + " vertices");
       return true;
-    };
-  }
+    }
+    if (p.body_vertices > 0) {
+      progress.note("body " + std::to_string(p.body) + " of " + std::to_string(p.nb_bodies) +
+                    " (each outer shell is meshed on its own): " + std::to_string(p.body_vertices) +
+                    " vertices");
+      return true;
+    }
+    const std::string name = mesh3_phase_name(p.phase);
+    const bool begins = p.iteration == 0 && p.energy == 0 && !p.topology_round;
+    if (p.phase == Mesh3Phase::kUnconstrained || p.phase == Mesh3Phase::kConstrained) {
+      if (begins) {
+        progress.phase(name + " CVT", p.phase == Mesh3Phase::kUnconstrained
+                                          ? args.unconstrained_iterations
+                                          : args.constrained_iterations);
+      } else {
+        progress.iteration(p.iteration, p.energy, p.gradient_norm);
+      }
+    } else if (p.phase == Mesh3Phase::kTopology) {
+      if (!p.topology_round) {
+        // The phase's start, or an iteration of a short CVT after the rounds.
+        if (begins) {
+          progress.phase("topology");
+        } else if (p.iteration > 0) {
+          progress.iteration(p.iteration, p.energy, -1, 5);
+        }
+      } else if (p.iteration == 0 && p.defects == 0) {
+        progress.note("the restricted Voronoi diagram has the closed-ball property");
+      } else {
+        progress.note("topology round " + std::to_string(p.iteration) + ": " +
+                      std::to_string(p.defects) +
+                      " restricted cells not yet disks meeting along single arcs, " +
+                      std::to_string(p.added_sites) + " sites added");
+      }
+    } else if (p.phase == Mesh3Phase::kSlivers && (p.iteration > 0 || p.slivers > 0)) {
+      progress.note("slivers round " + std::to_string(p.iteration) + ": " +
+                    std::to_string(p.slivers) + (p.slivers == 1 ? " tet" : " tets") +
+                    " below the target, smallest dihedral angle " + fixed(p.min_dihedral_deg, 2) +
+                    " deg");
+    } else if (p.iteration == 0) {
+      progress.phase(name);
+    }
+    return true;
+  };
   const Mesh3Result r = mesh3d(domain, o);
   if (!refused.empty()) throw Error(refused);
   progress.done();

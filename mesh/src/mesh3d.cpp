@@ -546,10 +546,14 @@ void Pipeline::run() {
         });
       }
     }
+    // The spacing where the user's density is rho (h = rho^(-1/5), scaled to the count).
+    const auto density_spacing = [&](double rho) {
+      return std::cbrt(integral / options.nb_vertices) * std::pow(rho, -0.2);
+    };
     const auto local_spacing = [&](const double* x) {
       const double scale = std::cbrt(integral / options.nb_vertices);
       if (!user_density.is_constant()) {
-        return scale * std::pow(user_density.callback(x[0], x[1], x[2]), -0.2);
+        return density_spacing(user_density.callback(x[0], x[1], x[2]));
       }
       if (field && cap_scale > 0 && result.lfs_cap_spacing > 0) {
         return scale * std::min(1.0, field->size(x) / cap_scale);
@@ -738,17 +742,13 @@ void Pipeline::run() {
     const std::unique_ptr<SurfaceTree> boundary_tree =
         interfaces ? std::make_unique<SurfaceTree>(boundary_only) : nullptr;
     // The local edge length; a user density with a batch form (a Python function, an
-    // expression) is evaluated a block of samples at a time: local_spacing's values, in its
-    // operations.
+    // expression) is evaluated a block of samples at a time (local_spacing's values).
     HausdorffOptions relative;
     relative.scale = [&](const double* x) { return edge_per_spacing * local_spacing(x); };
     if (user_density.kind == Density3::Kind::kCallback && user_density.batch) {
       relative.scale_batch = [&](const double* xyz, std::size_t count, double* out) {
         user_density.batch(xyz, count, out);
-        const double scale = std::cbrt(integral / options.nb_vertices);
-        for (std::size_t k = 0; k < count; ++k) {
-          out[k] = edge_per_spacing * (scale * std::pow(out[k], -0.2));
-        }
+        for (std::size_t k = 0; k < count; ++k) out[k] = edge_per_spacing * density_spacing(out[k]);
       };
     }
     std::string far = check_boundary_distance(interfaces ? boundary_only : surface,
